@@ -1,0 +1,38 @@
+//! `tiler`: render scenes on a software tile-based GPU and see what each frame costs.
+
+mod render;
+mod table;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// A tile-based deferred GPU in software: renders scenes the way mobile GPUs do and counts
+/// every byte that crosses to external memory, so you can see what a frame costs on a tiler
+/// versus an immediate-mode GPU.
+#[derive(Parser)]
+#[command(name = "tiler", version, about, long_about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to a PNG and print its cost on each backend, side by side.
+    Render(render::RenderArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("tiler: error: {error:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

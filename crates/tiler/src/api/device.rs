@@ -1,0 +1,274 @@
+//! The device: owns images and buffers (its external memory), its configuration and its
+//! worker threads, and executes render passes.
+
+use serde::{Deserialize, Serialize};
+
+use super::buffer::{BufferId, MAX_BUFFER_BYTES};
+use super::error::{Error, Result};
+use super::format::Format;
+use super::image::{Image, ImageDesc, ImageId};
+use super::render_pass::RenderPass;
+use crate::backend::pass::ResolvedPass;
+use crate::backend::{Backend, PassReport, imr, tbr};
+
+/// The smallest frame-data budget: it must hold at least one chunk of binned triangles.
+pub const MIN_FRAME_DATA_BUDGET: u64 = 1 << 20;
+
+/// How a device is built.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DeviceConfig {
+    /// The backend `submit` uses.
+    pub backend: Backend,
+    /// Tile size in pixels: multiples of 8 from 8 to 256.
+    pub tile_width: u32,
+    pub tile_height: u32,
+    /// Worker threads; 0 = one per available core.
+    pub threads: usize,
+    /// Bytes of frame data (as modelled, see `binning::frame_data`) before an incremental
+    /// render. The default, 64 MiB, is in the range of mobile drivers' tiler heaps and above
+    /// llvmpipe's 36 MiB scene limit.
+    pub frame_data_budget: u64,
+}
+
+impl Default for DeviceConfig {
+    fn default() -> DeviceConfig {
+        DeviceConfig { backend: Backend::Tbr, tile_width: 32, tile_height: 32, threads: 0, frame_data_budget: 64 << 20 }
+    }
+}
+
+impl DeviceConfig {
+    /// Square tiles of `size` pixels.
+    pub fn with_tile_size(self, size: u32) -> DeviceConfig {
+        DeviceConfig { tile_width: size, tile_height: size, ..self }
+    }
+
+    fn validate(&self) -> Result<()> {
+        for (name, v) in [("tile width", self.tile_width), ("tile height", self.tile_height)] {
+            if !(8..=256).contains(&v) || v % 8 != 0 {
+                return Err(Error::invalid(
+                    "device config",
+                    format!("{name} {v} must be a multiple of 8 from 8 to 256"),
+                ));
+            }
+        }
+        if self.frame_data_budget < MIN_FRAME_DATA_BUDGET {
+            return Err(Error::invalid(
+                "device config",
+                format!(
+                    "frame-data budget {} is below the minimum {MIN_FRAME_DATA_BUDGET} bytes",
+                    self.frame_data_budget
+                ),
+            ));
+        }
+        if self.threads > 1024 {
+            return Err(Error::invalid("device config", format!("{} threads is more than 1024", self.threads)));
+        }
+        Ok(())
+    }
+}
+
+/// A software GPU: its memory (images, buffers) and its workers.
+pub struct Device {
+    config: DeviceConfig,
+    threads: usize,
+    pool: rayon::ThreadPool,
+    images: Vec<Image>,
+    buffers: Vec<Vec<u8>>,
+}
+
+impl Device {
+    /// # Errors
+    /// An invalid configuration, or when the worker threads cannot be started.
+    pub fn new(config: DeviceConfig) -> Result<Device> {
+        config.validate()?;
+        let threads = if config.threads == 0 {
+            std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
+        } else {
+            config.threads
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("tiler-worker-{i}"))
+            .build()
+            .map_err(|e| Error::invalid("device", format!("cannot start {threads} worker threads: {e}")))?;
+        Ok(Device { config, threads, pool, images: Vec::new(), buffers: Vec::new() })
+    }
+
+    pub fn config(&self) -> &DeviceConfig {
+        &self.config
+    }
+
+    /// Worker threads in use.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Creates an image, zero-filled.
+    ///
+    /// # Errors
+    /// Zero or too large sizes, unsupported sample counts (see [`ImageDesc::validate`]).
+    pub fn create_image(&mut self, desc: ImageDesc) -> Result<ImageId> {
+        self.images.push(Image::new(desc)?);
+        Ok(ImageId((self.images.len() - 1) as u32))
+    }
+
+    fn image(&self, id: ImageId) -> Result<&Image> {
+        self.images.get(id.0 as usize).ok_or_else(|| Error::invalid(id.to_string(), "no such image on this device"))
+    }
+
+    pub fn image_desc(&self, id: ImageId) -> Result<ImageDesc> {
+        Ok(self.image(id)?.desc)
+    }
+
+    /// The image's bytes as laid out in memory (see the `Image` layout: sample planes of
+    /// rows); empty for a transient image.
+    pub fn image_data(&self, id: ImageId) -> Result<&[u8]> {
+        Ok(&self.image(id)?.data)
+    }
+
+    /// Replaces an image's bytes.
+    ///
+    /// # Errors
+    /// Unknown or transient image, or `data` of the wrong length.
+    pub fn write_image(&mut self, id: ImageId, data: &[u8]) -> Result<()> {
+        let image = self
+            .images
+            .get_mut(id.0 as usize)
+            .ok_or_else(|| Error::invalid(id.to_string(), "no such image on this device"))?;
+        if data.len() != image.data.len() || image.desc.transient {
+            return Err(Error::invalid(
+                id.to_string(),
+                format!("write of {} bytes, but the image holds {} bytes", data.len(), image.data.len()),
+            ));
+        }
+        image.data.copy_from_slice(data);
+        Ok(())
+    }
+
+    /// A colour image as 8-bit RGBA, rows top to bottom; a multisampled image is resolved
+    /// (the average of its samples).
+    ///
+    /// # Errors
+    /// Unknown, transient or non-colour image.
+    pub fn read_rgba8(&self, id: ImageId) -> Result<Vec<u8>> {
+        let image = self.image(id)?;
+        let d = image.desc;
+        if !d.format.is_color() || d.transient {
+            return Err(Error::invalid(
+                id.to_string(),
+                format!("cannot read a {} image as colour", if d.transient { "transient" } else { d.format.name() }),
+            ));
+        }
+        let pixels = d.width as usize * d.height as usize;
+        let bpp = d.format.bytes_per_sample();
+        let plane = d.plane_bytes();
+        let mut out = vec![0u8; pixels * 4];
+        for (p, px) in out.chunks_exact_mut(4).enumerate() {
+            let mut sum = [0.0f32; 4];
+            for s in 0..d.samples as usize {
+                let v = d.format.decode_color(&image.data[s * plane + p * bpp..s * plane + (p + 1) * bpp]);
+                for c in 0..4 {
+                    sum[c] += v[c];
+                }
+            }
+            let n = d.samples as f32;
+            let rgba = sum.map(|c| c / n);
+            if d.format == Format::Rgba8UnormSrgb {
+                // Keep the stored encoding: PNGs are sRGB.
+                let mut bytes = [0u8; 4];
+                d.format.encode_color(rgba, &mut bytes);
+                px.copy_from_slice(&bytes);
+            } else {
+                Format::Rgba8Unorm.encode_color(rgba, px);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The depths of a depth image's first sample, rows top to bottom.
+    pub fn read_depth(&self, id: ImageId) -> Result<Vec<f32>> {
+        let image = self.image(id)?;
+        let d = image.desc;
+        if !d.format.has_depth() || d.transient {
+            return Err(Error::invalid(id.to_string(), "not a depth image with memory"));
+        }
+        let bpp = d.format.bytes_per_sample();
+        Ok(image.data[..d.plane_bytes()]
+            .chunks_exact(bpp)
+            .map(|b| {
+                let word = match bpp {
+                    2 => u16::from_le_bytes([b[0], b[1]]) as u32,
+                    _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+                };
+                let bits = if d.format == Format::D24UnormS8Uint { word & 0xff_ffff } else { word };
+                d.format.depth_from_bits(bits)
+            })
+            .collect())
+    }
+
+    /// The stencil values of a depth-stencil image's first sample.
+    pub fn read_stencil(&self, id: ImageId) -> Result<Vec<u8>> {
+        let image = self.image(id)?;
+        let d = image.desc;
+        if !d.format.has_stencil() || d.transient {
+            return Err(Error::invalid(id.to_string(), "not a stencil image with memory"));
+        }
+        Ok(image.data[..d.plane_bytes()].chunks_exact(4).map(|b| b[3]).collect())
+    }
+
+    /// Creates a buffer holding `bytes`.
+    ///
+    /// # Errors
+    /// More than [`MAX_BUFFER_BYTES`].
+    pub fn create_buffer(&mut self, bytes: &[u8]) -> Result<BufferId> {
+        if bytes.len() as u64 > MAX_BUFFER_BYTES {
+            return Err(Error::invalid(
+                "buffer",
+                format!("{} bytes exceeds the limit of {MAX_BUFFER_BYTES}", bytes.len()),
+            ));
+        }
+        self.buffers.push(bytes.to_vec());
+        Ok(BufferId((self.buffers.len() - 1) as u32))
+    }
+
+    /// Creates a buffer from plain data (vertices, indices).
+    pub fn create_buffer_from<T: bytemuck::Pod>(&mut self, data: &[T]) -> Result<BufferId> {
+        self.create_buffer(bytemuck::cast_slice(data))
+    }
+
+    /// Overwrites part of a buffer.
+    ///
+    /// # Errors
+    /// Unknown buffer, or a write past its end.
+    pub fn write_buffer(&mut self, id: BufferId, offset: u64, bytes: &[u8]) -> Result<()> {
+        let buffer =
+            self.buffers.get_mut(id.0 as usize).ok_or_else(|| Error::invalid(id.to_string(), "no such buffer"))?;
+        let end = offset.checked_add(bytes.len() as u64).filter(|e| *e <= buffer.len() as u64).ok_or_else(|| {
+            Error::invalid(
+                id.to_string(),
+                format!("write of {} bytes at {offset} past its end ({})", bytes.len(), buffer.len()),
+            )
+        })?;
+        buffer[offset as usize..end as usize].copy_from_slice(bytes);
+        Ok(())
+    }
+
+    /// Renders a pass with the configured backend.
+    pub fn submit(&mut self, pass: &RenderPass) -> Result<PassReport> {
+        self.submit_with(pass, self.config.backend)
+    }
+
+    /// Renders a pass with the given backend and returns what it did and cost.
+    ///
+    /// # Errors
+    /// Any invalid attachment, draw, buffer or vertex (each error names it). Validation of the
+    /// pass happens before anything is rendered; a draw's errors are found when it is reached.
+    pub fn submit_with(&mut self, pass: &RenderPass, backend: Backend) -> Result<PassReport> {
+        let resolved = ResolvedPass::new(pass, &self.images)?;
+        let (images, buffers, config, threads) = (&mut self.images, &self.buffers, &self.config, self.threads);
+        self.pool.install(|| match backend {
+            Backend::Tbr => tbr::render(pass, &resolved, images, buffers, config, threads),
+            Backend::Imr => imr::render(pass, &resolved, images, buffers),
+        })
+    }
+}

@@ -1,0 +1,388 @@
+//! Image formats: their sizes, and how a value is packed into and unpacked from memory.
+//!
+//! The tile buffer holds every attachment in its own format, packed exactly as in external
+//! memory. A `LoadOp::Load` is then a plain copy, and a blend reads the packed value back
+//! wherever it lives. So the tile buffer of a tiler and the framebuffer of an immediate-mode
+//! GPU hold the same bits at every step, and every backend gives the same image.
+//!
+//! Conversions follow Vulkan's rules ("Fixed-Point Data Conversions"):
+//! float → UNORM is `round(clamp(f, 0, 1) · (2^b − 1))`, rounding half up, NaN → 0;
+//! UNORM → float is `c / (2^b − 1)`. sRGB uses the piecewise sRGB transfer function.
+//! Half floats round to nearest even.
+
+use serde::{Deserialize, Serialize};
+
+/// The format of an image's samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Format {
+    /// 8-bit red, green, blue, alpha, linear; bytes in that order.
+    Rgba8Unorm,
+    /// As `Rgba8Unorm`, with sRGB-encoded colour channels (alpha linear).
+    Rgba8UnormSrgb,
+    /// 8-bit blue, green, red, alpha; bytes in that order.
+    Bgra8Unorm,
+    /// 16 bits: red in bits 11–15, green 5–10, blue 0–4 (Vulkan `R5G6B5_UNORM_PACK16`).
+    Rgb565Unorm,
+    /// Four IEEE half floats.
+    Rgba16Float,
+    /// Four IEEE single floats.
+    Rgba32Float,
+    /// One IEEE single float (red); green and blue read as 0, alpha as 1.
+    R32Float,
+    /// 16-bit normalised depth.
+    D16Unorm,
+    /// 24-bit normalised depth in bits 0–23 and 8-bit stencil in bits 24–31 of a 32-bit word.
+    D24UnormS8Uint,
+    /// 32-bit float depth.
+    D32Float,
+}
+
+impl Format {
+    /// Every format, for tests and listings.
+    pub const ALL: [Format; 10] = [
+        Format::Rgba8Unorm,
+        Format::Rgba8UnormSrgb,
+        Format::Bgra8Unorm,
+        Format::Rgb565Unorm,
+        Format::Rgba16Float,
+        Format::Rgba32Float,
+        Format::R32Float,
+        Format::D16Unorm,
+        Format::D24UnormS8Uint,
+        Format::D32Float,
+    ];
+
+    /// Bytes one sample occupies in memory (and in the tile buffer).
+    pub const fn bytes_per_sample(self) -> usize {
+        match self {
+            Format::Rgb565Unorm | Format::D16Unorm => 2,
+            Format::Rgba8Unorm
+            | Format::Rgba8UnormSrgb
+            | Format::Bgra8Unorm
+            | Format::R32Float
+            | Format::D24UnormS8Uint
+            | Format::D32Float => 4,
+            Format::Rgba16Float => 8,
+            Format::Rgba32Float => 16,
+        }
+    }
+
+    pub const fn is_color(self) -> bool {
+        !self.has_depth() && !self.has_stencil()
+    }
+
+    pub const fn has_depth(self) -> bool {
+        matches!(self, Format::D16Unorm | Format::D24UnormS8Uint | Format::D32Float)
+    }
+
+    pub const fn has_stencil(self) -> bool {
+        matches!(self, Format::D24UnormS8Uint)
+    }
+
+    /// Bytes of the depth aspect of one sample, as the ledger counts it: a packed
+    /// depth-stencil word is split 3 + 1 between its depth and stencil aspects.
+    pub const fn depth_aspect_bytes(self) -> usize {
+        match self {
+            Format::D16Unorm => 2,
+            Format::D24UnormS8Uint => 3,
+            Format::D32Float => 4,
+            _ => 0,
+        }
+    }
+
+    /// Bytes of the stencil aspect of one sample (see [`Format::depth_aspect_bytes`]).
+    pub const fn stencil_aspect_bytes(self) -> usize {
+        match self {
+            Format::D24UnormS8Uint => 1,
+            _ => 0,
+        }
+    }
+
+    /// Whether colour values are clamped to `[0, 1]` (normalised fixed-point formats).
+    pub const fn is_normalized(self) -> bool {
+        matches!(self, Format::Rgba8Unorm | Format::Rgba8UnormSrgb | Format::Bgra8Unorm | Format::Rgb565Unorm)
+    }
+
+    /// The name used on the command line and in reports.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Format::Rgba8Unorm => "rgba8unorm",
+            Format::Rgba8UnormSrgb => "rgba8unorm-srgb",
+            Format::Bgra8Unorm => "bgra8unorm",
+            Format::Rgb565Unorm => "rgb565unorm",
+            Format::Rgba16Float => "rgba16float",
+            Format::Rgba32Float => "rgba32float",
+            Format::R32Float => "r32float",
+            Format::D16Unorm => "d16unorm",
+            Format::D24UnormS8Uint => "d24unorm-s8uint",
+            Format::D32Float => "d32float",
+        }
+    }
+
+    /// Packs an RGBA colour into `dst` (exactly `bytes_per_sample` bytes).
+    ///
+    /// # Panics
+    /// If the format is not a colour format or `dst` has the wrong length (a tiler bug: formats
+    /// are validated when a render pass is submitted).
+    #[inline]
+    pub fn encode_color(self, rgba: [f32; 4], dst: &mut [u8]) {
+        let [r, g, b, a] = rgba;
+        match self {
+            Format::Rgba8Unorm => dst.copy_from_slice(&[unorm8(r), unorm8(g), unorm8(b), unorm8(a)]),
+            Format::Rgba8UnormSrgb => dst.copy_from_slice(&[
+                unorm8(linear_to_srgb(r)),
+                unorm8(linear_to_srgb(g)),
+                unorm8(linear_to_srgb(b)),
+                unorm8(a),
+            ]),
+            Format::Bgra8Unorm => dst.copy_from_slice(&[unorm8(b), unorm8(g), unorm8(r), unorm8(a)]),
+            Format::Rgb565Unorm => {
+                let v = (unorm(r, 31.0) << 11) | (unorm(g, 63.0) << 5) | unorm(b, 31.0);
+                dst.copy_from_slice(&(v as u16).to_le_bytes());
+            }
+            Format::Rgba16Float => {
+                for (i, c) in rgba.iter().enumerate() {
+                    dst[2 * i..2 * i + 2].copy_from_slice(&half::f16::from_f32(*c).to_le_bytes());
+                }
+            }
+            Format::Rgba32Float => {
+                for (i, c) in rgba.iter().enumerate() {
+                    dst[4 * i..4 * i + 4].copy_from_slice(&c.to_le_bytes());
+                }
+            }
+            Format::R32Float => dst.copy_from_slice(&r.to_le_bytes()),
+            Format::D16Unorm | Format::D24UnormS8Uint | Format::D32Float => {
+                unreachable!("encode_color on depth format {self:?}")
+            }
+        }
+    }
+
+    /// Unpacks a colour stored in this format; missing channels read as 0 (alpha as 1).
+    #[inline]
+    pub fn decode_color(self, src: &[u8]) -> [f32; 4] {
+        match self {
+            Format::Rgba8Unorm => [
+                UNORM8_TO_F32[src[0] as usize],
+                UNORM8_TO_F32[src[1] as usize],
+                UNORM8_TO_F32[src[2] as usize],
+                UNORM8_TO_F32[src[3] as usize],
+            ],
+            Format::Rgba8UnormSrgb => [
+                srgb8_to_linear(src[0]),
+                srgb8_to_linear(src[1]),
+                srgb8_to_linear(src[2]),
+                UNORM8_TO_F32[src[3] as usize],
+            ],
+            Format::Bgra8Unorm => [
+                UNORM8_TO_F32[src[2] as usize],
+                UNORM8_TO_F32[src[1] as usize],
+                UNORM8_TO_F32[src[0] as usize],
+                UNORM8_TO_F32[src[3] as usize],
+            ],
+            Format::Rgb565Unorm => {
+                let v = u16::from_le_bytes([src[0], src[1]]) as u32;
+                [(v >> 11) as f32 / 31.0, ((v >> 5) & 63) as f32 / 63.0, (v & 31) as f32 / 31.0, 1.0]
+            }
+            Format::Rgba16Float => {
+                std::array::from_fn(|i| half::f16::from_le_bytes([src[2 * i], src[2 * i + 1]]).to_f32())
+            }
+            Format::Rgba32Float => {
+                std::array::from_fn(|i| f32::from_le_bytes(src[4 * i..4 * i + 4].try_into().unwrap()))
+            }
+            Format::R32Float => [f32::from_le_bytes(src[0..4].try_into().unwrap()), 0.0, 0.0, 1.0],
+            Format::D16Unorm | Format::D24UnormS8Uint | Format::D32Float => {
+                unreachable!("decode_color on depth format {self:?}")
+            }
+        }
+    }
+
+    /// The bits of a packed colour that the write mask lets through, as a byte mask over the
+    /// sample's bytes (`0xff` = take the new byte, `0` = keep the old one), per channel bit.
+    /// Packed 565 masks are bit masks over its little-endian 16-bit word.
+    pub fn write_mask_bytes(self, writes: ColorWrites) -> [u8; 16] {
+        let mut mask = [0u8; 16];
+        let channel = |c: u8| writes.0 & c != 0;
+        let bytes = self.bytes_per_sample();
+        match self {
+            Format::Rgb565Unorm => {
+                let mut m: u16 = 0;
+                if channel(ColorWrites::RED.0) {
+                    m |= 0xf800;
+                }
+                if channel(ColorWrites::GREEN.0) {
+                    m |= 0x07e0;
+                }
+                if channel(ColorWrites::BLUE.0) {
+                    m |= 0x001f;
+                }
+                mask[..2].copy_from_slice(&m.to_le_bytes());
+            }
+            _ => {
+                // Channel order in memory, and bytes per channel.
+                let order: &[u8] = match self {
+                    Format::Bgra8Unorm => &[4, 2, 1, 8],
+                    Format::R32Float => &[1],
+                    _ => &[1, 2, 4, 8],
+                };
+                let per_channel = bytes / order.len();
+                for (i, c) in order.iter().enumerate() {
+                    if channel(*c) {
+                        mask[i * per_channel..(i + 1) * per_channel].fill(0xff);
+                    }
+                }
+            }
+        }
+        mask
+    }
+
+    /// Converts a depth value to this format's stored depth bits, which compare as unsigned
+    /// integers in the same order as the depths they hold. UNORM: `round(clamp(z) · (2^b − 1))`;
+    /// float: the IEEE bits of `clamp(z, 0, 1)` (non-negative floats order like their bits).
+    #[inline(always)]
+    pub fn depth_bits(self, z: f32) -> u32 {
+        // NaN cannot reach here (positions are validated) but would clamp to 0.
+        let z = if z > 0.0 { z.min(1.0) } else { 0.0 };
+        match self {
+            Format::D16Unorm => (z * 65535.0 + 0.5) as u32,
+            Format::D24UnormS8Uint => (z as f64 * 16_777_215.0 + 0.5) as u32,
+            Format::D32Float => z.to_bits(),
+            _ => unreachable!("depth_bits on colour format {self:?}"),
+        }
+    }
+
+    /// The depth a stored value stands for.
+    pub fn depth_from_bits(self, bits: u32) -> f32 {
+        match self {
+            Format::D16Unorm => bits as f32 / 65535.0,
+            Format::D24UnormS8Uint => (bits as f64 / 16_777_215.0) as f32,
+            Format::D32Float => f32::from_bits(bits),
+            _ => unreachable!("depth_from_bits on colour format {self:?}"),
+        }
+    }
+}
+
+impl std::fmt::Display for Format {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Which colour channels a draw writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct ColorWrites(pub u8);
+
+impl ColorWrites {
+    pub const RED: ColorWrites = ColorWrites(1);
+    pub const GREEN: ColorWrites = ColorWrites(2);
+    pub const BLUE: ColorWrites = ColorWrites(4);
+    pub const ALPHA: ColorWrites = ColorWrites(8);
+    pub const COLOR: ColorWrites = ColorWrites(7);
+    pub const ALL: ColorWrites = ColorWrites(15);
+    pub const NONE: ColorWrites = ColorWrites(0);
+}
+
+/// float → UNORM with `max = 2^b − 1`: `round(clamp(f, 0, 1) · max)`, half up; NaN → 0.
+#[inline(always)]
+pub fn unorm(c: f32, max: f32) -> u32 {
+    let c = if c > 0.0 { c.min(1.0) } else { 0.0 };
+    (c * max + 0.5) as u32
+}
+
+/// float → 8-bit UNORM.
+#[inline(always)]
+pub fn unorm8(c: f32) -> u8 {
+    unorm(c, 255.0) as u8
+}
+
+/// 8-bit UNORM → float, `c / 255`, as a table.
+pub static UNORM8_TO_F32: [f32; 256] = {
+    let mut t = [0.0f32; 256];
+    let mut i = 0;
+    while i < 256 {
+        t[i] = i as f32 / 255.0;
+        i += 1;
+    }
+    t
+};
+
+/// The sRGB encoding of a linear value in `[0, 1]` (IEC 61966-2-1).
+#[inline]
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+}
+
+/// The linear value of an sRGB-encoded value in `[0, 1]`.
+#[inline]
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.040_45 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+/// The linear value of an 8-bit sRGB-encoded channel.
+#[inline]
+pub fn srgb8_to_linear(c: u8) -> f32 {
+    srgb_to_linear(UNORM8_TO_F32[c as usize])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unorm_rounds_half_up_and_clamps() {
+        assert_eq!(unorm8(0.0), 0);
+        assert_eq!(unorm8(1.0), 255);
+        assert_eq!(unorm8(2.0), 255);
+        assert_eq!(unorm8(-1.0), 0);
+        assert_eq!(unorm8(f32::NAN), 0);
+        assert_eq!(unorm8(0.5), 128); // 127.5 rounds up
+        assert_eq!(unorm8(127.4 / 255.0), 127);
+    }
+
+    #[test]
+    fn eight_bit_formats_round_trip_exactly() {
+        for format in [Format::Rgba8Unorm, Format::Bgra8Unorm, Format::Rgba8UnormSrgb] {
+            for v in 0..=255u8 {
+                let bytes = [v, v.wrapping_mul(7), v.wrapping_add(3), 255 - v];
+                let rgba = format.decode_color(&bytes);
+                let mut back = [0u8; 4];
+                format.encode_color(rgba, &mut back);
+                assert_eq!(back, bytes, "{format}");
+            }
+        }
+    }
+
+    #[test]
+    fn rgb565_layout() {
+        let mut b = [0u8; 2];
+        Format::Rgb565Unorm.encode_color([1.0, 0.0, 0.0, 1.0], &mut b);
+        assert_eq!(u16::from_le_bytes(b), 0xf800);
+        Format::Rgb565Unorm.encode_color([0.0, 1.0, 0.0, 1.0], &mut b);
+        assert_eq!(u16::from_le_bytes(b), 0x07e0);
+        assert_eq!(Format::Rgb565Unorm.decode_color(&0x001fu16.to_le_bytes()), [0.0, 0.0, 1.0, 1.0]);
+    }
+
+    #[test]
+    fn depth_bits_order_like_depths() {
+        for format in [Format::D16Unorm, Format::D24UnormS8Uint, Format::D32Float] {
+            let mut last = 0;
+            for i in 0..=1000 {
+                let bits = format.depth_bits(i as f32 / 1000.0);
+                assert!(bits >= last, "{format}");
+                last = bits;
+            }
+            assert_eq!(format.depth_bits(-0.0), format.depth_bits(0.0));
+            assert_eq!(format.depth_from_bits(format.depth_bits(1.0)), 1.0);
+        }
+        assert_eq!(Format::D24UnormS8Uint.depth_bits(1.0), 0xff_ffff);
+        assert_eq!(Format::D16Unorm.depth_bits(0.5), 32768);
+    }
+
+    #[test]
+    fn write_masks_cover_the_channels() {
+        assert_eq!(&Format::Rgba8Unorm.write_mask_bytes(ColorWrites::ALL)[..4], &[0xff; 4]);
+        assert_eq!(&Format::Bgra8Unorm.write_mask_bytes(ColorWrites::RED)[..4], &[0, 0, 0xff, 0]);
+        assert_eq!(&Format::Rgba16Float.write_mask_bytes(ColorWrites::GREEN)[..8], &[0, 0, 0xff, 0xff, 0, 0, 0, 0]);
+        assert_eq!(&Format::Rgb565Unorm.write_mask_bytes(ColorWrites::BLUE)[..2], &[0x1f, 0]);
+    }
+}

@@ -1,0 +1,246 @@
+//! Render passes: attachments with their load and store ops, and the draws recorded into them.
+
+use serde::{Deserialize, Serialize};
+
+use super::buffer::BufferId;
+use super::image::ImageId;
+use super::pipeline::Pipeline;
+
+/// A rectangle of pixels, `x, y` its top-left corner (y down).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Rect {
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Rect {
+    pub const fn new(x: u32, y: u32, width: u32, height: u32) -> Rect {
+        Rect { x, y, width, height }
+    }
+
+    pub const fn right(&self) -> u64 {
+        self.x as u64 + self.width as u64
+    }
+
+    pub const fn bottom(&self) -> u64 {
+        self.y as u64 + self.height as u64
+    }
+
+    pub const fn area(&self) -> u64 {
+        self.width as u64 * self.height as u64
+    }
+}
+
+/// The transform from normalised device coordinates to window coordinates (Vulkan's):
+/// `x_w = x + (x_ndc + 1) · width / 2`, `y_w = y + (y_ndc + 1) · height / 2`,
+/// `z_w = min_depth + z_ndc · (max_depth − min_depth)`. Primitives are clipped to it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Viewport {
+    pub x: f32,
+    pub y: f32,
+    pub width: f32,
+    pub height: f32,
+    pub min_depth: f32,
+    pub max_depth: f32,
+}
+
+impl Viewport {
+    /// The whole of a `width × height` framebuffer, depth range `[0, 1]`.
+    pub fn full(width: u32, height: u32) -> Viewport {
+        Viewport { x: 0.0, y: 0.0, width: width as f32, height: height as f32, min_depth: 0.0, max_depth: 1.0 }
+    }
+}
+
+/// What happens to an attachment's contents when a render pass starts.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LoadOp<T> {
+    /// Read the contents from external memory into the tile buffer.
+    Load,
+    /// Start from this value; nothing is read.
+    Clear(T),
+    /// The previous contents do not matter; nothing is read. The attachment then holds an
+    /// undefined value, which tiler makes zero on every backend, so images stay comparable.
+    DontCare,
+}
+
+/// What happens to an attachment's contents when a render pass ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StoreOp {
+    /// Write the contents to external memory.
+    Store,
+    /// Throw them away; nothing is written (the image in memory is left as it was on a tiler).
+    DontCare,
+}
+
+/// A colour attachment of a render pass.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ColorAttachment {
+    pub image: ImageId,
+    pub load: LoadOp<[f32; 4]>,
+    pub store: StoreOp,
+}
+
+impl ColorAttachment {
+    /// Cleared at the start, stored at the end: the usual render target.
+    pub fn clear_store(image: ImageId, color: [f32; 4]) -> ColorAttachment {
+        ColorAttachment { image, load: LoadOp::Clear(color), store: StoreOp::Store }
+    }
+}
+
+/// The depth-stencil attachment of a render pass, with separate ops for each aspect.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DepthStencilAttachment {
+    pub image: ImageId,
+    pub depth_load: LoadOp<f32>,
+    pub depth_store: StoreOp,
+    pub stencil_load: LoadOp<u8>,
+    pub stencil_store: StoreOp,
+}
+
+impl DepthStencilAttachment {
+    /// Depth cleared to `depth` and thrown away at the end, stencil cleared to 0 and thrown
+    /// away: what a frame's depth buffer should be on a tiler.
+    pub fn clear_discard(image: ImageId, depth: f32) -> DepthStencilAttachment {
+        DepthStencilAttachment {
+            image,
+            depth_load: LoadOp::Clear(depth),
+            depth_store: StoreOp::DontCare,
+            stencil_load: LoadOp::Clear(0),
+            stencil_store: StoreOp::DontCare,
+        }
+    }
+
+    /// Depth and stencil cleared and stored.
+    pub fn clear_store(image: ImageId, depth: f32, stencil: u8) -> DepthStencilAttachment {
+        DepthStencilAttachment {
+            image,
+            depth_load: LoadOp::Clear(depth),
+            depth_store: StoreOp::Store,
+            stencil_load: LoadOp::Clear(stencil),
+            stencil_store: StoreOp::Store,
+        }
+    }
+}
+
+/// The attachments of a render pass and the area it renders.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RenderPassDesc {
+    /// Up to [`MAX_COLOR_ATTACHMENTS`](super::pipeline::MAX_COLOR_ATTACHMENTS).
+    pub color: Vec<ColorAttachment>,
+    pub depth_stencil: Option<DepthStencilAttachment>,
+    /// The pixels the pass may touch; `None` = the whole attachment. Load and store ops act
+    /// only inside it, and primitives are clipped to it.
+    pub render_area: Option<Rect>,
+}
+
+/// Which vertex buffer a binding reads, from which byte offset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct VertexBufferBinding {
+    pub buffer: BufferId,
+    pub offset: u64,
+}
+
+/// The width of the indices in an index buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IndexType {
+    U16,
+    U32,
+}
+
+impl IndexType {
+    pub const fn size_bytes(self) -> u64 {
+        match self {
+            IndexType::U16 => 2,
+            IndexType::U32 => 4,
+        }
+    }
+}
+
+/// An index buffer binding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct IndexBufferBinding {
+    pub buffer: BufferId,
+    pub offset: u64,
+    pub index_type: IndexType,
+}
+
+/// One draw: a pipeline, its buffers, and which vertices (or indices) to draw.
+#[derive(Clone, Debug)]
+pub struct Draw {
+    pub pipeline: Pipeline,
+    pub vertex_buffers: Vec<VertexBufferBinding>,
+    pub index_buffer: Option<IndexBufferBinding>,
+    /// The first vertex (non-indexed) or the first index (indexed).
+    pub first: u32,
+    /// How many vertices (non-indexed) or indices (indexed).
+    pub count: u32,
+    /// Added to every index of an indexed draw.
+    pub vertex_offset: i32,
+    /// `None` = the whole framebuffer.
+    pub viewport: Option<Viewport>,
+    /// `None` = no scissor.
+    pub scissor: Option<Rect>,
+}
+
+impl Draw {
+    /// A non-indexed draw of `count` vertices from one vertex buffer.
+    pub fn new(pipeline: &Pipeline, vertex_buffer: BufferId, first: u32, count: u32) -> Draw {
+        Draw {
+            pipeline: pipeline.clone(),
+            vertex_buffers: vec![VertexBufferBinding { buffer: vertex_buffer, offset: 0 }],
+            index_buffer: None,
+            first,
+            count,
+            vertex_offset: 0,
+            viewport: None,
+            scissor: None,
+        }
+    }
+
+    /// An indexed draw of `count` indices from one vertex buffer and an index buffer.
+    pub fn indexed(
+        pipeline: &Pipeline,
+        vertex_buffer: BufferId,
+        index_buffer: BufferId,
+        index_type: IndexType,
+        first: u32,
+        count: u32,
+    ) -> Draw {
+        Draw {
+            index_buffer: Some(IndexBufferBinding { buffer: index_buffer, offset: 0, index_type }),
+            ..Draw::new(pipeline, vertex_buffer, first, count)
+        }
+    }
+
+    pub fn with_viewport(self, viewport: Viewport) -> Draw {
+        Draw { viewport: Some(viewport), ..self }
+    }
+
+    pub fn with_scissor(self, scissor: Rect) -> Draw {
+        Draw { scissor: Some(scissor), ..self }
+    }
+}
+
+/// A render pass: its description and its draws in submission order.
+#[derive(Clone, Debug)]
+pub struct RenderPass {
+    pub desc: RenderPassDesc,
+    pub draws: Vec<Draw>,
+}
+
+impl RenderPass {
+    pub fn new(desc: RenderPassDesc) -> RenderPass {
+        RenderPass { desc, draws: Vec::new() }
+    }
+
+    /// Records a draw.
+    pub fn draw(&mut self, draw: Draw) -> &mut RenderPass {
+        self.draws.push(draw);
+        self
+    }
+}

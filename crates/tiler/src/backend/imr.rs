@@ -1,0 +1,150 @@
+//! Immediate mode (IMR): primitives in submission order, straight into the images in external
+//! memory, as a desktop GPU does. There is no frame data and no tile buffer; every depth,
+//! stencil and colour access of every fragment is external traffic, and a `Clear` load op
+//! writes the whole render area.
+//!
+//! The framebuffer is split into fixed bands of [`BAND_ROWS`] rows that work in parallel, each
+//! walking every primitive in submission order — the way a GPU's render back-ends split the
+//! screen. The bands do not depend on the thread count, so neither do the results.
+
+use rayon::prelude::*;
+
+use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
+use super::{Backend, FrameDataReport, PassReport};
+use crate::api::buffer::BufferId;
+use crate::api::error::Result;
+use crate::api::image::Image;
+use crate::api::render_pass::RenderPass;
+use crate::geometry::{PassFrame, prepare_draw};
+use crate::ledger::{Category, Counters, Ledger};
+use crate::raster::PixelRect;
+use crate::raster::primitive::FragmentTally;
+use crate::raster::samples::SampleLocations;
+use crate::tile::load_store::apply_load;
+use crate::tile::target::{RenderTarget, Surface};
+
+/// Rows per band of the framebuffer.
+pub const BAND_ROWS: u32 = 32;
+
+/// Renders a validated pass in immediate mode.
+pub fn render(
+    pass: &RenderPass,
+    resolved: &ResolvedPass,
+    images: &mut [Image],
+    buffers: &[Vec<u8>],
+) -> Result<PassReport> {
+    let samples = SampleLocations::standard(resolved.samples);
+    let lookup = |id: BufferId| buffers.get(id.0 as usize).map(|b| b.as_slice());
+    let frame_info = PassFrame {
+        width: resolved.width,
+        height: resolved.height,
+        render_area: resolved.render_area,
+        buffers: &lookup,
+    };
+    // Transient attachments have no memory on a tiler; an immediate-mode GPU needs some.
+    let mut scratch: Vec<Image> = resolved
+        .attachments
+        .iter()
+        .filter(|a| a.transient)
+        .map(|a| {
+            let mut desc = images[a.image].desc;
+            desc.transient = false;
+            Image::new(desc).expect("validated size")
+        })
+        .collect();
+    let mut attached = attachment_images(images, resolved);
+    let mut scratch_iter = scratch.iter_mut();
+    for (slot, attachment) in attached.iter_mut().zip(&resolved.attachments) {
+        if attachment.transient {
+            *slot = scratch_iter.next().expect("one scratch image per transient attachment");
+        }
+    }
+
+    // Bands, each a render target over its rows of every attachment.
+    let mut per_attachment: Vec<std::vec::IntoIter<Vec<&mut [u8]>>> =
+        attached.iter_mut().map(|image| image_bands(image, BAND_ROWS as usize).into_iter()).collect();
+    let band_count = resolved.height.div_ceil(BAND_ROWS);
+    let mut bands: Vec<RenderTarget> = Vec::new();
+    for b in 0..band_count {
+        let y0 = (b * BAND_ROWS) as i32;
+        let rows = PixelRect::new(0, y0, resolved.width as i32, (y0 + BAND_ROWS as i32).min(resolved.height as i32));
+        let mut surfaces: Vec<Surface> = per_attachment
+            .iter_mut()
+            .zip(&resolved.attachments)
+            .map(|(a, att)| band_surface(att.format, resolved.width, y0, a.next().expect("band")))
+            .collect::<Vec<_>>();
+        let clip = rows.intersect(&resolved.render_area);
+        if clip.is_empty() {
+            continue;
+        }
+        let depth_stencil = if resolved.has_depth_stencil { surfaces.pop() } else { None };
+        let mut color: [Option<Surface>; crate::api::pipeline::MAX_COLOR_ATTACHMENTS] = Default::default();
+        for (slot, surface) in color.iter_mut().zip(surfaces) {
+            *slot = Some(surface);
+        }
+        bands.push(RenderTarget { color, depth_stencil, samples, clip, external: true });
+    }
+
+    let mut counters = Counters::default();
+    let mut ledger = Ledger::default();
+
+    // Load ops act on the images themselves: a clear writes the render area.
+    let cleared: u64 = bands
+        .par_iter_mut()
+        .map(|band| {
+            let clip = band.clip;
+            let surfaces = band.color.iter_mut().flatten().chain(band.depth_stencil.as_mut());
+            surfaces.zip(&resolved.attachments).map(|(s, a)| apply_load(s, None, &clip, &a.ops).cleared).sum::<u64>()
+        })
+        .sum();
+    ledger.add(Category::ImrClear, cleared);
+
+    for (draw_index, draw) in pass.draws.iter().enumerate() {
+        let geometry = prepare_draw(draw_index, draw, &frame_info)?;
+        counters.draws += 1;
+        counters.vertices_shaded += geometry.vertices.shaded;
+        ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
+        ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
+        let batches = geometry.setup(0..geometry.triangles, &samples, 0);
+        for batch in &batches {
+            counters.merge(&batch.counters);
+        }
+        let n = geometry.vertices.varying_count;
+        let object = &draw.pipeline.object;
+        let tallies: Vec<FragmentTally> = bands
+            .par_iter_mut()
+            .map(|band| {
+                let mut tally = FragmentTally::default();
+                for batch in &batches {
+                    for p in &batch.primitives {
+                        if p.bbox.y1 <= band.clip.y0 || p.bbox.y0 >= band.clip.y1 {
+                            continue;
+                        }
+                        let varyings = &batch.varyings[p.varyings as usize..p.varyings as usize + 3 * n];
+                        object.rasterize(p, varyings, band, &mut tally);
+                    }
+                }
+                tally
+            })
+            .collect();
+        for tally in tallies {
+            counters.merge(&tally.counters);
+            ledger.merge(&tally.ledger);
+        }
+    }
+
+    Ok(PassReport {
+        backend: Backend::Imr,
+        width: resolved.width,
+        height: resolved.height,
+        samples: resolved.samples,
+        tile_width: 0,
+        tile_height: 0,
+        tiles_x: 0,
+        tiles_y: 0,
+        ledger,
+        counters,
+        frame_data: FrameDataReport::default(),
+        tiles: Vec::new(),
+    })
+}

@@ -1,0 +1,95 @@
+//! Backends: the same render pass, the same setup, rasterization and shading code, in a
+//! different order of work and with the bytes going to different places.
+//!
+//! - [`Backend::Tbr`]: a tiler. Geometry for the whole pass is binned into frame data; then
+//!   each tile runs its load ops into the tile buffer, its polygon list in submission order
+//!   (with early-Z), and its store ops.
+//! - [`Backend::Imr`]: immediate mode. Each draw's primitives go in submission order straight
+//!   into the images in external memory, and every depth, stencil and colour access is traffic.
+//!
+//! Every backend gives the same image, bit for bit, for every tile size and thread count;
+//! only the counters and the ledger differ.
+
+pub mod imr;
+pub mod pass;
+pub mod tbr;
+
+use serde::{Deserialize, Serialize};
+
+use crate::ledger::{Counters, Ledger, TileStats};
+
+/// How a render pass is executed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Backend {
+    /// Tile-based rendering with early-Z.
+    #[default]
+    Tbr,
+    /// Immediate-mode rendering into external memory.
+    Imr,
+}
+
+impl Backend {
+    pub const ALL: [Backend; 2] = [Backend::Tbr, Backend::Imr];
+
+    pub const fn name(self) -> &'static str {
+        match self {
+            Backend::Tbr => "tbr",
+            Backend::Imr => "imr",
+        }
+    }
+
+    pub const fn is_tiler(self) -> bool {
+        matches!(self, Backend::Tbr)
+    }
+}
+
+impl std::fmt::Display for Backend {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Backend {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Backend, String> {
+        Backend::ALL
+            .into_iter()
+            .find(|b| b.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| format!("unknown backend '{s}' (expected one of: tbr, imr)"))
+    }
+}
+
+/// Frame-data figures of a pass (tilers only).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct FrameDataReport {
+    /// The largest the frame data grew between flushes, modelled bytes.
+    pub peak_bytes: u64,
+    /// The largest host memory it held.
+    pub peak_host_bytes: u64,
+}
+
+/// What a render pass did and cost.
+#[derive(Clone, Debug, Serialize)]
+pub struct PassReport {
+    pub backend: Backend,
+    pub width: u32,
+    pub height: u32,
+    pub samples: u32,
+    pub tile_width: u32,
+    pub tile_height: u32,
+    pub tiles_x: u32,
+    pub tiles_y: u32,
+    pub ledger: Ledger,
+    pub counters: Counters,
+    pub frame_data: FrameDataReport,
+    /// Per tile, row-major (tilers); empty for immediate mode.
+    pub tiles: Vec<TileStats>,
+}
+
+impl PassReport {
+    /// Shaded fragments per pixel of the render target.
+    pub fn overdraw(&self) -> f64 {
+        self.counters.fragments_shaded as f64 / (self.width as f64 * self.height as f64)
+    }
+}

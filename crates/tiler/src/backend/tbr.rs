@@ -1,0 +1,321 @@
+//! The tiler (TBR): bin the whole pass into frame data, then render tile by tile.
+//!
+//! # Incremental render
+//!
+//! Frame data has a budget (`DeviceConfig::frame_data_budget`). Triangles are set up and
+//! binned in chunks of [`BIN_CHUNK`]; when a chunk would take the frame data past its budget,
+//! the chunk is taken back out, everything binned so far is rendered — storing *every*
+//! attachment, depth, stencil and all samples, whatever its store op — and the frame data is
+//! emptied; the next flush then loads everything back (seed 000 §23.5, Mali's "incremental
+//! rendering", llvmpipe's flush-and-retry). Only the last flush uses the pass's own store ops.
+//! The ledger shows the cliff as extra tile loads and stores. Memory stays bounded by the
+//! budget plus one chunk.
+
+use rayon::prelude::*;
+
+use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
+use super::{Backend, FrameDataReport, PassReport};
+use crate::api::buffer::BufferId;
+use crate::api::device::DeviceConfig;
+use crate::api::error::Result;
+use crate::api::image::Image;
+use crate::api::render_pass::RenderPass;
+use crate::binning::binner::bin;
+use crate::binning::frame_data::{
+    FrameData, FrameDataBytes, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, primitive_record_bytes,
+};
+use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
+use crate::ledger::{Category, Counters, Ledger, TileStats};
+use crate::raster::primitive::FragmentTally;
+use crate::raster::samples::SampleLocations;
+use crate::tile::buffer::TileBuffer;
+use crate::tile::grid::TileGrid;
+use crate::tile::load_store::{AttachmentOps, apply_load, apply_store};
+use crate::tile::target::{RenderTarget, Surface};
+
+/// Triangles set up and binned at a time; the granularity of the frame-data budget.
+pub const BIN_CHUNK: u32 = 16384;
+
+/// Renders a validated pass as a tiler.
+pub fn render(
+    pass: &RenderPass,
+    resolved: &ResolvedPass,
+    images: &mut [Image],
+    buffers: &[Vec<u8>],
+    config: &DeviceConfig,
+    threads: usize,
+) -> Result<PassReport> {
+    let grid = TileGrid::new(resolved.width, resolved.height, config.tile_width, config.tile_height);
+    let samples = SampleLocations::standard(resolved.samples);
+    let lookup = |id: BufferId| buffers.get(id.0 as usize).map(|b| b.as_slice());
+    let frame_info = PassFrame {
+        width: resolved.width,
+        height: resolved.height,
+        render_area: resolved.render_area,
+        buffers: &lookup,
+    };
+    let mut images = attachment_images(images, resolved);
+    let mut frame = FrameData::new(grid);
+    let mut run = Run {
+        resolved,
+        samples,
+        counters: Counters::default(),
+        ledger: Ledger::default(),
+        tiles: vec![TileStats::default(); grid.tile_count()],
+        frame_data: FrameDataReport::default(),
+        flushes: 0,
+    };
+    let bands = threads * 4;
+
+    for (draw_index, draw) in pass.draws.iter().enumerate() {
+        let geometry = prepare_draw(draw_index, draw, &frame_info)?;
+        run.counters.draws += 1;
+        run.counters.vertices_shaded += geometry.vertices.shaded;
+        run.ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
+        run.ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
+        let varying_count = geometry.vertices.varying_count;
+        let state = StateRecord {
+            pipeline: draw.pipeline.clone(),
+            draw: draw_index as u32,
+            clip_rect: geometry.clip_rect,
+            varying_count: varying_count as u32,
+        };
+        let mut state_index = None;
+        let mut start = 0;
+        while start < geometry.triangles {
+            let end = (start + BIN_CHUNK).min(geometry.triangles);
+            let index = *state_index.get_or_insert_with(|| frame.push_state(state.clone()));
+            let mut batches = geometry.setup(start..end, &samples, index);
+            for batch in &batches {
+                run.counters.merge(&batch.counters);
+            }
+            let mark = Mark::of(&frame);
+            append(&mut frame, &batches, varying_count);
+            bin(&mut frame, mark.primitives, &samples, bands);
+            if frame.bytes.total() > config.frame_data_budget && mark.primitives > 0 {
+                // Over budget: render what was there before this chunk, then start afresh.
+                mark.rollback(&mut frame);
+                run.flush(&frame, &mut images, false);
+                frame.clear();
+                let index = frame.push_state(state.clone());
+                state_index = Some(index);
+                for batch in &mut batches {
+                    for p in &mut batch.primitives {
+                        p.state = index;
+                    }
+                }
+                append(&mut frame, &batches, varying_count);
+                bin(&mut frame, 0, &samples, bands);
+            }
+            run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes.total());
+            run.frame_data.peak_host_bytes = run.frame_data.peak_host_bytes.max(frame.host_bytes());
+            start = end;
+        }
+    }
+    run.flush(&frame, &mut images, true);
+
+    Ok(PassReport {
+        backend: Backend::Tbr,
+        width: resolved.width,
+        height: resolved.height,
+        samples: resolved.samples,
+        tile_width: grid.tile_width,
+        tile_height: grid.tile_height,
+        tiles_x: grid.tiles_x,
+        tiles_y: grid.tiles_y,
+        ledger: run.ledger,
+        counters: run.counters,
+        frame_data: run.frame_data,
+        tiles: run.tiles,
+    })
+}
+
+/// Appends set-up primitives (and their varyings) to the frame data.
+fn append(frame: &mut FrameData, batches: &[SetupBatch], varying_count: usize) {
+    for batch in batches {
+        let base = frame.varyings.len() as u32;
+        frame.primitives.extend(batch.primitives.iter().map(|p| {
+            let mut p = *p;
+            p.varyings += base;
+            p
+        }));
+        frame.varyings.extend_from_slice(&batch.varyings);
+        frame.bytes.primitive_records += batch.primitives.len() as u64 * primitive_record_bytes(varying_count);
+    }
+}
+
+/// How much frame data there was before a chunk, to take the chunk back out.
+struct Mark {
+    primitives: usize,
+    varyings: usize,
+    bytes: FrameDataBytes,
+}
+
+impl Mark {
+    fn of(frame: &FrameData) -> Mark {
+        Mark { primitives: frame.primitives.len(), varyings: frame.varyings.len(), bytes: frame.bytes }
+    }
+
+    fn rollback(&self, frame: &mut FrameData) {
+        frame.primitives.truncate(self.primitives);
+        frame.varyings.truncate(self.varyings);
+        frame.bytes = self.bytes;
+        let first_removed = self.primitives as u32;
+        for list in &mut frame.lists {
+            while list.last().is_some_and(|&p| p >= first_removed) {
+                list.pop();
+            }
+        }
+    }
+}
+
+/// The state of one pass being rendered.
+struct Run<'a> {
+    resolved: &'a ResolvedPass,
+    samples: SampleLocations,
+    counters: Counters,
+    ledger: Ledger,
+    tiles: Vec<TileStats>,
+    frame_data: FrameDataReport,
+    flushes: u64,
+}
+
+/// What one band of tiles did.
+#[derive(Default)]
+struct BandResult {
+    tally: FragmentTally,
+    ledger: Ledger,
+    tiles: Vec<(usize, TileStats)>,
+}
+
+impl Run<'_> {
+    /// Renders the frame data into every tile of the render area. The first flush uses the
+    /// pass's load ops, later ones load everything; the last uses the pass's store ops,
+    /// earlier ones store everything.
+    fn flush(&mut self, frame: &FrameData, images: &mut [&mut Image], last: bool) {
+        let resolved = self.resolved;
+        let first = self.flushes == 0;
+        let ops: Vec<AttachmentOps> = resolved
+            .attachments
+            .iter()
+            .map(|a| {
+                let ops = if first { a.ops } else { a.ops.with_load() };
+                if last { ops } else { ops.with_store() }
+            })
+            .collect();
+        let grid = frame.grid;
+        let (tx0, ty0, tx1, ty1) = grid.tiles_meeting(&resolved.render_area);
+
+        // Cut every attachment into bands of tile rows: bands[row][attachment] = sample slices.
+        let mut per_attachment: Vec<std::vec::IntoIter<Vec<&mut [u8]>>> =
+            images.iter_mut().map(|image| image_bands(image, grid.tile_height as usize).into_iter()).collect();
+        let mut bands = Vec::new();
+        for ty in 0..grid.tiles_y {
+            let slices: Vec<Option<Vec<&mut [u8]>>> = per_attachment.iter_mut().map(|a| a.next()).collect();
+            if (ty0..=ty1).contains(&ty) {
+                bands.push((ty, slices));
+            }
+        }
+        let spec: Vec<_> = resolved.attachments.iter().map(|a| (a.format, resolved.samples)).collect();
+        let samples = self.samples;
+        let results: Vec<BandResult> = bands
+            .into_par_iter()
+            .map_init(
+                || TileBuffer::new(grid.tile_width, grid.tile_height, &spec),
+                |buffer, (ty, slices)| render_band(frame, resolved, &ops, &samples, buffer, ty, slices, tx0..=tx1),
+            )
+            .collect();
+        for band in results {
+            self.counters.merge(&band.tally.counters);
+            self.ledger.merge(&band.tally.ledger);
+            self.ledger.merge(&band.ledger);
+            for (index, stats) in band.tiles {
+                let t = &mut self.tiles[index];
+                t.list_entries += stats.list_entries;
+                t.fragments_shaded += stats.fragments_shaded;
+                t.bytes_loaded += stats.bytes_loaded;
+                t.bytes_stored += stats.bytes_stored;
+            }
+        }
+        self.ledger.add(Category::FrameDataWrite, frame.bytes.total());
+        if !last {
+            self.counters.incremental_renders += 1;
+        }
+        self.flushes += 1;
+    }
+}
+
+/// Renders the tiles `columns` of tile row `ty`.
+#[allow(clippy::too_many_arguments)]
+fn render_band(
+    frame: &FrameData,
+    resolved: &ResolvedPass,
+    ops: &[AttachmentOps],
+    samples: &SampleLocations,
+    buffer: &mut TileBuffer,
+    ty: u32,
+    slices: Vec<Option<Vec<&mut [u8]>>>,
+    columns: std::ops::RangeInclusive<u32>,
+) -> BandResult {
+    let grid = frame.grid;
+    let band_y0 = (ty * grid.tile_height) as i32;
+    let mut images: Vec<Option<Surface>> = slices
+        .into_iter()
+        .zip(&resolved.attachments)
+        .map(|(s, a)| s.map(|s| band_surface(a.format, grid.width, band_y0, s)))
+        .collect();
+    let mut result = BandResult::default();
+    for tx in columns {
+        let tile = grid.tile_rect(tx, ty);
+        let rect = tile.intersect(&resolved.render_area);
+        if rect.is_empty() {
+            continue;
+        }
+        let mut stats = TileStats::default();
+        let mut surfaces = buffer.surfaces(&tile);
+        for (a, surface) in surfaces.iter_mut().enumerate() {
+            stats.bytes_loaded += apply_load(surface, images[a].as_ref(), &rect, &ops[a]).loaded;
+        }
+
+        let mut surfaces = surfaces.into_iter();
+        let mut color: [Option<Surface>; crate::api::pipeline::MAX_COLOR_ATTACHMENTS] = Default::default();
+        for slot in color.iter_mut().take(resolved.color_count) {
+            *slot = surfaces.next();
+        }
+        let depth_stencil = if resolved.has_depth_stencil { surfaces.next() } else { None };
+        let mut target = RenderTarget { color, depth_stencil, samples: *samples, clip: rect, external: false };
+
+        let list = &frame.lists[grid.index(tx, ty)];
+        let shaded_before = result.tally.counters.fragments_shaded;
+        let mut frame_data_read = list.len() as u64 * POLYGON_LIST_ENTRY_BYTES;
+        let mut last_state = u32::MAX;
+        for &entry in list {
+            let primitive = &frame.primitives[entry as usize];
+            let state = &frame.states[primitive.state as usize];
+            if primitive.state != last_state {
+                frame_data_read += STATE_RECORD_BYTES;
+                last_state = primitive.state;
+            }
+            let n = state.varying_count as usize;
+            frame_data_read += primitive_record_bytes(n);
+            let varyings = &frame.varyings[primitive.varyings as usize..primitive.varyings as usize + 3 * n];
+            state.pipeline.object.rasterize(primitive, varyings, &mut target, &mut result.tally);
+        }
+
+        let RenderTarget { color, depth_stencil, .. } = target;
+        for (a, surface) in color.into_iter().flatten().chain(depth_stencil).enumerate() {
+            if let Some(image) = images[a].as_mut() {
+                stats.bytes_stored += apply_store(&surface, image, &rect, &ops[a]);
+            }
+        }
+        result.ledger.add(Category::TileLoad, stats.bytes_loaded);
+        result.ledger.add(Category::TileStore, stats.bytes_stored);
+        result.ledger.add(Category::FrameDataRead, frame_data_read);
+        result.tally.counters.tiles_processed += 1;
+        result.tally.counters.polygon_list_entries += list.len() as u64;
+        stats.list_entries = list.len() as u32;
+        stats.fragments_shaded = (result.tally.counters.fragments_shaded - shaded_before) as u32;
+        result.tiles.push((grid.index(tx, ty), stats));
+    }
+    result
+}

@@ -1,0 +1,143 @@
+//! The frame data: what the geometry phase hands to the tile phase — primitive records, the
+//! state records they refer to, and one polygon list per tile.
+//!
+//! # Modelled layout (what the ledger counts)
+//!
+//! tiler counts frame-data bytes as a GPU with this layout would move them:
+//!
+//! | record | bytes | written | read |
+//! |---|---|---|---|
+//! | primitive record | `8 + 3 × (16 + 4 × varyings)`: a header (state index, flags) and, per vertex, the post-transform position (x, y, z, w as f32) and the varyings (f32 each) | once, when binned | by every tile whose list names it |
+//! | polygon-list entry | 4 (primitive index) | once per tile the primitive is binned to | by that tile |
+//! | state record | 64 (shader and fixed-function state, viewport, scissor) | once per draw with primitives | by a tile each time its list changes state |
+//!
+//! The host keeps a richer record per primitive (the set-up edge functions and interpolation
+//! planes, see [`Primitive`]) so that tiles need not set triangles up again; its size is
+//! reported separately as host memory. The budget applies to the modelled bytes, as on a GPU.
+
+use crate::api::pipeline::Pipeline;
+use crate::raster::PixelRect;
+use crate::raster::edge::Edge;
+use crate::tile::grid::TileGrid;
+
+/// Bytes of a primitive record's header (state index and flags).
+pub const PRIMITIVE_HEADER_BYTES: u64 = 8;
+/// Bytes of a post-transform vertex position (x, y, z, w as f32).
+pub const VERTEX_POSITION_BYTES: u64 = 16;
+/// Bytes of a polygon-list entry.
+pub const POLYGON_LIST_ENTRY_BYTES: u64 = 4;
+/// Bytes of a state record.
+pub const STATE_RECORD_BYTES: u64 = 64;
+
+/// Modelled bytes of one primitive record with `varyings` f32 varyings per vertex.
+pub const fn primitive_record_bytes(varyings: usize) -> u64 {
+    PRIMITIVE_HEADER_BYTES + 3 * (VERTEX_POSITION_BYTES + 4 * varyings as u64)
+}
+
+/// A set-up triangle, ready to rasterize in any tile.
+///
+/// Vertices are ordered so the signed area is positive (vertex 0 is the provoking vertex).
+/// Interpolation uses screen-space barycentrics `λ1, λ2` of vertices 1 and 2, as planes
+/// relative to vertex 0's window position `origin`:
+/// `λk(x, y) = lk[0]·(x − origin.x) + lk[1]·(y − origin.y)`.
+/// Depth is `z[0] + λ1·z[1] + λ2·z[2]` (linear in screen space, Vulkan); varyings are
+/// perspective-correct through `q = 1/w` of each vertex.
+#[derive(Clone, Copy, Debug)]
+pub struct Primitive {
+    pub edges: [Edge; 3],
+    /// Pixels that may hold a covered sample, within the draw's clip rectangle.
+    pub bbox: PixelRect,
+    pub origin: [f32; 2],
+    pub l1: [f32; 2],
+    pub l2: [f32; 2],
+    pub z: [f32; 3],
+    pub q: [f32; 3],
+    /// Index of the state record.
+    pub state: u32,
+    /// Offset of the three vertices' varyings in [`FrameData::varyings`].
+    pub varyings: u32,
+    pub front_facing: bool,
+}
+
+/// What every primitive of a draw shares.
+#[derive(Clone, Debug)]
+pub struct StateRecord {
+    pub pipeline: Pipeline,
+    /// The draw's index in its render pass.
+    pub draw: u32,
+    /// Viewport ∩ scissor ∩ render area ∩ framebuffer.
+    pub clip_rect: PixelRect,
+    pub varying_count: u32,
+}
+
+/// Bytes of frame data, as modelled and as held in host memory.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrameDataBytes {
+    pub primitive_records: u64,
+    pub polygon_list_entries: u64,
+    pub state_records: u64,
+}
+
+impl FrameDataBytes {
+    pub fn total(&self) -> u64 {
+        self.primitive_records + self.polygon_list_entries + self.state_records
+    }
+}
+
+/// Primitive records, state records and polygon lists of the draws binned since the last flush.
+pub struct FrameData {
+    pub grid: TileGrid,
+    pub primitives: Vec<Primitive>,
+    pub varyings: Vec<f32>,
+    pub states: Vec<StateRecord>,
+    /// One polygon list per tile, row-major; entries are primitive indices in submission order.
+    pub lists: Vec<Vec<u32>>,
+    pub bytes: FrameDataBytes,
+}
+
+impl FrameData {
+    pub fn new(grid: TileGrid) -> FrameData {
+        FrameData {
+            lists: vec![Vec::new(); grid.tile_count()],
+            grid,
+            primitives: Vec::new(),
+            varyings: Vec::new(),
+            states: Vec::new(),
+            bytes: FrameDataBytes::default(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.primitives.is_empty()
+    }
+
+    /// Forgets everything binned, keeping the allocations.
+    pub fn clear(&mut self) {
+        self.primitives.clear();
+        self.varyings.clear();
+        self.states.clear();
+        for list in &mut self.lists {
+            list.clear();
+        }
+        self.bytes = FrameDataBytes::default();
+    }
+
+    /// Adds a state record and returns its index.
+    pub fn push_state(&mut self, state: StateRecord) -> u32 {
+        self.states.push(state);
+        self.bytes.state_records += STATE_RECORD_BYTES;
+        (self.states.len() - 1) as u32
+    }
+
+    /// Modelled bytes of a primitive record.
+    pub fn primitive_bytes(&self, primitive: &Primitive) -> u64 {
+        primitive_record_bytes(self.states[primitive.state as usize].varying_count as usize)
+    }
+
+    /// Bytes of host memory the frame data occupies.
+    pub fn host_bytes(&self) -> u64 {
+        (self.primitives.capacity() * std::mem::size_of::<Primitive>()
+            + self.varyings.capacity() * 4
+            + self.lists.iter().map(|l| l.capacity() * 4).sum::<usize>()) as u64
+    }
+}

@@ -1,0 +1,122 @@
+//! Depth and stencil tests on the samples of a 4×2 group, in the tile buffer or (immediate
+//! mode) in external memory.
+//!
+//! Order per sample (Vulkan "Fragment Operations"): stencil test, then depth test; the stencil
+//! op is the fail op when the stencil test fails, the depth-fail op when only the depth test
+//! fails, the pass op otherwise; depth is written only when both pass and writes are on.
+//! Stored depths compare as integers (see `Format::depth_bits`), so UNORM and float depth
+//! buffers need no special cases.
+
+use crate::api::format::Format;
+use crate::api::pipeline::{DepthStencilState, StencilFaceState};
+use crate::ledger::{Category, Ledger};
+use crate::raster::coverage::Coverage;
+use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask};
+use crate::tile::target::Surface;
+
+/// Tests the covered samples of the group at `(x, y)`, applies the stencil ops and depth
+/// writes, and returns the samples that passed. `depth(s)` gives the fragment depths of
+/// sample `s`. With `external`, every access is counted as immediate-mode traffic.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn test_group(
+    surface: &mut Surface,
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    state: &DepthStencilState,
+    front_facing: bool,
+    depth: impl Fn(usize) -> F32x8,
+    ledger: Option<&mut Ledger>,
+) -> Coverage {
+    let format = surface.format;
+    let face: &StencilFaceState = if front_facing { &state.front } else { &state.back };
+    let stencil_test = state.stencil_test && format.has_stencil();
+    let mut passed = coverage;
+    let (mut tested, mut depth_writes, mut stencil_writes) = (0u64, 0u64, 0u64);
+    for s in 0..surface.samples() {
+        let lanes = coverage.sample(s);
+        if lanes.is_empty() {
+            continue;
+        }
+        let z = depth(s);
+        let mut pass = 0u8;
+        for lane in 0..LANES {
+            if !lanes.contains(lane) {
+                continue;
+            }
+            tested += 1;
+            let offset = surface.offset(x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+            let bytes = &mut surface.plane_mut(s)[offset..offset + format.bytes_per_sample()];
+            let (stored_depth, stored_stencil) = unpack(format, bytes);
+            let stencil_pass = !stencil_test
+                || face
+                    .compare
+                    .test((face.reference & face.compare_mask) as u32, (stored_stencil & face.compare_mask) as u32);
+            let fragment_depth = format.depth_bits(z.lane(lane));
+            let depth_pass = !state.depth_test || state.depth_compare.test(fragment_depth, stored_depth);
+            let mut new_depth = stored_depth;
+            let mut new_stencil = stored_stencil;
+            if stencil_test {
+                let op = if !stencil_pass {
+                    face.fail_op
+                } else if !depth_pass {
+                    face.depth_fail_op
+                } else {
+                    face.pass_op
+                };
+                let value = op.apply(stored_stencil, face.reference);
+                new_stencil = (value & face.write_mask) | (stored_stencil & !face.write_mask);
+                if op != crate::api::pipeline::StencilOp::Keep && face.write_mask != 0 {
+                    stencil_writes += 1;
+                }
+            }
+            if stencil_pass && depth_pass {
+                pass |= 1 << lane;
+                if state.depth_test && state.depth_write {
+                    new_depth = fragment_depth;
+                    depth_writes += 1;
+                }
+            }
+            if new_depth != stored_depth || new_stencil != stored_stencil {
+                pack(format, bytes, new_depth, new_stencil);
+            }
+        }
+        passed.set_sample(s, LaneMask(pass));
+    }
+    if let Some(ledger) = ledger {
+        if state.depth_test {
+            ledger.add(Category::ImrDepthRead, tested * format.depth_aspect_bytes() as u64);
+        }
+        if stencil_test {
+            ledger.add(Category::ImrStencilRead, tested * format.stencil_aspect_bytes() as u64);
+        }
+        ledger.add(Category::ImrDepthWrite, depth_writes * format.depth_aspect_bytes() as u64);
+        ledger.add(Category::ImrStencilWrite, stencil_writes * format.stencil_aspect_bytes() as u64);
+    }
+    passed
+}
+
+/// Stored depth bits and stencil of one sample.
+#[inline(always)]
+fn unpack(format: Format, bytes: &[u8]) -> (u32, u8) {
+    match format {
+        Format::D16Unorm => (u16::from_le_bytes([bytes[0], bytes[1]]) as u32, 0),
+        Format::D24UnormS8Uint => {
+            let w = u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
+            (w & 0x00ff_ffff, (w >> 24) as u8)
+        }
+        Format::D32Float => (u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]), 0),
+        _ => unreachable!("depth test on colour format {format}"),
+    }
+}
+
+#[inline(always)]
+fn pack(format: Format, bytes: &mut [u8], depth: u32, stencil: u8) {
+    match format {
+        Format::D16Unorm => bytes.copy_from_slice(&(depth as u16).to_le_bytes()),
+        Format::D24UnormS8Uint => bytes.copy_from_slice(&(depth | (stencil as u32) << 24).to_le_bytes()),
+        Format::D32Float => bytes.copy_from_slice(&depth.to_le_bytes()),
+        _ => unreachable!("depth write on colour format {format}"),
+    }
+}

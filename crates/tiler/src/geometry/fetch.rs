@@ -1,0 +1,99 @@
+//! Vertex fetch: reads each attribute of a vertex from its buffer and converts it to a
+//! four-component float vector (missing components `(0, 0, 0, 1)`), as GPUs' input assemblers do.
+
+use glam::Vec4;
+
+use crate::api::pipeline::{MAX_VERTEX_ATTRIBUTES, VertexFormat, VertexInputState};
+use crate::api::shader::VertexInput;
+
+/// One attribute ready to fetch: where its bytes are.
+#[derive(Clone, Copy)]
+struct AttributeSource<'a> {
+    location: usize,
+    format: VertexFormat,
+    /// The binding's buffer from the binding offset plus the attribute offset.
+    bytes: &'a [u8],
+    stride: usize,
+}
+
+/// Fetches the attributes of a draw's vertices. Built after validation: every vertex index it
+/// is asked for has all its attributes inside their buffers.
+pub struct VertexFetcher<'a> {
+    attributes: Vec<AttributeSource<'a>>,
+}
+
+impl<'a> VertexFetcher<'a> {
+    /// `bindings[i]` is the bytes of binding `i`'s buffer from the binding's offset on.
+    pub fn new(input: &VertexInputState, bindings: &[&'a [u8]]) -> VertexFetcher<'a> {
+        let attributes = input
+            .attributes
+            .iter()
+            .map(|a| AttributeSource {
+                location: a.location as usize,
+                format: a.format,
+                bytes: &bindings[a.binding as usize][a.offset as usize..],
+                stride: input.bindings[a.binding as usize].stride as usize,
+            })
+            .collect();
+        VertexFetcher { attributes }
+    }
+
+    /// Fills `input` with the attributes of vertex `index`.
+    #[inline]
+    pub fn fetch(&self, index: u32, input: &mut VertexInput) {
+        input.vertex_index = index;
+        for a in &self.attributes {
+            let start = index as usize * a.stride;
+            let bytes = &a.bytes[start..start + a.format.size_bytes() as usize];
+            input.attributes[a.location] = decode(a.format, bytes);
+        }
+    }
+}
+
+impl Default for VertexInput {
+    fn default() -> VertexInput {
+        VertexInput { attributes: [Vec4::new(0.0, 0.0, 0.0, 1.0); MAX_VERTEX_ATTRIBUTES], vertex_index: 0 }
+    }
+}
+
+/// Converts one attribute's bytes (little-endian) to a vector. Normalised integers follow
+/// Vulkan: UNORM `c / (2^b − 1)`, SNORM `max(c / (2^(b−1) − 1), −1)`.
+fn decode(format: VertexFormat, b: &[u8]) -> Vec4 {
+    let f32_at = |i: usize| f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]);
+    let u16_at = |i: usize| u16::from_le_bytes([b[2 * i], b[2 * i + 1]]);
+    let unorm8 = |i: usize| b[i] as f32 / 255.0;
+    let snorm8 = |i: usize| (b[i] as i8 as f32 / 127.0).max(-1.0);
+    let unorm16 = |i: usize| u16_at(i) as f32 / 65535.0;
+    let snorm16 = |i: usize| (u16_at(i) as i16 as f32 / 32767.0).max(-1.0);
+    let half = |i: usize| half::f16::from_bits(u16_at(i)).to_f32();
+    match format {
+        VertexFormat::Float32 => Vec4::new(f32_at(0), 0.0, 0.0, 1.0),
+        VertexFormat::Float32x2 => Vec4::new(f32_at(0), f32_at(1), 0.0, 1.0),
+        VertexFormat::Float32x3 => Vec4::new(f32_at(0), f32_at(1), f32_at(2), 1.0),
+        VertexFormat::Float32x4 => Vec4::new(f32_at(0), f32_at(1), f32_at(2), f32_at(3)),
+        VertexFormat::Unorm8x4 => Vec4::new(unorm8(0), unorm8(1), unorm8(2), unorm8(3)),
+        VertexFormat::Snorm8x4 => Vec4::new(snorm8(0), snorm8(1), snorm8(2), snorm8(3)),
+        VertexFormat::Uint8x4 => Vec4::new(b[0] as f32, b[1] as f32, b[2] as f32, b[3] as f32),
+        VertexFormat::Unorm16x2 => Vec4::new(unorm16(0), unorm16(1), 0.0, 1.0),
+        VertexFormat::Unorm16x4 => Vec4::new(unorm16(0), unorm16(1), unorm16(2), unorm16(3)),
+        VertexFormat::Snorm16x2 => Vec4::new(snorm16(0), snorm16(1), 0.0, 1.0),
+        VertexFormat::Snorm16x4 => Vec4::new(snorm16(0), snorm16(1), snorm16(2), snorm16(3)),
+        VertexFormat::Float16x2 => Vec4::new(half(0), half(1), 0.0, 1.0),
+        VertexFormat::Float16x4 => Vec4::new(half(0), half(1), half(2), half(3)),
+        VertexFormat::Uint16x2 => Vec4::new(u16_at(0) as f32, u16_at(1) as f32, 0.0, 1.0),
+        VertexFormat::Uint32 => Vec4::new(u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32, 0.0, 0.0, 1.0),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decodes_normalised_integers() {
+        assert_eq!(decode(VertexFormat::Unorm8x4, &[0, 255, 51, 255]), Vec4::new(0.0, 1.0, 0.2, 1.0));
+        assert_eq!(decode(VertexFormat::Snorm8x4, &[0x80, 0x7f, 0, 0x81]), Vec4::new(-1.0, 1.0, 0.0, -1.0));
+        let bytes: Vec<u8> = [1.5f32, -2.0, 3.25].iter().flat_map(|v| v.to_le_bytes()).collect();
+        assert_eq!(decode(VertexFormat::Float32x3, &bytes), Vec4::new(1.5, -2.0, 3.25, 1.0));
+    }
+}

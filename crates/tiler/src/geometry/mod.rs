@@ -1,0 +1,389 @@
+//! The geometry phase: vertex fetch and shading, primitive assembly, clipping, culling, the
+//! viewport transform and triangle setup. It never touches a pixel: its output is primitive
+//! records, which the tilers bin into frame data and the immediate-mode backend rasterizes
+//! directly.
+
+pub mod assemble;
+pub mod clip;
+pub mod fetch;
+pub mod setup;
+pub mod vertex;
+
+use rayon::prelude::*;
+
+use crate::api::buffer::BufferId;
+use crate::api::error::{Error, Result};
+use crate::api::pipeline::{MAX_VARYINGS, Pipeline};
+use crate::api::render_pass::{Draw, IndexType, Rect, Viewport};
+use crate::binning::frame_data::Primitive;
+use crate::ledger::Counters;
+use crate::raster::PixelRect;
+use crate::raster::fixed::MAX_VIEWPORT_EXTENT_PX;
+use crate::raster::samples::SampleLocations;
+use clip::{ClipVertex, ClipVolume};
+use fetch::VertexFetcher;
+use setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
+use vertex::{ShadedVertices, VertexSet};
+
+/// Triangles set up per parallel task.
+const SETUP_CHUNK: u32 = 1024;
+
+/// An index buffer, decoded on the fly.
+#[derive(Clone, Copy)]
+struct IndexSource<'a> {
+    bytes: &'a [u8],
+    index_type: IndexType,
+}
+
+impl IndexSource<'_> {
+    #[inline]
+    fn get(&self, position: u32) -> u32 {
+        let p = position as usize;
+        match self.index_type {
+            IndexType::U16 => u16::from_le_bytes([self.bytes[2 * p], self.bytes[2 * p + 1]]) as u32,
+            IndexType::U32 => u32::from_le_bytes([
+                self.bytes[4 * p],
+                self.bytes[4 * p + 1],
+                self.bytes[4 * p + 2],
+                self.bytes[4 * p + 3],
+            ]),
+        }
+    }
+}
+
+/// A validated draw with its vertices shaded, ready for setup.
+pub struct DrawGeometry<'a> {
+    pub draw_index: usize,
+    pub pipeline: &'a Pipeline,
+    indices: Option<IndexSource<'a>>,
+    first: u32,
+    vertex_offset: i64,
+    set: VertexSet,
+    pub vertices: ShadedVertices,
+    pub triangles: u32,
+    pub viewport: Viewport,
+    pub clip_rect: PixelRect,
+    /// Bytes of vertex attributes fetched.
+    pub vertex_fetch_bytes: u64,
+    /// Bytes of indices fetched.
+    pub index_fetch_bytes: u64,
+}
+
+/// What the pass around a draw looks like.
+pub struct PassFrame<'a> {
+    pub width: u32,
+    pub height: u32,
+    pub render_area: PixelRect,
+    pub buffers: &'a dyn Fn(BufferId) -> Option<&'a [u8]>,
+}
+
+/// Validates a draw against its buffers and the pass, and shades its vertices.
+///
+/// # Errors
+/// Missing or too short buffers, indices out of range, bad viewports or scissors, and vertex
+/// positions that are not finite — each naming the draw.
+pub fn prepare_draw<'a>(draw_index: usize, draw: &'a Draw, frame: &PassFrame<'a>) -> Result<DrawGeometry<'a>> {
+    let desc = draw.pipeline.desc();
+    let fail = |reason: String| Error::draw(draw_index, reason);
+    let input = &desc.vertex_input;
+    if draw.vertex_buffers.len() < input.bindings.len() {
+        return Err(fail(format!(
+            "pipeline '{}' reads {} vertex bindings but the draw binds {} vertex buffers",
+            desc.label,
+            input.bindings.len(),
+            draw.vertex_buffers.len()
+        )));
+    }
+    let mut bindings: Vec<&[u8]> = Vec::with_capacity(input.bindings.len());
+    for (i, binding) in draw.vertex_buffers.iter().take(input.bindings.len()).enumerate() {
+        let bytes = (frame.buffers)(binding.buffer)
+            .ok_or_else(|| fail(format!("vertex binding {i}: {} does not exist", binding.buffer)))?;
+        if binding.offset > bytes.len() as u64 {
+            return Err(fail(format!(
+                "vertex binding {i}: offset {} is past the end of {} ({} bytes)",
+                binding.offset,
+                binding.buffer,
+                bytes.len()
+            )));
+        }
+        bindings.push(&bytes[binding.offset as usize..]);
+    }
+
+    // The index stream and the range of vertices it references.
+    let (indices, min_vertex, max_vertex, index_fetch_bytes) = match &draw.index_buffer {
+        None => {
+            if draw.count == 0 {
+                (None, 0i64, -1i64, 0)
+            } else {
+                (None, draw.first as i64, draw.first as i64 + draw.count as i64 - 1, 0)
+            }
+        }
+        Some(ib) => {
+            let bytes = (frame.buffers)(ib.buffer)
+                .ok_or_else(|| fail(format!("index buffer: {} does not exist", ib.buffer)))?;
+            let size = ib.index_type.size_bytes();
+            let needed = ib.offset + (draw.first as u64 + draw.count as u64) * size;
+            if needed > bytes.len() as u64 {
+                return Err(fail(format!(
+                    "indices {}..{} need {needed} bytes of {} from offset {}, which has {} bytes",
+                    draw.first,
+                    draw.first as u64 + draw.count as u64,
+                    ib.buffer,
+                    ib.offset,
+                    bytes.len()
+                )));
+            }
+            let source = IndexSource { bytes: &bytes[ib.offset as usize..], index_type: ib.index_type };
+            let (mut lo, mut hi) = (i64::MAX, -1i64);
+            for p in draw.first..draw.first + draw.count {
+                let v = source.get(p) as i64 + draw.vertex_offset as i64;
+                if v < 0 || v > u32::MAX as i64 {
+                    return Err(fail(format!(
+                        "index {} at position {p} plus vertex offset {} gives vertex {v}, outside 0..2^32",
+                        source.get(p),
+                        draw.vertex_offset
+                    )));
+                }
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+            (Some(source), lo, hi, draw.count as u64 * size)
+        }
+    };
+
+    // Every referenced vertex must have all its attributes inside their buffers.
+    if max_vertex >= 0 {
+        for (b, binding) in input.bindings.iter().enumerate() {
+            let end = input
+                .attributes
+                .iter()
+                .filter(|a| a.binding as usize == b)
+                .map(|a| a.offset + a.format.size_bytes())
+                .max();
+            let Some(end) = end else { continue };
+            let len = bindings[b].len() as u64;
+            let available = if len < end as u64 {
+                0
+            } else if binding.stride == 0 {
+                u64::MAX
+            } else {
+                (len - end as u64) / binding.stride as u64 + 1
+            };
+            if max_vertex as u64 >= available {
+                return Err(match indices {
+                    Some(source) => {
+                        let position = (draw.first..draw.first + draw.count)
+                            .find(|&p| (source.get(p) as i64 + draw.vertex_offset as i64) as u64 >= available)
+                            .unwrap_or(draw.first);
+                        Error::IndexOutOfRange {
+                            draw: draw_index,
+                            position: position as u64,
+                            index: source.get(position),
+                            vertex_count: available,
+                        }
+                    }
+                    None => fail(format!(
+                        "vertices {}..{} are out of range: vertex binding {b} holds {available} vertices",
+                        draw.first,
+                        draw.first as u64 + draw.count as u64
+                    )),
+                });
+            }
+        }
+    }
+
+    let viewport = draw.viewport.unwrap_or(Viewport::full(frame.width, frame.height));
+    let viewport_rect = validate_viewport(&viewport).map_err(|r| fail(format!("viewport: {r}")))?;
+    let mut clip_rect = viewport_rect.intersect(&frame.render_area);
+    if let Some(scissor) = draw.scissor {
+        clip_rect = clip_rect.intersect(&scissor_rect(&scissor));
+    }
+
+    // Which vertices to shade.
+    let set = match indices {
+        None => VertexSet::Range { first: draw.first, count: (max_vertex + 1 - min_vertex).max(0) as u32 },
+        Some(source) => {
+            let span = (max_vertex + 1 - min_vertex).max(0) as u64;
+            let offset = draw.vertex_offset as i64;
+            if span <= 4 * draw.count as u64 + 65536 {
+                let mut referenced = vec![0u64; span.div_ceil(64) as usize];
+                for p in draw.first..draw.first + draw.count {
+                    let slot = (source.get(p) as i64 + offset - min_vertex) as usize;
+                    referenced[slot / 64] |= 1 << (slot % 64);
+                }
+                VertexSet::Dense { min: min_vertex.max(0) as u32, count: span as u32, referenced }
+            } else {
+                let mut vertices: Vec<u32> =
+                    (draw.first..draw.first + draw.count).map(|p| (source.get(p) as i64 + offset) as u32).collect();
+                vertices.sort_unstable();
+                vertices.dedup();
+                VertexSet::Sparse { vertices }
+            }
+        }
+    };
+
+    let fetcher = VertexFetcher::new(input, &bindings);
+    let vertices = draw
+        .pipeline
+        .object
+        .shade_vertices(&fetcher, &set, desc.varyings.len())
+        .map_err(|e| Error::NonFinitePosition { draw: draw_index, vertex: e.vertex, position: e.position })?;
+    let vertex_fetch_bytes = vertices.shaded * input.fetch_bytes_per_vertex();
+    let triangles = assemble::triangle_count(desc.topology, draw.count);
+    Ok(DrawGeometry {
+        draw_index,
+        pipeline: &draw.pipeline,
+        indices,
+        first: draw.first,
+        vertex_offset: draw.vertex_offset as i64,
+        set,
+        vertices,
+        triangles,
+        viewport,
+        clip_rect,
+        vertex_fetch_bytes,
+        index_fetch_bytes,
+    })
+}
+
+/// The pixels whose centres lie inside a viewport, after checking its limits.
+fn validate_viewport(v: &Viewport) -> std::result::Result<PixelRect, String> {
+    let values = [v.x, v.y, v.width, v.height, v.min_depth, v.max_depth];
+    if values.iter().any(|f| !f.is_finite()) {
+        return Err(format!("{v:?} has a non-finite value"));
+    }
+    if v.width <= 0.0 || v.height == 0.0 {
+        return Err(format!(
+            "width {} and height {} must be positive (height may be negative to flip)",
+            v.width, v.height
+        ));
+    }
+    let limit = MAX_VIEWPORT_EXTENT_PX as f32;
+    let (x0, x1) = (v.x, v.x + v.width);
+    let (y0, y1) = (v.y.min(v.y + v.height), v.y.max(v.y + v.height));
+    if [x0, x1, y0, y1].iter().any(|c| c.abs() > limit) {
+        return Err(format!("corners must lie within ±{limit} pixels of the origin"));
+    }
+    if !(0.0..=1.0).contains(&v.min_depth) || !(0.0..=1.0).contains(&v.max_depth) {
+        return Err(format!("depth range [{}, {}] must lie in [0, 1]", v.min_depth, v.max_depth));
+    }
+    // Pixel centres p + 0.5 with x0 ≤ p + 0.5 < x1.
+    let first = |c: f32| (c - 0.5).ceil() as i32;
+    Ok(PixelRect::new(first(x0), first(y0), first(x1), first(y1)))
+}
+
+fn scissor_rect(r: &Rect) -> PixelRect {
+    let clamp = |v: u64| v.min(i32::MAX as u64) as i32;
+    PixelRect::new(clamp(r.x as u64), clamp(r.y as u64), clamp(r.right()), clamp(r.bottom()))
+}
+
+/// Primitives set up from a range of a draw's triangles.
+#[derive(Default)]
+pub struct SetupBatch {
+    pub primitives: Vec<Primitive>,
+    pub varyings: Vec<f32>,
+    pub counters: Counters,
+}
+
+impl DrawGeometry<'_> {
+    /// The vertex slots of triangle `t`, provoking vertex first.
+    #[inline]
+    fn triangle_slots(&self, t: u32) -> [usize; 3] {
+        let positions = assemble::triangle(self.pipeline.desc().topology, t);
+        match self.indices {
+            None => positions.map(|p| p as usize),
+            Some(source) => positions.map(|p| {
+                let vertex = (source.get(self.first + p) as i64 + self.vertex_offset) as u32;
+                match &self.set {
+                    VertexSet::Dense { min, .. } => (vertex - min) as usize,
+                    VertexSet::Sparse { vertices } => vertices.binary_search(&vertex).expect("referenced vertex"),
+                    VertexSet::Range { .. } => unreachable!("indexed draws use dense or sparse sets"),
+                }
+            }),
+        }
+    }
+
+    /// Clips, culls and sets up triangles `range`, in parallel, in submission order.
+    pub fn setup(&self, range: std::ops::Range<u32>, samples: &SampleLocations, state: u32) -> Vec<SetupBatch> {
+        let desc = self.pipeline.desc();
+        let params = SetupParams {
+            viewport: ViewportTransform::new(&self.viewport),
+            clip_rect: self.clip_rect,
+            cull_mode: desc.cull_mode,
+            front_face: desc.front_face,
+            samples: *samples,
+            state,
+        };
+        if self.clip_rect.is_empty() {
+            let mut batch = SetupBatch::default();
+            batch.counters.triangles_in = range.len() as u64;
+            batch.counters.triangles_clip_rejected = range.len() as u64;
+            return vec![batch];
+        }
+        let volume = ClipVolume::new(self.viewport.width.abs(), self.viewport.height.abs());
+        let chunks = range.len().div_ceil(SETUP_CHUNK as usize) as u32;
+        (0..chunks)
+            .into_par_iter()
+            .map(|c| {
+                let start = range.start + c * SETUP_CHUNK;
+                let end = (start + SETUP_CHUNK).min(range.end);
+                let mut batch = SetupBatch {
+                    primitives: Vec::with_capacity((end - start) as usize),
+                    varyings: Vec::with_capacity((end - start) as usize * 3 * self.vertices.varying_count),
+                    counters: Counters::default(),
+                };
+                for t in start..end {
+                    self.setup_one(t, &params, &volume, &mut batch);
+                }
+                batch
+            })
+            .collect()
+    }
+
+    fn setup_one(&self, t: u32, params: &SetupParams, volume: &ClipVolume, batch: &mut SetupBatch) {
+        let counters = &mut batch.counters;
+        counters.triangles_in += 1;
+        let slots = self.triangle_slots(t);
+        let positions = slots.map(|s| self.vertices.positions[s]);
+        let codes = positions.map(|p| volume.outcode(p));
+        if codes[0] & codes[1] & codes[2] != 0 {
+            counters.triangles_clip_rejected += 1;
+            return;
+        }
+        let planes = codes[0] | codes[1] | codes[2];
+        if planes == 0 {
+            let varyings = slots.map(|s| self.vertices.varyings_of(s));
+            let outcome = setup_triangle(params, positions, varyings, &mut batch.primitives, &mut batch.varyings);
+            count_outcome(&mut batch.counters, outcome);
+            return;
+        }
+        let n = self.vertices.varying_count;
+        debug_assert!(n <= MAX_VARYINGS);
+        let triangle = [0, 1, 2].map(|i| ClipVertex::new(positions[i], self.vertices.varyings_of(slots[i])));
+        let clipped = clip::clip_triangle(volume, triangle, planes, &self.pipeline.desc().varyings);
+        batch.counters.triangles_clipped += 1;
+        let Some(poly) = clipped else {
+            batch.counters.triangles_clip_rejected += 1;
+            return;
+        };
+        for i in 1..poly.len - 1 {
+            let fan = [&poly.vertices[0], &poly.vertices[i], &poly.vertices[i + 1]];
+            let outcome = setup_triangle(
+                params,
+                fan.map(|v| v.position),
+                fan.map(|v| &v.varyings[..n]),
+                &mut batch.primitives,
+                &mut batch.varyings,
+            );
+            count_outcome(&mut batch.counters, outcome);
+        }
+    }
+}
+
+fn count_outcome(counters: &mut Counters, outcome: SetupOutcome) {
+    match outcome {
+        SetupOutcome::Primitive => counters.primitives += 1,
+        SetupOutcome::Culled => counters.triangles_culled += 1,
+        SetupOutcome::Degenerate => counters.triangles_degenerate += 1,
+    }
+}

@@ -1,0 +1,205 @@
+//! Triangle setup: perspective divide, viewport transform, snapping to fixed point, facing and
+//! culling, edge functions, the bounding box of possibly covered pixels, and the
+//! interpolation planes — everything a tile needs to rasterize the triangle.
+
+use glam::Vec4;
+
+use crate::api::pipeline::{CullMode, FrontFace};
+use crate::api::render_pass::Viewport;
+use crate::binning::frame_data::Primitive;
+use crate::raster::PixelRect;
+use crate::raster::edge::Edge;
+use crate::raster::fixed::{SUBPIXEL_SCALE, SubPixel};
+use crate::raster::samples::SampleLocations;
+
+/// Vulkan's viewport transform, in f64.
+#[derive(Clone, Copy, Debug)]
+pub struct ViewportTransform {
+    origin_x: f64,
+    origin_y: f64,
+    half_width: f64,
+    half_height: f64,
+    depth_scale: f64,
+    depth_offset: f64,
+}
+
+impl ViewportTransform {
+    pub fn new(v: &Viewport) -> ViewportTransform {
+        ViewportTransform {
+            origin_x: v.x as f64 + v.width as f64 / 2.0,
+            origin_y: v.y as f64 + v.height as f64 / 2.0,
+            half_width: v.width as f64 / 2.0,
+            half_height: v.height as f64 / 2.0,
+            depth_scale: v.max_depth as f64 - v.min_depth as f64,
+            depth_offset: v.min_depth as f64,
+        }
+    }
+}
+
+/// Everything setup needs to know about the draw.
+#[derive(Clone, Copy, Debug)]
+pub struct SetupParams {
+    pub viewport: ViewportTransform,
+    pub clip_rect: PixelRect,
+    pub cull_mode: CullMode,
+    pub front_face: FrontFace,
+    pub samples: SampleLocations,
+    pub state: u32,
+}
+
+/// What became of a triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetupOutcome {
+    Primitive,
+    Culled,
+    /// Zero area, or no sample position inside it and the clip rectangle.
+    Degenerate,
+}
+
+/// Sets up one triangle (clip-space positions with `w > 0`, from the clipper) and appends its
+/// primitive record and varyings.
+pub fn setup_triangle(
+    params: &SetupParams,
+    positions: [Vec4; 3],
+    varyings: [&[f32]; 3],
+    primitives: &mut Vec<Primitive>,
+    out_varyings: &mut Vec<f32>,
+) -> SetupOutcome {
+    let vp = &params.viewport;
+    let mut window = [(SubPixel::default(), SubPixel::default()); 3];
+    let mut z = [0.0f64; 3];
+    let mut q = [0.0f64; 3];
+    for i in 0..3 {
+        let p = positions[i];
+        let inv_w = 1.0 / p.w as f64;
+        let (x, y) =
+            (vp.origin_x + vp.half_width * (p.x as f64 * inv_w), vp.origin_y + vp.half_height * (p.y as f64 * inv_w));
+        window[i] = (SubPixel::from_window(x), SubPixel::from_window(y));
+        z[i] = vp.depth_offset + vp.depth_scale * (p.z as f64 * inv_w);
+        q[i] = inv_w;
+    }
+    let d1 = (window[1].0.raw() - window[0].0.raw(), window[1].1.raw() - window[0].1.raw());
+    let d2 = (window[2].0.raw() - window[0].0.raw(), window[2].1.raw() - window[0].1.raw());
+    let area2 = d1.0 * d2.1 - d1.1 * d2.0;
+    if area2 == 0 {
+        return SetupOutcome::Degenerate;
+    }
+    // Vulkan's signed area is a = −area2 / 2 in framebuffer coordinates (y down); a > 0 is
+    // counter-clockwise.
+    let counter_clockwise = area2 < 0;
+    let front_facing = match params.front_face {
+        FrontFace::CounterClockwise => counter_clockwise,
+        FrontFace::Clockwise => !counter_clockwise,
+    };
+    let culled = match params.cull_mode {
+        CullMode::None => false,
+        CullMode::Front => front_facing,
+        CullMode::Back => !front_facing,
+        CullMode::FrontAndBack => true,
+    };
+    if culled {
+        return SetupOutcome::Culled;
+    }
+    // Keep vertex 0 (the provoking vertex) first; swap 1 and 2 to make the area positive.
+    let order = if area2 > 0 { [0, 1, 2] } else { [0, 2, 1] };
+    let p = order.map(|i| window[i]);
+    let edges = [Edge::new(p[0], p[1]), Edge::new(p[1], p[2]), Edge::new(p[2], p[0])];
+
+    let Some(bbox) = sample_bbox(&p, &params.samples).map(|b| b.intersect(&params.clip_rect)) else {
+        return SetupOutcome::Degenerate;
+    };
+    if bbox.is_empty() {
+        return SetupOutcome::Degenerate;
+    }
+
+    let scale = SUBPIXEL_SCALE as f64;
+    let area = area2.abs() as f64 / (scale * scale);
+    let e1 = ((p[1].0.raw() - p[0].0.raw()) as f64 / scale, (p[1].1.raw() - p[0].1.raw()) as f64 / scale);
+    let e2 = ((p[2].0.raw() - p[0].0.raw()) as f64 / scale, (p[2].1.raw() - p[0].1.raw()) as f64 / scale);
+    let [o0, o1, o2] = order;
+    let varying_offset = out_varyings.len() as u32;
+    for &i in &order {
+        out_varyings.extend_from_slice(varyings[i]);
+    }
+    primitives.push(Primitive {
+        edges,
+        bbox,
+        origin: [p[0].0.to_pixels() as f32, p[0].1.to_pixels() as f32],
+        l1: [(e2.1 / area) as f32, (-e2.0 / area) as f32],
+        l2: [(-e1.1 / area) as f32, (e1.0 / area) as f32],
+        z: [z[o0] as f32, (z[o1] - z[o0]) as f32, (z[o2] - z[o0]) as f32],
+        q: [q[o0] as f32, q[o1] as f32, q[o2] as f32],
+        state: params.state,
+        varyings: varying_offset,
+        front_facing,
+    });
+    SetupOutcome::Primitive
+}
+
+/// The pixels whose sample positions can lie inside the triangle's bounding box, or `None`
+/// if there are none.
+fn sample_bbox(p: &[(SubPixel, SubPixel); 3], samples: &SampleLocations) -> Option<PixelRect> {
+    let (hx0, hy0, hx1, hy1) = samples.hull();
+    let xs = p.map(|v| v.0.raw());
+    let ys = p.map(|v| v.1.raw());
+    let (min_x, max_x) = (*xs.iter().min().unwrap(), *xs.iter().max().unwrap());
+    let (min_y, max_y) = (*ys.iter().min().unwrap(), *ys.iter().max().unwrap());
+    // Pixel px has samples at px·256 + [h0, h1]: it can be covered when that range meets
+    // [min, max].
+    let x0 = SubPixel::ceil_pixel(min_x - hx1 as i64);
+    let x1 = SubPixel::floor_pixel(max_x - hx0 as i64) + 1;
+    let y0 = SubPixel::ceil_pixel(min_y - hy1 as i64);
+    let y1 = SubPixel::floor_pixel(max_y - hy0 as i64) + 1;
+    let rect = PixelRect::new(x0 as i32, y0 as i32, x1 as i32, y1 as i32);
+    (!rect.is_empty()).then_some(rect)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params(cull_mode: CullMode) -> SetupParams {
+        SetupParams {
+            viewport: ViewportTransform::new(&Viewport::full(100, 100)),
+            clip_rect: PixelRect::new(0, 0, 100, 100),
+            cull_mode,
+            front_face: FrontFace::CounterClockwise,
+            samples: SampleLocations::standard(1),
+            state: 0,
+        }
+    }
+
+    #[test]
+    fn facing_and_culling() {
+        // In NDC with y down: (−0.5,−0.5) top-left, (0.5,−0.5) top-right, (−0.5,0.5) bottom-left
+        // is clockwise on screen.
+        let cw = [Vec4::new(-0.5, -0.5, 0.5, 1.0), Vec4::new(0.5, -0.5, 0.5, 1.0), Vec4::new(-0.5, 0.5, 0.5, 1.0)];
+        let ccw = [cw[0], cw[2], cw[1]];
+        let none: [&[f32]; 3] = [&[], &[], &[]];
+        let (mut prims, mut vars) = (Vec::new(), Vec::new());
+        assert_eq!(setup_triangle(&params(CullMode::Back), cw, none, &mut prims, &mut vars), SetupOutcome::Culled);
+        assert_eq!(setup_triangle(&params(CullMode::Back), ccw, none, &mut prims, &mut vars), SetupOutcome::Primitive);
+        assert!(prims[0].front_facing);
+        assert_eq!(setup_triangle(&params(CullMode::None), cw, none, &mut prims, &mut vars), SetupOutcome::Primitive);
+        assert!(!prims[1].front_facing);
+    }
+
+    #[test]
+    fn barycentric_planes_hit_the_vertices() {
+        let tri = [Vec4::new(-0.5, -0.5, 0.25, 1.0), Vec4::new(0.5, -0.3, 0.5, 2.0), Vec4::new(0.1, 0.6, 0.75, 1.0)];
+        let (mut prims, mut vars) = (Vec::new(), Vec::new());
+        let vs: [&[f32]; 3] = [&[1.0], &[2.0], &[3.0]];
+        setup_triangle(&params(CullMode::None), tri, vs, &mut prims, &mut vars);
+        let p = prims[0];
+        // Vertices 1 and 2 are at window (62.5, 42.5) and (55, 80), in either order: check λ at both.
+        let at = |x: f32, y: f32| {
+            let (dx, dy) = (x - p.origin[0], y - p.origin[1]);
+            (p.l1[0] * dx + p.l1[1] * dy, p.l2[0] * dx + p.l2[1] * dy)
+        };
+        let (a, b) = at(62.5, 42.5);
+        let (c, d) = at(55.0, 80.0);
+        assert!(((a - 1.0).abs() < 1e-5 && b.abs() < 1e-5) || ((b - 1.0).abs() < 1e-5 && a.abs() < 1e-5));
+        assert!(((c - 1.0).abs() < 1e-5 && d.abs() < 1e-5) || ((d - 1.0).abs() < 1e-5 && c.abs() < 1e-5));
+        assert_eq!(vars[0], 1.0, "provoking vertex first");
+    }
+}

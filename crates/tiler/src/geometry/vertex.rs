@@ -1,0 +1,114 @@
+//! Vertex shading: runs the vertex shader once for every vertex a draw references, in
+//! parallel, and checks that every position it writes is finite.
+
+use glam::Vec4;
+use rayon::prelude::*;
+
+use super::fetch::VertexFetcher;
+use crate::api::shader::{VertexInput, VertexOutput, VertexShader};
+
+/// Vertices shaded per parallel task.
+const CHUNK: usize = 4096;
+
+/// Which vertices a draw references, and where each one's results go ("slots").
+#[derive(Clone, Debug)]
+pub enum VertexSet {
+    /// Slot `i` is vertex `first + i`; all are referenced.
+    Range { first: u32, count: u32 },
+    /// Slot `i` is vertex `min + i`; bit `i` of `referenced` says whether it is used.
+    Dense { min: u32, count: u32, referenced: Vec<u64> },
+    /// Slot `i` is vertex `vertices[i]` (sorted, unique): for draws whose indices are spread
+    /// too thinly for a dense table.
+    Sparse { vertices: Vec<u32> },
+}
+
+impl VertexSet {
+    pub fn slots(&self) -> usize {
+        match self {
+            VertexSet::Range { count, .. } | VertexSet::Dense { count, .. } => *count as usize,
+            VertexSet::Sparse { vertices } => vertices.len(),
+        }
+    }
+
+    /// The vertex of slot `slot`, if the draw uses it.
+    #[inline]
+    fn vertex(&self, slot: usize) -> Option<u32> {
+        match self {
+            VertexSet::Range { first, .. } => Some(first + slot as u32),
+            VertexSet::Dense { min, referenced, .. } => {
+                (referenced[slot / 64] >> (slot % 64) & 1 != 0).then_some(min + slot as u32)
+            }
+            VertexSet::Sparse { vertices } => Some(vertices[slot]),
+        }
+    }
+}
+
+/// The vertex shader's results, per slot.
+pub struct ShadedVertices {
+    pub positions: Vec<Vec4>,
+    /// `varying_stride` floats per slot.
+    pub varyings: Vec<f32>,
+    pub varying_count: usize,
+    pub varying_stride: usize,
+    /// Vertices actually shaded (referenced ones).
+    pub shaded: u64,
+}
+
+impl ShadedVertices {
+    #[inline]
+    pub fn varyings_of(&self, slot: usize) -> &[f32] {
+        &self.varyings[slot * self.varying_stride..slot * self.varying_stride + self.varying_count]
+    }
+}
+
+/// A vertex whose shaded position is not finite.
+#[derive(Clone, Copy, Debug)]
+pub struct NonFinitePosition {
+    pub vertex: u32,
+    pub position: [f32; 4],
+}
+
+/// Shades every referenced vertex of `set`.
+///
+/// # Errors
+/// The lowest-numbered vertex whose position has a NaN or infinite component.
+pub fn shade_vertices<V: VertexShader>(
+    shader: &V,
+    fetcher: &VertexFetcher,
+    set: &VertexSet,
+    varying_count: usize,
+) -> Result<ShadedVertices, NonFinitePosition> {
+    let slots = set.slots();
+    let stride = varying_count.max(1);
+    let mut positions = vec![Vec4::ZERO; slots];
+    let mut varyings = vec![0.0f32; slots * stride];
+    let results: Vec<(u64, Option<NonFinitePosition>)> = positions
+        .par_chunks_mut(CHUNK)
+        .zip(varyings.par_chunks_mut(CHUNK * stride))
+        .enumerate()
+        .map(|(chunk, (positions, varyings))| {
+            let mut input = VertexInput::default();
+            let mut out = VertexOutput::default();
+            let mut shaded = 0;
+            let mut error = None;
+            for (i, position) in positions.iter_mut().enumerate() {
+                let slot = chunk * CHUNK + i;
+                let Some(vertex) = set.vertex(slot) else { continue };
+                fetcher.fetch(vertex, &mut input);
+                shader.shade(&input, &mut out);
+                if !out.position.is_finite() && error.is_none() {
+                    error = Some(NonFinitePosition { vertex, position: out.position.to_array() });
+                }
+                *position = out.position;
+                varyings[i * stride..i * stride + varying_count].copy_from_slice(&out.varyings[..varying_count]);
+                shaded += 1;
+            }
+            (shaded, error)
+        })
+        .collect();
+    let shaded = results.iter().map(|r| r.0).sum();
+    if let Some(error) = results.iter().filter_map(|r| r.1).min_by_key(|e| e.vertex) {
+        return Err(error);
+    }
+    Ok(ShadedVertices { positions, varyings, varying_count, varying_stride: stride, shaded })
+}

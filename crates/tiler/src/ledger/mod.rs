@@ -1,0 +1,243 @@
+//! The ledger: every byte that crosses between the GPU (tile buffer, caches) and external
+//! memory, by category, and the counters of what the pipeline did.
+//!
+//! Each category is recorded at exactly one call site, next to its formula, so the figures
+//! can be checked by hand. Counts are plain data per task (tile, band, geometry chunk),
+//! merged in a fixed order: there are no global counters.
+
+use serde::{Deserialize, Serialize};
+
+/// A kind of external-memory traffic. The formula of each is recorded where it is counted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Category {
+    /// Vertex attributes read: `vertices shaded × Σ attribute sizes` (`geometry::vertex`).
+    VertexFetch,
+    /// Indices read: `indices × index size` (`geometry`).
+    IndexFetch,
+    /// Frame data written by binning: primitive records, polygon-list entries and state
+    /// records, sizes as `binning::frame_data` documents them.
+    FrameDataWrite,
+    /// Frame data read back by the tile phase: for every tile, its polygon-list entries, the
+    /// record of each primitive they name, and a state record at each change of state.
+    FrameDataRead,
+    /// Attachments read into the tile buffer by `LoadOp::Load`:
+    /// `pixels of the tile in the render area × samples × bytes of the loaded aspect`.
+    TileLoad,
+    /// Attachments written from the tile buffer by `StoreOp::Store`: same formula.
+    TileStore,
+    /// Immediate mode: a `LoadOp::Clear` writes the render area of the attachment:
+    /// `pixels × samples × bytes of the cleared aspect`.
+    ImrClear,
+    /// Immediate mode: colour read for blending or a partial write mask, per sample written.
+    ImrColorRead,
+    /// Immediate mode: colour written, per covered sample that passed every test.
+    ImrColorWrite,
+    /// Immediate mode: depth read for the depth test, per sample tested.
+    ImrDepthRead,
+    /// Immediate mode: depth written, per sample passing with depth writes on.
+    ImrDepthWrite,
+    /// Immediate mode: stencil read for the stencil test, per sample tested.
+    ImrStencilRead,
+    /// Immediate mode: stencil written, per sample whose stencil op writes.
+    ImrStencilWrite,
+}
+
+impl Category {
+    pub const ALL: [Category; 13] = [
+        Category::VertexFetch,
+        Category::IndexFetch,
+        Category::FrameDataWrite,
+        Category::FrameDataRead,
+        Category::TileLoad,
+        Category::TileStore,
+        Category::ImrClear,
+        Category::ImrColorRead,
+        Category::ImrColorWrite,
+        Category::ImrDepthRead,
+        Category::ImrDepthWrite,
+        Category::ImrStencilRead,
+        Category::ImrStencilWrite,
+    ];
+    pub const COUNT: usize = Category::ALL.len();
+
+    /// The name used in reports (`snake_case`).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Category::VertexFetch => "vertex_fetch",
+            Category::IndexFetch => "index_fetch",
+            Category::FrameDataWrite => "frame_data_write",
+            Category::FrameDataRead => "frame_data_read",
+            Category::TileLoad => "tile_load",
+            Category::TileStore => "tile_store",
+            Category::ImrClear => "imr_clear",
+            Category::ImrColorRead => "imr_color_read",
+            Category::ImrColorWrite => "imr_color_write",
+            Category::ImrDepthRead => "imr_depth_read",
+            Category::ImrDepthWrite => "imr_depth_write",
+            Category::ImrStencilRead => "imr_stencil_read",
+            Category::ImrStencilWrite => "imr_stencil_write",
+        }
+    }
+}
+
+/// Bytes of external-memory traffic per category.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Ledger {
+    bytes: [u64; Category::COUNT],
+}
+
+impl Ledger {
+    #[inline(always)]
+    pub fn add(&mut self, category: Category, bytes: u64) {
+        self.bytes[category as usize] += bytes;
+    }
+
+    pub fn get(&self, category: Category) -> u64 {
+        self.bytes[category as usize]
+    }
+
+    /// All bytes, every category.
+    pub fn total(&self) -> u64 {
+        self.bytes.iter().sum()
+    }
+
+    /// Bytes read from external memory.
+    pub fn read_bytes(&self) -> u64 {
+        use Category::*;
+        [VertexFetch, IndexFetch, FrameDataRead, TileLoad, ImrColorRead, ImrDepthRead, ImrStencilRead]
+            .iter()
+            .map(|c| self.get(*c))
+            .sum()
+    }
+
+    /// Bytes written to external memory.
+    pub fn written_bytes(&self) -> u64 {
+        self.total() - self.read_bytes()
+    }
+
+    pub fn merge(&mut self, other: &Ledger) {
+        for (a, b) in self.bytes.iter_mut().zip(other.bytes) {
+            *a += b;
+        }
+    }
+
+    /// Categories with their bytes, in the order of [`Category::ALL`].
+    pub fn iter(&self) -> impl Iterator<Item = (Category, u64)> + '_ {
+        Category::ALL.iter().map(|c| (*c, self.get(*c)))
+    }
+}
+
+impl Serialize for Ledger {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = serializer.serialize_map(Some(Category::COUNT))?;
+        for (c, b) in self.iter() {
+            map.serialize_entry(c.name(), &b)?;
+        }
+        map.end()
+    }
+}
+
+/// What the pipeline did in a pass: geometry, binning, tiles and fragments.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Counters {
+    pub draws: u64,
+    pub vertices_shaded: u64,
+    /// Triangles assembled from the draws.
+    pub triangles_in: u64,
+    /// Dropped for facing the culled way.
+    pub triangles_culled: u64,
+    /// Dropped for having zero area or covering no sample position.
+    pub triangles_degenerate: u64,
+    /// Dropped for lying wholly outside the clip volume.
+    pub triangles_clip_rejected: u64,
+    /// Triangles that crossed a clip plane and were cut (each may give several primitives).
+    pub triangles_clipped: u64,
+    /// Primitives set up and written to the frame data (immediate mode: rasterized).
+    pub primitives: u64,
+    pub polygon_list_entries: u64,
+    pub tiles_processed: u64,
+    /// Flushes forced by the frame-data budget (each stores and reloads every attachment).
+    pub incremental_renders: u64,
+    /// Pixels with at least one covered sample, per primitive.
+    pub fragments_rasterized: u64,
+    /// Fragments rejected by the depth or stencil test before shading (early-Z).
+    pub fragments_early_z_killed: u64,
+    /// Fragments the fragment shader ran for (helper lanes not included).
+    pub fragments_shaded: u64,
+    /// Helper lanes shaded only to complete 2×2 quads.
+    pub helper_invocations: u64,
+    pub fragments_discarded: u64,
+    /// Fragments rejected by the depth or stencil test after shading.
+    pub fragments_late_killed: u64,
+    /// Fragments that passed every test and reached blending.
+    pub fragments_passed: u64,
+}
+
+impl Counters {
+    pub fn merge(&mut self, o: &Counters) {
+        let Counters {
+            draws,
+            vertices_shaded,
+            triangles_in,
+            triangles_culled,
+            triangles_degenerate,
+            triangles_clip_rejected,
+            triangles_clipped,
+            primitives,
+            polygon_list_entries,
+            tiles_processed,
+            incremental_renders,
+            fragments_rasterized,
+            fragments_early_z_killed,
+            fragments_shaded,
+            helper_invocations,
+            fragments_discarded,
+            fragments_late_killed,
+            fragments_passed,
+        } = self;
+        *draws += o.draws;
+        *vertices_shaded += o.vertices_shaded;
+        *triangles_in += o.triangles_in;
+        *triangles_culled += o.triangles_culled;
+        *triangles_degenerate += o.triangles_degenerate;
+        *triangles_clip_rejected += o.triangles_clip_rejected;
+        *triangles_clipped += o.triangles_clipped;
+        *primitives += o.primitives;
+        *polygon_list_entries += o.polygon_list_entries;
+        *tiles_processed += o.tiles_processed;
+        *incremental_renders += o.incremental_renders;
+        *fragments_rasterized += o.fragments_rasterized;
+        *fragments_early_z_killed += o.fragments_early_z_killed;
+        *fragments_shaded += o.fragments_shaded;
+        *helper_invocations += o.helper_invocations;
+        *fragments_discarded += o.fragments_discarded;
+        *fragments_late_killed += o.fragments_late_killed;
+        *fragments_passed += o.fragments_passed;
+    }
+}
+
+/// What one tile cost, for heat maps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct TileStats {
+    /// Polygon-list entries of the tile (summed over incremental renders).
+    pub list_entries: u32,
+    pub fragments_shaded: u32,
+    pub bytes_loaded: u64,
+    pub bytes_stored: u64,
+}
+
+/// Counters and ledger of one task (a tile, a band), merged into the pass report.
+#[derive(Clone, Debug, Default)]
+pub struct TaskTally {
+    pub counters: Counters,
+    pub ledger: Ledger,
+}
+
+impl TaskTally {
+    pub fn merge(&mut self, other: &TaskTally) {
+        self.counters.merge(&other.counters);
+        self.ledger.merge(&other.ledger);
+    }
+}

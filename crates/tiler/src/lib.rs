@@ -1,0 +1,93 @@
+//! tiler: a tile-based deferred GPU built in software.
+//!
+//! It renders the way mobile tile-based GPUs do and counts every byte that crosses to
+//! external memory:
+//!
+//! ```text
+//!  render pass = attachments (format, samples, load op, store op) + draws (pipeline, buffers)
+//!      │
+//!  geometry phase (`geometry`): fetch → vertex shader → assemble → clip → cull → viewport
+//!      → triangle setup in fixed point → BINNING (`binning`) into FRAME DATA
+//!      │   (polygon lists per tile + primitive and state records; it has a budget)
+//!  tile phase (`tile`, `raster`, `depth`, `shade`, `blend`), one tile at a time, in parallel:
+//!      load op → rasterize the tile's list (coverage per sample, early-Z) → shade 2×2 quads
+//!      → blend in the tile buffer → store op
+//!      │
+//!  external memory: images and buffers, and the LEDGER (`ledger`) of every byte moved
+//! ```
+//!
+//! Backends (`backend`): `Tbr` (the above) and `Imr` (immediate mode: the same primitives in
+//! submission order, straight into the images). For one input every backend, tile size and
+//! thread count gives the same image, bit for bit; only the counters differ.
+//!
+//! Glossary: *frame data* — what binning writes (ARM: polygon lists; Imagination: parameter
+//! buffer); *tile buffer* — on-chip memory for one tile of every attachment; *load/store op* —
+//! what happens to an attachment at the start/end of a pass; *incremental render* — the
+//! forced flush when frame data outgrows its budget; *early-Z* — depth test before shading.
+//!
+//! ```
+//! use tiler::*;
+//!
+//! struct Flat;
+//! impl VertexShader for Flat {
+//!     fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+//!         out.position = input.attributes[0];
+//!     }
+//! }
+//! impl FragmentShader for Flat {
+//!     fn shade(&self, frag: &mut Fragments<'_>) {
+//!         frag.set_color(0, [F32x8::ONE, F32x8::ZERO, F32x8::ZERO, F32x8::ONE]);
+//!     }
+//! }
+//!
+//! let mut device = Device::new(DeviceConfig::default()).unwrap();
+//! let color = device.create_image(ImageDesc::new(64, 64, Format::Rgba8Unorm)).unwrap();
+//! let vertices: [[f32; 4]; 3] = [[-1.0, -1.0, 0.5, 1.0], [3.0, -1.0, 0.5, 1.0], [-1.0, 3.0, 0.5, 1.0]];
+//! let buffer = device.create_buffer_from(&vertices).unwrap();
+//! let pipeline = Pipeline::new(
+//!     Flat,
+//!     Flat,
+//!     PipelineDesc::new("flat", VertexInputState::interleaved(&[VertexFormat::Float32x4])),
+//! )
+//! .unwrap();
+//! let mut pass = RenderPass::new(RenderPassDesc {
+//!     color: vec![ColorAttachment::clear_store(color, [0.0, 0.0, 0.0, 1.0])],
+//!     depth_stencil: None,
+//!     render_area: None,
+//! });
+//! pass.draw(Draw::new(&pipeline, buffer, 0, 3));
+//! let report = device.submit(&pass).unwrap();
+//! assert_eq!(report.counters.fragments_shaded, 64 * 64);
+//! assert_eq!(&device.read_rgba8(color).unwrap()[..4], &[255, 0, 0, 255]);
+//! ```
+
+pub mod api;
+pub mod backend;
+pub mod binning;
+pub mod blend;
+pub mod depth;
+pub mod geometry;
+pub mod ledger;
+pub mod raster;
+pub mod shade;
+pub mod simd;
+pub mod tile;
+
+pub use api::buffer::BufferId;
+pub use api::device::{Device, DeviceConfig};
+pub use api::error::{Error, Result};
+pub use api::format::{ColorWrites, Format};
+pub use api::image::{ImageDesc, ImageId, MAX_IMAGE_BYTES, MAX_IMAGE_DIMENSION};
+pub use api::pipeline::{
+    BlendComponent, BlendFactor, BlendOp, BlendState, ColorTargetState, CompareOp, CullMode, DepthStencilState,
+    FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES, Pipeline, PipelineDesc,
+    StencilFaceState, StencilOp, Topology, VertexAttribute, VertexBinding, VertexFormat, VertexInputState,
+};
+pub use api::render_pass::{
+    ColorAttachment, DepthStencilAttachment, Draw, IndexBufferBinding, IndexType, LoadOp, Rect, RenderPass,
+    RenderPassDesc, StoreOp, VertexBufferBinding, Viewport,
+};
+pub use api::shader::{FragmentShader, Fragments, ShaderProperties, VertexInput, VertexOutput, VertexShader};
+pub use backend::{Backend, PassReport};
+pub use ledger::{Category, Counters, Ledger, TileStats};
+pub use simd::{F32x8, LaneMask, Vec4x8};

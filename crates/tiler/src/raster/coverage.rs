@@ -1,0 +1,224 @@
+//! Hierarchical coverage: an 8×8-pixel block is classified against the three edges as
+//! `Outside`, `Partial` or `Full` (llvmpipe's trivial reject / trivial accept); only in partial
+//! blocks are the edge functions evaluated per sample, for 4×2 groups of pixels at a time.
+//!
+//! Everything is evaluated at absolute sample positions from the primitive's integer edge
+//! functions, so coverage does not depend on which tile or band asks for it.
+
+use super::edge::Edge;
+use super::fixed::{SUBPIXEL_SCALE, SubPixel};
+use super::samples::{MAX_SAMPLES, SampleLocations};
+use crate::simd::{LANE_DX, LANE_DY, LANES, LaneMask};
+
+/// Side of a coverage block, in pixels. Tiles are multiples of it.
+pub const BLOCK_SIZE: i32 = 8;
+
+/// Which samples of a 4×2 group are covered: byte `s` is the lane mask of sample `s`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Coverage(pub u64);
+
+impl Coverage {
+    pub const NONE: Coverage = Coverage(0);
+
+    /// Every lane of every one of `samples` samples.
+    #[inline(always)]
+    pub fn full(samples: usize) -> Coverage {
+        Coverage(if samples >= 8 { u64::MAX } else { (1u64 << (8 * samples)) - 1 })
+    }
+
+    #[inline(always)]
+    pub fn sample(self, s: usize) -> LaneMask {
+        LaneMask((self.0 >> (8 * s)) as u8)
+    }
+
+    #[inline(always)]
+    pub fn set_sample(&mut self, s: usize, lanes: LaneMask) {
+        self.0 = (self.0 & !(0xffu64 << (8 * s))) | ((lanes.0 as u64) << (8 * s));
+    }
+
+    /// Lanes with at least one covered sample.
+    #[inline(always)]
+    pub fn lanes(self) -> LaneMask {
+        let mut v = self.0;
+        v |= v >> 32;
+        v |= v >> 16;
+        v |= v >> 8;
+        LaneMask(v as u8)
+    }
+
+    /// Keeps only the given lanes, in every sample.
+    #[inline(always)]
+    pub fn restrict(self, lanes: LaneMask) -> Coverage {
+        Coverage(self.0 & (lanes.0 as u64 * 0x0101_0101_0101_0101))
+    }
+
+    #[inline(always)]
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// Covered samples in total.
+    #[inline(always)]
+    pub fn count(self) -> u32 {
+        self.0.count_ones()
+    }
+}
+
+/// How an 8×8 block relates to a primitive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BlockCoverage {
+    /// No sample of the block is covered.
+    Outside,
+    /// Some samples may be covered: evaluate per sample.
+    Partial,
+    /// Every sample of the block is covered.
+    Full,
+}
+
+/// A primitive's edges prepared for coverage queries at one sample count.
+#[derive(Clone, Debug)]
+pub struct PrimitiveCoverage {
+    edges: [Edge; 3],
+    /// `A·dx + B·dy` for each lane's pixel corner relative to its group's corner.
+    lane_offsets: [[i64; LANES]; 3],
+    /// `A·sx + B·sy` for each sample's offset within its pixel.
+    sample_offsets: [[i64; MAX_SAMPLES]; 3],
+    samples: usize,
+    /// The sample hull of a pixel: min/max sample offsets (sub-pixels).
+    hull: (i64, i64, i64, i64),
+}
+
+impl PrimitiveCoverage {
+    pub fn new(edges: &[Edge; 3], locations: &SampleLocations) -> PrimitiveCoverage {
+        let scale = SUBPIXEL_SCALE as i64;
+        let lane_offsets = edges.map(|e| {
+            std::array::from_fn(|lane| e.a * LANE_DX[lane] as i64 * scale + e.b * LANE_DY[lane] as i64 * scale)
+        });
+        let sample_offsets = edges.map(|e| {
+            let mut offsets = [0i64; MAX_SAMPLES];
+            for (o, (sx, sy)) in offsets.iter_mut().zip(locations.iter()) {
+                *o = e.a * sx as i64 + e.b * sy as i64;
+            }
+            offsets
+        });
+        let (hx0, hy0, hx1, hy1) = locations.hull();
+        PrimitiveCoverage {
+            edges: *edges,
+            lane_offsets,
+            sample_offsets,
+            samples: locations.count(),
+            hull: (hx0 as i64, hy0 as i64, hx1 as i64, hy1 as i64),
+        }
+    }
+
+    /// Classifies the `size × size` block whose top-left pixel is `(x, y)`, using the
+    /// extreme sample positions of the block.
+    #[inline]
+    pub fn classify_block(&self, x: i32, y: i32, size: i32) -> BlockCoverage {
+        let (hx0, hy0, hx1, hy1) = self.hull;
+        let x0 = SubPixel::pixel_corner(x) + hx0;
+        let y0 = SubPixel::pixel_corner(y) + hy0;
+        let x1 = SubPixel::pixel_corner(x + size - 1) + hx1;
+        let y1 = SubPixel::pixel_corner(y + size - 1) + hy1;
+        let mut full = true;
+        for e in &self.edges {
+            if e.max_over(x0, y0, x1, y1) < 0 {
+                return BlockCoverage::Outside;
+            }
+            full &= e.min_over(x0, y0, x1, y1) >= 0;
+        }
+        if full { BlockCoverage::Full } else { BlockCoverage::Partial }
+    }
+
+    /// The covered samples of the 4×2 group whose top-left pixel is `(x, y)`.
+    #[inline]
+    pub fn group(&self, x: i32, y: i32) -> Coverage {
+        let corner_x = SubPixel::pixel_corner(x);
+        let corner_y = SubPixel::pixel_corner(y);
+        let mut coverage = Coverage::full(self.samples);
+        for (e, edge) in self.edges.iter().enumerate() {
+            let base = edge.eval(corner_x, corner_y);
+            let lanes = &self.lane_offsets[e];
+            for s in 0..self.samples {
+                let at_sample = base + self.sample_offsets[e][s];
+                let mut mask = 0u8;
+                for (lane, offset) in lanes.iter().enumerate() {
+                    mask |= ((at_sample + offset >= 0) as u8) << lane;
+                }
+                let kept = coverage.sample(s) & LaneMask(mask);
+                coverage.set_sample(s, kept);
+            }
+        }
+        coverage
+    }
+
+    /// Whether the sample `s` of pixel `(x, y)` is covered: the scalar reference that
+    /// [`PrimitiveCoverage::group`] must agree with.
+    pub fn covers(&self, x: i32, y: i32, s: usize) -> bool {
+        let px = SubPixel::pixel_corner(x);
+        let py = SubPixel::pixel_corner(y);
+        self.edges.iter().enumerate().all(|(e, edge)| edge.eval(px, py) + self.sample_offsets[e][s] >= 0)
+    }
+}
+
+/// The lanes of the 4×2 group at `(x, y)` whose pixels lie inside `rect`.
+#[inline]
+pub fn lanes_inside(x: i32, y: i32, rect: &super::PixelRect) -> LaneMask {
+    let mut mask = 0u8;
+    for lane in 0..LANES {
+        let px = x + LANE_DX[lane] as i32;
+        let py = y + LANE_DY[lane] as i32;
+        let inside = px >= rect.x0 && px < rect.x1 && py >= rect.y0 && py < rect.y1;
+        mask |= (inside as u8) << lane;
+    }
+    LaneMask(mask)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triangle(points: [(i32, i32); 3]) -> [Edge; 3] {
+        let p = points.map(|(x, y)| (SubPixel(x), SubPixel(y)));
+        [Edge::new(p[0], p[1]), Edge::new(p[1], p[2]), Edge::new(p[2], p[0])]
+    }
+
+    #[test]
+    fn group_agrees_with_the_scalar_reference() {
+        let edges = triangle([(100, 50), (3000, 700), (900, 2500)]);
+        for samples in [1, 2, 4, 8] {
+            let cov = PrimitiveCoverage::new(&edges, &SampleLocations::standard(samples));
+            for gy in (0..12).step_by(2) {
+                for gx in (0..16).step_by(4) {
+                    let group = cov.group(gx, gy);
+                    for lane in 0..LANES {
+                        for s in 0..samples as usize {
+                            let expected = cov.covers(gx + LANE_DX[lane] as i32, gy + LANE_DY[lane] as i32, s);
+                            assert_eq!(group.sample(s).contains(lane), expected);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn block_classes_are_consistent_with_groups() {
+        let edges = triangle([(0, 0), (40 * 256, 0), (0, 40 * 256)]);
+        let cov = PrimitiveCoverage::new(&edges, &SampleLocations::standard(4));
+        assert_eq!(cov.classify_block(0, 0, 8), BlockCoverage::Full);
+        assert_eq!(cov.classify_block(48, 48, 8), BlockCoverage::Outside);
+        assert_eq!(cov.classify_block(16, 16, 8), BlockCoverage::Partial);
+        assert_eq!(cov.group(0, 0), Coverage::full(4));
+    }
+
+    #[test]
+    fn coverage_lane_folding() {
+        let mut c = Coverage::NONE;
+        c.set_sample(2, LaneMask(0b1000_0001));
+        c.set_sample(0, LaneMask(0b0000_0010));
+        assert_eq!(c.lanes(), LaneMask(0b1000_0011));
+        assert_eq!(c.restrict(LaneMask(0b0000_0011)).lanes(), LaneMask(0b0000_0011));
+        assert_eq!(Coverage::full(8).count(), 64);
+    }
+}

@@ -1,0 +1,53 @@
+//! The tile buffer: on-chip memory holding one tile of every attachment, every sample, in the
+//! attachment's own format.
+
+use super::target::Surface;
+use crate::api::format::Format;
+use crate::raster::PixelRect;
+
+/// Storage for one tile of each attachment of a render pass. One per worker thread, reused
+/// from tile to tile.
+pub struct TileBuffer {
+    tile_width: usize,
+    tile_height: usize,
+    attachments: Vec<(Format, usize, Vec<u8>)>,
+}
+
+impl TileBuffer {
+    /// For attachments given as `(format, samples)`.
+    pub fn new(tile_width: u32, tile_height: u32, attachments: &[(Format, u32)]) -> TileBuffer {
+        let (w, h) = (tile_width as usize, tile_height as usize);
+        TileBuffer {
+            tile_width: w,
+            tile_height: h,
+            attachments: attachments
+                .iter()
+                .map(|&(format, samples)| {
+                    (format, samples as usize, vec![0u8; w * h * samples as usize * format.bytes_per_sample()])
+                })
+                .collect(),
+        }
+    }
+
+    /// Bytes of tile memory per tile (all attachments, all samples).
+    pub fn bytes(&self) -> usize {
+        self.attachments.iter().map(|a| a.2.len()).sum()
+    }
+
+    /// Views of every attachment for the tile whose top-left pixel is that of `tile`.
+    pub fn surfaces(&mut self, tile: &PixelRect) -> Vec<Surface<'_>> {
+        let plane_pixels = self.tile_width * self.tile_height;
+        let stride = self.tile_width;
+        self.attachments
+            .iter_mut()
+            .map(|(format, _samples, data)| {
+                let plane_bytes = plane_pixels * format.bytes_per_sample();
+                Surface::new(*format, (tile.x0, tile.y0), stride, data.chunks_mut(plane_bytes))
+            })
+            .collect()
+    }
+
+    pub fn tile_height(&self) -> usize {
+        self.tile_height
+    }
+}

@@ -1,0 +1,58 @@
+//! The tile grid: how a framebuffer is cut into tiles.
+
+use crate::raster::PixelRect;
+
+/// Tiles of `tile_width × tile_height` pixels over a `width × height` framebuffer, row-major.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TileGrid {
+    pub tile_width: u32,
+    pub tile_height: u32,
+    pub width: u32,
+    pub height: u32,
+    pub tiles_x: u32,
+    pub tiles_y: u32,
+}
+
+impl TileGrid {
+    pub fn new(width: u32, height: u32, tile_width: u32, tile_height: u32) -> TileGrid {
+        TileGrid {
+            tile_width,
+            tile_height,
+            width,
+            height,
+            tiles_x: width.div_ceil(tile_width),
+            tiles_y: height.div_ceil(tile_height),
+        }
+    }
+
+    pub fn tile_count(&self) -> usize {
+        (self.tiles_x * self.tiles_y) as usize
+    }
+
+    pub fn index(&self, tile_x: u32, tile_y: u32) -> usize {
+        (tile_y * self.tiles_x + tile_x) as usize
+    }
+
+    /// The pixels of a tile (cut at the framebuffer's edge).
+    pub fn tile_rect(&self, tile_x: u32, tile_y: u32) -> PixelRect {
+        let x0 = tile_x * self.tile_width;
+        let y0 = tile_y * self.tile_height;
+        PixelRect::new(
+            x0 as i32,
+            y0 as i32,
+            (x0 + self.tile_width).min(self.width) as i32,
+            (y0 + self.tile_height).min(self.height) as i32,
+        )
+    }
+
+    /// The inclusive range of tiles `(x0, y0, x1, y1)` a non-empty rectangle meets.
+    pub fn tiles_meeting(&self, rect: &PixelRect) -> (u32, u32, u32, u32) {
+        debug_assert!(!rect.is_empty() && rect.x0 >= 0 && rect.y0 >= 0);
+        (
+            rect.x0 as u32 / self.tile_width,
+            rect.y0 as u32 / self.tile_height,
+            (rect.x1 as u32 - 1) / self.tile_width,
+            (rect.y1 as u32 - 1) / self.tile_height,
+        )
+    }
+}

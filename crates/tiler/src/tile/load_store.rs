@@ -1,0 +1,206 @@
+//! Load and store ops: how a tile's attachments start and end.
+//!
+//! These two functions are the only places attachment bytes move between external memory and
+//! the tile buffer, so the ledger's `TileLoad` and `TileStore` formulas live here:
+//! bytes = pixels of the tile inside the render area × samples × bytes of each aspect moved.
+//! The same load function initialises an image in place for immediate mode, where a clear is
+//! a write to external memory (`ImrClear`).
+
+use super::target::Surface;
+use crate::api::format::Format;
+use crate::api::render_pass::{LoadOp, StoreOp};
+use crate::raster::PixelRect;
+
+/// The load and store ops of one attachment, per aspect.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AttachmentOps {
+    Color { load: LoadOp<[f32; 4]>, store: StoreOp },
+    DepthStencil { depth_load: LoadOp<f32>, depth_store: StoreOp, stencil_load: LoadOp<u8>, stencil_store: StoreOp },
+}
+
+impl AttachmentOps {
+    /// The ops of an incremental render's middle: load and store everything.
+    pub fn load_store_all(&self) -> AttachmentOps {
+        match self {
+            AttachmentOps::Color { .. } => AttachmentOps::Color { load: LoadOp::Load, store: StoreOp::Store },
+            AttachmentOps::DepthStencil { .. } => AttachmentOps::DepthStencil {
+                depth_load: LoadOp::Load,
+                depth_store: StoreOp::Store,
+                stencil_load: LoadOp::Load,
+                stencil_store: StoreOp::Store,
+            },
+        }
+    }
+
+    /// These ops with the load ops replaced by `Load` (a continuation after a flush).
+    pub fn with_load(&self) -> AttachmentOps {
+        match *self {
+            AttachmentOps::Color { store, .. } => AttachmentOps::Color { load: LoadOp::Load, store },
+            AttachmentOps::DepthStencil { depth_store, stencil_store, .. } => AttachmentOps::DepthStencil {
+                depth_load: LoadOp::Load,
+                depth_store,
+                stencil_load: LoadOp::Load,
+                stencil_store,
+            },
+        }
+    }
+
+    /// These ops with every store op `Store` (the end of a flush that is not the last).
+    pub fn with_store(&self) -> AttachmentOps {
+        match *self {
+            AttachmentOps::Color { load, .. } => AttachmentOps::Color { load, store: StoreOp::Store },
+            AttachmentOps::DepthStencil { depth_load, stencil_load, .. } => AttachmentOps::DepthStencil {
+                depth_load,
+                depth_store: StoreOp::Store,
+                stencil_load,
+                stencil_store: StoreOp::Store,
+            },
+        }
+    }
+}
+
+/// What a load did: bytes read from external memory, and bytes set to a clear value.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadBytes {
+    pub loaded: u64,
+    pub cleared: u64,
+}
+
+/// Initialises `rect` of `dst` as the load ops say. For a tiler `dst` is the tile buffer and
+/// `src` the image in external memory; for immediate mode `dst` is the image itself and `src`
+/// is `None` (a `Load` then has nothing to do).
+pub fn apply_load(dst: &mut Surface, src: Option<&Surface>, rect: &PixelRect, ops: &AttachmentOps) -> LoadBytes {
+    let format = dst.format;
+    let samples = dst.samples();
+    let pixels = rect.area() * samples as u64;
+    let mut bytes = LoadBytes::default();
+    match *ops {
+        AttachmentOps::Color { load, .. } => match load {
+            LoadOp::Load => {
+                if let Some(src) = src {
+                    copy_rect(dst, src, rect);
+                    bytes.loaded = pixels * format.bytes_per_sample() as u64;
+                }
+            }
+            LoadOp::Clear(color) => {
+                let mut pattern = [0u8; 16];
+                format.encode_color(color, &mut pattern[..format.bytes_per_sample()]);
+                fill_rect(dst, rect, &pattern[..format.bytes_per_sample()]);
+                bytes.cleared = pixels * format.bytes_per_sample() as u64;
+            }
+            LoadOp::DontCare => fill_rect(dst, rect, &[0u8; 16][..format.bytes_per_sample()]),
+        },
+        AttachmentOps::DepthStencil { depth_load, stencil_load, .. } => {
+            let stencil_load = if format.has_stencil() { stencil_load } else { LoadOp::DontCare };
+            let depth_aspect = format.depth_aspect_bytes() as u64;
+            let stencil_aspect = format.stencil_aspect_bytes() as u64;
+            for (op, aspect) in [(depth_load.is_load(), depth_aspect), (stencil_load.is_load(), stencil_aspect)] {
+                if op && src.is_some() {
+                    bytes.loaded += pixels * aspect;
+                }
+            }
+            if let LoadOp::Clear(_) = depth_load {
+                bytes.cleared += pixels * depth_aspect;
+            }
+            if let LoadOp::Clear(_) = stencil_load {
+                bytes.cleared += pixels * stencil_aspect;
+            }
+            let depth_value = match depth_load {
+                LoadOp::Clear(z) => format.depth_bits(z),
+                _ => 0,
+            };
+            let stencil_value = match stencil_load {
+                LoadOp::Clear(s) => s,
+                _ => 0,
+            };
+            let word = pack_depth_stencil(format, depth_value, stencil_value);
+            let keep_depth = depth_load.is_load();
+            let keep_stencil = stencil_load.is_load() && format.has_stencil();
+            let stored_aspects = format.has_stencil() as u8 + 1;
+            let kept = keep_depth as u8 + keep_stencil as u8;
+            if kept == 0 {
+                fill_rect(dst, rect, &word[..format.bytes_per_sample()]);
+            } else {
+                if let Some(src) = src {
+                    copy_rect(dst, src, rect);
+                }
+                if kept < stored_aspects {
+                    // D24S8 with one aspect loaded and the other set: patch per sample.
+                    let mask: u32 = if keep_depth { 0xff00_0000 } else { 0x00ff_ffff };
+                    let value = u32::from_le_bytes(word[..4].try_into().unwrap()) & mask;
+                    for s in 0..samples {
+                        for y in rect.y0..rect.y1 {
+                            for px in dst.row_mut(s, y, rect.x0, rect.x1).chunks_exact_mut(4) {
+                                let old = u32::from_le_bytes(px.try_into().unwrap());
+                                px.copy_from_slice(&((old & !mask) | value).to_le_bytes());
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    bytes
+}
+
+/// Writes `rect` of the tile `src` to the image `dst` as the store ops say; returns the bytes
+/// written to external memory.
+pub fn apply_store(src: &Surface, dst: &mut Surface, rect: &PixelRect, ops: &AttachmentOps) -> u64 {
+    let format = src.format;
+    let pixels = rect.area() * src.samples() as u64;
+    let stored = match *ops {
+        AttachmentOps::Color { store, .. } => (store == StoreOp::Store) as u64 * format.bytes_per_sample() as u64,
+        AttachmentOps::DepthStencil { depth_store, stencil_store, .. } => {
+            (depth_store == StoreOp::Store) as u64 * format.depth_aspect_bytes() as u64
+                + (stencil_store == StoreOp::Store && format.has_stencil()) as u64
+                    * format.stencil_aspect_bytes() as u64
+        }
+    };
+    if stored == 0 {
+        return 0;
+    }
+    copy_rect(dst, src, rect);
+    pixels * stored
+}
+
+/// Depth and stencil packed as the format stores them (little-endian bytes).
+fn pack_depth_stencil(format: Format, depth_bits: u32, stencil: u8) -> [u8; 4] {
+    match format {
+        Format::D16Unorm => {
+            let b = (depth_bits as u16).to_le_bytes();
+            [b[0], b[1], 0, 0]
+        }
+        Format::D24UnormS8Uint => (depth_bits | (stencil as u32) << 24).to_le_bytes(),
+        Format::D32Float => depth_bits.to_le_bytes(),
+        _ => unreachable!("depth-stencil ops on colour format {format}"),
+    }
+}
+
+fn fill_rect(dst: &mut Surface, rect: &PixelRect, pattern: &[u8]) {
+    for s in 0..dst.samples() {
+        for y in rect.y0..rect.y1 {
+            let row = dst.row_mut(s, y, rect.x0, rect.x1);
+            if pattern.iter().all(|b| *b == pattern[0]) {
+                row.fill(pattern[0]);
+            } else {
+                for px in row.chunks_exact_mut(pattern.len()) {
+                    px.copy_from_slice(pattern);
+                }
+            }
+        }
+    }
+}
+
+fn copy_rect(dst: &mut Surface, src: &Surface, rect: &PixelRect) {
+    for s in 0..dst.samples() {
+        for y in rect.y0..rect.y1 {
+            dst.row_mut(s, y, rect.x0, rect.x1).copy_from_slice(src.row(s, y, rect.x0, rect.x1));
+        }
+    }
+}
+
+impl<T> LoadOp<T> {
+    pub fn is_load(&self) -> bool {
+        matches!(self, LoadOp::Load)
+    }
+}

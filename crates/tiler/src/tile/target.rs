@@ -1,0 +1,96 @@
+//! Views of an attachment for the pixel pipeline: where sample `s` of pixel `(x, y)` lives,
+//! whether in a tile buffer or in a band of an image in external memory.
+
+use crate::api::format::Format;
+use crate::api::pipeline::MAX_COLOR_ATTACHMENTS;
+use crate::raster::PixelRect;
+use crate::raster::samples::{MAX_SAMPLES, SampleLocations};
+
+/// A rectangle of one attachment, every sample plane of it: pixel `(x, y)` of sample `s` is at
+/// byte `((y − origin_y) · stride + (x − origin_x)) · bytes_per_sample` of plane `s`.
+pub struct Surface<'a> {
+    pub format: Format,
+    planes: [&'a mut [u8]; MAX_SAMPLES],
+    samples: usize,
+    origin_x: i32,
+    origin_y: i32,
+    /// Pixels per row.
+    stride: usize,
+    bytes_per_sample: usize,
+}
+
+impl<'a> Surface<'a> {
+    /// A view of `planes` (one slice per sample) whose first byte is pixel `origin`.
+    pub fn new(
+        format: Format,
+        origin: (i32, i32),
+        stride: usize,
+        planes: impl IntoIterator<Item = &'a mut [u8]>,
+    ) -> Surface<'a> {
+        let mut array: [&'a mut [u8]; MAX_SAMPLES] = Default::default();
+        let mut samples = 0;
+        for (slot, plane) in array.iter_mut().zip(planes) {
+            *slot = plane;
+            samples += 1;
+        }
+        Surface {
+            format,
+            planes: array,
+            samples,
+            origin_x: origin.0,
+            origin_y: origin.1,
+            stride,
+            bytes_per_sample: format.bytes_per_sample(),
+        }
+    }
+
+    pub fn samples(&self) -> usize {
+        self.samples
+    }
+
+    pub fn bytes_per_sample(&self) -> usize {
+        self.bytes_per_sample
+    }
+
+    /// Byte offset of pixel `(x, y)` within a plane.
+    #[inline(always)]
+    pub fn offset(&self, x: i32, y: i32) -> usize {
+        debug_assert!(x >= self.origin_x && y >= self.origin_y);
+        ((y - self.origin_y) as usize * self.stride + (x - self.origin_x) as usize) * self.bytes_per_sample
+    }
+
+    #[inline(always)]
+    pub fn plane(&self, sample: usize) -> &[u8] {
+        self.planes[sample]
+    }
+
+    #[inline(always)]
+    pub fn plane_mut(&mut self, sample: usize) -> &mut [u8] {
+        self.planes[sample]
+    }
+
+    /// The bytes of pixels `x0..x1` of row `y` in plane `sample`.
+    #[inline]
+    pub fn row(&self, sample: usize, y: i32, x0: i32, x1: i32) -> &[u8] {
+        let start = self.offset(x0, y);
+        &self.planes[sample][start..start + (x1 - x0) as usize * self.bytes_per_sample]
+    }
+
+    #[inline]
+    pub fn row_mut(&mut self, sample: usize, y: i32, x0: i32, x1: i32) -> &mut [u8] {
+        let start = self.offset(x0, y);
+        let len = (x1 - x0) as usize * self.bytes_per_sample;
+        &mut self.planes[sample][start..start + len]
+    }
+}
+
+/// The attachments the pixel pipeline writes for one primitive, and where it may write.
+pub struct RenderTarget<'a> {
+    pub color: [Option<Surface<'a>>; MAX_COLOR_ATTACHMENTS],
+    pub depth_stencil: Option<Surface<'a>>,
+    pub samples: SampleLocations,
+    /// The pixels this target holds (a tile, or a band of the framebuffer) ∩ the render area.
+    pub clip: PixelRect,
+    /// Immediate mode: attachments live in external memory, and every access is traffic.
+    pub external: bool,
+}
