@@ -261,8 +261,10 @@ impl Device {
     /// Renders a pass with the given backend and returns what it did and cost.
     ///
     /// # Errors
-    /// Any invalid attachment, draw, buffer or vertex (each error names it). Validation of the
-    /// pass happens before anything is rendered; a draw's errors are found when it is reached.
+    /// Any invalid attachment, draw, buffer or vertex (each error names it). The attachments
+    /// are checked before anything is rendered; a draw's errors are found when it is reached.
+    /// After an error the attachments hold whatever was rendered before it: nothing, on a
+    /// tiler that had not flushed yet; the cleared image and earlier draws in immediate mode.
     pub fn submit_with(&mut self, pass: &RenderPass, backend: Backend) -> Result<PassReport> {
         let resolved = ResolvedPass::new(pass, &self.images)?;
         let (images, buffers, config, threads) = (&mut self.images, &self.buffers, &self.config, self.threads);

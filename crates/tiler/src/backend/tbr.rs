@@ -2,14 +2,15 @@
 //!
 //! # Incremental render
 //!
-//! Frame data has a budget (`DeviceConfig::frame_data_budget`). Triangles are set up and
-//! binned in chunks of [`BIN_CHUNK`]; when a chunk would take the frame data past its budget,
-//! the chunk is taken back out, everything binned so far is rendered — storing *every*
-//! attachment, depth, stencil and all samples, whatever its store op — and the frame data is
-//! emptied; the next flush then loads everything back (seed 000 §23.5, Mali's "incremental
-//! rendering", llvmpipe's flush-and-retry). Only the last flush uses the pass's own store ops.
-//! The ledger shows the cliff as extra tile loads and stores. Memory stays bounded by the
-//! budget plus one chunk.
+//! Frame data has a budget (`DeviceConfig::frame_data_budget`), and never exceeds it.
+//! Triangles are set up in chunks of [`BIN_CHUNK`]; primitives are appended while their
+//! frame data surely fits (a primitive record plus one polygon-list entry per tile its box
+//! meets, an upper bound of what binning writes). When the next one would not fit, everything
+//! binned so far is rendered — storing *every* attachment, depth, stencil and all samples,
+//! whatever its store op — and the frame data is emptied; the next flush loads everything
+//! back (seed 000 §23.5, Mali's "incremental rendering", llvmpipe's flush-and-retry). Only
+//! the last flush uses the pass's own store ops, so the ledger shows the cliff as extra tile
+//! loads and stores.
 
 use rayon::prelude::*;
 
@@ -22,7 +23,7 @@ use crate::api::image::Image;
 use crate::api::render_pass::RenderPass;
 use crate::binning::binner::bin;
 use crate::binning::frame_data::{
-    FrameData, FrameDataBytes, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, primitive_record_bytes,
+    FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, primitive_record_bytes,
 };
 use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
 use crate::ledger::{Category, Counters, Ledger, TileStats};
@@ -80,32 +81,42 @@ pub fn render(
             clip_rect: geometry.clip_rect,
             varying_count: varying_count as u32,
         };
+        let record_bytes = primitive_record_bytes(varying_count);
         let mut state_index = None;
         let mut start = 0;
         while start < geometry.triangles {
             let end = (start + BIN_CHUNK).min(geometry.triangles);
-            let index = *state_index.get_or_insert_with(|| frame.push_state(state.clone()));
-            let mut batches = geometry.setup(start..end, &samples, index);
+            let batches = geometry.setup(start..end, &samples, 0);
             for batch in &batches {
                 run.counters.merge(&batch.counters);
-            }
-            let mark = Mark::of(&frame);
-            append(&mut frame, &batches, varying_count);
-            bin(&mut frame, mark.primitives, &samples, bands);
-            if frame.bytes.total() > config.frame_data_budget && mark.primitives > 0 {
-                // Over budget: render what was there before this chunk, then start afresh.
-                mark.rollback(&mut frame);
-                run.flush(&frame, &mut images, false);
-                frame.clear();
-                let index = frame.push_state(state.clone());
-                state_index = Some(index);
-                for batch in &mut batches {
-                    for p in &mut batch.primitives {
-                        p.state = index;
+                // Append the longest run of primitives whose frame data surely fits the
+                // budget (entries bounded by the tiles their box meets); flush when full.
+                let mut i = 0;
+                while i < batch.primitives.len() {
+                    let index = *state_index.get_or_insert_with(|| frame.push_state(state.clone()));
+                    let mut room = config.frame_data_budget.saturating_sub(frame.bytes.total());
+                    let mut k = i;
+                    while let Some(p) = batch.primitives.get(k) {
+                        let cost = record_bytes + POLYGON_LIST_ENTRY_BYTES * grid.tiles_meeting_count(&p.bbox);
+                        if cost > room {
+                            break;
+                        }
+                        room -= cost;
+                        k += 1;
                     }
+                    if k == i && !frame.is_empty() {
+                        run.flush(&frame, &mut images, false);
+                        frame.clear();
+                        state_index = None;
+                        continue;
+                    }
+                    // A primitive too large for an empty budget still goes in alone.
+                    let k = k.max(i + 1);
+                    let first = frame.primitives.len();
+                    append(&mut frame, batch, i..k, index, varying_count);
+                    bin(&mut frame, first, &samples, bands);
+                    i = k;
                 }
-                append(&mut frame, &batches, varying_count);
-                bin(&mut frame, 0, &samples, bands);
             }
             run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes.total());
             run.frame_data.peak_host_bytes = run.frame_data.peak_host_bytes.max(frame.host_bytes());
@@ -130,43 +141,22 @@ pub fn render(
     })
 }
 
-/// Appends set-up primitives (and their varyings) to the frame data.
-fn append(frame: &mut FrameData, batches: &[SetupBatch], varying_count: usize) {
-    for batch in batches {
-        let base = frame.varyings.len() as u32;
-        frame.primitives.extend(batch.primitives.iter().map(|p| {
-            let mut p = *p;
-            p.varyings += base;
-            p
-        }));
-        frame.varyings.extend_from_slice(&batch.varyings);
-        frame.bytes.primitive_records += batch.primitives.len() as u64 * primitive_record_bytes(varying_count);
-    }
-}
-
-/// How much frame data there was before a chunk, to take the chunk back out.
-struct Mark {
-    primitives: usize,
-    varyings: usize,
-    bytes: FrameDataBytes,
-}
-
-impl Mark {
-    fn of(frame: &FrameData) -> Mark {
-        Mark { primitives: frame.primitives.len(), varyings: frame.varyings.len(), bytes: frame.bytes }
-    }
-
-    fn rollback(&self, frame: &mut FrameData) {
-        frame.primitives.truncate(self.primitives);
-        frame.varyings.truncate(self.varyings);
-        frame.bytes = self.bytes;
-        let first_removed = self.primitives as u32;
-        for list in &mut frame.lists {
-            while list.last().is_some_and(|&p| p >= first_removed) {
-                list.pop();
-            }
-        }
-    }
+/// Appends primitives `range` of a batch (and their varyings) to the frame data, under state
+/// record `state`.
+fn append(frame: &mut FrameData, batch: &SetupBatch, range: std::ops::Range<usize>, state: u32, varying_count: usize) {
+    let primitives = &batch.primitives[range];
+    let first_varying = primitives[0].varyings as usize;
+    let base = frame.varyings.len() as u32;
+    frame.primitives.extend(primitives.iter().map(|p| {
+        let mut p = *p;
+        p.varyings = p.varyings - first_varying as u32 + base;
+        p.state = state;
+        p
+    }));
+    frame
+        .varyings
+        .extend_from_slice(&batch.varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
+    frame.bytes.primitive_records += primitives.len() as u64 * primitive_record_bytes(varying_count);
 }
 
 /// The state of one pass being rendered.

@@ -55,4 +55,10 @@ impl TileGrid {
             (rect.y1 as u32 - 1) / self.tile_height,
         )
     }
+
+    /// How many tiles a non-empty rectangle meets.
+    pub fn tiles_meeting_count(&self, rect: &PixelRect) -> u64 {
+        let (x0, y0, x1, y1) = self.tiles_meeting(rect);
+        (x1 - x0 + 1) as u64 * (y1 - y0 + 1) as u64
+    }
 }
