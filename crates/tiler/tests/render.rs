@@ -12,6 +12,8 @@ mod depth_stencil;
 mod errors;
 #[path = "render/fill_rule.rs"]
 mod fill_rule;
+#[path = "render/interpolation.rs"]
+mod interpolation;
 #[path = "render/invariant.rs"]
 mod invariant;
 #[path = "render/load_store.rs"]
