@@ -89,5 +89,5 @@ pub use api::render_pass::{
 };
 pub use api::shader::{FragmentShader, Fragments, ShaderProperties, VertexInput, VertexOutput, VertexShader};
 pub use backend::{Backend, PassReport};
-pub use ledger::{Category, Counters, Ledger, TileStats};
+pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
 pub use simd::{F32x8, LaneMask, Vec4x8};

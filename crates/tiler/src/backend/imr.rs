@@ -16,7 +16,7 @@ use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::render_pass::RenderPass;
 use crate::geometry::{PassFrame, prepare_draw};
-use crate::ledger::{Category, Counters, Ledger};
+use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
 use crate::raster::PixelRect;
 use crate::raster::primitive::FragmentTally;
 use crate::raster::samples::SampleLocations;
@@ -87,6 +87,7 @@ pub fn render(
 
     let mut counters = Counters::default();
     let mut ledger = Ledger::default();
+    let mut draws = vec![DrawStats::default(); pass.draws.len()];
 
     // Load ops act on the images themselves: a clear writes the render area.
     let cleared: u64 = bands
@@ -108,13 +109,14 @@ pub fn render(
         let batches = geometry.setup(0..geometry.triangles, &samples, 0);
         for batch in &batches {
             counters.merge(&batch.counters);
+            draws[draw_index].primitives += batch.counters.primitives;
         }
         let n = geometry.vertices.varying_count;
         let object = &draw.pipeline.object;
         let tallies: Vec<FragmentTally> = bands
             .par_iter_mut()
             .map(|band| {
-                let mut tally = FragmentTally::default();
+                let mut tally = FragmentTally { draw: draw_index, ..FragmentTally::default() };
                 for batch in &batches {
                     for p in &batch.primitives {
                         if p.bbox.y1 <= band.clip.y0 || p.bbox.y0 >= band.clip.y1 {
@@ -130,6 +132,7 @@ pub fn render(
         for tally in tallies {
             counters.merge(&tally.counters);
             ledger.merge(&tally.ledger);
+            merge_draw_stats(&mut draws, &tally.draws);
         }
     }
 
@@ -146,5 +149,6 @@ pub fn render(
         counters,
         frame_data: FrameDataReport::default(),
         tiles: Vec::new(),
+        draws,
     })
 }

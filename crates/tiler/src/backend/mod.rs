@@ -16,7 +16,7 @@ pub mod tbr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::ledger::{Counters, Ledger, TileStats};
+use crate::ledger::{Counters, DrawStats, Ledger, TileStats};
 
 /// How a render pass is executed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
@@ -85,6 +85,8 @@ pub struct PassReport {
     pub frame_data: FrameDataReport,
     /// Per tile, row-major (tilers); empty for immediate mode.
     pub tiles: Vec<TileStats>,
+    /// Per draw, in submission order.
+    pub draws: Vec<DrawStats>,
 }
 
 impl PassReport {

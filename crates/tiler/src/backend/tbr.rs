@@ -26,7 +26,7 @@ use crate::binning::frame_data::{
     FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, primitive_record_bytes,
 };
 use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
-use crate::ledger::{Category, Counters, Ledger, TileStats};
+use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
 use crate::raster::primitive::FragmentTally;
 use crate::raster::samples::SampleLocations;
 use crate::tile::buffer::TileBuffer;
@@ -63,6 +63,7 @@ pub fn render(
         counters: Counters::default(),
         ledger: Ledger::default(),
         tiles: vec![TileStats::default(); grid.tile_count()],
+        draws: vec![DrawStats::default(); pass.draws.len()],
         frame_data: FrameDataReport::default(),
         flushes: 0,
     };
@@ -89,6 +90,7 @@ pub fn render(
             let batches = geometry.setup(start..end, &samples, 0);
             for batch in &batches {
                 run.counters.merge(&batch.counters);
+                run.draws[draw_index].primitives += batch.counters.primitives;
                 // Append the longest run of primitives whose frame data surely fits the
                 // budget (entries bounded by the tiles their box meets); flush when full.
                 let mut i = 0;
@@ -138,6 +140,7 @@ pub fn render(
         counters: run.counters,
         frame_data: run.frame_data,
         tiles: run.tiles,
+        draws: run.draws,
     })
 }
 
@@ -166,6 +169,7 @@ struct Run<'a> {
     counters: Counters,
     ledger: Ledger,
     tiles: Vec<TileStats>,
+    draws: Vec<DrawStats>,
     frame_data: FrameDataReport,
     flushes: u64,
 }
@@ -219,6 +223,7 @@ impl Run<'_> {
             self.counters.merge(&band.tally.counters);
             self.ledger.merge(&band.tally.ledger);
             self.ledger.merge(&band.ledger);
+            merge_draw_stats(&mut self.draws, &band.tally.draws);
             for (index, stats) in band.tiles {
                 let t = &mut self.tiles[index];
                 t.list_entries += stats.list_entries;
@@ -289,6 +294,7 @@ fn render_band(
             let n = state.varying_count as usize;
             frame_data_read += primitive_record_bytes(n);
             let varyings = &frame.varyings[primitive.varyings as usize..primitive.varyings as usize + 3 * n];
+            result.tally.draw = state.draw as usize;
             state.pipeline.object.rasterize(primitive, varyings, &mut target, &mut result.tally);
         }
 

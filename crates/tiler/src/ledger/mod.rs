@@ -26,6 +26,19 @@ pub enum Category {
     TileLoad,
     /// Attachments written from the tile buffer by `StoreOp::Store`: same formula.
     TileStore,
+    /// Multisampled colour averaged and written to a single-sample resolve image:
+    /// `pixels × bytes per pixel of the resolve image` (tilers: at store, from the tile
+    /// buffer; immediate mode: plus reading every sample back from memory).
+    Resolve,
+    /// Texels fetched from external memory through the texture cache: `misses × line size`.
+    TextureFetch,
+    /// Copies a driver makes of a buffer or texture still used by a pending frame when the
+    /// application changes it (copy-on-write): `bytes copied × 2` (read and write).
+    CopyOnWrite,
+    /// The display controller reading the finished frame: `width × height × bytes per pixel`.
+    Display,
+    /// The window system compositing the frame: read and write of the frame.
+    Composition,
     /// Immediate mode: a `LoadOp::Clear` writes the render area of the attachment:
     /// `pixels × samples × bytes of the cleared aspect`.
     ImrClear,
@@ -44,13 +57,18 @@ pub enum Category {
 }
 
 impl Category {
-    pub const ALL: [Category; 13] = [
+    pub const ALL: [Category; 18] = [
         Category::VertexFetch,
         Category::IndexFetch,
         Category::FrameDataWrite,
         Category::FrameDataRead,
         Category::TileLoad,
         Category::TileStore,
+        Category::Resolve,
+        Category::TextureFetch,
+        Category::CopyOnWrite,
+        Category::Display,
+        Category::Composition,
         Category::ImrClear,
         Category::ImrColorRead,
         Category::ImrColorWrite,
@@ -70,6 +88,11 @@ impl Category {
             Category::FrameDataRead => "frame_data_read",
             Category::TileLoad => "tile_load",
             Category::TileStore => "tile_store",
+            Category::Resolve => "resolve",
+            Category::TextureFetch => "texture_fetch",
+            Category::CopyOnWrite => "copy_on_write",
+            Category::Display => "display",
+            Category::Composition => "composition",
             Category::ImrClear => "imr_clear",
             Category::ImrColorRead => "imr_color_read",
             Category::ImrColorWrite => "imr_color_write",
@@ -105,10 +128,20 @@ impl Ledger {
     /// Bytes read from external memory.
     pub fn read_bytes(&self) -> u64 {
         use Category::*;
-        [VertexFetch, IndexFetch, FrameDataRead, TileLoad, ImrColorRead, ImrDepthRead, ImrStencilRead]
-            .iter()
-            .map(|c| self.get(*c))
-            .sum()
+        [
+            VertexFetch,
+            IndexFetch,
+            FrameDataRead,
+            TileLoad,
+            TextureFetch,
+            Display,
+            ImrColorRead,
+            ImrDepthRead,
+            ImrStencilRead,
+        ]
+        .iter()
+        .map(|c| self.get(*c))
+        .sum()
     }
 
     /// Bytes written to external memory.
@@ -215,6 +248,33 @@ impl Counters {
         *fragments_discarded += o.fragments_discarded;
         *fragments_late_killed += o.fragments_late_killed;
         *fragments_passed += o.fragments_passed;
+    }
+}
+
+/// What one draw did, across every tile: for occlusion queries and per-draw reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct DrawStats {
+    pub primitives: u64,
+    pub fragments_shaded: u64,
+    /// Samples that passed the depth and stencil tests (what an occlusion query counts).
+    pub samples_passed: u64,
+}
+
+impl DrawStats {
+    pub fn merge(&mut self, o: &DrawStats) {
+        self.primitives += o.primitives;
+        self.fragments_shaded += o.fragments_shaded;
+        self.samples_passed += o.samples_passed;
+    }
+}
+
+/// Adds per-draw stats `from` into `into`, growing it as needed.
+pub fn merge_draw_stats(into: &mut Vec<DrawStats>, from: &[DrawStats]) {
+    if into.len() < from.len() {
+        into.resize(from.len(), DrawStats::default());
+    }
+    for (a, b) in into.iter_mut().zip(from) {
+        a.merge(b);
     }
 }
 

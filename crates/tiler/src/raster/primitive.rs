@@ -19,7 +19,7 @@ use crate::api::shader::{FragmentShader, Fragments};
 use crate::binning::frame_data::Primitive;
 use crate::blend::blend_pixel;
 use crate::depth;
-use crate::ledger::{Category, Counters, Ledger};
+use crate::ledger::{Category, Counters, DrawStats, Ledger};
 use crate::shade::ShadeContext;
 use crate::shade::interpolate::Interpolator;
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, Vec4x8};
@@ -32,6 +32,21 @@ pub struct FragmentTally {
     /// Immediate-mode framebuffer traffic (empty for tilers, whose traffic is at load/store).
     pub ledger: Ledger,
     pub context: ShadeContext,
+    /// Per-draw figures, indexed by the draw's position in its pass.
+    pub draws: Vec<DrawStats>,
+    /// The draw whose primitive is being rasterized (set by the caller).
+    pub draw: usize,
+}
+
+impl FragmentTally {
+    /// The stats of the current draw.
+    #[inline]
+    fn draw_stats(&mut self) -> &mut DrawStats {
+        if self.draws.len() <= self.draw {
+            self.draws.resize(self.draw + 1, DrawStats::default());
+        }
+        &mut self.draws[self.draw]
+    }
 }
 
 /// How one colour attachment is written, prepared once per primitive.
@@ -227,6 +242,9 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
 
         let passed = coverage.lanes();
         counters.fragments_passed += passed.count() as u64;
+        let stats = tally.draw_stats();
+        stats.fragments_shaded += live.count() as u64;
+        stats.samples_passed += coverage.count() as u64;
         if passed.is_empty() {
             return;
         }

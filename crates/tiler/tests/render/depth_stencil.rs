@@ -228,3 +228,28 @@ fn stencil_then_test_draws_only_where_marked() {
         }
     }
 }
+
+#[test]
+fn per_draw_samples_passed_count_what_an_occlusion_query_sees() {
+    for backend in Backend::ALL {
+        let mut device = device(backend, 8, 2);
+        let color = device.create_image(ImageDesc::new(SIZE, SIZE, Format::Rgba8Unorm)).unwrap();
+        let ds = device.create_image(ImageDesc::new(SIZE, SIZE, Format::D32Float)).unwrap();
+        let mut pass = color_pass(color, Some(DepthStencilAttachment::clear_discard(ds, 1.0)));
+        let mut d = desc("occluder");
+        d.depth_stencil = DepthStencilState::LESS_WRITE;
+        let p = pipeline(FlatColor, d);
+        let near = device.create_buffer_from(&quad(0.25, RED, true)).unwrap();
+        let far = device.create_buffer_from(&quad(0.75, RED, true)).unwrap();
+        let half = device.create_buffer_from(&quad(0.1, RED, true)[..3]).unwrap();
+        pass.draw(Draw::new(&p, near, 0, 6));
+        pass.draw(Draw::new(&p, far, 0, 6));
+        pass.draw(Draw::new(&p, half, 0, 3));
+        let report = device.submit(&pass).unwrap();
+        let pixels = (SIZE * SIZE) as u64;
+        assert_eq!(report.draws[0].samples_passed, pixels, "{backend}");
+        assert_eq!(report.draws[1].samples_passed, 0, "{backend}: hidden behind the first");
+        assert!(report.draws[2].samples_passed > pixels / 3 && report.draws[2].samples_passed < pixels * 2 / 3);
+        assert_eq!(report.draws.iter().map(|d| d.primitives).collect::<Vec<_>>(), vec![2, 2, 1]);
+    }
+}
