@@ -75,7 +75,7 @@ struct Object {
 }
 
 /// Builds the built-in scene on `device`: one render pass into a `width × height` RGBA8 image
-/// with a D24S8 depth buffer that is cleared and never stored.
+/// with a transient D24S8 depth buffer, at `samples` samples per pixel (resolved in the tile).
 ///
 /// # Errors
 /// A size the device refuses (zero or above the limits).
@@ -129,10 +129,22 @@ pub fn build(device: &mut Device, width: u32, height: u32, samples: u32) -> Resu
         translucent: true,
     });
 
-    let color = device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm).with_samples(samples))?;
-    let depth = device.create_image(ImageDesc::new(width, height, Format::D24UnormS8Uint).with_samples(samples))?;
+    // The depth buffer only ever lives in the tile: transient, cleared, never stored. With
+    // MSAA the colour samples are too, resolved into a single-sample image in the tile.
+    let sky = [0.42, 0.55, 0.72, 1.0];
+    let depth =
+        device.create_image(ImageDesc::new(width, height, Format::D24UnormS8Uint).with_samples(samples).transient())?;
+    let (color, attachment) = if samples > 1 {
+        let msaa =
+            device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm).with_samples(samples).transient())?;
+        let resolve = device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm))?;
+        (resolve, ColorAttachment::clear_resolve(msaa, sky, resolve))
+    } else {
+        let color = device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm))?;
+        (color, ColorAttachment::clear_store(color, sky))
+    };
     let mut pass = RenderPass::new(RenderPassDesc {
-        color: vec![ColorAttachment::clear_store(color, [0.42, 0.55, 0.72, 1.0])],
+        color: vec![attachment],
         depth_stencil: Some(DepthStencilAttachment::clear_discard(depth, 1.0)),
         render_area: None,
     });

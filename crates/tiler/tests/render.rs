@@ -18,3 +18,5 @@ mod interpolation;
 mod invariant;
 #[path = "render/load_store.rs"]
 mod load_store;
+#[path = "render/msaa_hsr.rs"]
+mod msaa_hsr;

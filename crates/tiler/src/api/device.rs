@@ -28,11 +28,22 @@ pub struct DeviceConfig {
     /// render. The default, 64 MiB, is in the range of mobile drivers' tiler heaps and above
     /// llvmpipe's 36 MiB scene limit.
     pub frame_data_budget: u64,
+    /// Bytes of tile buffer for one tile: every attachment at every sample must fit, or the
+    /// tile shrinks. The default, 32 KiB, is Apple's per-tile budget; 32×32 tiles of RGBA8
+    /// and D24S8 at 4× MSAA fill it exactly.
+    pub tile_memory_bytes: u64,
 }
 
 impl Default for DeviceConfig {
     fn default() -> DeviceConfig {
-        DeviceConfig { backend: Backend::Tbr, tile_width: 32, tile_height: 32, threads: 0, frame_data_budget: 64 << 20 }
+        DeviceConfig {
+            backend: Backend::Tbr,
+            tile_width: 32,
+            tile_height: 32,
+            threads: 0,
+            frame_data_budget: 64 << 20,
+            tile_memory_bytes: 32 << 10,
+        }
     }
 }
 
@@ -269,7 +280,8 @@ impl Device {
         let resolved = ResolvedPass::new(pass, &self.images)?;
         let (images, buffers, config, threads) = (&mut self.images, &self.buffers, &self.config, self.threads);
         self.pool.install(|| match backend {
-            Backend::Tbr => tbr::render(pass, &resolved, images, buffers, config, threads),
+            Backend::Tbr => tbr::render(pass, &resolved, images, buffers, config, threads, false),
+            Backend::Tbdr => tbr::render(pass, &resolved, images, buffers, config, threads, true),
             Backend::Imr => imr::render(pass, &resolved, images, buffers),
         })
     }

@@ -82,12 +82,27 @@ pub struct ColorAttachment {
     pub image: ImageId,
     pub load: LoadOp<[f32; 4]>,
     pub store: StoreOp,
+    /// A single-sample image of the same size and format that receives the average of the
+    /// samples at the end of the pass (resolved in the tile on a tiler).
+    #[serde(default)]
+    pub resolve: Option<ImageId>,
 }
 
 impl ColorAttachment {
     /// Cleared at the start, stored at the end: the usual render target.
     pub fn clear_store(image: ImageId, color: [f32; 4]) -> ColorAttachment {
-        ColorAttachment { image, load: LoadOp::Clear(color), store: StoreOp::Store }
+        ColorAttachment { image, load: LoadOp::Clear(color), store: StoreOp::Store, resolve: None }
+    }
+
+    /// A multisampled attachment cleared, resolved into `resolve` and not stored itself: what
+    /// MSAA should be on a tiler (the samples never leave the chip).
+    pub fn clear_resolve(image: ImageId, color: [f32; 4], resolve: ImageId) -> ColorAttachment {
+        ColorAttachment { image, load: LoadOp::Clear(color), store: StoreOp::DontCare, resolve: Some(resolve) }
+    }
+
+    /// Loaded and stored, no resolve.
+    pub fn load_store(image: ImageId) -> ColorAttachment {
+        ColorAttachment { image, load: LoadOp::Load, store: StoreOp::Store, resolve: None }
     }
 }
 

@@ -50,6 +50,8 @@ pub struct ShaderProperties {
     /// Has effects besides its outputs (storage writes, counters): it must run for every
     /// fragment the rasterizer produces, before any test.
     pub side_effects: bool,
+    /// Writes its own sample mask with [`Fragments::set_sample_mask`] (GLSL `gl_SampleMask`).
+    pub writes_sample_mask: bool,
 }
 
 /// A fragment shader.
@@ -86,6 +88,8 @@ pub struct Fragments<'a> {
     pub(crate) color: [Vec4x8; MAX_COLOR_ATTACHMENTS],
     pub(crate) written_depth: F32x8,
     pub(crate) discarded: LaneMask,
+    /// Per lane, bit `s` = sample `s` may stay covered.
+    pub(crate) sample_mask: [u32; 8],
     pub(crate) context: &'a mut ShadeContext,
 }
 
@@ -161,6 +165,13 @@ impl<'a> Fragments<'a> {
     #[inline(always)]
     pub fn discard(&mut self, lanes: LaneMask) {
         self.discarded = self.discarded | lanes;
+    }
+
+    /// Limits which samples each lane covers: bit `s` of `masks[lane]` keeps sample `s` (the
+    /// shader must declare `writes_sample_mask`).
+    #[inline(always)]
+    pub fn set_sample_mask(&mut self, masks: [u32; 8]) {
+        self.sample_mask = masks;
     }
 
     /// Per-tile state shaders may use (texture caches and their counters).

@@ -18,13 +18,19 @@ use crate::api::render_pass::RenderPass;
 use crate::geometry::{PassFrame, prepare_draw};
 use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
 use crate::raster::PixelRect;
-use crate::raster::primitive::FragmentTally;
+use crate::raster::primitive::{FragmentTally, Mode};
 use crate::raster::samples::SampleLocations;
-use crate::tile::load_store::apply_load;
+use crate::tile::load_store::{apply_load, apply_resolve};
 use crate::tile::target::{RenderTarget, Surface};
 
 /// Rows per band of the framebuffer.
 pub const BAND_ROWS: u32 = 32;
+
+/// One band of the framebuffer: its rows of every attachment and of every resolve target.
+struct Band<'a> {
+    target: RenderTarget<'a>,
+    resolves: Vec<Surface<'a>>,
+}
 
 /// Renders a validated pass in immediate mode.
 pub fn render(
@@ -60,29 +66,37 @@ pub fn render(
         }
     }
 
-    // Bands, each a render target over its rows of every attachment.
-    let mut per_attachment: Vec<std::vec::IntoIter<Vec<&mut [u8]>>> =
+    // Bands, each a render target over its rows of every attachment, with its rows of the
+    // resolve targets.
+    let mut per_image: Vec<std::vec::IntoIter<Vec<&mut [u8]>>> =
         attached.iter_mut().map(|image| image_bands(image, BAND_ROWS as usize).into_iter()).collect();
+    let formats: Vec<_> = resolved
+        .attachments
+        .iter()
+        .map(|a| a.format)
+        .chain(resolved.resolves.iter().map(|r| resolved.attachments[r.color].format))
+        .collect();
     let band_count = resolved.height.div_ceil(BAND_ROWS);
-    let mut bands: Vec<RenderTarget> = Vec::new();
+    let mut bands: Vec<Band> = Vec::new();
     for b in 0..band_count {
         let y0 = (b * BAND_ROWS) as i32;
         let rows = PixelRect::new(0, y0, resolved.width as i32, (y0 + BAND_ROWS as i32).min(resolved.height as i32));
-        let mut surfaces: Vec<Surface> = per_attachment
+        let mut surfaces: Vec<Surface> = per_image
             .iter_mut()
-            .zip(&resolved.attachments)
-            .map(|(a, att)| band_surface(att.format, resolved.width, y0, a.next().expect("band")))
+            .zip(&formats)
+            .map(|(a, format)| band_surface(*format, resolved.width, y0, a.next().expect("band")))
             .collect::<Vec<_>>();
         let clip = rows.intersect(&resolved.render_area);
         if clip.is_empty() {
             continue;
         }
+        let resolves = surfaces.split_off(resolved.attachments.len());
         let depth_stencil = if resolved.has_depth_stencil { surfaces.pop() } else { None };
         let mut color: [Option<Surface>; crate::api::pipeline::MAX_COLOR_ATTACHMENTS] = Default::default();
         for (slot, surface) in color.iter_mut().zip(surfaces) {
             *slot = Some(surface);
         }
-        bands.push(RenderTarget { color, depth_stencil, samples, clip, external: true });
+        bands.push(Band { target: RenderTarget { color, depth_stencil, samples, clip, external: true }, resolves });
     }
 
     let mut counters = Counters::default();
@@ -93,6 +107,7 @@ pub fn render(
     let cleared: u64 = bands
         .par_iter_mut()
         .map(|band| {
+            let band = &mut band.target;
             let clip = band.clip;
             let surfaces = band.color.iter_mut().flatten().chain(band.depth_stencil.as_mut());
             surfaces.zip(&resolved.attachments).map(|(s, a)| apply_load(s, None, &clip, &a.ops).cleared).sum::<u64>()
@@ -117,13 +132,14 @@ pub fn render(
             .par_iter_mut()
             .map(|band| {
                 let mut tally = FragmentTally { draw: draw_index, ..FragmentTally::default() };
+                let target = &mut band.target;
                 for batch in &batches {
                     for p in &batch.primitives {
-                        if p.bbox.y1 <= band.clip.y0 || p.bbox.y0 >= band.clip.y1 {
+                        if p.bbox.y1 <= target.clip.y0 || p.bbox.y0 >= target.clip.y1 {
                             continue;
                         }
                         let varyings = &batch.varyings[p.varyings as usize..p.varyings as usize + 3 * n];
-                        object.rasterize(p, varyings, band, &mut tally);
+                        object.rasterize(p, varyings, target, &mut tally, &mut Mode::InOrder);
                     }
                 }
                 tally
@@ -136,6 +152,22 @@ pub fn render(
         }
     }
 
+    // Resolve the way an immediate-mode GPU does: every sample read back from memory, the
+    // average written: pixels × bytes × (samples + 1).
+    let resolved_bytes: u64 = bands
+        .par_iter_mut()
+        .map(|band| {
+            let mut bytes = 0;
+            for (r, target) in resolved.resolves.iter().enumerate() {
+                let source = band.target.color[target.color].as_ref().expect("resolved colour attachment");
+                let pixels = apply_resolve(source, &mut band.resolves[r], &band.target.clip);
+                bytes += pixels * source.bytes_per_sample() as u64 * (resolved.samples as u64 + 1);
+            }
+            bytes
+        })
+        .sum();
+    ledger.add(Category::Resolve, resolved_bytes);
+
     Ok(PassReport {
         backend: Backend::Imr,
         width: resolved.width,
@@ -143,6 +175,8 @@ pub fn render(
         samples: resolved.samples,
         tile_width: 0,
         tile_height: 0,
+        tile_shrunk_from: None,
+        tile_bytes: 0,
         tiles_x: 0,
         tiles_y: 0,
         ledger,

@@ -19,6 +19,14 @@ pub struct ResolvedAttachment {
     pub ops: AttachmentOps,
 }
 
+/// A resolve at the end of the pass: colour attachment `color` averaged into `image`.
+#[derive(Clone, Copy, Debug)]
+pub struct ResolveTarget {
+    pub color: usize,
+    /// Index of the single-sample image on the device.
+    pub image: usize,
+}
+
 /// A validated render pass: colour attachments first, then the depth-stencil attachment.
 #[derive(Clone, Debug)]
 pub struct ResolvedPass {
@@ -27,8 +35,21 @@ pub struct ResolvedPass {
     pub samples: u32,
     pub render_area: PixelRect,
     pub attachments: Vec<ResolvedAttachment>,
+    pub resolves: Vec<ResolveTarget>,
     pub color_count: usize,
     pub has_depth_stencil: bool,
+}
+
+impl ResolvedPass {
+    /// Tile-buffer bytes per pixel: every attachment, every sample.
+    pub fn tile_bytes_per_pixel(&self) -> u64 {
+        self.attachments.iter().map(|a| a.format.bytes_per_sample() as u64 * self.samples as u64).sum()
+    }
+
+    /// The device images the pass touches: its attachments, then its resolve targets.
+    pub fn memory_images(&self) -> Vec<usize> {
+        self.attachments.iter().map(|a| a.image).chain(self.resolves.iter().map(|r| r.image)).collect()
+    }
 }
 
 impl ResolvedPass {
@@ -154,6 +175,35 @@ impl ResolvedPass {
             check("depth-stencil attachment".to_string(), ds.image, ops, &mut attachments)?;
         }
         let (_, width, height, samples) = first.expect("at least one attachment");
+        let mut resolves = Vec::new();
+        for (i, c) in desc.color.iter().enumerate() {
+            let Some(id) = c.resolve else { continue };
+            let what = format!("colour attachment {i}'s resolve target");
+            let Some(image) = images.get(id.0 as usize) else {
+                return Err(Error::invalid(what, format!("{id} does not exist")));
+            };
+            let d = image.desc;
+            let used = attachments.iter().map(|a| a.image).chain(resolves.iter().map(|r: &ResolveTarget| r.image));
+            if used.clone().any(|u| u == id.0 as usize) {
+                return Err(Error::invalid(what, format!("{id} is already used by this pass")));
+            }
+            if samples == 1 {
+                return Err(Error::invalid(what, "only a multisampled attachment can be resolved"));
+            }
+            if d.samples != 1 || d.transient {
+                return Err(Error::invalid(what, format!("{id} must be a single-sample image with memory")));
+            }
+            if (d.width, d.height) != (width, height) || d.format != attachments[i].format {
+                return Err(Error::invalid(
+                    what,
+                    format!(
+                        "{id} is {}×{} {}, the attachment is {width}×{height} {}: they must match",
+                        d.width, d.height, d.format, attachments[i].format
+                    ),
+                ));
+            }
+            resolves.push(ResolveTarget { color: i, image: id.0 as usize });
+        }
         let full = PixelRect::new(0, 0, width as i32, height as i32);
         let render_area = match desc.render_area {
             None => full,
@@ -188,15 +238,18 @@ impl ResolvedPass {
             color_count: desc.color.len(),
             has_depth_stencil: desc.depth_stencil.is_some(),
             attachments,
+            resolves,
         })
     }
 }
 
-/// Mutable references to the images of a pass's attachments, in attachment order.
+/// Mutable references to the images a pass touches, in the order of
+/// [`ResolvedPass::memory_images`]: attachments, then resolve targets.
 pub fn attachment_images<'a>(images: &'a mut [Image], pass: &ResolvedPass) -> Vec<&'a mut Image> {
-    let mut out: Vec<Option<&'a mut Image>> = pass.attachments.iter().map(|_| None).collect();
+    let wanted = pass.memory_images();
+    let mut out: Vec<Option<&'a mut Image>> = wanted.iter().map(|_| None).collect();
     for (index, image) in images.iter_mut().enumerate() {
-        if let Some(slot) = pass.attachments.iter().position(|a| a.image == index) {
+        if let Some(slot) = wanted.iter().position(|w| *w == index) {
             out[slot] = Some(image);
         }
     }
@@ -206,7 +259,7 @@ pub fn attachment_images<'a>(images: &'a mut [Image], pass: &ResolvedPass) -> Ve
 /// Cuts an image into bands of `rows` rows: for each band, one slice per sample plane.
 /// A transient image (no memory) gives no bands.
 pub fn image_bands(image: &mut Image, rows: usize) -> Vec<Vec<&mut [u8]>> {
-    if image.data.is_empty() {
+    if image.data.is_empty() || image.desc.transient {
         return Vec::new();
     }
     let plane = image.desc.plane_bytes();

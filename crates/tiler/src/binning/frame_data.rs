@@ -16,6 +16,7 @@
 //! reported separately as host memory. The budget applies to the modelled bytes, as on a GPU.
 
 use crate::api::pipeline::Pipeline;
+use crate::depth::hsr::HsrMode;
 use crate::raster::PixelRect;
 use crate::raster::edge::Edge;
 use crate::tile::grid::TileGrid;
@@ -68,6 +69,8 @@ pub struct StateRecord {
     /// Viewport ∩ scissor ∩ render area ∩ framebuffer.
     pub clip_rect: PixelRect,
     pub varying_count: u32,
+    /// Whether the draw can wait for hidden-surface removal (TBDR).
+    pub hsr: HsrMode,
 }
 
 /// Bytes of frame data, as modelled and as held in host memory.
@@ -132,6 +135,13 @@ impl FrameData {
     /// Modelled bytes of a primitive record.
     pub fn primitive_bytes(&self, primitive: &Primitive) -> u64 {
         primitive_record_bytes(self.states[primitive.state as usize].varying_count as usize)
+    }
+
+    /// The three vertices' varyings of a primitive.
+    #[inline]
+    pub fn varyings_of(&self, primitive: &Primitive) -> &[f32] {
+        let n = self.states[primitive.state as usize].varying_count as usize;
+        &self.varyings[primitive.varyings as usize..primitive.varyings as usize + 3 * n]
     }
 
     /// Bytes of host memory the frame data occupies.

@@ -7,6 +7,8 @@
 //! Stored depths compare as integers (see `Format::depth_bits`), so UNORM and float depth
 //! buffers need no special cases.
 
+pub mod hsr;
+
 use crate::api::format::Format;
 use crate::api::pipeline::{DepthStencilState, StencilFaceState};
 use crate::ledger::{Category, Ledger};

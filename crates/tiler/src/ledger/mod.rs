@@ -7,6 +7,8 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::depth::hsr::HsrFallbacks;
+
 /// A kind of external-memory traffic. The formula of each is recorded where it is counted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -206,6 +208,11 @@ pub struct Counters {
     pub fragments_late_killed: u64,
     /// Fragments that passed every test and reached blending.
     pub fragments_passed: u64,
+    /// Hidden-surface removal: fragments that passed the tests but were hidden by a later
+    /// surface before being shaded.
+    pub fragments_hsr_killed: u64,
+    /// Hidden-surface removal: fragments rendered in submission order instead, by reason.
+    pub hsr_fallback: HsrFallbacks,
 }
 
 impl Counters {
@@ -229,6 +236,8 @@ impl Counters {
             fragments_discarded,
             fragments_late_killed,
             fragments_passed,
+            fragments_hsr_killed,
+            hsr_fallback,
         } = self;
         *draws += o.draws;
         *vertices_shaded += o.vertices_shaded;
@@ -248,6 +257,8 @@ impl Counters {
         *fragments_discarded += o.fragments_discarded;
         *fragments_late_killed += o.fragments_late_killed;
         *fragments_passed += o.fragments_passed;
+        *fragments_hsr_killed += o.fragments_hsr_killed;
+        hsr_fallback.merge(&o.hsr_fallback);
     }
 }
 

@@ -163,6 +163,31 @@ pub fn apply_store(src: &Surface, dst: &mut Surface, rect: &PixelRect, ops: &Att
     pixels * stored
 }
 
+/// Averages the samples of `rect` of the multisampled `src` into the single-sample `dst`:
+/// each channel is the mean of the samples' values (linear values for sRGB formats), packed
+/// again in the format. Returns the pixels resolved.
+pub fn apply_resolve(src: &Surface, dst: &mut Surface, rect: &PixelRect) -> u64 {
+    let format = src.format;
+    let bytes = format.bytes_per_sample();
+    let samples = src.samples();
+    let scale = 1.0 / samples as f32;
+    for y in rect.y0..rect.y1 {
+        for x in rect.x0..rect.x1 {
+            let offset = src.offset(x, y);
+            let mut sum = [0.0f32; 4];
+            for s in 0..samples {
+                let v = format.decode_color(&src.plane(s)[offset..offset + bytes]);
+                for c in 0..4 {
+                    sum[c] += v[c];
+                }
+            }
+            let out = dst.offset(x, y);
+            format.encode_color(sum.map(|c| c * scale), &mut dst.plane_mut(0)[out..out + bytes]);
+        }
+    }
+    rect.area()
+}
+
 /// Depth and stencil packed as the format stores them (little-endian bytes).
 fn pack_depth_stencil(format: Format, depth_bits: u32, stencil: u8) -> [u8; 4] {
     match format {

@@ -44,7 +44,7 @@ fn non_finite_positions() {
             let err = device.submit(&pass).unwrap_err();
             assert!(matches!(err, Error::NonFinitePosition { draw: 0, vertex: 1, .. }), "{err}");
             // A tiler had not flushed yet: the image is as it was.
-            if backend == Backend::Tbr {
+            if backend.is_tiler() {
                 assert!(device.image_data(color).unwrap().iter().all(|b| *b == 0));
             }
         }
