@@ -6,6 +6,8 @@ mod blend;
 mod clipping;
 #[path = "render/common.rs"]
 mod common;
+#[path = "render/cost_model.rs"]
+mod cost_model;
 #[path = "render/depth_stencil.rs"]
 mod depth_stencil;
 #[path = "render/errors.rs"]

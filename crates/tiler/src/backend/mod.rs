@@ -90,6 +90,13 @@ pub struct PassReport {
     pub tiles_x: u32,
     pub tiles_y: u32,
     pub ledger: Ledger,
+    /// Bytes moved within on-chip memory: tile-buffer accesses of tilers (fragments, loads,
+    /// stores, resolves), framebuffer-cache accesses of immediate mode. For energy.
+    pub on_chip_bytes: u64,
+    /// Bytes of tile stores transaction elimination skipped (unchanged tiles).
+    pub transaction_elimination_saved: u64,
+    /// Fragments shaded per pixel, row-major, when the device records an overdraw map.
+    pub overdraw_map: Option<Vec<u16>>,
     pub counters: Counters,
     pub frame_data: FrameDataReport,
     /// Per tile, row-major (tilers); empty for immediate mode.

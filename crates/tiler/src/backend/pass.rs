@@ -259,13 +259,18 @@ pub fn attachment_images<'a>(images: &'a mut [Image], pass: &ResolvedPass) -> Ve
 /// Cuts an image into bands of `rows` rows: for each band, one slice per sample plane.
 /// A transient image (no memory) gives no bands.
 pub fn image_bands(image: &mut Image, rows: usize) -> Vec<Vec<&mut [u8]>> {
-    if image.data.is_empty() || image.desc.transient {
+    data_bands(&image.desc, &mut image.data, rows)
+}
+
+/// [`image_bands`] over an image's description and data, borrowed apart.
+pub fn data_bands<'a>(desc: &crate::ImageDesc, data: &'a mut [u8], rows: usize) -> Vec<Vec<&'a mut [u8]>> {
+    if data.is_empty() || desc.transient {
         return Vec::new();
     }
-    let plane = image.desc.plane_bytes();
-    let band_bytes = image.desc.width as usize * image.desc.format.bytes_per_sample() * rows;
-    let mut planes: Vec<_> = image.data.chunks_mut(plane).map(|p| p.chunks_mut(band_bytes)).collect();
-    let bands = (image.desc.height as usize).div_ceil(rows);
+    let plane = desc.plane_bytes();
+    let band_bytes = desc.width as usize * desc.format.bytes_per_sample() * rows;
+    let mut planes: Vec<_> = data.chunks_mut(plane).map(|p| p.chunks_mut(band_bytes)).collect();
+    let bands = (desc.height as usize).div_ceil(rows);
     (0..bands).map(|_| planes.iter_mut().map(|p| p.next().expect("band")).collect()).collect()
 }
 

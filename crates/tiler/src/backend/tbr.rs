@@ -22,25 +22,25 @@
 
 use rayon::prelude::*;
 
-use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
+use super::pass::{ResolvedPass, attachment_images, band_surface, data_bands};
 use super::{Backend, FrameDataReport, PassReport};
 use crate::api::buffer::BufferId;
 use crate::api::device::DeviceConfig;
+use crate::api::device::VertexShading;
 use crate::api::error::Result;
 use crate::api::image::Image;
+use crate::api::image::TileSignatures;
 use crate::api::render_pass::RenderPass;
 use crate::binning::binner::bin;
-use crate::binning::frame_data::{
-    FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, primitive_record_bytes,
-};
+use crate::binning::frame_data::{FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, record_bytes};
 use crate::depth::hsr::{HsrMode, Visibility};
 use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
 use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
-use crate::raster::primitive::{FragmentTally, Mode};
+use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows};
 use crate::raster::samples::SampleLocations;
 use crate::tile::buffer::TileBuffer;
 use crate::tile::grid::TileGrid;
-use crate::tile::load_store::{AttachmentOps, apply_load, apply_resolve, apply_store};
+use crate::tile::load_store::{AttachmentOps, apply_load, apply_resolve, apply_store, store_bytes, tile_signature};
 use crate::tile::target::{RenderTarget, Surface};
 
 /// Triangles set up and binned at a time.
@@ -84,25 +84,30 @@ pub fn render(
         buffers: &lookup,
     };
     let mut memory = attachment_images(images, resolved);
-    let mut frame = FrameData::new(grid);
+    let mut frame = FrameData::new(grid, config.vertex_shading);
     let mut run = Run {
         resolved,
         samples,
         hsr,
+        early_z: config.early_z,
         counters: Counters::default(),
         ledger: Ledger::default(),
         tiles: vec![TileStats::default(); grid.tile_count()],
         draws: vec![DrawStats::default(); pass.draws.len()],
         frame_data: FrameDataReport::default(),
+        on_chip_bytes: 0,
+        transaction_elimination: config.transaction_elimination,
+        transaction_elimination_saved: 0,
+        overdraw: config.overdraw_map.then(|| vec![0; resolved.width as usize * resolved.height as usize]),
         flushes: 0,
         scratch: resolved.attachments.iter().map(|_| None).collect(),
     };
     let bands = threads * 4;
 
     for (draw_index, draw) in pass.draws.iter().enumerate() {
-        let geometry = prepare_draw(draw_index, draw, &frame_info)?;
+        let geometry = prepare_draw(draw_index, draw, &frame_info, config.post_transform_cache)?;
         run.counters.draws += 1;
-        run.counters.vertices_shaded += geometry.vertices.shaded;
+        run.counters.vertices_shaded += geometry.vertices_shaded;
         run.ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
         run.ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
         let varying_count = geometry.vertices.varying_count;
@@ -112,8 +117,9 @@ pub fn render(
             clip_rect: geometry.clip_rect,
             varying_count: varying_count as u32,
             hsr: HsrMode::of(draw.pipeline.desc(), draw.pipeline.object.properties(), resolved.color_count),
+            fetch_bytes_per_vertex: geometry.fetch_bytes_per_vertex,
         };
-        let record_bytes = primitive_record_bytes(varying_count);
+        let record_bytes = record_bytes(varying_count, config.vertex_shading);
         let mut state_index = None;
         let mut start = 0;
         while start < geometry.triangles {
@@ -171,6 +177,9 @@ pub fn render(
         tiles_x: grid.tiles_x,
         tiles_y: grid.tiles_y,
         ledger: run.ledger,
+        on_chip_bytes: run.on_chip_bytes,
+        transaction_elimination_saved: run.transaction_elimination_saved,
+        overdraw_map: run.overdraw,
         counters: run.counters,
         frame_data: run.frame_data,
         tiles: run.tiles,
@@ -181,6 +190,7 @@ pub fn render(
 /// Appends primitives `range` of a batch (and their varyings) to the frame data, under state
 /// record `state`.
 fn append(frame: &mut FrameData, batch: &SetupBatch, range: std::ops::Range<usize>, state: u32, varying_count: usize) {
+    let modelled = record_bytes(varying_count, frame.vertex_shading);
     let primitives = &batch.primitives[range];
     let first_varying = primitives[0].varyings as usize;
     let base = frame.varyings.len() as u32;
@@ -193,7 +203,7 @@ fn append(frame: &mut FrameData, batch: &SetupBatch, range: std::ops::Range<usiz
     frame
         .varyings
         .extend_from_slice(&batch.varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
-    frame.bytes.primitive_records += primitives.len() as u64 * primitive_record_bytes(varying_count);
+    frame.bytes.primitive_records += primitives.len() as u64 * modelled;
 }
 
 /// The state of one pass being rendered.
@@ -201,11 +211,16 @@ struct Run<'a> {
     resolved: &'a ResolvedPass,
     samples: SampleLocations,
     hsr: bool,
+    early_z: bool,
     counters: Counters,
     ledger: Ledger,
     tiles: Vec<TileStats>,
     draws: Vec<DrawStats>,
     frame_data: FrameDataReport,
+    on_chip_bytes: u64,
+    transaction_elimination: bool,
+    transaction_elimination_saved: u64,
+    overdraw: Option<Vec<u16>>,
     flushes: u64,
     /// Spill memory for transient attachments, made at their first incremental render.
     scratch: Vec<Option<Image>>,
@@ -217,12 +232,18 @@ struct BandResult {
     tally: FragmentTally,
     ledger: Ledger,
     tiles: Vec<(usize, TileStats)>,
+    /// Tile-buffer bytes moved by loads, stores and resolves.
+    on_chip_bytes: u64,
+    /// Bytes of stores skipped by transaction elimination.
+    eliminated_bytes: u64,
 }
 
 /// Per-worker tile memory.
 struct Worker {
     buffer: TileBuffer,
     visibility: Option<Visibility>,
+    /// Scratch for counting the vertices a tile shades again (position-only binning).
+    tile_vertices: std::collections::HashSet<(u32, u32)>,
 }
 
 /// What a flush does beyond the frame data.
@@ -232,6 +253,9 @@ struct FlushPlan<'a> {
     resolve: bool,
     samples: SampleLocations,
     hsr: bool,
+    early_z: bool,
+    vertex_shading: VertexShading,
+    overdraw: bool,
 }
 
 impl Run<'_> {
@@ -261,25 +285,58 @@ impl Run<'_> {
         let grid = frame.grid;
         let (tx0, ty0, tx1, ty1) = grid.tiles_meeting(&resolved.render_area);
 
-        // Cut every image into bands of tile rows: bands[row][image] = sample slices. Images
-        // are the attachments (or their spill memory), then the resolve targets.
+        // Cut every image into bands of tile rows: bands[row][image] = sample slices (and the
+        // row's tile signatures, under transaction elimination). Images are the attachments
+        // (or their spill memory), then the resolve targets.
         let mut per_image: Vec<std::vec::IntoIter<Vec<&mut [u8]>>> = Vec::new();
+        let mut per_signatures: Vec<Option<std::slice::ChunksMut<u64>>> = Vec::new();
         let mut scratch = self.scratch.iter_mut();
-        for image in memory.iter_mut() {
+        for (i, image) in memory.iter_mut().enumerate() {
             let image: &mut Image = match scratch.next() {
                 Some(Some(spill)) => spill,
                 _ => image,
             };
-            per_image.push(image_bands(image, grid.tile_height as usize).into_iter());
+            let Image { desc, data, signatures } = image;
+            let eliminates = self.transaction_elimination && i < resolved.attachments.len();
+            let rows = if eliminates {
+                let grid_matches = signatures.as_ref().is_some_and(|s| {
+                    (s.tile_width, s.tile_height, s.hashes.len())
+                        == (grid.tile_width, grid.tile_height, grid.tile_count())
+                });
+                if !grid_matches {
+                    *signatures = Some(TileSignatures {
+                        tile_width: grid.tile_width,
+                        tile_height: grid.tile_height,
+                        hashes: vec![TileSignatures::UNKNOWN; grid.tile_count()],
+                    });
+                }
+                signatures.as_mut().map(|s| s.hashes.chunks_mut(grid.tiles_x as usize))
+            } else {
+                *signatures = None;
+                None
+            };
+            per_signatures.push(rows);
+            per_image.push(data_bands(desc, data, grid.tile_height as usize).into_iter());
         }
         let mut bands = Vec::new();
         for ty in 0..grid.tiles_y {
             let slices: Vec<Option<Vec<&mut [u8]>>> = per_image.iter_mut().map(|a| a.next()).collect();
+            let signatures: Vec<Option<&mut [u64]>> =
+                per_signatures.iter_mut().map(|s| s.as_mut().and_then(|rows| rows.next())).collect();
             if (ty0..=ty1).contains(&ty) {
-                bands.push((ty, slices));
+                bands.push((ty, slices, signatures));
             }
         }
-        let plan = FlushPlan { resolved, ops, resolve: last, samples: self.samples, hsr: self.hsr };
+        let plan = FlushPlan {
+            resolved,
+            ops,
+            resolve: last,
+            samples: self.samples,
+            hsr: self.hsr,
+            early_z: self.early_z,
+            vertex_shading: frame.vertex_shading,
+            overdraw: self.overdraw.is_some(),
+        };
         let spec: Vec<_> = resolved.attachments.iter().map(|a| (a.format, resolved.samples)).collect();
         let results: Vec<BandResult> = bands
             .into_par_iter()
@@ -287,11 +344,17 @@ impl Run<'_> {
                 || Worker {
                     buffer: TileBuffer::new(grid.tile_width, grid.tile_height, &spec),
                     visibility: plan.hsr.then(|| Visibility::new(grid.tile_width, grid.tile_height, resolved.samples)),
+                    tile_vertices: Default::default(),
                 },
-                |worker, (ty, slices)| render_band(frame, &plan, worker, ty, slices, tx0..=tx1),
+                |worker, (ty, slices, signatures)| render_band(frame, &plan, worker, ty, slices, signatures, tx0..=tx1),
             )
             .collect();
         for band in results {
+            self.on_chip_bytes += band.tally.framebuffer.on_chip_bytes + band.on_chip_bytes;
+            self.transaction_elimination_saved += band.eliminated_bytes;
+            if let (Some(map), Some(rows)) = (self.overdraw.as_mut(), band.tally.overdraw.as_ref()) {
+                rows.add_to(map);
+            }
             self.counters.merge(&band.tally.counters);
             self.ledger.merge(&band.tally.ledger);
             self.ledger.merge(&band.ledger);
@@ -319,6 +382,7 @@ fn render_band(
     worker: &mut Worker,
     ty: u32,
     slices: Vec<Option<Vec<&mut [u8]>>>,
+    mut signatures: Vec<Option<&mut [u64]>>,
     columns: std::ops::RangeInclusive<u32>,
 ) -> BandResult {
     let resolved = plan.resolved;
@@ -336,6 +400,10 @@ fn render_band(
         .collect();
     let (attachment_images, resolve_images) = images.split_at_mut(resolved.attachments.len());
     let mut result = BandResult::default();
+    if plan.overdraw {
+        let rows = (grid.tile_height as i32).min(grid.height as i32 - band_y0);
+        result.tally.overdraw = Some(OverdrawRows::new(band_y0, grid.width, rows as u32));
+    }
     for tx in columns {
         let tile = grid.tile_rect(tx, ty);
         let rect = tile.intersect(&resolved.render_area);
@@ -354,7 +422,8 @@ fn render_band(
             *slot = surfaces.next();
         }
         let depth_stencil = if resolved.has_depth_stencil { surfaces.next() } else { None };
-        let mut target = RenderTarget { color, depth_stencil, samples: plan.samples, clip: rect, external: false };
+        let mut target =
+            RenderTarget { color, depth_stencil, samples: plan.samples, clip: rect, early_z: plan.early_z };
 
         let list = &frame.lists[grid.index(tx, ty)];
         let shaded_before = result.tally.counters.fragments_shaded;
@@ -379,13 +448,40 @@ fn render_band(
             }
         }
         let frame_data_read = frame_data_read(frame, list);
+        if plan.vertex_shading == VertexShading::PerTile {
+            // Position-only binning: the tile fetches and shades each vertex it uses again.
+            worker.tile_vertices.clear();
+            let mut bytes = 0;
+            for &entry in list {
+                let primitive = &frame.primitives[entry as usize];
+                let state = &frame.states[primitive.state as usize];
+                for id in primitive.vertex_ids {
+                    if worker.tile_vertices.insert((state.draw, id)) {
+                        bytes += state.fetch_bytes_per_vertex;
+                    }
+                }
+            }
+            result.tally.counters.vertices_shaded += worker.tile_vertices.len() as u64;
+            result.ledger.add(Category::VertexFetch, bytes);
+        }
 
         let RenderTarget { color, depth_stencil, .. } = target;
         let surfaces: Vec<Surface> = color.into_iter().flatten().chain(depth_stencil).collect();
         for (a, surface) in surfaces.iter().enumerate() {
-            if let Some(image) = attachment_images[a].as_mut() {
-                stats.bytes_stored += apply_store(surface, image, &rect, &plan.ops[a]);
+            let Some(image) = attachment_images[a].as_mut() else { continue };
+            let bytes = store_bytes(surface, &rect, &plan.ops[a]);
+            if bytes > 0
+                && let Some(row) = signatures[a].as_mut()
+            {
+                // Transaction elimination: a tile stored unchanged is not written again.
+                let signature = tile_signature(surface, &rect);
+                if row[tx as usize] == signature {
+                    result.eliminated_bytes += bytes;
+                    continue;
+                }
+                row[tx as usize] = signature;
             }
+            stats.bytes_stored += apply_store(surface, image, &rect, &plan.ops[a]);
         }
         let mut resolve_bytes = 0;
         if plan.resolve {
@@ -393,8 +489,10 @@ fn render_band(
                 let image = resolve_images[r].as_mut().expect("resolve targets have memory");
                 let pixels = apply_resolve(&surfaces[target.color], image, &rect);
                 resolve_bytes += pixels * image.format.bytes_per_sample() as u64;
+                result.on_chip_bytes += pixels * image.format.bytes_per_sample() as u64 * resolved.samples as u64;
             }
         }
+        result.on_chip_bytes += stats.bytes_loaded + stats.bytes_stored;
         stats.bytes_stored += resolve_bytes;
         result.ledger.add(Category::TileLoad, stats.bytes_loaded);
         result.ledger.add(Category::TileStore, stats.bytes_stored - resolve_bytes);

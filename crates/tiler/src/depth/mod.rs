@@ -11,14 +11,15 @@ pub mod hsr;
 
 use crate::api::format::Format;
 use crate::api::pipeline::{DepthStencilState, StencilFaceState};
-use crate::ledger::{Category, Ledger};
+use crate::ledger::Ledger;
+use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::raster::coverage::Coverage;
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask};
 use crate::tile::target::Surface;
 
 /// Tests the covered samples of the group at `(x, y)`, applies the stencil ops and depth
 /// writes, and returns the samples that passed. `depth(s)` gives the fragment depths of
-/// sample `s`. With `external`, every access is counted as immediate-mode traffic.
+/// sample `s`. Every access goes through `traffic` (tile buffer, or external memory).
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn test_group(
@@ -29,13 +30,15 @@ pub fn test_group(
     state: &DepthStencilState,
     front_facing: bool,
     depth: impl Fn(usize) -> F32x8,
-    ledger: Option<&mut Ledger>,
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
 ) -> Coverage {
     let format = surface.format;
     let face: &StencilFaceState = if front_facing { &state.front } else { &state.back };
     let stencil_test = state.stencil_test && format.has_stencil();
     let mut passed = coverage;
-    let (mut tested, mut depth_writes, mut stencil_writes) = (0u64, 0u64, 0u64);
+    let depth_bytes = format.depth_aspect_bytes() as u32;
+    let stencil_bytes = format.stencil_aspect_bytes() as u32;
     for s in 0..surface.samples() {
         let lanes = coverage.sample(s);
         if lanes.is_empty() {
@@ -47,8 +50,15 @@ pub fn test_group(
             if !lanes.contains(lane) {
                 continue;
             }
-            tested += 1;
-            let offset = surface.offset(x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+            let (px, py) = (x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+            let address = surface.address(s, px, py);
+            if state.depth_test {
+                traffic.access(ledger, Aspect::Depth, address, depth_bytes, false);
+            }
+            if stencil_test {
+                traffic.access(ledger, Aspect::Stencil, address, stencil_bytes, false);
+            }
+            let offset = surface.offset(px, py);
             let bytes = &mut surface.plane_mut(s)[offset..offset + format.bytes_per_sample()];
             let (stored_depth, stored_stencil) = unpack(format, bytes);
             let stencil_pass = !stencil_test
@@ -70,14 +80,14 @@ pub fn test_group(
                 let value = op.apply(stored_stencil, face.reference);
                 new_stencil = (value & face.write_mask) | (stored_stencil & !face.write_mask);
                 if op != crate::api::pipeline::StencilOp::Keep && face.write_mask != 0 {
-                    stencil_writes += 1;
+                    traffic.access(ledger, Aspect::Stencil, address, stencil_bytes, true);
                 }
             }
             if stencil_pass && depth_pass {
                 pass |= 1 << lane;
                 if state.depth_test && state.depth_write {
                     new_depth = fragment_depth;
-                    depth_writes += 1;
+                    traffic.access(ledger, Aspect::Depth, address, depth_bytes, true);
                 }
             }
             if new_depth != stored_depth || new_stencil != stored_stencil {
@@ -85,16 +95,6 @@ pub fn test_group(
             }
         }
         passed.set_sample(s, LaneMask(pass));
-    }
-    if let Some(ledger) = ledger {
-        if state.depth_test {
-            ledger.add(Category::ImrDepthRead, tested * format.depth_aspect_bytes() as u64);
-        }
-        if stencil_test {
-            ledger.add(Category::ImrStencilRead, tested * format.stencil_aspect_bytes() as u64);
-        }
-        ledger.add(Category::ImrDepthWrite, depth_writes * format.depth_aspect_bytes() as u64);
-        ledger.add(Category::ImrStencilWrite, stencil_writes * format.stencil_aspect_bytes() as u64);
     }
     passed
 }

@@ -5,6 +5,11 @@
 //! can be checked by hand. Counts are plain data per task (tile, band, geometry chunk),
 //! merged in a fixed order: there are no global counters.
 
+pub mod cache;
+pub mod display;
+pub mod energy;
+pub mod framebuffer;
+
 use serde::{Deserialize, Serialize};
 
 pub use crate::depth::hsr::HsrFallbacks;
@@ -144,6 +149,12 @@ impl Ledger {
         .iter()
         .map(|c| self.get(*c))
         .sum()
+    }
+
+    /// Bytes of geometry: vertex and index fetch, frame data written and read.
+    pub fn geometry_bytes(&self) -> u64 {
+        use Category::*;
+        [VertexFetch, IndexFetch, FrameDataWrite, FrameDataRead].iter().map(|c| self.get(*c)).sum()
     }
 
     /// Bytes written to external memory.

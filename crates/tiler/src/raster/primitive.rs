@@ -23,7 +23,8 @@ use crate::binning::frame_data::Primitive;
 use crate::blend::blend_pixel;
 use crate::depth;
 use crate::depth::hsr::Visibility;
-use crate::ledger::{Category, Counters, DrawStats, Ledger};
+use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
+use crate::ledger::{Counters, DrawStats, Ledger};
 use crate::shade::ShadeContext;
 use crate::shade::interpolate::Interpolator;
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, Vec4x8};
@@ -43,6 +44,38 @@ pub struct FragmentTally {
     /// Hidden-surface removal: fragments that passed the tests and claimed samples, not yet
     /// known to survive until shading.
     pub hsr_candidates: u64,
+    /// Where depth, stencil and colour accesses go, and what they cost.
+    pub framebuffer: FramebufferTraffic,
+    /// Fragments shaded per pixel of the task's rows, when an overdraw map is wanted.
+    pub overdraw: Option<OverdrawRows>,
+}
+
+/// Fragments shaded per pixel over some rows of the framebuffer.
+#[derive(Clone, Debug, Default)]
+pub struct OverdrawRows {
+    pub y0: i32,
+    pub width: u32,
+    pub counts: Vec<u16>,
+}
+
+impl OverdrawRows {
+    pub fn new(y0: i32, width: u32, rows: u32) -> OverdrawRows {
+        OverdrawRows { y0, width, counts: vec![0; width as usize * rows as usize] }
+    }
+
+    #[inline]
+    fn add(&mut self, x: i32, y: i32) {
+        let i = (y - self.y0) as usize * self.width as usize + x as usize;
+        self.counts[i] = self.counts[i].saturating_add(1);
+    }
+
+    /// Adds these rows into a whole-framebuffer map.
+    pub fn add_to(&self, map: &mut [u16]) {
+        let start = self.y0 as usize * self.width as usize;
+        for (m, c) in map[start..start + self.counts.len()].iter_mut().zip(&self.counts) {
+            *m = m.saturating_add(*c);
+        }
+    }
 }
 
 impl FragmentTally {
@@ -140,7 +173,9 @@ pub fn rasterize<F: FragmentShader>(
         static_mask: static_sample_mask(desc.multisample.sample_mask, samples),
         sample_shading: desc.multisample.sample_shading && samples > 1,
         tests,
-        early_tests: tests && !(coverage_changes || properties.writes_depth || properties.side_effects),
+        early_tests: tests
+            && target.early_z
+            && !(coverage_changes || properties.writes_depth || properties.side_effects),
         colors,
     };
     raster.run(&rect, target, tally, mode);
@@ -412,6 +447,13 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         };
         tally.counters.fragments_shaded += live.count() as u64;
         tally.counters.helper_invocations += (live.quads().count() - live.count()) as u64;
+        if let Some(overdraw) = tally.overdraw.as_mut() {
+            for lane in 0..LANES {
+                if live.contains(lane) {
+                    overdraw.add(x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+                }
+            }
+        }
         out
     }
 
@@ -427,7 +469,6 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         tally: &mut FragmentTally,
     ) -> Coverage {
         let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
-        let ledger = target.external.then_some(&mut tally.ledger);
         let multisampled = self.locations.count() > 1;
         depth::test_group(
             surface,
@@ -448,7 +489,8 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
                     self.interpolator.depth(l1, l2)
                 }
             },
-            ledger,
+            &mut tally.framebuffer,
+            &mut tally.ledger,
         )
     }
 
@@ -463,8 +505,18 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
     ) {
         for (i, plan) in self.colors.iter().enumerate() {
             let (Some(plan), Some(surface)) = (plan, target.color[i].as_mut()) else { continue };
-            let ledger = target.external.then_some(&mut tally.ledger);
-            write_color(surface, x, y, coverage, &colors[i], plan, self.desc.blend_constant, ledger);
+            let traffic = &mut tally.framebuffer;
+            write_color(
+                surface,
+                x,
+                y,
+                coverage,
+                &colors[i],
+                plan,
+                self.desc.blend_constant,
+                traffic,
+                &mut tally.ledger,
+            );
         }
     }
 }
@@ -505,13 +557,14 @@ fn write_color(
     color: &Vec4x8,
     plan: &ColorPlan,
     constant: [f32; 4],
-    ledger: Option<&mut Ledger>,
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
 ) {
     let format = surface.format;
     let bytes = format.bytes_per_sample();
     let clamp = format.is_normalized();
     let constant = if clamp { constant.map(|c| c.clamp(0.0, 1.0)) } else { constant };
-    let (mut reads, mut writes) = (0u64, 0u64);
+    let reads = plan.state.blend.is_some() || plan.partial;
     for lane in 0..LANES {
         if !coverage.lanes().contains(lane) {
             continue;
@@ -520,7 +573,8 @@ fn write_color(
         if clamp && plan.state.blend.is_some() {
             src = src.map(|c| if c > 0.0 { c.min(1.0) } else { 0.0 });
         }
-        let offset = surface.offset(x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+        let (px, py) = (x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+        let offset = surface.offset(px, py);
         // Without blending, every sample of the pixel gets the same packed value.
         let mut packed = [0u8; 16];
         if plan.state.blend.is_none() {
@@ -530,14 +584,16 @@ fn write_color(
             if !coverage.sample(s).contains(lane) {
                 continue;
             }
+            let address = surface.address(s, px, py);
+            if reads {
+                traffic.access(ledger, Aspect::Color, address, bytes as u32, false);
+            }
+            traffic.access(ledger, Aspect::Color, address, bytes as u32, true);
             let stored = &mut surface.plane_mut(s)[offset..offset + bytes];
             if let Some(blend) = &plan.state.blend {
                 let dst = format.decode_color(stored);
                 let out = blend_pixel(blend, src, dst, constant);
                 format.encode_color(out, &mut packed[..bytes]);
-                reads += 1;
-            } else if plan.partial {
-                reads += 1;
             }
             if plan.partial {
                 for ((old, new), m) in stored.iter_mut().zip(&packed[..bytes]).zip(&plan.mask) {
@@ -546,12 +602,7 @@ fn write_color(
             } else {
                 stored.copy_from_slice(&packed[..bytes]);
             }
-            writes += 1;
         }
-    }
-    if let Some(ledger) = ledger {
-        ledger.add(Category::ImrColorRead, reads * bytes as u64);
-        ledger.add(Category::ImrColorWrite, writes * bytes as u64);
     }
 }
 

@@ -17,6 +17,9 @@ pub struct Surface<'a> {
     /// Pixels per row.
     stride: usize,
     bytes_per_sample: usize,
+    /// For an image in external memory: the address of this view's first byte and the bytes
+    /// between sample planes (cache models need addresses).
+    memory: Option<(u64, u64)>,
 }
 
 impl<'a> Surface<'a> {
@@ -41,6 +44,21 @@ impl<'a> Surface<'a> {
             origin_y: origin.1,
             stride,
             bytes_per_sample: format.bytes_per_sample(),
+            memory: None,
+        }
+    }
+
+    /// Gives the view addresses: its first byte is at `base`, planes `plane_bytes` apart.
+    pub fn with_memory(self, base: u64, plane_bytes: u64) -> Surface<'a> {
+        Surface { memory: Some((base, plane_bytes)), ..self }
+    }
+
+    /// The external-memory address of sample `s` of pixel `(x, y)` (0 for on-chip views).
+    #[inline(always)]
+    pub fn address(&self, sample: usize, x: i32, y: i32) -> u64 {
+        match self.memory {
+            Some((base, plane)) => base + sample as u64 * plane + self.offset(x, y) as u64,
+            None => 0,
         }
     }
 
@@ -91,6 +109,6 @@ pub struct RenderTarget<'a> {
     pub samples: SampleLocations,
     /// The pixels this target holds (a tile, or a band of the framebuffer) ∩ the render area.
     pub clip: PixelRect,
-    /// Immediate mode: attachments live in external memory, and every access is traffic.
-    pub external: bool,
+    /// Whether depth and stencil tests may run before shading (the device's early-Z).
+    pub early_z: bool,
 }
