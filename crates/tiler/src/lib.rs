@@ -86,8 +86,8 @@ pub use api::pipeline::{
 };
 pub use api::preset::DevicePreset;
 pub use api::render_pass::{
-    ColorAttachment, DepthStencilAttachment, Draw, IndexBufferBinding, IndexType, LoadOp, Rect, RenderPass,
-    RenderPassDesc, StoreOp, VertexBufferBinding, Viewport,
+    AttachmentRef, ColorAttachment, DepthStencilAttachment, Draw, IndexBufferBinding, IndexType, LoadOp, Rect,
+    RenderPass, RenderPassDesc, StoreOp, SubpassDependency, SubpassDesc, VertexBufferBinding, Viewport,
 };
 pub use api::shader::{FragmentShader, Fragments, ShaderProperties, VertexInput, VertexOutput, VertexShader};
 pub use backend::{Backend, PassReport};

@@ -22,3 +22,5 @@ mod invariant;
 mod load_store;
 #[path = "render/msaa_hsr.rs"]
 mod msaa_hsr;
+#[path = "render/subpasses.rs"]
+mod subpasses;

@@ -38,8 +38,11 @@ const ATTACHMENT_ADDRESS_BITS: u32 = 40;
 /// One band of the framebuffer: its rows of every attachment and of every resolve target, and
 /// what its fragment work has done so far.
 struct Band<'a> {
-    target: RenderTarget<'a>,
+    /// One view per attachment of the pass.
+    surfaces: Vec<Surface<'a>>,
     resolves: Vec<Surface<'a>>,
+    /// The band's rows ∩ the render area.
+    clip: PixelRect,
     tally: FragmentTally,
 }
 
@@ -124,22 +127,13 @@ pub fn render(
             continue;
         }
         let resolves = surfaces.split_off(resolved.attachments.len());
-        let depth_stencil = if resolved.has_depth_stencil { surfaces.pop() } else { None };
-        let mut color: [Option<Surface>; crate::api::pipeline::MAX_COLOR_ATTACHMENTS] = Default::default();
-        for (slot, surface) in color.iter_mut().zip(surfaces) {
-            *slot = Some(surface);
-        }
         let cache = cache_slice(config.framebuffer_cache, rows.height() as u32, resolved.height);
         let tally = FragmentTally {
             framebuffer: FramebufferTraffic::external(cache),
             overdraw: config.overdraw_map.then(|| OverdrawRows::new(y0, resolved.width, rows.height() as u32)),
             ..FragmentTally::default()
         };
-        bands.push(Band {
-            target: RenderTarget { color, depth_stencil, samples, clip, early_z: config.early_z },
-            resolves,
-            tally,
-        });
+        bands.push(Band { surfaces, resolves, clip, tally });
     }
 
     let mut counters = Counters::default();
@@ -150,9 +144,8 @@ pub fn render(
     let cleared: u64 = bands
         .par_iter_mut()
         .map(|band| {
-            let band = &mut band.target;
             let clip = band.clip;
-            let surfaces = band.color.iter_mut().flatten().chain(band.depth_stencil.as_mut());
+            let surfaces = band.surfaces.iter_mut();
             surfaces.zip(&resolved.attachments).map(|(s, a)| apply_load(s, None, &clip, &a.ops).cleared).sum::<u64>()
         })
         .sum();
@@ -171,8 +164,10 @@ pub fn render(
         }
         let n = geometry.vertices.varying_count;
         let object = &draw.pipeline.object;
+        let subpass = &resolved.subpasses[pass.subpass_of(draw_index)];
         bands.par_iter_mut().for_each(|band| {
-            let target = &mut band.target;
+            let target =
+                &mut RenderTarget::for_subpass(&mut band.surfaces, subpass, samples, band.clip, config.early_z);
             band.tally.draw = draw_index;
             for batch in &batches {
                 for p in &batch.primitives {
@@ -195,8 +190,8 @@ pub fn render(
             band.tally.framebuffer.finish(&mut band.tally.ledger);
             let mut bytes = 0;
             for (r, target) in resolved.resolves.iter().enumerate() {
-                let source = band.target.color[target.color].as_ref().expect("resolved colour attachment");
-                let pixels = apply_resolve(source, &mut band.resolves[r], &band.target.clip);
+                let source = &band.surfaces[target.color];
+                let pixels = apply_resolve(source, &mut band.resolves[r], &band.clip);
                 bytes += pixels * source.bytes_per_sample() as u64 * (resolved.samples as u64 + 1);
             }
             bytes
@@ -229,6 +224,7 @@ pub fn render(
         ledger,
         on_chip_bytes,
         transaction_elimination_saved: 0,
+        transient_bytes_saved: 0,
         overdraw_map,
         counters,
         frame_data: FrameDataReport::default(),

@@ -95,6 +95,9 @@ pub struct PassReport {
     pub on_chip_bytes: u64,
     /// Bytes of tile stores transaction elimination skipped (unchanged tiles).
     pub transaction_elimination_saved: u64,
+    /// Memory transient attachments did not need (their full size; tilers only, and only if
+    /// they never spilled in an incremental render).
+    pub transient_bytes_saved: u64,
     /// Fragments shaded per pixel, row-major, when the device records an overdraw map.
     pub overdraw_map: Option<Vec<u16>>,
     pub counters: Counters,

@@ -4,7 +4,7 @@
 use crate::api::error::{Error, Result};
 use crate::api::image::Image;
 use crate::api::pipeline::MAX_COLOR_ATTACHMENTS;
-use crate::api::render_pass::{LoadOp, RenderPass, StoreOp};
+use crate::api::render_pass::{AttachmentRef, LoadOp, RenderPass, StoreOp};
 use crate::raster::PixelRect;
 use crate::tile::load_store::AttachmentOps;
 use crate::tile::target::Surface;
@@ -38,6 +38,7 @@ pub struct ResolvedPass {
     pub resolves: Vec<ResolveTarget>,
     pub color_count: usize,
     pub has_depth_stencil: bool,
+    pub subpasses: Vec<ResolvedSubpass>,
 }
 
 impl ResolvedPass {
@@ -217,15 +218,58 @@ impl ResolvedPass {
                 PixelRect::from_rect(r)
             }
         };
+        let color_count = desc.color.len();
+        let depth_index = desc.depth_stencil.is_some().then_some(color_count);
+        let subpasses = resolve_subpasses(pass, &attachments, depth_index, &mut |what, id| {
+            // A subpass resolve target: checked like a pass-level one.
+            let Some(image) = images.get(id.0 as usize) else {
+                return Err(Error::invalid(what, format!("{id} does not exist")));
+            };
+            Ok(image.desc)
+        })?;
+        for (s, subpass) in subpasses.iter().enumerate() {
+            for (output, target) in subpass.resolves.iter().enumerate() {
+                let Some(id) = target else { continue };
+                let color = subpass.color[output];
+                let what = format!("subpass {s}: resolve target of colour output {output}");
+                let d = images[id.0 as usize].desc;
+                let used = attachments.iter().map(|a| a.image).chain(resolves.iter().map(|r: &ResolveTarget| r.image));
+                if used.clone().any(|u| u == id.0 as usize) {
+                    return Err(Error::invalid(what, format!("{id} is already used by this pass")));
+                }
+                if samples == 1 || d.samples != 1 || d.transient {
+                    return Err(Error::invalid(
+                        what,
+                        format!(
+                            "resolving needs a multisampled attachment and a single-sample image with memory ({id})"
+                        ),
+                    ));
+                }
+                if (d.width, d.height) != (width, height) || d.format != attachments[color].format {
+                    return Err(Error::invalid(what, format!("{id} must match the attachment's size and format")));
+                }
+                if subpasses[s + 1..].iter().any(|later| later.color.contains(&color)) {
+                    return Err(Error::invalid(
+                        what,
+                        format!(
+                            "colour attachment {color} is written again by a later subpass, so it cannot be resolved here"
+                        ),
+                    ));
+                }
+                resolves.push(ResolveTarget { color, image: id.0 as usize });
+            }
+        }
         for (i, draw) in pass.draws.iter().enumerate() {
+            let subpass = &subpasses[pass.subpass_of(i)];
             let targets = draw.pipeline.desc().color_targets.len();
-            if targets > desc.color.len() {
+            if targets > subpass.color.len() {
                 return Err(Error::draw(
                     i,
                     format!(
-                        "pipeline '{}' writes {targets} colour attachments but the pass has {}",
+                        "pipeline '{}' writes {targets} colour outputs but subpass {} has {}",
                         draw.pipeline.desc().label,
-                        desc.color.len()
+                        pass.subpass_of(i),
+                        subpass.color.len()
                     ),
                 ));
             }
@@ -235,12 +279,173 @@ impl ResolvedPass {
             height,
             samples,
             render_area,
-            color_count: desc.color.len(),
+            color_count,
             has_depth_stencil: desc.depth_stencil.is_some(),
             attachments,
             resolves,
+            subpasses,
         })
     }
+}
+
+/// The most input attachments a subpass may read.
+pub const MAX_INPUT_ATTACHMENTS: usize = 4;
+
+/// A validated subpass, naming attachments by their index in [`ResolvedPass::attachments`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ResolvedSubpass {
+    /// Attachment of each colour output.
+    pub color: Vec<usize>,
+    pub depth_stencil: Option<usize>,
+    /// Attachment of each input.
+    pub inputs: Vec<usize>,
+    /// Resolve images of colour outputs (before validation into the pass's resolves).
+    pub resolves: Vec<Option<crate::ImageId>>,
+    /// A dependency into this subpass is not by-region: a tiler must split the pass here.
+    pub split_before: bool,
+}
+
+/// Checks the pass's subpasses (or makes the implicit one) and its dependencies.
+fn resolve_subpasses(
+    pass: &RenderPass,
+    attachments: &[ResolvedAttachment],
+    depth_index: Option<usize>,
+    image_desc: &mut dyn FnMut(String, crate::ImageId) -> Result<crate::ImageDesc>,
+) -> Result<Vec<ResolvedSubpass>> {
+    let color_count = pass.desc.color.len();
+    if pass.subpasses.is_empty() {
+        if !pass.subpass_starts.is_empty() || !pass.dependencies.is_empty() {
+            return Err(Error::invalid("render pass", "next_subpass or dependencies without explicit subpasses"));
+        }
+        return Ok(vec![ResolvedSubpass {
+            color: (0..color_count).collect(),
+            depth_stencil: depth_index,
+            inputs: Vec::new(),
+            resolves: Vec::new(),
+            split_before: false,
+        }]);
+    }
+    if pass.subpass_starts.len() >= pass.subpasses.len() {
+        return Err(Error::invalid(
+            "render pass",
+            format!(
+                "next_subpass was called {} times but the pass has {} subpasses",
+                pass.subpass_starts.len(),
+                pass.subpasses.len()
+            ),
+        ));
+    }
+    let mut out: Vec<ResolvedSubpass> = Vec::new();
+    for (s, subpass) in pass.subpasses.iter().enumerate() {
+        let what = || format!("subpass {s}");
+        let mut color = Vec::new();
+        for &c in &subpass.color {
+            if c as usize >= color_count {
+                return Err(Error::invalid(
+                    what(),
+                    format!("colour attachment {c} does not exist (the pass has {color_count})"),
+                ));
+            }
+            if color.contains(&(c as usize)) {
+                return Err(Error::invalid(what(), format!("colour attachment {c} is named twice")));
+            }
+            color.push(c as usize);
+        }
+        if color.len() > crate::MAX_COLOR_ATTACHMENTS {
+            return Err(Error::invalid(
+                what(),
+                format!("{} colour outputs, at most {}", color.len(), crate::MAX_COLOR_ATTACHMENTS),
+            ));
+        }
+        let depth_stencil = match (subpass.depth_stencil, depth_index) {
+            (true, None) => {
+                return Err(Error::invalid(what(), "uses the depth-stencil attachment, but the pass has none"));
+            }
+            (true, Some(d)) => Some(d),
+            (false, _) => None,
+        };
+        if subpass.input.len() > MAX_INPUT_ATTACHMENTS {
+            return Err(Error::invalid(
+                what(),
+                format!("{} input attachments, at most {MAX_INPUT_ATTACHMENTS}", subpass.input.len()),
+            ));
+        }
+        let mut inputs = Vec::new();
+        for (i, input) in subpass.input.iter().enumerate() {
+            let index = match *input {
+                AttachmentRef::Color(c) if (c as usize) < color_count => c as usize,
+                AttachmentRef::Color(c) => {
+                    return Err(Error::invalid(
+                        what(),
+                        format!("input {i} names colour attachment {c}, which does not exist"),
+                    ));
+                }
+                AttachmentRef::DepthStencil => depth_index.ok_or_else(|| {
+                    Error::invalid(
+                        what(),
+                        format!("input {i} names the depth-stencil attachment, but the pass has none"),
+                    )
+                })?,
+            };
+            if color.contains(&index) || depth_stencil == Some(index) {
+                return Err(Error::invalid(
+                    what(),
+                    format!(
+                        "input {i} is also written by this subpass; to read what this subpass wrote, use pixel-local reads (Fragments::local)"
+                    ),
+                ));
+            }
+            let written_before = out.iter().any(|p| p.color.contains(&index) || p.depth_stencil == Some(index));
+            let loaded = match attachments[index].ops {
+                AttachmentOps::Color { load, .. } => !matches!(load, LoadOp::DontCare),
+                AttachmentOps::DepthStencil { depth_load, .. } => !matches!(depth_load, LoadOp::DontCare),
+            };
+            if !written_before && !loaded {
+                return Err(Error::invalid(
+                    what(),
+                    format!(
+                        "input {i} ({input:?}) is read without being written by an earlier subpass, and its load op is DontCare"
+                    ),
+                ));
+            }
+            inputs.push(index);
+        }
+        if subpass.resolve.len() > color.len() {
+            return Err(Error::invalid(
+                what(),
+                format!("{} resolve targets for {} colour outputs", subpass.resolve.len(), color.len()),
+            ));
+        }
+        for (o, target) in subpass.resolve.iter().enumerate() {
+            if let Some(id) = target {
+                image_desc(format!("subpass {s}: resolve target of colour output {o}"), *id)?;
+            }
+        }
+        out.push(ResolvedSubpass {
+            color,
+            depth_stencil,
+            inputs,
+            resolves: subpass.resolve.clone(),
+            split_before: false,
+        });
+    }
+    for (d, dependency) in pass.dependencies.iter().enumerate() {
+        if dependency.src >= dependency.dst || dependency.dst as usize >= out.len() {
+            return Err(Error::invalid(
+                format!("dependency {d}"),
+                format!(
+                    "subpass {} → {} must go from an earlier subpass to a later one of the {}",
+                    dependency.src,
+                    dependency.dst,
+                    out.len()
+                ),
+            ));
+        }
+        if !dependency.by_region {
+            out[dependency.dst as usize].split_before = true;
+        }
+    }
+    Ok(out)
 }
 
 /// Mutable references to the images a pass touches, in the order of

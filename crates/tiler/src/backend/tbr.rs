@@ -104,7 +104,18 @@ pub fn render(
     };
     let bands = threads * 4;
 
+    let mut subpass = 0;
     for (draw_index, draw) in pass.draws.iter().enumerate() {
+        // A dependency that is not by-region ends the tile's work: everything so far is
+        // rendered and stored, and the later subpasses load it back.
+        let draw_subpass = pass.subpass_of(draw_index);
+        if draw_subpass != subpass {
+            if resolved.subpasses[subpass + 1..=draw_subpass].iter().any(|s| s.split_before) && !frame.is_empty() {
+                run.flush(&frame, &mut memory, Flush::SubpassSplit);
+                frame.clear();
+            }
+            subpass = draw_subpass;
+        }
         let geometry = prepare_draw(draw_index, draw, &frame_info, config.post_transform_cache)?;
         run.counters.draws += 1;
         run.counters.vertices_shaded += geometry.vertices_shaded;
@@ -118,6 +129,7 @@ pub fn render(
             varying_count: varying_count as u32,
             hsr: HsrMode::of(draw.pipeline.desc(), draw.pipeline.object.properties(), resolved.color_count),
             fetch_bytes_per_vertex: geometry.fetch_bytes_per_vertex,
+            subpass: pass.subpass_of(draw_index) as u32,
         };
         let record_bytes = record_bytes(varying_count, config.vertex_shading);
         let mut state_index = None;
@@ -144,7 +156,7 @@ pub fn render(
                         k += 1;
                     }
                     if k == i && !frame.is_empty() {
-                        run.flush(&frame, &mut memory, false);
+                        run.flush(&frame, &mut memory, Flush::Incremental);
                         frame.clear();
                         state_index = None;
                         continue;
@@ -162,9 +174,17 @@ pub fn render(
             start = end;
         }
     }
-    run.flush(&frame, &mut memory, true);
+    run.flush(&frame, &mut memory, Flush::Final);
 
     let shrunk = (tile_width, tile_height) != (config.tile_width, config.tile_height);
+    // Transient attachments that never had to spill never needed memory at all.
+    let transient_bytes_saved = resolved
+        .attachments
+        .iter()
+        .zip(&run.scratch)
+        .filter(|(a, scratch)| a.transient && scratch.is_none())
+        .map(|(a, _)| images_desc_size(resolved, a))
+        .sum();
     Ok(PassReport {
         backend: if hsr { Backend::Tbdr } else { Backend::Tbr },
         width: resolved.width,
@@ -179,12 +199,18 @@ pub fn render(
         ledger: run.ledger,
         on_chip_bytes: run.on_chip_bytes,
         transaction_elimination_saved: run.transaction_elimination_saved,
+        transient_bytes_saved,
         overdraw_map: run.overdraw,
         counters: run.counters,
         frame_data: run.frame_data,
         tiles: run.tiles,
         draws: run.draws,
     })
+}
+
+/// Bytes an attachment's image would occupy in memory.
+fn images_desc_size(resolved: &ResolvedPass, a: &super::pass::ResolvedAttachment) -> u64 {
+    resolved.width as u64 * resolved.height as u64 * resolved.samples as u64 * a.format.bytes_per_sample() as u64
 }
 
 /// Appends primitives `range` of a batch (and their varyings) to the frame data, under state
@@ -204,6 +230,17 @@ fn append(frame: &mut FrameData, batch: &SetupBatch, range: std::ops::Range<usiz
         .varyings
         .extend_from_slice(&batch.varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
     frame.bytes.primitive_records += primitives.len() as u64 * modelled;
+}
+
+/// Why the frame data is being rendered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Flush {
+    /// It outgrew its budget (an incremental render).
+    Incremental,
+    /// A subpass dependency is not by-region.
+    SubpassSplit,
+    /// The pass is done.
+    Final,
 }
 
 /// The state of one pass being rendered.
@@ -262,7 +299,8 @@ impl Run<'_> {
     /// Renders the frame data into every tile of the render area. The first flush uses the
     /// pass's load ops, later ones load everything; the last uses the pass's store ops and
     /// resolves, earlier ones store everything.
-    fn flush(&mut self, frame: &FrameData, memory: &mut [&mut Image], last: bool) {
+    fn flush(&mut self, frame: &FrameData, memory: &mut [&mut Image], kind: Flush) {
+        let last = kind == Flush::Final;
         let resolved = self.resolved;
         let first = self.flushes == 0;
         let ops: Vec<AttachmentOps> = resolved
@@ -368,8 +406,10 @@ impl Run<'_> {
             }
         }
         self.ledger.add(Category::FrameDataWrite, frame.bytes.total());
-        if !last {
-            self.counters.incremental_renders += 1;
+        match kind {
+            Flush::Incremental => self.counters.incremental_renders += 1,
+            Flush::SubpassSplit => self.counters.subpass_splits += 1,
+            Flush::Final => {}
         }
         self.flushes += 1;
     }
@@ -416,36 +456,42 @@ fn render_band(
             stats.bytes_loaded += apply_load(surface, attachment_images[a].as_ref(), &rect, &plan.ops[a]).loaded;
         }
 
-        let mut surfaces = surfaces.into_iter();
-        let mut color: [Option<Surface>; crate::api::pipeline::MAX_COLOR_ATTACHMENTS] = Default::default();
-        for slot in color.iter_mut().take(resolved.color_count) {
-            *slot = surfaces.next();
-        }
-        let depth_stencil = if resolved.has_depth_stencil { surfaces.next() } else { None };
-        let mut target =
-            RenderTarget { color, depth_stencil, samples: plan.samples, clip: rect, early_z: plan.early_z };
-
+        // The list is in submission order, so each subpass's primitives are one run of it.
         let list = &frame.lists[grid.index(tx, ty)];
         let shaded_before = result.tally.counters.fragments_shaded;
-        match worker.visibility.as_mut() {
-            Some(visibility) => {
-                crate::depth::hsr::render_list(list, frame, &mut target, &mut result.tally, visibility, &tile)
-            }
-            None => {
-                for &entry in list {
-                    let primitive = &frame.primitives[entry as usize];
-                    let state = &frame.states[primitive.state as usize];
-                    let varyings = frame.varyings_of(primitive);
-                    result.tally.draw = state.draw as usize;
-                    state.pipeline.object.rasterize(
-                        primitive,
-                        varyings,
-                        &mut target,
-                        &mut result.tally,
-                        &mut Mode::InOrder,
-                    );
+        let mut start = 0;
+        while start < list.len() {
+            let subpass = frame.subpass_of(list[start]);
+            let run = list[start..].iter().take_while(|&&e| frame.subpass_of(e) == subpass).count();
+            let entries = &list[start..start + run];
+            let mut target = RenderTarget::for_subpass(
+                &mut surfaces,
+                &resolved.subpasses[subpass as usize],
+                plan.samples,
+                rect,
+                plan.early_z,
+            );
+            match worker.visibility.as_mut() {
+                Some(visibility) => {
+                    crate::depth::hsr::render_list(entries, frame, &mut target, &mut result.tally, visibility, &tile)
+                }
+                None => {
+                    for &entry in entries {
+                        let primitive = &frame.primitives[entry as usize];
+                        let state = &frame.states[primitive.state as usize];
+                        let varyings = frame.varyings_of(primitive);
+                        result.tally.draw = state.draw as usize;
+                        state.pipeline.object.rasterize(
+                            primitive,
+                            varyings,
+                            &mut target,
+                            &mut result.tally,
+                            &mut Mode::InOrder,
+                        );
+                    }
                 }
             }
+            start += run;
         }
         let frame_data_read = frame_data_read(frame, list);
         if plan.vertex_shading == VertexShading::PerTile {
@@ -465,8 +511,6 @@ fn render_band(
             result.ledger.add(Category::VertexFetch, bytes);
         }
 
-        let RenderTarget { color, depth_stencil, .. } = target;
-        let surfaces: Vec<Surface> = color.into_iter().flatten().chain(depth_stencil).collect();
         for (a, surface) in surfaces.iter().enumerate() {
             let Some(image) = attachment_images[a].as_mut() else { continue };
             let bytes = store_bytes(surface, &rect, &plan.ops[a]);

@@ -89,6 +89,8 @@ pub struct StateRecord {
     pub hsr: HsrMode,
     /// Bytes of attributes one of the draw's vertices fetches.
     pub fetch_bytes_per_vertex: u64,
+    /// The subpass the draw belongs to.
+    pub subpass: u32,
 }
 
 /// Bytes of frame data, as modelled and as held in host memory.
@@ -156,6 +158,12 @@ impl FrameData {
     /// Modelled bytes of a primitive record.
     pub fn primitive_bytes(&self, primitive: &Primitive) -> u64 {
         record_bytes(self.states[primitive.state as usize].varying_count as usize, self.vertex_shading)
+    }
+
+    /// The subpass of the primitive at `index`.
+    #[inline]
+    pub fn subpass_of(&self, index: u32) -> u32 {
+        self.states[self.primitives[index as usize].state as usize].subpass
     }
 
     /// The three vertices' varyings of a primitive.

@@ -51,6 +51,8 @@ pub enum HsrFallback {
     PartialWriteMask,
     /// The shader has side effects and must run for every fragment (seed 002: storage writes).
     SideEffects,
+    /// The shader reads the attachments it writes (pixel-local storage): order matters.
+    PixelLocalRead,
 }
 
 /// How a draw takes part in hidden-surface removal.
@@ -71,6 +73,9 @@ impl HsrMode {
         }
         if properties.discards {
             return HsrMode::InOrder(HsrFallback::Discard);
+        }
+        if properties.reads_local {
+            return HsrMode::InOrder(HsrFallback::PixelLocalRead);
         }
         if properties.writes_depth {
             return HsrMode::InOrder(HsrFallback::ShaderDepth);
@@ -104,6 +109,7 @@ pub struct HsrFallbacks {
     pub sample_mask: u64,
     pub partial_write_mask: u64,
     pub side_effects: u64,
+    pub pixel_local_read: u64,
 }
 
 impl HsrFallbacks {
@@ -116,6 +122,7 @@ impl HsrFallbacks {
             HsrFallback::SampleMask => &mut self.sample_mask,
             HsrFallback::PartialWriteMask => &mut self.partial_write_mask,
             HsrFallback::SideEffects => &mut self.side_effects,
+            HsrFallback::PixelLocalRead => &mut self.pixel_local_read,
         } += fragments;
     }
 
@@ -127,6 +134,7 @@ impl HsrFallbacks {
             + self.sample_mask
             + self.partial_write_mask
             + self.side_effects
+            + self.pixel_local_read
     }
 
     pub fn merge(&mut self, o: &HsrFallbacks) {
@@ -137,6 +145,7 @@ impl HsrFallbacks {
         self.sample_mask += o.sample_mask;
         self.partial_write_mask += o.partial_write_mask;
         self.side_effects += o.side_effects;
+        self.pixel_local_read += o.pixel_local_read;
     }
 }
 

@@ -206,6 +206,8 @@ pub struct Counters {
     pub tiles_processed: u64,
     /// Flushes forced by the frame-data budget (each stores and reloads every attachment).
     pub incremental_renders: u64,
+    /// Flushes at subpass dependencies that are not by-region (the pass split in two there).
+    pub subpass_splits: u64,
     /// Pixels with at least one covered sample, per primitive.
     pub fragments_rasterized: u64,
     /// Fragments rejected by the depth or stencil test before shading (early-Z).
@@ -240,6 +242,7 @@ impl Counters {
             polygon_list_entries,
             tiles_processed,
             incremental_renders,
+            subpass_splits,
             fragments_rasterized,
             fragments_early_z_killed,
             fragments_shaded,
@@ -261,6 +264,7 @@ impl Counters {
         *polygon_list_entries += o.polygon_list_entries;
         *tiles_processed += o.tiles_processed;
         *incremental_renders += o.incremental_renders;
+        *subpass_splits += o.subpass_splits;
         *fragments_rasterized += o.fragments_rasterized;
         *fragments_early_z_killed += o.fragments_early_z_killed;
         *fragments_shaded += o.fragments_shaded;

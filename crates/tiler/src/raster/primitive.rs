@@ -24,7 +24,7 @@ use crate::blend::blend_pixel;
 use crate::depth;
 use crate::depth::hsr::Visibility;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
-use crate::ledger::{Counters, DrawStats, Ledger};
+use crate::ledger::{Category, Counters, DrawStats, Ledger};
 use crate::shade::ShadeContext;
 use crate::shade::interpolate::Interpolator;
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, Vec4x8};
@@ -325,7 +325,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         if live.is_empty() {
             return;
         }
-        let out = self.shade(x, y, live, at, tally);
+        let out = self.shade(x, y, live, at, target, tally);
 
         if self.properties.discards {
             let discarded = out.discarded & live;
@@ -400,14 +400,22 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         tally: &mut FragmentTally,
     ) {
         let live = owned.lanes();
-        let out = self.shade(x, y, live, at, tally);
+        let out = self.shade(x, y, live, at, target, tally);
         tally.draw_stats().fragments_shaded += live.count() as u64;
         self.write_colors(x, y, owned, &out.colors, target, tally);
     }
 
     /// Runs the fragment shader on the lanes of the group (`live` are covered, the rest of
     /// their quads are helpers).
-    fn shade(&self, x: i32, y: i32, live: LaneMask, at: ShadePoint, tally: &mut FragmentTally) -> ShadeOutput {
+    fn shade(
+        &self,
+        x: i32,
+        y: i32,
+        live: LaneMask,
+        at: ShadePoint,
+        target: &RenderTarget,
+        tally: &mut FragmentTally,
+    ) -> ShadeOutput {
         let (dx, dy) = match at {
             ShadePoint::Centre => (0.5, 0.5),
             ShadePoint::Sample(s) => {
@@ -436,15 +444,35 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
             written_depth: depth,
             discarded: LaneMask::NONE,
             sample_mask: [u32::MAX; 8],
+            group: (x, y),
+            sample: match at {
+                ShadePoint::Centre => 0,
+                ShadePoint::Sample(s) => s,
+            },
+            inputs: target.inputs,
+            locals: target.color.each_ref().map(|c| c.as_deref()),
+            input_bytes: 0,
+            local_bytes: 0,
             context: &mut tally.context,
         };
         self.shader.shade(&mut frag);
+        let (input_bytes, local_bytes) = (frag.input_bytes, frag.local_bytes);
         let out = ShadeOutput {
             colors: frag.color,
             depth: frag.written_depth,
             discarded: frag.discarded,
             sample_mask: frag.sample_mask,
         };
+        // Reads of attachments: from the tile buffer on a tiler; from memory in immediate mode,
+        // where an input attachment is an image the earlier subpass stored (a texture read).
+        let external = target.color.iter().chain([&target.depth_stencil]).flatten().any(|s| s.is_external())
+            || target.inputs.iter().flatten().any(|s| s.is_external());
+        if external {
+            tally.ledger.add(Category::TextureFetch, input_bytes);
+            tally.ledger.add(Category::ImrColorRead, local_bytes);
+        } else {
+            tally.framebuffer.on_chip_bytes += input_bytes + local_bytes;
+        }
         tally.counters.fragments_shaded += live.count() as u64;
         tally.counters.helper_invocations += (live.quads().count() - live.count()) as u64;
         if let Some(overdraw) = tally.overdraw.as_mut() {
