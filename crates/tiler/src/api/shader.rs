@@ -91,7 +91,7 @@ pub struct Fragments<'a> {
     pub(crate) varying_count: usize,
     pub(crate) front_facing: bool,
     pub(crate) covered: LaneMask,
-    pub(crate) color: [Vec4x8; MAX_COLOR_ATTACHMENTS],
+    pub(crate) color: &'a mut [Vec4x8; MAX_COLOR_ATTACHMENTS],
     pub(crate) written_depth: F32x8,
     pub(crate) discarded: LaneMask,
     /// Per lane, bit `s` = sample `s` may stay covered.

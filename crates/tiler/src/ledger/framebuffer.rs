@@ -109,6 +109,24 @@ impl FramebufferTraffic {
         }
     }
 
+    /// Whether accesses must be made one by one with their addresses (a cache model); when
+    /// not, [`FramebufferTraffic::accesses`] counts many at once.
+    #[inline(always)]
+    pub fn needs_addresses(&self) -> bool {
+        matches!(self.memory, Memory::Cached(_))
+    }
+
+    /// `count` accesses of `bytes` each, without a cache model.
+    #[inline(always)]
+    pub fn accesses(&mut self, ledger: &mut Ledger, aspect: Aspect, bytes: u32, count: u64, write: bool) {
+        debug_assert!(!self.needs_addresses());
+        let total = bytes as u64 * count;
+        match self.memory {
+            Memory::OnChip => self.on_chip_bytes += total,
+            _ => ledger.add(if write { aspect.write_category() } else { aspect.read_category() }, total),
+        }
+    }
+
     /// Writes back what a cache still holds dirty (the end of a pass).
     pub fn finish(&mut self, ledger: &mut Ledger) {
         if let Memory::Cached(cache) = &mut self.memory {

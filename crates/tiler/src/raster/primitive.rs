@@ -20,7 +20,6 @@ use crate::api::format::ColorWrites;
 use crate::api::pipeline::{ColorTargetState, MAX_COLOR_ATTACHMENTS, PipelineDesc};
 use crate::api::shader::{FragmentShader, Fragments, ShaderProperties};
 use crate::binning::frame_data::Primitive;
-use crate::blend::blend_pixel;
 use crate::depth;
 use crate::depth::hsr::Visibility;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
@@ -48,6 +47,9 @@ pub struct FragmentTally {
     pub framebuffer: FramebufferTraffic,
     /// Fragments shaded per pixel of the task's rows, when an overdraw map is wanted.
     pub overdraw: Option<OverdrawRows>,
+    /// The fragment shader's colour outputs for the current group (kept here, not copied
+    /// around: 512 bytes per group).
+    pub(crate) outputs: [Vec4x8; MAX_COLOR_ATTACHMENTS],
 }
 
 /// Fragments shaded per pixel over some rows of the framebuffer.
@@ -119,9 +121,9 @@ enum ShadePoint {
     Sample(usize),
 }
 
-/// What the fragment shader produced for a group.
+/// What the fragment shader produced for a group besides its colours (which stay in
+/// [`FragmentTally::outputs`]).
 struct ShadeOutput {
-    colors: [Vec4x8; MAX_COLOR_ATTACHMENTS],
     depth: F32x8,
     discarded: LaneMask,
     sample_mask: [u32; 8],
@@ -336,7 +338,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
             coverage = Coverage(coverage.0 & lane_sample_masks(&out.sample_mask, self.locations.count()).0);
         }
         if self.desc.multisample.alpha_to_coverage {
-            coverage = Coverage(coverage.0 & alpha_to_coverage(out.colors[0][3], self.locations.count()).0);
+            coverage = Coverage(coverage.0 & alpha_to_coverage(tally.outputs[0][3], self.locations.count()).0);
         }
         if self.tests && !self.early_tests && !coverage.is_empty() {
             let before = coverage.lanes().count();
@@ -351,7 +353,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         stats.fragments_shaded += live.count() as u64;
         stats.samples_passed += coverage.count() as u64;
         if !passed.is_empty() {
-            self.write_colors(x, y, coverage, &out.colors, target, tally);
+            self.write_colors(x, y, coverage, target, tally);
         }
     }
 
@@ -400,9 +402,9 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         tally: &mut FragmentTally,
     ) {
         let live = owned.lanes();
-        let out = self.shade(x, y, live, at, target, tally);
+        self.shade(x, y, live, at, target, tally);
         tally.draw_stats().fragments_shaded += live.count() as u64;
-        self.write_colors(x, y, owned, &out.colors, target, tally);
+        self.write_colors(x, y, owned, target, tally);
     }
 
     /// Runs the fragment shader on the lanes of the group (`live` are covered, the rest of
@@ -428,6 +430,10 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         let (l1, l2) = self.interpolator.lambdas(px, py);
         let depth = self.interpolator.depth(l1, l2);
         let (b1, b2) = self.interpolator.perspective(l1, l2);
+        // Outputs the shader does not write read as zero, whatever ran before.
+        for output in &mut tally.outputs[..self.desc.color_targets.len()] {
+            *output = [F32x8::ZERO; 4];
+        }
         let mut frag = Fragments {
             x: px,
             y: py,
@@ -440,7 +446,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
             varying_count: self.varying_count,
             front_facing: self.primitive.front_facing,
             covered: live,
-            color: [[F32x8::ZERO; 4]; MAX_COLOR_ATTACHMENTS],
+            color: &mut tally.outputs,
             written_depth: depth,
             discarded: LaneMask::NONE,
             sample_mask: [u32::MAX; 8],
@@ -457,12 +463,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         };
         self.shader.shade(&mut frag);
         let (input_bytes, local_bytes) = (frag.input_bytes, frag.local_bytes);
-        let out = ShadeOutput {
-            colors: frag.color,
-            depth: frag.written_depth,
-            discarded: frag.discarded,
-            sample_mask: frag.sample_mask,
-        };
+        let out = ShadeOutput { depth: frag.written_depth, discarded: frag.discarded, sample_mask: frag.sample_mask };
         // Reads of attachments: from the tile buffer on a tiler; from memory in immediate mode,
         // where an input attachment is an image the earlier subpass stored (a texture read).
         let external = target.color.iter().chain([&target.depth_stencil]).flatten().any(|s| s.is_external())
@@ -522,29 +523,11 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         )
     }
 
-    fn write_colors(
-        &self,
-        x: i32,
-        y: i32,
-        coverage: Coverage,
-        colors: &[Vec4x8; MAX_COLOR_ATTACHMENTS],
-        target: &mut RenderTarget,
-        tally: &mut FragmentTally,
-    ) {
+    fn write_colors(&self, x: i32, y: i32, coverage: Coverage, target: &mut RenderTarget, tally: &mut FragmentTally) {
+        let FragmentTally { outputs, framebuffer, ledger, .. } = tally;
         for (i, plan) in self.colors.iter().enumerate() {
             let (Some(plan), Some(surface)) = (plan, target.color[i].as_mut()) else { continue };
-            let traffic = &mut tally.framebuffer;
-            write_color(
-                surface,
-                x,
-                y,
-                coverage,
-                &colors[i],
-                plan,
-                self.desc.blend_constant,
-                traffic,
-                &mut tally.ledger,
-            );
+            write_color(surface, x, y, coverage, &outputs[i], plan, self.desc.blend_constant, framebuffer, ledger);
         }
     }
 }
@@ -591,46 +574,73 @@ fn write_color(
     let format = surface.format;
     let bytes = format.bytes_per_sample();
     let clamp = format.is_normalized();
-    let constant = if clamp { constant.map(|c| c.clamp(0.0, 1.0)) } else { constant };
+    let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
     let reads = plan.state.blend.is_some() || plan.partial;
-    for lane in 0..LANES {
-        if !coverage.lanes().contains(lane) {
+    let mut packed = [[0u8; 16]; LANES];
+    let src = match plan.state.blend {
+        // Normalised attachments blend a source clamped to [0, 1] (Vulkan).
+        Some(_) if clamp => color.map(|c| c.clamp(0.0, 1.0)),
+        _ => *color,
+    };
+    if plan.state.blend.is_none() {
+        // Every sample of a pixel gets the same packed value.
+        format.encode_lanes(&src, &mut packed);
+    }
+    let constant = if clamp { constant.map(|c| c.clamp(0.0, 1.0)) } else { constant };
+    let mut written = 0u64;
+    for s in 0..surface.samples() {
+        let lanes = coverage.sample(s);
+        if lanes.is_empty() {
             continue;
         }
-        let mut src = [color[0].lane(lane), color[1].lane(lane), color[2].lane(lane), color[3].lane(lane)];
-        if clamp && plan.state.blend.is_some() {
-            src = src.map(|c| if c > 0.0 { c.min(1.0) } else { 0.0 });
+        written += lanes.count() as u64;
+        let plane = surface.plane_mut(s);
+        if let Some(blend) = &plan.state.blend {
+            let mut dst = [[0.0f32; LANES]; 4];
+            for lane in 0..LANES {
+                if lanes.contains(lane) {
+                    let offset = rows[lane / 4] + (lane % 4) * bytes;
+                    let value = format.decode_color(&plane[offset..offset + bytes]);
+                    for c in 0..4 {
+                        dst[c][lane] = value[c];
+                    }
+                }
+            }
+            let out = crate::blend::blend_lanes(blend, &src, &dst.map(F32x8), constant);
+            format.encode_lanes(&out, &mut packed);
         }
-        let (px, py) = (x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
-        let offset = surface.offset(px, py);
-        // Without blending, every sample of the pixel gets the same packed value.
-        let mut packed = [0u8; 16];
-        if plan.state.blend.is_none() {
-            format.encode_color(src, &mut packed[..bytes]);
-        }
-        for s in 0..surface.samples() {
-            if !coverage.sample(s).contains(lane) {
+        for lane in 0..LANES {
+            if !lanes.contains(lane) {
                 continue;
             }
-            let address = surface.address(s, px, py);
-            if reads {
-                traffic.access(ledger, Aspect::Color, address, bytes as u32, false);
-            }
-            traffic.access(ledger, Aspect::Color, address, bytes as u32, true);
-            let stored = &mut surface.plane_mut(s)[offset..offset + bytes];
-            if let Some(blend) = &plan.state.blend {
-                let dst = format.decode_color(stored);
-                let out = blend_pixel(blend, src, dst, constant);
-                format.encode_color(out, &mut packed[..bytes]);
-            }
+            let offset = rows[lane / 4] + (lane % 4) * bytes;
+            let stored = &mut plane[offset..offset + bytes];
             if plan.partial {
-                for ((old, new), m) in stored.iter_mut().zip(&packed[..bytes]).zip(&plan.mask) {
+                for ((old, new), m) in stored.iter_mut().zip(&packed[lane][..bytes]).zip(&plan.mask) {
                     *old = (new & m) | (*old & !m);
                 }
             } else {
-                stored.copy_from_slice(&packed[..bytes]);
+                stored.copy_from_slice(&packed[lane][..bytes]);
             }
         }
+    }
+    if traffic.needs_addresses() {
+        for s in 0..surface.samples() {
+            for lane in 0..LANES {
+                if coverage.sample(s).contains(lane) {
+                    let address = surface.address(s, x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+                    if reads {
+                        traffic.access(ledger, Aspect::Color, address, bytes as u32, false);
+                    }
+                    traffic.access(ledger, Aspect::Color, address, bytes as u32, true);
+                }
+            }
+        }
+    } else {
+        if reads {
+            traffic.accesses(ledger, Aspect::Color, bytes as u32, written, false);
+        }
+        traffic.accesses(ledger, Aspect::Color, bytes as u32, written, true);
     }
 }
 
