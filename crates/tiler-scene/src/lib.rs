@@ -1,11 +1,16 @@
-//! Scenes for tiler: the built-in scene made in code, cameras and procedural meshes.
+//! Scenes for tiler: the built-in scene made in code, glTF 2.0 models and their shading, the
+//! benchmark scenes of SCENES.md, cameras, procedural meshes, and image comparison.
 //!
 //! A [`Scene`] is a set of render passes recorded against a [`Device`]'s images and buffers;
 //! rendering it submits them in order.
 
+pub mod bench;
 pub mod builtin;
 pub mod camera;
+pub mod compare;
+pub mod gltf;
 pub mod mesh;
+pub mod shading;
 
 use tiler::{Backend, Device, ImageId, PassReport, RenderPass, Result};
 

@@ -90,4 +90,6 @@ pub use api::render_pass::{
 pub use api::shader::{FragmentShader, Fragments, ShaderProperties, VertexInput, VertexOutput, VertexShader};
 pub use backend::{Backend, PassReport};
 pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
+pub use shade::texture::{ColorSpace, Filter, MipChain, MipmapMode, Sampler, Texture, Wrap};
+pub use shade::texture_cache::TextureCacheConfig;
 pub use simd::{F32x8, LaneMask, Vec4x8};

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::pipeline::{MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES};
 use crate::shade::ShadeContext;
+use crate::shade::texture::{Sampler, Texture};
 use crate::simd::{F32x8, LaneMask, Vec4x8};
 
 /// What the vertex shader reads: each attribute fetched and converted to a vector.
@@ -161,6 +162,14 @@ impl<'a> Fragments<'a> {
     #[inline(always)]
     pub fn discard(&mut self, lanes: LaneMask) {
         self.discarded = self.discarded | lanes;
+    }
+
+    /// Samples `texture` at `uv` with `sampler`, the level of detail from this group's quad
+    /// derivatives (see `shade::texture`). The texel reads of every quad with a covered pixel,
+    /// helper lanes included, go through the task's texture cache and so into the ledger.
+    #[inline]
+    pub fn sample(&mut self, texture: &Texture, sampler: &Sampler, uv: [F32x8; 2]) -> Vec4x8 {
+        texture.sample(sampler, uv[0], uv[1], self.covered.quads(), &mut self.context.texture_cache)
     }
 
     /// Per-tile state shaders may use (texture caches and their counters).

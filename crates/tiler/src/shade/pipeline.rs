@@ -9,6 +9,7 @@ use crate::api::shader::{FragmentShader, VertexShader};
 use crate::binning::frame_data::Primitive;
 use crate::geometry::fetch::VertexFetcher;
 use crate::geometry::vertex::{NonFinitePosition, ShadedVertices, VertexSet, shade_vertices};
+use crate::ledger::Category;
 use crate::raster::primitive::{FragmentTally, rasterize};
 use crate::tile::target::RenderTarget;
 
@@ -49,5 +50,9 @@ impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
 
     fn rasterize(&self, primitive: &Primitive, varyings: &[f32], target: &mut RenderTarget, tally: &mut FragmentTally) {
         rasterize(&self.fragment, &self.desc, primitive, varyings, target, tally);
+        // The one call site of `TextureFetch`: `misses × line size` of the task's texture
+        // cache (`shade::texture_cache`), handed over after every primitive.
+        let fetched = tally.context.texture_cache.take_fetched_bytes();
+        tally.ledger.add(Category::TextureFetch, fetched);
     }
 }
