@@ -207,7 +207,27 @@ pub fn load_from_slice(bytes: &[u8], base_dir: &Path, path: &Path, shading: Shad
             warnings.push(format!("uses optional extension {ext}, which tiler ignores"));
         }
     }
-    let document = gltf::Document::from_json(gltf.document.into_json()).map_err(describe_parse_error)?;
+    let root = gltf.document.into_json();
+    // The gltf crate's validation indexes the POSITION accessor without a bounds check: check
+    // it first so a bad index is an error, not a panic.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            for (semantic, accessor) in &primitive.attributes {
+                if accessor.value() >= root.accessors.len() {
+                    let name = match semantic {
+                        json::validation::Checked::Valid(s) => s.to_string(),
+                        json::validation::Checked::Invalid => "an attribute".into(),
+                    };
+                    return Err(format!(
+                        "mesh {m}, primitive {p}: {name} names accessor {}, but there are {} accessors",
+                        accessor.value(),
+                        root.accessors.len()
+                    ));
+                }
+            }
+        }
+    }
+    let document = gltf::Document::from_json(root).map_err(describe_parse_error)?;
     let mut loader = Loader {
         document: &document,
         root: document.as_json(),
