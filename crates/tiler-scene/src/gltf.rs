@@ -265,6 +265,12 @@ struct Loader<'a> {
     warnings: Vec<String>,
 }
 
+/// An accessor's bytes, from its first element, `stride` bytes from one element to the next.
+struct StridedBytes<'b> {
+    data: &'b [u8],
+    stride: usize,
+}
+
 /// A mesh instance found by the traversal.
 struct Instance {
     node: usize,
@@ -492,7 +498,7 @@ impl Loader<'_> {
             vertices.push(GltfVertex { position: world, normal: n.as_vec3().to_array(), uv: *uv });
         }
         if m3.determinant() < 0.0 {
-            for t in indices.as_chunks_mut::<3>().0 {
+            for t in indices.chunks_exact_mut(3) {
                 t.swap(1, 2);
             }
         }
@@ -506,8 +512,9 @@ impl Loader<'_> {
         }))
     }
 
-    /// The bytes of an accessor's elements: `(data, stride, element size)`, bounds checked.
-    fn accessor_bytes(&self, accessor: &gltf::Accessor<'_>) -> Result<Option<(&[u8], usize, usize)>, String> {
+    /// The bytes of an accessor's elements from its first, and the stride between them, bounds
+    /// checked; `None` for an accessor without a buffer view (all zeros).
+    fn accessor_bytes(&self, accessor: &gltf::Accessor<'_>) -> Result<Option<StridedBytes<'_>>, String> {
         let what = format!("accessor {}", accessor.index());
         if accessor.sparse().is_some() {
             return Err(format!("{what}: sparse accessors are not supported"));
@@ -546,7 +553,7 @@ impl Loader<'_> {
                 ));
             }
         }
-        Ok(Some((&data[accessor.offset().min(data.len())..], stride, element)))
+        Ok(Some(StridedBytes { data: &data[accessor.offset().min(data.len())..], stride }))
     }
 
     /// Reads an accessor of `N` components as doubles, converting normalised integers.
@@ -579,7 +586,7 @@ impl Loader<'_> {
             ));
         }
         let count = accessor.count();
-        let Some((data, stride, _)) = self.accessor_bytes(accessor)? else {
+        let Some(StridedBytes { data, stride }) = self.accessor_bytes(accessor)? else {
             return Ok(vec![[0.0; N]; count]);
         };
         let size = ty.size();
@@ -814,8 +821,8 @@ fn triangle_list(mode: gltf::mesh::Mode, indices: &[u32]) -> Vec<u32> {
 /// Per vertex, the sum of the unnormalised normals `cross(p1 − p0, p2 − p0)` of its triangles.
 fn face_normal_sums(positions: &[DVec3], indices: &[u32]) -> Vec<DVec3> {
     let mut normals = vec![DVec3::ZERO; positions.len()];
-    for t in indices.as_chunks::<3>().0 {
-        let [a, b, c] = t.map(|i| i as usize);
+    for t in indices.chunks_exact(3) {
+        let [a, b, c] = [t[0] as usize, t[1] as usize, t[2] as usize];
         let face = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
         for v in [a, b, c] {
             normals[v] += face;

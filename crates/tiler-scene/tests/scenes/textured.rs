@@ -62,7 +62,7 @@ fn textured_images_are_identical_everywhere_and_texture_traffic_is_deterministic
         let touched = (base.counters.fragments_shaded + base.counters.helper_invocations) * 8 * 4;
         assert!(fetched < touched / 4, "{shading:?}: {fetched} bytes fetched for {touched} bytes of texels read");
         // The quad is visible and textured: more than two colours.
-        let mut colours: Vec<[u8; 4]> = expected.as_chunks::<4>().0.to_vec();
+        let mut colours: Vec<&[u8]> = expected.chunks_exact(4).collect();
         colours.sort();
         colours.dedup();
         assert!(colours.len() > 50, "{shading:?}: only {} colours", colours.len());

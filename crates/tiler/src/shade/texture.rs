@@ -214,7 +214,7 @@ impl Texture {
                 format!("{} bytes of texels for {width}×{height} RGBA8, which needs {}", rgba.len(), texel_count * 4),
             ));
         }
-        let mut texels: Vec<[u8; 4]> = rgba.as_chunks::<4>().0.to_vec();
+        let mut texels: Vec<[u8; 4]> = rgba.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
         let mut levels = vec![Level::new(width, height, 0, 0)];
         if mips == MipChain::Box {
             while let Some(&above) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
@@ -303,7 +303,7 @@ impl Texture {
     /// The levels and filter for a level of detail `lambda` (GL §8.14–8.15, see the module
     /// notes). A NaN level of detail magnifies.
     fn plan(&self, sampler: &Sampler, lambda: f32) -> LevelPlan {
-        if !(lambda > sampler.magnification_limit()) {
+        if lambda.is_nan() || lambda <= sampler.magnification_limit() {
             return LevelPlan::Single { level: 0, filter: sampler.mag_filter };
         }
         let last = self.levels.len() - 1;
@@ -428,7 +428,7 @@ pub fn quad_lods(s: F32x8, t: F32x8) -> [f32; 2] {
 /// precision (`|z| ≤ 0.172`: the next term is below 1e-9). `log2(0)` and NaN or negative
 /// inputs give −∞, `log2(∞)` gives ∞.
 pub fn log2(x: f32) -> f32 {
-    if !(x > 0.0) {
+    if x.is_nan() || x <= 0.0 {
         return f32::NEG_INFINITY;
     }
     if x == f32::INFINITY {
@@ -521,10 +521,13 @@ mod tests {
 
     #[test]
     fn log2_is_exact_on_powers_of_two_and_close_elsewhere() {
-        for e in -140..=127 {
+        for e in -126..=127 {
             let x = 2f32.powi(e);
             assert_eq!(log2(x), e as f32, "2^{e}");
         }
+        // Subnormals: 2^-140 and the smallest, 2^-149.
+        assert_eq!(log2(f32::from_bits(1 << 9)), -140.0);
+        assert_eq!(log2(f32::from_bits(1)), -149.0);
         for x in [0.3f32, 1.5, 3.0, 10.0, 1234.5, 7.0e-3] {
             assert!((log2(x) as f64 - (x as f64).log2()).abs() < 1e-6, "{x}");
         }
