@@ -318,7 +318,7 @@ impl Texture {
                 if lambda >= last as f32 {
                     return LevelPlan::Single { level: last, filter };
                 }
-                let base = lambda.floor();
+                let base = floor(lambda);
                 LevelPlan::Blend { level: base as usize, filter, weight: lambda - base }
             }
         }
@@ -448,14 +448,26 @@ pub fn log2(x: f32) -> f32 {
     (exponent as f64 + series * (2.0 / std::f64::consts::LN_2)) as f32
 }
 
+/// `x.floor()`, exactly, without a call to the C library's `floorf` (which the baseline x86-64
+/// target has no instruction for): values of magnitude 2^23 or more, and NaN and infinities,
+/// are already integers (or not numbers) and come back unchanged, as do both zeros.
+#[inline(always)]
+fn floor(x: f32) -> f32 {
+    if !(x.abs() < 8_388_608.0) || x == 0.0 {
+        return x;
+    }
+    let t = x as i32 as f32;
+    if t > x { t - 1.0 } else { t }
+}
+
 /// Reduces `u` for the wrap mode so that scaling keeps sub-texel precision: repeat to
 /// `[0, 1]`, mirrored repeat to `[0, 2)`, clamp-to-edge to `[−1, 2]` (past which nothing
 /// changes). NaN becomes 0.
 #[inline(always)]
 fn reduce(u: f32, wrap: Wrap) -> f32 {
     let r = match wrap {
-        Wrap::Repeat => u - u.floor(),
-        Wrap::MirroredRepeat => u - 2.0 * (u * 0.5).floor(),
+        Wrap::Repeat => u - floor(u),
+        Wrap::MirroredRepeat => u - 2.0 * floor(u * 0.5),
         Wrap::ClampToEdge => u.clamp(-1.0, 2.0),
     };
     if r.is_nan() { 0.0 } else { r }
@@ -479,7 +491,7 @@ fn wrap_index(i: i64, n: u32, wrap: Wrap) -> u32 {
 /// The texel index for nearest filtering: `⌊u · n⌋`, wrapped.
 #[inline(always)]
 fn nearest_index(u: f32, n: u32, wrap: Wrap) -> u32 {
-    wrap_index((reduce(u, wrap) * n as f32).floor() as i64, n, wrap)
+    wrap_index(floor(reduce(u, wrap) * n as f32) as i64, n, wrap)
 }
 
 /// The two texel indices and the weight of the second for linear filtering:
@@ -487,7 +499,7 @@ fn nearest_index(u: f32, n: u32, wrap: Wrap) -> u32 {
 #[inline(always)]
 fn linear_indices(u: f32, n: u32, wrap: Wrap) -> (u32, u32, f32) {
     let x = reduce(u, wrap) * n as f32 - 0.5;
-    let base = x.floor();
+    let base = floor(x);
     let i0 = base as i64;
     (wrap_index(i0, n, wrap), wrap_index(i0 + 1, n, wrap), x - base)
 }
@@ -549,6 +561,15 @@ mod tests {
         // Clamp-to-edge: below the first centre, the edge texel alone.
         assert_eq!(bytes(sample_at(&t, &s, 0.0, 0.0)), [0.0, 0.0, 0.0, 255.0]);
         assert_eq!(bytes(sample_at(&t, &s, -3.0, 7.0)), [0.0, 3.0, 0.0, 255.0]);
+    }
+
+    #[test]
+    fn floor_matches_the_library() {
+        for x in [0.0f32, -0.0, 0.5, -0.5, 1.0, -1.0, 2.75, -2.75, 8_388_607.5, -8_388_607.5, 1.0e10, -1.0e10, 3.0e38] {
+            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x}");
+        }
+        assert!(floor(f32::NAN).is_nan());
+        assert_eq!(floor(f32::NEG_INFINITY), f32::NEG_INFINITY);
     }
 
     #[test]
