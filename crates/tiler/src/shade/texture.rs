@@ -453,7 +453,7 @@ pub fn log2(x: f32) -> f32 {
 /// are already integers (or not numbers) and come back unchanged, as do both zeros.
 #[inline(always)]
 fn floor(x: f32) -> f32 {
-    if !(x.abs() < 8_388_608.0) || x == 0.0 {
+    if x.is_nan() || x.abs() >= 8_388_608.0 || x == 0.0 {
         return x;
     }
     let t = x as i32 as f32;
