@@ -158,7 +158,7 @@ fn load_model_scene(device: &mut Device, path: &Path, args: &RenderArgs, width: 
         CullArg::None => CullPolicy::None,
         CullArg::Gltf => CullPolicy::Gltf,
     });
-    let options = ModelSceneOptions { width, height, samples: 1, shading: args.shading, camera: args.camera, cull };
+    let options = ModelSceneOptions { camera: args.camera, cull, ..ModelSceneOptions::new(width, height) };
     let (scene, placement) = build_model_scene(device, &model, &options)?;
     let e = placement.eye;
     println!(

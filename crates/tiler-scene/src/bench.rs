@@ -118,7 +118,7 @@ pub fn build(
         }
         BenchScene::Gltf { path } => {
             let model = load(path, Shading::Scenes)?;
-            let options = ModelSceneOptions { samples, ..ModelSceneOptions::scenes(width, height) };
+            let options = ModelSceneOptions { samples, ..ModelSceneOptions::new(width, height) };
             let (scene, _) = build_model_scene(device, &model, &options)?;
             let triangles = scene.triangles;
             Ok((scene, BenchWork { triangles, fragments: None }))

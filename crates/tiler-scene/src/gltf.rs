@@ -140,11 +140,13 @@ pub enum GltfProjection {
 #[derive(Clone, Debug)]
 pub struct Model {
     pub path: PathBuf,
+    /// The shading mode it was loaded for (it decided how textures were decoded).
+    pub shading: Shading,
     /// Primitives in traversal order.
     pub primitives: Vec<DrawPrimitive>,
     /// The file's materials, then glTF's default material last.
     pub materials: Vec<Material>,
-    /// Images decoded (by glTF image index).
+    /// How many images were decoded (those of the drawn primitives' base colours).
     pub textures_loaded: usize,
     /// Cameras in traversal order.
     pub cameras: Vec<GltfCamera>,
@@ -336,6 +338,7 @@ impl Loader<'_> {
         }
         Ok(Model {
             path: path.to_path_buf(),
+            shading: self.shading,
             primitives,
             materials,
             textures_loaded: textures.values().filter(|t| t.is_some()).count(),

@@ -195,24 +195,16 @@ pub struct ModelSceneOptions {
     pub height: u32,
     /// Samples per pixel of the colour and depth attachments.
     pub samples: u32,
-    pub shading: Shading,
     pub camera: CameraChoice,
-    /// `None`: the mode's default ([`CullPolicy::None`] for scenes, [`CullPolicy::Gltf`] for
-    /// glTF).
+    /// `None`: the shading mode's default ([`CullPolicy::None`] for scenes, [`CullPolicy::Gltf`]
+    /// for glTF).
     pub cull: Option<CullPolicy>,
 }
 
 impl ModelSceneOptions {
-    /// SCENES.md's `gltf` scene at `width × height`, one sample.
-    pub fn scenes(width: u32, height: u32) -> ModelSceneOptions {
-        ModelSceneOptions {
-            width,
-            height,
-            samples: 1,
-            shading: Shading::Scenes,
-            camera: CameraChoice::Auto,
-            cull: None,
-        }
+    /// SCENES.md's camera and the shading mode's culling at `width × height`, one sample.
+    pub fn new(width: u32, height: u32) -> ModelSceneOptions {
+        ModelSceneOptions { width, height, samples: 1, camera: CameraChoice::Auto, cull: None }
     }
 }
 
@@ -227,9 +219,8 @@ pub enum SceneError {
 
 /// Records the frame of SCENES.md §4.2 for `model` on `device`: clear to (64, 64, 80, 255)
 /// and depth 1, every opaque and MASK primitive in traversal order, then every BLEND primitive
-/// (traversal order for [`Shading::Scenes`], back to front for [`Shading::Gltf`]). Depth is a
-/// 24-bit attachment that is never stored. The model must have been loaded for the same
-/// shading mode (it decides how textures were decoded).
+/// (traversal order for [`Shading::Scenes`], back to front for [`Shading::Gltf`]), shaded in
+/// the mode the model was loaded for. Depth is a 24-bit attachment that is never stored.
 ///
 /// # Errors
 /// A camera that cannot be placed, or a size the device refuses.
@@ -238,7 +229,8 @@ pub fn build_model_scene(
     model: &Model,
     options: &ModelSceneOptions,
 ) -> Result<(Scene, Placement), SceneError> {
-    let ModelSceneOptions { width, height, samples, shading, camera, cull } = *options;
+    let ModelSceneOptions { width, height, samples, camera, cull } = *options;
+    let shading = model.shading;
     let placement = place(model, camera, width as f64 / height as f64).map_err(SceneError::Camera)?;
     let cull = cull.unwrap_or(match shading {
         Shading::Scenes => CullPolicy::None,

@@ -66,7 +66,7 @@ fn model(name: &str) {
     let (Some(assets), Some(references)) = (assets_dir(), reference_dir()) else { return };
     let path = assets.join(name).join(format!("{name}.gltf"));
     let model = load(&path, Shading::Scenes).unwrap();
-    let options = ModelSceneOptions::scenes(960, 540);
+    let options = ModelSceneOptions::new(960, 540);
     check_on_every_backend(&references.join(format!("{name}.png")), |device| {
         build_model_scene(device, &model, &options).unwrap().0
     });

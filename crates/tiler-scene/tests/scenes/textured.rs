@@ -51,9 +51,8 @@ fn textured_images_are_identical_everywhere_and_texture_traffic_is_deterministic
     for shading in [Shading::Scenes, Shading::Gltf] {
         let model = textured_quad(shading);
         let options = ModelSceneOptions {
-            shading,
             camera: CameraChoice::LookAt { eye: DVec3::new(0.3, 0.4, 6.0), target: DVec3::ZERO, fov_y_degrees: 40.0 },
-            ..ModelSceneOptions::scenes(160, 96)
+            ..ModelSceneOptions::new(160, 96)
         };
         let (expected, base) = render(&model, &options, config(Backend::Tbr, 32, 1));
         let fetched = base.ledger.get(Category::TextureFetch);
@@ -101,7 +100,7 @@ fn front_faces_are_counter_clockwise_as_in_gl() {
         let options = ModelSceneOptions {
             camera: CameraChoice::LookAt { eye: DVec3::new(0.0, 0.0, eye_z), target: DVec3::ZERO, fov_y_degrees: 40.0 },
             cull: Some(CullPolicy::Gltf),
-            ..ModelSceneOptions::scenes(64, 48)
+            ..ModelSceneOptions::new(64, 48)
         };
         let (pixels, _) = render(&model, &options, config(Backend::Tbr, 32, 1));
         let drawn = pixels.chunks_exact(4).any(|p| p != clear.as_slice());
@@ -121,7 +120,7 @@ fn pictures_are_upright() {
     let model = load(&write_gltf(&dir, "upright.gltf", &json, Some(&bin)), Shading::Scenes).unwrap();
     let options = ModelSceneOptions {
         camera: CameraChoice::LookAt { eye: DVec3::new(0.0, 0.0, 3.0), target: DVec3::ZERO, fov_y_degrees: 60.0 },
-        ..ModelSceneOptions::scenes(64, 64)
+        ..ModelSceneOptions::new(64, 64)
     };
     let (pixels, _) = render(&model, &options, config(Backend::Tbr, 32, 1));
     let at = |x: usize, y: usize| &pixels[(y * 64 + x) * 4..(y * 64 + x) * 4 + 4];
