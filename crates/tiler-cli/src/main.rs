@@ -1,5 +1,6 @@
 //! `tiler`: render scenes on a software tile-based GPU and see what each frame costs.
 
+mod bench;
 mod render;
 mod table;
 
@@ -19,14 +20,18 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene to a PNG and print its cost on each backend, side by side.
+    /// Render a glTF file (or the built-in scene) to a PNG and print its cost on each backend,
+    /// side by side.
     Render(render::RenderArgs),
+    /// Time the benchmark scenes of SCENES.md (clear, glTF models, overdraw, tris).
+    Bench(bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Bench(args) => bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
