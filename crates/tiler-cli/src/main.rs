@@ -1,7 +1,9 @@
 //! `tiler`: render scenes on a software tile-based GPU and see what each frame costs.
 
+mod compare;
+mod frame;
 mod render;
-mod table;
+mod report_args;
 
 use std::process::ExitCode;
 
@@ -21,12 +23,15 @@ struct Cli {
 enum Command {
     /// Render a scene to a PNG and print its cost on each backend, side by side.
     Render(render::RenderArgs),
+    /// Render the same frame on several device presets and compare what it costs on each.
+    Compare(compare::CompareArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Compare(args) => compare::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
