@@ -102,3 +102,44 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     print!("{}", tiler_report::text_table(&report));
     args.report.write(&report)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(devices: &[&str], reports: Vec<std::path::PathBuf>) -> CompareArgs {
+        CompareArgs {
+            devices: devices.iter().map(|d| d.to_string()).collect(),
+            size: (64, 48),
+            msaa: 1,
+            threads: 2,
+            report: ReportArgs { fps: 30.0, report: reports, heatmaps: None },
+        }
+    }
+
+    #[test]
+    fn two_presets_give_one_picture_and_a_ratio_to_the_first() {
+        let path = std::env::temp_dir().join(format!("tiler-compare-test-{}.json", std::process::id()));
+        run(&args(&["tbdr", "imr-no-cache"], vec![path.clone()])).unwrap();
+        let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(doc["image"]["identical_across_columns"], true);
+        assert_eq!(doc["fps"], 30.0);
+        let columns = doc["columns"].as_array().unwrap();
+        let labels: Vec<&str> = columns.iter().map(|c| c["label"].as_str().unwrap()).collect();
+        assert_eq!(labels, ["tbdr", "imr-no-cache"]);
+        let totals: Vec<f64> = columns.iter().map(|c| c["frame"]["total_bytes"].as_f64().unwrap()).collect();
+        assert_eq!(columns[0]["frame"]["ratio_to_first"], 1.0);
+        let ratio = columns[1]["frame"]["ratio_to_first"].as_f64().unwrap();
+        assert!((ratio - totals[1] / totals[0]).abs() < 1e-12);
+        assert!(columns[1]["passes"][0]["overdraw_histogram"].is_array(), "reports record overdraw maps");
+    }
+
+    #[test]
+    fn bad_devices_and_report_paths_are_errors_naming_them() {
+        let error = run(&args(&["tbr", "/nonexistent/my-gpu.toml"], Vec::new())).unwrap_err();
+        assert!(format!("{error:#}").contains("my-gpu.toml"), "{error:#}");
+        let error = run(&args(&["tbr"], vec!["/nonexistent-dir/out.html".into()])).unwrap_err();
+        assert!(format!("{error:#}").contains("/nonexistent-dir"), "{error:#}");
+    }
+}

@@ -95,8 +95,8 @@ header p { margin: 0; color: var(--muted); }
 section { background: var(--card); border: 1px solid var(--line); border-radius: 10px; padding: 18px 20px; margin-top: 18px; }
 h2 { font-size: 18px; margin: 0 0 4px; }
 h3 { font-size: 15px; margin: 16px 0 6px; }
-p.lead { margin: 0 0 12px; color: var(--muted); max-width: 80ch; }
-.overview { display: grid; grid-template-columns: minmax(0, 3fr) minmax(0, 2fr); gap: 22px; align-items: start; }
+p.lead { margin: 0 0 12px; color: var(--muted); max-width: 100ch; }
+.overview { display: grid; grid-template-columns: minmax(0, 11fr) minmax(0, 10fr); gap: 22px; align-items: start; }
 .stack { position: relative; overflow: hidden; border-radius: 6px; background: #000; width: 100%; }
 .frame { position: absolute; inset: 0; background-size: 100% 100%; background-repeat: no-repeat; }
 .frame.dim { filter: brightness(DIM); }
@@ -107,10 +107,11 @@ figcaption { color: var(--muted); font-size: 13px; margin-top: 6px; }
 dl.facts { display: grid; grid-template-columns: max-content 1fr; gap: 3px 14px; margin: 0 0 14px; }
 dl.facts dt { color: var(--muted); }
 dl.facts dd { margin: 0; }
-ul.headline { list-style: none; padding: 0; margin: 0; }
-ul.headline li { padding: 7px 0; border-top: 1px solid var(--line); }
-ul.headline .name { font-weight: 600; }
-ul.headline .fig { font-variant-numeric: tabular-nums; color: var(--muted); }
+table.headline { font-size: 13px; }
+table.headline th, table.headline td { padding: 5px 5px; }
+sup { font-size: 10px; color: var(--muted); margin-left: 2px; }
+.desc { display: block; font-weight: 400; color: var(--muted); font-size: 12.5px; white-space: normal; margin-top: 1px; }
+td.nowrap { white-space: nowrap; }
 table { border-collapse: collapse; width: 100%; font-variant-numeric: tabular-nums; }
 th, td { padding: 4px 8px; border-bottom: 1px solid var(--line); text-align: left; vertical-align: top; }
 thead th { font-weight: 600; border-bottom: 2px solid #cfd4db; white-space: nowrap; }
@@ -168,7 +169,7 @@ pub fn to_html(report: &Report) -> String {
         CSS.replace("brightness(DIM)", &format!("brightness({DIM})")),
     );
     if let Some(uri) = &picture {
-        let _ = write!(html, ".frame {{ background-image: url({uri}); }}\n");
+        let _ = writeln!(html, ".frame {{ background-image: url({uri}); }}");
     }
     html.push_str("</style>\n</head>\n<body>\n<main>\n");
 
@@ -202,9 +203,9 @@ fn samples_text(samples: u32) -> String {
 
 fn header(html: &mut String, document: &Document) {
     let scene = &document.scene;
-    let _ = write!(
+    let _ = writeln!(
         html,
-        "<header><h1>{}</h1><p>{} scene · {}×{} · {} · {} frames/s · {} device{}</p></header>\n",
+        "<header><h1>{}</h1><p>{} scene · {}×{} · {} · {} frames/s · {} device{}</p></header>",
         escape(&format!("tiler report · {}", document.title)),
         escape(&scene.name),
         scene.width,
@@ -258,21 +259,23 @@ fn overview(html: &mut String, document: &Document, report: &Report, has_picture
         document.fps,
         document.columns[0].passes.len(),
     );
-    html.push_str("<h2>What it costs</h2><ul class=\"headline\">");
+    html.push_str(
+        "<h2>What it costs</h2><table class=\"headline\"><thead><tr><th>device</th><th class=\"num\">MB/frame</th><th class=\"num\">MB/s</th><th class=\"num\">mW<sup>est.</sup></th><th class=\"num\">overdraw</th><th class=\"num\">vs first</th></tr></thead><tbody>",
+    );
     for column in &document.columns {
         let frame = &column.frame;
         let _ = write!(
             html,
-            "<li><span class=\"name\">{}</span> <span class=\"fig\">· {} MB/frame · {} MB/s · {} mW (est.) · {} overdraw{}</span></li>",
+            "<tr><th><b>{}</b></th><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{:.2}</td><td class=\"num\">{}</td></tr>",
             escape(&column.label),
             format::megabytes(frame.total_bytes as f64),
             format::megabytes(frame.bytes_per_second),
             format::figure(frame.energy.milliwatts),
-            format!("{:.2}", frame.overdraw),
-            frame.ratio_to_first.map(|r| format!(" · {}", format::ratio(r))).unwrap_or_default(),
+            frame.overdraw,
+            frame.ratio_to_first.map(format::ratio).unwrap_or_else(|| "n/a".into()),
         );
     }
-    html.push_str("</ul></div>\n</section>\n");
+    html.push_str("</tbody></table></div>\n</section>\n");
 }
 
 fn findings(html: &mut String, document: &Document) {
@@ -326,13 +329,22 @@ fn tile_text(column: &ColumnFigures) -> String {
     }
 }
 
-fn kib(bytes: u64) -> String {
-    if bytes.is_multiple_of(1024) { format!("{} KiB", bytes / 1024) } else { format!("{bytes} B") }
+/// A memory size as configured: `2 MiB`, `16 KiB`, `300 B`.
+fn binary_size(bytes: u64) -> String {
+    const KIB: u64 = 1 << 10;
+    const MIB: u64 = 1 << 20;
+    if bytes >= MIB && bytes.is_multiple_of(MIB) {
+        format!("{} MiB", bytes / MIB)
+    } else if bytes >= KIB && bytes.is_multiple_of(KIB) {
+        format!("{} KiB", bytes / KIB)
+    } else {
+        format!("{bytes} B")
+    }
 }
 
 fn devices(html: &mut String, document: &Document) {
     html.push_str(
-        "<section id=\"devices\"><h2>Devices</h2><p class=\"lead\">Each column of this report is one device preset (a data file: <code>tiler --device NAME|FILE</code>) rendering the same frame.</p><table><thead><tr><th>device</th><th>backend</th><th>tiles</th><th>tile memory</th><th>vertex shading</th><th>transaction elim.</th><th>framebuffer cache</th><th>display</th><th>description</th></tr></thead><tbody>",
+        "<section id=\"devices\"><h2>Devices</h2><p class=\"lead\">Each column of this report is one device preset (a data file: <code>tiler --device NAME|FILE</code>) rendering the same frame.</p><table><thead><tr><th>device</th><th>backend</th><th>tiles</th><th>tile memory</th><th>vertex shading</th><th>transaction elim.</th><th>framebuffer cache</th><th>display</th></tr></thead><tbody>",
     );
     for column in &document.columns {
         let device = &column.preset.device;
@@ -346,7 +358,7 @@ fn devices(html: &mut String, document: &Document) {
         let cache = if column.backend != Backend::Imr {
             "–".to_string()
         } else if cache.is_enabled() {
-            format!("{}, {}-way, {} B lines", kib(cache.size_bytes as u64), cache.ways, cache.line_bytes)
+            format!("{}, {}-way, {}-byte lines", binary_size(cache.size_bytes as u64), cache.ways, cache.line_bytes)
         } else {
             "none".to_string()
         };
@@ -359,11 +371,12 @@ fn devices(html: &mut String, document: &Document) {
         let or_dash = |text: String| if tiler { text } else { "–".to_string() };
         let _ = write!(
             html,
-            "<tr><th><b>{}</b></th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"note\">{}</td></tr>",
+            "<tr><th><b>{}</b><span class=\"desc\">{}</span></th><td class=\"nowrap\">{}</td><td>{}</td><td class=\"nowrap\">{}</td><td class=\"nowrap\">{}</td><td class=\"nowrap\">{}</td><td>{}</td><td class=\"nowrap\">{}</td></tr>",
             escape(&column.label),
+            escape(&column.preset.description),
             escape(&backend),
             tile_text(column),
-            or_dash(kib(device.tile_memory_bytes)),
+            or_dash(binary_size(device.tile_memory_bytes)),
             or_dash(match device.vertex_shading {
                 tiler::VertexShading::Once => "once".to_string(),
                 tiler::VertexShading::PerTile => "per tile".to_string(),
@@ -371,7 +384,6 @@ fn devices(html: &mut String, document: &Document) {
             or_dash(if device.transaction_elimination { "yes".to_string() } else { "no".to_string() }),
             cache,
             display,
-            escape(&column.preset.description),
         );
     }
     html.push_str("</tbody></table></section>\n");
@@ -394,9 +406,9 @@ fn legend_list(categories: &[Category]) -> String {
 
 fn bytes_chart(html: &mut String, document: &Document) {
     let categories = document.categories_in_use();
-    let _ = write!(
+    let _ = writeln!(
         html,
-        "<section id=\"chart\"><h2>External memory per frame</h2><p class=\"lead\">Bytes that cross between the GPU and external memory in one frame, by category (hover a segment for its figure). Beside each bar: the total, the bandwidth at {} frames/s, and the ratio to the first device.</p>{}{}</section>\n",
+        "<section id=\"chart\"><h2>External memory per frame</h2><p class=\"lead\">Bytes that cross between the GPU and external memory in one frame, by category (hover a segment for its figure). Beside each bar: the total, the bandwidth at {} frames/s, and the ratio to the first device.</p>{}{}</section>",
         document.fps,
         stacked_bars(document, &categories),
         legend_list(&categories),
@@ -703,8 +715,12 @@ fn tile_maps(html: &mut String, document: &Document, report: &Report) {
                 let max = values.iter().copied().max().unwrap_or(0);
                 let layer = tile_overlay(&values, pass.tiles_x, pass.tiles_y);
                 let max_text = if metric.is_bytes() { format::bytes_with_unit(max as f64) } else { format::count(max) };
+                // A map with every working tile at the maximum has no contrast: say so.
+                let working: Vec<u64> = values.iter().copied().filter(|v| *v > 0).collect();
+                let uniform = working.len() > 1 && working.iter().all(|v| *v == max);
+                let max_text = if uniform { format!("every tile {max_text}") } else { format!("max {max_text}") };
                 let caption = format!(
-                    "<div class=\"map-head\"><span class=\"title\">{}</span><span class=\"max\">max {max_text}</span></div>{}",
+                    "<div class=\"map-head\"><span class=\"title\">{}</span><span class=\"max\">{max_text}</span></div>{}",
                     metric.title(),
                     gradient_legend(&format!("g-{index}-{p}-{}", metric.name()), max, metric.is_bytes()),
                 );
@@ -726,9 +742,9 @@ fn tile_maps(html: &mut String, document: &Document, report: &Report) {
     if body.is_empty() {
         return;
     }
-    let _ = write!(
+    let _ = writeln!(
         html,
-        "<section id=\"heatmaps\"><h2>Per-tile heat maps</h2><p class=\"lead\">Each tiler's tiles coloured by the work they did, over the dimmed picture: how many polygon-list entries the tile read back (geometry that touched it), how many fragments it shaded, and how many bytes its store ops wrote. Each map is scaled from 0 to its own maximum; uncoloured tiles did none of that work.</p>{body}</section>\n"
+        "<section id=\"heatmaps\"><h2>Per-tile heat maps</h2><p class=\"lead\">Each tiler's tiles coloured by the work they did, over the dimmed picture: how many polygon-list entries the tile read back (geometry that touched it), how many fragments it shaded, and how many bytes its store ops wrote. Each map is scaled from 0 to its own maximum; uncoloured tiles did none of that work.</p>{body}</section>"
     );
 }
 
@@ -786,7 +802,7 @@ fn overdraw_maps(html: &mut String, document: &Document, report: &Report) {
         let _ = write!(html, "<span style=\"background:{};color:{text_color}\">{label}</span>", hex(color));
     }
     let columns = if report.columns.len() == 2 || report.columns.len() == 4 { "maps two" } else { "maps" };
-    let _ = write!(html, "</div><div class=\"{columns}\">{body}</div></section>\n");
+    let _ = writeln!(html, "</div><div class=\"{columns}\">{body}</div></section>");
 }
 
 fn formulas(html: &mut String, document: &Document) {

@@ -35,11 +35,12 @@ pub fn text_table(report: &Report) -> String {
     let document = Document::new(report);
     let columns = &document.columns;
     let label_width = 30;
-    let width = columns.iter().map(|c| c.label.chars().count() + 2).max().unwrap_or(0).max(12);
+    // Each column as wide as its heading, and at least as wide as a figure.
+    let widths: Vec<usize> = columns.iter().map(|c| (c.label.chars().count() + 2).max(12)).collect();
     let mut out = String::new();
     let row = |out: &mut String, label: &str, cell: &dyn Fn(&ColumnFigures) -> String| {
         let _ = write!(out, "{label:<label_width$}");
-        for column in columns {
+        for (column, width) in columns.iter().zip(&widths) {
             let _ = write!(out, "{:>width$}", cell(column));
         }
         out.push('\n');
