@@ -90,7 +90,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         findings: Vec::new(),
     };
     println!(
-        "\n{} scene: {}×{}, {} sample{} per pixel, {} draws, {} triangles; every device rendered the same picture\n",
+        "\n{} scene: {}×{}, {} sample{} per pixel, {} draws, {} triangles; every device rendered the same picture",
         report.scene.name,
         report.scene.width,
         report.scene.height,
@@ -99,8 +99,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         report.scene.draws,
         report.scene.triangles,
     );
-    print!("{}", tiler_report::text_table(&report));
-    args.report.write(&report)
+    args.report.write_and_print(&report)
 }
 
 #[cfg(test)]

@@ -130,9 +130,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         columns,
         findings: Vec::new(),
     };
-    println!();
-    print!("{}", tiler_report::text_table(&report));
-    args.report.write(&report)
+    args.report.write_and_print(&report)
 }
 
 pub fn write_png(path: &PathBuf, width: u32, height: u32, rgba: &[u8]) -> Result<()> {

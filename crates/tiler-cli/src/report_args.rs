@@ -1,6 +1,7 @@
 //! The options every command that produces a report shares: the frame rate of the
 //! per-second figures, report files (HTML or JSON by extension) and heat-map PNGs.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
@@ -68,22 +69,30 @@ impl ReportArgs {
         !self.report.is_empty() || self.heatmaps.is_some()
     }
 
-    /// Writes the reports and heat maps asked for, saying where.
+    /// Writes the reports and heat maps asked for, then prints the table and where the files
+    /// went. Files come first, so output piped into `head` cannot lose them; printing to a
+    /// closed pipe is not an error.
     ///
     /// # Errors
     /// A file or directory that cannot be written, naming it.
-    pub fn write(&self, report: &Report) -> Result<()> {
+    pub fn write_and_print(&self, report: &Report) -> Result<()> {
+        let mut lines = Vec::new();
         for path in &self.report {
             let text = match format_of(path)? {
                 Format::Html => tiler_report::to_html(report),
                 Format::Json => tiler_report::to_json(report),
             };
             std::fs::write(path, text).with_context(|| format!("writing the report {}", path.display()))?;
-            println!("report → {}", path.display());
+            lines.push(format!("report → {}", path.display()));
         }
         if let Some(dir) = &self.heatmaps {
             let written = tiler_report::write_heatmaps(report, dir).context("writing the heat maps")?;
-            println!("{} heat maps → {}", written.len(), dir.display());
+            lines.push(format!("{} heat maps → {}", written.len(), dir.display()));
+        }
+        let mut out = std::io::stdout().lock();
+        let _ = write!(out, "\n{}", tiler_report::text_table(report));
+        for line in lines {
+            let _ = writeln!(out, "{line}");
         }
         Ok(())
     }

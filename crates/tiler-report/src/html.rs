@@ -18,8 +18,8 @@ use tiler::{Backend, Category};
 
 use crate::format;
 use crate::heatmap::{
-    DIM, TileMetric, hex, overdraw_overlay, overdraw_t, overdraw_top, png_bytes, report_overdraw_max, tile_overlay,
-    tile_values, viridis,
+    DIM, TileMetric, hex, overdraw_overlay, overdraw_t, png_bytes, report_overdraw_max, report_overdraw_top,
+    tile_overlay, tile_values, viridis,
 };
 use crate::schema::{ColumnFigures, Document, PassFigures};
 use crate::svg::{category_color, gradient_legend, stacked_bars};
@@ -349,10 +349,13 @@ fn devices(html: &mut String, document: &Document) {
     for column in &document.columns {
         let device = &column.preset.device;
         let tiler = column.backend.is_tiler();
-        let backend = if device.backend == column.backend {
-            column.backend.name().to_string()
+        let (backend, description) = if device.backend == column.backend {
+            (column.backend.name().to_string(), column.preset.description.clone())
         } else {
-            format!("{} (preset: {})", column.backend.name(), device.backend.name())
+            (
+                format!("{} (preset: {})", column.backend.name(), device.backend.name()),
+                format!("the '{}' preset, rendered with the {} backend instead", column.preset.name, column.backend),
+            )
         };
         let cache = &device.framebuffer_cache;
         let cache = if column.backend != Backend::Imr {
@@ -373,7 +376,7 @@ fn devices(html: &mut String, document: &Document) {
             html,
             "<tr><th><b>{}</b><span class=\"desc\">{}</span></th><td class=\"nowrap\">{}</td><td>{}</td><td class=\"nowrap\">{}</td><td class=\"nowrap\">{}</td><td class=\"nowrap\">{}</td><td>{}</td><td class=\"nowrap\">{}</td></tr>",
             escape(&column.label),
-            escape(&column.preset.description),
+            escape(&description),
             escape(&backend),
             tile_text(column),
             or_dash(binary_size(device.tile_memory_bytes)),
@@ -755,7 +758,7 @@ fn fits(image: &Rgba8Image, width: u32, height: u32) -> bool {
 fn overdraw_maps(html: &mut String, document: &Document, report: &Report) {
     let image = &report.columns[0].image;
     let max = report_overdraw_max(report);
-    let top = overdraw_top(max);
+    let top = report_overdraw_top(report);
     let mut body = String::new();
     for (column, figures) in report.columns.iter().zip(&document.columns) {
         for (p, pass) in column.frame.passes.iter().enumerate() {
