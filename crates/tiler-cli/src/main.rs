@@ -1,8 +1,11 @@
 //! `tiler`: render scenes on a software tile-based GPU and see what each frame costs.
 
 mod bench;
+mod compare;
+mod frame;
 mod render;
-mod table;
+mod report_args;
+mod scene_args;
 
 use std::process::ExitCode;
 
@@ -25,6 +28,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Time the benchmark scenes of SCENES.md (clear, glTF models, overdraw, tris).
     Bench(bench::BenchArgs),
+    /// Render the same frame on several device presets and compare what it costs on each.
+    Compare(compare::CompareArgs),
 }
 
 fn main() -> ExitCode {
@@ -32,6 +37,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Compare(args) => compare::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
