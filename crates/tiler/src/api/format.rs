@@ -166,13 +166,7 @@ impl Format {
             Format::Rgba8Unorm | Format::Bgra8Unorm => {
                 // unorm8 lane by lane: clamp (NaN to 0), scale, round half up, as encode_color
                 // does; through i32, whose conversion vectorises.
-                let channels: [[i32; 8]; 4] = rgba.map(|c| {
-                    std::array::from_fn(|i| {
-                        let v = c.0[i];
-                        let v = if v > 0.0 { v.min(1.0) } else { 0.0 };
-                        (v * 255.0 + 0.5) as i32
-                    })
-                });
+                let channels: [[i32; 8]; 4] = rgba.map(|c| c.unorm(255.0));
                 let order = if self == Format::Rgba8Unorm { [0, 1, 2, 3] } else { [2, 1, 0, 3] };
                 for (lane, packed) in out.iter_mut().enumerate() {
                     for (byte, &c) in order.iter().enumerate() {
@@ -187,6 +181,25 @@ impl Format {
                 }
             }
         }
+    }
+
+    /// Eight lanes of colour packed as 32-bit little-endian words, for the 4-byte UNORM8
+    /// formats (`Rgba8Unorm`, `Bgra8Unorm`): exactly the bytes of [`Format::encode_lanes`].
+    /// `None` for other formats.
+    #[inline(always)]
+    pub fn pack_lanes_u32(self, rgba: &crate::simd::Vec4x8) -> Option<[u32; 8]> {
+        let order = match self {
+            Format::Rgba8Unorm => [0, 1, 2, 3],
+            Format::Bgra8Unorm => [2, 1, 0, 3],
+            _ => return None,
+        };
+        let channels: [[i32; 8]; 4] = rgba.map(|c| c.unorm(255.0));
+        Some(std::array::from_fn(|i| {
+            (channels[order[0]][i]
+                | channels[order[1]][i] << 8
+                | channels[order[2]][i] << 16
+                | channels[order[3]][i] << 24) as u32
+        }))
     }
 
     /// Unpacks a colour stored in this format; missing channels read as 0 (alpha as 1).
@@ -288,7 +301,7 @@ impl Format {
     pub fn depth_bits_lanes(self, z: crate::simd::F32x8) -> [u32; 8] {
         let z: [f32; 8] = std::array::from_fn(|i| if z.0[i] > 0.0 { z.0[i].min(1.0) } else { 0.0 });
         match self {
-            Format::D16Unorm => std::array::from_fn(|i| (z[i] * 65535.0 + 0.5) as i32 as u32),
+            Format::D16Unorm => crate::simd::F32x8(z).unorm(65535.0).map(|v| v as u32),
             Format::D24UnormS8Uint => std::array::from_fn(|i| {
                 let v = z[i] as f64 * 16_777_215.0 + 0.5;
                 // SAFETY: `z` is clamped to [0, 1] (NaN to 0) above, so `v` is finite and in

@@ -24,7 +24,7 @@ use crate::ledger::cache::CacheConfig;
 use crate::ledger::framebuffer::FramebufferTraffic;
 use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
 use crate::raster::PixelRect;
-use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows};
+use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::samples::SampleLocations;
 use crate::shade::ShadeContext;
 use crate::tile::load_store::{apply_load, apply_resolve};
@@ -164,7 +164,6 @@ pub fn render(
             counters.merge(&batch.counters);
             draws[draw_index].primitives += batch.counters.primitives;
         }
-        let n = geometry.vertices.varying_count;
         let object = &draw.pipeline.object;
         let subpass = &resolved.subpasses[pass.subpass_of(draw_index)];
         bands.par_iter_mut().for_each(|band| {
@@ -172,13 +171,8 @@ pub fn render(
                 &mut RenderTarget::for_subpass(&mut band.surfaces, subpass, samples, band.clip, config.early_z);
             band.tally.draw = draw_index;
             for batch in &batches {
-                for p in &batch.primitives {
-                    if p.bbox.y1 <= target.clip.y0 || p.bbox.y0 >= target.clip.y1 {
-                        continue;
-                    }
-                    let varyings = &batch.varyings[p.varyings as usize..p.varyings as usize + 3 * n];
-                    object.rasterize(p, varyings, target, &mut band.tally, &mut Mode::InOrder);
-                }
+                let run = PrimitiveRun::all(&batch.primitives, &batch.varyings);
+                object.rasterize(&run, target, &mut band.tally, &mut Mode::InOrder);
             }
         });
     }

@@ -37,7 +37,7 @@ use crate::depth::hsr::{HsrMode, Visibility};
 use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
 use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
 use crate::raster::PixelRect;
-use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows};
+use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::samples::SampleLocations;
 use crate::shade::ShadeContext;
 use crate::shade::texture_cache::TextureCacheConfig;
@@ -530,18 +530,24 @@ fn render_band(
                     crate::depth::hsr::render_list(entries, frame, &mut target, &mut result.tally, visibility, &tile)
                 }
                 None => {
-                    for &entry in entries {
-                        let primitive = &frame.primitives[entry as usize];
-                        let state = &frame.states[primitive.state as usize];
-                        let varyings = frame.varyings_of(primitive);
+                    // One call per run of the same draw's primitives.
+                    let mut first = 0;
+                    while first < entries.len() {
+                        let state_index = frame.primitives[entries[first] as usize].state;
+                        let count = entries[first..]
+                            .iter()
+                            .take_while(|&&e| frame.primitives[e as usize].state == state_index)
+                            .count();
+                        let state = &frame.states[state_index as usize];
                         result.tally.draw = state.draw as usize;
-                        state.pipeline.object.rasterize(
-                            primitive,
-                            varyings,
-                            &mut target,
-                            &mut result.tally,
-                            &mut Mode::InOrder,
+                        let run = PrimitiveRun::entries(
+                            &frame.primitives,
+                            &frame.varyings,
+                            &entries[first..first + count],
+                            first as u32,
                         );
+                        state.pipeline.object.rasterize(&run, &mut target, &mut result.tally, &mut Mode::InOrder);
+                        first += count;
                     }
                 }
             }

@@ -30,7 +30,7 @@ use crate::api::pipeline::PipelineDesc;
 use crate::api::shader::ShaderProperties;
 use crate::binning::frame_data::FrameData;
 use crate::raster::PixelRect;
-use crate::raster::primitive::{FragmentTally, Mode};
+use crate::raster::primitive::{FragmentTally, Mode, PrimitiveRun};
 use crate::tile::target::RenderTarget;
 
 /// Why a draw's fragments are rendered in submission order instead of waiting for HSR.
@@ -284,9 +284,13 @@ pub fn render_list(
     tile: &PixelRect,
 ) {
     let mut segment: Option<usize> = None;
-    for (i, &entry) in list.iter().enumerate() {
-        let primitive = &frame.primitives[entry as usize];
-        let state = &frame.states[primitive.state as usize];
+    let mut i = 0;
+    while i < list.len() {
+        // A run of one draw's primitives, handed over in one call.
+        let state_index = frame.primitives[list[i] as usize].state;
+        let count = list[i..].iter().take_while(|&&e| frame.primitives[e as usize].state == state_index).count();
+        let state = &frame.states[state_index as usize];
+        let run = PrimitiveRun::entries(&frame.primitives, &frame.varyings, &list[i..i + count], i as u32);
         tally.draw = state.draw as usize;
         match state.hsr {
             HsrMode::Deferred { claims } => {
@@ -294,8 +298,8 @@ pub fn render_list(
                     visibility.reset(tile);
                     segment = Some(i);
                 }
-                let mut mode = Mode::Resolve { visibility, entry: i as u32, claims };
-                state.pipeline.object.rasterize(primitive, frame.varyings_of(primitive), target, tally, &mut mode);
+                let mut mode = Mode::Resolve { visibility, claims };
+                state.pipeline.object.rasterize(&run, target, tally, &mut mode);
             }
             HsrMode::InOrder(reason) => {
                 if let Some(start) = segment.take() {
@@ -303,18 +307,19 @@ pub fn render_list(
                 }
                 tally.draw = state.draw as usize;
                 let before = tally.counters.fragments_rasterized;
-                let varyings = frame.varyings_of(primitive);
-                state.pipeline.object.rasterize(primitive, varyings, target, tally, &mut Mode::InOrder);
+                state.pipeline.object.rasterize(&run, target, tally, &mut Mode::InOrder);
                 tally.counters.hsr_fallback.add(reason, tally.counters.fragments_rasterized - before);
             }
         }
+        i += count;
     }
     if let Some(start) = segment {
         shade_segment(list, start..list.len(), frame, target, tally, visibility);
     }
 }
 
-/// Pass two of a segment: shade each primitive that still owns samples, in list order.
+/// Pass two of a segment: shade each primitive that still owns samples, in list order, runs of
+/// consecutive owners of one draw in one call.
 fn shade_segment(
     list: &[u32],
     segment: std::ops::Range<usize>,
@@ -325,12 +330,23 @@ fn shade_segment(
 ) {
     let shaded_before = tally.counters.fragments_shaded;
     let owners: Vec<u32> = visibility.owners_in(segment.start as u32, segment.len()).collect();
-    for i in owners {
-        let primitive = &frame.primitives[list[i as usize] as usize];
-        let state = &frame.states[primitive.state as usize];
+    let state_of = |position: u32| frame.primitives[list[position as usize] as usize].state;
+    let mut k = 0;
+    while k < owners.len() {
+        let first = owners[k];
+        let mut count = 1;
+        while k + count < owners.len()
+            && owners[k + count] == first + count as u32
+            && state_of(owners[k + count]) == state_of(first)
+        {
+            count += 1;
+        }
+        let state = &frame.states[state_of(first) as usize];
         tally.draw = state.draw as usize;
-        let mut mode = Mode::Shade { visibility, entry: i };
-        state.pipeline.object.rasterize(primitive, frame.varyings_of(primitive), target, tally, &mut mode);
+        let entries = &list[first as usize..first as usize + count];
+        let run = PrimitiveRun::entries(&frame.primitives, &frame.varyings, entries, first);
+        state.pipeline.object.rasterize(&run, target, tally, &mut Mode::Shade { visibility });
+        k += count;
     }
     let shaded = tally.counters.fragments_shaded - shaded_before;
     tally.counters.fragments_hsr_killed += tally.hsr_candidates.saturating_sub(shaded);

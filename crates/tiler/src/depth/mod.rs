@@ -303,10 +303,7 @@ fn block_rows<D: DepthBits>(
             if whole_rows {
                 let row = &mut plane[offset..offset + 8 * D::BYTES];
                 let stored: [u32; 8] = std::array::from_fn(|c| D::load(&row[c * D::BYTES..]));
-                for c in 0..8 {
-                    pass |= ((compare(fragment[c], stored[c])) as u8) << c;
-                }
-                pass &= bits;
+                pass = crate::simd::bool_bits(std::array::from_fn(|c| compare(fragment[c], stored[c]))) & bits;
                 if write {
                     for c in 0..8 {
                         if pass >> c & 1 != 0 {

@@ -8,7 +8,7 @@
 use super::edge::Edge;
 use super::fixed::{SUBPIXEL_SCALE, SubPixel};
 use super::samples::{MAX_SAMPLES, SampleLocations};
-use crate::simd::{LANE_DX, LANE_DY, LANES, LaneMask};
+use crate::simd::LaneMask;
 
 /// Side of a coverage block, in pixels. Tiles are multiples of it.
 pub const BLOCK_SIZE: i32 = 8;
@@ -85,21 +85,14 @@ pub enum BlockCoverage {
 #[derive(Clone, Debug)]
 pub struct PrimitiveCoverage {
     edges: [Edge; 3],
-    /// `A·dx + B·dy` for each lane's pixel corner relative to its group's corner.
-    lane_offsets: [[i64; LANES]; 3],
     /// `A·sx + B·sy` for each sample's offset within its pixel.
     sample_offsets: [[i64; MAX_SAMPLES]; 3],
-    samples: usize,
     /// The sample hull of a pixel: min/max sample offsets (sub-pixels).
     hull: (i64, i64, i64, i64),
 }
 
 impl PrimitiveCoverage {
     pub fn new(edges: &[Edge; 3], locations: &SampleLocations) -> PrimitiveCoverage {
-        let scale = SUBPIXEL_SCALE as i64;
-        let lane_offsets = edges.map(|e| {
-            std::array::from_fn(|lane| e.a * LANE_DX[lane] as i64 * scale + e.b * LANE_DY[lane] as i64 * scale)
-        });
         let sample_offsets = edges.map(|e| {
             let mut offsets = [0i64; MAX_SAMPLES];
             for (o, (sx, sy)) in offsets.iter_mut().zip(locations.iter()) {
@@ -108,13 +101,7 @@ impl PrimitiveCoverage {
             offsets
         });
         let (hx0, hy0, hx1, hy1) = locations.hull();
-        PrimitiveCoverage {
-            edges: *edges,
-            lane_offsets,
-            sample_offsets,
-            samples: locations.count(),
-            hull: (hx0 as i64, hy0 as i64, hx1 as i64, hy1 as i64),
-        }
+        PrimitiveCoverage { edges: *edges, sample_offsets, hull: (hx0 as i64, hy0 as i64, hx1 as i64, hy1 as i64) }
     }
 
     /// Classifies the `size × size` block whose top-left pixel is `(x, y)`, using the
@@ -134,28 +121,6 @@ impl PrimitiveCoverage {
             full &= e.min_over(x0, y0, x1, y1) >= 0;
         }
         if full { BlockCoverage::Full } else { BlockCoverage::Partial }
-    }
-
-    /// The covered samples of the 4×2 group whose top-left pixel is `(x, y)`.
-    #[inline]
-    pub fn group(&self, x: i32, y: i32) -> Coverage {
-        let corner_x = SubPixel::pixel_corner(x);
-        let corner_y = SubPixel::pixel_corner(y);
-        let mut coverage = Coverage::full(self.samples);
-        for (e, edge) in self.edges.iter().enumerate() {
-            let base = edge.eval(corner_x, corner_y);
-            let lanes = &self.lane_offsets[e];
-            for s in 0..self.samples {
-                let at_sample = base + self.sample_offsets[e][s];
-                let mut mask = 0u8;
-                for (lane, offset) in lanes.iter().enumerate() {
-                    mask |= ((at_sample + offset >= 0) as u8) << lane;
-                }
-                let kept = coverage.sample(s) & LaneMask(mask);
-                coverage.set_sample(s, kept);
-            }
-        }
-        coverage
     }
 
     /// The covered pixels of sample `s` in the 8×8 block whose top-left pixel is `(x, y)`:
@@ -179,7 +144,7 @@ impl PrimitiveCoverage {
     }
 
     /// Whether the sample `s` of pixel `(x, y)` is covered: the scalar reference that
-    /// [`PrimitiveCoverage::group`] and [`PrimitiveCoverage::block_mask`] must agree with.
+    /// [`PrimitiveCoverage::block_mask`] must agree with.
     pub fn covers(&self, x: i32, y: i32, s: usize) -> bool {
         let px = SubPixel::pixel_corner(x);
         let py = SubPixel::pixel_corner(y);
@@ -207,11 +172,8 @@ fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64) -> u64 {
         let mut mask = 0u64;
         for r in 0..8 {
             let offset = r * sy;
-            let mut bits = 0u64;
-            for (c, v) in row.iter().enumerate() {
-                bits |= ((v + offset >= 0) as u64) << c;
-            }
-            mask |= bits << (8 * r);
+            let negative = crate::simd::sign_bits(row.map(|v| v + offset));
+            mask |= (!negative as u64) << (8 * r);
         }
         mask
     } else {
@@ -232,14 +194,18 @@ fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64) -> u64 {
 /// The pixels of the 8×8 block at `(x, y)` that lie inside `rect` (bit `8·row + column`).
 #[inline]
 pub fn block_rect_mask(x: i32, y: i32, rect: &super::PixelRect) -> u64 {
-    let columns = (0..8).filter(|c| (rect.x0..rect.x1).contains(&(x + c))).fold(0u64, |m, c| m | 1 << c);
-    let mut mask = 0u64;
-    for r in 0..8 {
-        if (rect.y0..rect.y1).contains(&(y + r)) {
-            mask |= columns << (8 * r);
+    // Bits `unit·lo .. unit·hi` of a word: columns lo..hi of a row (unit 1), or rows lo..hi of
+    // the block (unit 8).
+    let span = |lo: i32, hi: i32, unit: u32| -> u64 {
+        let (lo, hi) = (lo.clamp(0, 8) as u32 * unit, hi.clamp(0, 8) as u32 * unit);
+        if hi <= lo {
+            return 0;
         }
-    }
-    mask
+        let below_hi = if hi >= 64 { u64::MAX } else { (1u64 << hi) - 1 };
+        below_hi & !((1u64 << lo) - 1)
+    };
+    let columns = span(rect.x0 - x, rect.x1 - x, 1);
+    (columns * 0x0101_0101_0101_0101) & span(rect.y0 - y, rect.y1 - y, 8)
 }
 
 /// The lanes of the 4×2 group at offset `(gx, gy)` in a block (gx ∈ {0, 4}, gy even), from a
@@ -251,45 +217,14 @@ pub fn group_lanes(block: u64, gx: i32, gy: i32) -> LaneMask {
     LaneMask((top | bottom << 4) as u8)
 }
 
-/// The lanes of the 4×2 group at `(x, y)` whose pixels lie inside `rect`.
-#[inline]
-pub fn lanes_inside(x: i32, y: i32, rect: &super::PixelRect) -> LaneMask {
-    let mut mask = 0u8;
-    for lane in 0..LANES {
-        let px = x + LANE_DX[lane] as i32;
-        let py = y + LANE_DY[lane] as i32;
-        let inside = px >= rect.x0 && px < rect.x1 && py >= rect.y0 && py < rect.y1;
-        mask |= (inside as u8) << lane;
-    }
-    LaneMask(mask)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::simd::{LANE_DX, LANE_DY, LANES};
 
     fn triangle(points: [(i32, i32); 3]) -> [Edge; 3] {
         let p = points.map(|(x, y)| (SubPixel(x), SubPixel(y)));
         [Edge::new(p[0], p[1]), Edge::new(p[1], p[2]), Edge::new(p[2], p[0])]
-    }
-
-    #[test]
-    fn group_agrees_with_the_scalar_reference() {
-        let edges = triangle([(100, 50), (3000, 700), (900, 2500)]);
-        for samples in [1, 2, 4, 8] {
-            let cov = PrimitiveCoverage::new(&edges, &SampleLocations::standard(samples));
-            for gy in (0..12).step_by(2) {
-                for gx in (0..16).step_by(4) {
-                    let group = cov.group(gx, gy);
-                    for lane in 0..LANES {
-                        for s in 0..samples as usize {
-                            let expected = cov.covers(gx + LANE_DX[lane] as i32, gy + LANE_DY[lane] as i32, s);
-                            assert_eq!(group.sample(s).contains(lane), expected);
-                        }
-                    }
-                }
-            }
-        }
     }
 
     #[test]
@@ -314,7 +249,13 @@ mod tests {
                             }
                             for gy in [0, 2, 4, 6] {
                                 for gx in [0, 4] {
-                                    assert_eq!(group_lanes(mask, gx, gy), cov.group(bx + gx, by + gy).sample(s));
+                                    for lane in 0..LANES {
+                                        let (c, r) = (gx + LANE_DX[lane] as i32, gy + LANE_DY[lane] as i32);
+                                        assert_eq!(
+                                            group_lanes(mask, gx, gy).contains(lane),
+                                            cov.covers(bx + c, by + r, s)
+                                        );
+                                    }
                                 }
                             }
                         }
@@ -340,7 +281,10 @@ mod tests {
         assert_eq!(cov.classify_block(0, 0, 8), BlockCoverage::Full);
         assert_eq!(cov.classify_block(48, 48, 8), BlockCoverage::Outside);
         assert_eq!(cov.classify_block(16, 16, 8), BlockCoverage::Partial);
-        assert_eq!(cov.group(0, 0), Coverage::full(4));
+        for s in 0..4 {
+            assert_eq!(cov.block_mask(0, 0, s), u64::MAX);
+            assert_eq!(cov.block_mask(48, 48, s), 0);
+        }
     }
 
     #[test]

@@ -97,13 +97,44 @@ pub enum Mode<'a> {
     /// Everything, in submission order (TBR, IMR, and TBDR's fallback).
     InOrder,
     /// Hidden-surface removal, pass one: coverage and the depth/stencil tests with their
-    /// writes, no shading; samples that pass are claimed for `entry` if `claims`.
-    Resolve { visibility: &'a mut Visibility, entry: u32, claims: bool },
-    /// Hidden-surface removal, pass two: shade and write the samples `entry` owns.
-    Shade { visibility: &'a Visibility, entry: u32 },
+    /// writes, no shading; samples that pass are claimed for the primitive's entry if `claims`.
+    Resolve { visibility: &'a mut Visibility, claims: bool },
+    /// Hidden-surface removal, pass two: shade and write the samples each primitive's entry
+    /// owns.
+    Shade { visibility: &'a Visibility },
 }
 
-/// How one colour attachment is written, prepared once per primitive.
+/// Primitives of one draw handed to the pixel pipeline in one call, in order.
+#[derive(Clone, Copy)]
+pub struct PrimitiveRun<'a> {
+    pub primitives: &'a [Primitive],
+    /// Where each primitive's varyings are (`Primitive::varyings` is an offset into this).
+    pub varyings: &'a [f32],
+    /// Which primitives: indices into `primitives` (every one when `None`).
+    pub indices: Option<&'a [u32]>,
+    /// The entry (position in the tile's list) of the first primitive; the others follow it.
+    /// Hidden-surface removal claims samples by entry.
+    pub first_entry: u32,
+}
+
+impl<'a> PrimitiveRun<'a> {
+    /// Every primitive of `primitives`.
+    pub fn all(primitives: &'a [Primitive], varyings: &'a [f32]) -> PrimitiveRun<'a> {
+        PrimitiveRun { primitives, varyings, indices: None, first_entry: 0 }
+    }
+
+    /// The primitives `indices` of `primitives`, the first being entry `first_entry`.
+    pub fn entries(
+        primitives: &'a [Primitive],
+        varyings: &'a [f32],
+        indices: &'a [u32],
+        first_entry: u32,
+    ) -> PrimitiveRun<'a> {
+        PrimitiveRun { primitives, varyings, indices: Some(indices), first_entry }
+    }
+}
+
+/// How one colour attachment is written, prepared once per run of primitives.
 #[derive(Clone, Copy)]
 struct ColorPlan {
     state: ColorTargetState,
@@ -130,58 +161,113 @@ struct ShadeOutput {
     sample_mask: [u32; 8],
 }
 
-/// Rasterizes `primitive` into `target`, running the part of the pipeline `mode` says.
+/// Rasterizes the primitives of `run` into `target`, in order, running the part of the
+/// pipeline `mode` says. What depends only on the draw and the target is worked out once.
 pub fn rasterize<F: FragmentShader>(
     shader: &F,
     desc: &PipelineDesc,
-    primitive: &Primitive,
-    varyings: &[f32],
+    run: &PrimitiveRun,
     target: &mut RenderTarget,
     tally: &mut FragmentTally,
     mode: &mut Mode,
 ) {
-    let rect = primitive.bbox.intersect(&target.clip);
-    if rect.is_empty() {
-        return;
-    }
-    let properties = shader.properties();
-    let ds = &desc.depth_stencil;
-    let tests = match &target.depth_stencil {
-        Some(surface) => ds.depth_test || (ds.stencil_test && surface.format.has_stencil()),
-        None => false,
+    let plan = RasterPlan::new(shader, desc, target, tally);
+    let varying_count = desc.varyings.len();
+    let mut one = |position: usize, index: usize| {
+        let primitive = &run.primitives[index];
+        let rect = primitive.bbox.intersect(&target.clip);
+        if rect.is_empty() {
+            return;
+        }
+        let start = primitive.varyings as usize;
+        let raster = PrimitiveRaster {
+            plan: &plan,
+            primitive,
+            varyings: &run.varyings[start..start + 3 * varying_count],
+            coverage: PrimitiveCoverage::new(&primitive.edges, &target.samples),
+            interpolator: Interpolator::new(primitive),
+            entry: run.first_entry + position as u32,
+        };
+        raster.run(&rect, target, tally, mode);
     };
-    let mut colors = [None; MAX_COLOR_ATTACHMENTS];
-    for (i, state) in desc.color_targets.iter().enumerate() {
-        if let Some(surface) = &target.color[i] {
-            let format = surface.format;
-            let mask = format.write_mask_bytes(state.write_mask);
-            let bytes = format.bytes_per_sample();
-            if state.write_mask != ColorWrites::NONE && mask[..bytes].iter().any(|b| *b != 0) {
-                colors[i] = Some(ColorPlan { state: *state, mask, partial: mask[..bytes].iter().any(|b| *b != 0xff) });
+    match run.indices {
+        Some(indices) => {
+            for (position, &index) in indices.iter().enumerate() {
+                one(position, index as usize);
+            }
+        }
+        None => {
+            for index in 0..run.primitives.len() {
+                one(index, index);
             }
         }
     }
-    let samples = target.samples.count();
-    let coverage_changes = properties.discards || properties.writes_sample_mask || desc.multisample.alpha_to_coverage;
-    let raster = PrimitiveRaster {
-        shader,
-        desc,
-        properties,
-        primitive,
-        varyings,
-        varying_count: desc.varyings.len(),
-        coverage: PrimitiveCoverage::new(&primitive.edges, &target.samples),
-        interpolator: Interpolator::new(primitive),
-        locations: target.samples,
-        static_mask: static_sample_mask(desc.multisample.sample_mask, samples),
-        sample_shading: desc.multisample.sample_shading && samples > 1,
-        tests,
-        early_tests: tests
-            && target.early_z
-            && !(coverage_changes || properties.writes_depth || properties.side_effects),
-        colors,
-    };
-    raster.run(&rect, target, tally, mode);
+}
+
+/// What the pixel pipeline does for every primitive of a draw on a target.
+struct RasterPlan<'a, F> {
+    shader: &'a F,
+    desc: &'a PipelineDesc,
+    properties: ShaderProperties,
+    varying_count: usize,
+    locations: SampleLocations,
+    static_mask: Coverage,
+    sample_shading: bool,
+    tests: bool,
+    early_tests: bool,
+    /// The tests can run on whole blocks ([`depth::test_block`]).
+    block_tests: bool,
+    colors: [Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
+    /// Some attachment or input lives in external memory (immediate mode).
+    external: bool,
+}
+
+impl<'a, F: FragmentShader> RasterPlan<'a, F> {
+    fn new(shader: &'a F, desc: &'a PipelineDesc, target: &RenderTarget, tally: &FragmentTally) -> Self {
+        let properties = shader.properties();
+        let ds = &desc.depth_stencil;
+        let tests = match &target.depth_stencil {
+            Some(surface) => ds.depth_test || (ds.stencil_test && surface.format.has_stencil()),
+            None => false,
+        };
+        let mut colors = [None; MAX_COLOR_ATTACHMENTS];
+        for (i, state) in desc.color_targets.iter().enumerate() {
+            if let Some(surface) = &target.color[i] {
+                let format = surface.format;
+                let mask = format.write_mask_bytes(state.write_mask);
+                let bytes = format.bytes_per_sample();
+                if state.write_mask != ColorWrites::NONE && mask[..bytes].iter().any(|b| *b != 0) {
+                    colors[i] =
+                        Some(ColorPlan { state: *state, mask, partial: mask[..bytes].iter().any(|b| *b != 0xff) });
+                }
+            }
+        }
+        let samples = target.samples.count();
+        let coverage_changes =
+            properties.discards || properties.writes_sample_mask || desc.multisample.alpha_to_coverage;
+        let block_tests = tests
+            && match &target.depth_stencil {
+                Some(surface) => depth::block_test_applies(surface, ds, &tally.framebuffer),
+                None => false,
+            };
+        RasterPlan {
+            shader,
+            desc,
+            properties,
+            varying_count: desc.varyings.len(),
+            locations: target.samples,
+            static_mask: static_sample_mask(desc.multisample.sample_mask, samples),
+            sample_shading: desc.multisample.sample_shading && samples > 1,
+            tests,
+            early_tests: tests
+                && target.early_z
+                && !(coverage_changes || properties.writes_depth || properties.side_effects),
+            block_tests,
+            colors,
+            external: target.color.iter().chain([&target.depth_stencil]).flatten().any(|s| s.is_external())
+                || target.inputs.iter().flatten().any(|s| s.is_external()),
+        }
+    }
 }
 
 /// A pipeline sample mask as coverage: all lanes of every sample whose bit is set.
@@ -195,31 +281,29 @@ fn static_sample_mask(mask: u32, samples: usize) -> Coverage {
     c
 }
 
-struct PrimitiveRaster<'a, F> {
-    shader: &'a F,
-    desc: &'a PipelineDesc,
-    properties: ShaderProperties,
-    primitive: &'a Primitive,
-    varyings: &'a [f32],
-    varying_count: usize,
+/// One primitive going through the pipeline under its draw's plan (whose fields it
+/// dereferences to).
+struct PrimitiveRaster<'p, 'a, F> {
+    plan: &'p RasterPlan<'a, F>,
+    primitive: &'p Primitive,
+    varyings: &'p [f32],
     coverage: PrimitiveCoverage,
     interpolator: Interpolator,
-    locations: SampleLocations,
-    static_mask: Coverage,
-    sample_shading: bool,
-    tests: bool,
-    early_tests: bool,
-    colors: [Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
+    /// The primitive's entry, for hidden-surface removal.
+    entry: u32,
 }
 
-impl<F: FragmentShader> PrimitiveRaster<'_, F> {
+impl<'a, F> std::ops::Deref for PrimitiveRaster<'_, 'a, F> {
+    type Target = RasterPlan<'a, F>;
+    fn deref(&self) -> &RasterPlan<'a, F> {
+        self.plan
+    }
+}
+
+impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     fn run(&self, rect: &PixelRect, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode) {
         let samples = self.locations.count();
-        let block_tests = self.tests
-            && match &target.depth_stencil {
-                Some(surface) => depth::block_test_applies(surface, &self.desc.depth_stencil, &tally.framebuffer),
-                None => false,
-            };
+        let block_tests = self.block_tests;
         let mut by = rect.y0 & !(BLOCK_SIZE - 1);
         while by < rect.y1 {
             let mut bx = rect.x0 & !(BLOCK_SIZE - 1);
@@ -277,7 +361,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
                     self.in_order(gx, gy, coverage, ShadePoint::Centre, false, target, tally);
                 });
             }
-            Mode::Resolve { visibility, entry, claims } if block_tests => {
+            Mode::Resolve { visibility, claims } if block_tests => {
                 tally.counters.fragments_rasterized += any.count_ones() as u64;
                 self.test_block(x, y, &mut masks[..samples], target, tally);
                 let left = masks[..samples].iter().fold(0, |a, m| a | m);
@@ -288,14 +372,14 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
                 if *claims {
                     tally.hsr_candidates += left.count_ones() as u64;
                     for (s, mask) in masks[..samples].iter().enumerate() {
-                        visibility.claim_block(s, x, y, *mask, *entry);
+                        visibility.claim_block(s, x, y, *mask, self.entry);
                     }
                 }
             }
-            Mode::Shade { visibility, entry } => {
+            Mode::Shade { visibility } => {
                 for (s, mask) in masks[..samples].iter_mut().enumerate() {
                     if *mask != 0 {
-                        *mask &= visibility.owned_block(s, x, y, *entry);
+                        *mask &= visibility.owned_block(s, x, y, self.entry);
                     }
                 }
                 self.each_group(x, y, masks, |gx, gy, owned| {
@@ -393,9 +477,9 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
                     self.in_order(x, y, coverage, ShadePoint::Centre, self.early_tests, target, tally);
                 }
             }
-            Mode::Resolve { visibility, entry, claims } => {
+            Mode::Resolve { visibility, claims } => {
                 tally.counters.fragments_rasterized += coverage.lanes().count() as u64;
-                self.resolve(x, y, coverage, target, tally, visibility, *entry, *claims);
+                self.resolve(x, y, coverage, target, tally, visibility, self.entry, *claims);
             }
             Mode::Shade { .. } => unreachable!("blocks shade the samples they own"),
         }
@@ -563,9 +647,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
         let out = ShadeOutput { depth: frag.written_depth, discarded: frag.discarded, sample_mask: frag.sample_mask };
         // Reads of attachments: from the tile buffer on a tiler; from memory in immediate mode,
         // where an input attachment is an image the earlier subpass stored (a texture read).
-        let external = target.color.iter().chain([&target.depth_stencil]).flatten().any(|s| s.is_external())
-            || target.inputs.iter().flatten().any(|s| s.is_external());
-        if external {
+        if self.external {
             tally.ledger.add(Category::TextureFetch, input_bytes);
             tally.ledger.add(Category::ImrColorRead, local_bytes);
         } else {
@@ -670,9 +752,51 @@ fn write_color(
 ) {
     let format = surface.format;
     let bytes = format.bytes_per_sample();
-    let clamp = format.is_normalized();
     let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
     let reads = plan.state.blend.is_some() || plan.partial;
+    if !reads && let Some(packed) = format.pack_lanes_u32(color) {
+        // The common case: a 4-byte colour replacing what is there.
+        let mut written = 0u64;
+        for s in 0..surface.samples() {
+            let lanes = coverage.sample(s);
+            if lanes.is_empty() {
+                continue;
+            }
+            written += lanes.count() as u64;
+            let plane = surface.plane_mut(s);
+            for (row, offset) in rows.iter().enumerate() {
+                let bits = lanes.0 >> (4 * row) & 0xf;
+                let words = &packed[4 * row..4 * row + 4];
+                if bits == 0xf {
+                    let mut quad = [0u8; 16];
+                    for (chunk, word) in quad.chunks_exact_mut(4).zip(words) {
+                        chunk.copy_from_slice(&word.to_le_bytes());
+                    }
+                    plane[*offset..offset + 16].copy_from_slice(&quad);
+                } else {
+                    for (i, word) in words.iter().enumerate() {
+                        if bits >> i & 1 != 0 {
+                            plane[offset + 4 * i..offset + 4 * i + 4].copy_from_slice(&word.to_le_bytes());
+                        }
+                    }
+                }
+            }
+        }
+        if traffic.needs_addresses() {
+            for s in 0..surface.samples() {
+                for lane in 0..LANES {
+                    if coverage.sample(s).contains(lane) {
+                        let address = surface.address(s, x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+                        traffic.access(ledger, Aspect::Color, address, bytes as u32, true);
+                    }
+                }
+            }
+        } else {
+            traffic.accesses(ledger, Aspect::Color, bytes as u32, written, true);
+        }
+        return;
+    }
+    let clamp = format.is_normalized();
     let mut packed = [[0u8; 16]; LANES];
     let src = match plan.state.blend {
         // Normalised attachments blend a source clamped to [0, 1] (Vulkan).

@@ -1,16 +1,15 @@
 //! The pipeline object: the one place where the shaders' types are erased. The phases call
-//! it once per draw (vertex shading) and once per primitive per tile (rasterization); inside,
-//! everything is monomorphised for the pipeline's shaders.
+//! it once per draw (vertex shading) and once per run of a draw's primitives in a tile or band
+//! (rasterization); inside, everything is monomorphised for the pipeline's shaders.
 
 use std::sync::Arc;
 
 use crate::api::pipeline::PipelineDesc;
 use crate::api::shader::{FragmentShader, ShaderProperties, VertexShader};
-use crate::binning::frame_data::Primitive;
 use crate::geometry::fetch::VertexFetcher;
 use crate::geometry::vertex::{NonFinitePosition, ShadedVertices, VertexSet, shade_vertices};
 use crate::ledger::Category;
-use crate::raster::primitive::{FragmentTally, Mode, rasterize};
+use crate::raster::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
 use crate::tile::target::RenderTarget;
 
 /// A pipeline's shaders behind one dynamic call per draw or per primitive.
@@ -22,14 +21,8 @@ pub trait PipelineObject: Send + Sync {
         varying_count: usize,
     ) -> Result<ShadedVertices, NonFinitePosition>;
 
-    fn rasterize(
-        &self,
-        primitive: &Primitive,
-        varyings: &[f32],
-        target: &mut RenderTarget,
-        tally: &mut FragmentTally,
-        mode: &mut Mode,
-    );
+    /// Runs the primitives of `run` (all of this pipeline's draw) through the pixel pipeline.
+    fn rasterize(&self, run: &PrimitiveRun, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode);
 
     /// What the fragment shader declares it may do.
     fn properties(&self) -> ShaderProperties;
@@ -58,17 +51,10 @@ impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
         shade_vertices(&self.vertex, fetcher, set, varying_count)
     }
 
-    fn rasterize(
-        &self,
-        primitive: &Primitive,
-        varyings: &[f32],
-        target: &mut RenderTarget,
-        tally: &mut FragmentTally,
-        mode: &mut Mode,
-    ) {
-        rasterize(&self.fragment, &self.desc, primitive, varyings, target, tally, mode);
+    fn rasterize(&self, run: &PrimitiveRun, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode) {
+        rasterize(&self.fragment, &self.desc, run, target, tally, mode);
         // The one call site of `TextureFetch` for textures: `misses × line size` of the task's
-        // texture cache (`shade::texture_cache`), handed over after every primitive.
+        // texture cache (`shade::texture_cache`), handed over after every run.
         let fetched = tally.context.texture_cache.take_fetched_bytes();
         tally.ledger.add(Category::TextureFetch, fetched);
     }
