@@ -444,9 +444,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                 } else {
                     (0.5, 0.5)
                 };
-                let (px, py) = Interpolator::row_positions(x, row, dx, dy);
-                let (l1, l2) = self.interpolator.lambdas(px, py);
-                self.interpolator.depth(l1, l2)
+                self.interpolator.row_depth(x, row, dx, dy)
             },
             &mut tally.framebuffer,
             &mut tally.ledger,
@@ -609,7 +607,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
         };
         let (px, py) = Interpolator::positions(x, y, dx, dy);
         let (l1, l2) = self.interpolator.lambdas(px, py);
-        let depth = self.interpolator.depth(l1, l2);
+        let depth = self.interpolator.depth(px, py);
         let (b1, b2) = self.interpolator.perspective(l1, l2);
         // Outputs the shader does not write read as zero, whatever ran before.
         for output in &mut tally.outputs[..self.desc.color_targets.len()] {
@@ -688,13 +686,12 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
             |s| match shader_depth {
                 Some(z) => z,
                 None if multisampled => {
-                    let (l1, l2) = self.interpolator.sample_lambdas(x, y, self.locations.offset(s));
-                    self.interpolator.depth(l1, l2)
+                    let (px, py) = Interpolator::sample_positions(x, y, self.locations.offset(s));
+                    self.interpolator.depth(px, py)
                 }
                 None => {
                     let (px, py) = Interpolator::positions(x, y, 0.5, 0.5);
-                    let (l1, l2) = self.interpolator.lambdas(px, py);
-                    self.interpolator.depth(l1, l2)
+                    self.interpolator.depth(px, py)
                 }
             },
             &mut tally.framebuffer,

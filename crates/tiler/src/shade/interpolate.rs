@@ -15,13 +15,18 @@ pub struct Interpolator {
     origin: [f32; 2],
     l1: [f32; 2],
     l2: [f32; 2],
-    z: [f32; 3],
+    /// Depth at the origin and its screen-space gradient:
+    /// `z = (z0 + dy·dz/dy) + dx·dz/dx` with `(dx, dy)` from the origin.
+    z0: f32,
+    dz: [f32; 2],
     q: [f32; 3],
 }
 
 impl Interpolator {
     pub fn new(p: &Primitive) -> Interpolator {
-        Interpolator { origin: p.origin, l1: p.l1, l2: p.l2, z: p.z, q: p.q }
+        // The depth plane from the barycentric planes: z = z0 + λ1·(z1 − z0) + λ2·(z2 − z0).
+        let dz = [0, 1].map(|axis| p.l1[axis] * p.z[1] + p.l2[axis] * p.z[2]);
+        Interpolator { origin: p.origin, l1: p.l1, l2: p.l2, z0: p.z[0], dz, q: p.q }
     }
 
     /// Window positions of the lanes of the group at `(x, y)`, offset within each pixel by
@@ -33,14 +38,6 @@ impl Interpolator {
         (px, py)
     }
 
-    /// Window positions of pixels `x..x + 8` of row `y`, offset within each pixel by
-    /// `(dx, dy)`: per pixel exactly what [`Interpolator::positions`] gives.
-    #[inline(always)]
-    pub fn row_positions(x: i32, y: i32, dx: f32, dy: f32) -> (F32x8, F32x8) {
-        let px = F32x8::from_fn(|i| (x + i as i32) as f32 + dx);
-        (px, F32x8::splat(y as f32 + dy))
-    }
-
     /// Screen-space barycentrics `(λ1, λ2)` at the given positions.
     #[inline(always)]
     pub fn lambdas(&self, px: F32x8, py: F32x8) -> (F32x8, F32x8) {
@@ -49,18 +46,28 @@ impl Interpolator {
         (dx * self.l1[0] + dy * self.l1[1], dx * self.l2[0] + dy * self.l2[1])
     }
 
-    /// Screen-space barycentrics at sample `(sx, sy)` (sub-pixels) of every lane.
+    /// Window positions at sample `(sx, sy)` (sub-pixels) of every lane of the group.
     #[inline(always)]
-    pub fn sample_lambdas(&self, x: i32, y: i32, sample: (i32, i32)) -> (F32x8, F32x8) {
+    pub fn sample_positions(x: i32, y: i32, sample: (i32, i32)) -> (F32x8, F32x8) {
         let scale = SUBPIXEL_SCALE as f32;
-        let (px, py) = Self::positions(x, y, sample.0 as f32 / scale, sample.1 as f32 / scale);
-        self.lambdas(px, py)
+        Self::positions(x, y, sample.0 as f32 / scale, sample.1 as f32 / scale)
     }
 
-    /// Window depth, linear in screen space.
+    /// Window depth at the given positions, linear in screen space (the same formula
+    /// wherever depth is needed, so every path tests and writes the same values).
     #[inline(always)]
-    pub fn depth(&self, l1: F32x8, l2: F32x8) -> F32x8 {
-        F32x8::splat(self.z[0]) + l1 * self.z[1] + l2 * self.z[2]
+    pub fn depth(&self, px: F32x8, py: F32x8) -> F32x8 {
+        let row = (py - self.origin[1]) * self.dz[1] + self.z0;
+        row + (px - self.origin[0]) * self.dz[0]
+    }
+
+    /// Window depth of pixels `x..x + 8` of row `y` at offset `(dx, dy)` within each pixel:
+    /// per pixel exactly what [`Interpolator::depth`] gives at [`Interpolator::positions`].
+    #[inline(always)]
+    pub fn row_depth(&self, x: i32, y: i32, dx: f32, dy: f32) -> F32x8 {
+        let row = (y as f32 + dy - self.origin[1]) * self.dz[1] + self.z0;
+        let px = F32x8::from_fn(|i| (x + i as i32) as f32 + dx);
+        F32x8::splat(row) + (px - self.origin[0]) * self.dz[0]
     }
 
     /// Perspective-correct barycentrics `(b1, b2)`.
