@@ -1,0 +1,7 @@
+//! Integration tests of the GL-style context, traces and advisor, in one binary (link time
+//! matters on 2 cores).
+
+#[path = "gl/common.rs"]
+mod common;
+#[path = "gl/smoke.rs"]
+mod smoke;
