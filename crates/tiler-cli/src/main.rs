@@ -1,5 +1,6 @@
 //! `tiler`: render scenes on a software tile-based GPU and see what each frame costs.
 
+mod analyze;
 mod render;
 mod table;
 
@@ -21,12 +22,15 @@ struct Cli {
 enum Command {
     /// Render a scene to a PNG and print its cost on each backend, side by side.
     Render(render::RenderArgs),
+    /// Replay a GL trace: its inferred render passes, what they cost, and advice.
+    Analyze(analyze::AnalyzeArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Analyze(args) => analyze::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -52,7 +52,7 @@ pub enum Call<D = Bytes> {
         width: u32,
         height: u32,
         format: TextureFormat,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[serde(default = "none", skip_serializing_if = "Option::is_none")]
         data: Option<D>,
     },
     /// Gives a texture new storage (`glTexImage2D` on an existing texture).
@@ -61,7 +61,7 @@ pub enum Call<D = Bytes> {
         width: u32,
         height: u32,
         format: TextureFormat,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[serde(default = "none", skip_serializing_if = "Option::is_none")]
         data: Option<D>,
     },
     /// Overwrites a rectangle of a texture (`glTexSubImage2D`); rows bottom to top.
@@ -372,6 +372,10 @@ pub enum Call<D = Bytes> {
 
 fn one() -> u32 {
     1
+}
+
+fn none<T>() -> Option<T> {
+    None
 }
 
 impl<D> Call<D> {

@@ -49,6 +49,7 @@ pub mod call;
 pub mod context;
 pub mod program;
 pub mod report;
+pub mod text;
 pub mod trace;
 
 pub use advisor::{Finding, Severity};
@@ -59,3 +60,5 @@ pub use call::{
 };
 pub use context::{Context, ContextConfig, Error};
 pub use report::{CallRef, FrameRecord, PassRecord, Report, Slot};
+pub use text::text_report;
+pub use trace::{Limits, Trace, TraceError};

@@ -216,6 +216,9 @@ pub struct DrawRecord {
     pub depth_write: bool,
     /// The fragment shader may discard, so depth is tested after shading (no early-Z).
     pub discards: bool,
+    /// The image it samples (a texture, or a blit's or copy's source).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampled: Option<ImageId>,
     pub stats: DrawStats,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub partial_clear: Option<PartialClear>,
@@ -266,6 +269,8 @@ pub struct PassRecord {
     /// the read framebuffer).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub copy_texture: Option<u32>,
+    /// The window's pass while the swap behaviour is `preserved`.
+    pub window_preserved: bool,
     pub width: u32,
     pub height: u32,
     pub samples: u32,

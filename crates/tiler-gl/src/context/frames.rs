@@ -373,6 +373,7 @@ impl Context {
         let copy = OpenPass {
             framebuffer: read,
             copy_texture: Some(texture),
+            window_preserved: false,
             targets: Targets {
                 color: vec![(dst_image, dst_format)],
                 depth_stencil: None,

@@ -143,6 +143,8 @@ pub(crate) struct OpenPass {
     pub framebuffer: u32,
     /// Set for the pass of a `copy_tex_sub_image` into this texture.
     pub copy_texture: Option<u32>,
+    /// The window's pass under the preserved swap behaviour.
+    pub window_preserved: bool,
     pub targets: Targets,
     pub aspects: Vec<PassAspect>,
     pub draws: Vec<PendingDraw>,
@@ -284,9 +286,11 @@ impl Context {
                     aspects.push(self.start_aspect(Slot::Stencil, ds.image, role, preserve));
                 }
             }
+            let window_preserved = framebuffer == 0 && self.swap_behavior == crate::call::SwapBehavior::Preserved;
             self.pass = Some(OpenPass {
                 framebuffer,
                 copy_texture: None,
+                window_preserved,
                 targets,
                 aspects,
                 draws: Vec::new(),
@@ -1059,6 +1063,11 @@ impl Context {
                     } => uniforms.alpha_cutoff > 0.0,
                     _ => false,
                 },
+                sampled: match &d.source {
+                    DrawSource::Program { texture, .. } => texture.map(|t| t.0),
+                    DrawSource::Rectangle { image, .. } => Some(*image),
+                    DrawSource::Clear { .. } => None,
+                },
                 stats: *stats,
                 partial_clear: d.partial_clear.clone(),
             })
@@ -1068,6 +1077,7 @@ impl Context {
             frame,
             framebuffer: pass.framebuffer,
             copy_texture: pass.copy_texture,
+            window_preserved: pass.window_preserved,
             width: pass.targets.width,
             height: pass.targets.height,
             samples: pass.targets.samples,
