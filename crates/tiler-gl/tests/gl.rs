@@ -3,5 +3,7 @@
 
 #[path = "gl/common.rs"]
 mod common;
+#[path = "gl/inference.rs"]
+mod inference;
 #[path = "gl/smoke.rs"]
 mod smoke;

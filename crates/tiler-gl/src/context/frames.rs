@@ -60,11 +60,15 @@ impl Context {
 
     // --- the store tracker: which stored contents were never read --------------------------
 
-    /// A pass stored an aspect of an image; an earlier store nobody read was wasted.
-    pub(crate) fn register_store(&mut self, image: ImageId, slot: Slot, pass: u32, bytes: u64) {
+    /// A pass stored an aspect of an image; an earlier store nobody read was wasted if this
+    /// one covers the whole image (a store of part of it, in a tiled-rendering region, keeps
+    /// the rest).
+    pub(crate) fn register_store(&mut self, image: ImageId, slot: Slot, pass: u32, bytes: u64, whole: bool) {
         let key = store_key(image, slot);
         let store = PendingStore { pass, frame: self.here.frame, bytes, consumed: false };
-        if let Some(old) = self.stores.insert(key, store) {
+        if let Some(old) = self.stores.insert(key, store)
+            && whole
+        {
             self.dead_if_unread(key, old, format!("overwritten by pass {pass}"));
         }
     }

@@ -852,12 +852,15 @@ impl Context {
         }
         let in_open_pass = self.pass.as_ref().is_some_and(|p| p.buffers_used.contains(&storage));
         if in_open_pass {
-            // The pending draws must keep reading the old contents: give the buffer a copy.
+            // The pending draws must keep reading the old contents: give the buffer a copy,
+            // which no frame uses yet.
             let mut contents = self.device_buffer_bytes(storage, size)?;
             contents[offset as usize..offset as usize + data.len()].copy_from_slice(&data);
             let new = self.alloc_buffer(&contents)?;
             self.retire_buffer(storage, size);
-            self.buffers.get_mut(&id).expect("checked").storage = new;
+            let b = self.buffers.get_mut(&id).expect("checked");
+            b.storage = new;
+            b.last_use = None;
         } else {
             self.device.write_buffer(storage, offset, &data).map_err(|e| e.to_string())?;
         }

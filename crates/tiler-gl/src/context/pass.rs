@@ -1020,7 +1020,7 @@ impl Context {
                     let info = self.images.get_mut(&a.image).expect("attached image");
                     info.defined[defined_index(a.slot)] = true;
                     info.last_write = Some(frame);
-                    self.register_store(a.image, a.slot, index, bytes);
+                    self.register_store(a.image, a.slot, index, bytes, full_area);
                 }
                 StoreKind::DontCare if a.role == Role::Attached && full_area => {
                     self.undefine(a.image, a.slot, &format!("not stored by pass {index}"));
