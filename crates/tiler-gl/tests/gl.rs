@@ -7,3 +7,5 @@ mod common;
 mod inference;
 #[path = "gl/smoke.rs"]
 mod smoke;
+#[path = "gl/traces.rs"]
+mod traces;

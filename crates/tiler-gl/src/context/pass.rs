@@ -534,6 +534,10 @@ impl Context {
     /// A draw of the program in use: checked now, gathered into the open pass.
     pub(crate) fn draw(&mut self, mode: Mode, first: u32, count: u32, indexed: Option<(IndexKind, u64)>) -> Fallible {
         let here = self.here;
+        if self.pass.is_none() {
+            // A draw needs a complete framebuffer before anything else.
+            self.targets(self.draw_framebuffer)?;
+        }
         let program = self.programs.get(&self.state.program).ok_or("no program is in use")?;
         let (kind, uniforms) = (program.kind, program.uniforms);
         let info = kind.info();

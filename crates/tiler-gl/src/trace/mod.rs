@@ -53,11 +53,19 @@ pub struct Limits {
     pub max_calls: u64,
     /// Overrides the context's memory limit when set (the lower of the two applies).
     pub memory_limit: Option<u64>,
+    /// Worker threads for the replay, instead of the trace's (results do not depend on it).
+    pub threads: Option<usize>,
 }
 
 impl Default for Limits {
     fn default() -> Limits {
-        Limits { max_data_bytes: 1 << 30, max_frames: 100_000, max_calls: 50_000_000, memory_limit: None }
+        Limits {
+            max_data_bytes: 1 << 30,
+            max_frames: 100_000,
+            max_calls: 50_000_000,
+            memory_limit: None,
+            threads: None,
+        }
     }
 }
 
@@ -113,6 +121,9 @@ pub struct Replay {
     pub report: Report,
     pub context: Context,
 }
+
+/// Calls without arguments.
+const UNIT_CALLS: [&str; 4] = ["flush", "finish", "swap_buffers", "end_query"];
 
 /// The most times one frame entry may repeat.
 pub const MAX_REPEAT: u32 = 100_000;
@@ -233,6 +244,17 @@ impl Trace {
                     Some(n) => format!("{n}: {e}"),
                     None => e,
                 };
+                // serde accepts extra fields on unit variants of a tagged enum: refuse them here.
+                if let (Some(n), Some(object)) = (&name, value.as_object())
+                    && UNIT_CALLS.contains(&n.as_str())
+                    && let Some(key) = object.keys().find(|k| *k != "call")
+                {
+                    return Err(TraceError::at(
+                        frame_index,
+                        Some(i),
+                        format!("{n}: unknown field `{key}`, there are no fields"),
+                    ));
+                }
                 let call: Call<DataSource> = serde_json::from_value(value)
                     .map_err(|e| TraceError::at(frame_index, Some(i), what(e.to_string())))?;
                 let call = call
@@ -289,7 +311,7 @@ impl Trace {
         self.replay_with(Limits::default())
     }
 
-    /// [`Trace::replay`] with a memory limit from `limits`.
+    /// [`Trace::replay`] with the memory limit and threads of `limits`.
     ///
     /// # Errors
     /// As [`Trace::replay`].
@@ -297,6 +319,9 @@ impl Trace {
         let mut config = self.config.clone();
         if let Some(limit) = limits.memory_limit {
             config.memory_limit = config.memory_limit.min(limit);
+        }
+        if let Some(threads) = limits.threads {
+            config.threads = threads;
         }
         let mut gl = Context::new(config).map_err(|m| TraceError::trace(format!("config: {m}")))?;
         for frame in &self.frames {
