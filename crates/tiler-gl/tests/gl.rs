@@ -3,6 +3,8 @@
 
 #[path = "gl/common.rs"]
 mod common;
+#[path = "gl/fuzz.rs"]
+mod fuzz;
 #[path = "gl/inference.rs"]
 mod inference;
 #[path = "gl/smoke.rs"]
