@@ -300,14 +300,9 @@ impl FragmentShader for TexturedShader {
 
     fn shade(&self, frag: &mut Fragments<'_>) {
         let [s, t] = frag.smooth_n::<2>(0);
-        let mut out = [[0.0f32; 8]; 4];
-        for lane in 0..8 {
-            let texel = self.texture.sample(s.lane(lane), t.lane(lane), self.sampler);
-            for c in 0..4 {
-                out[c][lane] = texel[c] * self.color[c];
-            }
-        }
-        let color = out.map(F32x8);
+        let texels: [[f32; 4]; 8] =
+            std::array::from_fn(|lane| self.texture.sample(s.lane(lane), t.lane(lane), self.sampler));
+        let color: [F32x8; 4] = std::array::from_fn(|c| F32x8::from_fn(|lane| texels[lane][c] * self.color[c]));
         if self.alpha_cutoff > 0.0 {
             frag.discard(color[3].lt(F32x8::splat(self.alpha_cutoff)));
         }

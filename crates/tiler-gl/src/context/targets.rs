@@ -75,24 +75,21 @@ impl Context {
         let incomplete = |why: String| Err(format!("framebuffer {id} is incomplete: {why}"));
         let mut color = Vec::new();
         for (i, a) in fb.color.iter().enumerate() {
-            match a {
-                Some(r) => {
-                    if color.len() != i {
-                        return incomplete(format!(
-                            "colour attachment {i} follows an empty one; tiler needs colour attachments \
-                             to start at color0 without gaps"
-                        ));
-                    }
-                    let (image, format) = self.attachment_image(*r)?;
-                    if !format.is_color() {
-                        return incomplete(format!(
-                            "color{i} has format {} (GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT)",
-                            format.name()
-                        ));
-                    }
-                    color.push((image, format));
+            if let Some(r) = a {
+                if color.len() != i {
+                    return incomplete(format!(
+                        "colour attachment {i} follows an empty one; tiler needs colour attachments \
+                         to start at color0 without gaps"
+                    ));
                 }
-                None => {}
+                let (image, format) = self.attachment_image(*r)?;
+                if !format.is_color() {
+                    return incomplete(format!(
+                        "color{i} has format {} (GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT)",
+                        format.name()
+                    ));
+                }
+                color.push((image, format));
             }
         }
         let depth = fb.depth.map(|r| self.attachment_image(r)).transpose()?;

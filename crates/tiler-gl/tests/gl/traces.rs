@@ -317,7 +317,7 @@ fn recording_and_replaying_reproduces_the_run() {
     let image = gl.surface_rgba8();
     let texture = gl.device().image_data(gl.texture_image(2).unwrap()).unwrap().to_vec();
     let report = serde_json::to_value(gl.end().unwrap()).unwrap();
-    assert!(report["findings"].as_array().unwrap().len() > 0, "the program is not a model of good practice");
+    assert!(!report["findings"].as_array().unwrap().is_empty(), "the program is not a model of good practice");
 
     let inline = trace.to_json();
     let parsed = Trace::parse(&inline, None).unwrap();
@@ -369,12 +369,10 @@ fn glb_accessors_are_read() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gl-glb");
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("t.glb"), glb).unwrap();
-    let trace = format!(
-        r#"{{"format": "tiler-gl-trace", "version": 1, "config": {{"width": 8, "height": 8}}, "frames": [{{"calls": [
-            {{"call": "create_buffer", "id": 1, "data": {{"gltf": "t.glb", "attribute": "POSITION"}}}},
-            {{"call": "create_buffer", "id": 2, "data": {{"gltf": "t.glb", "attribute": "indices"}}}}]}}]}}"#
-    );
-    let t = Trace::parse(&trace, Some(&dir)).unwrap();
+    let trace = r#"{"format": "tiler-gl-trace", "version": 1, "config": {"width": 8, "height": 8}, "frames": [{"calls": [
+            {"call": "create_buffer", "id": 1, "data": {"gltf": "t.glb", "attribute": "POSITION"}},
+            {"call": "create_buffer", "id": 2, "data": {"gltf": "t.glb", "attribute": "indices"}}]}]}"#;
+    let t = Trace::parse(trace, Some(&dir)).unwrap();
     let Call::CreateBuffer { data, .. } = &t.frames[0].calls[0] else { panic!() };
     assert_eq!(data.as_slice(), &positions[..]);
     let Call::CreateBuffer { data, .. } = &t.frames[0].calls[1] else { panic!() };
