@@ -12,8 +12,8 @@ use crate::table;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Backend that renders the picture: `tbr` (tiler with early-Z) or `imr` (immediate mode).
-    /// The cost table always shows every backend.
+    /// Backend that renders the picture: `tbr` (tiler with early-Z), `tbdr` (tiler with
+    /// hidden-surface removal) or `imr` (immediate mode). The cost table shows every backend.
     #[arg(long, default_value = "tbr")]
     pub backend: Backend,
 
@@ -28,6 +28,10 @@ pub struct RenderArgs {
     /// Worker threads (0 = one per core).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+
+    /// Samples per pixel: 1, 2, 4 or 8 (MSAA, resolved in the tile on the tilers).
+    #[arg(long, default_value_t = 1)]
+    pub msaa: u32,
 
     /// Where to write the picture (PNG).
     #[arg(short, long, default_value = "render.png")]
@@ -48,7 +52,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut device = Device::new(config).context("creating the device")?;
 
     let started = Instant::now();
-    let scene = tiler_scene::builtin::build(&mut device, width, height, 1).context("building the built-in scene")?;
+    let scene =
+        tiler_scene::builtin::build(&mut device, width, height, args.msaa).context("building the built-in scene")?;
     let load_time = started.elapsed();
 
     // The picture, with the chosen backend.
@@ -67,11 +72,20 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         scene.triangles,
         load_time.as_secs_f64() * 1e3
     );
+    let tiles = match reports.first() {
+        Some(r) if r.backend.is_tiler() => match r.tile_shrunk_from {
+            Some((w, h)) => {
+                format!("{}×{} tiles, shrunk from {w}×{h} to fit tile memory, ", r.tile_width, r.tile_height)
+            }
+            None => format!("{}×{} tiles, ", r.tile_width, r.tile_height),
+        },
+        _ => String::new(),
+    };
     println!(
-        "rendered with {} ({}×{} tiles, {} threads) in {:.1} ms → {}",
+        "rendered with {} ({}{}× MSAA, {} threads) in {:.1} ms → {}",
         args.backend,
-        args.tile,
-        args.tile,
+        tiles,
+        args.msaa,
         device.threads(),
         render_time.as_secs_f64() * 1e3,
         args.output.display()

@@ -26,7 +26,7 @@ fn count(n: u64) -> String {
     let digits = n.to_string();
     let mut out = String::new();
     for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
             out.push(',');
         }
         out.push(c);
@@ -66,13 +66,14 @@ pub fn ledger_table(columns: &[(Backend, Vec<PassReport>)]) -> String {
         let _ = write!(out, "{:>width$}", format!("{:.2}×", ledger.total() as f64 / base));
     }
     out.push_str("\n\n");
-    let rows: [CounterRow; 8] = [
+    let rows: [CounterRow; 9] = [
         ("triangles in", |c| c.triangles_in),
         ("primitives", |c| c.primitives),
         ("polygon-list entries", |c| c.polygon_list_entries),
         ("tiles", |c| c.tiles_processed),
         ("fragments rasterized", |c| c.fragments_rasterized),
         ("killed by early-Z", |c| c.fragments_early_z_killed),
+        ("killed by HSR", |c| c.fragments_hsr_killed),
         ("fragments shaded", |c| c.fragments_shaded),
         ("incremental renders", |c| c.incremental_renders),
     ];

@@ -66,22 +66,32 @@ impl FragmentShader for LitFragmentShader {
 }
 
 /// One object of the scene.
-struct Object {
-    mesh: Mesh,
-    model: Mat4,
-    color: [f32; 4],
-    checker: Option<[f32; 4]>,
-    translucent: bool,
+pub struct Object {
+    pub mesh: Mesh,
+    pub model: Mat4,
+    pub color: [f32; 4],
+    pub checker: Option<[f32; 4]>,
+    pub translucent: bool,
+}
+
+/// The built-in scene's camera.
+pub fn camera() -> Camera {
+    Camera::look_at(Vec3::new(0.4, 3.4, 8.0), Vec3::new(0.0, 0.7, 0.0), 45f32.to_radians(), 0.1, 60.0)
 }
 
 /// Builds the built-in scene on `device`: one render pass into a `width × height` RGBA8 image
-/// with a D24S8 depth buffer that is cleared and never stored.
+/// with a transient D24S8 depth buffer, at `samples` samples per pixel (resolved in the tile).
 ///
 /// # Errors
 /// A size the device refuses (zero or above the limits).
 pub fn build(device: &mut Device, width: u32, height: u32, samples: u32) -> Result<Scene> {
-    let camera = Camera::look_at(Vec3::new(0.4, 3.4, 8.0), Vec3::new(0.0, 0.7, 0.0), 45f32.to_radians(), 0.1, 60.0);
-    let view_proj = camera.view_proj(width as f32 / height as f32);
+    let view_proj = camera().view_proj(width as f32 / height as f32);
+    let objects = objects();
+    build_with(device, width, height, samples, objects, view_proj)
+}
+
+/// The objects of the built-in scene, in draw order (the translucent one last).
+pub fn objects() -> Vec<Object> {
     let at = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
     let opaque = |mesh, model, color: [f32; 3]| Object {
         mesh,
@@ -128,11 +138,33 @@ pub fn build(device: &mut Device, width: u32, height: u32, samples: u32) -> Resu
         checker: None,
         translucent: true,
     });
+    objects
+}
 
-    let color = device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm).with_samples(samples))?;
-    let depth = device.create_image(ImageDesc::new(width, height, Format::D24UnormS8Uint).with_samples(samples))?;
+fn build_with(
+    device: &mut Device,
+    width: u32,
+    height: u32,
+    samples: u32,
+    objects: Vec<Object>,
+    view_proj: Mat4,
+) -> Result<Scene> {
+    // The depth buffer only ever lives in the tile: transient, cleared, never stored. With
+    // MSAA the colour samples are too, resolved into a single-sample image in the tile.
+    let sky = [0.42, 0.55, 0.72, 1.0];
+    let depth =
+        device.create_image(ImageDesc::new(width, height, Format::D24UnormS8Uint).with_samples(samples).transient())?;
+    let (color, attachment) = if samples > 1 {
+        let msaa =
+            device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm).with_samples(samples).transient())?;
+        let resolve = device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm))?;
+        (resolve, ColorAttachment::clear_resolve(msaa, sky, resolve))
+    } else {
+        let color = device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm))?;
+        (color, ColorAttachment::clear_store(color, sky))
+    };
     let mut pass = RenderPass::new(RenderPassDesc {
-        color: vec![ColorAttachment::clear_store(color, [0.42, 0.55, 0.72, 1.0])],
+        color: vec![attachment],
         depth_stencil: Some(DepthStencilAttachment::clear_discard(depth, 1.0)),
         render_area: None,
     });

@@ -5,6 +5,7 @@
 
 pub mod builtin;
 pub mod camera;
+pub mod deferred;
 pub mod mesh;
 
 use tiler::{Backend, Device, ImageId, PassReport, RenderPass, Result};

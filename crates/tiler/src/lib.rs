@@ -66,6 +66,7 @@ pub mod backend;
 pub mod binning;
 pub mod blend;
 pub mod depth;
+pub mod frame;
 pub mod geometry;
 pub mod ledger;
 pub mod raster;
@@ -74,7 +75,7 @@ pub mod simd;
 pub mod tile;
 
 pub use api::buffer::BufferId;
-pub use api::device::{Device, DeviceConfig};
+pub use api::device::{Device, DeviceConfig, VertexShading};
 pub use api::error::{Error, Result};
 pub use api::format::{ColorWrites, Format};
 pub use api::image::{ImageDesc, ImageId, MAX_IMAGE_BYTES, MAX_IMAGE_DIMENSION};
@@ -83,11 +84,16 @@ pub use api::pipeline::{
     FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES, Pipeline, PipelineDesc,
     StencilFaceState, StencilOp, Topology, VertexAttribute, VertexBinding, VertexFormat, VertexInputState,
 };
+pub use api::preset::DevicePreset;
 pub use api::render_pass::{
-    ColorAttachment, DepthStencilAttachment, Draw, IndexBufferBinding, IndexType, LoadOp, Rect, RenderPass,
-    RenderPassDesc, StoreOp, VertexBufferBinding, Viewport,
+    AttachmentRef, ColorAttachment, DepthStencilAttachment, Draw, IndexBufferBinding, IndexType, LoadOp, Rect,
+    RenderPass, RenderPassDesc, StoreOp, SubpassDependency, SubpassDesc, VertexBufferBinding, Viewport,
 };
 pub use api::shader::{FragmentShader, Fragments, ShaderProperties, VertexInput, VertexOutput, VertexShader};
 pub use backend::{Backend, PassReport};
+pub use frame::FrameCost;
+pub use ledger::cache::CacheConfig;
+pub use ledger::display::DisplayModel;
+pub use ledger::energy::{EnergyEstimate, EnergyModel};
 pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
 pub use simd::{F32x8, LaneMask, Vec4x8};

@@ -177,15 +177,16 @@ impl F32x8 {
         lanewise!(self, |a| a.abs())
     }
 
+    /// The largest integer not above each lane ([`floor`]).
     #[inline(always)]
     pub fn floor(self) -> F32x8 {
-        lanewise!(self, |a| a.floor())
+        lanewise!(self, |a| floor(a))
     }
 
     /// The fractional part `a - floor(a)`, in `[0, 1]`.
     #[inline(always)]
     pub fn fract(self) -> F32x8 {
-        lanewise!(self, |a| a - a.floor())
+        lanewise!(self, |a| a - floor(a))
     }
 
     /// `1 / sqrt(a)` computed exactly (division and square root, no estimate).
@@ -314,6 +315,19 @@ impl MulAssign for F32x8 {
     }
 }
 
+/// `floor` by truncation, exact for every float and vectorisable without SSE4.1 (libm's
+/// `floorf` is a call per lane there): magnitudes of 2^23 and above are integers already, and
+/// NaN passes through. Unlike libm, `floor(-0.0)` is `+0.0`.
+#[inline(always)]
+pub fn floor(a: f32) -> f32 {
+    // Not `a.abs() >= 2^23`: NaN must take this branch too.
+    if a.abs().partial_cmp(&8_388_608.0) != Some(std::cmp::Ordering::Less) {
+        return a;
+    }
+    let t = a as i32 as f32;
+    if t > a { t - 1.0 } else { t }
+}
+
 /// Four-component vectors of lanes (colours, normals, positions).
 pub type Vec4x8 = [F32x8; 4];
 
@@ -347,6 +361,29 @@ mod tests {
         assert_eq!(LaneMask(0b0000_0001).quads(), LaneMask(0b0011_0011));
         assert_eq!(LaneMask(0b1000_0000).quads(), LaneMask(0b1100_1100));
         assert_eq!(LaneMask(0).quads(), LaneMask(0));
+    }
+
+    #[test]
+    fn floor_matches_libm() {
+        for a in [
+            0.0f32,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.999,
+            -2.999,
+            8_388_607.5,
+            -8_388_607.5,
+            1e10,
+            -1e10,
+            f32::INFINITY,
+            0.1,
+            -1e-30,
+        ] {
+            assert_eq!(floor(a), a.floor(), "{a}");
+        }
+        assert!(floor(f32::NAN).is_nan());
     }
 
     #[test]

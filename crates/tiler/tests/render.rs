@@ -6,6 +6,8 @@ mod blend;
 mod clipping;
 #[path = "render/common.rs"]
 mod common;
+#[path = "render/cost_model.rs"]
+mod cost_model;
 #[path = "render/depth_stencil.rs"]
 mod depth_stencil;
 #[path = "render/errors.rs"]
@@ -18,3 +20,7 @@ mod interpolation;
 mod invariant;
 #[path = "render/load_store.rs"]
 mod load_store;
+#[path = "render/msaa_hsr.rs"]
+mod msaa_hsr;
+#[path = "render/subpasses.rs"]
+mod subpasses;

@@ -158,6 +158,30 @@ impl Format {
         }
     }
 
+    /// Packs eight lanes of colour: lane `i` gets exactly `encode_color` of its values, in the
+    /// first `bytes_per_sample` bytes of `out[i]`. RGBA8 and BGRA8 go lane-parallel.
+    #[inline]
+    pub fn encode_lanes(self, rgba: &crate::simd::Vec4x8, out: &mut [[u8; 16]; crate::simd::LANES]) {
+        match self {
+            Format::Rgba8Unorm | Format::Bgra8Unorm => {
+                // unorm8 lane by lane: clamp, scale, round half up, as encode_color does.
+                let channels = rgba.map(|c| c.clamp(0.0, 1.0) * 255.0 + 0.5);
+                let order = if self == Format::Rgba8Unorm { [0, 1, 2, 3] } else { [2, 1, 0, 3] };
+                for (lane, packed) in out.iter_mut().enumerate() {
+                    for (byte, &c) in order.iter().enumerate() {
+                        packed[byte] = channels[c].lane(lane) as u8;
+                    }
+                }
+            }
+            _ => {
+                let bytes = self.bytes_per_sample();
+                for (lane, packed) in out.iter_mut().enumerate() {
+                    self.encode_color([0, 1, 2, 3].map(|c| rgba[c].lane(lane)), &mut packed[..bytes]);
+                }
+            }
+        }
+    }
+
     /// Unpacks a colour stored in this format; missing channels read as 0 (alpha as 1).
     #[inline]
     pub fn decode_color(self, src: &[u8]) -> [f32; 4] {

@@ -106,13 +106,42 @@ impl std::fmt::Display for ImageId {
 pub struct Image {
     pub desc: ImageDesc,
     pub data: Vec<u8>,
+    /// Transaction elimination: a signature of each tile's content as a tiler last stored it,
+    /// valid only while nothing else has written the image.
+    pub signatures: Option<TileSignatures>,
 }
 
 impl Image {
     pub fn new(desc: ImageDesc) -> Result<Image> {
         desc.validate()?;
         let data = if desc.transient { Vec::new() } else { vec![0; desc.size_bytes() as usize] };
-        Ok(Image { desc, data })
+        Ok(Image { desc, data, signatures: None })
+    }
+}
+
+/// Signatures of an image's tiles for one tile grid (Arm's transaction elimination keeps a
+/// CRC per tile; tiler a 64-bit hash). [`TileSignatures::UNKNOWN`] marks a tile never stored.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TileSignatures {
+    pub tile_width: u32,
+    pub tile_height: u32,
+    pub hashes: Vec<u64>,
+}
+
+impl TileSignatures {
+    pub const UNKNOWN: u64 = 0;
+
+    /// A 64-bit hash of bytes (multiply-rotate over 8-byte words); never [`Self::UNKNOWN`].
+    pub fn hash(mut state: u64, bytes: &[u8]) -> u64 {
+        const K: u64 = 0x9e37_79b9_7f4a_7c15;
+        let (words, rest) = bytes.as_chunks::<8>();
+        for w in words {
+            state = (state ^ u64::from_le_bytes(*w)).wrapping_mul(K).rotate_left(29);
+        }
+        for b in rest {
+            state = (state ^ *b as u64).wrapping_mul(K).rotate_left(29);
+        }
+        if state == Self::UNKNOWN { 1 } else { state }
     }
 }
 

@@ -7,5 +7,6 @@ pub mod error;
 pub mod format;
 pub mod image;
 pub mod pipeline;
+pub mod preset;
 pub mod render_pass;
 pub mod shader;

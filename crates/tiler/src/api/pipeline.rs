@@ -366,6 +366,30 @@ impl VertexInputState {
     }
 }
 
+/// Multisampling state (Vulkan `VkPipelineMultisampleStateCreateInfo`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct MultisampleState {
+    /// Run the fragment shader once per covered sample, at the sample's position, instead of
+    /// once per pixel (Vulkan `sampleShadingEnable` with a minimum of 1.0).
+    pub sample_shading: bool,
+    /// Turn the alpha of colour output 0 into a sample mask: `round(alpha × samples)` of the
+    /// pixel's samples stay covered, the lowest-numbered first.
+    pub alpha_to_coverage: bool,
+    /// Samples that may be covered: bit `s` for sample `s` (Vulkan `pSampleMask`).
+    pub sample_mask: u32,
+}
+
+impl MultisampleState {
+    pub const DEFAULT: MultisampleState =
+        MultisampleState { sample_shading: false, alpha_to_coverage: false, sample_mask: u32::MAX };
+}
+
+impl Default for MultisampleState {
+    fn default() -> MultisampleState {
+        MultisampleState::DEFAULT
+    }
+}
+
 /// Everything about a pipeline except its shaders.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PipelineDesc {
@@ -381,6 +405,7 @@ pub struct PipelineDesc {
     /// One per colour attachment of the subpass, in order.
     pub color_targets: Vec<ColorTargetState>,
     pub blend_constant: [f32; 4],
+    pub multisample: MultisampleState,
 }
 
 impl PipelineDesc {
@@ -397,6 +422,7 @@ impl PipelineDesc {
             depth_stencil: DepthStencilState::DISABLED,
             color_targets: vec![ColorTargetState::REPLACE],
             blend_constant: [0.0; 4],
+            multisample: MultisampleState::DEFAULT,
         }
     }
 

@@ -82,12 +82,27 @@ pub struct ColorAttachment {
     pub image: ImageId,
     pub load: LoadOp<[f32; 4]>,
     pub store: StoreOp,
+    /// A single-sample image of the same size and format that receives the average of the
+    /// samples at the end of the pass (resolved in the tile on a tiler).
+    #[serde(default)]
+    pub resolve: Option<ImageId>,
 }
 
 impl ColorAttachment {
     /// Cleared at the start, stored at the end: the usual render target.
     pub fn clear_store(image: ImageId, color: [f32; 4]) -> ColorAttachment {
-        ColorAttachment { image, load: LoadOp::Clear(color), store: StoreOp::Store }
+        ColorAttachment { image, load: LoadOp::Clear(color), store: StoreOp::Store, resolve: None }
+    }
+
+    /// A multisampled attachment cleared, resolved into `resolve` and not stored itself: what
+    /// MSAA should be on a tiler (the samples never leave the chip).
+    pub fn clear_resolve(image: ImageId, color: [f32; 4], resolve: ImageId) -> ColorAttachment {
+        ColorAttachment { image, load: LoadOp::Clear(color), store: StoreOp::DontCare, resolve: Some(resolve) }
+    }
+
+    /// Loaded and stored, no resolve.
+    pub fn load_store(image: ImageId) -> ColorAttachment {
+        ColorAttachment { image, load: LoadOp::Load, store: StoreOp::Store, resolve: None }
     }
 }
 
@@ -226,21 +241,92 @@ impl Draw {
     }
 }
 
-/// A render pass: its description and its draws in submission order.
+/// An attachment of the pass named by a subpass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AttachmentRef {
+    /// The pass's colour attachment at this index.
+    Color(u32),
+    /// The pass's depth-stencil attachment.
+    DepthStencil,
+}
+
+/// One subpass: which of the pass's attachments it writes and reads (Vulkan
+/// `VkSubpassDescription`).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SubpassDesc {
+    /// Colour attachments written, as indices into the pass's colour attachments; fragment
+    /// shader output `i` goes to `color[i]`.
+    pub color: Vec<u32>,
+    /// Whether depth and stencil tests use the pass's depth-stencil attachment.
+    pub depth_stencil: bool,
+    /// Input attachments: what an earlier subpass wrote, read at the same pixel (and sample)
+    /// with [`Fragments::input`](crate::Fragments::input), from the tile buffer on a tiler.
+    pub input: Vec<AttachmentRef>,
+    /// Per colour output, an image to resolve it into (resolved when the pass ends; no later
+    /// subpass may write that attachment).
+    #[serde(default)]
+    pub resolve: Vec<Option<ImageId>>,
+}
+
+/// An ordering between two subpasses (Vulkan `VkSubpassDependency`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct SubpassDependency {
+    pub src: u32,
+    pub dst: u32,
+    /// The destination reads only what the source wrote at the same pixel (Vulkan's
+    /// `BY_REGION`): a tiler keeps both in the tile. Without it, a tiler must finish the
+    /// source everywhere first: the pass is split there, through external memory.
+    pub by_region: bool,
+}
+
+/// A render pass: its description, its subpasses and its draws in submission order.
 #[derive(Clone, Debug)]
 pub struct RenderPass {
     pub desc: RenderPassDesc,
+    /// Empty: one subpass writing every colour attachment and using the depth-stencil one.
+    pub subpasses: Vec<SubpassDesc>,
+    pub dependencies: Vec<SubpassDependency>,
     pub draws: Vec<Draw>,
+    /// The index of the first draw of each subpass after the first.
+    pub subpass_starts: Vec<usize>,
 }
 
 impl RenderPass {
+    /// A pass with one subpass that writes every attachment.
     pub fn new(desc: RenderPassDesc) -> RenderPass {
-        RenderPass { desc, draws: Vec::new() }
+        RenderPass {
+            desc,
+            subpasses: Vec::new(),
+            dependencies: Vec::new(),
+            draws: Vec::new(),
+            subpass_starts: Vec::new(),
+        }
     }
 
-    /// Records a draw.
+    /// A pass with explicit subpasses; draws go to the first until [`RenderPass::next_subpass`].
+    pub fn with_subpasses(
+        desc: RenderPassDesc,
+        subpasses: Vec<SubpassDesc>,
+        dependencies: Vec<SubpassDependency>,
+    ) -> RenderPass {
+        RenderPass { subpasses, dependencies, ..RenderPass::new(desc) }
+    }
+
+    /// Records a draw in the current subpass.
     pub fn draw(&mut self, draw: Draw) -> &mut RenderPass {
         self.draws.push(draw);
         self
+    }
+
+    /// Moves on to the next subpass (Vulkan `vkCmdNextSubpass`).
+    pub fn next_subpass(&mut self) -> &mut RenderPass {
+        self.subpass_starts.push(self.draws.len());
+        self
+    }
+
+    /// The subpass draw `draw` belongs to.
+    pub fn subpass_of(&self, draw: usize) -> usize {
+        self.subpass_starts.iter().take_while(|&&start| start <= draw).count()
     }
 }

@@ -9,8 +9,11 @@ use glam::Vec4;
 use serde::{Deserialize, Serialize};
 
 use super::pipeline::{MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES};
+use crate::backend::pass::MAX_INPUT_ATTACHMENTS;
 use crate::shade::ShadeContext;
 use crate::simd::{F32x8, LaneMask, Vec4x8};
+use crate::simd::{LANE_DX, LANE_DY, LANES};
+use crate::tile::target::Surface;
 
 /// What the vertex shader reads: each attribute fetched and converted to a vector.
 #[derive(Clone, Copy, Debug)]
@@ -50,6 +53,11 @@ pub struct ShaderProperties {
     /// Has effects besides its outputs (storage writes, counters): it must run for every
     /// fragment the rasterizer produces, before any test.
     pub side_effects: bool,
+    /// Writes its own sample mask with [`Fragments::set_sample_mask`] (GLSL `gl_SampleMask`).
+    pub writes_sample_mask: bool,
+    /// Reads the current subpass's colour attachments with [`Fragments::local`] (pixel-local
+    /// storage): its fragments must run in submission order, like blending.
+    pub reads_local: bool,
 }
 
 /// A fragment shader.
@@ -83,9 +91,20 @@ pub struct Fragments<'a> {
     pub(crate) varying_count: usize,
     pub(crate) front_facing: bool,
     pub(crate) covered: LaneMask,
-    pub(crate) color: [Vec4x8; MAX_COLOR_ATTACHMENTS],
+    pub(crate) color: &'a mut [Vec4x8; MAX_COLOR_ATTACHMENTS],
     pub(crate) written_depth: F32x8,
     pub(crate) discarded: LaneMask,
+    /// Per lane, bit `s` = sample `s` may stay covered.
+    pub(crate) sample_mask: [u32; 8],
+    /// The group's top-left pixel and the sample being shaded (0 when shading per pixel).
+    pub(crate) group: (i32, i32),
+    pub(crate) sample: usize,
+    /// The subpass's input attachments and colour outputs, for reads.
+    pub(crate) inputs: [Option<&'a Surface<'a>>; MAX_INPUT_ATTACHMENTS],
+    pub(crate) locals: [Option<&'a Surface<'a>>; MAX_COLOR_ATTACHMENTS],
+    /// Bytes read from input attachments and from colour outputs (pixel-local reads).
+    pub(crate) input_bytes: u64,
+    pub(crate) local_bytes: u64,
     pub(crate) context: &'a mut ShadeContext,
 }
 
@@ -163,9 +182,76 @@ impl<'a> Fragments<'a> {
         self.discarded = self.discarded | lanes;
     }
 
+    /// Limits which samples each lane covers: bit `s` of `masks[lane]` keeps sample `s` (the
+    /// shader must declare `writes_sample_mask`).
+    #[inline(always)]
+    pub fn set_sample_mask(&mut self, masks: [u32; 8]) {
+        self.sample_mask = masks;
+    }
+
+    /// Input attachment `i` of the subpass at each lane's pixel (and sample): what an earlier
+    /// subpass wrote there, read from the tile buffer on a tiler. Colour attachments give their
+    /// RGBA; a depth-stencil attachment gives (depth, stencil, 0, 1). An input the subpass
+    /// does not have reads as zero.
+    #[inline]
+    pub fn input(&mut self, i: usize) -> Vec4x8 {
+        let surface = self.inputs.get(i).copied().flatten();
+        let (value, bytes) = read_lanes(surface, self.group, self.sample);
+        self.input_bytes += bytes;
+        value
+    }
+
+    /// Colour output `i` of the subpass as it is now at each lane's pixel (and sample), before
+    /// this fragment writes it: pixel-local storage (`VK_KHR_dynamic_rendering_local_read`).
+    /// Fragments run in submission order per pixel, as with blending; the shader must declare
+    /// `reads_local`.
+    #[inline]
+    pub fn local(&mut self, i: usize) -> Vec4x8 {
+        let surface = self.locals.get(i).copied().flatten();
+        let (value, bytes) = read_lanes(surface, self.group, self.sample);
+        self.local_bytes += bytes;
+        value
+    }
+
     /// Per-tile state shaders may use (texture caches and their counters).
     #[inline(always)]
     pub fn context(&mut self) -> &mut ShadeContext {
         self.context
     }
+}
+
+/// Reads a view at the eight pixels of the group at `group` (sample `sample`, or the last one
+/// the view has); pixels outside the view read as zero. Returns the values and bytes read.
+fn read_lanes(surface: Option<&Surface>, group: (i32, i32), sample: usize) -> (Vec4x8, u64) {
+    let Some(surface) = surface else { return ([F32x8::ZERO; 4], 0) };
+    let format = surface.format;
+    let bytes = format.bytes_per_sample();
+    let sample = sample.min(surface.samples() - 1);
+    let mut out = [[0.0f32; LANES]; 4];
+    let mut read = 0;
+    for lane in 0..LANES {
+        let (x, y) = (group.0 + LANE_DX[lane] as i32, group.1 + LANE_DY[lane] as i32);
+        if !surface.contains(x, y) {
+            continue;
+        }
+        let offset = surface.offset(x, y);
+        let texel = &surface.plane(sample)[offset..offset + bytes];
+        let value = if format.is_color() {
+            format.decode_color(texel)
+        } else {
+            let word = if bytes == 2 {
+                u16::from_le_bytes([texel[0], texel[1]]) as u32
+            } else {
+                u32::from_le_bytes([texel[0], texel[1], texel[2], texel[3]])
+            };
+            let (depth, stencil) =
+                if format.has_stencil() { (word & 0x00ff_ffff, (word >> 24) as f32) } else { (word, 0.0) };
+            [format.depth_from_bits(depth), stencil, 0.0, 1.0]
+        };
+        for c in 0..4 {
+            out[c][lane] = value[c];
+        }
+        read += bytes as u64;
+    }
+    (out.map(F32x8), read)
 }

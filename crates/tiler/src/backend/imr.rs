@@ -1,30 +1,61 @@
 //! Immediate mode (IMR): primitives in submission order, straight into the images in external
 //! memory, as a desktop GPU does. There is no frame data and no tile buffer; every depth,
-//! stencil and colour access of every fragment is external traffic, and a `Clear` load op
-//! writes the whole render area.
+//! stencil and colour access of every fragment goes to external memory (through the
+//! framebuffer cache, if the device has one), and a `Clear` load op writes the whole render
+//! area.
 //!
 //! The framebuffer is split into fixed bands of [`BAND_ROWS`] rows that work in parallel, each
 //! walking every primitive in submission order — the way a GPU's render back-ends split the
-//! screen. The bands do not depend on the thread count, so neither do the results.
+//! screen. The bands do not depend on the thread count, so neither do the results; each band
+//! has its slice of the framebuffer cache, in proportion to its share of the screen, as a
+//! GPU's L2 slices serve screen regions.
 
 use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
 use super::{Backend, FrameDataReport, PassReport};
 use crate::api::buffer::BufferId;
+use crate::api::device::DeviceConfig;
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::render_pass::RenderPass;
 use crate::geometry::{PassFrame, prepare_draw};
+use crate::ledger::cache::CacheConfig;
+use crate::ledger::framebuffer::FramebufferTraffic;
 use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
 use crate::raster::PixelRect;
-use crate::raster::primitive::FragmentTally;
+use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows};
 use crate::raster::samples::SampleLocations;
-use crate::tile::load_store::apply_load;
+use crate::tile::load_store::{apply_load, apply_resolve};
 use crate::tile::target::{RenderTarget, Surface};
 
 /// Rows per band of the framebuffer.
 pub const BAND_ROWS: u32 = 32;
+
+/// Address space of the framebuffer cache: each attachment gets its own 2^40-byte range.
+const ATTACHMENT_ADDRESS_BITS: u32 = 40;
+
+/// One band of the framebuffer: its rows of every attachment and of every resolve target, and
+/// what its fragment work has done so far.
+struct Band<'a> {
+    /// One view per attachment of the pass.
+    surfaces: Vec<Surface<'a>>,
+    resolves: Vec<Surface<'a>>,
+    /// The band's rows ∩ the render area.
+    clip: PixelRect,
+    tally: FragmentTally,
+}
+
+/// The slice of the framebuffer cache one band of `rows` rows out of `height` gets: whole
+/// sets, at least one.
+fn cache_slice(cache: CacheConfig, rows: u32, height: u32) -> CacheConfig {
+    if !cache.is_enabled() {
+        return cache;
+    }
+    let set = (cache.line_bytes * cache.ways) as u64;
+    let share = cache.size_bytes as u64 * rows as u64 / height as u64;
+    CacheConfig { size_bytes: ((share / set).max(1) * set) as u32, ..cache }
+}
 
 /// Renders a validated pass in immediate mode.
 pub fn render(
@@ -32,6 +63,7 @@ pub fn render(
     resolved: &ResolvedPass,
     images: &mut [Image],
     buffers: &[Vec<u8>],
+    config: &DeviceConfig,
 ) -> Result<PassReport> {
     let samples = SampleLocations::standard(resolved.samples);
     let lookup = |id: BufferId| buffers.get(id.0 as usize).map(|b| b.as_slice());
@@ -59,30 +91,49 @@ pub fn render(
             *slot = scratch_iter.next().expect("one scratch image per transient attachment");
         }
     }
+    let plane_bytes: Vec<u64> = attached.iter().map(|image| image.desc.plane_bytes() as u64).collect();
+    // Whatever a tiler stored before is overwritten here: its tile signatures no longer hold.
+    for image in attached.iter_mut() {
+        image.signatures = None;
+    }
 
-    // Bands, each a render target over its rows of every attachment.
-    let mut per_attachment: Vec<std::vec::IntoIter<Vec<&mut [u8]>>> =
+    // Bands, each a render target over its rows of every attachment, with its rows of the
+    // resolve targets.
+    let mut per_image: Vec<std::vec::IntoIter<Vec<&mut [u8]>>> =
         attached.iter_mut().map(|image| image_bands(image, BAND_ROWS as usize).into_iter()).collect();
+    let formats: Vec<_> = resolved
+        .attachments
+        .iter()
+        .map(|a| a.format)
+        .chain(resolved.resolves.iter().map(|r| resolved.attachments[r.color].format))
+        .collect();
     let band_count = resolved.height.div_ceil(BAND_ROWS);
-    let mut bands: Vec<RenderTarget> = Vec::new();
+    let mut bands: Vec<Band> = Vec::new();
     for b in 0..band_count {
         let y0 = (b * BAND_ROWS) as i32;
         let rows = PixelRect::new(0, y0, resolved.width as i32, (y0 + BAND_ROWS as i32).min(resolved.height as i32));
-        let mut surfaces: Vec<Surface> = per_attachment
+        let mut surfaces: Vec<Surface> = per_image
             .iter_mut()
-            .zip(&resolved.attachments)
-            .map(|(a, att)| band_surface(att.format, resolved.width, y0, a.next().expect("band")))
+            .zip(&formats)
+            .enumerate()
+            .map(|(i, (a, format))| {
+                let base = ((i as u64) << ATTACHMENT_ADDRESS_BITS)
+                    + y0 as u64 * resolved.width as u64 * format.bytes_per_sample() as u64;
+                band_surface(*format, resolved.width, y0, a.next().expect("band")).with_memory(base, plane_bytes[i])
+            })
             .collect::<Vec<_>>();
         let clip = rows.intersect(&resolved.render_area);
         if clip.is_empty() {
             continue;
         }
-        let depth_stencil = if resolved.has_depth_stencil { surfaces.pop() } else { None };
-        let mut color: [Option<Surface>; crate::api::pipeline::MAX_COLOR_ATTACHMENTS] = Default::default();
-        for (slot, surface) in color.iter_mut().zip(surfaces) {
-            *slot = Some(surface);
-        }
-        bands.push(RenderTarget { color, depth_stencil, samples, clip, external: true });
+        let resolves = surfaces.split_off(resolved.attachments.len());
+        let cache = cache_slice(config.framebuffer_cache, rows.height() as u32, resolved.height);
+        let tally = FragmentTally {
+            framebuffer: FramebufferTraffic::external(cache),
+            overdraw: config.overdraw_map.then(|| OverdrawRows::new(y0, resolved.width, rows.height() as u32)),
+            ..FragmentTally::default()
+        };
+        bands.push(Band { surfaces, resolves, clip, tally });
     }
 
     let mut counters = Counters::default();
@@ -94,16 +145,16 @@ pub fn render(
         .par_iter_mut()
         .map(|band| {
             let clip = band.clip;
-            let surfaces = band.color.iter_mut().flatten().chain(band.depth_stencil.as_mut());
+            let surfaces = band.surfaces.iter_mut();
             surfaces.zip(&resolved.attachments).map(|(s, a)| apply_load(s, None, &clip, &a.ops).cleared).sum::<u64>()
         })
         .sum();
     ledger.add(Category::ImrClear, cleared);
 
     for (draw_index, draw) in pass.draws.iter().enumerate() {
-        let geometry = prepare_draw(draw_index, draw, &frame_info)?;
+        let geometry = prepare_draw(draw_index, draw, &frame_info, config.post_transform_cache)?;
         counters.draws += 1;
-        counters.vertices_shaded += geometry.vertices.shaded;
+        counters.vertices_shaded += geometry.vertices_shaded;
         ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
         ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
         let batches = geometry.setup(0..geometry.triangles, &samples, 0);
@@ -113,27 +164,50 @@ pub fn render(
         }
         let n = geometry.vertices.varying_count;
         let object = &draw.pipeline.object;
-        let tallies: Vec<FragmentTally> = bands
-            .par_iter_mut()
-            .map(|band| {
-                let mut tally = FragmentTally { draw: draw_index, ..FragmentTally::default() };
-                for batch in &batches {
-                    for p in &batch.primitives {
-                        if p.bbox.y1 <= band.clip.y0 || p.bbox.y0 >= band.clip.y1 {
-                            continue;
-                        }
-                        let varyings = &batch.varyings[p.varyings as usize..p.varyings as usize + 3 * n];
-                        object.rasterize(p, varyings, band, &mut tally);
+        let subpass = &resolved.subpasses[pass.subpass_of(draw_index)];
+        bands.par_iter_mut().for_each(|band| {
+            let target =
+                &mut RenderTarget::for_subpass(&mut band.surfaces, subpass, samples, band.clip, config.early_z);
+            band.tally.draw = draw_index;
+            for batch in &batches {
+                for p in &batch.primitives {
+                    if p.bbox.y1 <= target.clip.y0 || p.bbox.y0 >= target.clip.y1 {
+                        continue;
                     }
+                    let varyings = &batch.varyings[p.varyings as usize..p.varyings as usize + 3 * n];
+                    object.rasterize(p, varyings, target, &mut band.tally, &mut Mode::InOrder);
                 }
-                tally
-            })
-            .collect();
-        for tally in tallies {
-            counters.merge(&tally.counters);
-            ledger.merge(&tally.ledger);
-            merge_draw_stats(&mut draws, &tally.draws);
+            }
+        });
+    }
+
+    // What the framebuffer cache still holds dirty goes to memory at the end of the pass;
+    // then resolve the way an immediate-mode GPU does: every sample read back from memory,
+    // the average written: pixels × bytes × (samples + 1).
+    let resolved_bytes: u64 = bands
+        .par_iter_mut()
+        .map(|band| {
+            band.tally.framebuffer.finish(&mut band.tally.ledger);
+            let mut bytes = 0;
+            for (r, target) in resolved.resolves.iter().enumerate() {
+                let source = &band.surfaces[target.color];
+                let pixels = apply_resolve(source, &mut band.resolves[r], &band.clip);
+                bytes += pixels * source.bytes_per_sample() as u64 * (resolved.samples as u64 + 1);
+            }
+            bytes
+        })
+        .sum();
+    ledger.add(Category::Resolve, resolved_bytes);
+    let mut on_chip_bytes = 0;
+    let mut overdraw_map = config.overdraw_map.then(|| vec![0u16; resolved.width as usize * resolved.height as usize]);
+    for band in &bands {
+        if let (Some(map), Some(rows)) = (overdraw_map.as_mut(), band.tally.overdraw.as_ref()) {
+            rows.add_to(map);
         }
+        counters.merge(&band.tally.counters);
+        ledger.merge(&band.tally.ledger);
+        merge_draw_stats(&mut draws, &band.tally.draws);
+        on_chip_bytes += band.tally.framebuffer.on_chip_bytes;
     }
 
     Ok(PassReport {
@@ -143,9 +217,15 @@ pub fn render(
         samples: resolved.samples,
         tile_width: 0,
         tile_height: 0,
+        tile_shrunk_from: None,
+        tile_bytes: 0,
         tiles_x: 0,
         tiles_y: 0,
         ledger,
+        on_chip_bytes,
+        transaction_elimination_saved: 0,
+        transient_bytes_saved: 0,
+        overdraw_map,
         counters,
         frame_data: FrameDataReport::default(),
         tiles: Vec::new(),

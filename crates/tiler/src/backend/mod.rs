@@ -4,6 +4,8 @@
 //! - [`Backend::Tbr`]: a tiler. Geometry for the whole pass is binned into frame data; then
 //!   each tile runs its load ops into the tile buffer, its polygon list in submission order
 //!   (with early-Z), and its store ops.
+//! - [`Backend::Tbdr`]: a tiler with hidden-surface removal: each tile resolves visibility
+//!   before shading, so each sample is shaded once by the surface that stays visible.
 //! - [`Backend::Imr`]: immediate mode. Each draw's primitives go in submission order straight
 //!   into the images in external memory, and every depth, stencil and colour access is traffic.
 //!
@@ -22,25 +24,28 @@ use crate::ledger::{Counters, DrawStats, Ledger, TileStats};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Backend {
-    /// Tile-based rendering with early-Z.
+    /// Tile-based rendering with early-Z: tiles shade their lists in submission order.
     #[default]
     Tbr,
+    /// Tile-based deferred rendering: hidden-surface removal before shading.
+    Tbdr,
     /// Immediate-mode rendering into external memory.
     Imr,
 }
 
 impl Backend {
-    pub const ALL: [Backend; 2] = [Backend::Tbr, Backend::Imr];
+    pub const ALL: [Backend; 3] = [Backend::Tbr, Backend::Tbdr, Backend::Imr];
 
     pub const fn name(self) -> &'static str {
         match self {
             Backend::Tbr => "tbr",
+            Backend::Tbdr => "tbdr",
             Backend::Imr => "imr",
         }
     }
 
     pub const fn is_tiler(self) -> bool {
-        matches!(self, Backend::Tbr)
+        matches!(self, Backend::Tbr | Backend::Tbdr)
     }
 }
 
@@ -56,7 +61,7 @@ impl std::str::FromStr for Backend {
         Backend::ALL
             .into_iter()
             .find(|b| b.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| format!("unknown backend '{s}' (expected one of: tbr, imr)"))
+            .ok_or_else(|| format!("unknown backend '{s}' (expected one of: tbr, tbdr, imr)"))
     }
 }
 
@@ -78,9 +83,23 @@ pub struct PassReport {
     pub samples: u32,
     pub tile_width: u32,
     pub tile_height: u32,
+    /// The configured tile size, when the tile memory made the tile smaller.
+    pub tile_shrunk_from: Option<(u32, u32)>,
+    /// Tile memory used per tile: every attachment at every sample (tilers).
+    pub tile_bytes: u64,
     pub tiles_x: u32,
     pub tiles_y: u32,
     pub ledger: Ledger,
+    /// Bytes moved within on-chip memory: tile-buffer accesses of tilers (fragments, loads,
+    /// stores, resolves), framebuffer-cache accesses of immediate mode. For energy.
+    pub on_chip_bytes: u64,
+    /// Bytes of tile stores transaction elimination skipped (unchanged tiles).
+    pub transaction_elimination_saved: u64,
+    /// Memory transient attachments did not need (their full size; tilers only, and only if
+    /// they never spilled in an incremental render).
+    pub transient_bytes_saved: u64,
+    /// Fragments shaded per pixel, row-major, when the device records an overdraw map.
+    pub overdraw_map: Option<Vec<u16>>,
     pub counters: Counters,
     pub frame_data: FrameDataReport,
     /// Per tile, row-major (tilers); empty for immediate mode.

@@ -4,7 +4,7 @@
 use crate::api::error::{Error, Result};
 use crate::api::image::Image;
 use crate::api::pipeline::MAX_COLOR_ATTACHMENTS;
-use crate::api::render_pass::{LoadOp, RenderPass, StoreOp};
+use crate::api::render_pass::{AttachmentRef, LoadOp, RenderPass, StoreOp};
 use crate::raster::PixelRect;
 use crate::tile::load_store::AttachmentOps;
 use crate::tile::target::Surface;
@@ -19,6 +19,14 @@ pub struct ResolvedAttachment {
     pub ops: AttachmentOps,
 }
 
+/// A resolve at the end of the pass: colour attachment `color` averaged into `image`.
+#[derive(Clone, Copy, Debug)]
+pub struct ResolveTarget {
+    pub color: usize,
+    /// Index of the single-sample image on the device.
+    pub image: usize,
+}
+
 /// A validated render pass: colour attachments first, then the depth-stencil attachment.
 #[derive(Clone, Debug)]
 pub struct ResolvedPass {
@@ -27,8 +35,22 @@ pub struct ResolvedPass {
     pub samples: u32,
     pub render_area: PixelRect,
     pub attachments: Vec<ResolvedAttachment>,
+    pub resolves: Vec<ResolveTarget>,
     pub color_count: usize,
     pub has_depth_stencil: bool,
+    pub subpasses: Vec<ResolvedSubpass>,
+}
+
+impl ResolvedPass {
+    /// Tile-buffer bytes per pixel: every attachment, every sample.
+    pub fn tile_bytes_per_pixel(&self) -> u64 {
+        self.attachments.iter().map(|a| a.format.bytes_per_sample() as u64 * self.samples as u64).sum()
+    }
+
+    /// The device images the pass touches: its attachments, then its resolve targets.
+    pub fn memory_images(&self) -> Vec<usize> {
+        self.attachments.iter().map(|a| a.image).chain(self.resolves.iter().map(|r| r.image)).collect()
+    }
 }
 
 impl ResolvedPass {
@@ -154,6 +176,35 @@ impl ResolvedPass {
             check("depth-stencil attachment".to_string(), ds.image, ops, &mut attachments)?;
         }
         let (_, width, height, samples) = first.expect("at least one attachment");
+        let mut resolves = Vec::new();
+        for (i, c) in desc.color.iter().enumerate() {
+            let Some(id) = c.resolve else { continue };
+            let what = format!("colour attachment {i}'s resolve target");
+            let Some(image) = images.get(id.0 as usize) else {
+                return Err(Error::invalid(what, format!("{id} does not exist")));
+            };
+            let d = image.desc;
+            let used = attachments.iter().map(|a| a.image).chain(resolves.iter().map(|r: &ResolveTarget| r.image));
+            if used.clone().any(|u| u == id.0 as usize) {
+                return Err(Error::invalid(what, format!("{id} is already used by this pass")));
+            }
+            if samples == 1 {
+                return Err(Error::invalid(what, "only a multisampled attachment can be resolved"));
+            }
+            if d.samples != 1 || d.transient {
+                return Err(Error::invalid(what, format!("{id} must be a single-sample image with memory")));
+            }
+            if (d.width, d.height) != (width, height) || d.format != attachments[i].format {
+                return Err(Error::invalid(
+                    what,
+                    format!(
+                        "{id} is {}×{} {}, the attachment is {width}×{height} {}: they must match",
+                        d.width, d.height, d.format, attachments[i].format
+                    ),
+                ));
+            }
+            resolves.push(ResolveTarget { color: i, image: id.0 as usize });
+        }
         let full = PixelRect::new(0, 0, width as i32, height as i32);
         let render_area = match desc.render_area {
             None => full,
@@ -167,15 +218,58 @@ impl ResolvedPass {
                 PixelRect::from_rect(r)
             }
         };
+        let color_count = desc.color.len();
+        let depth_index = desc.depth_stencil.is_some().then_some(color_count);
+        let subpasses = resolve_subpasses(pass, &attachments, depth_index, &mut |what, id| {
+            // A subpass resolve target: checked like a pass-level one.
+            let Some(image) = images.get(id.0 as usize) else {
+                return Err(Error::invalid(what, format!("{id} does not exist")));
+            };
+            Ok(image.desc)
+        })?;
+        for (s, subpass) in subpasses.iter().enumerate() {
+            for (output, target) in subpass.resolves.iter().enumerate() {
+                let Some(id) = target else { continue };
+                let color = subpass.color[output];
+                let what = format!("subpass {s}: resolve target of colour output {output}");
+                let d = images[id.0 as usize].desc;
+                let used = attachments.iter().map(|a| a.image).chain(resolves.iter().map(|r: &ResolveTarget| r.image));
+                if used.clone().any(|u| u == id.0 as usize) {
+                    return Err(Error::invalid(what, format!("{id} is already used by this pass")));
+                }
+                if samples == 1 || d.samples != 1 || d.transient {
+                    return Err(Error::invalid(
+                        what,
+                        format!(
+                            "resolving needs a multisampled attachment and a single-sample image with memory ({id})"
+                        ),
+                    ));
+                }
+                if (d.width, d.height) != (width, height) || d.format != attachments[color].format {
+                    return Err(Error::invalid(what, format!("{id} must match the attachment's size and format")));
+                }
+                if subpasses[s + 1..].iter().any(|later| later.color.contains(&color)) {
+                    return Err(Error::invalid(
+                        what,
+                        format!(
+                            "colour attachment {color} is written again by a later subpass, so it cannot be resolved here"
+                        ),
+                    ));
+                }
+                resolves.push(ResolveTarget { color, image: id.0 as usize });
+            }
+        }
         for (i, draw) in pass.draws.iter().enumerate() {
+            let subpass = &subpasses[pass.subpass_of(i)];
             let targets = draw.pipeline.desc().color_targets.len();
-            if targets > desc.color.len() {
+            if targets > subpass.color.len() {
                 return Err(Error::draw(
                     i,
                     format!(
-                        "pipeline '{}' writes {targets} colour attachments but the pass has {}",
+                        "pipeline '{}' writes {targets} colour outputs but subpass {} has {}",
                         draw.pipeline.desc().label,
-                        desc.color.len()
+                        pass.subpass_of(i),
+                        subpass.color.len()
                     ),
                 ));
             }
@@ -185,18 +279,182 @@ impl ResolvedPass {
             height,
             samples,
             render_area,
-            color_count: desc.color.len(),
+            color_count,
             has_depth_stencil: desc.depth_stencil.is_some(),
             attachments,
+            resolves,
+            subpasses,
         })
     }
 }
 
-/// Mutable references to the images of a pass's attachments, in attachment order.
+/// The most input attachments a subpass may read.
+pub const MAX_INPUT_ATTACHMENTS: usize = 4;
+
+/// A validated subpass, naming attachments by their index in [`ResolvedPass::attachments`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ResolvedSubpass {
+    /// Attachment of each colour output.
+    pub color: Vec<usize>,
+    pub depth_stencil: Option<usize>,
+    /// Attachment of each input.
+    pub inputs: Vec<usize>,
+    /// Resolve images of colour outputs (before validation into the pass's resolves).
+    pub resolves: Vec<Option<crate::ImageId>>,
+    /// A dependency into this subpass is not by-region: a tiler must split the pass here.
+    pub split_before: bool,
+}
+
+/// Checks the pass's subpasses (or makes the implicit one) and its dependencies.
+fn resolve_subpasses(
+    pass: &RenderPass,
+    attachments: &[ResolvedAttachment],
+    depth_index: Option<usize>,
+    image_desc: &mut dyn FnMut(String, crate::ImageId) -> Result<crate::ImageDesc>,
+) -> Result<Vec<ResolvedSubpass>> {
+    let color_count = pass.desc.color.len();
+    if pass.subpasses.is_empty() {
+        if !pass.subpass_starts.is_empty() || !pass.dependencies.is_empty() {
+            return Err(Error::invalid("render pass", "next_subpass or dependencies without explicit subpasses"));
+        }
+        return Ok(vec![ResolvedSubpass {
+            color: (0..color_count).collect(),
+            depth_stencil: depth_index,
+            inputs: Vec::new(),
+            resolves: Vec::new(),
+            split_before: false,
+        }]);
+    }
+    if pass.subpass_starts.len() >= pass.subpasses.len() {
+        return Err(Error::invalid(
+            "render pass",
+            format!(
+                "next_subpass was called {} times but the pass has {} subpasses",
+                pass.subpass_starts.len(),
+                pass.subpasses.len()
+            ),
+        ));
+    }
+    let mut out: Vec<ResolvedSubpass> = Vec::new();
+    for (s, subpass) in pass.subpasses.iter().enumerate() {
+        let what = || format!("subpass {s}");
+        let mut color = Vec::new();
+        for &c in &subpass.color {
+            if c as usize >= color_count {
+                return Err(Error::invalid(
+                    what(),
+                    format!("colour attachment {c} does not exist (the pass has {color_count})"),
+                ));
+            }
+            if color.contains(&(c as usize)) {
+                return Err(Error::invalid(what(), format!("colour attachment {c} is named twice")));
+            }
+            color.push(c as usize);
+        }
+        if color.len() > crate::MAX_COLOR_ATTACHMENTS {
+            return Err(Error::invalid(
+                what(),
+                format!("{} colour outputs, at most {}", color.len(), crate::MAX_COLOR_ATTACHMENTS),
+            ));
+        }
+        let depth_stencil = match (subpass.depth_stencil, depth_index) {
+            (true, None) => {
+                return Err(Error::invalid(what(), "uses the depth-stencil attachment, but the pass has none"));
+            }
+            (true, Some(d)) => Some(d),
+            (false, _) => None,
+        };
+        if subpass.input.len() > MAX_INPUT_ATTACHMENTS {
+            return Err(Error::invalid(
+                what(),
+                format!("{} input attachments, at most {MAX_INPUT_ATTACHMENTS}", subpass.input.len()),
+            ));
+        }
+        let mut inputs = Vec::new();
+        for (i, input) in subpass.input.iter().enumerate() {
+            let index = match *input {
+                AttachmentRef::Color(c) if (c as usize) < color_count => c as usize,
+                AttachmentRef::Color(c) => {
+                    return Err(Error::invalid(
+                        what(),
+                        format!("input {i} names colour attachment {c}, which does not exist"),
+                    ));
+                }
+                AttachmentRef::DepthStencil => depth_index.ok_or_else(|| {
+                    Error::invalid(
+                        what(),
+                        format!("input {i} names the depth-stencil attachment, but the pass has none"),
+                    )
+                })?,
+            };
+            if color.contains(&index) || depth_stencil == Some(index) {
+                return Err(Error::invalid(
+                    what(),
+                    format!(
+                        "input {i} is also written by this subpass; to read what this subpass wrote, use pixel-local reads (Fragments::local)"
+                    ),
+                ));
+            }
+            let written_before = out.iter().any(|p| p.color.contains(&index) || p.depth_stencil == Some(index));
+            let loaded = match attachments[index].ops {
+                AttachmentOps::Color { load, .. } => !matches!(load, LoadOp::DontCare),
+                AttachmentOps::DepthStencil { depth_load, .. } => !matches!(depth_load, LoadOp::DontCare),
+            };
+            if !written_before && !loaded {
+                return Err(Error::invalid(
+                    what(),
+                    format!(
+                        "input {i} ({input:?}) is read without being written by an earlier subpass, and its load op is DontCare"
+                    ),
+                ));
+            }
+            inputs.push(index);
+        }
+        if subpass.resolve.len() > color.len() {
+            return Err(Error::invalid(
+                what(),
+                format!("{} resolve targets for {} colour outputs", subpass.resolve.len(), color.len()),
+            ));
+        }
+        for (o, target) in subpass.resolve.iter().enumerate() {
+            if let Some(id) = target {
+                image_desc(format!("subpass {s}: resolve target of colour output {o}"), *id)?;
+            }
+        }
+        out.push(ResolvedSubpass {
+            color,
+            depth_stencil,
+            inputs,
+            resolves: subpass.resolve.clone(),
+            split_before: false,
+        });
+    }
+    for (d, dependency) in pass.dependencies.iter().enumerate() {
+        if dependency.src >= dependency.dst || dependency.dst as usize >= out.len() {
+            return Err(Error::invalid(
+                format!("dependency {d}"),
+                format!(
+                    "subpass {} → {} must go from an earlier subpass to a later one of the {}",
+                    dependency.src,
+                    dependency.dst,
+                    out.len()
+                ),
+            ));
+        }
+        if !dependency.by_region {
+            out[dependency.dst as usize].split_before = true;
+        }
+    }
+    Ok(out)
+}
+
+/// Mutable references to the images a pass touches, in the order of
+/// [`ResolvedPass::memory_images`]: attachments, then resolve targets.
 pub fn attachment_images<'a>(images: &'a mut [Image], pass: &ResolvedPass) -> Vec<&'a mut Image> {
-    let mut out: Vec<Option<&'a mut Image>> = pass.attachments.iter().map(|_| None).collect();
+    let wanted = pass.memory_images();
+    let mut out: Vec<Option<&'a mut Image>> = wanted.iter().map(|_| None).collect();
     for (index, image) in images.iter_mut().enumerate() {
-        if let Some(slot) = pass.attachments.iter().position(|a| a.image == index) {
+        if let Some(slot) = wanted.iter().position(|w| *w == index) {
             out[slot] = Some(image);
         }
     }
@@ -206,13 +464,18 @@ pub fn attachment_images<'a>(images: &'a mut [Image], pass: &ResolvedPass) -> Ve
 /// Cuts an image into bands of `rows` rows: for each band, one slice per sample plane.
 /// A transient image (no memory) gives no bands.
 pub fn image_bands(image: &mut Image, rows: usize) -> Vec<Vec<&mut [u8]>> {
-    if image.data.is_empty() {
+    data_bands(&image.desc, &mut image.data, rows)
+}
+
+/// [`image_bands`] over an image's description and data, borrowed apart.
+pub fn data_bands<'a>(desc: &crate::ImageDesc, data: &'a mut [u8], rows: usize) -> Vec<Vec<&'a mut [u8]>> {
+    if data.is_empty() || desc.transient {
         return Vec::new();
     }
-    let plane = image.desc.plane_bytes();
-    let band_bytes = image.desc.width as usize * image.desc.format.bytes_per_sample() * rows;
-    let mut planes: Vec<_> = image.data.chunks_mut(plane).map(|p| p.chunks_mut(band_bytes)).collect();
-    let bands = (image.desc.height as usize).div_ceil(rows);
+    let plane = desc.plane_bytes();
+    let band_bytes = desc.width as usize * desc.format.bytes_per_sample() * rows;
+    let mut planes: Vec<_> = data.chunks_mut(plane).map(|p| p.chunks_mut(band_bytes)).collect();
+    let bands = (desc.height as usize).div_ceil(rows);
     (0..bands).map(|_| planes.iter_mut().map(|p| p.next().expect("band")).collect()).collect()
 }
 

@@ -1,4 +1,5 @@
-//! The tiler (TBR): bin the whole pass into frame data, then render tile by tile.
+//! The tilers: bin the whole pass into frame data, then render tile by tile — in submission
+//! order with early-Z (TBR), or with hidden-surface removal first (TBDR, see `depth::hsr`).
 //!
 //! # Incremental render
 //!
@@ -9,35 +10,60 @@
 //! binned so far is rendered — storing *every* attachment, depth, stencil and all samples,
 //! whatever its store op — and the frame data is emptied; the next flush loads everything
 //! back (seed 000 §23.5, Mali's "incremental rendering", llvmpipe's flush-and-retry). Only
-//! the last flush uses the pass's own store ops, so the ledger shows the cliff as extra tile
-//! loads and stores.
+//! the last flush uses the pass's own store ops and resolves, so the ledger shows the cliff as
+//! extra tile loads and stores. Transient attachments, which have no memory, are spilled to
+//! scratch memory for this (as PowerVR and Apple GPUs do); the spill is counted like any store.
+//!
+//! # Tile memory
+//!
+//! A tile holds every attachment at every sample. When that exceeds the tile memory
+//! (`DeviceConfig::tile_memory_bytes`), the tile shrinks — the wider side halved, repeatedly —
+//! as GPUs with a fixed tile buffer do for MSAA or many render targets (seed 000 §23.9).
 
 use rayon::prelude::*;
 
-use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
+use super::pass::{ResolvedPass, attachment_images, band_surface, data_bands};
 use super::{Backend, FrameDataReport, PassReport};
 use crate::api::buffer::BufferId;
 use crate::api::device::DeviceConfig;
+use crate::api::device::VertexShading;
 use crate::api::error::Result;
 use crate::api::image::Image;
+use crate::api::image::TileSignatures;
 use crate::api::render_pass::RenderPass;
 use crate::binning::binner::bin;
-use crate::binning::frame_data::{
-    FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, primitive_record_bytes,
-};
+use crate::binning::frame_data::{FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, record_bytes};
+use crate::depth::hsr::{HsrMode, Visibility};
 use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
 use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
-use crate::raster::primitive::FragmentTally;
+use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows};
 use crate::raster::samples::SampleLocations;
 use crate::tile::buffer::TileBuffer;
 use crate::tile::grid::TileGrid;
-use crate::tile::load_store::{AttachmentOps, apply_load, apply_store};
+use crate::tile::load_store::{AttachmentOps, apply_load, apply_resolve, apply_store, store_bytes, tile_signature};
 use crate::tile::target::{RenderTarget, Surface};
 
-/// Triangles set up and binned at a time; the granularity of the frame-data budget.
+/// Triangles set up and binned at a time.
 pub const BIN_CHUNK: u32 = 16384;
 
-/// Renders a validated pass as a tiler.
+/// The smallest tile side the tile memory may shrink a tile to.
+pub const MIN_TILE_SIDE: u32 = 8;
+
+/// The tile size for a pass: the configured one, halved until every attachment at every
+/// sample fits the tile memory (or the tile is 8×8).
+pub fn tile_size(config: &DeviceConfig, bytes_per_pixel: u64) -> (u32, u32) {
+    let (mut w, mut h) = (config.tile_width, config.tile_height);
+    while w as u64 * h as u64 * bytes_per_pixel > config.tile_memory_bytes && (w > MIN_TILE_SIDE || h > MIN_TILE_SIDE) {
+        if w >= h && w > MIN_TILE_SIDE {
+            w /= 2;
+        } else {
+            h /= 2;
+        }
+    }
+    (w.max(MIN_TILE_SIDE), h.max(MIN_TILE_SIDE))
+}
+
+/// Renders a validated pass as a tiler; `hsr` selects TBDR.
 pub fn render(
     pass: &RenderPass,
     resolved: &ResolvedPass,
@@ -45,8 +71,10 @@ pub fn render(
     buffers: &[Vec<u8>],
     config: &DeviceConfig,
     threads: usize,
+    hsr: bool,
 ) -> Result<PassReport> {
-    let grid = TileGrid::new(resolved.width, resolved.height, config.tile_width, config.tile_height);
+    let (tile_width, tile_height) = tile_size(config, resolved.tile_bytes_per_pixel());
+    let grid = TileGrid::new(resolved.width, resolved.height, tile_width, tile_height);
     let samples = SampleLocations::standard(resolved.samples);
     let lookup = |id: BufferId| buffers.get(id.0 as usize).map(|b| b.as_slice());
     let frame_info = PassFrame {
@@ -55,24 +83,42 @@ pub fn render(
         render_area: resolved.render_area,
         buffers: &lookup,
     };
-    let mut images = attachment_images(images, resolved);
-    let mut frame = FrameData::new(grid);
+    let mut memory = attachment_images(images, resolved);
+    let mut frame = FrameData::new(grid, config.vertex_shading);
     let mut run = Run {
         resolved,
         samples,
+        hsr,
+        early_z: config.early_z,
         counters: Counters::default(),
         ledger: Ledger::default(),
         tiles: vec![TileStats::default(); grid.tile_count()],
         draws: vec![DrawStats::default(); pass.draws.len()],
         frame_data: FrameDataReport::default(),
+        on_chip_bytes: 0,
+        transaction_elimination: config.transaction_elimination,
+        transaction_elimination_saved: 0,
+        overdraw: config.overdraw_map.then(|| vec![0; resolved.width as usize * resolved.height as usize]),
         flushes: 0,
+        scratch: resolved.attachments.iter().map(|_| None).collect(),
     };
     let bands = threads * 4;
 
+    let mut subpass = 0;
     for (draw_index, draw) in pass.draws.iter().enumerate() {
-        let geometry = prepare_draw(draw_index, draw, &frame_info)?;
+        // A dependency that is not by-region ends the tile's work: everything so far is
+        // rendered and stored, and the later subpasses load it back.
+        let draw_subpass = pass.subpass_of(draw_index);
+        if draw_subpass != subpass {
+            if resolved.subpasses[subpass + 1..=draw_subpass].iter().any(|s| s.split_before) && !frame.is_empty() {
+                run.flush(&frame, &mut memory, Flush::SubpassSplit);
+                frame.clear();
+            }
+            subpass = draw_subpass;
+        }
+        let geometry = prepare_draw(draw_index, draw, &frame_info, config.post_transform_cache)?;
         run.counters.draws += 1;
-        run.counters.vertices_shaded += geometry.vertices.shaded;
+        run.counters.vertices_shaded += geometry.vertices_shaded;
         run.ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
         run.ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
         let varying_count = geometry.vertices.varying_count;
@@ -81,8 +127,11 @@ pub fn render(
             draw: draw_index as u32,
             clip_rect: geometry.clip_rect,
             varying_count: varying_count as u32,
+            hsr: HsrMode::of(draw.pipeline.desc(), draw.pipeline.object.properties(), resolved.color_count),
+            fetch_bytes_per_vertex: geometry.fetch_bytes_per_vertex,
+            subpass: pass.subpass_of(draw_index) as u32,
         };
-        let record_bytes = primitive_record_bytes(varying_count);
+        let record_bytes = record_bytes(varying_count, config.vertex_shading);
         let mut state_index = None;
         let mut start = 0;
         while start < geometry.triangles {
@@ -107,7 +156,7 @@ pub fn render(
                         k += 1;
                     }
                     if k == i && !frame.is_empty() {
-                        run.flush(&frame, &mut images, false);
+                        run.flush(&frame, &mut memory, Flush::Incremental);
                         frame.clear();
                         state_index = None;
                         continue;
@@ -125,18 +174,33 @@ pub fn render(
             start = end;
         }
     }
-    run.flush(&frame, &mut images, true);
+    run.flush(&frame, &mut memory, Flush::Final);
 
+    let shrunk = (tile_width, tile_height) != (config.tile_width, config.tile_height);
+    // Transient attachments that never had to spill never needed memory at all.
+    let transient_bytes_saved = resolved
+        .attachments
+        .iter()
+        .zip(&run.scratch)
+        .filter(|(a, scratch)| a.transient && scratch.is_none())
+        .map(|(a, _)| images_desc_size(resolved, a))
+        .sum();
     Ok(PassReport {
-        backend: Backend::Tbr,
+        backend: if hsr { Backend::Tbdr } else { Backend::Tbr },
         width: resolved.width,
         height: resolved.height,
         samples: resolved.samples,
-        tile_width: grid.tile_width,
-        tile_height: grid.tile_height,
+        tile_width,
+        tile_height,
+        tile_shrunk_from: shrunk.then_some((config.tile_width, config.tile_height)),
+        tile_bytes: tile_width as u64 * tile_height as u64 * resolved.tile_bytes_per_pixel(),
         tiles_x: grid.tiles_x,
         tiles_y: grid.tiles_y,
         ledger: run.ledger,
+        on_chip_bytes: run.on_chip_bytes,
+        transaction_elimination_saved: run.transaction_elimination_saved,
+        transient_bytes_saved,
+        overdraw_map: run.overdraw,
         counters: run.counters,
         frame_data: run.frame_data,
         tiles: run.tiles,
@@ -144,9 +208,15 @@ pub fn render(
     })
 }
 
+/// Bytes an attachment's image would occupy in memory.
+fn images_desc_size(resolved: &ResolvedPass, a: &super::pass::ResolvedAttachment) -> u64 {
+    resolved.width as u64 * resolved.height as u64 * resolved.samples as u64 * a.format.bytes_per_sample() as u64
+}
+
 /// Appends primitives `range` of a batch (and their varyings) to the frame data, under state
 /// record `state`.
 fn append(frame: &mut FrameData, batch: &SetupBatch, range: std::ops::Range<usize>, state: u32, varying_count: usize) {
+    let modelled = record_bytes(varying_count, frame.vertex_shading);
     let primitives = &batch.primitives[range];
     let first_varying = primitives[0].varyings as usize;
     let base = frame.varyings.len() as u32;
@@ -159,19 +229,38 @@ fn append(frame: &mut FrameData, batch: &SetupBatch, range: std::ops::Range<usiz
     frame
         .varyings
         .extend_from_slice(&batch.varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
-    frame.bytes.primitive_records += primitives.len() as u64 * primitive_record_bytes(varying_count);
+    frame.bytes.primitive_records += primitives.len() as u64 * modelled;
+}
+
+/// Why the frame data is being rendered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Flush {
+    /// It outgrew its budget (an incremental render).
+    Incremental,
+    /// A subpass dependency is not by-region.
+    SubpassSplit,
+    /// The pass is done.
+    Final,
 }
 
 /// The state of one pass being rendered.
 struct Run<'a> {
     resolved: &'a ResolvedPass,
     samples: SampleLocations,
+    hsr: bool,
+    early_z: bool,
     counters: Counters,
     ledger: Ledger,
     tiles: Vec<TileStats>,
     draws: Vec<DrawStats>,
     frame_data: FrameDataReport,
+    on_chip_bytes: u64,
+    transaction_elimination: bool,
+    transaction_elimination_saved: u64,
+    overdraw: Option<Vec<u16>>,
     flushes: u64,
+    /// Spill memory for transient attachments, made at their first incremental render.
+    scratch: Vec<Option<Image>>,
 }
 
 /// What one band of tiles did.
@@ -180,13 +269,38 @@ struct BandResult {
     tally: FragmentTally,
     ledger: Ledger,
     tiles: Vec<(usize, TileStats)>,
+    /// Tile-buffer bytes moved by loads, stores and resolves.
+    on_chip_bytes: u64,
+    /// Bytes of stores skipped by transaction elimination.
+    eliminated_bytes: u64,
+}
+
+/// Per-worker tile memory.
+struct Worker {
+    buffer: TileBuffer,
+    visibility: Option<Visibility>,
+    /// Scratch for counting the vertices a tile shades again (position-only binning).
+    tile_vertices: std::collections::HashSet<(u32, u32)>,
+}
+
+/// What a flush does beyond the frame data.
+struct FlushPlan<'a> {
+    resolved: &'a ResolvedPass,
+    ops: Vec<AttachmentOps>,
+    resolve: bool,
+    samples: SampleLocations,
+    hsr: bool,
+    early_z: bool,
+    vertex_shading: VertexShading,
+    overdraw: bool,
 }
 
 impl Run<'_> {
     /// Renders the frame data into every tile of the render area. The first flush uses the
-    /// pass's load ops, later ones load everything; the last uses the pass's store ops,
-    /// earlier ones store everything.
-    fn flush(&mut self, frame: &FrameData, images: &mut [&mut Image], last: bool) {
+    /// pass's load ops, later ones load everything; the last uses the pass's store ops and
+    /// resolves, earlier ones store everything.
+    fn flush(&mut self, frame: &FrameData, memory: &mut [&mut Image], kind: Flush) {
+        let last = kind == Flush::Final;
         let resolved = self.resolved;
         let first = self.flushes == 0;
         let ops: Vec<AttachmentOps> = resolved
@@ -197,29 +311,88 @@ impl Run<'_> {
                 if last { ops } else { ops.with_store() }
             })
             .collect();
+        if !last {
+            for (a, attachment) in resolved.attachments.iter().enumerate() {
+                if attachment.transient && self.scratch[a].is_none() {
+                    let mut desc = memory[a].desc;
+                    desc.transient = false;
+                    self.scratch[a] = Some(Image::new(desc).expect("validated size"));
+                }
+            }
+        }
         let grid = frame.grid;
         let (tx0, ty0, tx1, ty1) = grid.tiles_meeting(&resolved.render_area);
 
-        // Cut every attachment into bands of tile rows: bands[row][attachment] = sample slices.
-        let mut per_attachment: Vec<std::vec::IntoIter<Vec<&mut [u8]>>> =
-            images.iter_mut().map(|image| image_bands(image, grid.tile_height as usize).into_iter()).collect();
+        // Cut every image into bands of tile rows: bands[row][image] = sample slices (and the
+        // row's tile signatures, under transaction elimination). Images are the attachments
+        // (or their spill memory), then the resolve targets.
+        let mut per_image: Vec<std::vec::IntoIter<Vec<&mut [u8]>>> = Vec::new();
+        let mut per_signatures: Vec<Option<std::slice::ChunksMut<u64>>> = Vec::new();
+        let mut scratch = self.scratch.iter_mut();
+        for (i, image) in memory.iter_mut().enumerate() {
+            let image: &mut Image = match scratch.next() {
+                Some(Some(spill)) => spill,
+                _ => image,
+            };
+            let Image { desc, data, signatures } = image;
+            let eliminates = self.transaction_elimination && i < resolved.attachments.len();
+            let rows = if eliminates {
+                let grid_matches = signatures.as_ref().is_some_and(|s| {
+                    (s.tile_width, s.tile_height, s.hashes.len())
+                        == (grid.tile_width, grid.tile_height, grid.tile_count())
+                });
+                if !grid_matches {
+                    *signatures = Some(TileSignatures {
+                        tile_width: grid.tile_width,
+                        tile_height: grid.tile_height,
+                        hashes: vec![TileSignatures::UNKNOWN; grid.tile_count()],
+                    });
+                }
+                signatures.as_mut().map(|s| s.hashes.chunks_mut(grid.tiles_x as usize))
+            } else {
+                *signatures = None;
+                None
+            };
+            per_signatures.push(rows);
+            per_image.push(data_bands(desc, data, grid.tile_height as usize).into_iter());
+        }
         let mut bands = Vec::new();
         for ty in 0..grid.tiles_y {
-            let slices: Vec<Option<Vec<&mut [u8]>>> = per_attachment.iter_mut().map(|a| a.next()).collect();
+            let slices: Vec<Option<Vec<&mut [u8]>>> = per_image.iter_mut().map(|a| a.next()).collect();
+            let signatures: Vec<Option<&mut [u64]>> =
+                per_signatures.iter_mut().map(|s| s.as_mut().and_then(|rows| rows.next())).collect();
             if (ty0..=ty1).contains(&ty) {
-                bands.push((ty, slices));
+                bands.push((ty, slices, signatures));
             }
         }
+        let plan = FlushPlan {
+            resolved,
+            ops,
+            resolve: last,
+            samples: self.samples,
+            hsr: self.hsr,
+            early_z: self.early_z,
+            vertex_shading: frame.vertex_shading,
+            overdraw: self.overdraw.is_some(),
+        };
         let spec: Vec<_> = resolved.attachments.iter().map(|a| (a.format, resolved.samples)).collect();
-        let samples = self.samples;
         let results: Vec<BandResult> = bands
             .into_par_iter()
             .map_init(
-                || TileBuffer::new(grid.tile_width, grid.tile_height, &spec),
-                |buffer, (ty, slices)| render_band(frame, resolved, &ops, &samples, buffer, ty, slices, tx0..=tx1),
+                || Worker {
+                    buffer: TileBuffer::new(grid.tile_width, grid.tile_height, &spec),
+                    visibility: plan.hsr.then(|| Visibility::new(grid.tile_width, grid.tile_height, resolved.samples)),
+                    tile_vertices: Default::default(),
+                },
+                |worker, (ty, slices, signatures)| render_band(frame, &plan, worker, ty, slices, signatures, tx0..=tx1),
             )
             .collect();
         for band in results {
+            self.on_chip_bytes += band.tally.framebuffer.on_chip_bytes + band.on_chip_bytes;
+            self.transaction_elimination_saved += band.eliminated_bytes;
+            if let (Some(map), Some(rows)) = (self.overdraw.as_mut(), band.tally.overdraw.as_ref()) {
+                rows.add_to(map);
+            }
             self.counters.merge(&band.tally.counters);
             self.ledger.merge(&band.tally.ledger);
             self.ledger.merge(&band.ledger);
@@ -233,33 +406,44 @@ impl Run<'_> {
             }
         }
         self.ledger.add(Category::FrameDataWrite, frame.bytes.total());
-        if !last {
-            self.counters.incremental_renders += 1;
+        match kind {
+            Flush::Incremental => self.counters.incremental_renders += 1,
+            Flush::SubpassSplit => self.counters.subpass_splits += 1,
+            Flush::Final => {}
         }
         self.flushes += 1;
     }
 }
 
 /// Renders the tiles `columns` of tile row `ty`.
-#[allow(clippy::too_many_arguments)]
 fn render_band(
     frame: &FrameData,
-    resolved: &ResolvedPass,
-    ops: &[AttachmentOps],
-    samples: &SampleLocations,
-    buffer: &mut TileBuffer,
+    plan: &FlushPlan,
+    worker: &mut Worker,
     ty: u32,
     slices: Vec<Option<Vec<&mut [u8]>>>,
+    mut signatures: Vec<Option<&mut [u64]>>,
     columns: std::ops::RangeInclusive<u32>,
 ) -> BandResult {
+    let resolved = plan.resolved;
     let grid = frame.grid;
     let band_y0 = (ty * grid.tile_height) as i32;
+    let formats = resolved
+        .attachments
+        .iter()
+        .map(|a| a.format)
+        .chain(resolved.resolves.iter().map(|r| resolved.attachments[r.color].format));
     let mut images: Vec<Option<Surface>> = slices
         .into_iter()
-        .zip(&resolved.attachments)
-        .map(|(s, a)| s.map(|s| band_surface(a.format, grid.width, band_y0, s)))
+        .zip(formats)
+        .map(|(s, format)| s.map(|s| band_surface(format, grid.width, band_y0, s)))
         .collect();
+    let (attachment_images, resolve_images) = images.split_at_mut(resolved.attachments.len());
     let mut result = BandResult::default();
+    if plan.overdraw {
+        let rows = (grid.tile_height as i32).min(grid.height as i32 - band_y0);
+        result.tally.overdraw = Some(OverdrawRows::new(band_y0, grid.width, rows as u32));
+    }
     for tx in columns {
         let tile = grid.tile_rect(tx, ty);
         let rect = tile.intersect(&resolved.render_area);
@@ -267,45 +451,96 @@ fn render_band(
             continue;
         }
         let mut stats = TileStats::default();
-        let mut surfaces = buffer.surfaces(&tile);
+        let mut surfaces = worker.buffer.surfaces(&tile);
         for (a, surface) in surfaces.iter_mut().enumerate() {
-            stats.bytes_loaded += apply_load(surface, images[a].as_ref(), &rect, &ops[a]).loaded;
+            stats.bytes_loaded += apply_load(surface, attachment_images[a].as_ref(), &rect, &plan.ops[a]).loaded;
         }
 
-        let mut surfaces = surfaces.into_iter();
-        let mut color: [Option<Surface>; crate::api::pipeline::MAX_COLOR_ATTACHMENTS] = Default::default();
-        for slot in color.iter_mut().take(resolved.color_count) {
-            *slot = surfaces.next();
-        }
-        let depth_stencil = if resolved.has_depth_stencil { surfaces.next() } else { None };
-        let mut target = RenderTarget { color, depth_stencil, samples: *samples, clip: rect, external: false };
-
+        // The list is in submission order, so each subpass's primitives are one run of it.
         let list = &frame.lists[grid.index(tx, ty)];
         let shaded_before = result.tally.counters.fragments_shaded;
-        let mut frame_data_read = list.len() as u64 * POLYGON_LIST_ENTRY_BYTES;
-        let mut last_state = u32::MAX;
-        for &entry in list {
-            let primitive = &frame.primitives[entry as usize];
-            let state = &frame.states[primitive.state as usize];
-            if primitive.state != last_state {
-                frame_data_read += STATE_RECORD_BYTES;
-                last_state = primitive.state;
+        let mut start = 0;
+        while start < list.len() {
+            let subpass = frame.subpass_of(list[start]);
+            let run = list[start..].iter().take_while(|&&e| frame.subpass_of(e) == subpass).count();
+            let entries = &list[start..start + run];
+            let mut target = RenderTarget::for_subpass(
+                &mut surfaces,
+                &resolved.subpasses[subpass as usize],
+                plan.samples,
+                rect,
+                plan.early_z,
+            );
+            match worker.visibility.as_mut() {
+                Some(visibility) => {
+                    crate::depth::hsr::render_list(entries, frame, &mut target, &mut result.tally, visibility, &tile)
+                }
+                None => {
+                    for &entry in entries {
+                        let primitive = &frame.primitives[entry as usize];
+                        let state = &frame.states[primitive.state as usize];
+                        let varyings = frame.varyings_of(primitive);
+                        result.tally.draw = state.draw as usize;
+                        state.pipeline.object.rasterize(
+                            primitive,
+                            varyings,
+                            &mut target,
+                            &mut result.tally,
+                            &mut Mode::InOrder,
+                        );
+                    }
+                }
             }
-            let n = state.varying_count as usize;
-            frame_data_read += primitive_record_bytes(n);
-            let varyings = &frame.varyings[primitive.varyings as usize..primitive.varyings as usize + 3 * n];
-            result.tally.draw = state.draw as usize;
-            state.pipeline.object.rasterize(primitive, varyings, &mut target, &mut result.tally);
+            start += run;
+        }
+        let frame_data_read = frame_data_read(frame, list);
+        if plan.vertex_shading == VertexShading::PerTile {
+            // Position-only binning: the tile fetches and shades each vertex it uses again.
+            worker.tile_vertices.clear();
+            let mut bytes = 0;
+            for &entry in list {
+                let primitive = &frame.primitives[entry as usize];
+                let state = &frame.states[primitive.state as usize];
+                for id in primitive.vertex_ids {
+                    if worker.tile_vertices.insert((state.draw, id)) {
+                        bytes += state.fetch_bytes_per_vertex;
+                    }
+                }
+            }
+            result.tally.counters.vertices_shaded += worker.tile_vertices.len() as u64;
+            result.ledger.add(Category::VertexFetch, bytes);
         }
 
-        let RenderTarget { color, depth_stencil, .. } = target;
-        for (a, surface) in color.into_iter().flatten().chain(depth_stencil).enumerate() {
-            if let Some(image) = images[a].as_mut() {
-                stats.bytes_stored += apply_store(&surface, image, &rect, &ops[a]);
+        for (a, surface) in surfaces.iter().enumerate() {
+            let Some(image) = attachment_images[a].as_mut() else { continue };
+            let bytes = store_bytes(surface, &rect, &plan.ops[a]);
+            if bytes > 0
+                && let Some(row) = signatures[a].as_mut()
+            {
+                // Transaction elimination: a tile stored unchanged is not written again.
+                let signature = tile_signature(surface, &rect);
+                if row[tx as usize] == signature {
+                    result.eliminated_bytes += bytes;
+                    continue;
+                }
+                row[tx as usize] = signature;
+            }
+            stats.bytes_stored += apply_store(surface, image, &rect, &plan.ops[a]);
+        }
+        let mut resolve_bytes = 0;
+        if plan.resolve {
+            for (r, target) in resolved.resolves.iter().enumerate() {
+                let image = resolve_images[r].as_mut().expect("resolve targets have memory");
+                let pixels = apply_resolve(&surfaces[target.color], image, &rect);
+                resolve_bytes += pixels * image.format.bytes_per_sample() as u64;
+                result.on_chip_bytes += pixels * image.format.bytes_per_sample() as u64 * resolved.samples as u64;
             }
         }
+        result.on_chip_bytes += stats.bytes_loaded + stats.bytes_stored;
+        stats.bytes_stored += resolve_bytes;
         result.ledger.add(Category::TileLoad, stats.bytes_loaded);
-        result.ledger.add(Category::TileStore, stats.bytes_stored);
+        result.ledger.add(Category::TileStore, stats.bytes_stored - resolve_bytes);
+        result.ledger.add(Category::Resolve, resolve_bytes);
         result.ledger.add(Category::FrameDataRead, frame_data_read);
         result.tally.counters.tiles_processed += 1;
         result.tally.counters.polygon_list_entries += list.len() as u64;
@@ -314,4 +549,20 @@ fn render_band(
         result.tiles.push((grid.index(tx, ty), stats));
     }
     result
+}
+
+/// Frame data a tile reads: its polygon-list entries, the record of each primitive they
+/// name, and a state record at each change of state along the list.
+fn frame_data_read(frame: &FrameData, list: &[u32]) -> u64 {
+    let mut bytes = list.len() as u64 * POLYGON_LIST_ENTRY_BYTES;
+    let mut last_state = u32::MAX;
+    for &entry in list {
+        let primitive = &frame.primitives[entry as usize];
+        if primitive.state != last_state {
+            bytes += STATE_RECORD_BYTES;
+            last_state = primitive.state;
+        }
+        bytes += frame.primitive_bytes(primitive);
+    }
+    bytes
 }

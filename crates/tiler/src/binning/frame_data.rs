@@ -7,15 +7,20 @@
 //!
 //! | record | bytes | written | read |
 //! |---|---|---|---|
-//! | primitive record | `8 + 3 × (16 + 4 × varyings)`: a header (state index, flags) and, per vertex, the post-transform position (x, y, z, w as f32) and the varyings (f32 each) | once, when binned | by every tile whose list names it |
+//! | primitive record | `8 + 3 × (16 + 4 × varyings)`: a header (state index, flags) and, per vertex, the post-transform position (x, y, z, w as f32) and the varyings (f32 each); with position-only binning (`VertexShading::PerTile`) `8 + 3 × 16`, positions only | once, when binned | by every tile whose list names it |
 //! | polygon-list entry | 4 (primitive index) | once per tile the primitive is binned to | by that tile |
 //! | state record | 64 (shader and fixed-function state, viewport, scissor) | once per draw with primitives | by a tile each time its list changes state |
+//!
+//! With position-only binning a tile also fetches and shades again each vertex its primitives
+//! use (once per tile): `VertexFetch` grows by `vertices × attribute bytes` per tile.
 //!
 //! The host keeps a richer record per primitive (the set-up edge functions and interpolation
 //! planes, see [`Primitive`]) so that tiles need not set triangles up again; its size is
 //! reported separately as host memory. The budget applies to the modelled bytes, as on a GPU.
 
+use crate::api::device::VertexShading;
 use crate::api::pipeline::Pipeline;
+use crate::depth::hsr::HsrMode;
 use crate::raster::PixelRect;
 use crate::raster::edge::Edge;
 use crate::tile::grid::TileGrid;
@@ -29,9 +34,19 @@ pub const POLYGON_LIST_ENTRY_BYTES: u64 = 4;
 /// Bytes of a state record.
 pub const STATE_RECORD_BYTES: u64 = 64;
 
-/// Modelled bytes of one primitive record with `varyings` f32 varyings per vertex.
+/// Modelled bytes of one primitive record with `varyings` f32 varyings per vertex, when
+/// vertices are shaded once and their varyings stored in the frame data.
 pub const fn primitive_record_bytes(varyings: usize) -> u64 {
     PRIMITIVE_HEADER_BYTES + 3 * (VERTEX_POSITION_BYTES + 4 * varyings as u64)
+}
+
+/// Modelled bytes of one primitive record under a vertex-shading placement: with
+/// position-only binning the record holds positions only (varyings are recomputed per tile).
+pub const fn record_bytes(varyings: usize, shading: VertexShading) -> u64 {
+    match shading {
+        VertexShading::Once => primitive_record_bytes(varyings),
+        VertexShading::PerTile => PRIMITIVE_HEADER_BYTES + 3 * VERTEX_POSITION_BYTES,
+    }
 }
 
 /// A set-up triangle, ready to rasterize in any tile.
@@ -56,6 +71,8 @@ pub struct Primitive {
     pub state: u32,
     /// Offset of the three vertices' varyings in [`FrameData::varyings`].
     pub varyings: u32,
+    /// The draw's vertices this primitive came from (clipped pieces keep their triangle's).
+    pub vertex_ids: [u32; 3],
     pub front_facing: bool,
 }
 
@@ -68,6 +85,12 @@ pub struct StateRecord {
     /// Viewport ∩ scissor ∩ render area ∩ framebuffer.
     pub clip_rect: PixelRect,
     pub varying_count: u32,
+    /// Whether the draw can wait for hidden-surface removal (TBDR).
+    pub hsr: HsrMode,
+    /// Bytes of attributes one of the draw's vertices fetches.
+    pub fetch_bytes_per_vertex: u64,
+    /// The subpass the draw belongs to.
+    pub subpass: u32,
 }
 
 /// Bytes of frame data, as modelled and as held in host memory.
@@ -87,6 +110,8 @@ impl FrameDataBytes {
 /// Primitive records, state records and polygon lists of the draws binned since the last flush.
 pub struct FrameData {
     pub grid: TileGrid,
+    /// Where vertices are shaded, which decides the modelled record size.
+    pub vertex_shading: VertexShading,
     pub primitives: Vec<Primitive>,
     pub varyings: Vec<f32>,
     pub states: Vec<StateRecord>,
@@ -96,8 +121,9 @@ pub struct FrameData {
 }
 
 impl FrameData {
-    pub fn new(grid: TileGrid) -> FrameData {
+    pub fn new(grid: TileGrid, vertex_shading: VertexShading) -> FrameData {
         FrameData {
+            vertex_shading,
             lists: vec![Vec::new(); grid.tile_count()],
             grid,
             primitives: Vec::new(),
@@ -131,7 +157,20 @@ impl FrameData {
 
     /// Modelled bytes of a primitive record.
     pub fn primitive_bytes(&self, primitive: &Primitive) -> u64 {
-        primitive_record_bytes(self.states[primitive.state as usize].varying_count as usize)
+        record_bytes(self.states[primitive.state as usize].varying_count as usize, self.vertex_shading)
+    }
+
+    /// The subpass of the primitive at `index`.
+    #[inline]
+    pub fn subpass_of(&self, index: u32) -> u32 {
+        self.states[self.primitives[index as usize].state as usize].subpass
+    }
+
+    /// The three vertices' varyings of a primitive.
+    #[inline]
+    pub fn varyings_of(&self, primitive: &Primitive) -> &[f32] {
+        let n = self.states[primitive.state as usize].varying_count as usize;
+        &self.varyings[primitive.varyings as usize..primitive.varyings as usize + 3 * n]
     }
 
     /// Bytes of host memory the frame data occupies.

@@ -3,6 +3,59 @@
 //! are clamped to `[0, 1]` first, as Vulkan requires; the result is then packed to the format.
 
 use crate::api::pipeline::{BlendComponent, BlendFactor, BlendOp, BlendState};
+use crate::simd::{F32x8, Vec4x8};
+
+/// Blends eight lanes: lane for lane exactly [`blend_pixel`] (the same operations in the
+/// same order), so the scalar function is the reference it is tested against.
+#[inline]
+pub fn blend_lanes(state: &BlendState, src: &Vec4x8, dst: &Vec4x8, constant: [f32; 4]) -> Vec4x8 {
+    std::array::from_fn(|c| {
+        let component = if c < 3 { &state.color } else { &state.alpha };
+        let (s, d) = (src[c], dst[c]);
+        match component.op {
+            BlendOp::Min => s.min(d),
+            BlendOp::Max => s.max(d),
+            op => {
+                let sf = factor_lanes(component.src, c, src, dst, constant);
+                let df = factor_lanes(component.dst, c, src, dst, constant);
+                match op {
+                    BlendOp::Add => s * sf + d * df,
+                    BlendOp::Subtract => s * sf - d * df,
+                    BlendOp::ReverseSubtract => d * df - s * sf,
+                    BlendOp::Min | BlendOp::Max => unreachable!(),
+                }
+            }
+        }
+    })
+}
+
+#[inline(always)]
+fn factor_lanes(f: BlendFactor, c: usize, src: &Vec4x8, dst: &Vec4x8, constant: [f32; 4]) -> F32x8 {
+    let one = F32x8::ONE;
+    match f {
+        BlendFactor::Zero => F32x8::ZERO,
+        BlendFactor::One => one,
+        BlendFactor::SrcColor => src[c],
+        BlendFactor::OneMinusSrcColor => one - src[c],
+        BlendFactor::DstColor => dst[c],
+        BlendFactor::OneMinusDstColor => one - dst[c],
+        BlendFactor::SrcAlpha => src[3],
+        BlendFactor::OneMinusSrcAlpha => one - src[3],
+        BlendFactor::DstAlpha => dst[3],
+        BlendFactor::OneMinusDstAlpha => one - dst[3],
+        BlendFactor::ConstantColor => F32x8::splat(constant[c]),
+        BlendFactor::OneMinusConstantColor => F32x8::splat(1.0 - constant[c]),
+        BlendFactor::ConstantAlpha => F32x8::splat(constant[3]),
+        BlendFactor::OneMinusConstantAlpha => F32x8::splat(1.0 - constant[3]),
+        BlendFactor::SrcAlphaSaturate => {
+            if c == 3 {
+                one
+            } else {
+                src[3].min(one - dst[3])
+            }
+        }
+    }
+}
 
 /// Blends one pixel. `dst` is the stored value unpacked (sRGB attachments: linear).
 #[inline]
@@ -66,11 +119,55 @@ fn factor(f: BlendFactor, c: usize, src: [f32; 4], dst: [f32; 4], constant: [f32
 mod tests {
     use super::*;
     use crate::api::pipeline::BlendComponent;
+    use crate::simd::LANES;
 
     #[test]
     fn alpha_blending_by_hand() {
         let out = blend_pixel(&BlendState::ALPHA, [1.0, 0.0, 0.0, 0.25], [0.0, 0.0, 1.0, 1.0], [0.0; 4]);
         assert_eq!(out, [0.25, 0.0, 0.75, 1.0]);
+    }
+
+    #[test]
+    fn lanes_blend_exactly_like_pixels() {
+        use BlendFactor::*;
+        let factors = [
+            Zero,
+            One,
+            SrcColor,
+            OneMinusSrcColor,
+            DstColor,
+            OneMinusDstColor,
+            SrcAlpha,
+            OneMinusSrcAlpha,
+            DstAlpha,
+            OneMinusDstAlpha,
+            ConstantColor,
+            OneMinusConstantColor,
+            ConstantAlpha,
+            OneMinusConstantAlpha,
+            SrcAlphaSaturate,
+        ];
+        let ops = [BlendOp::Add, BlendOp::Subtract, BlendOp::ReverseSubtract, BlendOp::Min, BlendOp::Max];
+        let value = |i: usize, c: usize| ((i * 37 + c * 11) % 29) as f32 / 17.0 - 0.3;
+        let src: Vec4x8 = std::array::from_fn(|c| F32x8::from_fn(|i| value(i, c)));
+        let dst: Vec4x8 = std::array::from_fn(|c| F32x8::from_fn(|i| value(i + 5, c + 1)));
+        let k = [0.3, 0.7, 0.1, 0.45];
+        for (i, &sf) in factors.iter().enumerate() {
+            let df = factors[(i * 7 + 3) % factors.len()];
+            for op in ops {
+                let c = BlendComponent { src: sf, dst: df, op };
+                let state = BlendState { color: c, alpha: BlendComponent { src: df, dst: sf, op } };
+                let lanes = blend_lanes(&state, &src, &dst, k);
+                for lane in 0..LANES {
+                    let s = [0, 1, 2, 3].map(|c| src[c].lane(lane));
+                    let d = [0, 1, 2, 3].map(|c| dst[c].lane(lane));
+                    let p = blend_pixel(&state, s, d, k);
+                    for ch in 0..4 {
+                        assert_eq!(lanes[ch].lane(lane).to_bits(), p[ch].to_bits(), "{sf:?} {df:?} {op:?}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -7,16 +7,19 @@
 //! Stored depths compare as integers (see `Format::depth_bits`), so UNORM and float depth
 //! buffers need no special cases.
 
+pub mod hsr;
+
 use crate::api::format::Format;
 use crate::api::pipeline::{DepthStencilState, StencilFaceState};
-use crate::ledger::{Category, Ledger};
+use crate::ledger::Ledger;
+use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::raster::coverage::Coverage;
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask};
 use crate::tile::target::Surface;
 
 /// Tests the covered samples of the group at `(x, y)`, applies the stencil ops and depth
 /// writes, and returns the samples that passed. `depth(s)` gives the fragment depths of
-/// sample `s`. With `external`, every access is counted as immediate-mode traffic.
+/// sample `s`. Every access goes through `traffic` (tile buffer, or external memory).
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn test_group(
@@ -27,13 +30,30 @@ pub fn test_group(
     state: &DepthStencilState,
     front_facing: bool,
     depth: impl Fn(usize) -> F32x8,
-    ledger: Option<&mut Ledger>,
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
 ) -> Coverage {
     let format = surface.format;
     let face: &StencilFaceState = if front_facing { &state.front } else { &state.back };
     let stencil_test = state.stencil_test && format.has_stencil();
+    if !stencil_test && !traffic.needs_addresses() {
+        let write = state.depth_test && state.depth_write;
+        let compare = if state.depth_test { state.depth_compare } else { crate::api::pipeline::CompareOp::Always };
+        let (passed, tested, written) = match format {
+            Format::D16Unorm => depth_only::<D16>(surface, x, y, coverage, compare, write, &depth),
+            Format::D24UnormS8Uint => depth_only::<D24>(surface, x, y, coverage, compare, write, &depth),
+            _ => depth_only::<D32>(surface, x, y, coverage, compare, write, &depth),
+        };
+        let bytes = format.depth_aspect_bytes() as u32;
+        if state.depth_test {
+            traffic.accesses(ledger, Aspect::Depth, bytes, tested, false);
+        }
+        traffic.accesses(ledger, Aspect::Depth, bytes, written, true);
+        return passed;
+    }
     let mut passed = coverage;
-    let (mut tested, mut depth_writes, mut stencil_writes) = (0u64, 0u64, 0u64);
+    let depth_bytes = format.depth_aspect_bytes() as u32;
+    let stencil_bytes = format.stencil_aspect_bytes() as u32;
     for s in 0..surface.samples() {
         let lanes = coverage.sample(s);
         if lanes.is_empty() {
@@ -45,8 +65,15 @@ pub fn test_group(
             if !lanes.contains(lane) {
                 continue;
             }
-            tested += 1;
-            let offset = surface.offset(x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+            let (px, py) = (x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+            let address = surface.address(s, px, py);
+            if state.depth_test {
+                traffic.access(ledger, Aspect::Depth, address, depth_bytes, false);
+            }
+            if stencil_test {
+                traffic.access(ledger, Aspect::Stencil, address, stencil_bytes, false);
+            }
+            let offset = surface.offset(px, py);
             let bytes = &mut surface.plane_mut(s)[offset..offset + format.bytes_per_sample()];
             let (stored_depth, stored_stencil) = unpack(format, bytes);
             let stencil_pass = !stencil_test
@@ -68,14 +95,14 @@ pub fn test_group(
                 let value = op.apply(stored_stencil, face.reference);
                 new_stencil = (value & face.write_mask) | (stored_stencil & !face.write_mask);
                 if op != crate::api::pipeline::StencilOp::Keep && face.write_mask != 0 {
-                    stencil_writes += 1;
+                    traffic.access(ledger, Aspect::Stencil, address, stencil_bytes, true);
                 }
             }
             if stencil_pass && depth_pass {
                 pass |= 1 << lane;
                 if state.depth_test && state.depth_write {
                     new_depth = fragment_depth;
-                    depth_writes += 1;
+                    traffic.access(ledger, Aspect::Depth, address, depth_bytes, true);
                 }
             }
             if new_depth != stored_depth || new_stencil != stored_stencil {
@@ -84,17 +111,111 @@ pub fn test_group(
         }
         passed.set_sample(s, LaneMask(pass));
     }
-    if let Some(ledger) = ledger {
-        if state.depth_test {
-            ledger.add(Category::ImrDepthRead, tested * format.depth_aspect_bytes() as u64);
-        }
-        if stencil_test {
-            ledger.add(Category::ImrStencilRead, tested * format.stencil_aspect_bytes() as u64);
-        }
-        ledger.add(Category::ImrDepthWrite, depth_writes * format.depth_aspect_bytes() as u64);
-        ledger.add(Category::ImrStencilWrite, stencil_writes * format.stencil_aspect_bytes() as u64);
-    }
     passed
+}
+
+/// How a depth format stores depth bits (the depth aspect only).
+trait DepthBits {
+    const BYTES: usize;
+    fn load(bytes: &[u8]) -> u32;
+    /// Writes the depth bits, leaving any stencil bits alone.
+    fn store(bytes: &mut [u8], bits: u32);
+    fn format() -> Format;
+}
+
+struct D16;
+struct D24;
+struct D32;
+
+impl DepthBits for D16 {
+    const BYTES: usize = 2;
+    #[inline(always)]
+    fn load(b: &[u8]) -> u32 {
+        u16::from_le_bytes([b[0], b[1]]) as u32
+    }
+    #[inline(always)]
+    fn store(b: &mut [u8], bits: u32) {
+        b[..2].copy_from_slice(&(bits as u16).to_le_bytes());
+    }
+    fn format() -> Format {
+        Format::D16Unorm
+    }
+}
+
+impl DepthBits for D24 {
+    const BYTES: usize = 4;
+    #[inline(always)]
+    fn load(b: &[u8]) -> u32 {
+        u32::from_le_bytes([b[0], b[1], b[2], 0])
+    }
+    #[inline(always)]
+    fn store(b: &mut [u8], bits: u32) {
+        b[..3].copy_from_slice(&bits.to_le_bytes()[..3]);
+    }
+    fn format() -> Format {
+        Format::D24UnormS8Uint
+    }
+}
+
+impl DepthBits for D32 {
+    const BYTES: usize = 4;
+    #[inline(always)]
+    fn load(b: &[u8]) -> u32 {
+        u32::from_le_bytes([b[0], b[1], b[2], b[3]])
+    }
+    #[inline(always)]
+    fn store(b: &mut [u8], bits: u32) {
+        b[..4].copy_from_slice(&bits.to_le_bytes());
+    }
+    fn format() -> Format {
+        Format::D32Float
+    }
+}
+
+/// The depth test without stencil, for the common case: per sample, the two rows of four
+/// pixels of the group are tested against their stored depths, and passing samples written.
+/// Returns the samples that passed, and how many were tested and written.
+#[inline(always)]
+fn depth_only<D: DepthBits>(
+    surface: &mut Surface,
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    compare: crate::api::pipeline::CompareOp,
+    write: bool,
+    depth: &impl Fn(usize) -> F32x8,
+) -> (Coverage, u64, u64) {
+    let format = D::format();
+    let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
+    let mut passed = coverage;
+    let (mut tested, mut written) = (0, 0);
+    for s in 0..surface.samples() {
+        let lanes = coverage.sample(s);
+        if lanes.is_empty() {
+            continue;
+        }
+        let z = depth(s);
+        let fragment: [u32; LANES] = std::array::from_fn(|lane| format.depth_bits(z.lane(lane)));
+        let plane = surface.plane_mut(s);
+        let mut pass = 0u8;
+        for lane in 0..LANES {
+            if !lanes.contains(lane) {
+                continue;
+            }
+            let offset = rows[lane / 4] + (lane % 4) * D::BYTES;
+            let stored = &mut plane[offset..offset + D::BYTES];
+            if compare.test(fragment[lane], D::load(stored)) {
+                pass |= 1 << lane;
+                if write {
+                    D::store(stored, fragment[lane]);
+                }
+            }
+        }
+        tested += lanes.count() as u64;
+        written += if write { pass.count_ones() as u64 } else { 0 };
+        passed.set_sample(s, LaneMask(pass));
+    }
+    (passed, tested, written)
 }
 
 /// Stored depth bits and stencil of one sample.

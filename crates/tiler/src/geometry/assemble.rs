@@ -17,7 +17,7 @@ pub fn triangle_count(topology: Topology, count: u32) -> u32 {
 pub fn triangle(topology: Topology, t: u32) -> [u32; 3] {
     match topology {
         Topology::TriangleList => [3 * t, 3 * t + 1, 3 * t + 2],
-        Topology::TriangleStrip if t % 2 == 0 => [t, t + 1, t + 2],
+        Topology::TriangleStrip if t.is_multiple_of(2) => [t, t + 1, t + 2],
         Topology::TriangleStrip => [t, t + 2, t + 1],
         Topology::TriangleFan => [t + 1, t + 2, 0],
     }

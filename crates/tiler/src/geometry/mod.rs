@@ -63,8 +63,12 @@ pub struct DrawGeometry<'a> {
     pub triangles: u32,
     pub viewport: Viewport,
     pub clip_rect: PixelRect,
-    /// Bytes of vertex attributes fetched.
+    /// Vertices a GPU shades for this draw: misses of its post-transform vertex cache.
+    pub vertices_shaded: u64,
+    /// Bytes of vertex attributes fetched for them.
     pub vertex_fetch_bytes: u64,
+    /// Bytes of attributes one vertex fetches.
+    pub fetch_bytes_per_vertex: u64,
     /// Bytes of indices fetched.
     pub index_fetch_bytes: u64,
 }
@@ -82,7 +86,12 @@ pub struct PassFrame<'a> {
 /// # Errors
 /// Missing or too short buffers, indices out of range, bad viewports or scissors, and vertex
 /// positions that are not finite — each naming the draw.
-pub fn prepare_draw<'a>(draw_index: usize, draw: &'a Draw, frame: &PassFrame<'a>) -> Result<DrawGeometry<'a>> {
+pub fn prepare_draw<'a>(
+    draw_index: usize,
+    draw: &'a Draw,
+    frame: &PassFrame<'a>,
+    post_transform_cache: u32,
+) -> Result<DrawGeometry<'a>> {
     let desc = draw.pipeline.desc();
     let fail = |reason: String| Error::draw(draw_index, reason);
     let input = &desc.vertex_input;
@@ -228,7 +237,16 @@ pub fn prepare_draw<'a>(draw_index: usize, draw: &'a Draw, frame: &PassFrame<'a>
         .object
         .shade_vertices(&fetcher, &set, desc.varyings.len())
         .map_err(|e| Error::NonFinitePosition { draw: draw_index, vertex: e.vertex, position: e.position })?;
-    let vertex_fetch_bytes = vertices.shaded * input.fetch_bytes_per_vertex();
+    // The work a GPU does: without indices every vertex of the stream is shaded; with them,
+    // each index that misses the post-transform cache.
+    let vertices_shaded = match indices {
+        Some(source) if post_transform_cache > 0 => {
+            post_transform_misses((draw.first..draw.first + draw.count).map(|p| source.get(p)), post_transform_cache)
+        }
+        _ => draw.count as u64,
+    };
+    let fetch_bytes_per_vertex = input.fetch_bytes_per_vertex();
+    let vertex_fetch_bytes = vertices_shaded * fetch_bytes_per_vertex;
     let triangles = assemble::triangle_count(desc.topology, draw.count);
     Ok(DrawGeometry {
         draw_index,
@@ -241,9 +259,33 @@ pub fn prepare_draw<'a>(draw_index: usize, draw: &'a Draw, frame: &PassFrame<'a>
         triangles,
         viewport,
         clip_rect,
+        vertices_shaded,
         vertex_fetch_bytes,
+        fetch_bytes_per_vertex,
         index_fetch_bytes,
     })
+}
+
+/// Misses of a FIFO post-transform vertex cache of `entries` over an index stream: the
+/// vertices a GPU with such a cache shades and fetches.
+pub fn post_transform_misses(indices: impl Iterator<Item = u32>, entries: u32) -> u64 {
+    let entries = entries as usize;
+    let mut fifo = std::collections::VecDeque::with_capacity(entries);
+    let mut held = std::collections::HashSet::with_capacity(entries * 2);
+    let mut misses = 0;
+    for index in indices {
+        if held.contains(&index) {
+            continue;
+        }
+        misses += 1;
+        if fifo.len() == entries {
+            let oldest = fifo.pop_front().expect("full");
+            held.remove(&oldest);
+        }
+        fifo.push_back(index);
+        held.insert(index);
+    }
+    misses
 }
 
 /// The pixels whose centres lie inside a viewport, after checking its limits.
@@ -351,9 +393,10 @@ impl DrawGeometry<'_> {
             return;
         }
         let planes = codes[0] | codes[1] | codes[2];
+        let ids = slots.map(|s| s as u32);
         if planes == 0 {
             let varyings = slots.map(|s| self.vertices.varyings_of(s));
-            let outcome = setup_triangle(params, positions, varyings, &mut batch.primitives, &mut batch.varyings);
+            let outcome = setup_triangle(params, positions, varyings, ids, &mut batch.primitives, &mut batch.varyings);
             count_outcome(&mut batch.counters, outcome);
             return;
         }
@@ -372,6 +415,7 @@ impl DrawGeometry<'_> {
                 params,
                 fan.map(|v| v.position),
                 fan.map(|v| &v.varyings[..n]),
+                ids,
                 &mut batch.primitives,
                 &mut batch.varyings,
             );

@@ -57,11 +57,13 @@ pub enum SetupOutcome {
 }
 
 /// Sets up one triangle (clip-space positions with `w > 0`, from the clipper) and appends its
-/// primitive record and varyings.
+/// primitive record and varyings. `vertex_ids` name the draw's vertices it came from (for
+/// the cost model of shading vertices per tile).
 pub fn setup_triangle(
     params: &SetupParams,
     positions: [Vec4; 3],
     varyings: [&[f32]; 3],
+    vertex_ids: [u32; 3],
     primitives: &mut Vec<Primitive>,
     out_varyings: &mut Vec<f32>,
 ) -> SetupOutcome {
@@ -131,6 +133,7 @@ pub fn setup_triangle(
         q: [q[o0] as f32, q[o1] as f32, q[o2] as f32],
         state: params.state,
         varyings: varying_offset,
+        vertex_ids: order.map(|i| vertex_ids[i]),
         front_facing,
     });
     SetupOutcome::Primitive
@@ -177,10 +180,19 @@ mod tests {
         let ccw = [cw[0], cw[2], cw[1]];
         let none: [&[f32]; 3] = [&[], &[], &[]];
         let (mut prims, mut vars) = (Vec::new(), Vec::new());
-        assert_eq!(setup_triangle(&params(CullMode::Back), cw, none, &mut prims, &mut vars), SetupOutcome::Culled);
-        assert_eq!(setup_triangle(&params(CullMode::Back), ccw, none, &mut prims, &mut vars), SetupOutcome::Primitive);
+        assert_eq!(
+            setup_triangle(&params(CullMode::Back), cw, none, [0, 1, 2], &mut prims, &mut vars),
+            SetupOutcome::Culled
+        );
+        assert_eq!(
+            setup_triangle(&params(CullMode::Back), ccw, none, [0, 1, 2], &mut prims, &mut vars),
+            SetupOutcome::Primitive
+        );
         assert!(prims[0].front_facing);
-        assert_eq!(setup_triangle(&params(CullMode::None), cw, none, &mut prims, &mut vars), SetupOutcome::Primitive);
+        assert_eq!(
+            setup_triangle(&params(CullMode::None), cw, none, [0, 1, 2], &mut prims, &mut vars),
+            SetupOutcome::Primitive
+        );
         assert!(!prims[1].front_facing);
     }
 
@@ -189,7 +201,7 @@ mod tests {
         let tri = [Vec4::new(-0.5, -0.5, 0.25, 1.0), Vec4::new(0.5, -0.3, 0.5, 2.0), Vec4::new(0.1, 0.6, 0.75, 1.0)];
         let (mut prims, mut vars) = (Vec::new(), Vec::new());
         let vs: [&[f32]; 3] = [&[1.0], &[2.0], &[3.0]];
-        setup_triangle(&params(CullMode::None), tri, vs, &mut prims, &mut vars);
+        setup_triangle(&params(CullMode::None), tri, vs, [0, 1, 2], &mut prims, &mut vars);
         let p = prims[0];
         // Vertices 1 and 2 are at window (62.5, 42.5) and (55, 80), in either order: check λ at both.
         let at = |x: f32, y: f32| {

@@ -5,7 +5,14 @@
 //! can be checked by hand. Counts are plain data per task (tile, band, geometry chunk),
 //! merged in a fixed order: there are no global counters.
 
+pub mod cache;
+pub mod display;
+pub mod energy;
+pub mod framebuffer;
+
 use serde::{Deserialize, Serialize};
+
+pub use crate::depth::hsr::HsrFallbacks;
 
 /// A kind of external-memory traffic. The formula of each is recorded where it is counted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -144,6 +151,12 @@ impl Ledger {
         .sum()
     }
 
+    /// Bytes of geometry: vertex and index fetch, frame data written and read.
+    pub fn geometry_bytes(&self) -> u64 {
+        use Category::*;
+        [VertexFetch, IndexFetch, FrameDataWrite, FrameDataRead].iter().map(|c| self.get(*c)).sum()
+    }
+
     /// Bytes written to external memory.
     pub fn written_bytes(&self) -> u64 {
         self.total() - self.read_bytes()
@@ -193,6 +206,8 @@ pub struct Counters {
     pub tiles_processed: u64,
     /// Flushes forced by the frame-data budget (each stores and reloads every attachment).
     pub incremental_renders: u64,
+    /// Flushes at subpass dependencies that are not by-region (the pass split in two there).
+    pub subpass_splits: u64,
     /// Pixels with at least one covered sample, per primitive.
     pub fragments_rasterized: u64,
     /// Fragments rejected by the depth or stencil test before shading (early-Z).
@@ -206,6 +221,11 @@ pub struct Counters {
     pub fragments_late_killed: u64,
     /// Fragments that passed every test and reached blending.
     pub fragments_passed: u64,
+    /// Hidden-surface removal: fragments that passed the tests but were hidden by a later
+    /// surface before being shaded.
+    pub fragments_hsr_killed: u64,
+    /// Hidden-surface removal: fragments rendered in submission order instead, by reason.
+    pub hsr_fallback: HsrFallbacks,
 }
 
 impl Counters {
@@ -222,6 +242,7 @@ impl Counters {
             polygon_list_entries,
             tiles_processed,
             incremental_renders,
+            subpass_splits,
             fragments_rasterized,
             fragments_early_z_killed,
             fragments_shaded,
@@ -229,6 +250,8 @@ impl Counters {
             fragments_discarded,
             fragments_late_killed,
             fragments_passed,
+            fragments_hsr_killed,
+            hsr_fallback,
         } = self;
         *draws += o.draws;
         *vertices_shaded += o.vertices_shaded;
@@ -241,6 +264,7 @@ impl Counters {
         *polygon_list_entries += o.polygon_list_entries;
         *tiles_processed += o.tiles_processed;
         *incremental_renders += o.incremental_renders;
+        *subpass_splits += o.subpass_splits;
         *fragments_rasterized += o.fragments_rasterized;
         *fragments_early_z_killed += o.fragments_early_z_killed;
         *fragments_shaded += o.fragments_shaded;
@@ -248,6 +272,8 @@ impl Counters {
         *fragments_discarded += o.fragments_discarded;
         *fragments_late_killed += o.fragments_late_killed;
         *fragments_passed += o.fragments_passed;
+        *fragments_hsr_killed += o.fragments_hsr_killed;
+        hsr_fallback.merge(&o.hsr_fallback);
     }
 }
 

@@ -36,6 +36,12 @@ impl Coverage {
         self.0 = (self.0 & !(0xffu64 << (8 * s))) | ((lanes.0 as u64) << (8 * s));
     }
 
+    /// Only sample `s` of this coverage.
+    #[inline(always)]
+    pub fn only_sample(self, s: usize) -> Coverage {
+        Coverage(self.0 & (0xffu64 << (8 * s)))
+    }
+
     /// Lanes with at least one covered sample.
     #[inline(always)]
     pub fn lanes(self) -> LaneMask {

@@ -1,24 +1,28 @@
 //! The fragment pipeline for one primitive in one region (a tile, or a band of the
-//! framebuffer): coverage → early depth/stencil → shading → discard → late depth/stencil →
-//! blending and colour writes. Every backend calls this same function; they differ only in
-//! which region they hand it and whether that region lives in the tile buffer or in external
-//! memory.
+//! framebuffer): coverage → early depth/stencil → shading → discard and coverage changes →
+//! late depth/stencil → blending and colour writes. Every backend calls this same code; they
+//! differ only in which region they hand it, whether that region lives in the tile buffer or
+//! in external memory, and — for hidden-surface removal — in splitting the work into a
+//! visibility pass and a shading pass ([`Mode`]).
 //!
 //! Work goes block by block (8×8 pixels, classified outside / partial / full), then 4×2 group
 //! by group: eight lanes, two 2×2 quads, every sample of each.
 //!
-//! Early-Z: when the fragment shader neither discards, nor writes depth, nor has side effects,
-//! the depth and stencil tests (and their writes) run before shading, in submission order, so
-//! fragments that fail are never shaded. Otherwise the tests run after shading.
+//! Early-Z: when the fragment shader neither discards, nor writes depth or the sample mask,
+//! nor has side effects, and alpha-to-coverage is off, the depth and stencil tests (and their
+//! writes) run before shading, in submission order, so fragments that fail are never shaded.
+//! Otherwise the tests run after shading, on the coverage the shader left.
 
 use super::PixelRect;
 use super::coverage::{BLOCK_SIZE, BlockCoverage, Coverage, PrimitiveCoverage, lanes_inside};
+use super::samples::SampleLocations;
 use crate::api::format::ColorWrites;
 use crate::api::pipeline::{ColorTargetState, MAX_COLOR_ATTACHMENTS, PipelineDesc};
-use crate::api::shader::{FragmentShader, Fragments};
+use crate::api::shader::{FragmentShader, Fragments, ShaderProperties};
 use crate::binning::frame_data::Primitive;
-use crate::blend::blend_pixel;
 use crate::depth;
+use crate::depth::hsr::Visibility;
+use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::ledger::{Category, Counters, DrawStats, Ledger};
 use crate::shade::ShadeContext;
 use crate::shade::interpolate::Interpolator;
@@ -36,6 +40,44 @@ pub struct FragmentTally {
     pub draws: Vec<DrawStats>,
     /// The draw whose primitive is being rasterized (set by the caller).
     pub draw: usize,
+    /// Hidden-surface removal: fragments that passed the tests and claimed samples, not yet
+    /// known to survive until shading.
+    pub hsr_candidates: u64,
+    /// Where depth, stencil and colour accesses go, and what they cost.
+    pub framebuffer: FramebufferTraffic,
+    /// Fragments shaded per pixel of the task's rows, when an overdraw map is wanted.
+    pub overdraw: Option<OverdrawRows>,
+    /// The fragment shader's colour outputs for the current group (kept here, not copied
+    /// around: 512 bytes per group).
+    pub(crate) outputs: [Vec4x8; MAX_COLOR_ATTACHMENTS],
+}
+
+/// Fragments shaded per pixel over some rows of the framebuffer.
+#[derive(Clone, Debug, Default)]
+pub struct OverdrawRows {
+    pub y0: i32,
+    pub width: u32,
+    pub counts: Vec<u16>,
+}
+
+impl OverdrawRows {
+    pub fn new(y0: i32, width: u32, rows: u32) -> OverdrawRows {
+        OverdrawRows { y0, width, counts: vec![0; width as usize * rows as usize] }
+    }
+
+    #[inline]
+    fn add(&mut self, x: i32, y: i32) {
+        let i = (y - self.y0) as usize * self.width as usize + x as usize;
+        self.counts[i] = self.counts[i].saturating_add(1);
+    }
+
+    /// Adds these rows into a whole-framebuffer map.
+    pub fn add_to(&self, map: &mut [u16]) {
+        let start = self.y0 as usize * self.width as usize;
+        for (m, c) in map[start..start + self.counts.len()].iter_mut().zip(&self.counts) {
+            *m = m.saturating_add(*c);
+        }
+    }
 }
 
 impl FragmentTally {
@@ -49,6 +91,17 @@ impl FragmentTally {
     }
 }
 
+/// Which part of the fragment pipeline to run.
+pub enum Mode<'a> {
+    /// Everything, in submission order (TBR, IMR, and TBDR's fallback).
+    InOrder,
+    /// Hidden-surface removal, pass one: coverage and the depth/stencil tests with their
+    /// writes, no shading; samples that pass are claimed for `entry` if `claims`.
+    Resolve { visibility: &'a mut Visibility, entry: u32, claims: bool },
+    /// Hidden-surface removal, pass two: shade and write the samples `entry` owns.
+    Shade { visibility: &'a Visibility, entry: u32 },
+}
+
 /// How one colour attachment is written, prepared once per primitive.
 #[derive(Clone, Copy)]
 struct ColorPlan {
@@ -59,7 +112,24 @@ struct ColorPlan {
     partial: bool,
 }
 
-/// Rasterizes and shades `primitive` into `target`.
+/// Where the shader is evaluated within each pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ShadePoint {
+    /// The pixel centre (one invocation per pixel).
+    Centre,
+    /// Sample `s` (per-sample shading).
+    Sample(usize),
+}
+
+/// What the fragment shader produced for a group besides its colours (which stay in
+/// [`FragmentTally::outputs`]).
+struct ShadeOutput {
+    depth: F32x8,
+    discarded: LaneMask,
+    sample_mask: [u32; 8],
+}
+
+/// Rasterizes `primitive` into `target`, running the part of the pipeline `mode` says.
 pub fn rasterize<F: FragmentShader>(
     shader: &F,
     desc: &PipelineDesc,
@@ -67,6 +137,7 @@ pub fn rasterize<F: FragmentShader>(
     varyings: &[f32],
     target: &mut RenderTarget,
     tally: &mut FragmentTally,
+    mode: &mut Mode,
 ) {
     let rect = primitive.bbox.intersect(&target.clip);
     if rect.is_empty() {
@@ -89,37 +160,60 @@ pub fn rasterize<F: FragmentShader>(
             }
         }
     }
+    let samples = target.samples.count();
+    let coverage_changes = properties.discards || properties.writes_sample_mask || desc.multisample.alpha_to_coverage;
     let raster = PrimitiveRaster {
         shader,
         desc,
+        properties,
         primitive,
         varyings,
         varying_count: desc.varyings.len(),
         coverage: PrimitiveCoverage::new(&primitive.edges, &target.samples),
         interpolator: Interpolator::new(primitive),
+        locations: target.samples,
+        static_mask: static_sample_mask(desc.multisample.sample_mask, samples),
+        sample_shading: desc.multisample.sample_shading && samples > 1,
         tests,
-        early_tests: tests && !(properties.discards || properties.writes_depth || properties.side_effects),
+        early_tests: tests
+            && target.early_z
+            && !(coverage_changes || properties.writes_depth || properties.side_effects),
         colors,
     };
-    raster.run(&rect, target, tally);
+    raster.run(&rect, target, tally, mode);
+}
+
+/// A pipeline sample mask as coverage: all lanes of every sample whose bit is set.
+fn static_sample_mask(mask: u32, samples: usize) -> Coverage {
+    let mut c = Coverage::NONE;
+    for s in 0..samples {
+        if mask >> s & 1 != 0 {
+            c.set_sample(s, LaneMask::ALL);
+        }
+    }
+    c
 }
 
 struct PrimitiveRaster<'a, F> {
     shader: &'a F,
     desc: &'a PipelineDesc,
+    properties: ShaderProperties,
     primitive: &'a Primitive,
     varyings: &'a [f32],
     varying_count: usize,
     coverage: PrimitiveCoverage,
     interpolator: Interpolator,
+    locations: SampleLocations,
+    static_mask: Coverage,
+    sample_shading: bool,
     tests: bool,
     early_tests: bool,
     colors: [Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
 }
 
 impl<F: FragmentShader> PrimitiveRaster<'_, F> {
-    fn run(&self, rect: &PixelRect, target: &mut RenderTarget, tally: &mut FragmentTally) {
-        let samples = target.samples.count();
+    fn run(&self, rect: &PixelRect, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode) {
+        let samples = self.locations.count();
         let mut by = rect.y0 & !(BLOCK_SIZE - 1);
         while by < rect.y1 {
             let mut bx = rect.x0 & !(BLOCK_SIZE - 1);
@@ -143,8 +237,9 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
                             if !inside_rect {
                                 coverage = coverage.restrict(lanes_inside(gx, gy, rect));
                             }
+                            coverage = Coverage(coverage.0 & self.static_mask.0);
                             if !coverage.is_empty() {
-                                self.group(gx, gy, coverage, target, tally);
+                                self.group(gx, gy, coverage, target, tally, mode);
                             }
                         }
                     }
@@ -156,122 +251,310 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
     }
 
     /// The fragment pipeline for the covered samples of the 4×2 group at `(x, y)`.
-    fn group(&self, x: i32, y: i32, mut coverage: Coverage, target: &mut RenderTarget, tally: &mut FragmentTally) {
-        let counters = &mut tally.counters;
-        let rasterized = coverage.lanes();
-        counters.fragments_rasterized += rasterized.count() as u64;
-        let (cx, cy) = Interpolator::positions(x, y, 0.5, 0.5);
-        let (l1, l2) = self.interpolator.lambdas(cx, cy);
-        let centre_depth = self.interpolator.depth(l1, l2);
-        let multisampled = target.samples.count() > 1;
-        let front_facing = self.primitive.front_facing;
-
-        if self.early_tests {
-            let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
-            let ledger = target.external.then_some(&mut tally.ledger);
-            coverage = depth::test_group(
-                surface,
-                x,
-                y,
-                coverage,
-                &self.desc.depth_stencil,
-                front_facing,
-                |s| self.sample_depth(x, y, s, &target.samples, multisampled, centre_depth),
-                ledger,
-            );
-            let survivors = coverage.lanes();
-            counters.fragments_early_z_killed += (rasterized.count() - survivors.count()) as u64;
-            if survivors.is_empty() {
-                return;
+    fn group(
+        &self,
+        x: i32,
+        y: i32,
+        coverage: Coverage,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+        mode: &mut Mode,
+    ) {
+        match mode {
+            Mode::InOrder => {
+                tally.counters.fragments_rasterized += coverage.lanes().count() as u64;
+                if self.sample_shading {
+                    for s in 0..self.locations.count() {
+                        let one = coverage.only_sample(s);
+                        if !one.is_empty() {
+                            self.in_order(x, y, one, ShadePoint::Sample(s), target, tally);
+                        }
+                    }
+                } else {
+                    self.in_order(x, y, coverage, ShadePoint::Centre, target, tally);
+                }
+            }
+            Mode::Resolve { visibility, entry, claims } => {
+                tally.counters.fragments_rasterized += coverage.lanes().count() as u64;
+                self.resolve(x, y, coverage, target, tally, visibility, *entry, *claims);
+            }
+            Mode::Shade { visibility, entry } => {
+                let mut owned = Coverage::NONE;
+                for s in 0..self.locations.count() {
+                    let mut lanes = 0u8;
+                    for lane in 0..LANES {
+                        if coverage.sample(s).contains(lane)
+                            && visibility.owner(s, x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32) == *entry
+                        {
+                            lanes |= 1 << lane;
+                        }
+                    }
+                    owned.set_sample(s, LaneMask(lanes));
+                }
+                if owned.is_empty() {
+                    return;
+                }
+                if self.sample_shading {
+                    for s in 0..self.locations.count() {
+                        let one = owned.only_sample(s);
+                        if !one.is_empty() {
+                            self.shade_owned(x, y, one, ShadePoint::Sample(s), target, tally);
+                        }
+                    }
+                } else {
+                    self.shade_owned(x, y, owned, ShadePoint::Centre, target, tally);
+                }
             }
         }
+    }
 
+    /// In-order rendering of the covered samples.
+    fn in_order(
+        &self,
+        x: i32,
+        y: i32,
+        mut coverage: Coverage,
+        at: ShadePoint,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+    ) {
+        let rasterized = coverage.lanes();
+        if self.early_tests {
+            coverage = self.test(x, y, coverage, None, target, tally);
+            tally.counters.fragments_early_z_killed += (rasterized.count() - coverage.lanes().count()) as u64;
+        }
         let live = coverage.lanes();
+        if live.is_empty() {
+            return;
+        }
+        let out = self.shade(x, y, live, at, target, tally);
+
+        if self.properties.discards {
+            let discarded = out.discarded & live;
+            tally.counters.fragments_discarded += discarded.count() as u64;
+            coverage = coverage.restrict(!discarded);
+        }
+        if self.properties.writes_sample_mask {
+            coverage = Coverage(coverage.0 & lane_sample_masks(&out.sample_mask, self.locations.count()).0);
+        }
+        if self.desc.multisample.alpha_to_coverage {
+            coverage = Coverage(coverage.0 & alpha_to_coverage(tally.outputs[0][3], self.locations.count()).0);
+        }
+        if self.tests && !self.early_tests && !coverage.is_empty() {
+            let before = coverage.lanes().count();
+            let depth = self.properties.writes_depth.then_some(out.depth);
+            coverage = self.test(x, y, coverage, depth, target, tally);
+            tally.counters.fragments_late_killed += (before - coverage.lanes().count()) as u64;
+        }
+
+        let passed = coverage.lanes();
+        tally.counters.fragments_passed += passed.count() as u64;
+        let stats = tally.draw_stats();
+        stats.fragments_shaded += live.count() as u64;
+        stats.samples_passed += coverage.count() as u64;
+        if !passed.is_empty() {
+            self.write_colors(x, y, coverage, target, tally);
+        }
+    }
+
+    /// HSR pass one: the tests, and claims on the samples that pass.
+    #[allow(clippy::too_many_arguments)]
+    fn resolve(
+        &self,
+        x: i32,
+        y: i32,
+        mut coverage: Coverage,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+        visibility: &mut Visibility,
+        entry: u32,
+        claims: bool,
+    ) {
+        let rasterized = coverage.lanes().count();
+        if self.tests {
+            coverage = self.test(x, y, coverage, None, target, tally);
+            tally.counters.fragments_early_z_killed += (rasterized - coverage.lanes().count()) as u64;
+        }
+        let passed = coverage.lanes();
+        tally.counters.fragments_passed += passed.count() as u64;
+        tally.draw_stats().samples_passed += coverage.count() as u64;
+        if claims {
+            tally.hsr_candidates += passed.count() as u64;
+            for s in 0..self.locations.count() {
+                let lanes = coverage.sample(s);
+                for lane in 0..LANES {
+                    if lanes.contains(lane) {
+                        visibility.claim(s, x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32, entry);
+                    }
+                }
+            }
+        }
+    }
+
+    /// HSR pass two: shade and write the samples this primitive owns.
+    fn shade_owned(
+        &self,
+        x: i32,
+        y: i32,
+        owned: Coverage,
+        at: ShadePoint,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+    ) {
+        let live = owned.lanes();
+        self.shade(x, y, live, at, target, tally);
+        tally.draw_stats().fragments_shaded += live.count() as u64;
+        self.write_colors(x, y, owned, target, tally);
+    }
+
+    /// Runs the fragment shader on the lanes of the group (`live` are covered, the rest of
+    /// their quads are helpers).
+    fn shade(
+        &self,
+        x: i32,
+        y: i32,
+        live: LaneMask,
+        at: ShadePoint,
+        target: &RenderTarget,
+        tally: &mut FragmentTally,
+    ) -> ShadeOutput {
+        let (dx, dy) = match at {
+            ShadePoint::Centre => (0.5, 0.5),
+            ShadePoint::Sample(s) => {
+                let (sx, sy) = self.locations.offset(s);
+                let scale = super::fixed::SUBPIXEL_SCALE as f32;
+                (sx as f32 / scale, sy as f32 / scale)
+            }
+        };
+        let (px, py) = Interpolator::positions(x, y, dx, dy);
+        let (l1, l2) = self.interpolator.lambdas(px, py);
+        let depth = self.interpolator.depth(l1, l2);
         let (b1, b2) = self.interpolator.perspective(l1, l2);
+        // Outputs the shader does not write read as zero, whatever ran before.
+        for output in &mut tally.outputs[..self.desc.color_targets.len()] {
+            *output = [F32x8::ZERO; 4];
+        }
         let mut frag = Fragments {
-            x: cx,
-            y: cy,
-            z: centre_depth,
+            x: px,
+            y: py,
+            z: depth,
             b1,
             b2,
             l1,
             l2,
             varyings: self.varyings,
             varying_count: self.varying_count,
-            front_facing,
+            front_facing: self.primitive.front_facing,
             covered: live,
-            color: [[F32x8::ZERO; 4]; MAX_COLOR_ATTACHMENTS],
-            written_depth: centre_depth,
+            color: &mut tally.outputs,
+            written_depth: depth,
             discarded: LaneMask::NONE,
+            sample_mask: [u32::MAX; 8],
+            group: (x, y),
+            sample: match at {
+                ShadePoint::Centre => 0,
+                ShadePoint::Sample(s) => s,
+            },
+            inputs: target.inputs,
+            locals: target.color.each_ref().map(|c| c.as_deref()),
+            input_bytes: 0,
+            local_bytes: 0,
             context: &mut tally.context,
         };
         self.shader.shade(&mut frag);
-        let (out_color, out_depth, discarded) = (frag.color, frag.written_depth, frag.discarded);
-        counters.fragments_shaded += live.count() as u64;
-        counters.helper_invocations += (live.quads().count() - live.count()) as u64;
-
-        let discarded = discarded & live;
-        if !discarded.is_empty() {
-            counters.fragments_discarded += discarded.count() as u64;
-            coverage = coverage.restrict(!discarded);
+        let (input_bytes, local_bytes) = (frag.input_bytes, frag.local_bytes);
+        let out = ShadeOutput { depth: frag.written_depth, discarded: frag.discarded, sample_mask: frag.sample_mask };
+        // Reads of attachments: from the tile buffer on a tiler; from memory in immediate mode,
+        // where an input attachment is an image the earlier subpass stored (a texture read).
+        let external = target.color.iter().chain([&target.depth_stencil]).flatten().any(|s| s.is_external())
+            || target.inputs.iter().flatten().any(|s| s.is_external());
+        if external {
+            tally.ledger.add(Category::TextureFetch, input_bytes);
+            tally.ledger.add(Category::ImrColorRead, local_bytes);
+        } else {
+            tally.framebuffer.on_chip_bytes += input_bytes + local_bytes;
         }
-
-        if self.tests && !self.early_tests && !coverage.is_empty() {
-            let before = coverage.lanes().count();
-            let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
-            let writes_depth = self.shader.properties().writes_depth;
-            let ledger = target.external.then_some(&mut tally.ledger);
-            coverage = depth::test_group(
-                surface,
-                x,
-                y,
-                coverage,
-                &self.desc.depth_stencil,
-                front_facing,
-                |s| {
-                    if writes_depth {
-                        out_depth
-                    } else {
-                        self.sample_depth(x, y, s, &target.samples, multisampled, centre_depth)
-                    }
-                },
-                ledger,
-            );
-            counters.fragments_late_killed += (before - coverage.lanes().count()) as u64;
+        tally.counters.fragments_shaded += live.count() as u64;
+        tally.counters.helper_invocations += (live.quads().count() - live.count()) as u64;
+        if let Some(overdraw) = tally.overdraw.as_mut() {
+            for lane in 0..LANES {
+                if live.contains(lane) {
+                    overdraw.add(x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+                }
+            }
         }
-
-        let passed = coverage.lanes();
-        counters.fragments_passed += passed.count() as u64;
-        let stats = tally.draw_stats();
-        stats.fragments_shaded += live.count() as u64;
-        stats.samples_passed += coverage.count() as u64;
-        if passed.is_empty() {
-            return;
-        }
-        for (i, plan) in self.colors.iter().enumerate() {
-            let (Some(plan), Some(surface)) = (plan, target.color[i].as_mut()) else { continue };
-            let ledger = target.external.then_some(&mut tally.ledger);
-            write_color(surface, x, y, coverage, &out_color[i], plan, self.desc.blend_constant, ledger);
-        }
+        out
     }
 
-    /// Fragment depth at sample `s` of every lane (at the pixel centre for one sample).
-    #[inline(always)]
-    fn sample_depth(
+    /// Depth and stencil tests of the covered samples; `shader_depth` replaces the
+    /// interpolated depth when the shader wrote one.
+    fn test(
         &self,
         x: i32,
         y: i32,
-        s: usize,
-        locations: &super::samples::SampleLocations,
-        multisampled: bool,
-        centre: F32x8,
-    ) -> F32x8 {
-        if !multisampled {
-            return centre;
-        }
-        let (l1, l2) = self.interpolator.sample_lambdas(x, y, locations.offset(s));
-        self.interpolator.depth(l1, l2)
+        coverage: Coverage,
+        shader_depth: Option<F32x8>,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+    ) -> Coverage {
+        let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
+        let multisampled = self.locations.count() > 1;
+        depth::test_group(
+            surface,
+            x,
+            y,
+            coverage,
+            &self.desc.depth_stencil,
+            self.primitive.front_facing,
+            |s| match shader_depth {
+                Some(z) => z,
+                None if multisampled => {
+                    let (l1, l2) = self.interpolator.sample_lambdas(x, y, self.locations.offset(s));
+                    self.interpolator.depth(l1, l2)
+                }
+                None => {
+                    let (px, py) = Interpolator::positions(x, y, 0.5, 0.5);
+                    let (l1, l2) = self.interpolator.lambdas(px, py);
+                    self.interpolator.depth(l1, l2)
+                }
+            },
+            &mut tally.framebuffer,
+            &mut tally.ledger,
+        )
     }
+
+    fn write_colors(&self, x: i32, y: i32, coverage: Coverage, target: &mut RenderTarget, tally: &mut FragmentTally) {
+        let FragmentTally { outputs, framebuffer, ledger, .. } = tally;
+        for (i, plan) in self.colors.iter().enumerate() {
+            let (Some(plan), Some(surface)) = (plan, target.color[i].as_mut()) else { continue };
+            write_color(surface, x, y, coverage, &outputs[i], plan, self.desc.blend_constant, framebuffer, ledger);
+        }
+    }
+}
+
+/// Per-lane sample masks as coverage.
+fn lane_sample_masks(masks: &[u32; 8], samples: usize) -> Coverage {
+    let mut c = Coverage::NONE;
+    for s in 0..samples {
+        let mut lanes = 0u8;
+        for (lane, mask) in masks.iter().enumerate() {
+            lanes |= ((mask >> s & 1) as u8) << lane;
+        }
+        c.set_sample(s, LaneMask(lanes));
+    }
+    c
+}
+
+/// Alpha-to-coverage: a lane keeps its first `round(clamp(alpha) × samples)` samples
+/// (Vulkan leaves the pattern to the implementation; this one is deterministic and ordered).
+fn alpha_to_coverage(alpha: F32x8, samples: usize) -> Coverage {
+    let masks: [u32; 8] = std::array::from_fn(|lane| {
+        let a = alpha.lane(lane);
+        let a = if a > 0.0 { a.min(1.0) } else { 0.0 };
+        let kept = (a * samples as f32 + 0.5) as u32;
+        if kept >= 32 { u32::MAX } else { (1u32 << kept) - 1 }
+    });
+    lane_sample_masks(&masks, samples)
 }
 
 /// Blends and writes one colour attachment for the covered samples of a group.
@@ -285,52 +568,92 @@ fn write_color(
     color: &Vec4x8,
     plan: &ColorPlan,
     constant: [f32; 4],
-    ledger: Option<&mut Ledger>,
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
 ) {
     let format = surface.format;
     let bytes = format.bytes_per_sample();
     let clamp = format.is_normalized();
+    let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
+    let reads = plan.state.blend.is_some() || plan.partial;
+    let mut packed = [[0u8; 16]; LANES];
+    let src = match plan.state.blend {
+        // Normalised attachments blend a source clamped to [0, 1] (Vulkan).
+        Some(_) if clamp => color.map(|c| c.clamp(0.0, 1.0)),
+        _ => *color,
+    };
+    if plan.state.blend.is_none() {
+        // Every sample of a pixel gets the same packed value.
+        format.encode_lanes(&src, &mut packed);
+    }
     let constant = if clamp { constant.map(|c| c.clamp(0.0, 1.0)) } else { constant };
-    let (mut reads, mut writes) = (0u64, 0u64);
-    for lane in 0..LANES {
-        if !coverage.lanes().contains(lane) {
+    let mut written = 0u64;
+    for s in 0..surface.samples() {
+        let lanes = coverage.sample(s);
+        if lanes.is_empty() {
             continue;
         }
-        let mut src = [color[0].lane(lane), color[1].lane(lane), color[2].lane(lane), color[3].lane(lane)];
-        if clamp && plan.state.blend.is_some() {
-            src = src.map(|c| if c > 0.0 { c.min(1.0) } else { 0.0 });
+        written += lanes.count() as u64;
+        let plane = surface.plane_mut(s);
+        if let Some(blend) = &plan.state.blend {
+            let mut dst = [[0.0f32; LANES]; 4];
+            for lane in 0..LANES {
+                if lanes.contains(lane) {
+                    let offset = rows[lane / 4] + (lane % 4) * bytes;
+                    let value = format.decode_color(&plane[offset..offset + bytes]);
+                    for c in 0..4 {
+                        dst[c][lane] = value[c];
+                    }
+                }
+            }
+            let out = crate::blend::blend_lanes(blend, &src, &dst.map(F32x8), constant);
+            format.encode_lanes(&out, &mut packed);
         }
-        let offset = surface.offset(x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
-        // Without blending, every sample of the pixel gets the same packed value.
-        let mut packed = [0u8; 16];
-        if plan.state.blend.is_none() {
-            format.encode_color(src, &mut packed[..bytes]);
-        }
-        for s in 0..surface.samples() {
-            if !coverage.sample(s).contains(lane) {
+        for lane in 0..LANES {
+            if !lanes.contains(lane) {
                 continue;
             }
-            let stored = &mut surface.plane_mut(s)[offset..offset + bytes];
-            if let Some(blend) = &plan.state.blend {
-                let dst = format.decode_color(stored);
-                let out = blend_pixel(blend, src, dst, constant);
-                format.encode_color(out, &mut packed[..bytes]);
-                reads += 1;
-            } else if plan.partial {
-                reads += 1;
-            }
+            let offset = rows[lane / 4] + (lane % 4) * bytes;
+            let stored = &mut plane[offset..offset + bytes];
             if plan.partial {
-                for ((old, new), m) in stored.iter_mut().zip(&packed[..bytes]).zip(&plan.mask) {
+                for ((old, new), m) in stored.iter_mut().zip(&packed[lane][..bytes]).zip(&plan.mask) {
                     *old = (new & m) | (*old & !m);
                 }
             } else {
-                stored.copy_from_slice(&packed[..bytes]);
+                stored.copy_from_slice(&packed[lane][..bytes]);
             }
-            writes += 1;
         }
     }
-    if let Some(ledger) = ledger {
-        ledger.add(Category::ImrColorRead, reads * bytes as u64);
-        ledger.add(Category::ImrColorWrite, writes * bytes as u64);
+    if traffic.needs_addresses() {
+        for s in 0..surface.samples() {
+            for lane in 0..LANES {
+                if coverage.sample(s).contains(lane) {
+                    let address = surface.address(s, x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+                    if reads {
+                        traffic.access(ledger, Aspect::Color, address, bytes as u32, false);
+                    }
+                    traffic.access(ledger, Aspect::Color, address, bytes as u32, true);
+                }
+            }
+        }
+    } else {
+        if reads {
+            traffic.accesses(ledger, Aspect::Color, bytes as u32, written, false);
+        }
+        traffic.accesses(ledger, Aspect::Color, bytes as u32, written, true);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn alpha_to_coverage_keeps_the_first_samples() {
+        let alpha = F32x8([0.0, 0.1, 0.3, 0.5, 0.6, 0.9, 1.0, 2.0]);
+        let c = alpha_to_coverage(alpha, 4);
+        let kept: Vec<u32> = (0..8).map(|lane| (0..4).filter(|&s| c.sample(s).contains(lane)).count() as u32).collect();
+        assert_eq!(kept, vec![0, 0, 1, 2, 2, 4, 4, 4]);
+        assert!(c.sample(0).contains(4) && c.sample(1).contains(4) && !c.sample(2).contains(4));
     }
 }

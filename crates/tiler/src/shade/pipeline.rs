@@ -5,11 +5,11 @@
 use std::sync::Arc;
 
 use crate::api::pipeline::PipelineDesc;
-use crate::api::shader::{FragmentShader, VertexShader};
+use crate::api::shader::{FragmentShader, ShaderProperties, VertexShader};
 use crate::binning::frame_data::Primitive;
 use crate::geometry::fetch::VertexFetcher;
 use crate::geometry::vertex::{NonFinitePosition, ShadedVertices, VertexSet, shade_vertices};
-use crate::raster::primitive::{FragmentTally, rasterize};
+use crate::raster::primitive::{FragmentTally, Mode, rasterize};
 use crate::tile::target::RenderTarget;
 
 /// A pipeline's shaders behind one dynamic call per draw or per primitive.
@@ -21,7 +21,17 @@ pub trait PipelineObject: Send + Sync {
         varying_count: usize,
     ) -> Result<ShadedVertices, NonFinitePosition>;
 
-    fn rasterize(&self, primitive: &Primitive, varyings: &[f32], target: &mut RenderTarget, tally: &mut FragmentTally);
+    fn rasterize(
+        &self,
+        primitive: &Primitive,
+        varyings: &[f32],
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+        mode: &mut Mode,
+    );
+
+    /// What the fragment shader declares it may do.
+    fn properties(&self) -> ShaderProperties;
 }
 
 /// A vertex and a fragment shader with the state they run under.
@@ -47,7 +57,18 @@ impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
         shade_vertices(&self.vertex, fetcher, set, varying_count)
     }
 
-    fn rasterize(&self, primitive: &Primitive, varyings: &[f32], target: &mut RenderTarget, tally: &mut FragmentTally) {
-        rasterize(&self.fragment, &self.desc, primitive, varyings, target, tally);
+    fn rasterize(
+        &self,
+        primitive: &Primitive,
+        varyings: &[f32],
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+        mode: &mut Mode,
+    ) {
+        rasterize(&self.fragment, &self.desc, primitive, varyings, target, tally, mode);
+    }
+
+    fn properties(&self) -> ShaderProperties {
+        self.fragment.properties()
     }
 }

@@ -143,12 +143,11 @@ pub fn apply_load(dst: &mut Surface, src: Option<&Surface>, rect: &PixelRect, op
     bytes
 }
 
-/// Writes `rect` of the tile `src` to the image `dst` as the store ops say; returns the bytes
-/// written to external memory.
-pub fn apply_store(src: &Surface, dst: &mut Surface, rect: &PixelRect, ops: &AttachmentOps) -> u64 {
+/// Bytes a store of `rect` of `src` writes to external memory under `ops`: pixels × samples ×
+/// bytes of each aspect stored.
+pub fn store_bytes(src: &Surface, rect: &PixelRect, ops: &AttachmentOps) -> u64 {
     let format = src.format;
-    let pixels = rect.area() * src.samples() as u64;
-    let stored = match *ops {
+    let per_sample = match *ops {
         AttachmentOps::Color { store, .. } => (store == StoreOp::Store) as u64 * format.bytes_per_sample() as u64,
         AttachmentOps::DepthStencil { depth_store, stencil_store, .. } => {
             (depth_store == StoreOp::Store) as u64 * format.depth_aspect_bytes() as u64
@@ -156,11 +155,56 @@ pub fn apply_store(src: &Surface, dst: &mut Surface, rect: &PixelRect, ops: &Att
                     * format.stencil_aspect_bytes() as u64
         }
     };
-    if stored == 0 {
-        return 0;
+    rect.area() * src.samples() as u64 * per_sample
+}
+
+/// Writes `rect` of the tile `src` to the image `dst` as the store ops say; returns the bytes
+/// written to external memory ([`store_bytes`]).
+pub fn apply_store(src: &Surface, dst: &mut Surface, rect: &PixelRect, ops: &AttachmentOps) -> u64 {
+    let bytes = store_bytes(src, rect, ops);
+    if bytes > 0 {
+        copy_rect(dst, src, rect);
     }
-    copy_rect(dst, src, rect);
-    pixels * stored
+    bytes
+}
+
+/// A signature of `rect` of a tile (every sample), for transaction elimination.
+pub fn tile_signature(surface: &Surface, rect: &PixelRect) -> u64 {
+    // The rectangle is part of the signature: a store of another part of the tile must not
+    // match.
+    let corners = [rect.x0, rect.y0, rect.x1, rect.y1].map(|c| c as u32).map(u32::to_le_bytes).concat();
+    let mut hash = crate::api::image::TileSignatures::hash(0x243f_6a88_85a3_08d3, &corners);
+    for s in 0..surface.samples() {
+        for y in rect.y0..rect.y1 {
+            hash = crate::api::image::TileSignatures::hash(hash, surface.row(s, y, rect.x0, rect.x1));
+        }
+    }
+    hash
+}
+
+/// Averages the samples of `rect` of the multisampled `src` into the single-sample `dst`:
+/// each channel is the mean of the samples' values (linear values for sRGB formats), packed
+/// again in the format. Returns the pixels resolved.
+pub fn apply_resolve(src: &Surface, dst: &mut Surface, rect: &PixelRect) -> u64 {
+    let format = src.format;
+    let bytes = format.bytes_per_sample();
+    let samples = src.samples();
+    let scale = 1.0 / samples as f32;
+    for y in rect.y0..rect.y1 {
+        for x in rect.x0..rect.x1 {
+            let offset = src.offset(x, y);
+            let mut sum = [0.0f32; 4];
+            for s in 0..samples {
+                let v = format.decode_color(&src.plane(s)[offset..offset + bytes]);
+                for c in 0..4 {
+                    sum[c] += v[c];
+                }
+            }
+            let out = dst.offset(x, y);
+            format.encode_color(sum.map(|c| c * scale), &mut dst.plane_mut(0)[out..out + bytes]);
+        }
+    }
+    rect.area()
 }
 
 /// Depth and stencil packed as the format stores them (little-endian bytes).

@@ -3,6 +3,7 @@
 
 use crate::api::format::Format;
 use crate::api::pipeline::MAX_COLOR_ATTACHMENTS;
+use crate::backend::pass::{MAX_INPUT_ATTACHMENTS, ResolvedSubpass};
 use crate::raster::PixelRect;
 use crate::raster::samples::{MAX_SAMPLES, SampleLocations};
 
@@ -17,6 +18,9 @@ pub struct Surface<'a> {
     /// Pixels per row.
     stride: usize,
     bytes_per_sample: usize,
+    /// For an image in external memory: the address of this view's first byte and the bytes
+    /// between sample planes (cache models need addresses).
+    memory: Option<(u64, u64)>,
 }
 
 impl<'a> Surface<'a> {
@@ -41,6 +45,21 @@ impl<'a> Surface<'a> {
             origin_y: origin.1,
             stride,
             bytes_per_sample: format.bytes_per_sample(),
+            memory: None,
+        }
+    }
+
+    /// Gives the view addresses: its first byte is at `base`, planes `plane_bytes` apart.
+    pub fn with_memory(self, base: u64, plane_bytes: u64) -> Surface<'a> {
+        Surface { memory: Some((base, plane_bytes)), ..self }
+    }
+
+    /// The external-memory address of sample `s` of pixel `(x, y)` (0 for on-chip views).
+    #[inline(always)]
+    pub fn address(&self, sample: usize, x: i32, y: i32) -> u64 {
+        match self.memory {
+            Some((base, plane)) => base + sample as u64 * plane + self.offset(x, y) as u64,
+            None => 0,
         }
     }
 
@@ -82,15 +101,58 @@ impl<'a> Surface<'a> {
         let len = (x1 - x0) as usize * self.bytes_per_sample;
         &mut self.planes[sample][start..start + len]
     }
+
+    /// Whether pixel `(x, y)` lies in this view.
+    #[inline(always)]
+    pub fn contains(&self, x: i32, y: i32) -> bool {
+        let rows = self.planes[0].len() / (self.stride * self.bytes_per_sample).max(1);
+        x >= self.origin_x
+            && y >= self.origin_y
+            && ((x - self.origin_x) as usize) < self.stride
+            && ((y - self.origin_y) as usize) < rows
+    }
+
+    /// Whether this view is of external memory (an image), not of the tile buffer.
+    pub fn is_external(&self) -> bool {
+        self.memory.is_some()
+    }
 }
 
-/// The attachments the pixel pipeline writes for one primitive, and where it may write.
-pub struct RenderTarget<'a> {
-    pub color: [Option<Surface<'a>>; MAX_COLOR_ATTACHMENTS],
-    pub depth_stencil: Option<Surface<'a>>,
+/// What the pixel pipeline reads and writes for one primitive of a subpass, and where it may
+/// write: the subpass's colour outputs and depth-stencil attachment, and its input attachments
+/// (read only), borrowed from a tile's (or a band's) views of every attachment of the pass.
+pub struct RenderTarget<'t, 'a> {
+    pub color: [Option<&'t mut Surface<'a>>; MAX_COLOR_ATTACHMENTS],
+    pub depth_stencil: Option<&'t mut Surface<'a>>,
+    pub inputs: [Option<&'t Surface<'a>>; MAX_INPUT_ATTACHMENTS],
     pub samples: SampleLocations,
     /// The pixels this target holds (a tile, or a band of the framebuffer) ∩ the render area.
     pub clip: PixelRect,
-    /// Immediate mode: attachments live in external memory, and every access is traffic.
-    pub external: bool,
+    /// Whether depth and stencil tests may run before shading (the device's early-Z).
+    pub early_z: bool,
+}
+
+impl<'t, 'a> RenderTarget<'t, 'a> {
+    /// The target of `subpass` over `surfaces`, one view per attachment of the pass.
+    pub fn for_subpass(
+        surfaces: &'t mut [Surface<'a>],
+        subpass: &ResolvedSubpass,
+        samples: SampleLocations,
+        clip: PixelRect,
+        early_z: bool,
+    ) -> RenderTarget<'t, 'a> {
+        let mut color: [Option<&'t mut Surface<'a>>; MAX_COLOR_ATTACHMENTS] = Default::default();
+        let mut depth_stencil = None;
+        let mut inputs: [Option<&'t Surface<'a>>; MAX_INPUT_ATTACHMENTS] = Default::default();
+        for (index, surface) in surfaces.iter_mut().enumerate() {
+            if let Some(slot) = subpass.color.iter().position(|c| *c == index) {
+                color[slot] = Some(surface);
+            } else if subpass.depth_stencil == Some(index) {
+                depth_stencil = Some(surface);
+            } else if let Some(slot) = subpass.inputs.iter().position(|c| *c == index) {
+                inputs[slot] = Some(surface);
+            }
+        }
+        RenderTarget { color, depth_stencil, inputs, samples, clip, early_z }
+    }
 }

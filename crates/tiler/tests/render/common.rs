@@ -120,7 +120,14 @@ pub fn render_scene(
     threads: usize,
     budget: u64,
 ) -> (Vec<Vec<u8>>, PassReport) {
-    let config = DeviceConfig { backend, threads, tile_width: tile.0, tile_height: tile.1, frame_data_budget: budget };
+    let config = DeviceConfig {
+        backend,
+        threads,
+        tile_width: tile.0,
+        tile_height: tile.1,
+        frame_data_budget: budget,
+        ..DeviceConfig::default()
+    };
     let mut device = Device::new(config).unwrap();
     let scene = build(&mut device);
     let mut report = None;

@@ -160,7 +160,7 @@ fn strips_scissor_load(device: &mut Device) -> TestScene {
         max_depth: 1.0,
     }));
     let mut second = RenderPass::new(RenderPassDesc {
-        color: vec![ColorAttachment { image: color, load: LoadOp::Load, store: StoreOp::Store }],
+        color: vec![ColorAttachment { image: color, load: LoadOp::Load, store: StoreOp::Store, resolve: None }],
         depth_stencil: None,
         render_area: Some(Rect::new(33, 17, 90, 61)),
     });
@@ -257,8 +257,10 @@ fn incremental_renders_give_the_same_image_and_cost_more() {
     let (reference, imr) = render_scene(many_triangles, Backend::Imr, (32, 32), 2, BIG_BUDGET);
     let (whole, one_flush) = render_scene(many_triangles, Backend::Tbr, (32, 32), 2, BIG_BUDGET);
     let (split, flushed) = render_scene(many_triangles, Backend::Tbr, (32, 32), 2, 1 << 20);
+    let (deferred, _) = render_scene(many_triangles, Backend::Tbdr, (32, 32), 2, 1 << 20);
     assert_eq!(whole, reference);
     assert_eq!(split, reference);
+    assert_eq!(deferred, reference);
     assert_eq!(one_flush.counters.incremental_renders, 0);
     assert!(flushed.counters.incremental_renders >= 2, "{:?}", flushed.counters);
     assert!(flushed.frame_data.peak_bytes <= 1 << 20, "over budget: {}", flushed.frame_data.peak_bytes);

@@ -41,7 +41,7 @@ fn clear_and_store() {
         let report = device.submit(&pass(ColorAttachment::clear_store(color, [0.0, 1.0, 0.0, 1.0]), None)).unwrap();
         assert!(device.read_rgba8(color).unwrap().chunks(4).all(|p| p == [0, 255, 0, 255]));
         match backend {
-            Backend::Tbr => {
+            Backend::Tbr | Backend::Tbdr => {
                 assert_eq!(report.ledger.get(Category::TileLoad), 0, "a clear reads nothing");
                 assert_eq!(report.ledger.get(Category::TileStore), PIXELS * 4);
                 assert_eq!(report.ledger.total(), PIXELS * 4);
@@ -59,13 +59,14 @@ fn clear_and_store() {
 fn load_keeps_what_was_there() {
     for backend in Backend::ALL {
         let (mut device, color, _) = setup(backend);
-        let mut p = pass(ColorAttachment { image: color, load: LoadOp::Load, store: StoreOp::Store }, None);
+        let mut p =
+            pass(ColorAttachment { image: color, load: LoadOp::Load, store: StoreOp::Store, resolve: None }, None);
         small_triangle(&mut device, &mut p);
         let report = device.submit(&p).unwrap();
         let image = device.read_rgba8(color).unwrap();
         assert_eq!(&image[..4], &[255, 0, 0, 255]);
         assert_eq!(&image[image.len() - 4..], &[7, 8, 9, 10]);
-        if backend == Backend::Tbr {
+        if backend.is_tiler() {
             assert_eq!(report.ledger.get(Category::TileLoad), PIXELS * 4);
             assert_eq!(report.ledger.get(Category::TileStore), PIXELS * 4);
         } else {
@@ -78,7 +79,10 @@ fn load_keeps_what_was_there() {
 #[test]
 fn dont_care_store_writes_nothing() {
     let (mut device, color, _) = setup(Backend::Tbr);
-    let mut p = pass(ColorAttachment { image: color, load: LoadOp::Clear([0.0; 4]), store: StoreOp::DontCare }, None);
+    let mut p = pass(
+        ColorAttachment { image: color, load: LoadOp::Clear([0.0; 4]), store: StoreOp::DontCare, resolve: None },
+        None,
+    );
     small_triangle(&mut device, &mut p);
     let report = device.submit(&p).unwrap();
     assert_eq!(report.ledger.get(Category::TileStore), 0);
@@ -92,7 +96,10 @@ fn dont_care_load_reads_nothing_and_is_defined_as_zero() {
     for backend in Backend::ALL {
         let (mut device, color, _) = setup(backend);
         let report = device
-            .submit(&pass(ColorAttachment { image: color, load: LoadOp::DontCare, store: StoreOp::Store }, None))
+            .submit(&pass(
+                ColorAttachment { image: color, load: LoadOp::DontCare, store: StoreOp::Store, resolve: None },
+                None,
+            ))
             .unwrap();
         assert_eq!(report.ledger.get(Category::TileLoad), 0);
         assert!(device.image_data(color).unwrap().iter().all(|b| *b == 0), "{backend}");
@@ -107,7 +114,7 @@ fn depth_discarded_at_the_end_costs_nothing() {
             pass(ColorAttachment::clear_store(color, [0.0; 4]), Some(DepthStencilAttachment::clear_discard(ds, 1.0)));
         small_triangle(&mut device, &mut p);
         let report = device.submit(&p).unwrap();
-        if backend == Backend::Tbr {
+        if backend.is_tiler() {
             // Only colour leaves the chip.
             assert_eq!(report.ledger.get(Category::TileStore), PIXELS * 4);
             assert_eq!(report.ledger.get(Category::TileLoad), 0);
@@ -136,7 +143,7 @@ fn depth_and_stencil_aspects_load_separately() {
         let report = device.submit(&pass(ColorAttachment::clear_store(color, [0.0; 4]), Some(depth))).unwrap();
         assert!(device.read_depth(ds).unwrap().iter().all(|d| *d == 1.0), "{backend}: depth cleared");
         assert!(device.read_stencil(ds).unwrap().iter().all(|s| *s == 9), "{backend}: stencil kept");
-        if backend == Backend::Tbr {
+        if backend.is_tiler() {
             assert_eq!(report.ledger.get(Category::TileLoad), PIXELS, "only the stencil byte is loaded");
             assert_eq!(report.ledger.get(Category::TileStore), PIXELS * (4 + 4));
         } else {
@@ -179,7 +186,7 @@ fn render_area_limits_loads_stores_and_drawing() {
         }
         assert_eq!(report.counters.fragments_shaded, area.area());
         match backend {
-            Backend::Tbr => assert_eq!(report.ledger.get(Category::TileStore), area.area() * 4),
+            Backend::Tbr | Backend::Tbdr => assert_eq!(report.ledger.get(Category::TileStore), area.area() * 4),
             Backend::Imr => assert_eq!(report.ledger.get(Category::ImrClear), area.area() * 4),
         }
     }
@@ -219,7 +226,7 @@ fn clear_fill_frame_costs_what_the_seed_says() {
             - report.ledger.get(Category::FrameDataRead);
         match backend {
             Backend::Imr => assert_eq!(framebuffer, 5 * access),
-            Backend::Tbr => assert_eq!(framebuffer, access),
+            Backend::Tbr | Backend::Tbdr => assert_eq!(framebuffer, access),
         }
     }
 }

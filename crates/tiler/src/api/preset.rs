@@ -1,0 +1,140 @@
+//! Device presets: named GPUs as data — a TOML or JSON file holding a name, a description and
+//! a [`DeviceConfig`]. The built-in ones live in `crates/tiler/presets/`, each number with
+//! where it comes from; `tiler --device FILE` loads another.
+//!
+//! ```toml
+//! name = "my-gpu"
+//! description = "what it models"
+//! [device]
+//! backend = "tbdr"          # tbr | tbdr | imr
+//! tile_width = 32
+//! tile_height = 16
+//! [device.energy]
+//! external_pj_per_byte = 120.0
+//! ```
+//!
+//! Fields left out take [`DeviceConfig::default`]'s values; unknown fields are errors.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::device::DeviceConfig;
+use super::error::{Error, Result};
+
+/// A named device configuration.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DevicePreset {
+    pub name: String,
+    pub description: String,
+    #[serde(default)]
+    pub device: DeviceConfig,
+}
+
+/// The built-in presets' files, in the order `tiler compare` shows them.
+const BUILTIN: [(&str, &str); 5] = [
+    ("tbr", include_str!("../../presets/tbr.toml")),
+    ("tbdr", include_str!("../../presets/tbdr.toml")),
+    ("tbr-per-tile-vertex", include_str!("../../presets/tbr-per-tile-vertex.toml")),
+    ("imr", include_str!("../../presets/imr.toml")),
+    ("imr-no-cache", include_str!("../../presets/imr-no-cache.toml")),
+];
+
+impl DevicePreset {
+    /// Every built-in preset.
+    pub fn builtins() -> Vec<DevicePreset> {
+        BUILTIN
+            .iter()
+            .map(|(name, text)| DevicePreset::parse_toml(text, name).expect("built-in presets are valid"))
+            .collect()
+    }
+
+    /// The names of the built-in presets.
+    pub fn builtin_names() -> Vec<&'static str> {
+        BUILTIN.iter().map(|(name, _)| *name).collect()
+    }
+
+    /// A built-in preset by name.
+    ///
+    /// # Errors
+    /// No built-in preset has that name.
+    pub fn builtin(name: &str) -> Result<DevicePreset> {
+        match BUILTIN.iter().find(|(n, _)| *n == name) {
+            Some((n, text)) => DevicePreset::parse_toml(text, n),
+            None => Err(Error::invalid(
+                format!("device preset '{name}'"),
+                format!("no such built-in preset (built-in: {})", DevicePreset::builtin_names().join(", ")),
+            )),
+        }
+    }
+
+    /// A preset from a built-in name or a `.toml` / `.json` file.
+    ///
+    /// # Errors
+    /// An unreadable or invalid file, naming it and the field at fault.
+    pub fn load(name_or_path: &str) -> Result<DevicePreset> {
+        if BUILTIN.iter().any(|(n, _)| *n == name_or_path) {
+            return DevicePreset::builtin(name_or_path);
+        }
+        DevicePreset::from_file(Path::new(name_or_path))
+    }
+
+    /// Reads a preset file: JSON if its name ends in `.json`, TOML otherwise.
+    pub fn from_file(path: &Path) -> Result<DevicePreset> {
+        let what = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| Error::invalid(&what, format!("cannot read it: {e}")))?;
+        if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
+            DevicePreset::parse_json(&text, &what)
+        } else {
+            DevicePreset::parse_toml(&text, &what)
+        }
+    }
+
+    /// Parses TOML; `what` names the source in errors.
+    pub fn parse_toml(text: &str, what: &str) -> Result<DevicePreset> {
+        let preset: DevicePreset =
+            toml::from_str(text).map_err(|e| Error::invalid(what, e.to_string().trim().to_string()))?;
+        preset.validated(what)
+    }
+
+    /// Parses JSON; `what` names the source in errors.
+    pub fn parse_json(text: &str, what: &str) -> Result<DevicePreset> {
+        let preset: DevicePreset = serde_json::from_str(text).map_err(|e| Error::invalid(what, e.to_string()))?;
+        preset.validated(what)
+    }
+
+    fn validated(self, what: &str) -> Result<DevicePreset> {
+        self.device.validate().map_err(|e| Error::invalid(what, e.to_string()))?;
+        Ok(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Backend;
+
+    #[test]
+    fn builtins_parse_and_cover_the_three_architectures() {
+        let presets = DevicePreset::builtins();
+        for backend in Backend::ALL {
+            assert!(presets.iter().any(|p| p.device.backend == backend), "{backend}");
+        }
+        assert_eq!(DevicePreset::builtin("tbr").unwrap().device.tile_width, 16);
+    }
+
+    #[test]
+    fn errors_name_the_file_and_field() {
+        let e = DevicePreset::parse_toml("name = \"x\"\ndescription = \"y\"\n[device]\ntile_widht = 16\n", "gpu.toml")
+            .unwrap_err();
+        assert!(e.to_string().contains("gpu.toml") && e.to_string().contains("tile_widht"), "{e}");
+        let e = DevicePreset::parse_toml("name = \"x\"\ndescription = \"y\"\n[device]\ntile_width = 12\n", "gpu.toml")
+            .unwrap_err();
+        assert!(e.to_string().contains("multiple of 8"), "{e}");
+        let e = DevicePreset::parse_json("{\"name\": 3}", "gpu.json").unwrap_err();
+        assert!(e.to_string().contains("gpu.json"), "{e}");
+        let json = serde_json::to_string(&DevicePreset::builtin("imr").unwrap()).unwrap();
+        assert_eq!(DevicePreset::parse_json(&json, "round trip").unwrap(), DevicePreset::builtin("imr").unwrap());
+    }
+}

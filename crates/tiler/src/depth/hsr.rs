@@ -1,0 +1,301 @@
+//! Hidden-surface removal: the TBDR backend shades each covered sample once, with the surface
+//! that ends up visible, whatever order opaque geometry was drawn in (seed 000 §23.7, seed 004
+//! §24.2.2; PowerVR's "deferred" rendering).
+//!
+//! # How a tile's list is processed
+//!
+//! The list is cut into *segments* of consecutive primitives whose draws can wait for
+//! visibility. For a segment, pass one rasterizes every primitive and runs the depth and
+//! stencil tests (and their writes) in submission order, without shading; each sample that
+//! passes is *claimed* in the visibility buffer by the primitive (its position in the list).
+//! Pass two shades, for each primitive that still owns samples, exactly the samples it owns,
+//! and writes their colours. Because pass one applies the real tests in order, the depth,
+//! stencil and colour left in the tile are those in-order rendering leaves, for any compare
+//! op and whether or not depth writes are on: tiler never needs in-order shading for depth
+//! reasons, which is stricter than the seeds ask and keeps HSR on for more draws.
+//!
+//! A primitive whose draw cannot wait (see [`HsrFallback`]) ends the segment: the pending
+//! segment is resolved and shaded first, then the primitive is rendered in order (with early-Z
+//! where allowed), and a new segment starts after it. So HSR stays on for the opaque geometry
+//! before and after translucent or alpha-tested draws, as on PowerVR. The counters record how
+//! many fragments were rendered in order and why.
+//!
+//! A draw that writes no colour at all (a depth prepass) takes part in pass one but claims
+//! nothing: its depth hides what is behind it, and the colour already in the tile stays.
+
+use serde::Serialize;
+
+use crate::api::format::ColorWrites;
+use crate::api::pipeline::PipelineDesc;
+use crate::api::shader::ShaderProperties;
+use crate::binning::frame_data::FrameData;
+use crate::raster::PixelRect;
+use crate::raster::primitive::{FragmentTally, Mode};
+use crate::tile::target::RenderTarget;
+
+/// Why a draw's fragments are rendered in submission order instead of waiting for HSR.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HsrFallback {
+    /// The fragment shader may `discard` (seed 000 §23.7, seed 002 "Depth Testing").
+    Discard,
+    /// Blending reads what is behind (seed 000 §23.7, §23.8).
+    Blending,
+    /// The fragment shader writes depth (seed 002: `gl_FragDepth`).
+    ShaderDepth,
+    /// Alpha-to-coverage changes coverage after shading (seed 000 §23.7).
+    AlphaToCoverage,
+    /// The fragment shader writes the sample mask (seed 000 §23.7, seed 002: `gl_SampleMask`).
+    SampleMask,
+    /// Some but not all channels are written, so the result mixes surfaces.
+    PartialWriteMask,
+    /// The shader has side effects and must run for every fragment (seed 002: storage writes).
+    SideEffects,
+    /// The shader reads the attachments it writes (pixel-local storage): order matters.
+    PixelLocalRead,
+}
+
+/// How a draw takes part in hidden-surface removal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HsrMode {
+    /// Waits for visibility; `claims` is false for draws that write no colour.
+    Deferred { claims: bool },
+    /// Rendered in submission order, for this reason.
+    InOrder(HsrFallback),
+}
+
+impl HsrMode {
+    /// Decides from the pipeline's state and its shader's properties, for a subpass with
+    /// `color_count` colour attachments.
+    pub fn of(desc: &PipelineDesc, properties: ShaderProperties, color_count: usize) -> HsrMode {
+        if properties.side_effects {
+            return HsrMode::InOrder(HsrFallback::SideEffects);
+        }
+        if properties.discards {
+            return HsrMode::InOrder(HsrFallback::Discard);
+        }
+        if properties.reads_local {
+            return HsrMode::InOrder(HsrFallback::PixelLocalRead);
+        }
+        if properties.writes_depth {
+            return HsrMode::InOrder(HsrFallback::ShaderDepth);
+        }
+        if properties.writes_sample_mask {
+            return HsrMode::InOrder(HsrFallback::SampleMask);
+        }
+        if desc.multisample.alpha_to_coverage {
+            return HsrMode::InOrder(HsrFallback::AlphaToCoverage);
+        }
+        let targets = &desc.color_targets[..desc.color_targets.len().min(color_count)];
+        if targets.iter().any(|t| t.blend.is_some() && t.write_mask != ColorWrites::NONE) {
+            return HsrMode::InOrder(HsrFallback::Blending);
+        }
+        let full = targets.iter().filter(|t| t.write_mask == ColorWrites::ALL).count();
+        let none = targets.iter().filter(|t| t.write_mask == ColorWrites::NONE).count();
+        if full + none != targets.len() || (full > 0 && none > 0) {
+            return HsrMode::InOrder(HsrFallback::PartialWriteMask);
+        }
+        HsrMode::Deferred { claims: full > 0 }
+    }
+}
+
+/// Fragments rendered in submission order on the TBDR backend, by reason.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct HsrFallbacks {
+    pub discard: u64,
+    pub blending: u64,
+    pub shader_depth: u64,
+    pub alpha_to_coverage: u64,
+    pub sample_mask: u64,
+    pub partial_write_mask: u64,
+    pub side_effects: u64,
+    pub pixel_local_read: u64,
+}
+
+impl HsrFallbacks {
+    pub fn add(&mut self, reason: HsrFallback, fragments: u64) {
+        *match reason {
+            HsrFallback::Discard => &mut self.discard,
+            HsrFallback::Blending => &mut self.blending,
+            HsrFallback::ShaderDepth => &mut self.shader_depth,
+            HsrFallback::AlphaToCoverage => &mut self.alpha_to_coverage,
+            HsrFallback::SampleMask => &mut self.sample_mask,
+            HsrFallback::PartialWriteMask => &mut self.partial_write_mask,
+            HsrFallback::SideEffects => &mut self.side_effects,
+            HsrFallback::PixelLocalRead => &mut self.pixel_local_read,
+        } += fragments;
+    }
+
+    pub fn total(&self) -> u64 {
+        self.discard
+            + self.blending
+            + self.shader_depth
+            + self.alpha_to_coverage
+            + self.sample_mask
+            + self.partial_write_mask
+            + self.side_effects
+            + self.pixel_local_read
+    }
+
+    pub fn merge(&mut self, o: &HsrFallbacks) {
+        self.discard += o.discard;
+        self.blending += o.blending;
+        self.shader_depth += o.shader_depth;
+        self.alpha_to_coverage += o.alpha_to_coverage;
+        self.sample_mask += o.sample_mask;
+        self.partial_write_mask += o.partial_write_mask;
+        self.side_effects += o.side_effects;
+        self.pixel_local_read += o.pixel_local_read;
+    }
+}
+
+/// No primitive owns the sample: the colour in the tile buffer stays.
+pub const NO_OWNER: u32 = u32::MAX;
+
+/// The visibility buffer: which list entry owns each sample of the tile. One per worker,
+/// reused from tile to tile (tile-sized, like the tile buffer; a tag buffer on PowerVR).
+pub struct Visibility {
+    owners: Vec<u32>,
+    tile_width: usize,
+    plane: usize,
+    origin: (i32, i32),
+    /// Scratch: which entries of the current segment own samples.
+    visible: Vec<bool>,
+}
+
+impl Visibility {
+    pub fn new(tile_width: u32, tile_height: u32, samples: u32) -> Visibility {
+        let plane = (tile_width * tile_height) as usize;
+        Visibility {
+            owners: vec![NO_OWNER; plane * samples as usize],
+            tile_width: tile_width as usize,
+            plane,
+            origin: (0, 0),
+            visible: Vec::new(),
+        }
+    }
+
+    /// Starts a segment in the tile whose top-left pixel is that of `tile`: nothing owned.
+    pub fn reset(&mut self, tile: &PixelRect) {
+        self.origin = (tile.x0, tile.y0);
+        self.owners.fill(NO_OWNER);
+    }
+
+    #[inline(always)]
+    fn index(&self, sample: usize, x: i32, y: i32) -> usize {
+        sample * self.plane + (y - self.origin.1) as usize * self.tile_width + (x - self.origin.0) as usize
+    }
+
+    #[inline(always)]
+    pub fn owner(&self, sample: usize, x: i32, y: i32) -> u32 {
+        self.owners[self.index(sample, x, y)]
+    }
+
+    #[inline(always)]
+    pub fn claim(&mut self, sample: usize, x: i32, y: i32, entry: u32) {
+        let i = self.index(sample, x, y);
+        self.owners[i] = entry;
+    }
+
+    /// The entries in `first..first + count` that own at least one sample, in order.
+    pub fn owners_in(&mut self, first: u32, count: usize) -> impl Iterator<Item = u32> + '_ {
+        self.visible.clear();
+        self.visible.resize(count, false);
+        for &owner in &self.owners {
+            if owner != NO_OWNER && owner >= first && ((owner - first) as usize) < count {
+                self.visible[(owner - first) as usize] = true;
+            }
+        }
+        self.visible.iter().enumerate().filter(|(_, v)| **v).map(move |(i, _)| first + i as u32)
+    }
+}
+
+/// Renders a tile's polygon list with hidden-surface removal (see the module docs).
+pub fn render_list(
+    list: &[u32],
+    frame: &FrameData,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+    visibility: &mut Visibility,
+    tile: &PixelRect,
+) {
+    let mut segment: Option<usize> = None;
+    for (i, &entry) in list.iter().enumerate() {
+        let primitive = &frame.primitives[entry as usize];
+        let state = &frame.states[primitive.state as usize];
+        tally.draw = state.draw as usize;
+        match state.hsr {
+            HsrMode::Deferred { claims } => {
+                if segment.is_none() {
+                    visibility.reset(tile);
+                    segment = Some(i);
+                }
+                let mut mode = Mode::Resolve { visibility, entry: i as u32, claims };
+                state.pipeline.object.rasterize(primitive, frame.varyings_of(primitive), target, tally, &mut mode);
+            }
+            HsrMode::InOrder(reason) => {
+                if let Some(start) = segment.take() {
+                    shade_segment(list, start..i, frame, target, tally, visibility);
+                }
+                tally.draw = state.draw as usize;
+                let before = tally.counters.fragments_rasterized;
+                let varyings = frame.varyings_of(primitive);
+                state.pipeline.object.rasterize(primitive, varyings, target, tally, &mut Mode::InOrder);
+                tally.counters.hsr_fallback.add(reason, tally.counters.fragments_rasterized - before);
+            }
+        }
+    }
+    if let Some(start) = segment {
+        shade_segment(list, start..list.len(), frame, target, tally, visibility);
+    }
+}
+
+/// Pass two of a segment: shade each primitive that still owns samples, in list order.
+fn shade_segment(
+    list: &[u32],
+    segment: std::ops::Range<usize>,
+    frame: &FrameData,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+    visibility: &mut Visibility,
+) {
+    let shaded_before = tally.counters.fragments_shaded;
+    let owners: Vec<u32> = visibility.owners_in(segment.start as u32, segment.len()).collect();
+    for i in owners {
+        let primitive = &frame.primitives[list[i as usize] as usize];
+        let state = &frame.states[primitive.state as usize];
+        tally.draw = state.draw as usize;
+        let mut mode = Mode::Shade { visibility, entry: i };
+        state.pipeline.object.rasterize(primitive, frame.varyings_of(primitive), target, tally, &mut mode);
+    }
+    let shaded = tally.counters.fragments_shaded - shaded_before;
+    tally.counters.fragments_hsr_killed += tally.hsr_candidates.saturating_sub(shaded);
+    tally.hsr_candidates = 0;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::api::pipeline::{ColorTargetState, VertexInputState};
+
+    #[test]
+    fn what_switches_hsr_off() {
+        let desc = PipelineDesc::new("p", VertexInputState::default());
+        let props = ShaderProperties::default();
+        assert_eq!(HsrMode::of(&desc, props, 1), HsrMode::Deferred { claims: true });
+        let discard = ShaderProperties { discards: true, ..props };
+        assert_eq!(HsrMode::of(&desc, discard, 1), HsrMode::InOrder(HsrFallback::Discard));
+        let mut blend = desc.clone();
+        blend.color_targets = vec![ColorTargetState::ALPHA_BLEND];
+        assert_eq!(HsrMode::of(&blend, props, 1), HsrMode::InOrder(HsrFallback::Blending));
+        let mut prepass = desc.clone();
+        prepass.color_targets[0].write_mask = ColorWrites::NONE;
+        assert_eq!(HsrMode::of(&prepass, props, 1), HsrMode::Deferred { claims: false });
+        let mut partial = desc.clone();
+        partial.color_targets[0].write_mask = ColorWrites::COLOR;
+        assert_eq!(HsrMode::of(&partial, props, 1), HsrMode::InOrder(HsrFallback::PartialWriteMask));
+        let mut a2c = desc;
+        a2c.multisample.alpha_to_coverage = true;
+        assert_eq!(HsrMode::of(&a2c, props, 1), HsrMode::InOrder(HsrFallback::AlphaToCoverage));
+    }
+}

@@ -1,0 +1,231 @@
+//! The cost model: each ledger formula on small hand-checked cases, and the seeds' arithmetic
+//! through the public API.
+
+use super::common::*;
+use tiler::*;
+
+fn device_with(config: DeviceConfig) -> Device {
+    Device::new(DeviceConfig { threads: 2, ..config }).unwrap()
+}
+
+fn preset(name: &str) -> DeviceConfig {
+    DevicePreset::builtin(name).unwrap().device
+}
+
+/// A full-screen quad (two triangles) at depth `z`.
+fn fullscreen(z: f32) -> Vec<Vertex> {
+    let c = [1.0, 1.0, 1.0, 1.0];
+    vec![
+        v(-1.0, -1.0, z, c),
+        v(-1.0, 1.0, z, c),
+        v(1.0, 1.0, z, c),
+        v(-1.0, -1.0, z, c),
+        v(1.0, 1.0, z, c),
+        v(1.0, -1.0, z, c),
+    ]
+}
+
+/// Seed 004 §24.3.2: 1024×768, 16-bit colour and depth, 60 frames/s. One full-screen access
+/// is 94 MB/s; a clear-fill-display frame is 6 of them on an immediate-mode GPU (8 with
+/// composition) and 2 on a tiler (4 with composition).
+#[test]
+fn the_seeds_clear_fill_display_arithmetic() {
+    let access = 1024u64 * 768 * 2;
+    assert_eq!((access as f64 * 60.0 / 1e6 * 100.0).round() / 100.0, 94.37);
+    for (name, accesses, with_composition) in [("imr-no-cache", 6, 8), ("tbr", 2, 4), ("tbdr", 2, 4)] {
+        for composition in [false, true] {
+            let mut config = preset(name);
+            config.display.composition = composition;
+            let mut device = device_with(config);
+            let color = device.create_image(ImageDesc::new(1024, 768, Format::Rgb565Unorm)).unwrap();
+            let depth = device.create_image(ImageDesc::new(1024, 768, Format::D16Unorm)).unwrap();
+            let mut pass = color_pass(color, Some(DepthStencilAttachment::clear_discard(depth, 1.0)));
+            let mut d = desc("fill");
+            d.depth_stencil = DepthStencilState::LESS_WRITE;
+            let quad = device.create_buffer_from(&fullscreen(0.5)).unwrap();
+            pass.draw(Draw::new(&pipeline(FlatColor, d), quad, 0, 6));
+            let mut frame = FrameCost::new(vec![device.submit(&pass).unwrap()]);
+            frame.present = device.present(color).unwrap();
+            let ledger = frame.ledger();
+            let framebuffer = ledger.total() - ledger.geometry_bytes();
+            let expected = if composition { with_composition } else { accesses };
+            assert_eq!(framebuffer, expected * access, "{name}, composition {composition}");
+            let mb_per_second = framebuffer as f64 * 60.0 / 1e6;
+            assert!((mb_per_second - expected as f64 * 94.371_84).abs() < 1e-3, "{name}: {mb_per_second} MB/s");
+        }
+    }
+}
+
+#[test]
+fn one_triangle_geometry_and_frame_data() {
+    let mut device = device_with(DeviceConfig::default().with_tile_size(16));
+    let color = device.create_image(ImageDesc::new(32, 32, Format::Rgba8Unorm)).unwrap();
+    let c = [1.0; 4];
+    let vb = device.create_buffer_from(&[v(-0.9, -0.9, 0.5, c), v(0.9, -0.9, 0.5, c), v(-0.9, 0.9, 0.5, c)]).unwrap();
+    let ib = device.create_buffer_from(&[0u16, 1, 2]).unwrap();
+    let mut pass = color_pass(color, None);
+    pass.draw(Draw::indexed(&pipeline(Smooth, desc("one")), vb, ib, IndexType::U16, 0, 3));
+    let r = device.submit(&pass).unwrap();
+    // Vertex fetch: 3 vertices × (16 + 16) attribute bytes; index fetch: 3 × 2.
+    assert_eq!(r.ledger.get(Category::VertexFetch), 3 * 32);
+    assert_eq!(r.ledger.get(Category::IndexFetch), 3 * 2);
+    // The triangle covers 3 of the 4 tiles: one record (8 + 3 × (16 + 4 × 4 varyings)),
+    // 3 list entries of 4 bytes, one 64-byte state record.
+    let record = 8 + 3 * (16 + 4 * 4);
+    assert_eq!(r.counters.polygon_list_entries, 3);
+    assert_eq!(r.ledger.get(Category::FrameDataWrite), record + 3 * 4 + 64);
+    // Each of the 3 tiles reads its entry, the record and the state.
+    assert_eq!(r.ledger.get(Category::FrameDataRead), 3 * (4 + record + 64));
+    // Colour is stored for all four tiles; nothing is loaded.
+    assert_eq!(r.ledger.get(Category::TileStore), 32 * 32 * 4);
+    assert_eq!(r.ledger.get(Category::TileLoad), 0);
+}
+
+#[test]
+fn the_post_transform_cache_saves_shared_vertices() {
+    let c = [1.0; 4];
+    // Two triangles sharing two vertices.
+    let verts = [v(-1.0, -1.0, 0.5, c), v(1.0, -1.0, 0.5, c), v(-1.0, 1.0, 0.5, c), v(1.0, 1.0, 0.5, c)];
+    for (cache, shaded) in [(32, 4), (0, 6), (2, 4), (1, 5)] {
+        let mut device = device_with(DeviceConfig { post_transform_cache: cache, ..DeviceConfig::default() });
+        let color = device.create_image(ImageDesc::new(16, 16, Format::Rgba8Unorm)).unwrap();
+        let vb = device.create_buffer_from(&verts).unwrap();
+        let ib = device.create_buffer_from(&[0u32, 1, 2, 2, 1, 3]).unwrap();
+        let mut pass = color_pass(color, None);
+        pass.draw(Draw::indexed(&pipeline(Smooth, desc("quad")), vb, ib, IndexType::U32, 0, 6));
+        let r = device.submit(&pass).unwrap();
+        assert_eq!(r.counters.vertices_shaded, shaded, "cache of {cache}");
+        assert_eq!(r.ledger.get(Category::VertexFetch), shaded * 32);
+    }
+}
+
+#[test]
+fn position_only_binning_shades_vertices_again_per_tile() {
+    let mut config = preset("tbr-per-tile-vertex");
+    config.tile_width = 16;
+    config.tile_height = 16;
+    let mut device = device_with(config);
+    let color = device.create_image(ImageDesc::new(32, 16, Format::Rgba8Unorm)).unwrap();
+    let c = [1.0; 4];
+    // A triangle across both tiles of a 32×16 framebuffer.
+    let vb = device.create_buffer_from(&[v(-0.9, -0.9, 0.5, c), v(0.9, -0.9, 0.5, c), v(0.0, 0.9, 0.5, c)]).unwrap();
+    let mut pass = color_pass(color, None);
+    pass.draw(Draw::new(&pipeline(Smooth, desc("wide")), vb, 0, 3));
+    let r = device.submit(&pass).unwrap();
+    assert_eq!(r.counters.polygon_list_entries, 2);
+    // Binning fetches the 3 vertices once; each of the 2 tiles fetches them again.
+    assert_eq!(r.ledger.get(Category::VertexFetch), (3 + 2 * 3) * 32);
+    assert_eq!(r.counters.vertices_shaded, 3 + 2 * 3);
+    // The record holds positions only: 8 + 3 × 16.
+    assert_eq!(r.ledger.get(Category::FrameDataWrite), (8 + 3 * 16) + 2 * 4 + 64);
+}
+
+#[test]
+fn a_framebuffer_cache_absorbs_repeated_accesses() {
+    // Four full-screen layers back to front on 64×32 pixels: colour and depth (8 KiB each)
+    // fit a 64 KiB cache, so each line is filled once and written back once.
+    let (w, h) = (64u32, 32u32);
+    let run = |cache: CacheConfig| {
+        let mut config = preset("imr");
+        config.framebuffer_cache = cache;
+        let mut device = device_with(config);
+        let color = device.create_image(ImageDesc::new(w, h, Format::Rgba8Unorm)).unwrap();
+        let depth = device.create_image(ImageDesc::new(w, h, Format::D32Float)).unwrap();
+        let mut pass = color_pass(color, Some(DepthStencilAttachment::clear_discard(depth, 1.0)));
+        let mut d = desc("layers");
+        d.depth_stencil = DepthStencilState::LESS_WRITE;
+        let layers: Vec<Vertex> = (0..4).flat_map(|i| fullscreen(0.8 - 0.2 * i as f32)).collect();
+        let vb = device.create_buffer_from(&layers).unwrap();
+        pass.draw(Draw::new(&pipeline(FlatColor, d), vb, 0, 24));
+        device.submit(&pass).unwrap()
+    };
+    let pixels = (w * h) as u64;
+    let raw = run(CacheConfig::NONE);
+    assert_eq!(raw.ledger.get(Category::ImrDepthRead), 4 * pixels * 4);
+    assert_eq!(raw.ledger.get(Category::ImrDepthWrite), 4 * pixels * 4);
+    assert_eq!(raw.ledger.get(Category::ImrColorWrite), 4 * pixels * 4);
+    let cached = run(CacheConfig { size_bytes: 64 << 10, line_bytes: 64, ways: 8 });
+    assert_eq!(cached.ledger.get(Category::ImrDepthRead), pixels * 4, "each depth line filled once");
+    assert_eq!(cached.ledger.get(Category::ImrColorRead), pixels * 4, "write-allocate fills colour once");
+    assert_eq!(cached.ledger.get(Category::ImrDepthWrite), pixels * 4, "each depth line written back once");
+    assert_eq!(cached.ledger.get(Category::ImrColorWrite), pixels * 4);
+    assert_eq!(
+        cached.on_chip_bytes,
+        raw.ledger.total() - raw.ledger.geometry_bytes() - raw.ledger.get(Category::ImrClear)
+    );
+}
+
+#[test]
+fn transaction_elimination_skips_unchanged_tiles() {
+    let mut config = preset("tbr");
+    config.tile_width = 16;
+    config.tile_height = 16;
+    let mut device = device_with(config);
+    let color = device.create_image(ImageDesc::new(64, 32, Format::Rgba8Unorm)).unwrap();
+    let c = [1.0, 0.0, 0.0, 1.0];
+    let vb = device.create_buffer_from(&[v(-1.0, -1.0, 0.5, c), v(-0.8, -1.0, 0.5, c), v(-1.0, -0.8, 0.5, c)]).unwrap();
+    let still = color_pass(color, None);
+    let mut moved = color_pass(color, None);
+    moved.draw(Draw::new(&pipeline(FlatColor, desc("corner")), vb, 0, 3));
+    let first = device.submit(&still).unwrap();
+    assert_eq!(first.ledger.get(Category::TileStore), 64 * 32 * 4);
+    assert_eq!(first.transaction_elimination_saved, 0);
+    let second = device.submit(&still).unwrap();
+    assert_eq!(second.ledger.get(Category::TileStore), 0, "nothing changed");
+    assert_eq!(second.transaction_elimination_saved, 64 * 32 * 4);
+    // A triangle in the top-left corner changes one tile only.
+    let third = device.submit(&moved).unwrap();
+    assert_eq!(third.ledger.get(Category::TileStore), 16 * 16 * 4);
+    assert_eq!(&device.read_rgba8(color).unwrap()[..4], &[255, 0, 0, 255]);
+    // Writing the image another way forgets the signatures.
+    device.write_image(color, &vec![0; 64 * 32 * 4]).unwrap();
+    assert_eq!(device.submit(&moved).unwrap().ledger.get(Category::TileStore), 64 * 32 * 4);
+}
+
+#[test]
+fn energy_and_on_chip_bytes() {
+    let mut device = device_with(preset("tbr"));
+    let color = device.create_image(ImageDesc::new(32, 32, Format::Rgba8Unorm)).unwrap();
+    let frame = FrameCost::new(vec![device.submit(&color_pass(color, None)).unwrap()]);
+    // A clear and a store: the store reads the tile buffer as it writes memory.
+    assert_eq!(frame.ledger().total(), 32 * 32 * 4);
+    assert_eq!(frame.on_chip_bytes(), 32 * 32 * 4);
+    let model = EnergyModel { external_pj_per_byte: 100.0, on_chip_pj_per_byte: 2.0 };
+    let energy = frame.energy(&model);
+    assert!((energy.external_joules - 4096.0 * 100e-12).abs() < 1e-18);
+    assert!((energy.on_chip_joules - 4096.0 * 2e-12).abs() < 1e-18);
+    assert!((energy.milliwatts(60.0) - 4096.0 * 102e-12 * 60.0 * 1e3).abs() < 1e-12);
+}
+
+#[test]
+fn the_overdraw_map_counts_shaded_fragments_per_pixel() {
+    for (backend, per_pixel) in [(Backend::Tbr, 3), (Backend::Tbdr, 1), (Backend::Imr, 3)] {
+        let mut device = device_with(DeviceConfig { backend, overdraw_map: true, ..DeviceConfig::default() });
+        let color = device.create_image(ImageDesc::new(40, 24, Format::Rgba8Unorm)).unwrap();
+        let depth = device.create_image(ImageDesc::new(40, 24, Format::D16Unorm)).unwrap();
+        let mut pass = color_pass(color, Some(DepthStencilAttachment::clear_discard(depth, 1.0)));
+        let mut d = desc("layers");
+        d.depth_stencil = DepthStencilState::LESS_WRITE;
+        let layers: Vec<Vertex> = (0..3).flat_map(|i| fullscreen(0.8 - 0.2 * i as f32)).collect();
+        let vb = device.create_buffer_from(&layers).unwrap();
+        pass.draw(Draw::new(&pipeline(FlatColor, d), vb, 0, 18));
+        let r = device.submit(&pass).unwrap();
+        let map = r.overdraw_map.expect("recorded");
+        assert!(map.iter().all(|c| *c == per_pixel), "{backend}");
+        assert_eq!(map.iter().map(|c| *c as u64).sum::<u64>(), r.counters.fragments_shaded);
+    }
+}
+
+#[test]
+fn present_costs_scan_out_and_composition() {
+    let mut device = device_with(DeviceConfig {
+        display: DisplayModel { scan_out: true, composition: true },
+        ..DeviceConfig::default()
+    });
+    let color = device.create_image(ImageDesc::new(100, 10, Format::Rgba8Unorm)).unwrap();
+    let ledger = device.present(color).unwrap();
+    assert_eq!(ledger.get(Category::Display), 4000);
+    assert_eq!(ledger.get(Category::Composition), 8000);
+    let msaa = device.create_image(ImageDesc::new(100, 10, Format::Rgba8Unorm).with_samples(4)).unwrap();
+    assert!(device.present(msaa).is_err());
+}
