@@ -125,14 +125,9 @@ impl Context {
         }
         self.end_open_pass(EndCause::Swap)?;
         let color = self.surface_color;
-        let desc = self.images[&color].desc;
-        let frame_bytes = desc.width as u64 * desc.height as u64 * desc.format.bytes_per_sample() as u64;
-        if self.config.display {
-            self.frame.context_ledger.add(Category::Display, frame_bytes);
-        }
-        if self.config.composition {
-            self.frame.context_ledger.add(Category::Composition, 2 * frame_bytes);
-        }
+        // The display model of the device: scan-out and, if configured, composition.
+        let present = self.device.present(color).map_err(|e| e.to_string())?;
+        self.frame.context_ledger.merge(&present);
         // The display reads the colour buffer.
         self.consume(color, Slot::Color(0));
         if self.swap_behavior == SwapBehavior::Destroyed {

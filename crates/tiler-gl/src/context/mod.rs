@@ -137,6 +137,8 @@ impl ContextConfig {
             tile_height: self.tile_height,
             threads: self.threads,
             frame_data_budget: self.frame_data_budget,
+            display: tiler::DisplayModel { scan_out: self.display, composition: self.composition },
+            ..DeviceConfig::default()
         }
     }
 }

@@ -922,7 +922,7 @@ impl Context {
             .aspects
             .iter()
             .filter(|a| matches!(a.slot, Slot::Color(_)))
-            .map(|a| ColorAttachment { image: a.image, load: load_color(a), store: store(a) })
+            .map(|a| ColorAttachment { image: a.image, load: load_color(a), store: store(a), resolve: None })
             .collect();
         let depth_stencil = pass.targets.depth_stencil.map(|ds| {
             let find = |slot| pass.aspects.iter().find(|a| a.slot == slot);
@@ -967,7 +967,8 @@ impl Context {
                 scissor: d.scissor,
             });
         }
-        let render_pass = RenderPass { desc: RenderPassDesc { color, depth_stencil, render_area: pass.region }, draws };
+        let mut render_pass = RenderPass::new(RenderPassDesc { color, depth_stencil, render_area: pass.region });
+        render_pass.draws = draws;
         let report = match self.device.submit(&render_pass) {
             Ok(report) => report,
             Err(e) => {
