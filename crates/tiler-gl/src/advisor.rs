@@ -222,6 +222,7 @@ pub fn advise(config: &ContextConfig, frames: &[FrameRecord]) -> Vec<Finding> {
     for (i, pass) in passes.iter().enumerate() {
         let earlier = &passes[..i];
         pass_findings(config, pass, earlier, &mut out);
+        msaa_stored(pass, &passes[i + 1..], &mut out);
     }
     for frame in frames {
         frame_findings(frame, &passes, &mut out);
@@ -540,28 +541,6 @@ fn pass_findings(config: &ContextConfig, pass: &PassRecord, earlier: &[&PassReco
         }
     }
 
-    // Multisampled images stored.
-    let msaa: Vec<_> = pass.attachments.iter().filter(|a| a.samples > 1 && a.store == StoreKind::Store).collect();
-    if !msaa.is_empty() {
-        let cost: u64 = msaa.iter().map(|a| a.store_bytes).sum();
-        out.push(finding(
-            "msaa-stored",
-            pass,
-            Some(pass.ended_at),
-            Cost { bytes: cost, ..Cost::default() },
-            format!(
-                "pass {} on {fb} stores {} with {} samples per pixel ({})",
-                pass.index,
-                slots(&msaa.iter().map(|a| a.slot).collect::<Vec<_>>()),
-                pass.samples,
-                bytes(cost)
-            ),
-            "render to a single-sampled texture with multisampling resolved in the tile \
-             (EXT_multisampled_render_to_texture) and invalidate the multisampled buffers"
-                .to_string(),
-        ));
-    }
-
     // A full-screen pass reading only the previous pass's colour.
     if let Some(prev) = earlier.last()
         && prev.frame == pass.frame
@@ -602,6 +581,48 @@ fn pass_findings(config: &ContextConfig, pass: &PassRecord, earlier: &[&PassReco
             Cost::default(),
             format!("the {} at {} threw away {} draw(s) gathered before it on {fb}", d.by, d.call, d.draws),
             "if those draws were meant to be measured or seen, clear before them".to_string(),
+        ));
+    }
+}
+
+/// Multisampled colour stored (and read back, by a blit that resolves it) instead of resolved
+/// in the tile. Resolving in the tile writes one value per pixel instead of `S` samples, and
+/// whatever reads the result reads one value instead of `S`: the fix saves `(S − 1) / S` of
+/// the store and of every read of it before it is stored again. Stores forced by a flush are
+/// `flush-mid-pass`'s.
+fn msaa_stored(pass: &PassRecord, later: &[&PassRecord], out: &mut Vec<Finding>) {
+    if matches!(pass.end, EndCause::Flush { .. }) {
+        return;
+    }
+    for a in pass.attachments.iter().filter(|a| a.samples > 1 && a.store == StoreKind::Store) {
+        let s = a.samples as u64;
+        let mut reads = 0;
+        for p in later {
+            reads += p.draws.iter().filter(|d| d.sampled == Some(a.image)).map(|d| d.texture_bytes).sum::<u64>();
+            if p.attachments.iter().any(|b| b.image == a.image && b.store == StoreKind::Store) {
+                break;
+            }
+        }
+        let cost = (a.store_bytes + reads) * (s - 1) / s;
+        let fb =
+            if pass.framebuffer == 0 { "the window".to_string() } else { format!("framebuffer {}", pass.framebuffer) };
+        out.push(finding(
+            "msaa-stored",
+            pass,
+            Some(pass.ended_at),
+            Cost { bytes: cost, ..Cost::default() },
+            format!(
+                "pass {} on {fb} stores its {} with {s} samples per pixel ({}) and {} are read back to resolve them: \
+                 resolved in the tile, 1 value per pixel would be written and read",
+                pass.index,
+                a.slot,
+                bytes(a.store_bytes),
+                bytes(reads)
+            ),
+            "render to a single-sampled texture with multisampling resolved in the tile \
+             (framebuffer_texture with samples, EXT_multisampled_render_to_texture) and invalidate the \
+             multisampled depth"
+                .to_string(),
         ));
     }
 }

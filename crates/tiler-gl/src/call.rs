@@ -106,11 +106,15 @@ pub enum Call<D = Bytes> {
         id: u32,
     },
     /// Attaches texture `texture` (0 detaches) to `attachment` of framebuffer `framebuffer`
-    /// (`glFramebufferTexture2D`).
+    /// (`glFramebufferTexture2D`). With `samples` above 1 the framebuffer renders that many
+    /// samples and resolves them into the texture in the tile
+    /// (`glFramebufferTexture2DMultisampleEXT`, EXT_multisampled_render_to_texture).
     FramebufferTexture {
         framebuffer: u32,
         attachment: AttachmentPoint,
         texture: u32,
+        #[serde(default = "one", skip_serializing_if = "is_one")]
+        samples: u32,
     },
     /// Attaches a renderbuffer (0 detaches) (`glFramebufferRenderbuffer`).
     FramebufferRenderbuffer {
@@ -374,6 +378,10 @@ fn one() -> u32 {
     1
 }
 
+fn is_one(v: &u32) -> bool {
+    *v == 1
+}
+
 fn none<T>() -> Option<T> {
     None
 }
@@ -479,8 +487,8 @@ impl<D> Call<D> {
             DeleteRenderbuffer { id } => DeleteRenderbuffer { id },
             CreateFramebuffer { id } => CreateFramebuffer { id },
             DeleteFramebuffer { id } => DeleteFramebuffer { id },
-            FramebufferTexture { framebuffer, attachment, texture } => {
-                FramebufferTexture { framebuffer, attachment, texture }
+            FramebufferTexture { framebuffer, attachment, texture, samples } => {
+                FramebufferTexture { framebuffer, attachment, texture, samples }
             }
             FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
                 FramebufferRenderbuffer { framebuffer, attachment, renderbuffer }

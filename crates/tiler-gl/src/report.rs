@@ -170,6 +170,11 @@ pub struct AttachmentRecord {
     pub load_bytes: u64,
     /// The same when the store op is `Store` (the last store only).
     pub store_bytes: u64,
+    /// The single-sample image a multisampled colour is resolved into in the tile.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub resolve: Option<ImageId>,
+    /// `render-area pixels × bytes per pixel of the resolve image` (`resolve` in the ledger).
+    pub resolve_bytes: u64,
 }
 
 fn format_name<S: Serializer>(format: &Format, s: S) -> Result<S::Ok, S::Error> {
@@ -216,6 +221,8 @@ pub struct DrawRecord {
     pub depth_write: bool,
     /// The fragment shader may discard, so depth is tested after shading (no early-Z).
     pub discards: bool,
+    /// Bytes it reads that the context counts (a blit's or copy's source, as `texture_fetch`).
+    pub texture_bytes: u64,
     /// The image it samples (a texture, or a blit's or copy's source).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sampled: Option<ImageId>,

@@ -24,7 +24,7 @@
 use tiler::{Category, ImageId};
 
 use super::pass::{OpenPass, defined_index, gl_rect, store_key};
-use super::targets::Targets;
+use super::targets::{ColorTarget, Targets};
 use super::{Context, Fallible, PendingStore};
 use crate::call::{Filter, SwapBehavior};
 use crate::report::{
@@ -186,9 +186,12 @@ impl Context {
     pub(crate) fn read_pixels(&mut self, x: i32, y: i32, width: u32, height: u32) -> Fallible<Vec<u8>> {
         let read = self.read_framebuffer;
         let source = self.targets(read)?;
-        let (image, _) =
-            *source.color.first().ok_or_else(|| format!("framebuffer {read} has no colour attachment to read"))?;
-        if source.samples > 1 {
+        let image = source
+            .color
+            .first()
+            .ok_or_else(|| format!("framebuffer {read} has no colour attachment to read"))?
+            .readable();
+        if self.images[&image].desc.samples > 1 {
             return Err(format!(
                 "framebuffer {read} is multisampled (GL_INVALID_OPERATION): blit it to a single-sampled framebuffer first"
             ));
@@ -262,7 +265,8 @@ impl Context {
             ));
         }
         let source = self.targets(read)?;
-        let (image, _) = *source.color.first().ok_or_else(|| format!("framebuffer {read} has no colour attachment"))?;
+        let image =
+            source.color.first().ok_or_else(|| format!("framebuffer {read} has no colour attachment"))?.readable();
         let (sw, sh) = (source.width as i32, source.height as i32);
         if src.iter().enumerate().any(|(i, v)| *v < 0 || *v > if i % 2 == 0 { sw } else { sh }) {
             return Err(format!("source rectangle {src:?} is not inside framebuffer {read} ({sw}×{sh})"));
@@ -311,8 +315,8 @@ impl Context {
     ) -> Fallible {
         let read = self.read_framebuffer;
         let source = self.targets(read)?;
-        let (src_image, _) =
-            *source.color.first().ok_or_else(|| format!("framebuffer {read} has no colour attachment"))?;
+        let src_image =
+            source.color.first().ok_or_else(|| format!("framebuffer {read} has no colour attachment"))?.readable();
         let t = self.texture(texture)?;
         let (dst_image, dst_format) = (t.image, t.format);
         if !dst_format.is_color() {
@@ -368,13 +372,14 @@ impl Context {
             store: StoreKind::Store,
             store_reason: "the copied texels".to_string(),
             invalidated: false,
+            resolve: None,
         };
         let copy = OpenPass {
             framebuffer: read,
             copy_texture: Some(texture),
             window_preserved: false,
             targets: Targets {
-                color: vec![(dst_image, dst_format)],
+                color: vec![ColorTarget { image: dst_image, format: dst_format, resolve: None }],
                 depth_stencil: None,
                 width: dd.width,
                 height: dd.height,

@@ -180,6 +180,27 @@ pub(crate) enum AttachmentRef {
     Renderbuffer(u32),
     /// An image of the window surface (framebuffer 0).
     Surface(ImageId),
+    /// Rendered in the multisampled image `samples`, resolved in the tile into the texture
+    /// (EXT_multisampled_render_to_texture).
+    MultisampleTexture {
+        texture: u32,
+        samples: ImageId,
+    },
+    /// The window's multisampled colour, resolved in the tile into the presented image.
+    SurfaceMultisample {
+        samples: ImageId,
+        resolve: ImageId,
+    },
+}
+
+impl AttachmentRef {
+    /// The texture it renders into, if any.
+    pub fn texture(self) -> Option<u32> {
+        match self {
+            AttachmentRef::Texture(t) | AttachmentRef::MultisampleTexture { texture: t, .. } => Some(t),
+            _ => None,
+        }
+    }
 }
 
 #[derive(Default)]
@@ -371,7 +392,7 @@ impl Context {
         let (w, h, samples) = (config.width, config.height, config.samples);
         let mut images = HashMap::new();
         let mut allocated = 0;
-        let mut surface_image = |format: TextureFormat| -> Fallible<ImageId> {
+        let mut surface_image = |format: TextureFormat, samples: u32| -> Fallible<ImageId> {
             let desc = ImageDesc::new(w, h, format.format()).with_samples(samples);
             desc.validate().map_err(|e| format!("window surface: {e}"))?;
             allocated += desc.size_bytes();
@@ -388,10 +409,20 @@ impl Context {
             );
             Ok(image)
         };
-        let surface_color = surface_image(config.color_format)?;
-        let surface_depth_stencil = config.depth_stencil_format.map(&mut surface_image).transpose()?;
+        let surface_depth_stencil = config.depth_stencil_format.map(|f| surface_image(f, samples)).transpose()?;
         let mut fb = FramebufferObject::default();
-        fb.color[0] = Some(AttachmentRef::Surface(surface_color));
+        let surface_color = if samples > 1 {
+            // A multisampled window: the samples live in the tile and are resolved into the
+            // single-sample image that is presented.
+            let msaa = surface_image(config.color_format, samples)?;
+            let resolve = surface_image(config.color_format, 1)?;
+            fb.color[0] = Some(AttachmentRef::SurfaceMultisample { samples: msaa, resolve });
+            resolve
+        } else {
+            let image = surface_image(config.color_format, 1)?;
+            fb.color[0] = Some(AttachmentRef::Surface(image));
+            image
+        };
         if let (Some(image), Some(format)) = (surface_depth_stencil, config.depth_stencil_format) {
             let r = Some(AttachmentRef::Surface(image));
             if format.has_depth() {
@@ -561,11 +592,28 @@ impl Context {
                 self.framebuffers.insert(id, FramebufferObject::default());
             }
             DeleteFramebuffer { id } => self.delete_framebuffer(id)?,
-            FramebufferTexture { framebuffer, attachment, texture } => {
-                if texture != 0 {
-                    self.texture(texture)?;
-                }
-                let r = (texture != 0).then_some(AttachmentRef::Texture(texture));
+            FramebufferTexture { framebuffer, attachment, texture, samples } => {
+                let r = match (texture, samples) {
+                    (0, _) => None,
+                    (_, 1) => {
+                        self.texture(texture)?;
+                        Some(AttachmentRef::Texture(texture))
+                    }
+                    _ => {
+                        let t = self.texture(texture)?;
+                        if attachment.color_index().is_none() || !t.format.is_color() {
+                            return Err(
+                                "multisampled render to texture is supported for colour textures only".to_string()
+                            );
+                        }
+                        if framebuffer == 0 || !self.framebuffers.contains_key(&framebuffer) {
+                            return Err(format!("framebuffer {framebuffer} cannot take attachments"));
+                        }
+                        let (format, desc) = (t.format, self.images[&t.image].desc);
+                        let image = self.alloc_image(desc.width, desc.height, format, samples)?;
+                        Some(AttachmentRef::MultisampleTexture { texture, samples: image })
+                    }
+                };
                 self.attach(framebuffer, attachment, r)?;
             }
             FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
@@ -1096,8 +1144,15 @@ impl Context {
     /// Whether the open pass has an attachment referring to `r`.
     pub(crate) fn open_pass_attaches(&self, r: AttachmentRef) -> bool {
         let Some(pass) = &self.pass else { return false };
+        if pass.copy_texture.is_some() {
+            return false;
+        }
         let Some(fb) = self.framebuffers.get(&pass.framebuffer) else { return false };
-        fb.color.iter().chain([&fb.depth, &fb.stencil]).any(|a| *a == Some(r))
+        fb.color
+            .iter()
+            .chain([&fb.depth, &fb.stencil])
+            .flatten()
+            .any(|a| *a == r || (r.texture().is_some() && a.texture() == r.texture()))
     }
 }
 

@@ -76,6 +76,8 @@ pub(crate) struct PassAspect {
     pub store: StoreKind,
     pub store_reason: String,
     pub invalidated: bool,
+    /// Where a multisampled colour is resolved, in the tile, at the end of the pass.
+    pub resolve: Option<ImageId>,
 }
 
 /// Which aspects a draw writes.
@@ -275,8 +277,15 @@ impl Context {
                 }
             }
             let mut aspects = Vec::new();
-            for (i, (image, _)) in targets.color.iter().enumerate() {
-                aspects.push(self.start_aspect(Slot::Color(i as u8), *image, Role::Attached, preserve));
+            for (i, target) in targets.color.iter().enumerate() {
+                let mut aspect = self.start_aspect(Slot::Color(i as u8), target.image, Role::Attached, preserve);
+                if let Some(resolve) = target.resolve {
+                    aspect.resolve = Some(resolve);
+                    aspect.store = StoreKind::DontCare;
+                    aspect.store_reason =
+                        format!("multisampled: resolved in the tile into {resolve}; the samples are not kept");
+                }
+                aspects.push(aspect);
             }
             if let Some(ds) = targets.depth_stencil {
                 if let Some(role) = ds.depth {
@@ -339,7 +348,18 @@ impl Context {
                 (load, why, StoreKind::Store, store_reason)
             }
         };
-        PassAspect { slot, image, role, load, clear: [0.0; 4], load_reason, store, store_reason, invalidated: false }
+        PassAspect {
+            slot,
+            image,
+            role,
+            load,
+            clear: [0.0; 4],
+            load_reason,
+            store,
+            store_reason,
+            invalidated: false,
+            resolve: None,
+        }
     }
 
     /// `glClear`.
@@ -896,6 +916,15 @@ impl Context {
                 }
             }
         }
+        if let EndCause::Flush { .. } = cause {
+            // The rest of the pass needs the samples: a flush keeps them.
+            for a in pass.aspects.iter_mut() {
+                if a.resolve.is_some() && !a.invalidated && a.store == StoreKind::DontCare {
+                    a.store = StoreKind::Store;
+                    a.store_reason = "the samples are kept for the rest of the pass, cut by a flush".to_string();
+                }
+            }
+        }
         let full_area = pass.region.is_none_or(|r| r.area() == pass.targets.width as u64 * pass.targets.height as u64);
         if !pass.has_work() {
             // Nothing to render; what was invalidated is undefined from now on.
@@ -922,7 +951,12 @@ impl Context {
             .aspects
             .iter()
             .filter(|a| matches!(a.slot, Slot::Color(_)))
-            .map(|a| ColorAttachment { image: a.image, load: load_color(a), store: store(a), resolve: None })
+            .map(|a| ColorAttachment {
+                image: a.image,
+                load: load_color(a),
+                store: store(a),
+                resolve: a.resolve.filter(|_| !a.invalidated),
+            })
             .collect();
         let depth_stencil = pass.targets.depth_stencil.map(|ds| {
             let find = |slot| pass.aspects.iter().find(|a| a.slot == slot);
@@ -1032,6 +1066,15 @@ impl Context {
                 }
                 StoreKind::DontCare => {}
             }
+            let mut resolve_bytes = 0;
+            if let Some(resolve) = a.resolve.filter(|_| !a.invalidated) {
+                let d = self.images[&resolve].desc;
+                resolve_bytes = area * d.format.bytes_per_sample() as u64;
+                let info = self.images.get_mut(&resolve).expect("resolve image");
+                info.defined[0] = true;
+                info.last_write = Some(frame);
+                self.register_store(resolve, Slot::Color(0), index, resolve_bytes, full_area);
+            }
             attachments.push(AttachmentRecord {
                 slot: a.slot,
                 image: a.image,
@@ -1045,6 +1088,8 @@ impl Context {
                 store_reason: a.store_reason.clone(),
                 load_bytes: if a.load == LoadKind::Load { bytes } else { 0 },
                 store_bytes: if a.store == StoreKind::Store { bytes } else { 0 },
+                resolve: a.resolve.filter(|_| !a.invalidated),
+                resolve_bytes,
             });
         }
         let draws = pass
@@ -1067,6 +1112,10 @@ impl Context {
                         kind: ProgramKind::VertexColor | ProgramKind::Textured, uniforms, ..
                     } => uniforms.alpha_cutoff > 0.0,
                     _ => false,
+                },
+                texture_bytes: match &d.source {
+                    DrawSource::Rectangle { read_bytes, .. } => *read_bytes,
+                    _ => 0,
                 },
                 sampled: match &d.source {
                     DrawSource::Program { texture, .. } => texture.map(|t| t.0),
@@ -1136,7 +1185,8 @@ impl Context {
                             sum[c] += v[c];
                         }
                     }
-                    sum.map(|c| c / d.samples as f32)
+                    // As the core resolves: the mean of the samples' values.
+                    sum.map(|c| c * (1.0 / d.samples as f32))
                 })
                 .collect()
         } else {

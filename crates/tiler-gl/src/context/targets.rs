@@ -28,10 +28,26 @@ pub(crate) struct DepthStencilTarget {
     pub stencil: Option<Role>,
 }
 
+/// A colour attachment: the image rendered, and where it is resolved (multisampled
+/// render-to-texture and multisampled windows).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ColorTarget {
+    pub image: ImageId,
+    pub format: TextureFormat,
+    pub resolve: Option<ImageId>,
+}
+
+impl ColorTarget {
+    /// What reading the attachment reads: the resolved image if there is one.
+    pub fn readable(&self) -> ImageId {
+        self.resolve.unwrap_or(self.image)
+    }
+}
+
 /// A complete framebuffer's images.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Targets {
-    pub color: Vec<(ImageId, TextureFormat)>,
+    pub color: Vec<ColorTarget>,
     pub depth_stencil: Option<DepthStencilTarget>,
     pub width: u32,
     pub height: u32,
@@ -48,8 +64,9 @@ impl Targets {
         self.depth_stencil.is_some_and(|d| d.stencil == Some(Role::Attached))
     }
 
+    /// Every image the framebuffer renders or resolves into.
     pub fn images(&self) -> impl Iterator<Item = ImageId> + '_ {
-        self.color.iter().map(|c| c.0).chain(self.depth_stencil.map(|d| d.image))
+        self.color.iter().flat_map(|c| [Some(c.image), c.resolve]).flatten().chain(self.depth_stencil.map(|d| d.image))
     }
 }
 
@@ -61,6 +78,9 @@ impl Context {
                 self.renderbuffers.get(&id).ok_or_else(|| format!("renderbuffer {id} does not exist"))?.image
             }
             AttachmentRef::Surface(image) => image,
+            AttachmentRef::MultisampleTexture { samples, .. } | AttachmentRef::SurfaceMultisample { samples, .. } => {
+                samples
+            }
         };
         let info = self.images.get(&image).ok_or("an attachment's storage was released")?;
         Ok((image, info.gl_format))
@@ -89,7 +109,22 @@ impl Context {
                         format.name()
                     ));
                 }
-                color.push((image, format));
+                let resolve = match *r {
+                    AttachmentRef::MultisampleTexture { texture, .. } => {
+                        let target = self.texture(texture)?.image;
+                        let (d, t) = (self.images[&image].desc, self.images[&target].desc);
+                        if (d.width, d.height) != (t.width, t.height) {
+                            return incomplete(format!(
+                                "texture {texture} was given new storage of another size after it was attached \
+                                 multisampled: attach it again"
+                            ));
+                        }
+                        Some(target)
+                    }
+                    AttachmentRef::SurfaceMultisample { resolve, .. } => Some(resolve),
+                    _ => None,
+                };
+                color.push(ColorTarget { image, format, resolve });
             }
         }
         let depth = fb.depth.map(|r| self.attachment_image(r)).transpose()?;
@@ -134,7 +169,7 @@ impl Context {
             }
         };
         let mut size: Option<(u32, u32, u32)> = None;
-        for image in color.iter().map(|c| c.0).chain(depth_stencil.map(|d| d.image)) {
+        for image in color.iter().map(|c| c.image).chain(depth_stencil.map(|d| d.image)) {
             let d = self.images[&image].desc;
             match size {
                 None => size = Some((d.width, d.height, d.samples)),

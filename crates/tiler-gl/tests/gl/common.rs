@@ -76,7 +76,7 @@ pub fn framebuffer(gl: &mut Context, id: u32, w: u32, h: u32) {
     c(gl, Call::CreateTexture { id, width: w, height: h, format: TextureFormat::Rgba8, data: None });
     c(gl, Call::CreateRenderbuffer { id, width: w, height: h, format: TextureFormat::Depth24Stencil8, samples: 1 });
     c(gl, Call::CreateFramebuffer { id });
-    c(gl, Call::FramebufferTexture { framebuffer: id, attachment: AttachmentPoint::Color0, texture: id });
+    c(gl, Call::FramebufferTexture { framebuffer: id, attachment: AttachmentPoint::Color0, texture: id, samples: 1 });
     c(
         gl,
         Call::FramebufferRenderbuffer { framebuffer: id, attachment: AttachmentPoint::DepthStencil, renderbuffer: id },

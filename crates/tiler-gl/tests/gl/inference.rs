@@ -345,7 +345,10 @@ fn attachment_changes_and_texture_writes_flush() {
     c(&mut gl, Call::TexSubImage { id: 2, x: 0, y: 0, width: 1, height: 1, data: Bytes::from(vec![9u8; 4]) });
     draw(&mut gl, 6);
     c(&mut gl, Call::CreateTexture { id: 7, width: 64, height: 64, format: TextureFormat::Rgba8, data: None });
-    c(&mut gl, Call::FramebufferTexture { framebuffer: 2, attachment: AttachmentPoint::Color0, texture: 7 });
+    c(
+        &mut gl,
+        Call::FramebufferTexture { framebuffer: 2, attachment: AttachmentPoint::Color0, texture: 7, samples: 1 },
+    );
     draw(&mut gl, 6);
     bind(&mut gl, 0);
     let report = gl.end().unwrap();
@@ -599,7 +602,10 @@ fn half_a_packed_depth_stencil_image_is_a_warning() {
         Call::CreateRenderbuffer { id: 2, width: 64, height: 64, format: TextureFormat::Depth24Stencil8, samples: 1 },
     );
     c(&mut gl, Call::CreateFramebuffer { id: 2 });
-    c(&mut gl, Call::FramebufferTexture { framebuffer: 2, attachment: AttachmentPoint::Color0, texture: 2 });
+    c(
+        &mut gl,
+        Call::FramebufferTexture { framebuffer: 2, attachment: AttachmentPoint::Color0, texture: 2, samples: 1 },
+    );
     c(&mut gl, Call::FramebufferRenderbuffer { framebuffer: 2, attachment: AttachmentPoint::Depth, renderbuffer: 2 });
     for _ in 0..2 {
         bind(&mut gl, 2);
@@ -682,4 +688,68 @@ fn readback_stalls_by_the_frames_still_in_flight() {
     let report = gl.end().unwrap();
     assert_eq!(report.frames[2].stalls.iter().map(|s| s.frames).collect::<Vec<_>>(), vec![1, 3]);
     assert!(gl.call(Call::ReadPixels { x: 60, y: 0, width: 8, height: 1 }).is_err(), "outside the framebuffer");
+}
+
+/// Multisampled render to texture: the samples are resolved into the texture in the tile and
+/// never stored, except when a flush cuts the pass (the rest of it needs them).
+#[test]
+fn multisampled_render_to_texture_resolves_in_the_tile() {
+    let mut gl = window();
+    c(&mut gl, Call::CreateTexture { id: 2, width: 64, height: 64, format: TextureFormat::Rgba8, data: None });
+    c(
+        &mut gl,
+        Call::CreateRenderbuffer { id: 3, width: 64, height: 64, format: TextureFormat::Depth24Stencil8, samples: 4 },
+    );
+    c(&mut gl, Call::CreateFramebuffer { id: 2 });
+    c(
+        &mut gl,
+        Call::FramebufferTexture { framebuffer: 2, attachment: AttachmentPoint::Color0, texture: 2, samples: 4 },
+    );
+    c(
+        &mut gl,
+        Call::FramebufferRenderbuffer { framebuffer: 2, attachment: AttachmentPoint::DepthStencil, renderbuffer: 3 },
+    );
+    bind(&mut gl, 2);
+    clear_all(&mut gl);
+    draw(&mut gl, 6);
+    let Output::Pixels(pixels) = c(&mut gl, Call::ReadPixels { x: 0, y: 0, width: 1, height: 1 }) else { panic!() };
+    assert_eq!(pixels, [255, 0, 0, 255], "read_pixels reads the resolved texture");
+    draw(&mut gl, 6);
+    c(&mut gl, Call::Invalidate { attachments: vec![AttachmentPoint::DepthStencil] });
+    bind(&mut gl, 0);
+    let image = gl.device().read_rgba8(gl.texture_image(2).unwrap()).unwrap();
+    let report = gl.end().unwrap();
+    let p = passes(&report);
+    assert_eq!(p.len(), 2);
+    let resolve = |p: &PassRecord| p.cost.ledger.get(Category::Resolve);
+    assert_eq!(op(p[0], Slot::Color(0)), (Clear, StoreKind::Store), "a flush keeps the samples");
+    assert_eq!(op(p[1], Slot::Color(0)), (Load, StoreKind::DontCare), "then they are discarded");
+    assert_eq!(store(p[0]), 4 * COLOR + 4 * (DEPTH + STENCIL));
+    assert_eq!(store(p[1]), 0);
+    assert_eq!((resolve(p[0]), resolve(p[1])), (COLOR, COLOR));
+    assert_eq!(p[1].attachment(Slot::Color(0)).unwrap().resolve_bytes, COLOR);
+    assert_eq!(pixel(&image, 64, 5, 60), [255, 0, 0, 255]);
+    assert_eq!(report.findings_with("msaa-stored").count(), 0);
+    assert_eq!(report.findings_with("flush-mid-pass").count(), 1);
+}
+
+/// A multisampled window resolves into the presented image.
+#[test]
+fn a_multisampled_window_resolves_before_presenting() {
+    let mut gl = Context::new(ContextConfig { samples: 4, ..config(64, 64) }).unwrap();
+    geometry(&mut gl, 1, ProgramKind::Solid, &[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [-1.0, 1.0, 0.0]]);
+    clear_all(&mut gl);
+    draw(&mut gl, 3);
+    swap(&mut gl);
+    let image = gl.surface_rgba8();
+    let report = gl.end().unwrap();
+    let p = passes(&report)[0];
+    assert_eq!(op(p, Slot::Color(0)), (Clear, StoreKind::DontCare));
+    assert_eq!(p.cost.ledger.get(Category::Resolve), COLOR);
+    assert_eq!(store(p), 0, "no sample leaves the tile");
+    // Inside white, outside black, and the diagonal edge antialiased.
+    assert_eq!(pixel(&image, 64, 0, 63), [255, 255, 255, 255]);
+    assert_eq!(pixel(&image, 64, 63, 0), [0, 0, 0, 0]);
+    assert!(image.chunks(4).any(|p| p[0] > 0 && p[0] < 255), "some pixels are partly covered");
+    assert!(report.findings.is_empty(), "{:#?}", report.findings);
 }

@@ -18,7 +18,7 @@ fn replay(name: &str) -> Replay {
 }
 
 /// Each pair, and the findings its bad form must have (and only those).
-const PAIRS: [(&str, &[&str]); 12] = [
+const PAIRS: [(&str, &[&str]); 13] = [
     ("clear", &["load-at-pass-start"]),
     ("rebind", &["framebuffer-rebound"]),
     ("invalidate", &["store-unread"]),
@@ -31,6 +31,7 @@ const PAIRS: [(&str, &[&str]); 12] = [
     ("alpha-test", &["early-z-disabled"]),
     ("sort", &["unsorted-opaque"]),
     ("budget", &["micro-triangles", "incremental-render"]),
+    ("msaa", &["msaa-stored"]),
 ];
 
 /// The good form has no finding; the bad form has the pair's findings; the bad form costs
