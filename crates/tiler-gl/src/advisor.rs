@@ -519,7 +519,8 @@ fn pass_findings(config: &ContextConfig, pass: &PassRecord, earlier: &[&PassReco
         .collect();
     let opaque_shaded: u64 = opaque.iter().map(|d| d.stats.fragments_shaded).sum();
     let area = pass.area();
-    if opaque.len() > 1 && opaque_shaded as f64 > UNSORTED_OVERDRAW * area as f64 {
+    let hidden_surface_removal = config.backend == tiler::Backend::Tbdr;
+    if !hidden_surface_removal && opaque.len() > 1 && opaque_shaded as f64 > UNSORTED_OVERDRAW * area as f64 {
         let overdrawn = opaque_shaded - area;
         if counters.fragments_early_z_killed < overdrawn {
             out.push(finding(
