@@ -221,13 +221,28 @@ impl FragmentShader for LambertShader {
     }
 }
 
-/// A texture as the interim sampler reads it: decoded texels, row 0 at the top as tiler
-/// stores images (GL's texture coordinate t = 0 is the bottom row).
+/// A texture as the interim sampler reads it, row 0 at the top as tiler stores images (GL's
+/// texture coordinate t = 0 is the bottom row). Texels are decoded when read, so a snapshot
+/// costs no more memory than the image.
 #[derive(Debug)]
 pub struct TextureSnapshot {
     pub width: u32,
     pub height: u32,
-    pub texels: Vec<[f32; 4]>,
+    texels: Texels,
+}
+
+#[derive(Debug)]
+enum Texels {
+    /// An image's bytes; a multisampled one reads as the mean of its samples, as the core
+    /// resolves.
+    Color {
+        format: tiler::Format,
+        samples: u32,
+        data: Vec<u8>,
+    },
+    /// Depths, read as `(z, z, z, 1)`.
+    Depth(Vec<f32>),
+    Constant([f32; 4]),
 }
 
 /// Filtering and wrapping of one sampler binding.
@@ -238,11 +253,47 @@ pub struct SamplerState {
 }
 
 impl TextureSnapshot {
+    /// A colour image's bytes (sample planes one after another, as the device stores them).
+    pub fn color(width: u32, height: u32, format: tiler::Format, samples: u32, data: Vec<u8>) -> TextureSnapshot {
+        debug_assert_eq!(data.len(), width as usize * height as usize * format.bytes_per_sample() * samples as usize);
+        TextureSnapshot { width, height, texels: Texels::Color { format, samples, data } }
+    }
+
+    /// A depth image's depths, rows top to bottom.
+    pub fn depth(width: u32, height: u32, depths: Vec<f32>) -> TextureSnapshot {
+        TextureSnapshot { width, height, texels: Texels::Depth(depths) }
+    }
+
+    /// One texel of one value: what an unbound unit reads.
+    pub fn constant(rgba: [f32; 4]) -> TextureSnapshot {
+        TextureSnapshot { width: 1, height: 1, texels: Texels::Constant(rgba) }
+    }
+
     fn texel(&self, x: i64, y_from_bottom: i64, wrap: Wrap) -> [f32; 4] {
         let x = wrap_coord(x, self.width as i64, wrap);
         let y = wrap_coord(y_from_bottom, self.height as i64, wrap);
         let row = self.height as i64 - 1 - y;
-        self.texels[(row * self.width as i64 + x) as usize]
+        let index = (row * self.width as i64 + x) as usize;
+        match &self.texels {
+            Texels::Color { format, samples, data } => {
+                let bpp = format.bytes_per_sample();
+                let plane = self.width as usize * self.height as usize * bpp;
+                let mut sum = [0.0f32; 4];
+                for s in 0..*samples as usize {
+                    let start = s * plane + index * bpp;
+                    let v = format.decode_color(&data[start..start + bpp]);
+                    for c in 0..4 {
+                        sum[c] += v[c];
+                    }
+                }
+                if *samples == 1 { sum } else { sum.map(|c| c * (1.0 / *samples as f32)) }
+            }
+            Texels::Depth(depths) => {
+                let z = depths[index];
+                [z, z, z, 1.0]
+            }
+            Texels::Constant(v) => *v,
+        }
     }
 
     /// Samples at GL texture coordinates `(s, t)`: nearest takes the texel containing the
@@ -340,7 +391,7 @@ pub fn program_pipeline(
             let (texture, sampler) = texture.unwrap_or_else(|| {
                 // An unbound unit samples as opaque black, as in GL.
                 (
-                    Arc::new(TextureSnapshot { width: 1, height: 1, texels: vec![[0.0, 0.0, 0.0, 1.0]] }),
+                    Arc::new(TextureSnapshot::constant([0.0, 0.0, 0.0, 1.0])),
                     SamplerState { filter: Filter::Nearest, wrap: Wrap::ClampToEdge },
                 )
             });

@@ -548,7 +548,9 @@ impl Context {
                 frames.push(Vec::new());
             }
         }
-        if name != "swap_buffers" || result.is_err() {
+        // A failed call changes nothing and is not recorded, so it takes no index either: a
+        // recording replays with the same call numbers.
+        if name != "swap_buffers" && result.is_ok() {
             self.here.call += 1;
             self.frame.calls = self.here.call;
         }
@@ -1091,14 +1093,18 @@ impl Context {
             self.pass = None;
         }
         let fb = self.framebuffers.get_mut(&framebuffer).expect("checked");
-        match point {
-            AttachmentPoint::Depth => fb.depth = r,
-            AttachmentPoint::Stencil => fb.stencil = r,
+        let old = match point {
+            AttachmentPoint::Depth => std::mem::replace(&mut fb.depth, r),
+            AttachmentPoint::Stencil => std::mem::replace(&mut fb.stencil, r),
             AttachmentPoint::DepthStencil => {
                 fb.depth = r;
-                fb.stencil = r;
+                std::mem::replace(&mut fb.stencil, r)
             }
-            colour => fb.color[colour.color_index().expect("colour point")] = r,
+            colour => std::mem::replace(&mut fb.color[colour.color_index().expect("colour point")], r),
+        };
+        // The implicit multisampled image of a replaced multisampled attachment goes.
+        if let Some(AttachmentRef::MultisampleTexture { samples, .. }) = old {
+            self.free_image(samples);
         }
         Ok(())
     }
@@ -1116,7 +1122,12 @@ impl Context {
         if self.read_framebuffer == id {
             self.read_framebuffer = 0;
         }
-        self.framebuffers.remove(&id);
+        let fb = self.framebuffers.remove(&id).expect("checked");
+        for r in fb.color.into_iter().flatten() {
+            if let AttachmentRef::MultisampleTexture { samples, .. } = r {
+                self.free_image(samples);
+            }
+        }
         Ok(())
     }
 

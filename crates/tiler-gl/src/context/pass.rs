@@ -1170,30 +1170,14 @@ impl Context {
         if let Some(s) = cache.get(&image) {
             return Ok(s.clone());
         }
-        let info = &self.images[&image];
-        let d = info.desc;
-        let texels: Vec<[f32; 4]> = if d.format.is_color() {
-            let data = self.device.image_data(image).map_err(|e| e.to_string())?;
-            let bpp = d.format.bytes_per_sample();
-            let plane = d.plane_bytes();
-            (0..d.width as usize * d.height as usize)
-                .map(|p| {
-                    let mut sum = [0.0f32; 4];
-                    for s in 0..d.samples as usize {
-                        let v = d.format.decode_color(&data[s * plane + p * bpp..s * plane + (p + 1) * bpp]);
-                        for c in 0..4 {
-                            sum[c] += v[c];
-                        }
-                    }
-                    // As the core resolves: the mean of the samples' values.
-                    sum.map(|c| c * (1.0 / d.samples as f32))
-                })
-                .collect()
+        let d = self.images[&image].desc;
+        let snapshot = if d.format.is_color() {
+            let data = self.device.image_data(image).map_err(|e| e.to_string())?.to_vec();
+            Arc::new(TextureSnapshot::color(d.width, d.height, d.format, d.samples, data))
         } else {
-            let depth = self.device.read_depth(image).map_err(|e| e.to_string())?;
-            depth.into_iter().map(|z| [z, z, z, 1.0]).collect()
+            let depths = self.device.read_depth(image).map_err(|e| e.to_string())?;
+            Arc::new(TextureSnapshot::depth(d.width, d.height, depths))
         };
-        let snapshot = Arc::new(TextureSnapshot { width: d.width, height: d.height, texels });
         cache.insert(image, snapshot.clone());
         Ok(snapshot)
     }

@@ -49,7 +49,8 @@ pub struct Limits {
     pub max_data_bytes: u64,
     /// Frames after `repeat` is expanded.
     pub max_frames: u64,
-    /// Calls after `repeat` is expanded.
+    /// Calls after `repeat` is expanded (the report keeps a record per draw, so this bounds
+    /// its memory too).
     pub max_calls: u64,
     /// Overrides the context's memory limit when set (the lower of the two applies).
     pub memory_limit: Option<u64>,
@@ -59,13 +60,7 @@ pub struct Limits {
 
 impl Default for Limits {
     fn default() -> Limits {
-        Limits {
-            max_data_bytes: 1 << 30,
-            max_frames: 100_000,
-            max_calls: 50_000_000,
-            memory_limit: None,
-            threads: None,
-        }
+        Limits { max_data_bytes: 1 << 30, max_frames: 100_000, max_calls: 2_000_000, memory_limit: None, threads: None }
     }
 }
 
