@@ -698,7 +698,8 @@ fn preserved_swap(pass: &PassRecord, load: u64, out: &mut Vec<Finding>) {
 /// tiles reads its entry, the record, and the state record (the quad is its own draw, so its
 /// state always differs from its neighbours' in a list).
 fn quad_frame_data_bytes(pass: &PassRecord, clip: Rect, primitives: u64) -> u64 {
-    if clip.area() == 0 || primitives == 0 {
+    // Immediate mode has no frame data (and no tiles).
+    if clip.area() == 0 || primitives == 0 || pass.cost.tile_width == 0 || pass.cost.tile_height == 0 {
         return 0;
     }
     let (tw, th) = (pass.cost.tile_width as u64, pass.cost.tile_height as u64);

@@ -21,7 +21,7 @@ const SEEDS: [&str; 7] = [
 ];
 
 /// Names a mutation may put anywhere: calls, fields, enum values.
-const WORDS: [&str; 72] = [
+const WORDS: &[&str] = &[
     "create_buffer",
     "buffer_data",
     "buffer_sub_data",
@@ -94,6 +94,33 @@ const WORDS: [&str; 72] = [
     "scissor_test",
     "depth_test",
     "preserved",
+    "backend",
+    "imr",
+    "tbdr",
+    "tbr",
+    "samples",
+    "frames_in_flight",
+    "swap_behavior",
+    "depth16",
+    "depth24",
+    "rgb565",
+    "rgba16f",
+    "r32f",
+    "lambert",
+    "vertex_color",
+    "alpha_cutoff",
+    "sampler",
+    "mvp",
+    "color",
+    "repeat",
+    "tile_width",
+    "frame_data_budget",
+    "triangle_fan",
+    "draw",
+    "read",
+    "stencil",
+    "depth",
+    "color1",
 ];
 
 fn seeds() -> Vec<String> {

@@ -181,6 +181,18 @@ fn malformed_traces_are_errors_that_say_where() {
         ),
         (frame(r#"{"call": "end_tiling"}"#), "frame 0, call 0: end_tiling: end_tiling without start_tiling"),
         (frame(r#"{"call": "query_result", "id": 1}"#), "query 1 does not exist"),
+        (
+            // A NaN position (0x7fc00000) is found when the pass renders, and named.
+            frame(
+                r#"{"call": "create_buffer", "id": 1, "data": {"base64": "AADAfwAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAAAA"}},
+                {"call": "create_program", "id": 1, "program": "solid"}, {"call": "use_program", "id": 1},
+                {"call": "vertex_attrib_pointer", "index": 0, "buffer": 1, "size": 3, "type": "float"},
+                {"call": "enable_vertex_attrib", "index": 0}, {"call": "draw_arrays", "mode": "triangles", "first": 0, "count": 3},
+                {"call": "swap_buffers"}"#,
+            ),
+            "frame 0, call 6: swap_buffers: the render pass of framebuffer 0 begun at frame 0, call 0 could not be \
+             rendered (the draw recorded at frame 0, call 5): draw 0, vertex 0: the vertex shader wrote a non-finite position",
+        ),
     ];
     let limits = Limits { memory_limit: Some(64 << 20), threads: Some(1), ..Limits::default() };
     for (json, expected) in cases {
@@ -378,4 +390,20 @@ fn glb_accessors_are_read() {
     assert_eq!(data.as_slice(), &positions[..]);
     let Call::CreateBuffer { data, .. } = &t.frames[0].calls[1] else { panic!() };
     assert_eq!(data.as_slice(), &[0, 0, 1, 0, 2, 0], "u8 indices widened to u16");
+}
+
+/// Every backend draws the same pictures from the same trace; only the costs differ.
+#[test]
+fn every_backend_draws_the_same_pictures() {
+    for (name, _) in PAIRS.iter().filter(|(n, _)| *n != "budget") {
+        let trace = Trace::read(&traces().join(format!("{name}-bad.json"))).unwrap();
+        let mut images = Vec::new();
+        for backend in [tiler::Backend::Tbr, tiler::Backend::Tbdr, tiler::Backend::Imr] {
+            let mut t = trace.clone();
+            t.config.backend = backend;
+            let replay = t.replay_with(Limits { threads: Some(1), ..Limits::default() }).unwrap();
+            images.push(replay.context.surface_rgba8());
+        }
+        assert!(images.windows(2).all(|w| w[0] == w[1]), "{name}: the backends disagree");
+    }
 }
