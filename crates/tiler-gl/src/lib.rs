@@ -31,6 +31,20 @@
 //! assert!(report.findings.is_empty());
 //! ```
 //!
+//! # What is modelled, and what is not yet
+//!
+//! - Multisampling: renderbuffers and windows with samples, and multisampled render to texture
+//!   (`framebuffer_texture` with `samples`, EXT_multisampled_render_to_texture) resolved in the
+//!   tile; blits resolve multisampled sources.
+//! - Depth and stencil: tiler packs them in one image, so separate depth and stencil images are
+//!   `GL_FRAMEBUFFER_UNSUPPORTED`; `depth24` and `stencil8` are packed images with a padding
+//!   half (see `context::targets`).
+//! - Textures: the `textured` program samples with an interim sampler (nearest or bilinear, no
+//!   mip maps) whose texel reads are not in the ledger yet; blits and copies count their
+//!   source reads. The core's texture units will replace it.
+//! - Costs are a tiler's: with the immediate-mode backend the passes and images are the same,
+//!   the ledger is immediate mode's, and the advisor's costs describe what a tiler would pay.
+//!
 //! # Coordinates
 //!
 //! Every rectangle the API takes (viewport, scissor, tiled-rendering region, `read_pixels`,
