@@ -55,7 +55,8 @@
 //! (and PNGs); texture data, given bottom row first as in GL, is stored flipped too, so render
 //! to texture and uploaded textures sample alike. `read_pixels` returns rows bottom first, as
 //! GL does; [`Context::surface_rgba8`] returns tiler's top-first rows. Front faces are GL's
-//! (counter-clockwise in window coordinates); the flip makes them clockwise in tiler's.
+//! (counter-clockwise as seen on screen), which is tiler's counter-clockwise too, the picture
+//! being upright in both.
 
 pub mod advisor;
 pub mod bytes;

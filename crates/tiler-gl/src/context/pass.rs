@@ -738,10 +738,11 @@ impl Context {
                 Face::FrontAndBack => CullMode::FrontAndBack,
             };
         }
-        // tiler's front face is in framebuffer coordinates (y down): the flip reverses winding.
+        // The picture is upright in both GL's window (y up) and tiler's framebuffer (y down,
+        // row 0 at the top), so a winding seen on screen is the same in both.
         let front_face = match s.front {
-            Winding::Ccw => FrontFace::Clockwise,
-            Winding::Cw => FrontFace::CounterClockwise,
+            Winding::Ccw => FrontFace::CounterClockwise,
+            Winding::Cw => FrontFace::Clockwise,
         };
         let topology = match mode {
             Mode::Triangles => Topology::TriangleList,
