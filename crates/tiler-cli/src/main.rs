@@ -1,6 +1,7 @@
 //! `tiler`: render scenes on a software tile-based GPU and see what each frame costs.
 
 mod analyze;
+mod bench;
 mod render;
 mod table;
 
@@ -20,8 +21,11 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene to a PNG and print its cost on each backend, side by side.
+    /// Render a glTF file (or the built-in scene) to a PNG and print its cost on each backend,
+    /// side by side.
     Render(render::RenderArgs),
+    /// Time the benchmark scenes of SCENES.md (clear, glTF models, overdraw, tris).
+    Bench(bench::BenchArgs),
     /// Replay a GL trace: its inferred render passes, what they cost, and advice.
     Analyze(analyze::AnalyzeArgs),
 }
@@ -30,6 +34,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Analyze(args) => analyze::run(&args),
     };
     match result {

@@ -20,6 +20,11 @@
 //! submission order, straight into the images). For one input every backend, tile size and
 //! thread count gives the same image, bit for bit; only the counters differ.
 //!
+//! Textures (`shade::texture`: RGBA8 with mip chains, nearest/bilinear/trilinear filtering,
+//! repeat/clamp/mirror wraps) are fields of shader values; [`Fragments::sample`] reads them with
+//! a level of detail from 2×2 quad derivatives, through the texture-cache model of the shading
+//! task (`shade::texture_cache`), whose misses the ledger counts as `TextureFetch`.
+//!
 //! Glossary: *frame data* — what binning writes (ARM: polygon lists; Imagination: parameter
 //! buffer); *tile buffer* — on-chip memory for one tile of every attachment; *load/store op* —
 //! what happens to an attachment at the start/end of a pass; *incremental render* — the
@@ -96,4 +101,6 @@ pub use ledger::cache::CacheConfig;
 pub use ledger::display::DisplayModel;
 pub use ledger::energy::{EnergyEstimate, EnergyModel};
 pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
+pub use shade::texture::{ColorSpace, Filter, MipChain, MipmapMode, Sampler, Texture, Wrap};
+pub use shade::texture_cache::TextureCacheConfig;
 pub use simd::{F32x8, LaneMask, Vec4x8};

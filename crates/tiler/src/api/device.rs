@@ -14,6 +14,7 @@ use crate::ledger::Ledger;
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::display::DisplayModel;
 use crate::ledger::energy::EnergyModel;
+use crate::shade::texture_cache::TextureCacheConfig;
 
 /// The smallest frame-data budget: it must hold at least one chunk of binned triangles.
 pub const MIN_FRAME_DATA_BUDGET: u64 = 1 << 20;
@@ -64,6 +65,8 @@ pub struct DeviceConfig {
     /// The framebuffer cache of an immediate-mode GPU (its ROP/L2 share for colour and
     /// depth); size 0 = every access goes to memory, as the seeds' arithmetic assumes.
     pub framebuffer_cache: CacheConfig,
+    /// The texture cache in front of every texture read (see `shade::texture_cache`).
+    pub texture_cache: TextureCacheConfig,
     /// Picojoules per byte, for the energy estimate.
     pub energy: EnergyModel,
     /// What presenting a frame costs.
@@ -88,6 +91,7 @@ impl Default for DeviceConfig {
             vertex_shading: VertexShading::Once,
             post_transform_cache: 32,
             framebuffer_cache: CacheConfig::NONE,
+            texture_cache: TextureCacheConfig::DEFAULT,
             energy: EnergyModel::default(),
             display: DisplayModel { scan_out: true, composition: false },
             transaction_elimination: false,
@@ -129,6 +133,7 @@ impl DeviceConfig {
             return fail(format!("a post-transform cache of {} entries is more than 4096", self.post_transform_cache));
         }
         self.framebuffer_cache.validate("framebuffer cache").or_else(fail)?;
+        self.texture_cache.validate()?;
         self.energy.validate().or_else(fail)?;
         Ok(())
     }

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::pipeline::{MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES};
 use crate::backend::pass::MAX_INPUT_ATTACHMENTS;
 use crate::shade::ShadeContext;
+use crate::shade::texture::{Sampler, Texture};
 use crate::simd::{F32x8, LaneMask, Vec4x8};
 use crate::simd::{LANE_DX, LANE_DY, LANES};
 use crate::tile::target::Surface;
@@ -211,6 +212,14 @@ impl<'a> Fragments<'a> {
         let (value, bytes) = read_lanes(surface, self.group, self.sample);
         self.local_bytes += bytes;
         value
+    }
+
+    /// Samples `texture` at `uv` with `sampler`, the level of detail from this group's quad
+    /// derivatives (see `shade::texture`). The texel reads of every quad with a covered pixel,
+    /// helper lanes included, go through the task's texture cache and so into the ledger.
+    #[inline]
+    pub fn sample(&mut self, texture: &Texture, sampler: &Sampler, uv: [F32x8; 2]) -> Vec4x8 {
+        texture.sample(sampler, uv[0], uv[1], self.covered.quads(), &mut self.context.texture_cache)
     }
 
     /// Per-tile state shaders may use (texture caches and their counters).

@@ -26,6 +26,7 @@ use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
 use crate::raster::PixelRect;
 use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows};
 use crate::raster::samples::SampleLocations;
+use crate::shade::ShadeContext;
 use crate::tile::load_store::{apply_load, apply_resolve};
 use crate::tile::target::{RenderTarget, Surface};
 
@@ -131,6 +132,7 @@ pub fn render(
         let tally = FragmentTally {
             framebuffer: FramebufferTraffic::external(cache),
             overdraw: config.overdraw_map.then(|| OverdrawRows::new(y0, resolved.width, rows.height() as u32)),
+            context: ShadeContext::with_texture_cache(config.texture_cache),
             ..FragmentTally::default()
         };
         bands.push(Band { surfaces, resolves, clip, tally });

@@ -38,6 +38,8 @@ use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
 use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
 use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows};
 use crate::raster::samples::SampleLocations;
+use crate::shade::ShadeContext;
+use crate::shade::texture_cache::TextureCacheConfig;
 use crate::tile::buffer::TileBuffer;
 use crate::tile::grid::TileGrid;
 use crate::tile::load_store::{AttachmentOps, apply_load, apply_resolve, apply_store, store_bytes, tile_signature};
@@ -98,6 +100,7 @@ pub fn render(
         on_chip_bytes: 0,
         transaction_elimination: config.transaction_elimination,
         transaction_elimination_saved: 0,
+        texture_cache: config.texture_cache,
         overdraw: config.overdraw_map.then(|| vec![0; resolved.width as usize * resolved.height as usize]),
         flushes: 0,
         scratch: resolved.attachments.iter().map(|_| None).collect(),
@@ -257,6 +260,7 @@ struct Run<'a> {
     on_chip_bytes: u64,
     transaction_elimination: bool,
     transaction_elimination_saved: u64,
+    texture_cache: TextureCacheConfig,
     overdraw: Option<Vec<u16>>,
     flushes: u64,
     /// Spill memory for transient attachments, made at their first incremental render.
@@ -293,6 +297,7 @@ struct FlushPlan<'a> {
     early_z: bool,
     vertex_shading: VertexShading,
     overdraw: bool,
+    texture_cache: TextureCacheConfig,
 }
 
 impl Run<'_> {
@@ -374,6 +379,7 @@ impl Run<'_> {
             early_z: self.early_z,
             vertex_shading: frame.vertex_shading,
             overdraw: self.overdraw.is_some(),
+            texture_cache: self.texture_cache,
         };
         let spec: Vec<_> = resolved.attachments.iter().map(|a| (a.format, resolved.samples)).collect();
         let results: Vec<BandResult> = bands
@@ -440,6 +446,7 @@ fn render_band(
         .collect();
     let (attachment_images, resolve_images) = images.split_at_mut(resolved.attachments.len());
     let mut result = BandResult::default();
+    result.tally.context = ShadeContext::with_texture_cache(plan.texture_cache);
     if plan.overdraw {
         let rows = (grid.tile_height as i32).min(grid.height as i32 - band_y0);
         result.tally.overdraw = Some(OverdrawRows::new(band_y0, grid.width, rows as u32));

@@ -28,23 +28,28 @@ impl PixelRect {
         PixelRect::new(rect.x as i32, rect.y as i32, rect.right() as i32, rect.bottom() as i32)
     }
 
+    #[inline]
     pub fn is_empty(&self) -> bool {
         self.x0 >= self.x1 || self.y0 >= self.y1
     }
 
+    #[inline]
     pub fn intersect(&self, other: &PixelRect) -> PixelRect {
         PixelRect::new(self.x0.max(other.x0), self.y0.max(other.y0), self.x1.min(other.x1), self.y1.min(other.y1))
     }
 
+    #[inline]
     pub fn width(&self) -> i32 {
         (self.x1 - self.x0).max(0)
     }
 
+    #[inline]
     pub fn height(&self) -> i32 {
         (self.y1 - self.y0).max(0)
     }
 
     /// Pixels inside (0 when empty).
+    #[inline]
     pub fn area(&self) -> u64 {
         self.width() as u64 * self.height() as u64
     }

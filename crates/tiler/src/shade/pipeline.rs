@@ -9,6 +9,7 @@ use crate::api::shader::{FragmentShader, ShaderProperties, VertexShader};
 use crate::binning::frame_data::Primitive;
 use crate::geometry::fetch::VertexFetcher;
 use crate::geometry::vertex::{NonFinitePosition, ShadedVertices, VertexSet, shade_vertices};
+use crate::ledger::Category;
 use crate::raster::primitive::{FragmentTally, Mode, rasterize};
 use crate::tile::target::RenderTarget;
 
@@ -66,6 +67,10 @@ impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
         mode: &mut Mode,
     ) {
         rasterize(&self.fragment, &self.desc, primitive, varyings, target, tally, mode);
+        // The one call site of `TextureFetch` for textures: `misses × line size` of the task's
+        // texture cache (`shade::texture_cache`), handed over after every primitive.
+        let fetched = tally.context.texture_cache.take_fetched_bytes();
+        tally.ledger.add(Category::TextureFetch, fetched);
     }
 
     fn properties(&self) -> ShaderProperties {

@@ -29,11 +29,13 @@ impl TileGrid {
         (self.tiles_x * self.tiles_y) as usize
     }
 
+    #[inline]
     pub fn index(&self, tile_x: u32, tile_y: u32) -> usize {
         (tile_y * self.tiles_x + tile_x) as usize
     }
 
     /// The pixels of a tile (cut at the framebuffer's edge).
+    #[inline]
     pub fn tile_rect(&self, tile_x: u32, tile_y: u32) -> PixelRect {
         let x0 = tile_x * self.tile_width;
         let y0 = tile_y * self.tile_height;
@@ -46,6 +48,7 @@ impl TileGrid {
     }
 
     /// The inclusive range of tiles `(x0, y0, x1, y1)` a non-empty rectangle meets.
+    #[inline]
     pub fn tiles_meeting(&self, rect: &PixelRect) -> (u32, u32, u32, u32) {
         debug_assert!(!rect.is_empty() && rect.x0 >= 0 && rect.y0 >= 0);
         (
@@ -57,6 +60,7 @@ impl TileGrid {
     }
 
     /// How many tiles a non-empty rectangle meets.
+    #[inline]
     pub fn tiles_meeting_count(&self, rect: &PixelRect) -> u64 {
         let (x0, y0, x1, y1) = self.tiles_meeting(rect);
         (x1 - x0 + 1) as u64 * (y1 - y0 + 1) as u64

@@ -1,0 +1,718 @@
+//! Textures and samplers: RGBA8 images with mip chains, sampled eight lanes at a time with
+//! nearest, bilinear or trilinear filtering, repeat / clamp-to-edge / mirrored-repeat wraps and
+//! a level of detail from 2×2 quad derivatives. Every texel read goes through the texture cache
+//! model (`shade::texture_cache`), which decides what the ledger counts.
+//!
+//! The rules follow the OpenGL 4.6 specification, §8.14 "Texture Minification" and §8.15
+//! "Texture Magnification", which Vulkan's filtering matches:
+//!
+//! - **Level of detail**, once per 2×2 quad (as llvmpipe computes it by default, and as the GL
+//!   spec allows: "implementations may approximate"): with `s = u · width`, `t = v · height` in
+//!   texels of level 0 and the quad's upper-left pixel's differences to its right and lower
+//!   neighbours, `ρ² = max(ds/dx² + dt/dx², ds/dy² + dt/dy²)` and `λ = ½ · log2(ρ²) + bias`.
+//!   Using one λ per quad costs nothing in accuracy the eye can see and keeps the four pixels
+//!   of a quad on the same levels.
+//! - **Magnification or minification**: `λ ≤ c` magnifies (the magnification filter on level
+//!   0), where `c = 0.5` when magnification is linear and minification is
+//!   `NEAREST_MIPMAP_*`, else `c = 0`.
+//! - **Mip level**: none — level 0; nearest — `d = ⌈λ + ½⌉ − 1` (0 when `λ ≤ ½`); linear — levels
+//!   `⌊λ⌋` and `⌊λ⌋ + 1` blended by `λ − ⌊λ⌋`; both clamped to the last level.
+//! - **Texel coordinates** of level `(w, h)`: nearest takes texel `⌊u · w⌋`; linear takes
+//!   `i0 = ⌊u · w − ½⌋`, `i1 = i0 + 1` weighted by `α = frac(u · w − ½)` (and the same in v),
+//!   `c = lerp(lerp(t00, t10, α), lerp(t01, t11, α), β)`.
+//! - **Wraps** act on integer texel indices `i` of an axis of `n` texels: repeat `i mod n`,
+//!   clamp-to-edge `clamp(i, 0, n − 1)`, mirrored repeat `m = i mod 2n; m < n ? m : 2n − 1 − m`.
+//!   Before scaling, repeat takes `u − ⌊u⌋` and mirrored repeat `u mod 2` (exact in f32), so
+//!   large coordinates keep their sub-texel precision.
+//! - **Colour**: texel values are UNORM8 (`c / 255`); sRGB textures decode their colour
+//!   channels to linear before filtering (alpha stays linear), as GPUs do.
+//!
+//! Arithmetic is plain IEEE single precision per lane, no fused multiply-add, and the
+//! logarithm is computed here from basic operations rather than by the platform's `log2f`, so
+//! a lane's result depends only on its quad's inputs: every backend, tile size and thread
+//! count samples the same values.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::texture_cache::TextureCache;
+use crate::api::error::{Error, Result};
+use crate::api::format::{UNORM8_TO_F32, linear_to_srgb, srgb8_to_linear, unorm8};
+use crate::simd::{F32x8, LaneMask, Vec4x8};
+
+/// The largest width or height of a texture.
+pub const MAX_TEXTURE_DIMENSION: u32 = 16384;
+
+/// Bytes per texel (RGBA8).
+pub const TEXEL_BYTES: u64 = 4;
+
+/// Modelled storage: 4×4 texels per block, blocks in row-major order.
+const BLOCK_TEXELS: u32 = 4;
+const BLOCK_BYTES: u64 = (BLOCK_TEXELS * BLOCK_TEXELS) as u64 * TEXEL_BYTES;
+
+/// How the colour channels of a texture are encoded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ColorSpace {
+    /// Values are used as stored (`c / 255`).
+    Linear,
+    /// Red, green and blue are sRGB-encoded and decoded to linear before filtering.
+    Srgb,
+}
+
+/// Which mip levels a texture gets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MipChain {
+    /// Level 0 only.
+    BaseOnly,
+    /// Levels down to 1×1, each a 2×2 box filter of the one above: level `i + 1` is
+    /// `max(1, ⌊w/2⌋) × max(1, ⌊h/2⌋)`, texel `(x, y)` the average of texels `(2x, 2y)`,
+    /// `(2x+1, 2y)`, `(2x, 2y+1)`, `(2x+1, 2y+1)` of level `i`, coordinates clamped to the last
+    /// row and column. Linear textures average the stored bytes exactly as SCENES.md §4.2
+    /// builds its chain: `(a + b + c + d + 2) >> 2` per channel. sRGB textures average their
+    /// colour in linear light (decode, mean, encode, round to nearest) and alpha as above.
+    Box,
+}
+
+/// A texture filter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Filter {
+    Nearest,
+    Linear,
+}
+
+/// How mip levels are chosen when minifying.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MipmapMode {
+    /// Level 0 only (GL `NEAREST` / `LINEAR` minification).
+    None,
+    /// The nearest level (GL `*_MIPMAP_NEAREST`).
+    Nearest,
+    /// The two nearest levels, blended (GL `*_MIPMAP_LINEAR`).
+    Linear,
+}
+
+/// What happens to coordinates outside `[0, 1]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Wrap {
+    Repeat,
+    ClampToEdge,
+    MirroredRepeat,
+}
+
+/// How a texture is filtered and wrapped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sampler {
+    pub mag_filter: Filter,
+    pub min_filter: Filter,
+    pub mipmap: MipmapMode,
+    pub wrap_u: Wrap,
+    pub wrap_v: Wrap,
+    /// Added to the computed level of detail.
+    pub lod_bias: f32,
+}
+
+impl Sampler {
+    /// Trilinear, repeat in both directions (GL `LINEAR_MIPMAP_LINEAR`, `REPEAT`): what
+    /// SCENES.md uses for every texture.
+    pub const TRILINEAR_REPEAT: Sampler = Sampler {
+        mag_filter: Filter::Linear,
+        min_filter: Filter::Linear,
+        mipmap: MipmapMode::Linear,
+        wrap_u: Wrap::Repeat,
+        wrap_v: Wrap::Repeat,
+        lod_bias: 0.0,
+    };
+    /// Bilinear on level 0, clamped to the edges.
+    pub const BILINEAR_CLAMP: Sampler = Sampler {
+        mag_filter: Filter::Linear,
+        min_filter: Filter::Linear,
+        mipmap: MipmapMode::None,
+        wrap_u: Wrap::ClampToEdge,
+        wrap_v: Wrap::ClampToEdge,
+        lod_bias: 0.0,
+    };
+    /// Nearest texel of level 0, repeat.
+    pub const NEAREST_REPEAT: Sampler = Sampler {
+        mag_filter: Filter::Nearest,
+        min_filter: Filter::Nearest,
+        mipmap: MipmapMode::None,
+        wrap_u: Wrap::Repeat,
+        wrap_v: Wrap::Repeat,
+        lod_bias: 0.0,
+    };
+
+    /// The same sampler with both wraps set to `wrap`.
+    pub fn with_wrap(self, wrap: Wrap) -> Sampler {
+        Sampler { wrap_u: wrap, wrap_v: wrap, ..self }
+    }
+
+    /// The level of detail at or below which the magnification filter applies (GL §8.15).
+    fn magnification_limit(&self) -> f32 {
+        if self.mag_filter == Filter::Linear && self.min_filter == Filter::Nearest && self.mipmap != MipmapMode::None {
+            0.5
+        } else {
+            0.0
+        }
+    }
+}
+
+/// One mip level: its size, where its texels start in the texture's texel array, and its
+/// modelled address (see `texture_cache`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Level {
+    pub width: u32,
+    pub height: u32,
+    first_texel: usize,
+    address: u64,
+    blocks_x: u32,
+}
+
+/// What to read for one quad: one level, or two levels blended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum LevelPlan {
+    Single { level: usize, filter: Filter },
+    Blend { level: usize, filter: Filter, weight: f32 },
+}
+
+/// An RGBA8 texture with its mip chain.
+#[derive(Clone, Debug)]
+pub struct Texture {
+    id: u64,
+    color_space: ColorSpace,
+    levels: Vec<Level>,
+    /// Every level's texels, row-major, level after level.
+    texels: Vec<[u8; 4]>,
+    /// UNORM8 → float for the colour channels (decoding sRGB when the texture is sRGB).
+    color_table: Box<[f32; 256]>,
+}
+
+/// Hands out texture ids, the only process-wide state of the sampler: ids only make cache tags
+/// of different textures differ, so their values never change a count.
+static NEXT_TEXTURE_ID: AtomicU64 = AtomicU64::new(1);
+
+impl Texture {
+    /// A texture from `width × height` RGBA8 texels, rows top to bottom (row 0 is `v = 0`).
+    ///
+    /// # Errors
+    /// A zero or too large size, or `rgba` not `width × height × 4` bytes long.
+    pub fn from_rgba8(
+        width: u32,
+        height: u32,
+        rgba: &[u8],
+        color_space: ColorSpace,
+        mips: MipChain,
+    ) -> Result<Texture> {
+        if width == 0 || height == 0 || width > MAX_TEXTURE_DIMENSION || height > MAX_TEXTURE_DIMENSION {
+            return Err(Error::invalid(
+                "texture",
+                format!("size {width}×{height} must be from 1×1 to {MAX_TEXTURE_DIMENSION}×{MAX_TEXTURE_DIMENSION}"),
+            ));
+        }
+        let texel_count = width as usize * height as usize;
+        if rgba.len() != texel_count * 4 {
+            return Err(Error::invalid(
+                "texture",
+                format!("{} bytes of texels for {width}×{height} RGBA8, which needs {}", rgba.len(), texel_count * 4),
+            ));
+        }
+        let mut texels: Vec<[u8; 4]> = rgba.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
+        let mut levels = vec![Level::new(width, height, 0, 0)];
+        if mips == MipChain::Box {
+            while let Some(&above) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
+                let next = Level::new(
+                    (above.width / 2).max(1),
+                    (above.height / 2).max(1),
+                    texels.len(),
+                    above.address + above.modelled_bytes(),
+                );
+                box_filter(&mut texels, &above, &next, color_space);
+                levels.push(next);
+            }
+        }
+        let color_table = Box::new(std::array::from_fn(|c| match color_space {
+            ColorSpace::Linear => UNORM8_TO_F32[c],
+            ColorSpace::Srgb => srgb8_to_linear(c as u8),
+        }));
+        Ok(Texture { id: NEXT_TEXTURE_ID.fetch_add(1, Ordering::Relaxed), color_space, levels, texels, color_table })
+    }
+
+    pub fn width(&self) -> u32 {
+        self.levels[0].width
+    }
+
+    pub fn height(&self) -> u32 {
+        self.levels[0].height
+    }
+
+    pub fn color_space(&self) -> ColorSpace {
+        self.color_space
+    }
+
+    pub fn levels(&self) -> &[Level] {
+        &self.levels
+    }
+
+    /// The texels of level `level`, row-major.
+    pub fn level_texels(&self, level: usize) -> &[[u8; 4]] {
+        let l = &self.levels[level];
+        &self.texels[l.first_texel..l.first_texel + l.width as usize * l.height as usize]
+    }
+
+    /// Host memory the texels take.
+    pub fn host_bytes(&self) -> usize {
+        self.texels.len() * 4
+    }
+
+    /// The modelled address of texel `(x, y)` of `level` (see `texture_cache`).
+    #[inline(always)]
+    pub fn texel_address(&self, level: usize, x: u32, y: u32) -> u64 {
+        let l = &self.levels[level];
+        let block = (y / BLOCK_TEXELS) as u64 * l.blocks_x as u64 + (x / BLOCK_TEXELS) as u64;
+        let within = ((y % BLOCK_TEXELS) * BLOCK_TEXELS + x % BLOCK_TEXELS) as u64;
+        (self.id << 40).wrapping_add(l.address + block * BLOCK_BYTES + within * TEXEL_BYTES)
+    }
+
+    /// Samples the eight lanes at `(u, v)`. Reads of the `counted` lanes go through `cache`
+    /// (pass the lanes the GPU runs: every quad with a covered pixel, helpers included); the
+    /// values of all lanes are computed the same way either way.
+    pub fn sample(&self, sampler: &Sampler, u: F32x8, v: F32x8, counted: LaneMask, cache: &mut TextureCache) -> Vec4x8 {
+        let lods = quad_lods(u * self.width() as f32, v * self.height() as f32);
+        let mut out = [[0.0f32; 8]; 4];
+        for (quad, lanes) in QUAD_LANES.iter().enumerate() {
+            let plan = self.plan(sampler, lods[quad] + sampler.lod_bias);
+            for &lane in lanes {
+                let count = counted.contains(lane);
+                let (lu, lv) = (u.lane(lane), v.lane(lane));
+                let rgba = match plan {
+                    LevelPlan::Single { level, filter } => {
+                        self.sample_level(level, filter, sampler, lu, lv, count, cache)
+                    }
+                    LevelPlan::Blend { level, filter, weight } => {
+                        let a = self.sample_level(level, filter, sampler, lu, lv, count, cache);
+                        let b = self.sample_level(level + 1, filter, sampler, lu, lv, count, cache);
+                        std::array::from_fn(|c| a[c] + weight * (b[c] - a[c]))
+                    }
+                };
+                for c in 0..4 {
+                    out[c][lane] = rgba[c];
+                }
+            }
+        }
+        out.map(F32x8)
+    }
+
+    /// The levels and filter for a level of detail `lambda` (GL §8.14–8.15, see the module
+    /// notes). A NaN level of detail magnifies.
+    fn plan(&self, sampler: &Sampler, lambda: f32) -> LevelPlan {
+        if lambda.is_nan() || lambda <= sampler.magnification_limit() {
+            return LevelPlan::Single { level: 0, filter: sampler.mag_filter };
+        }
+        let last = self.levels.len() - 1;
+        let filter = sampler.min_filter;
+        match sampler.mipmap {
+            MipmapMode::None => LevelPlan::Single { level: 0, filter },
+            MipmapMode::Nearest => {
+                let level = if lambda <= 0.5 { 0 } else { ((lambda + 0.5).ceil() - 1.0).min(last as f32) as usize };
+                LevelPlan::Single { level, filter }
+            }
+            MipmapMode::Linear => {
+                if lambda >= last as f32 {
+                    return LevelPlan::Single { level: last, filter };
+                }
+                let base = floor(lambda);
+                LevelPlan::Blend { level: base as usize, filter, weight: lambda - base }
+            }
+        }
+    }
+
+    /// One lane's filtered colour on one level.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn sample_level(
+        &self,
+        level: usize,
+        filter: Filter,
+        sampler: &Sampler,
+        u: f32,
+        v: f32,
+        count: bool,
+        cache: &mut TextureCache,
+    ) -> [f32; 4] {
+        let l = self.levels[level];
+        match filter {
+            Filter::Nearest => {
+                let x = nearest_index(u, l.width, sampler.wrap_u);
+                let y = nearest_index(v, l.height, sampler.wrap_v);
+                self.fetch(level, x, y, count, cache)
+            }
+            Filter::Linear => {
+                let (x0, x1, alpha) = linear_indices(u, l.width, sampler.wrap_u);
+                let (y0, y1, beta) = linear_indices(v, l.height, sampler.wrap_v);
+                let t00 = self.fetch(level, x0, y0, count, cache);
+                let t10 = self.fetch(level, x1, y0, count, cache);
+                let t01 = self.fetch(level, x0, y1, count, cache);
+                let t11 = self.fetch(level, x1, y1, count, cache);
+                std::array::from_fn(|c| {
+                    let top = t00[c] + alpha * (t10[c] - t00[c]);
+                    let bottom = t01[c] + alpha * (t11[c] - t01[c]);
+                    top + beta * (bottom - top)
+                })
+            }
+        }
+    }
+
+    /// One texel, decoded to floats, its read counted when `count`.
+    #[inline(always)]
+    fn fetch(&self, level: usize, x: u32, y: u32, count: bool, cache: &mut TextureCache) -> [f32; 4] {
+        let l = &self.levels[level];
+        debug_assert!(x < l.width && y < l.height);
+        if count {
+            cache.access(self.texel_address(level, x, y));
+        }
+        let [r, g, b, a] = self.texels[l.first_texel + y as usize * l.width as usize + x as usize];
+        let t = &self.color_table;
+        [t[r as usize], t[g as usize], t[b as usize], UNORM8_TO_F32[a as usize]]
+    }
+}
+
+impl Level {
+    fn new(width: u32, height: u32, first_texel: usize, address: u64) -> Level {
+        Level { width, height, first_texel, address, blocks_x: width.div_ceil(BLOCK_TEXELS) }
+    }
+
+    /// Bytes of the level in the modelled block layout.
+    fn modelled_bytes(&self) -> u64 {
+        self.blocks_x as u64 * self.height.div_ceil(BLOCK_TEXELS) as u64 * BLOCK_BYTES
+    }
+}
+
+/// Appends level `next`, the 2×2 box filter of level `above` (see [`MipChain::Box`]).
+fn box_filter(texels: &mut Vec<[u8; 4]>, above: &Level, next: &Level, color_space: ColorSpace) {
+    let (w, h) = (above.width as usize, above.height as usize);
+    let at = |x: usize, y: usize| above.first_texel + y.min(h - 1) * w + x.min(w - 1);
+    for y in 0..next.height as usize {
+        for x in 0..next.width as usize {
+            let quad = [at(2 * x, 2 * y), at(2 * x + 1, 2 * y), at(2 * x, 2 * y + 1), at(2 * x + 1, 2 * y + 1)]
+                .map(|i| texels[i]);
+            let texel: [u8; 4] = std::array::from_fn(|c| {
+                if color_space == ColorSpace::Srgb && c < 3 {
+                    let [a, b, cc, d] = quad.map(|t| srgb8_to_linear(t[c]));
+                    unorm8(linear_to_srgb(((a + b) + (cc + d)) * 0.25))
+                } else {
+                    let sum: u32 = quad.iter().map(|t| t[c] as u32).sum();
+                    ((sum + 2) >> 2) as u8
+                }
+            });
+            texels.push(texel);
+        }
+    }
+}
+
+/// The lanes of the two quads of a 4×2 group, upper-left, upper-right, lower-left, lower-right.
+const QUAD_LANES: [[usize; 4]; 2] = [[0, 1, 4, 5], [2, 3, 6, 7]];
+
+/// The level of detail of each quad before bias: `½ · log2(ρ²)` from the upper-left pixel's
+/// differences (see the module notes). `s`, `t` are in texels of level 0.
+#[inline]
+pub fn quad_lods(s: F32x8, t: F32x8) -> [f32; 2] {
+    QUAD_LANES.map(|[tl, tr, bl, _]| {
+        let (dsdx, dtdx) = (s.lane(tr) - s.lane(tl), t.lane(tr) - t.lane(tl));
+        let (dsdy, dtdy) = (s.lane(bl) - s.lane(tl), t.lane(bl) - t.lane(tl));
+        let rho_squared = (dsdx * dsdx + dtdx * dtdx).max(dsdy * dsdy + dtdy * dtdy);
+        0.5 * log2(rho_squared)
+    })
+}
+
+/// `log2(x)` from basic IEEE operations (no platform `log2f`, whose last bit may differ
+/// between C libraries): exponent from the bits, and for the mantissa `m` in `[√½, √2]` the
+/// series `log2(m) = 2/ln 2 · (z + z³/3 + z⁵/5 + z⁷/7 + z⁹/9)`, `z = (m − 1)/(m + 1)`, in double
+/// precision (`|z| ≤ 0.172`: the next term is below 1e-9). `log2(0)` and NaN or negative
+/// inputs give −∞, `log2(∞)` gives ∞.
+pub fn log2(x: f32) -> f32 {
+    if x.is_nan() || x <= 0.0 {
+        return f32::NEG_INFINITY;
+    }
+    if x == f32::INFINITY {
+        return f32::INFINITY;
+    }
+    let (x, bias) = if x < f32::MIN_POSITIVE { (x * (1u64 << 32) as f32, 32) } else { (x, 0) };
+    let bits = x.to_bits();
+    let mut exponent = ((bits >> 23) & 0xff) as i32 - 127 - bias;
+    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000) as f64;
+    if m > std::f64::consts::SQRT_2 {
+        m *= 0.5;
+        exponent += 1;
+    }
+    let z = (m - 1.0) / (m + 1.0);
+    let z2 = z * z;
+    let series = z * (1.0 + z2 * (1.0 / 3.0 + z2 * (1.0 / 5.0 + z2 * (1.0 / 7.0 + z2 * (1.0 / 9.0)))));
+    (exponent as f64 + series * (2.0 / std::f64::consts::LN_2)) as f32
+}
+
+/// `x.floor()`, exactly, without a call to the C library's `floorf` (which the baseline x86-64
+/// target has no instruction for): values of magnitude 2^23 or more, and NaN and infinities,
+/// are already integers (or not numbers) and come back unchanged, as do both zeros.
+#[inline(always)]
+fn floor(x: f32) -> f32 {
+    if x.is_nan() || x.abs() >= 8_388_608.0 || x == 0.0 {
+        return x;
+    }
+    let t = x as i32 as f32;
+    if t > x { t - 1.0 } else { t }
+}
+
+/// Reduces `u` for the wrap mode so that scaling keeps sub-texel precision: repeat to
+/// `[0, 1]`, mirrored repeat to `[0, 2)`, clamp-to-edge to `[−1, 2]` (past which nothing
+/// changes). NaN becomes 0.
+#[inline(always)]
+fn reduce(u: f32, wrap: Wrap) -> f32 {
+    let r = match wrap {
+        Wrap::Repeat => u - floor(u),
+        Wrap::MirroredRepeat => u - 2.0 * floor(u * 0.5),
+        Wrap::ClampToEdge => u.clamp(-1.0, 2.0),
+    };
+    if r.is_nan() { 0.0 } else { r }
+}
+
+/// Applies the wrap to an integer texel index along an axis of `n` texels.
+#[inline(always)]
+fn wrap_index(i: i64, n: u32, wrap: Wrap) -> u32 {
+    let n = n as i64;
+    let wrapped = match wrap {
+        Wrap::Repeat => i.rem_euclid(n),
+        Wrap::ClampToEdge => i.clamp(0, n - 1),
+        Wrap::MirroredRepeat => {
+            let m = i.rem_euclid(2 * n);
+            if m < n { m } else { 2 * n - 1 - m }
+        }
+    };
+    wrapped as u32
+}
+
+/// The texel index for nearest filtering: `⌊u · n⌋`, wrapped.
+#[inline(always)]
+fn nearest_index(u: f32, n: u32, wrap: Wrap) -> u32 {
+    wrap_index(floor(reduce(u, wrap) * n as f32) as i64, n, wrap)
+}
+
+/// The two texel indices and the weight of the second for linear filtering:
+/// `i0 = ⌊u · n − ½⌋`, `i1 = i0 + 1`, `α = frac(u · n − ½)`, wrapped.
+#[inline(always)]
+fn linear_indices(u: f32, n: u32, wrap: Wrap) -> (u32, u32, f32) {
+    let x = reduce(u, wrap) * n as f32 - 0.5;
+    let base = floor(x);
+    let i0 = base as i64;
+    (wrap_index(i0, n, wrap), wrap_index(i0 + 1, n, wrap), x - base)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shade::texture_cache::TextureCacheConfig;
+
+    /// A texture whose texel (x, y) of level 0 has red = x, green = y (as bytes).
+    fn ramp(width: u32, height: u32, mips: MipChain) -> Texture {
+        let mut data = Vec::new();
+        for y in 0..height {
+            for x in 0..width {
+                data.extend_from_slice(&[x as u8, y as u8, 0, 255]);
+            }
+        }
+        Texture::from_rgba8(width, height, &data, ColorSpace::Linear, mips).unwrap()
+    }
+
+    /// Samples every lane at the same (u, v), with no derivative (level 0 magnified).
+    fn sample_at(texture: &Texture, sampler: &Sampler, u: f32, v: f32) -> [f32; 4] {
+        let mut cache = TextureCache::default();
+        let c = texture.sample(sampler, F32x8::splat(u), F32x8::splat(v), LaneMask::ALL, &mut cache);
+        [c[0].lane(0), c[1].lane(0), c[2].lane(0), c[3].lane(0)]
+    }
+
+    fn bytes(c: [f32; 4]) -> [f32; 4] {
+        c.map(|v| v * 255.0)
+    }
+
+    #[test]
+    fn log2_is_exact_on_powers_of_two_and_close_elsewhere() {
+        for e in -126..=127 {
+            let x = 2f32.powi(e);
+            assert_eq!(log2(x), e as f32, "2^{e}");
+        }
+        // Subnormals: 2^-140 and the smallest, 2^-149.
+        assert_eq!(log2(f32::from_bits(1 << 9)), -140.0);
+        assert_eq!(log2(f32::from_bits(1)), -149.0);
+        for x in [0.3f32, 1.5, 3.0, 10.0, 1234.5, 7.0e-3] {
+            assert!((log2(x) as f64 - (x as f64).log2()).abs() < 1e-6, "{x}");
+        }
+        assert_eq!(log2(0.0), f32::NEG_INFINITY);
+        assert_eq!(log2(-1.0), f32::NEG_INFINITY);
+        assert_eq!(log2(f32::NAN), f32::NEG_INFINITY);
+        assert_eq!(log2(f32::INFINITY), f32::INFINITY);
+    }
+
+    #[test]
+    fn bilinear_weights_follow_texel_centres() {
+        let t = ramp(4, 4, MipChain::BaseOnly);
+        let s = Sampler::BILINEAR_CLAMP;
+        // Texel centres are at (i + 0.5) / 4: exactly on a centre gives that texel.
+        assert_eq!(bytes(sample_at(&t, &s, 1.5 / 4.0, 2.5 / 4.0)), [1.0, 2.0, 0.0, 255.0]);
+        // A quarter of the way from texel 1 to 2 in u, half way from 0 to 1 in v.
+        let c = bytes(sample_at(&t, &s, 1.75 / 4.0, 1.0 / 4.0));
+        assert!((c[0] - 1.25).abs() < 1e-4 && (c[1] - 0.5).abs() < 1e-4, "{c:?}");
+        // Clamp-to-edge: below the first centre, the edge texel alone.
+        assert_eq!(bytes(sample_at(&t, &s, 0.0, 0.0)), [0.0, 0.0, 0.0, 255.0]);
+        assert_eq!(bytes(sample_at(&t, &s, -3.0, 7.0)), [0.0, 3.0, 0.0, 255.0]);
+    }
+
+    #[test]
+    fn floor_matches_the_library() {
+        for x in [0.0f32, -0.0, 0.5, -0.5, 1.0, -1.0, 2.75, -2.75, 8_388_607.5, -8_388_607.5, 1.0e10, -1.0e10, 3.0e38] {
+            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x}");
+        }
+        assert!(floor(f32::NAN).is_nan());
+        assert_eq!(floor(f32::NEG_INFINITY), f32::NEG_INFINITY);
+    }
+
+    #[test]
+    fn wraps_on_texel_indices() {
+        for (i, repeat, clamp, mirror) in
+            [(-1i64, 3u32, 0u32, 0u32), (-4, 0, 0, 3), (4, 0, 3, 3), (5, 1, 3, 2), (8, 0, 3, 0), (-5, 3, 0, 3)]
+        {
+            assert_eq!(wrap_index(i, 4, Wrap::Repeat), repeat, "repeat {i}");
+            assert_eq!(wrap_index(i, 4, Wrap::ClampToEdge), clamp, "clamp {i}");
+            assert_eq!(wrap_index(i, 4, Wrap::MirroredRepeat), mirror, "mirror {i}");
+        }
+    }
+
+    #[test]
+    fn wrap_modes_when_sampling() {
+        let t = ramp(4, 4, MipChain::BaseOnly);
+        let nearest = Sampler::NEAREST_REPEAT;
+        // u = 1.1 → 0.1 → texel 0 with repeat; mirrored: 1.1 → 0.9 → texel 3; clamp: texel 3.
+        assert_eq!(sample_at(&t, &nearest, 1.1, 0.0)[0] * 255.0, 0.0);
+        assert_eq!(sample_at(&t, &nearest.with_wrap(Wrap::MirroredRepeat), 1.1, 0.0)[0] * 255.0, 3.0);
+        assert_eq!(sample_at(&t, &nearest.with_wrap(Wrap::ClampToEdge), 1.1, 0.0)[0] * 255.0, 3.0);
+        // Bilinear repeat at u = 0 blends the last and the first texel half and half.
+        let c = bytes(sample_at(&t, &Sampler::TRILINEAR_REPEAT, 0.0, 0.5 / 4.0));
+        assert!((c[0] - 1.5).abs() < 1e-4, "{c:?}");
+        // Huge and non-finite coordinates are wrapped, never a panic.
+        for u in [1.0e30f32, -1.0e30, f32::INFINITY, f32::NAN] {
+            for wrap in [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat] {
+                sample_at(&t, &Sampler::TRILINEAR_REPEAT.with_wrap(wrap), u, u);
+            }
+        }
+    }
+
+    #[test]
+    fn box_mip_chain_rounds_like_scenes_md() {
+        // 3×1: level 1 is 1×1 of texels 0 and 1 (rows clamped): (a + b + a + b + 2) >> 2.
+        let data = [10u8, 0, 0, 255, 13, 0, 0, 255, 200, 0, 0, 255];
+        let t = Texture::from_rgba8(3, 1, &data, ColorSpace::Linear, MipChain::Box).unwrap();
+        assert_eq!(t.levels().len(), 2);
+        assert_eq!(t.level_texels(1), &[[12, 0, 0, 255]]); // (10+13+10+13+2)>>2 = 12
+        let t = ramp(8, 4, MipChain::Box);
+        let sizes: Vec<_> = t.levels().iter().map(|l| (l.width, l.height)).collect();
+        assert_eq!(sizes, [(8, 4), (4, 2), (2, 1), (1, 1)]);
+        // Level 1 texel (1, 0) averages x 2,3 and y 0,1: red (2+3+2+3+2)>>2 = 3, green 1.
+        assert_eq!(t.level_texels(1)[1], [3, 1, 0, 255]);
+    }
+
+    #[test]
+    fn srgb_decodes_before_filtering() {
+        let data = [0u8, 0, 0, 255, 255, 255, 255, 255];
+        let t = Texture::from_rgba8(2, 1, &data, ColorSpace::Srgb, MipChain::Box).unwrap();
+        // Half way between black and white is linear 0.5 (sRGB 188), not byte 128 decoded.
+        let c = sample_at(&t, &Sampler::BILINEAR_CLAMP, 0.5, 0.5);
+        assert!((c[0] - 0.5).abs() < 1e-6, "{c:?}");
+        assert_eq!(t.level_texels(1), &[[188, 188, 188, 255]]);
+        let linear = Texture::from_rgba8(2, 1, &data, ColorSpace::Linear, MipChain::Box).unwrap();
+        assert_eq!(linear.level_texels(1), &[[128, 128, 128, 255]]);
+    }
+
+    /// Samples a quad whose texel-space footprint steps `step` texels per pixel in u.
+    fn lod_of(texture: &Texture, step: f32) -> f32 {
+        let s = F32x8::from_fn(|i| crate::simd::LANE_DX[i] as f32 * step / texture.width() as f32);
+        quad_lods(s * texture.width() as f32, F32x8::ZERO)[0]
+    }
+
+    #[test]
+    fn level_of_detail_from_quad_derivatives() {
+        let t = ramp(64, 64, MipChain::Box);
+        assert_eq!(lod_of(&t, 1.0), 0.0);
+        assert_eq!(lod_of(&t, 2.0), 1.0);
+        assert_eq!(lod_of(&t, 8.0), 3.0);
+        assert!((lod_of(&t, 3.0) - 3f32.log2()).abs() < 1e-6);
+        // ρ is the longer of the two derivative vectors: (3, 4) texels per pixel in y gives 5.
+        let t_coord = F32x8::from_fn(|i| crate::simd::LANE_DY[i] as f32 * 4.0);
+        let s_coord = F32x8::from_fn(|i| crate::simd::LANE_DY[i] as f32 * 3.0);
+        assert!((quad_lods(s_coord, t_coord)[0] - 5f32.log2()).abs() < 1e-6);
+
+        let s = Sampler::TRILINEAR_REPEAT;
+        assert_eq!(t.plan(&s, -1.0), LevelPlan::Single { level: 0, filter: Filter::Linear });
+        assert_eq!(t.plan(&s, 0.0), LevelPlan::Single { level: 0, filter: Filter::Linear });
+        assert_eq!(t.plan(&s, 1.25), LevelPlan::Blend { level: 1, filter: Filter::Linear, weight: 0.25 });
+        assert_eq!(t.plan(&s, 6.0), LevelPlan::Single { level: 6, filter: Filter::Linear });
+        assert_eq!(t.plan(&s, 60.0), LevelPlan::Single { level: 6, filter: Filter::Linear });
+        assert_eq!(t.plan(&s, f32::NAN), LevelPlan::Single { level: 0, filter: Filter::Linear });
+        let nearest_mip = Sampler { mipmap: MipmapMode::Nearest, min_filter: Filter::Nearest, ..s };
+        // Magnification up to λ = 0.5 (linear mag, nearest-mipmap min), then ⌈λ + ½⌉ − 1.
+        assert_eq!(nearest_mip.magnification_limit(), 0.5);
+        assert_eq!(t.plan(&nearest_mip, 0.5), LevelPlan::Single { level: 0, filter: Filter::Linear });
+        assert_eq!(t.plan(&nearest_mip, 0.6), LevelPlan::Single { level: 1, filter: Filter::Nearest });
+        assert_eq!(t.plan(&nearest_mip, 1.49), LevelPlan::Single { level: 1, filter: Filter::Nearest });
+        assert_eq!(t.plan(&nearest_mip, 1.51), LevelPlan::Single { level: 2, filter: Filter::Nearest });
+    }
+
+    #[test]
+    fn trilinear_blends_two_levels() {
+        // 2×2 texture: level 0 texels 0, 100, 200, 40 in red; level 1 = (340 + 2) >> 2 = 85.
+        let data = [0u8, 0, 0, 255, 100, 0, 0, 255, 200, 0, 0, 255, 40, 0, 0, 255];
+        let t = Texture::from_rgba8(2, 2, &data, ColorSpace::Linear, MipChain::Box).unwrap();
+        assert_eq!(t.level_texels(1), &[[85, 0, 0, 255]]);
+        // u steps 1.5 texels per pixel: λ = log2(1.5) ≈ 0.585 at the centre of texel (0, 0).
+        let u = F32x8::from_fn(|i| 0.25 + crate::simd::LANE_DX[i] as f32 * 0.75);
+        let v = F32x8::splat(0.25);
+        let mut cache = TextureCache::default();
+        let c = t.sample(&Sampler::TRILINEAR_REPEAT, u, v, LaneMask::ALL, &mut cache);
+        let lambda = 1.5f32.log2();
+        let expected = 0.0 + lambda * (85.0 / 255.0 - 0.0);
+        assert!((c[0].lane(0) - expected).abs() < 1e-5, "{} vs {expected}", c[0].lane(0));
+    }
+
+    #[test]
+    fn cache_counts_lines_not_texels() {
+        let t = ramp(64, 64, MipChain::BaseOnly);
+        let mut cache = TextureCache::new(TextureCacheConfig::DEFAULT);
+        // Nearest sampling of every texel of a 4×4 block: 16 reads, one 64-byte line.
+        for y in 0..4 {
+            for x in 0..4 {
+                let u = F32x8::splat((x as f32 + 0.5) / 64.0);
+                let v = F32x8::splat((y as f32 + 0.5) / 64.0);
+                t.sample(&Sampler::NEAREST_REPEAT, u, v, LaneMask(1), &mut cache);
+            }
+        }
+        assert_eq!((cache.misses(), cache.hits()), (1, 15));
+        assert_eq!(cache.take_fetched_bytes(), 64);
+        // Lanes outside `counted` read nothing through the cache.
+        t.sample(&Sampler::NEAREST_REPEAT, F32x8::splat(0.9), F32x8::splat(0.9), LaneMask::NONE, &mut cache);
+        assert_eq!(cache.misses() + cache.hits(), 16);
+    }
+
+    #[test]
+    fn texel_addresses_are_blocked() {
+        let t = ramp(16, 8, MipChain::Box);
+        let base = t.texel_address(0, 0, 0);
+        assert_eq!(t.texel_address(0, 1, 0) - base, 4);
+        assert_eq!(t.texel_address(0, 0, 1) - base, 16);
+        assert_eq!(t.texel_address(0, 4, 0) - base, 64);
+        assert_eq!(t.texel_address(0, 0, 4) - base, 4 * 64);
+        // Level 1 starts after level 0's 8 blocks.
+        assert_eq!(t.texel_address(1, 0, 0) - base, 8 * 64);
+    }
+
+    #[test]
+    fn bad_sizes_are_refused() {
+        assert!(Texture::from_rgba8(0, 4, &[], ColorSpace::Linear, MipChain::Box).is_err());
+        assert!(Texture::from_rgba8(2, 2, &[0; 15], ColorSpace::Linear, MipChain::Box).is_err());
+        assert!(Texture::from_rgba8(MAX_TEXTURE_DIMENSION + 1, 1, &[], ColorSpace::Linear, MipChain::Box).is_err());
+    }
+}

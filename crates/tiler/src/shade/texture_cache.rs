@@ -1,0 +1,234 @@
+//! The texture cache model: which texel reads reach external memory.
+//!
+//! A set-associative cache with least-recently-used replacement, in front of every texture
+//! read of a shading task. The ledger's `TextureFetch` category is counted from it, once per
+//! task (`shade::pipeline`):
+//!
+//! ```text
+//! TextureFetch bytes = cache misses × line size
+//! ```
+//!
+//! so it reports the bytes fetched from external memory, not the texels touched: a magnified
+//! texture costs each line once, a minified one without mip maps costs a line for almost every
+//! texel read.
+//!
+//! Addresses are modelled, not host pointers: texture `id` at `id · 2^40`, its levels one after
+//! another, each level in 4×4-texel blocks of 64 bytes (RGBA8), blocks in row-major order
+//! (`Texture::texel_address`). Storing textures in blocks is what GPUs do (block-linear or
+//! Morton layouts) so that a cache line holds a square of texels, not a thin row.
+//!
+//! Every task (a band of tiles on a tiler, a band of rows for one draw in immediate mode) starts
+//! with a cold cache of its own, so the counts depend only on the task's work, never on the
+//! thread that ran it or on the order tasks ran in. Texture ids only make tags unique: any
+//! distinct ids give the same counts.
+//!
+//! The default geometry, 16 KiB, 64-byte lines, 4 ways, is in the range of the per-core L1
+//! texture caches of mobile GPUs (Mali-G7x: 16 KiB per core; Adreno 6xx: 8–16 KiB).
+
+use crate::api::error::{Error, Result};
+
+/// The shape of the texture cache.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub struct TextureCacheConfig {
+    /// Capacity in bytes.
+    pub size_bytes: u32,
+    /// Bytes per line: the unit fetched from external memory on a miss.
+    pub line_bytes: u32,
+    /// Lines per set (1 = direct mapped; `size_bytes / line_bytes` = fully associative).
+    pub ways: u32,
+}
+
+impl Default for TextureCacheConfig {
+    fn default() -> TextureCacheConfig {
+        TextureCacheConfig::DEFAULT
+    }
+}
+
+impl TextureCacheConfig {
+    /// 16 KiB, 64-byte lines, 4-way set associative (see the module notes).
+    pub const DEFAULT: TextureCacheConfig = TextureCacheConfig { size_bytes: 16 << 10, line_bytes: 64, ways: 4 };
+
+    /// The number of sets.
+    pub fn sets(&self) -> u32 {
+        self.size_bytes / (self.line_bytes * self.ways)
+    }
+
+    /// Checks the shape: powers of two, lines of 4 bytes to 4 KiB, 1 to 64 ways, at least one
+    /// set, at most 64 MiB.
+    ///
+    /// # Errors
+    /// Any of the above broken, naming the value.
+    pub fn validate(&self) -> Result<()> {
+        let what = "texture cache";
+        let TextureCacheConfig { size_bytes, line_bytes, ways } = *self;
+        if !line_bytes.is_power_of_two() || !(4..=4096).contains(&line_bytes) {
+            return Err(Error::invalid(what, format!("line size {line_bytes} must be a power of two from 4 to 4096")));
+        }
+        if !ways.is_power_of_two() || ways > 64 {
+            return Err(Error::invalid(what, format!("{ways} ways must be a power of two from 1 to 64")));
+        }
+        if !size_bytes.is_power_of_two() || size_bytes > 64 << 20 || size_bytes < line_bytes * ways {
+            return Err(Error::invalid(
+                what,
+                format!(
+                    "size {size_bytes} must be a power of two of at least one set ({line_bytes} × {ways} bytes) and at most 64 MiB"
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The cache state of one task: tags per set, most recently used first, and the counts.
+#[derive(Clone, Debug)]
+pub struct TextureCache {
+    config: TextureCacheConfig,
+    line_shift: u32,
+    set_mask: u64,
+    /// `sets × ways` line addresses, each set's most recently used first; `EMPTY` when unused.
+    /// Allocated on the first access, so tasks that sample nothing cost nothing.
+    lines: Vec<u64>,
+    hits: u64,
+    misses: u64,
+    /// Misses already handed to the ledger.
+    misses_reported: u64,
+}
+
+impl Default for TextureCache {
+    fn default() -> TextureCache {
+        TextureCache::new(TextureCacheConfig::DEFAULT)
+    }
+}
+
+impl TextureCache {
+    const EMPTY: u64 = u64::MAX;
+
+    /// A cold cache.
+    ///
+    /// # Panics
+    /// If `config` is invalid (check it with [`TextureCacheConfig::validate`] first).
+    pub fn new(config: TextureCacheConfig) -> TextureCache {
+        assert!(config.validate().is_ok(), "invalid texture cache configuration {config:?}");
+        TextureCache {
+            config,
+            line_shift: config.line_bytes.trailing_zeros(),
+            set_mask: config.sets() as u64 - 1,
+            lines: Vec::new(),
+            hits: 0,
+            misses: 0,
+            misses_reported: 0,
+        }
+    }
+
+    pub fn config(&self) -> &TextureCacheConfig {
+        &self.config
+    }
+
+    /// Reads the byte at modelled address `address`; returns whether it hit.
+    #[inline]
+    pub fn access(&mut self, address: u64) -> bool {
+        let ways = self.config.ways as usize;
+        if self.lines.is_empty() {
+            self.lines = vec![Self::EMPTY; self.config.sets() as usize * ways];
+        }
+        let line = address >> self.line_shift;
+        let set = (line & self.set_mask) as usize;
+        let entries = &mut self.lines[set * ways..(set + 1) * ways];
+        if entries[0] == line {
+            self.hits += 1;
+            return true;
+        }
+        match entries.iter().position(|&l| l == line) {
+            Some(way) => {
+                entries[..=way].rotate_right(1);
+                self.hits += 1;
+                true
+            }
+            None => {
+                // Evict the least recently used (the last), insert as most recent.
+                entries.rotate_right(1);
+                entries[0] = line;
+                self.misses += 1;
+                false
+            }
+        }
+    }
+
+    pub fn hits(&self) -> u64 {
+        self.hits
+    }
+
+    pub fn misses(&self) -> u64 {
+        self.misses
+    }
+
+    /// Bytes fetched from external memory since the last call: `misses × line size`.
+    pub fn take_fetched_bytes(&mut self) -> u64 {
+        let new = self.misses - self.misses_reported;
+        self.misses_reported = self.misses;
+        new * self.config.line_bytes as u64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_config_is_valid() {
+        assert!(TextureCacheConfig::DEFAULT.validate().is_ok());
+        assert_eq!(TextureCacheConfig::DEFAULT.sets(), 64);
+    }
+
+    #[test]
+    fn invalid_configs_are_refused() {
+        let bad = [
+            TextureCacheConfig { size_bytes: 1000, line_bytes: 64, ways: 4 },
+            TextureCacheConfig { size_bytes: 16384, line_bytes: 48, ways: 4 },
+            TextureCacheConfig { size_bytes: 16384, line_bytes: 64, ways: 3 },
+            TextureCacheConfig { size_bytes: 128, line_bytes: 64, ways: 4 },
+        ];
+        for config in bad {
+            assert!(config.validate().is_err(), "{config:?}");
+        }
+    }
+
+    #[test]
+    fn a_line_is_fetched_once_while_it_stays() {
+        let mut cache = TextureCache::new(TextureCacheConfig { size_bytes: 256, line_bytes: 64, ways: 2 });
+        // Every byte of one line: one miss, 63 hits.
+        for a in 0..64 {
+            cache.access(a);
+        }
+        assert_eq!((cache.misses(), cache.hits()), (1, 63));
+        assert_eq!(cache.take_fetched_bytes(), 64);
+        assert_eq!(cache.take_fetched_bytes(), 0);
+    }
+
+    #[test]
+    fn least_recently_used_line_is_evicted() {
+        // 2 sets of 2 ways: lines 0, 2, 4 all map to set 0.
+        let mut cache = TextureCache::new(TextureCacheConfig { size_bytes: 256, line_bytes: 64, ways: 2 });
+        let line = |n: u64| n * 64;
+        assert!(!cache.access(line(0)));
+        assert!(!cache.access(line(2)));
+        assert!(cache.access(line(0))); // 0 is now most recent, 2 least
+        assert!(!cache.access(line(4))); // evicts 2
+        assert!(cache.access(line(0)));
+        assert!(!cache.access(line(2)));
+        // The other set is untouched by all this.
+        assert!(!cache.access(line(1)));
+        assert_eq!(cache.misses(), 5);
+        assert_eq!(cache.take_fetched_bytes(), 5 * 64);
+    }
+
+    #[test]
+    fn direct_mapped_conflicts_thrash() {
+        let mut cache = TextureCache::new(TextureCacheConfig { size_bytes: 128, line_bytes: 64, ways: 1 });
+        for _ in 0..3 {
+            cache.access(0);
+            cache.access(128);
+        }
+        assert_eq!(cache.misses(), 6);
+    }
+}
