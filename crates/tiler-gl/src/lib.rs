@@ -39,9 +39,10 @@
 //! - Depth and stencil: tiler packs them in one image, so separate depth and stencil images are
 //!   `GL_FRAMEBUFFER_UNSUPPORTED`; `depth24` and `stencil8` are packed images with a padding
 //!   half (see `context::targets`).
-//! - Textures: the `textured` program samples with an interim sampler (nearest or bilinear, no
-//!   mip maps) whose texel reads are not in the ledger yet; blits and copies count their
-//!   source reads. The core's texture units will replace it.
+//! - Textures: the `textured` program samples RGBA8 textures with the core's sampler and
+//!   texture cache (`texture_fetch` in the ledger), nearest or bilinear without mip maps;
+//!   other formats (float, 565, depth) with a context-side sampler whose reads are not
+//!   counted. Blits and copies count their source reads by formula (see `program`).
 //! - Costs are a tiler's: with the immediate-mode backend the passes and images are the same,
 //!   the ledger is immediate mode's, and the advisor's costs describe what a tiler would pay.
 //!

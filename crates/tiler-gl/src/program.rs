@@ -19,13 +19,17 @@
 //! range. A `alpha_cutoff` above 0 makes the fragment shader discard (GLSL `discard`), which
 //! tells tiler the shader may discard, so depth is tested after shading.
 //!
-//! # Texture sampling (interim)
+//! # Texture sampling
 //!
-//! tiler's own texture units (filtering, mip maps, a texture cache and its `TextureFetch`
-//! ledger) are being built in the core. Until they land, `textured` samples a snapshot of the
-//! texture taken when its render pass is submitted, with nearest or bilinear filtering and no
-//! mip maps, and its texel reads are **not** counted in the ledger. Blits and copies use the
-//! same sampler but count their source reads (see `context`).
+//! `textured` samples RGBA8 textures (linear or sRGB) with the core's sampler
+//! ([`tiler::Texture`]): nearest or bilinear on level 0 (the API has no mip maps), wrapped as
+//! the texture says, through the core's texture-cache model, so its reads are `texture_fetch`
+//! in the pass's ledger. The texture is the image's contents when its render pass is submitted
+//! (render to texture included). Formats the core sampler does not take (float, 565, depth —
+//! a shadow map) are sampled by [`TextureSnapshot`], the same filtering on decoded texels, whose
+//! reads are not counted. Blits and copies use [`TextureSnapshot`] too (it averages the samples
+//! of a multisampled source, a resolve) and count their source reads by formula (see
+//! `context`).
 
 use std::sync::Arc;
 
@@ -336,10 +340,18 @@ fn wrap_coord(i: i64, n: i64, wrap: Wrap) -> i64 {
     }
 }
 
+/// What a textured draw samples.
+#[derive(Clone, Debug)]
+pub enum ProgramTexture {
+    /// An RGBA8 texture through the core's sampler and texture cache.
+    Core(Arc<tiler::Texture>, tiler::Sampler),
+    /// Any other format (or a blit's source), decoded on read.
+    Snapshot(Arc<TextureSnapshot>, SamplerState),
+}
+
 /// Samples a texture at interpolated texture coordinates (varyings 0 and 1), times a colour.
 struct TexturedShader {
-    texture: Arc<TextureSnapshot>,
-    sampler: SamplerState,
+    texture: ProgramTexture,
     color: [f32; 4],
     alpha_cutoff: f32,
 }
@@ -351,9 +363,18 @@ impl FragmentShader for TexturedShader {
 
     fn shade(&self, frag: &mut Fragments<'_>) {
         let [s, t] = frag.smooth_n::<2>(0);
-        let texels: [[f32; 4]; 8] =
-            std::array::from_fn(|lane| self.texture.sample(s.lane(lane), t.lane(lane), self.sampler));
-        let color: [F32x8; 4] = std::array::from_fn(|c| F32x8::from_fn(|lane| texels[lane][c] * self.color[c]));
+        let color: [F32x8; 4] = match &self.texture {
+            ProgramTexture::Core(texture, sampler) => {
+                // The core's v runs down the rows as tiler stores them; GL's t runs up.
+                let texel = frag.sample(texture, sampler, [s, F32x8::ONE - t]);
+                std::array::from_fn(|c| texel[c] * self.color[c])
+            }
+            ProgramTexture::Snapshot(texture, sampler) => {
+                let texels: [[f32; 4]; 8] =
+                    std::array::from_fn(|lane| texture.sample(s.lane(lane), t.lane(lane), *sampler));
+                std::array::from_fn(|c| F32x8::from_fn(|lane| texels[lane][c] * self.color[c]))
+            }
+        };
         if self.alpha_cutoff > 0.0 {
             frag.discard(color[3].lt(F32x8::splat(self.alpha_cutoff)));
         }
@@ -369,7 +390,7 @@ impl FragmentShader for TexturedShader {
 pub fn program_pipeline(
     kind: ProgramKind,
     uniforms: &Uniforms,
-    texture: Option<(Arc<TextureSnapshot>, SamplerState)>,
+    texture: Option<ProgramTexture>,
     mut desc: PipelineDesc,
 ) -> tiler::Result<Pipeline> {
     desc.varyings = vec![Interpolation::Perspective; kind.varyings()];
@@ -388,16 +409,16 @@ pub fn program_pipeline(
             Pipeline::new(vertex, LambertShader { color: uniforms.color, light: light.to_array() }, desc)
         }
         ProgramKind::Textured => {
-            let (texture, sampler) = texture.unwrap_or_else(|| {
+            let texture = texture.unwrap_or_else(|| {
                 // An unbound unit samples as opaque black, as in GL.
-                (
+                ProgramTexture::Snapshot(
                     Arc::new(TextureSnapshot::constant([0.0, 0.0, 0.0, 1.0])),
                     SamplerState { filter: Filter::Nearest, wrap: Wrap::ClampToEdge },
                 )
             });
             Pipeline::new(
                 vertex,
-                TexturedShader { texture, sampler, color: uniforms.color, alpha_cutoff: uniforms.alpha_cutoff },
+                TexturedShader { texture, color: uniforms.color, alpha_cutoff: uniforms.alpha_cutoff },
                 desc,
             )
         }
@@ -474,7 +495,7 @@ pub fn blit_pipeline(
     desc.varyings = vec![Interpolation::Perspective; 2];
     Pipeline::new(
         BlitVertexShader { ndc, tex },
-        TexturedShader { texture, sampler, color: [1.0; 4], alpha_cutoff: 0.0 },
+        TexturedShader { texture: ProgramTexture::Snapshot(texture, sampler), color: [1.0; 4], alpha_cutoff: 0.0 },
         desc,
     )
 }

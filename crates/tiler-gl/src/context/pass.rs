@@ -53,7 +53,9 @@ use tiler::{
 use super::targets::Targets;
 use super::{AttribSource, Context, Fallible, Tiling};
 use crate::call::{BufferSet, ComponentType, Face, Filter, IndexKind, Mode, ProgramKind, Winding, Wrap};
-use crate::program::{SamplerState, TextureSnapshot, Uniforms, blit_pipeline, clear_pipeline, program_pipeline};
+use crate::program::{
+    ProgramTexture, SamplerState, TextureSnapshot, Uniforms, blit_pipeline, clear_pipeline, program_pipeline,
+};
 use crate::report::{
     AttachmentRecord, CallRef, DrawKind, DrawRecord, Dropped, EndCause, FlushCause, LoadKind, PartialClear, PassCost,
     PassRecord, Role, Slot, StartCause, StoreKind,
@@ -972,13 +974,16 @@ impl Context {
             DepthStencilAttachment { image: ds.image, depth_load, depth_store, stencil_load, stencil_store }
         });
         let mut snapshots: HashMap<ImageId, Arc<TextureSnapshot>> = HashMap::new();
+        let mut textures: HashMap<ImageId, Arc<tiler::Texture>> = HashMap::new();
         let mut draws = Vec::with_capacity(pass.draws.len());
         let mut extra = tiler::Ledger::default();
         for d in &pass.draws {
             let pipeline = match &d.source {
                 DrawSource::Program { kind, uniforms, texture } => {
                     let texture = match texture {
-                        Some((image, sampler)) => Some((self.snapshot(&mut snapshots, *image)?, *sampler)),
+                        Some((image, sampler)) => {
+                            Some(self.program_texture(&mut snapshots, &mut textures, *image, *sampler)?)
+                        }
                         None => None,
                     };
                     program_pipeline(*kind, uniforms, texture, d.desc.clone())
@@ -1160,6 +1165,55 @@ impl Context {
         for image in pass.retired_images {
             self.free_image(image);
         }
+    }
+
+    /// What a textured draw samples: RGBA8 images through the core's sampler, others through
+    /// a snapshot; each texture made once per submission.
+    fn program_texture(
+        &self,
+        snapshots: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
+        textures: &mut HashMap<ImageId, Arc<tiler::Texture>>,
+        image: ImageId,
+        sampler: SamplerState,
+    ) -> Fallible<ProgramTexture> {
+        let d = self.images[&image].desc;
+        let color_space = match d.format {
+            tiler::Format::Rgba8Unorm => tiler::ColorSpace::Linear,
+            tiler::Format::Rgba8UnormSrgb => tiler::ColorSpace::Srgb,
+            _ => return Ok(ProgramTexture::Snapshot(self.snapshot(snapshots, image)?, sampler)),
+        };
+        if d.samples != 1 {
+            return Ok(ProgramTexture::Snapshot(self.snapshot(snapshots, image)?, sampler));
+        }
+        let texture = match textures.get(&image) {
+            Some(t) => t.clone(),
+            None => {
+                let data = self.device.image_data(image).map_err(|e| e.to_string())?;
+                let t = tiler::Texture::from_rgba8(d.width, d.height, data, color_space, tiler::MipChain::BaseOnly)
+                    .map_err(|e| e.to_string())?;
+                let t = Arc::new(t);
+                textures.insert(image, t.clone());
+                t
+            }
+        };
+        let filter = match sampler.filter {
+            crate::call::Filter::Nearest => tiler::Filter::Nearest,
+            crate::call::Filter::Linear => tiler::Filter::Linear,
+        };
+        let wrap = match sampler.wrap {
+            Wrap::ClampToEdge => tiler::Wrap::ClampToEdge,
+            Wrap::Repeat => tiler::Wrap::Repeat,
+            Wrap::MirroredRepeat => tiler::Wrap::MirroredRepeat,
+        };
+        let core = tiler::Sampler {
+            mag_filter: filter,
+            min_filter: filter,
+            mipmap: tiler::MipmapMode::None,
+            wrap_u: wrap,
+            wrap_v: wrap,
+            lod_bias: 0.0,
+        };
+        Ok(ProgramTexture::Core(texture, core))
     }
 
     /// The decoded texels of an image, once per submission.
