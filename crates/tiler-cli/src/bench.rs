@@ -12,7 +12,7 @@ use serde::Serialize;
 use tiler::{Backend, Device, DeviceConfig};
 use tiler_scene::bench::{BenchCase, BenchScene, build, standard_cases};
 
-use crate::render::parse_size;
+use crate::scene_args::parse_size;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {

@@ -2,8 +2,11 @@
 
 mod analyze;
 mod bench;
+mod compare;
+mod frame;
 mod render;
-mod table;
+mod report_args;
+mod scene_args;
 
 use std::process::ExitCode;
 
@@ -26,6 +29,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Time the benchmark scenes of SCENES.md (clear, glTF models, overdraw, tris).
     Bench(bench::BenchArgs),
+    /// Render the same frame on several device presets and compare what it costs on each.
+    Compare(compare::CompareArgs),
     /// Replay a GL trace: its inferred render passes, what they cost, and advice.
     Analyze(analyze::AnalyzeArgs),
 }
@@ -35,6 +40,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Compare(args) => compare::run(&args),
         Command::Analyze(args) => analyze::run(&args),
     };
     match result {

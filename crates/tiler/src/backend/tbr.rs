@@ -36,13 +36,17 @@ use crate::binning::frame_data::{FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECO
 use crate::depth::hsr::{HsrMode, Visibility};
 use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
 use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
+use crate::raster::PixelRect;
 use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows};
 use crate::raster::samples::SampleLocations;
 use crate::shade::ShadeContext;
 use crate::shade::texture_cache::TextureCacheConfig;
 use crate::tile::buffer::TileBuffer;
 use crate::tile::grid::TileGrid;
-use crate::tile::load_store::{AttachmentOps, apply_load, apply_resolve, apply_store, store_bytes, tile_signature};
+use crate::tile::load_store::{
+    AttachmentOps, TileStart, apply_load, apply_resolve, apply_store, fill_value, load_bytes, resolved_value,
+    store_bytes, store_bytes_of, tile_signature, tile_start,
+};
 use crate::tile::target::{RenderTarget, Surface};
 
 /// Triangles set up and binned at a time.
@@ -451,11 +455,55 @@ fn render_band(
         let rows = (grid.tile_height as i32).min(grid.height as i32 - band_y0);
         result.tally.overdraw = Some(OverdrawRows::new(band_y0, grid.width, rows as u32));
     }
+    let starts: Vec<TileStart> =
+        resolved.attachments.iter().zip(&plan.ops).map(|(a, ops)| tile_start(a.format, ops)).collect();
+    // A tile no primitive touches can skip the tile buffer: its stores write the load ops'
+    // values (or what was loaded) straight to memory. Same bytes, same ledger.
+    let untouched_fast = signatures.iter().all(Option::is_none)
+        && starts.iter().all(|s| *s != TileStart::Mixed)
+        && resolved.resolves.iter().all(|r| !plan.resolve || matches!(starts[r.color], TileStart::Value(_)));
+    let mut pending: Option<PixelRect> = None;
     for tx in columns {
         let tile = grid.tile_rect(tx, ty);
         let rect = tile.intersect(&resolved.render_area);
         if rect.is_empty() {
             continue;
+        }
+        let list = &frame.lists[grid.index(tx, ty)];
+        if untouched_fast && list.is_empty() {
+            let mut stats = TileStats::default();
+            let mut resolve_bytes = 0;
+            for (a, attachment) in resolved.attachments.iter().enumerate() {
+                let has_image = attachment_images[a].is_some();
+                let samples = resolved.samples as usize;
+                stats.bytes_loaded += load_bytes(attachment.format, samples, has_image, &rect, &plan.ops[a]).loaded;
+                if has_image {
+                    stats.bytes_stored += store_bytes_of(attachment.format, samples, &rect, &plan.ops[a]);
+                }
+            }
+            if plan.resolve {
+                for (r, target) in resolved.resolves.iter().enumerate() {
+                    let format = resolved.attachments[target.color].format;
+                    let bytes = rect.area() * format.bytes_per_sample() as u64;
+                    resolve_bytes += bytes;
+                    result.on_chip_bytes += bytes * resolved.samples as u64;
+                    debug_assert!(resolve_images[r].is_some());
+                }
+            }
+            finish_tile(&mut result, grid.index(tx, ty), stats, resolve_bytes, 0, 0);
+            // Neighbouring untouched tiles are written in one go.
+            pending = Some(match pending {
+                Some(run) if run.x1 == rect.x0 => PixelRect::new(run.x0, run.y0, rect.x1, run.y1),
+                Some(run) => {
+                    fill_untouched(plan, &starts, attachment_images, resolve_images, &run);
+                    rect
+                }
+                None => rect,
+            });
+            continue;
+        }
+        if let Some(run) = pending.take() {
+            fill_untouched(plan, &starts, attachment_images, resolve_images, &run);
         }
         let mut stats = TileStats::default();
         let mut surfaces = worker.buffer.surfaces(&tile);
@@ -464,7 +512,6 @@ fn render_band(
         }
 
         // The list is in submission order, so each subpass's primitives are one run of it.
-        let list = &frame.lists[grid.index(tx, ty)];
         let shaded_before = result.tally.counters.fragments_shaded;
         let mut start = 0;
         while start < list.len() {
@@ -543,19 +590,61 @@ fn render_band(
                 result.on_chip_bytes += pixels * image.format.bytes_per_sample() as u64 * resolved.samples as u64;
             }
         }
-        result.on_chip_bytes += stats.bytes_loaded + stats.bytes_stored;
-        stats.bytes_stored += resolve_bytes;
-        result.ledger.add(Category::TileLoad, stats.bytes_loaded);
-        result.ledger.add(Category::TileStore, stats.bytes_stored - resolve_bytes);
-        result.ledger.add(Category::Resolve, resolve_bytes);
-        result.ledger.add(Category::FrameDataRead, frame_data_read);
-        result.tally.counters.tiles_processed += 1;
-        result.tally.counters.polygon_list_entries += list.len() as u64;
+        let shaded = (result.tally.counters.fragments_shaded - shaded_before) as u32;
         stats.list_entries = list.len() as u32;
-        stats.fragments_shaded = (result.tally.counters.fragments_shaded - shaded_before) as u32;
-        result.tiles.push((grid.index(tx, ty), stats));
+        finish_tile(&mut result, grid.index(tx, ty), stats, resolve_bytes, frame_data_read, shaded);
+    }
+    if let Some(run) = pending.take() {
+        fill_untouched(plan, &starts, attachment_images, resolve_images, &run);
     }
     result
+}
+
+/// Writes what untouched tiles over `rect` store: each attachment's load-op value where it
+/// is stored, and its resolve.
+fn fill_untouched(
+    plan: &FlushPlan,
+    starts: &[TileStart],
+    attachment_images: &mut [Option<Surface>],
+    resolve_images: &mut [Option<Surface>],
+    rect: &PixelRect,
+) {
+    let resolved = plan.resolved;
+    for (a, attachment) in resolved.attachments.iter().enumerate() {
+        let Some(image) = attachment_images[a].as_mut() else { continue };
+        let stored = store_bytes_of(attachment.format, resolved.samples as usize, rect, &plan.ops[a]) > 0;
+        if stored && let TileStart::Value(pattern) = starts[a] {
+            fill_value(image, rect, &pattern);
+        }
+    }
+    if plan.resolve {
+        for (r, target) in resolved.resolves.iter().enumerate() {
+            let image = resolve_images[r].as_mut().expect("resolve targets have memory");
+            let TileStart::Value(pattern) = starts[target.color] else { unreachable!("only cleared colour") };
+            fill_value(image, rect, &resolved_value(image.format, resolved.samples as usize, &pattern));
+        }
+    }
+}
+
+/// The ledger and statistics of a rendered tile.
+fn finish_tile(
+    result: &mut BandResult,
+    index: usize,
+    mut stats: TileStats,
+    resolve_bytes: u64,
+    frame_data_read: u64,
+    fragments_shaded: u32,
+) {
+    result.on_chip_bytes += stats.bytes_loaded + stats.bytes_stored;
+    stats.bytes_stored += resolve_bytes;
+    result.ledger.add(Category::TileLoad, stats.bytes_loaded);
+    result.ledger.add(Category::TileStore, stats.bytes_stored - resolve_bytes);
+    result.ledger.add(Category::Resolve, resolve_bytes);
+    result.ledger.add(Category::FrameDataRead, frame_data_read);
+    result.tally.counters.tiles_processed += 1;
+    result.tally.counters.polygon_list_entries += stats.list_entries as u64;
+    stats.fragments_shaded = fragments_shaded;
+    result.tiles.push((index, stats));
 }
 
 /// Frame data a tile reads: its polygon-list entries, the record of each primitive they

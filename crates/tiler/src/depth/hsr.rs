@@ -197,6 +197,70 @@ impl Visibility {
         self.owners[i] = entry;
     }
 
+    /// Claims the pixels of `mask` (bit `8·row + column`) of sample `s` in the 8×8 block at
+    /// `(x, y)` for `entry`.
+    #[inline]
+    pub fn claim_block(&mut self, sample: usize, x: i32, y: i32, mask: u64, entry: u32) {
+        if mask == 0 {
+            return;
+        }
+        let whole_rows = x >= self.origin.0 && x + 8 <= self.origin.0 + self.tile_width as i32;
+        for r in 0..8 {
+            let bits = (mask >> (8 * r)) as u8;
+            if bits == 0 {
+                continue;
+            }
+            if whole_rows {
+                let i = self.index(sample, x, y + r);
+                for (c, owner) in self.owners[i..i + 8].iter_mut().enumerate() {
+                    if bits >> c & 1 != 0 {
+                        *owner = entry;
+                    }
+                }
+            } else {
+                for c in 0..8 {
+                    if bits >> c & 1 != 0 {
+                        self.claim(sample, x + c, y + r, entry);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The pixels of sample `s` in the 8×8 block at `(x, y)` that `entry` owns (bit
+    /// `8·row + column`); pixels outside the tile are not owned.
+    #[inline]
+    pub fn owned_block(&self, sample: usize, x: i32, y: i32, entry: u32) -> u64 {
+        let (x0, y0) = self.origin;
+        let rows = self.owners.len() / self.plane.max(1);
+        let height = (self.plane / self.tile_width.max(1)) as i32;
+        debug_assert!(rows > sample);
+        let whole_rows = x >= x0 && x + 8 <= x0 + self.tile_width as i32;
+        let mut mask = 0u64;
+        for r in 0..8 {
+            let py = y + r;
+            if py < y0 || py >= y0 + height {
+                continue;
+            }
+            let mut bits = 0u64;
+            if whole_rows {
+                let i = self.index(sample, x, py);
+                for (c, owner) in self.owners[i..i + 8].iter().enumerate() {
+                    bits |= ((*owner == entry) as u64) << c;
+                }
+            } else {
+                for c in 0..8 {
+                    let px = x + c;
+                    if px >= x0 && px < x0 + self.tile_width as i32 {
+                        bits |= ((self.owner(sample, px, py) == entry) as u64) << c;
+                    }
+                }
+            }
+            mask |= bits << (8 * r);
+        }
+        mask
+    }
+
     /// The entries in `first..first + count` that own at least one sample, in order.
     pub fn owners_in(&mut self, first: u32, count: usize) -> impl Iterator<Item = u32> + '_ {
         self.visible.clear();

@@ -195,7 +195,7 @@ fn depth_only<D: DepthBits>(
             continue;
         }
         let z = depth(s);
-        let fragment: [u32; LANES] = std::array::from_fn(|lane| format.depth_bits(z.lane(lane)));
+        let fragment = format.depth_bits_lanes(z);
         let plane = surface.plane_mut(s);
         let mut pass = 0u8;
         for lane in 0..LANES {
@@ -216,6 +216,126 @@ fn depth_only<D: DepthBits>(
         passed.set_sample(s, LaneMask(pass));
     }
     (passed, tested, written)
+}
+
+/// Whether [`test_block`] can run the tests of `state` on `surface`: a depth test without a
+/// stencil test, in memory whose accesses need no addresses (a tile buffer, or memory without
+/// a cache model).
+pub fn block_test_applies(surface: &Surface, state: &DepthStencilState, traffic: &FramebufferTraffic) -> bool {
+    state.depth_test
+        && !(state.stencil_test && surface.format.has_stencil())
+        && !traffic.needs_addresses()
+        && matches!(surface.format, Format::D16Unorm | Format::D24UnormS8Uint | Format::D32Float)
+}
+
+/// The depth test (and writes) of a whole 8×8 block: `masks[s]` holds the covered pixels of
+/// sample `s` (bit `8·row + column`) and keeps those that pass. `depth(s, y)` gives the
+/// fragment depths of sample `s` for pixels `x..x + 8` of row `y`. The caller has checked
+/// [`block_test_applies`]. Counts the same accesses as [`test_group`].
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn test_block(
+    surface: &mut Surface,
+    x: i32,
+    y: i32,
+    masks: &mut [u64],
+    state: &DepthStencilState,
+    depth: impl Fn(usize, i32) -> F32x8,
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
+) {
+    use crate::api::pipeline::CompareOp;
+    let write = state.depth_write;
+    macro_rules! run {
+        ($d:ty) => {
+            match state.depth_compare {
+                CompareOp::Never => block_rows::<$d>(surface, x, y, masks, |_, _| false, write, &depth),
+                CompareOp::Less => block_rows::<$d>(surface, x, y, masks, |a, b| a < b, write, &depth),
+                CompareOp::Equal => block_rows::<$d>(surface, x, y, masks, |a, b| a == b, write, &depth),
+                CompareOp::LessOrEqual => block_rows::<$d>(surface, x, y, masks, |a, b| a <= b, write, &depth),
+                CompareOp::Greater => block_rows::<$d>(surface, x, y, masks, |a, b| a > b, write, &depth),
+                CompareOp::NotEqual => block_rows::<$d>(surface, x, y, masks, |a, b| a != b, write, &depth),
+                CompareOp::GreaterOrEqual => block_rows::<$d>(surface, x, y, masks, |a, b| a >= b, write, &depth),
+                CompareOp::Always => block_rows::<$d>(surface, x, y, masks, |_, _| true, write, &depth),
+            }
+        };
+    }
+    let (tested, written) = match surface.format {
+        Format::D16Unorm => run!(D16),
+        Format::D24UnormS8Uint => run!(D24),
+        _ => run!(D32),
+    };
+    let bytes = surface.format.depth_aspect_bytes() as u32;
+    traffic.accesses(ledger, Aspect::Depth, bytes, tested, false);
+    traffic.accesses(ledger, Aspect::Depth, bytes, written, true);
+}
+
+/// [`test_block`] for one depth format and compare op. Rows wholly inside the surface are
+/// tested as eight lanes at once; others (a tile narrower than a block) lane by lane.
+#[inline(always)]
+fn block_rows<D: DepthBits>(
+    surface: &mut Surface,
+    x: i32,
+    y: i32,
+    masks: &mut [u64],
+    compare: impl Fn(u32, u32) -> bool,
+    write: bool,
+    depth: &impl Fn(usize, i32) -> F32x8,
+) -> (u64, u64) {
+    let format = D::format();
+    let whole_rows = surface.holds_columns(x, x + 8);
+    let (mut tested, mut written) = (0u64, 0u64);
+    for (s, mask) in masks.iter_mut().enumerate() {
+        if *mask == 0 {
+            continue;
+        }
+        let mut kept = 0u64;
+        for r in 0..8 {
+            let bits = (*mask >> (8 * r)) as u8;
+            if bits == 0 {
+                continue;
+            }
+            let z = depth(s, y + r);
+            let fragment = format.depth_bits_lanes(z);
+            let offset = surface.offset(x, y + r);
+            let plane = surface.plane_mut(s);
+            let mut pass = 0u8;
+            if whole_rows {
+                let row = &mut plane[offset..offset + 8 * D::BYTES];
+                let stored: [u32; 8] = std::array::from_fn(|c| D::load(&row[c * D::BYTES..]));
+                for c in 0..8 {
+                    pass |= ((compare(fragment[c], stored[c])) as u8) << c;
+                }
+                pass &= bits;
+                if write {
+                    for c in 0..8 {
+                        if pass >> c & 1 != 0 {
+                            D::store(&mut row[c * D::BYTES..], fragment[c]);
+                        }
+                    }
+                }
+            } else {
+                for (c, &fragment) in fragment.iter().enumerate() {
+                    if bits >> c & 1 == 0 {
+                        continue;
+                    }
+                    let at = offset + c * D::BYTES;
+                    let stored = &mut plane[at..at + D::BYTES];
+                    if compare(fragment, D::load(stored)) {
+                        pass |= 1 << c;
+                        if write {
+                            D::store(stored, fragment);
+                        }
+                    }
+                }
+            }
+            tested += bits.count_ones() as u64;
+            written += if write { pass.count_ones() as u64 } else { 0 };
+            kept |= (pass as u64) << (8 * r);
+        }
+        *mask = kept;
+    }
+    (tested, written)
 }
 
 /// Stored depth bits and stencil of one sample.

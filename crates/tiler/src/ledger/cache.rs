@@ -1,10 +1,18 @@
-//! A set-associative, write-back, write-allocate cache with LRU replacement: the model behind
-//! the framebuffer cache of an immediate-mode GPU. It decides which accesses reach external
-//! memory; it never changes a value.
+//! A set-associative, write-back cache with LRU replacement that allocates on write without
+//! fetching ("write-validate", as GPU render caches do): the model behind the framebuffer
+//! cache of an immediate-mode GPU. It decides which accesses reach external memory; it never
+//! changes a value.
 //!
-//! Traffic: a miss fills a whole line (`line_bytes` read); evicting a dirty line writes it back
-//! (`line_bytes` written); at the end, [`CacheModel::flush`] writes back every dirty line. A
-//! cache of size 0 is no cache: every access is traffic of its own size.
+//! Traffic: a line keeps a mask of the bytes it holds. A write allocates the line if needed and
+//! marks its bytes valid and dirty, with no read. A read of bytes the line does not hold fills
+//! the whole line (`line_bytes` read; bytes written since are kept). Evicting a dirty line
+//! writes it back (`line_bytes` written: one burst with byte enables); at the end,
+//! [`CacheModel::flush`] writes back every dirty line. A cache of size 0 is no cache: every
+//! access is traffic of its own size.
+//!
+//! Write-validate matters: with write-allocate fills, a colour buffer written without blending
+//! would be read from memory line by line only to be overwritten, and the cache would cost
+//! more traffic than no cache at all.
 
 use serde::{Deserialize, Serialize};
 
@@ -67,7 +75,9 @@ pub struct CacheTraffic {
 #[derive(Clone, Copy, Debug, Default)]
 struct Line {
     tag: u64,
-    valid: bool,
+    /// Which granules of the line it holds (bit i = granule i; a granule is
+    /// `line_bytes / 64` bytes, at least one); 0 = an empty slot.
+    valid: u64,
     dirty: bool,
     /// The caller's label for what the line holds (to attribute its write-back).
     kind: u8,
@@ -102,22 +112,44 @@ impl CacheModel {
         }
         let line_bytes = self.config.line_bytes as u64;
         let line = address / line_bytes;
+        let mask = granules(address % line_bytes, bytes as u64, line_bytes);
+        let full = granules(0, line_bytes, line_bytes);
         let set = (line % self.config.sets() as u64) as usize;
         let ways = self.config.ways as usize;
         self.clock += 1;
+        let clock = self.clock;
         let slots = &mut self.lines[set * ways..(set + 1) * ways];
-        if let Some(hit) = slots.iter_mut().find(|l| l.valid && l.tag == line) {
-            hit.age = self.clock;
-            hit.dirty |= write;
-            return CacheTraffic { hit: bytes as u64, ..CacheTraffic::default() };
+        let mut traffic = CacheTraffic::default();
+        let slot = match slots.iter().position(|l| l.valid != 0 && l.tag == line) {
+            Some(hit) => hit,
+            None => {
+                let (victim, _) = slots
+                    .iter()
+                    .enumerate()
+                    .min_by_key(|(_, l)| if l.valid != 0 { l.age } else { 0 })
+                    .expect("ways > 0");
+                let old = slots[victim];
+                if old.valid != 0 && old.dirty {
+                    traffic.written = line_bytes;
+                    traffic.written_kind = old.kind;
+                }
+                slots[victim] = Line { tag: line, valid: 0, dirty: false, kind, age: clock };
+                victim
+            }
+        };
+        let entry = &mut slots[slot];
+        entry.age = clock;
+        if write {
+            entry.valid |= mask;
+            entry.dirty = true;
+            entry.kind = kind;
+            traffic.hit = bytes as u64;
+        } else if entry.valid & mask == mask {
+            traffic.hit = bytes as u64;
+        } else {
+            traffic.read = line_bytes;
+            entry.valid = full;
         }
-        let victim = slots.iter_mut().min_by_key(|l| if l.valid { l.age } else { 0 }).expect("ways > 0");
-        let mut traffic = CacheTraffic { read: line_bytes, ..CacheTraffic::default() };
-        if victim.valid && victim.dirty {
-            traffic.written = line_bytes;
-            traffic.written_kind = victim.kind;
-        }
-        *victim = Line { tag: line, valid: true, dirty: write, kind, age: self.clock };
         traffic
     }
 
@@ -126,12 +158,22 @@ impl CacheModel {
     pub fn flush(&mut self, mut written: impl FnMut(u8, u64)) {
         let line_bytes = self.config.line_bytes as u64;
         for line in &mut self.lines {
-            if line.valid && line.dirty {
+            if line.valid != 0 && line.dirty {
                 written(line.kind, line_bytes);
                 line.dirty = false;
             }
         }
     }
+}
+
+/// The granule mask of `bytes` bytes at `offset` in a line of `line_bytes`.
+fn granules(offset: u64, bytes: u64, line_bytes: u64) -> u64 {
+    let granule = (line_bytes / 64).max(1);
+    let first = offset / granule;
+    let last = (offset + bytes.max(1) - 1).min(line_bytes - 1) / granule;
+    let count = last - first + 1;
+    let ones = if count >= 64 { u64::MAX } else { (1u64 << count) - 1 };
+    ones << first
 }
 
 #[cfg(test)]
@@ -147,8 +189,10 @@ mod tests {
             total
         };
         // Two sets of two ways. Lines 0, 2, 4 map to set 0.
-        assert_eq!(c.access(0, 4, true, 1).read, 64);
-        assert_eq!(c.access(8, 4, false, 1).hit, 4);
+        assert_eq!(c.access(0, 4, true, 1).read, 0, "a write allocates without a fill");
+        assert_eq!(c.access(0, 4, false, 1).hit, 4, "bytes written are held");
+        assert_eq!(c.access(8, 4, false, 1).read, 64, "bytes not written are fetched");
+        assert_eq!(c.access(12, 4, false, 1).hit, 4, "the fill brought the whole line");
         assert_eq!(c.access(128, 4, false, 2).read, 64);
         // Line 4 evicts the least recently used line 0, which is dirty.
         let t = c.access(256, 4, false, 2);
@@ -156,6 +200,31 @@ mod tests {
         assert_eq!(flushed(&mut c), 0);
         c.access(128, 4, true, 2);
         assert_eq!(flushed(&mut c), 64);
+    }
+
+    #[test]
+    fn granules_cover_the_bytes_accessed() {
+        assert_eq!(granules(0, 4, 64), 0b1111);
+        assert_eq!(granules(60, 4, 64), 0b1111 << 60);
+        assert_eq!(granules(0, 64, 64), u64::MAX);
+        assert_eq!(granules(0, 4, 256), 0b1, "4-byte granules in a 256-byte line");
+        assert_eq!(granules(6, 4, 256), 0b110);
+        assert_eq!(granules(0, 16, 16), 0xffff);
+    }
+
+    #[test]
+    fn a_colour_buffer_written_once_costs_its_size() {
+        // Every 4-byte pixel of 64 KiB written once through a 4 KiB cache: one write-back per
+        // line, no fills.
+        let mut c = CacheModel::new(CacheConfig { size_bytes: 4096, line_bytes: 64, ways: 4 });
+        let (mut read, mut written) = (0, 0);
+        for address in (0..65536).step_by(4) {
+            let t = c.access(address, 4, true, 0);
+            read += t.read;
+            written += t.written;
+        }
+        c.flush(|_, b| written += b);
+        assert_eq!((read, written), (0, 65536));
     }
 
     #[test]

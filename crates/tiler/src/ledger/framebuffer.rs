@@ -155,8 +155,11 @@ mod tests {
         for i in 0..16 {
             cached.access(&mut ledger, Aspect::Color, i * 4, 4, true);
         }
-        assert_eq!(ledger.get(Category::ImrColorRead), 64, "one line fill");
+        assert_eq!(ledger.get(Category::ImrColorRead), 0, "written lines are not filled");
+        cached.access(&mut ledger, Aspect::Depth, 64, 4, false);
+        assert_eq!(ledger.get(Category::ImrDepthRead), 64, "a read fills its line");
         cached.finish(&mut ledger);
         assert_eq!(ledger.get(Category::ImrColorWrite), 64, "one write-back");
+        assert_eq!(ledger.get(Category::ImrDepthWrite), 0, "a clean line is not written back");
     }
 }

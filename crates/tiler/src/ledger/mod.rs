@@ -14,6 +14,27 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::depth::hsr::HsrFallbacks;
 
+/// Declares [`Category`] and derives [`Category::formula`] from each variant's doc comment, so
+/// the formula of a category is written once, next to the code, and reports quote that text.
+macro_rules! category_with_formulas {
+    (
+        $(#[$meta:meta])*
+        pub enum Category { $( $(#[doc = $doc:literal])* $variant:ident, )* }
+    ) => {
+        $(#[$meta])*
+        pub enum Category { $( $(#[doc = $doc])* $variant, )* }
+
+        impl Category {
+            /// What the category counts and its formula: the variant's doc comment as one line.
+            pub fn formula(self) -> String {
+                let doc = match self { $( Category::$variant => concat!($($doc, "\n"),*), )* };
+                doc.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" ")
+            }
+        }
+    };
+}
+
+category_with_formulas! {
 /// A kind of external-memory traffic. The formula of each is recorded where it is counted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -31,7 +52,9 @@ pub enum Category {
     /// Attachments read into the tile buffer by `LoadOp::Load`:
     /// `pixels of the tile in the render area × samples × bytes of the loaded aspect`.
     TileLoad,
-    /// Attachments written from the tile buffer by `StoreOp::Store`: same formula.
+    /// Attachments written from the tile buffer by `StoreOp::Store`:
+    /// `pixels of the tile in the render area × samples × bytes of the stored aspect`, less
+    /// the tiles transaction elimination skips.
     TileStore,
     /// Multisampled colour averaged and written to a single-sample resolve image:
     /// `pixels × bytes per pixel of the resolve image` (tilers: at store, from the tile
@@ -61,6 +84,7 @@ pub enum Category {
     ImrStencilRead,
     /// Immediate mode: stencil written, per sample whose stencil op writes.
     ImrStencilWrite,
+}
 }
 
 impl Category {
@@ -325,5 +349,23 @@ impl TaskTally {
     pub fn merge(&mut self, other: &TaskTally) {
         self.counters.merge(&other.counters);
         self.ledger.merge(&other.ledger);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_formula_is_its_variants_doc_comment_on_one_line() {
+        assert_eq!(
+            Category::VertexFetch.formula(),
+            "Vertex attributes read: `vertices shaded × Σ attribute sizes` (`geometry::vertex`)."
+        );
+        assert!(Category::TileStore.formula().starts_with("Attachments written from the tile buffer by"));
+        for category in Category::ALL {
+            let formula = category.formula();
+            assert!(!formula.is_empty() && !formula.contains('\n'), "{category:?}: {formula:?}");
+        }
     }
 }

@@ -158,13 +158,97 @@ impl PrimitiveCoverage {
         coverage
     }
 
+    /// The covered pixels of sample `s` in the 8×8 block whose top-left pixel is `(x, y)`:
+    /// bit `8·row + column`. Each edge is evaluated incrementally along the rows, in 32-bit
+    /// lanes when its values over the block fit (an edge shorter than about 2000 pixels),
+    /// else in 64-bit ones; edges that cover the whole block cost nothing.
+    #[inline]
+    pub fn block_mask(&self, x: i32, y: i32, s: usize) -> u64 {
+        let corner_x = SubPixel::pixel_corner(x);
+        let corner_y = SubPixel::pixel_corner(y);
+        let scale = SUBPIXEL_SCALE as i64;
+        let mut mask = u64::MAX;
+        for (e, edge) in self.edges.iter().enumerate() {
+            let at_corner = edge.eval(corner_x, corner_y) + self.sample_offsets[e][s];
+            mask &= edge_block_mask(at_corner, edge.a * scale, edge.b * scale);
+            if mask == 0 {
+                break;
+            }
+        }
+        mask
+    }
+
     /// Whether the sample `s` of pixel `(x, y)` is covered: the scalar reference that
-    /// [`PrimitiveCoverage::group`] must agree with.
+    /// [`PrimitiveCoverage::group`] and [`PrimitiveCoverage::block_mask`] must agree with.
     pub fn covers(&self, x: i32, y: i32, s: usize) -> bool {
         let px = SubPixel::pixel_corner(x);
         let py = SubPixel::pixel_corner(y);
         self.edges.iter().enumerate().all(|(e, edge)| edge.eval(px, py) + self.sample_offsets[e][s] >= 0)
     }
+}
+
+/// The pixels of an 8×8 block where `E ≥ 0`, for `E = at_corner + column·step_x + row·step_y`
+/// (bit `8·row + column`).
+#[inline(always)]
+fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64) -> u64 {
+    let last = (BLOCK_SIZE - 1) as i64;
+    let lo = at_corner + last * step_x.min(0) + last * step_y.min(0);
+    let hi = at_corner + last * step_x.max(0) + last * step_y.max(0);
+    if lo >= 0 {
+        return u64::MAX;
+    }
+    if hi < 0 {
+        return 0;
+    }
+    // Every value lies in [lo, hi], which contains 0: when the span fits, so does everything.
+    if hi - lo < 1 << 30 {
+        let (e0, sx, sy) = (at_corner as i32, step_x as i32, step_y as i32);
+        let row: [i32; 8] = std::array::from_fn(|c| e0 + c as i32 * sx);
+        let mut mask = 0u64;
+        for r in 0..8 {
+            let offset = r * sy;
+            let mut bits = 0u64;
+            for (c, v) in row.iter().enumerate() {
+                bits |= ((v + offset >= 0) as u64) << c;
+            }
+            mask |= bits << (8 * r);
+        }
+        mask
+    } else {
+        let row: [i64; 8] = std::array::from_fn(|c| at_corner + c as i64 * step_x);
+        let mut mask = 0u64;
+        for r in 0..8 {
+            let offset = r * step_y;
+            let mut bits = 0u64;
+            for (c, v) in row.iter().enumerate() {
+                bits |= ((v + offset >= 0) as u64) << c;
+            }
+            mask |= bits << (8 * r);
+        }
+        mask
+    }
+}
+
+/// The pixels of the 8×8 block at `(x, y)` that lie inside `rect` (bit `8·row + column`).
+#[inline]
+pub fn block_rect_mask(x: i32, y: i32, rect: &super::PixelRect) -> u64 {
+    let columns = (0..8).filter(|c| (rect.x0..rect.x1).contains(&(x + c))).fold(0u64, |m, c| m | 1 << c);
+    let mut mask = 0u64;
+    for r in 0..8 {
+        if (rect.y0..rect.y1).contains(&(y + r)) {
+            mask |= columns << (8 * r);
+        }
+    }
+    mask
+}
+
+/// The lanes of the 4×2 group at offset `(gx, gy)` in a block (gx ∈ {0, 4}, gy even), from a
+/// block mask.
+#[inline(always)]
+pub fn group_lanes(block: u64, gx: i32, gy: i32) -> LaneMask {
+    let top = (block >> (8 * gy + gx)) & 0xf;
+    let bottom = (block >> (8 * (gy + 1) + gx)) & 0xf;
+    LaneMask((top | bottom << 4) as u8)
 }
 
 /// The lanes of the 4×2 group at `(x, y)` whose pixels lie inside `rect`.
@@ -206,6 +290,47 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn block_masks_agree_with_the_scalar_reference() {
+        // A small triangle (32-bit path), a huge one (64-bit path), and a thin sliver.
+        let cases = [
+            triangle([(100, 50), (3000, 700), (900, 2500)]),
+            triangle([(-4_000_000, -3_000_000), (5_000_000, 200), (300, 6_000_000)]),
+            triangle([(0, 0), (4000, 37), (4010, 60)]),
+        ];
+        for edges in cases {
+            for samples in [1, 2, 4, 8] {
+                let cov = PrimitiveCoverage::new(&edges, &SampleLocations::standard(samples));
+                for by in (-8..24).step_by(8) {
+                    for bx in (-8..24).step_by(8) {
+                        for s in 0..samples as usize {
+                            let mask = cov.block_mask(bx, by, s);
+                            for bit in 0..64 {
+                                let (c, r) = (bit % 8, bit / 8);
+                                let expected = cov.covers(bx + c, by + r, s);
+                                assert_eq!(mask >> bit & 1 != 0, expected, "block ({bx}, {by}) pixel ({c}, {r}) s{s}");
+                            }
+                            for gy in [0, 2, 4, 6] {
+                                for gx in [0, 4] {
+                                    assert_eq!(group_lanes(mask, gx, gy), cov.group(bx + gx, by + gy).sample(s));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn block_rect_masks() {
+        let rect = super::super::PixelRect::new(3, 2, 20, 5);
+        let m = block_rect_mask(0, 0, &rect);
+        assert_eq!(m, (0b1111_1000u64 << 16) | (0b1111_1000u64 << 24) | (0b1111_1000u64 << 32));
+        assert_eq!(block_rect_mask(8, 0, &rect) >> 16 & 0xff, 0xff);
+        assert_eq!(block_rect_mask(0, 8, &rect), 0);
     }
 
     #[test]

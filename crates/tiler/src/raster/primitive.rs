@@ -14,7 +14,8 @@
 //! Otherwise the tests run after shading, on the coverage the shader left.
 
 use super::PixelRect;
-use super::coverage::{BLOCK_SIZE, BlockCoverage, Coverage, PrimitiveCoverage, lanes_inside};
+use super::coverage::{BLOCK_SIZE, BlockCoverage, Coverage, PrimitiveCoverage, block_rect_mask, group_lanes};
+use super::samples::MAX_SAMPLES;
 use super::samples::SampleLocations;
 use crate::api::format::ColorWrites;
 use crate::api::pipeline::{ColorTargetState, MAX_COLOR_ATTACHMENTS, PipelineDesc};
@@ -214,40 +215,158 @@ struct PrimitiveRaster<'a, F> {
 impl<F: FragmentShader> PrimitiveRaster<'_, F> {
     fn run(&self, rect: &PixelRect, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode) {
         let samples = self.locations.count();
+        let block_tests = self.tests
+            && match &target.depth_stencil {
+                Some(surface) => depth::block_test_applies(surface, &self.desc.depth_stencil, &tally.framebuffer),
+                None => false,
+            };
         let mut by = rect.y0 & !(BLOCK_SIZE - 1);
         while by < rect.y1 {
             let mut bx = rect.x0 & !(BLOCK_SIZE - 1);
             while bx < rect.x1 {
                 let class = self.coverage.classify_block(bx, by, BLOCK_SIZE);
                 if class != BlockCoverage::Outside {
-                    let block = PixelRect::new(bx, by, bx + BLOCK_SIZE, by + BLOCK_SIZE);
-                    let inside_rect = rect.intersect(&block) == block;
-                    for gy in (by..by + BLOCK_SIZE).step_by(2) {
-                        if gy + 2 <= rect.y0 || gy >= rect.y1 {
+                    let clip = block_rect_mask(bx, by, rect);
+                    let mut masks = [0u64; MAX_SAMPLES];
+                    let mut any = 0u64;
+                    for (s, mask) in masks[..samples].iter_mut().enumerate() {
+                        if self.static_mask.sample(s).is_empty() {
                             continue;
                         }
-                        for gx in [bx, bx + 4] {
-                            if gx + 4 <= rect.x0 || gx >= rect.x1 {
-                                continue;
-                            }
-                            let mut coverage = match class {
-                                BlockCoverage::Full => Coverage::full(samples),
-                                _ => self.coverage.group(gx, gy),
-                            };
-                            if !inside_rect {
-                                coverage = coverage.restrict(lanes_inside(gx, gy, rect));
-                            }
-                            coverage = Coverage(coverage.0 & self.static_mask.0);
-                            if !coverage.is_empty() {
-                                self.group(gx, gy, coverage, target, tally, mode);
-                            }
-                        }
+                        *mask = match (class, &mode) {
+                            // Ownership implies coverage: no need to rasterize again.
+                            (_, Mode::Shade { .. }) | (BlockCoverage::Full, _) => clip,
+                            _ => clip & self.coverage.block_mask(bx, by, s),
+                        };
+                        any |= *mask;
+                    }
+                    if any != 0 {
+                        self.block(bx, by, &mut masks, any, block_tests, target, tally, mode);
                     }
                 }
                 bx += BLOCK_SIZE;
             }
             by += BLOCK_SIZE;
         }
+    }
+
+    /// The fragment pipeline for the 8×8 block at `(x, y)`, whose covered pixels of sample `s`
+    /// are `masks[s]` (`any` their union). Depth tests that can run before shading run for the
+    /// whole block at once where [`depth::test_block`] applies; the rest goes group by group.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn block(
+        &self,
+        x: i32,
+        y: i32,
+        masks: &mut [u64; MAX_SAMPLES],
+        any: u64,
+        block_tests: bool,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+        mode: &mut Mode,
+    ) {
+        let samples = self.locations.count();
+        match mode {
+            Mode::InOrder if self.early_tests && block_tests && !self.sample_shading => {
+                tally.counters.fragments_rasterized += any.count_ones() as u64;
+                self.test_block(x, y, &mut masks[..samples], target, tally);
+                let left = masks[..samples].iter().fold(0, |a, m| a | m);
+                tally.counters.fragments_early_z_killed += (any.count_ones() - left.count_ones()) as u64;
+                self.each_group(x, y, masks, |gx, gy, coverage| {
+                    self.in_order(gx, gy, coverage, ShadePoint::Centre, false, target, tally);
+                });
+            }
+            Mode::Resolve { visibility, entry, claims } if block_tests => {
+                tally.counters.fragments_rasterized += any.count_ones() as u64;
+                self.test_block(x, y, &mut masks[..samples], target, tally);
+                let left = masks[..samples].iter().fold(0, |a, m| a | m);
+                tally.counters.fragments_early_z_killed += (any.count_ones() - left.count_ones()) as u64;
+                tally.counters.fragments_passed += left.count_ones() as u64;
+                let passed_samples: u32 = masks[..samples].iter().map(|m| m.count_ones()).sum();
+                tally.draw_stats().samples_passed += passed_samples as u64;
+                if *claims {
+                    tally.hsr_candidates += left.count_ones() as u64;
+                    for (s, mask) in masks[..samples].iter().enumerate() {
+                        visibility.claim_block(s, x, y, *mask, *entry);
+                    }
+                }
+            }
+            Mode::Shade { visibility, entry } => {
+                for (s, mask) in masks[..samples].iter_mut().enumerate() {
+                    if *mask != 0 {
+                        *mask &= visibility.owned_block(s, x, y, *entry);
+                    }
+                }
+                self.each_group(x, y, masks, |gx, gy, owned| {
+                    if self.sample_shading {
+                        for s in 0..samples {
+                            let one = owned.only_sample(s);
+                            if !one.is_empty() {
+                                self.shade_owned(gx, gy, one, ShadePoint::Sample(s), target, tally);
+                            }
+                        }
+                    } else {
+                        self.shade_owned(gx, gy, owned, ShadePoint::Centre, target, tally);
+                    }
+                });
+            }
+            _ => self.each_group(x, y, masks, |gx, gy, coverage| self.group(gx, gy, coverage, target, tally, mode)),
+        }
+    }
+
+    /// Calls `f` for each 4×2 group of the block at `(x, y)` with covered samples, with its
+    /// coverage.
+    #[inline(always)]
+    fn each_group(&self, x: i32, y: i32, masks: &[u64; MAX_SAMPLES], mut f: impl FnMut(i32, i32, Coverage)) {
+        let samples = self.locations.count();
+        let any = masks[..samples].iter().fold(0, |a, m| a | m);
+        if any == 0 {
+            return;
+        }
+        for gy in [0, 2, 4, 6] {
+            if (any >> (8 * gy)) & 0xffff == 0 {
+                continue;
+            }
+            for gx in [0, 4] {
+                if group_lanes(any, gx, gy).is_empty() {
+                    continue;
+                }
+                let mut coverage = Coverage::NONE;
+                for (s, mask) in masks[..samples].iter().enumerate() {
+                    coverage.set_sample(s, group_lanes(*mask, gx, gy));
+                }
+                f(x + gx, y + gy, coverage);
+            }
+        }
+    }
+
+    /// The early depth test of a whole block (see [`depth::test_block`]).
+    #[inline]
+    fn test_block(&self, x: i32, y: i32, masks: &mut [u64], target: &mut RenderTarget, tally: &mut FragmentTally) {
+        let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
+        let multisampled = self.locations.count() > 1;
+        let scale = super::fixed::SUBPIXEL_SCALE as f32;
+        depth::test_block(
+            surface,
+            x,
+            y,
+            masks,
+            &self.desc.depth_stencil,
+            |s, row| {
+                let (dx, dy) = if multisampled {
+                    let (sx, sy) = self.locations.offset(s);
+                    (sx as f32 / scale, sy as f32 / scale)
+                } else {
+                    (0.5, 0.5)
+                };
+                let (px, py) = Interpolator::row_positions(x, row, dx, dy);
+                let (l1, l2) = self.interpolator.lambdas(px, py);
+                self.interpolator.depth(l1, l2)
+            },
+            &mut tally.framebuffer,
+            &mut tally.ledger,
+        );
     }
 
     /// The fragment pipeline for the covered samples of the 4×2 group at `(x, y)`.
@@ -267,59 +386,37 @@ impl<F: FragmentShader> PrimitiveRaster<'_, F> {
                     for s in 0..self.locations.count() {
                         let one = coverage.only_sample(s);
                         if !one.is_empty() {
-                            self.in_order(x, y, one, ShadePoint::Sample(s), target, tally);
+                            self.in_order(x, y, one, ShadePoint::Sample(s), self.early_tests, target, tally);
                         }
                     }
                 } else {
-                    self.in_order(x, y, coverage, ShadePoint::Centre, target, tally);
+                    self.in_order(x, y, coverage, ShadePoint::Centre, self.early_tests, target, tally);
                 }
             }
             Mode::Resolve { visibility, entry, claims } => {
                 tally.counters.fragments_rasterized += coverage.lanes().count() as u64;
                 self.resolve(x, y, coverage, target, tally, visibility, *entry, *claims);
             }
-            Mode::Shade { visibility, entry } => {
-                let mut owned = Coverage::NONE;
-                for s in 0..self.locations.count() {
-                    let mut lanes = 0u8;
-                    for lane in 0..LANES {
-                        if coverage.sample(s).contains(lane)
-                            && visibility.owner(s, x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32) == *entry
-                        {
-                            lanes |= 1 << lane;
-                        }
-                    }
-                    owned.set_sample(s, LaneMask(lanes));
-                }
-                if owned.is_empty() {
-                    return;
-                }
-                if self.sample_shading {
-                    for s in 0..self.locations.count() {
-                        let one = owned.only_sample(s);
-                        if !one.is_empty() {
-                            self.shade_owned(x, y, one, ShadePoint::Sample(s), target, tally);
-                        }
-                    }
-                } else {
-                    self.shade_owned(x, y, owned, ShadePoint::Centre, target, tally);
-                }
-            }
+            Mode::Shade { .. } => unreachable!("blocks shade the samples they own"),
         }
     }
 
-    /// In-order rendering of the covered samples.
+    /// In-order rendering of the covered samples; `early_tests` runs the depth and stencil
+    /// tests before shading (false when they ran already, or must run after).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
     fn in_order(
         &self,
         x: i32,
         y: i32,
         mut coverage: Coverage,
         at: ShadePoint,
+        early_tests: bool,
         target: &mut RenderTarget,
         tally: &mut FragmentTally,
     ) {
         let rasterized = coverage.lanes();
-        if self.early_tests {
+        if early_tests {
             coverage = self.test(x, y, coverage, None, target, tally);
             tally.counters.fragments_early_z_killed += (rasterized.count() - coverage.lanes().count()) as u64;
         }

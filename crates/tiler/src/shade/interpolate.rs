@@ -33,6 +33,14 @@ impl Interpolator {
         (px, py)
     }
 
+    /// Window positions of pixels `x..x + 8` of row `y`, offset within each pixel by
+    /// `(dx, dy)`: per pixel exactly what [`Interpolator::positions`] gives.
+    #[inline(always)]
+    pub fn row_positions(x: i32, y: i32, dx: f32, dy: f32) -> (F32x8, F32x8) {
+        let px = F32x8::from_fn(|i| (x + i as i32) as f32 + dx);
+        (px, F32x8::splat(y as f32 + dy))
+    }
+
     /// Screen-space barycentrics `(λ1, λ2)` at the given positions.
     #[inline(always)]
     pub fn lambdas(&self, px: F32x8, py: F32x8) -> (F32x8, F32x8) {

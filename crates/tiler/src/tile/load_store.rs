@@ -66,36 +66,29 @@ pub struct LoadBytes {
     pub cleared: u64,
 }
 
-/// Initialises `rect` of `dst` as the load ops say. For a tiler `dst` is the tile buffer and
-/// `src` the image in external memory; for immediate mode `dst` is the image itself and `src`
-/// is `None` (a `Load` then has nothing to do).
-pub fn apply_load(dst: &mut Surface, src: Option<&Surface>, rect: &PixelRect, ops: &AttachmentOps) -> LoadBytes {
-    let format = dst.format;
-    let samples = dst.samples();
+/// Bytes a load of `rect` under `ops` reads from external memory (when there is a source
+/// image) and sets to a clear value: pixels × samples × bytes of each aspect.
+pub fn load_bytes(
+    format: Format,
+    samples: usize,
+    has_source: bool,
+    rect: &PixelRect,
+    ops: &AttachmentOps,
+) -> LoadBytes {
     let pixels = rect.area() * samples as u64;
     let mut bytes = LoadBytes::default();
     match *ops {
         AttachmentOps::Color { load, .. } => match load {
-            LoadOp::Load => {
-                if let Some(src) = src {
-                    copy_rect(dst, src, rect);
-                    bytes.loaded = pixels * format.bytes_per_sample() as u64;
-                }
-            }
-            LoadOp::Clear(color) => {
-                let mut pattern = [0u8; 16];
-                format.encode_color(color, &mut pattern[..format.bytes_per_sample()]);
-                fill_rect(dst, rect, &pattern[..format.bytes_per_sample()]);
-                bytes.cleared = pixels * format.bytes_per_sample() as u64;
-            }
-            LoadOp::DontCare => fill_rect(dst, rect, &[0u8; 16][..format.bytes_per_sample()]),
+            LoadOp::Load if has_source => bytes.loaded = pixels * format.bytes_per_sample() as u64,
+            LoadOp::Clear(_) => bytes.cleared = pixels * format.bytes_per_sample() as u64,
+            _ => {}
         },
         AttachmentOps::DepthStencil { depth_load, stencil_load, .. } => {
             let stencil_load = if format.has_stencil() { stencil_load } else { LoadOp::DontCare };
             let depth_aspect = format.depth_aspect_bytes() as u64;
             let stencil_aspect = format.stencil_aspect_bytes() as u64;
             for (op, aspect) in [(depth_load.is_load(), depth_aspect), (stencil_load.is_load(), stencil_aspect)] {
-                if op && src.is_some() {
+                if op && has_source {
                     bytes.loaded += pixels * aspect;
                 }
             }
@@ -104,6 +97,43 @@ pub fn apply_load(dst: &mut Surface, src: Option<&Surface>, rect: &PixelRect, op
             }
             if let LoadOp::Clear(_) = stencil_load {
                 bytes.cleared += pixels * stencil_aspect;
+            }
+        }
+    }
+    bytes
+}
+
+/// What every sample of a tile holds after its load ops, when that does not depend on memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TileStart {
+    /// Every sample holds this packed value (a clear; `DontCare` is zero).
+    Value([u8; 16]),
+    /// Every aspect is loaded from memory: a tile nothing draws in stores back what it loaded.
+    Loaded,
+    /// Some aspects loaded and others set (D24S8 with one aspect cleared).
+    Mixed,
+}
+
+/// What the load ops put in a tile of an attachment in `format`.
+pub fn tile_start(format: Format, ops: &AttachmentOps) -> TileStart {
+    match *ops {
+        AttachmentOps::Color { load, .. } => match load {
+            LoadOp::Load => TileStart::Loaded,
+            LoadOp::Clear(color) => {
+                let mut pattern = [0u8; 16];
+                format.encode_color(color, &mut pattern[..format.bytes_per_sample()]);
+                TileStart::Value(pattern)
+            }
+            LoadOp::DontCare => TileStart::Value([0; 16]),
+        },
+        AttachmentOps::DepthStencil { depth_load, stencil_load, .. } => {
+            let stencil_load = if format.has_stencil() { stencil_load } else { LoadOp::DontCare };
+            let (keep_depth, keep_stencil) = (depth_load.is_load(), stencil_load.is_load() && format.has_stencil());
+            if keep_depth && (keep_stencil || !format.has_stencil()) {
+                return TileStart::Loaded;
+            }
+            if keep_depth || keep_stencil {
+                return TileStart::Mixed;
             }
             let depth_value = match depth_load {
                 LoadOp::Clear(z) => format.depth_bits(z),
@@ -114,27 +144,74 @@ pub fn apply_load(dst: &mut Surface, src: Option<&Surface>, rect: &PixelRect, op
                 _ => 0,
             };
             let word = pack_depth_stencil(format, depth_value, stencil_value);
+            let mut pattern = [0u8; 16];
+            pattern[..4].copy_from_slice(&word);
+            TileStart::Value(pattern)
+        }
+    }
+}
+
+/// The resolve of a pixel whose every sample holds `pattern` (the same arithmetic as
+/// [`apply_resolve`], so a tile resolved either way holds the same bytes).
+pub fn resolved_value(format: Format, samples: usize, pattern: &[u8; 16]) -> [u8; 16] {
+    let bytes = format.bytes_per_sample();
+    let v = format.decode_color(&pattern[..bytes]);
+    let mut sum = [0.0f32; 4];
+    for _ in 0..samples {
+        for c in 0..4 {
+            sum[c] += v[c];
+        }
+    }
+    let scale = 1.0 / samples as f32;
+    let mut out = [0u8; 16];
+    format.encode_color(sum.map(|c| c * scale), &mut out[..bytes]);
+    out
+}
+
+/// Sets every sample of `rect` of `dst` to the packed value `pattern`.
+pub fn fill_value(dst: &mut Surface, rect: &PixelRect, pattern: &[u8; 16]) {
+    fill_rect(dst, rect, &pattern[..dst.format.bytes_per_sample()]);
+}
+
+/// Initialises `rect` of `dst` as the load ops say. For a tiler `dst` is the tile buffer and
+/// `src` the image in external memory; for immediate mode `dst` is the image itself and `src`
+/// is `None` (a `Load` then has nothing to do).
+pub fn apply_load(dst: &mut Surface, src: Option<&Surface>, rect: &PixelRect, ops: &AttachmentOps) -> LoadBytes {
+    let format = dst.format;
+    let samples = dst.samples();
+    let bytes = load_bytes(format, samples, src.is_some(), rect, ops);
+    match tile_start(format, ops) {
+        TileStart::Value(pattern) => fill_value(dst, rect, &pattern),
+        TileStart::Loaded => {
+            if let Some(src) = src {
+                copy_rect(dst, src, rect);
+            }
+        }
+        TileStart::Mixed => {
+            if let Some(src) = src {
+                copy_rect(dst, src, rect);
+            }
+            // D24S8 with one aspect loaded and the other set: patch per sample.
+            let AttachmentOps::DepthStencil { depth_load, stencil_load, .. } = *ops else {
+                unreachable!("only depth-stencil ops mix")
+            };
             let keep_depth = depth_load.is_load();
-            let keep_stencil = stencil_load.is_load() && format.has_stencil();
-            let stored_aspects = format.has_stencil() as u8 + 1;
-            let kept = keep_depth as u8 + keep_stencil as u8;
-            if kept == 0 {
-                fill_rect(dst, rect, &word[..format.bytes_per_sample()]);
-            } else {
-                if let Some(src) = src {
-                    copy_rect(dst, src, rect);
-                }
-                if kept < stored_aspects {
-                    // D24S8 with one aspect loaded and the other set: patch per sample.
-                    let mask: u32 = if keep_depth { 0xff00_0000 } else { 0x00ff_ffff };
-                    let value = u32::from_le_bytes(word[..4].try_into().unwrap()) & mask;
-                    for s in 0..samples {
-                        for y in rect.y0..rect.y1 {
-                            for px in dst.row_mut(s, y, rect.x0, rect.x1).chunks_exact_mut(4) {
-                                let old = u32::from_le_bytes(px.try_into().unwrap());
-                                px.copy_from_slice(&((old & !mask) | value).to_le_bytes());
-                            }
-                        }
+            let depth_value = match depth_load {
+                LoadOp::Clear(z) => format.depth_bits(z),
+                _ => 0,
+            };
+            let stencil_value = match stencil_load {
+                LoadOp::Clear(s) => s,
+                _ => 0,
+            };
+            let word = pack_depth_stencil(format, depth_value, stencil_value);
+            let mask: u32 = if keep_depth { 0xff00_0000 } else { 0x00ff_ffff };
+            let value = u32::from_le_bytes(word) & mask;
+            for s in 0..samples {
+                for y in rect.y0..rect.y1 {
+                    for px in dst.row_mut(s, y, rect.x0, rect.x1).chunks_exact_mut(4) {
+                        let old = u32::from_le_bytes(px.try_into().unwrap());
+                        px.copy_from_slice(&((old & !mask) | value).to_le_bytes());
                     }
                 }
             }
@@ -146,7 +223,11 @@ pub fn apply_load(dst: &mut Surface, src: Option<&Surface>, rect: &PixelRect, op
 /// Bytes a store of `rect` of `src` writes to external memory under `ops`: pixels × samples ×
 /// bytes of each aspect stored.
 pub fn store_bytes(src: &Surface, rect: &PixelRect, ops: &AttachmentOps) -> u64 {
-    let format = src.format;
+    store_bytes_of(src.format, src.samples(), rect, ops)
+}
+
+/// [`store_bytes`] for an attachment in `format` with `samples` samples.
+pub fn store_bytes_of(format: Format, samples: usize, rect: &PixelRect, ops: &AttachmentOps) -> u64 {
     let per_sample = match *ops {
         AttachmentOps::Color { store, .. } => (store == StoreOp::Store) as u64 * format.bytes_per_sample() as u64,
         AttachmentOps::DepthStencil { depth_store, stencil_store, .. } => {
@@ -155,7 +236,7 @@ pub fn store_bytes(src: &Surface, rect: &PixelRect, ops: &AttachmentOps) -> u64 
                     * format.stencil_aspect_bytes() as u64
         }
     };
-    rect.area() * src.samples() as u64 * per_sample
+    rect.area() * samples as u64 * per_sample
 }
 
 /// Writes `rect` of the tile `src` to the image `dst` as the store ops say; returns the bytes
@@ -221,14 +302,30 @@ fn pack_depth_stencil(format: Format, depth_bits: u32, stencil: u8) -> [u8; 4] {
 }
 
 fn fill_rect(dst: &mut Surface, rect: &PixelRect, pattern: &[u8]) {
+    let Some(first) = pattern.first() else { return };
+    let uniform = pattern.iter().all(|b| b == first);
+    // The pattern repeated over a chunk (pattern sizes 1–16 divide it), then chunk copies
+    // (memcpy speed).
+    let mut buffer = [0u8; 4096];
+    let row_bytes = rect.width() as usize * pattern.len();
+    let chunk = &mut buffer[..row_bytes.min(4096)];
+    if !uniform && !chunk.is_empty() {
+        chunk[..pattern.len()].copy_from_slice(pattern);
+        let mut filled = pattern.len();
+        while filled < chunk.len() {
+            let n = filled.min(chunk.len() - filled);
+            chunk.copy_within(..n, filled);
+            filled += n;
+        }
+    }
     for s in 0..dst.samples() {
         for y in rect.y0..rect.y1 {
             let row = dst.row_mut(s, y, rect.x0, rect.x1);
-            if pattern.iter().all(|b| *b == pattern[0]) {
-                row.fill(pattern[0]);
+            if uniform {
+                row.fill(*first);
             } else {
-                for px in row.chunks_exact_mut(pattern.len()) {
-                    px.copy_from_slice(pattern);
+                for part in row.chunks_mut(chunk.len()) {
+                    part.copy_from_slice(&chunk[..part.len()]);
                 }
             }
         }

@@ -102,6 +102,12 @@ impl<'a> Surface<'a> {
         &mut self.planes[sample][start..start + len]
     }
 
+    /// Whether columns `x0..x1` all lie in this view's rows.
+    #[inline(always)]
+    pub fn holds_columns(&self, x0: i32, x1: i32) -> bool {
+        x0 >= self.origin_x && x1 <= self.origin_x + self.stride as i32
+    }
+
     /// Whether pixel `(x, y)` lies in this view.
     #[inline(always)]
     pub fn contains(&self, x: i32, y: i32) -> bool {
