@@ -1,5 +1,6 @@
 //! `tiler`: render scenes on a software tile-based GPU and see what each frame costs.
 
+mod analyze;
 mod bench;
 mod compare;
 mod frame;
@@ -30,6 +31,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Render the same frame on several device presets and compare what it costs on each.
     Compare(compare::CompareArgs),
+    /// Replay a GL trace: its inferred render passes, what they cost, and advice.
+    Analyze(analyze::AnalyzeArgs),
 }
 
 fn main() -> ExitCode {
@@ -38,6 +41,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Analyze(args) => analyze::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

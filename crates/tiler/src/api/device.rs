@@ -309,6 +309,17 @@ impl Device {
         self.create_buffer(bytemuck::cast_slice(data))
     }
 
+    /// A buffer's bytes (a driver copying a buffer still in use reads them).
+    ///
+    /// # Errors
+    /// Unknown buffer.
+    pub fn buffer_data(&self, id: BufferId) -> Result<&[u8]> {
+        self.buffers
+            .get(id.0 as usize)
+            .map(|b| b.as_slice())
+            .ok_or_else(|| Error::invalid(id.to_string(), "no such buffer"))
+    }
+
     /// Overwrites part of a buffer.
     ///
     /// # Errors

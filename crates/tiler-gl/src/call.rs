@@ -1,0 +1,824 @@
+//! The calls a [`Context`](crate::Context) takes: one enum that is both the API's vocabulary
+//! and a trace's (`{"call": "draw_arrays", "mode": "triangles", "first": 0, "count": 3}`).
+//!
+//! [`Call`] is generic over how bulk data (buffer contents, texels, client-side vertex arrays)
+//! is held: [`Bytes`] when executing, a [`DataSource`](crate::trace::DataSource) in a trace
+//! file (inline numbers, base64, a binary side file or a glTF accessor). Every field name and
+//! enum value here is part of the trace format (version [`TRACE_VERSION`](crate::trace::TRACE_VERSION)):
+//! renaming one is a format change. `docs/trace-format.md` in this crate lists them all.
+//!
+//! Rectangles are in GL window coordinates (origin at the bottom-left, y up); the context
+//! flips them onto tiler's framebuffer rows (row 0 at the top) — see the crate docs.
+
+use serde::{Deserialize, Serialize};
+use tiler::{BlendFactor, BlendOp, CompareOp};
+
+use crate::bytes::Bytes;
+
+/// One call of the GL-style API. Names follow OpenGL ES with the `gl` prefix dropped and
+/// object creation folded into one call (`create_buffer` = `glGenBuffers` + `glBufferData`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "call", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Call<D = Bytes> {
+    // --- buffers -------------------------------------------------------------------------
+    /// Creates buffer `id` holding `data` (`glGenBuffers` + `glBufferData`).
+    CreateBuffer {
+        id: u32,
+        data: D,
+    },
+    /// Replaces a buffer's whole contents, possibly resizing it (`glBufferData`): the driver
+    /// gives the buffer new storage ("orphaning"), so nothing is copied even when a pending
+    /// frame still reads the old contents.
+    BufferData {
+        id: u32,
+        data: D,
+    },
+    /// Overwrites part of a buffer (`glBufferSubData`, or a mapped write). When a pending
+    /// frame still uses the buffer the driver copies it first: copy-on-write.
+    BufferSubData {
+        id: u32,
+        offset: u64,
+        data: D,
+    },
+    DeleteBuffer {
+        id: u32,
+    },
+
+    // --- textures and renderbuffers ---------------------------------------------------------
+    /// Creates texture `id` with storage (`glGenTextures` + `glTexImage2D`); `data` rows run
+    /// bottom to top as in GL; without `data` the contents are undefined.
+    CreateTexture {
+        id: u32,
+        width: u32,
+        height: u32,
+        format: TextureFormat,
+        #[serde(default = "none", skip_serializing_if = "Option::is_none")]
+        data: Option<D>,
+    },
+    /// Gives a texture new storage (`glTexImage2D` on an existing texture).
+    TexImage {
+        id: u32,
+        width: u32,
+        height: u32,
+        format: TextureFormat,
+        #[serde(default = "none", skip_serializing_if = "Option::is_none")]
+        data: Option<D>,
+    },
+    /// Overwrites a rectangle of a texture (`glTexSubImage2D`); rows bottom to top.
+    TexSubImage {
+        id: u32,
+        x: u32,
+        y: u32,
+        width: u32,
+        height: u32,
+        data: D,
+    },
+    /// Sampling state of a texture (`glTexParameteri` for the filters and wraps).
+    TexParameters {
+        id: u32,
+        #[serde(default)]
+        filter: Filter,
+        #[serde(default)]
+        wrap: Wrap,
+    },
+    DeleteTexture {
+        id: u32,
+    },
+    /// Creates renderbuffer `id` (`glGenRenderbuffers` + `glRenderbufferStorageMultisample`).
+    CreateRenderbuffer {
+        id: u32,
+        width: u32,
+        height: u32,
+        format: TextureFormat,
+        #[serde(default = "one")]
+        samples: u32,
+    },
+    DeleteRenderbuffer {
+        id: u32,
+    },
+
+    // --- framebuffers ----------------------------------------------------------------------
+    /// Creates framebuffer object `id` with no attachments. Framebuffer 0 is the window's.
+    CreateFramebuffer {
+        id: u32,
+    },
+    DeleteFramebuffer {
+        id: u32,
+    },
+    /// Attaches texture `texture` (0 detaches) to `attachment` of framebuffer `framebuffer`
+    /// (`glFramebufferTexture2D`). With `samples` above 1 the framebuffer renders that many
+    /// samples and resolves them into the texture in the tile
+    /// (`glFramebufferTexture2DMultisampleEXT`, EXT_multisampled_render_to_texture).
+    FramebufferTexture {
+        framebuffer: u32,
+        attachment: AttachmentPoint,
+        texture: u32,
+        #[serde(default = "one", skip_serializing_if = "is_one")]
+        samples: u32,
+    },
+    /// Attaches a renderbuffer (0 detaches) (`glFramebufferRenderbuffer`).
+    FramebufferRenderbuffer {
+        framebuffer: u32,
+        attachment: AttachmentPoint,
+        renderbuffer: u32,
+    },
+    /// Binds a framebuffer for drawing and reading (`glBindFramebuffer`). Binding another
+    /// draw framebuffer ends the render pass of the previous one.
+    BindFramebuffer {
+        #[serde(default)]
+        target: FramebufferTarget,
+        framebuffer: u32,
+    },
+
+    // --- programs and uniforms -------------------------------------------------------------
+    /// Creates program object `id` of a built-in program (see [`ProgramKind`]); its uniforms
+    /// start at their defaults.
+    CreateProgram {
+        id: u32,
+        program: ProgramKind,
+    },
+    UseProgram {
+        id: u32,
+    },
+    /// Sets a uniform of the program in use (`glUniform*`).
+    Uniform {
+        name: String,
+        value: UniformValue,
+    },
+
+    // --- fixed-function state ------------------------------------------------------------
+    Viewport {
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+    },
+    DepthRange {
+        near: f32,
+        far: f32,
+    },
+    Scissor {
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+    },
+    Enable {
+        cap: Capability,
+    },
+    Disable {
+        cap: Capability,
+    },
+    ColorMask {
+        red: bool,
+        green: bool,
+        blue: bool,
+        alpha: bool,
+    },
+    DepthMask {
+        write: bool,
+    },
+    StencilMask {
+        mask: u8,
+    },
+    DepthFunc {
+        func: CompareOp,
+    },
+    StencilFunc {
+        func: CompareOp,
+        reference: u8,
+        mask: u8,
+    },
+    StencilOp {
+        fail: tiler::StencilOp,
+        depth_fail: tiler::StencilOp,
+        pass: tiler::StencilOp,
+    },
+    /// `glBlendFuncSeparate`; with only `src` and `dst`, alpha uses the same factors.
+    BlendFunc {
+        src: BlendFactor,
+        dst: BlendFactor,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        src_alpha: Option<BlendFactor>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        dst_alpha: Option<BlendFactor>,
+    },
+    BlendEquation {
+        rgb: BlendOp,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        alpha: Option<BlendOp>,
+    },
+    BlendColor {
+        rgba: [f32; 4],
+    },
+    CullFace {
+        face: Face,
+    },
+    FrontFace {
+        winding: Winding,
+    },
+    ClearColor {
+        rgba: [f32; 4],
+    },
+    ClearDepth {
+        depth: f32,
+    },
+    ClearStencil {
+        stencil: u8,
+    },
+
+    // --- vertex input ----------------------------------------------------------------------
+    /// Attribute `index` reads buffer `buffer` (`glBindBuffer(GL_ARRAY_BUFFER)` +
+    /// `glVertexAttribPointer`): `size` components of `type` every `stride` bytes (0 =
+    /// tightly packed) from byte `offset`.
+    VertexAttribPointer {
+        index: u32,
+        buffer: u32,
+        size: u32,
+        #[serde(rename = "type")]
+        component: ComponentType,
+        #[serde(default)]
+        normalized: bool,
+        #[serde(default)]
+        stride: u32,
+        #[serde(default)]
+        offset: u64,
+    },
+    /// Attribute `index` reads a client-side array (`glVertexAttribPointer` with no buffer
+    /// bound): the data is copied at each draw, as a driver must.
+    VertexAttribArray {
+        index: u32,
+        size: u32,
+        #[serde(rename = "type")]
+        component: ComponentType,
+        #[serde(default)]
+        normalized: bool,
+        #[serde(default)]
+        stride: u32,
+        data: D,
+    },
+    EnableVertexAttrib {
+        index: u32,
+    },
+    DisableVertexAttrib {
+        index: u32,
+    },
+    /// `glBindBuffer(GL_ELEMENT_ARRAY_BUFFER)`; 0 unbinds.
+    BindIndexBuffer {
+        buffer: u32,
+    },
+    /// `glActiveTexture` + `glBindTexture`; 0 unbinds.
+    BindTexture {
+        unit: u32,
+        texture: u32,
+    },
+
+    // --- drawing ---------------------------------------------------------------------------
+    DrawArrays {
+        mode: Mode,
+        first: u32,
+        count: u32,
+    },
+    DrawElements {
+        mode: Mode,
+        count: u32,
+        #[serde(rename = "type")]
+        index_type: IndexKind,
+        #[serde(default)]
+        offset: u64,
+    },
+    /// `glClear` of the buffers set to `true`.
+    Clear {
+        #[serde(default)]
+        color: bool,
+        #[serde(default)]
+        depth: bool,
+        #[serde(default)]
+        stencil: bool,
+    },
+    /// `glInvalidateFramebuffer` / `glDiscardFramebufferEXT` on the draw framebuffer.
+    Invalidate {
+        attachments: Vec<AttachmentPoint>,
+    },
+    /// `glReadPixels` of colour attachment 0 of the read framebuffer, as RGBA8, rows bottom
+    /// to top. Synchronous: the CPU waits for the result.
+    ReadPixels {
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+    },
+    /// `glBlitFramebuffer` of colour from the read to the draw framebuffer; rectangles are
+    /// `[x0, y0, x1, y1]`.
+    BlitFramebuffer {
+        src: [i32; 4],
+        dst: [i32; 4],
+        #[serde(default)]
+        filter: Filter,
+    },
+    /// `glCopyTexSubImage2D`: copies a rectangle of the read framebuffer's colour into a
+    /// texture at (`x_offset`, `y_offset`).
+    CopyTexSubImage {
+        texture: u32,
+        x_offset: u32,
+        y_offset: u32,
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+    },
+    Flush,
+    Finish,
+    /// `eglSwapBuffers`: ends the frame. In a trace it is the last call of a frame.
+    SwapBuffers,
+    /// `eglSurfaceAttrib(EGL_SWAP_BEHAVIOR)`.
+    SwapBehavior {
+        behavior: SwapBehavior,
+    },
+    /// `glStartTilingQCOM`: until `end_tiling`, only the tiles meeting this rectangle are
+    /// processed; `preserve` says which buffers' contents there must be loaded.
+    StartTiling {
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+        #[serde(default)]
+        preserve: BufferSet,
+    },
+    /// `glEndTilingQCOM`: which buffers to store.
+    EndTiling {
+        #[serde(default)]
+        store: BufferSet,
+    },
+
+    // --- occlusion queries -----------------------------------------------------------------
+    CreateQuery {
+        id: u32,
+    },
+    DeleteQuery {
+        id: u32,
+    },
+    /// `glBeginQuery(GL_ANY_SAMPLES_PASSED)`: counts samples passing depth and stencil.
+    BeginQuery {
+        id: u32,
+    },
+    EndQuery,
+    /// `glGetQueryObjectuiv(GL_QUERY_RESULT_AVAILABLE)`: never waits.
+    QueryAvailable {
+        id: u32,
+    },
+    /// `glGetQueryObjectuiv(GL_QUERY_RESULT)`: waits if it must (and flushes a pending pass
+    /// holding the query).
+    QueryResult {
+        id: u32,
+    },
+}
+
+fn one() -> u32 {
+    1
+}
+
+fn is_one(v: &u32) -> bool {
+    *v == 1
+}
+
+fn none<T>() -> Option<T> {
+    None
+}
+
+impl<D> Call<D> {
+    /// The call's name as a trace spells it.
+    pub fn name(&self) -> &'static str {
+        use Call::*;
+        match self {
+            CreateBuffer { .. } => "create_buffer",
+            BufferData { .. } => "buffer_data",
+            BufferSubData { .. } => "buffer_sub_data",
+            DeleteBuffer { .. } => "delete_buffer",
+            CreateTexture { .. } => "create_texture",
+            TexImage { .. } => "tex_image",
+            TexSubImage { .. } => "tex_sub_image",
+            TexParameters { .. } => "tex_parameters",
+            DeleteTexture { .. } => "delete_texture",
+            CreateRenderbuffer { .. } => "create_renderbuffer",
+            DeleteRenderbuffer { .. } => "delete_renderbuffer",
+            CreateFramebuffer { .. } => "create_framebuffer",
+            DeleteFramebuffer { .. } => "delete_framebuffer",
+            FramebufferTexture { .. } => "framebuffer_texture",
+            FramebufferRenderbuffer { .. } => "framebuffer_renderbuffer",
+            BindFramebuffer { .. } => "bind_framebuffer",
+            CreateProgram { .. } => "create_program",
+            UseProgram { .. } => "use_program",
+            Uniform { .. } => "uniform",
+            Viewport { .. } => "viewport",
+            DepthRange { .. } => "depth_range",
+            Scissor { .. } => "scissor",
+            Enable { .. } => "enable",
+            Disable { .. } => "disable",
+            ColorMask { .. } => "color_mask",
+            DepthMask { .. } => "depth_mask",
+            StencilMask { .. } => "stencil_mask",
+            DepthFunc { .. } => "depth_func",
+            StencilFunc { .. } => "stencil_func",
+            StencilOp { .. } => "stencil_op",
+            BlendFunc { .. } => "blend_func",
+            BlendEquation { .. } => "blend_equation",
+            BlendColor { .. } => "blend_color",
+            CullFace { .. } => "cull_face",
+            FrontFace { .. } => "front_face",
+            ClearColor { .. } => "clear_color",
+            ClearDepth { .. } => "clear_depth",
+            ClearStencil { .. } => "clear_stencil",
+            VertexAttribPointer { .. } => "vertex_attrib_pointer",
+            VertexAttribArray { .. } => "vertex_attrib_array",
+            EnableVertexAttrib { .. } => "enable_vertex_attrib",
+            DisableVertexAttrib { .. } => "disable_vertex_attrib",
+            BindIndexBuffer { .. } => "bind_index_buffer",
+            BindTexture { .. } => "bind_texture",
+            DrawArrays { .. } => "draw_arrays",
+            DrawElements { .. } => "draw_elements",
+            Clear { .. } => "clear",
+            Invalidate { .. } => "invalidate",
+            ReadPixels { .. } => "read_pixels",
+            BlitFramebuffer { .. } => "blit_framebuffer",
+            CopyTexSubImage { .. } => "copy_tex_sub_image",
+            Flush => "flush",
+            Finish => "finish",
+            SwapBuffers => "swap_buffers",
+            SwapBehavior { .. } => "swap_behavior",
+            StartTiling { .. } => "start_tiling",
+            EndTiling { .. } => "end_tiling",
+            CreateQuery { .. } => "create_query",
+            DeleteQuery { .. } => "delete_query",
+            BeginQuery { .. } => "begin_query",
+            EndQuery => "end_query",
+            QueryAvailable { .. } => "query_available",
+            QueryResult { .. } => "query_result",
+        }
+    }
+
+    /// The same call with its bulk data converted by `f` (e.g. a trace's data sources read
+    /// into bytes, or bytes written out to a side file).
+    ///
+    /// # Errors
+    /// The first error `f` returns.
+    pub fn try_map_data<E, Err>(self, mut f: impl FnMut(D) -> Result<E, Err>) -> Result<Call<E>, Err> {
+        use Call::*;
+        Ok(match self {
+            CreateBuffer { id, data } => CreateBuffer { id, data: f(data)? },
+            BufferData { id, data } => BufferData { id, data: f(data)? },
+            BufferSubData { id, offset, data } => BufferSubData { id, offset, data: f(data)? },
+            CreateTexture { id, width, height, format, data } => {
+                CreateTexture { id, width, height, format, data: data.map(&mut f).transpose()? }
+            }
+            TexImage { id, width, height, format, data } => {
+                TexImage { id, width, height, format, data: data.map(&mut f).transpose()? }
+            }
+            TexSubImage { id, x, y, width, height, data } => TexSubImage { id, x, y, width, height, data: f(data)? },
+            VertexAttribArray { index, size, component, normalized, stride, data } => {
+                VertexAttribArray { index, size, component, normalized, stride, data: f(data)? }
+            }
+            DeleteBuffer { id } => DeleteBuffer { id },
+            TexParameters { id, filter, wrap } => TexParameters { id, filter, wrap },
+            DeleteTexture { id } => DeleteTexture { id },
+            CreateRenderbuffer { id, width, height, format, samples } => {
+                CreateRenderbuffer { id, width, height, format, samples }
+            }
+            DeleteRenderbuffer { id } => DeleteRenderbuffer { id },
+            CreateFramebuffer { id } => CreateFramebuffer { id },
+            DeleteFramebuffer { id } => DeleteFramebuffer { id },
+            FramebufferTexture { framebuffer, attachment, texture, samples } => {
+                FramebufferTexture { framebuffer, attachment, texture, samples }
+            }
+            FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
+                FramebufferRenderbuffer { framebuffer, attachment, renderbuffer }
+            }
+            BindFramebuffer { target, framebuffer } => BindFramebuffer { target, framebuffer },
+            CreateProgram { id, program } => CreateProgram { id, program },
+            UseProgram { id } => UseProgram { id },
+            Uniform { name, value } => Uniform { name, value },
+            Viewport { x, y, width, height } => Viewport { x, y, width, height },
+            DepthRange { near, far } => DepthRange { near, far },
+            Scissor { x, y, width, height } => Scissor { x, y, width, height },
+            Enable { cap } => Enable { cap },
+            Disable { cap } => Disable { cap },
+            ColorMask { red, green, blue, alpha } => ColorMask { red, green, blue, alpha },
+            DepthMask { write } => DepthMask { write },
+            StencilMask { mask } => StencilMask { mask },
+            DepthFunc { func } => DepthFunc { func },
+            StencilFunc { func, reference, mask } => StencilFunc { func, reference, mask },
+            StencilOp { fail, depth_fail, pass } => StencilOp { fail, depth_fail, pass },
+            BlendFunc { src, dst, src_alpha, dst_alpha } => BlendFunc { src, dst, src_alpha, dst_alpha },
+            BlendEquation { rgb, alpha } => BlendEquation { rgb, alpha },
+            BlendColor { rgba } => BlendColor { rgba },
+            CullFace { face } => CullFace { face },
+            FrontFace { winding } => FrontFace { winding },
+            ClearColor { rgba } => ClearColor { rgba },
+            ClearDepth { depth } => ClearDepth { depth },
+            ClearStencil { stencil } => ClearStencil { stencil },
+            VertexAttribPointer { index, buffer, size, component, normalized, stride, offset } => {
+                VertexAttribPointer { index, buffer, size, component, normalized, stride, offset }
+            }
+            EnableVertexAttrib { index } => EnableVertexAttrib { index },
+            DisableVertexAttrib { index } => DisableVertexAttrib { index },
+            BindIndexBuffer { buffer } => BindIndexBuffer { buffer },
+            BindTexture { unit, texture } => BindTexture { unit, texture },
+            DrawArrays { mode, first, count } => DrawArrays { mode, first, count },
+            DrawElements { mode, count, index_type, offset } => DrawElements { mode, count, index_type, offset },
+            Clear { color, depth, stencil } => Clear { color, depth, stencil },
+            Invalidate { attachments } => Invalidate { attachments },
+            ReadPixels { x, y, width, height } => ReadPixels { x, y, width, height },
+            BlitFramebuffer { src, dst, filter } => BlitFramebuffer { src, dst, filter },
+            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height } => {
+                CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height }
+            }
+            Flush => Flush,
+            Finish => Finish,
+            SwapBuffers => SwapBuffers,
+            SwapBehavior { behavior } => SwapBehavior { behavior },
+            StartTiling { x, y, width, height, preserve } => StartTiling { x, y, width, height, preserve },
+            EndTiling { store } => EndTiling { store },
+            CreateQuery { id } => CreateQuery { id },
+            DeleteQuery { id } => DeleteQuery { id },
+            BeginQuery { id } => BeginQuery { id },
+            EndQuery => EndQuery,
+            QueryAvailable { id } => QueryAvailable { id },
+            QueryResult { id } => QueryResult { id },
+        })
+    }
+}
+
+/// What a call returns.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Output {
+    None,
+    /// `read_pixels`: RGBA8, rows bottom to top.
+    Pixels(Vec<u8>),
+    /// `query_available`.
+    Available(bool),
+    /// `query_result`: samples that passed.
+    Samples(u64),
+}
+
+/// Image formats of textures and renderbuffers, with GL's names.
+///
+/// tiler has one packed depth-stencil format (`D24UnormS8Uint`) and no stencil-only format,
+/// so `depth24` is a packed image whose stencil byte is padding and `stencil8` one whose
+/// depth bytes are padding: a padding aspect is never loaded or stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TextureFormat {
+    Rgba8,
+    Srgb8Alpha8,
+    Rgb565,
+    Rgba16f,
+    Rgba32f,
+    R32f,
+    Depth16,
+    Depth24,
+    Depth32f,
+    Depth24Stencil8,
+    Stencil8,
+}
+
+impl TextureFormat {
+    /// The tiler format that stores it.
+    pub fn format(self) -> tiler::Format {
+        use tiler::Format;
+        match self {
+            TextureFormat::Rgba8 => Format::Rgba8Unorm,
+            TextureFormat::Srgb8Alpha8 => Format::Rgba8UnormSrgb,
+            TextureFormat::Rgb565 => Format::Rgb565Unorm,
+            TextureFormat::Rgba16f => Format::Rgba16Float,
+            TextureFormat::Rgba32f => Format::Rgba32Float,
+            TextureFormat::R32f => Format::R32Float,
+            TextureFormat::Depth16 => Format::D16Unorm,
+            TextureFormat::Depth24 | TextureFormat::Depth24Stencil8 | TextureFormat::Stencil8 => Format::D24UnormS8Uint,
+            TextureFormat::Depth32f => Format::D32Float,
+        }
+    }
+
+    /// Whether the GL format has a depth aspect (padding does not count).
+    pub fn has_depth(self) -> bool {
+        matches!(
+            self,
+            TextureFormat::Depth16 | TextureFormat::Depth24 | TextureFormat::Depth32f | TextureFormat::Depth24Stencil8
+        )
+    }
+
+    /// Whether the GL format has a stencil aspect (padding does not count).
+    pub fn has_stencil(self) -> bool {
+        matches!(self, TextureFormat::Depth24Stencil8 | TextureFormat::Stencil8)
+    }
+
+    pub fn is_color(self) -> bool {
+        !self.has_depth() && !self.has_stencil()
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TextureFormat::Rgba8 => "rgba8",
+            TextureFormat::Srgb8Alpha8 => "srgb8_alpha8",
+            TextureFormat::Rgb565 => "rgb565",
+            TextureFormat::Rgba16f => "rgba16f",
+            TextureFormat::Rgba32f => "rgba32f",
+            TextureFormat::R32f => "r32f",
+            TextureFormat::Depth16 => "depth16",
+            TextureFormat::Depth24 => "depth24",
+            TextureFormat::Depth32f => "depth32f",
+            TextureFormat::Depth24Stencil8 => "depth24_stencil8",
+            TextureFormat::Stencil8 => "stencil8",
+        }
+    }
+}
+
+/// Where an image is attached to a framebuffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AttachmentPoint {
+    Color0,
+    Color1,
+    Color2,
+    Color3,
+    Depth,
+    Stencil,
+    /// Both depth and stencil (`GL_DEPTH_STENCIL_ATTACHMENT`).
+    DepthStencil,
+}
+
+impl AttachmentPoint {
+    pub fn color_index(self) -> Option<usize> {
+        match self {
+            AttachmentPoint::Color0 => Some(0),
+            AttachmentPoint::Color1 => Some(1),
+            AttachmentPoint::Color2 => Some(2),
+            AttachmentPoint::Color3 => Some(3),
+            _ => None,
+        }
+    }
+}
+
+/// Which framebuffer binding a `bind_framebuffer` sets.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FramebufferTarget {
+    /// Both draw and read (`GL_FRAMEBUFFER`).
+    #[default]
+    Framebuffer,
+    Draw,
+    Read,
+}
+
+/// A set of framebuffer buffers (for tiled rendering's preserve and store masks).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BufferSet {
+    #[serde(default)]
+    pub color: bool,
+    #[serde(default)]
+    pub depth: bool,
+    #[serde(default)]
+    pub stencil: bool,
+}
+
+impl BufferSet {
+    pub const NONE: BufferSet = BufferSet { color: false, depth: false, stencil: false };
+    pub const COLOR: BufferSet = BufferSet { color: true, depth: false, stencil: false };
+    pub const ALL: BufferSet = BufferSet { color: true, depth: true, stencil: true };
+}
+
+/// `glEnable` capabilities.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Capability {
+    DepthTest,
+    StencilTest,
+    Blend,
+    CullFace,
+    ScissorTest,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Face {
+    Front,
+    Back,
+    FrontAndBack,
+}
+
+/// Which winding is front-facing, in GL window coordinates (y up).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Winding {
+    Ccw,
+    Cw,
+}
+
+/// Primitive modes. tiler rasterizes triangles only.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Mode {
+    Triangles,
+    TriangleStrip,
+    TriangleFan,
+}
+
+/// Vertex attribute component types.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ComponentType {
+    Float,
+    HalfFloat,
+    Byte,
+    UnsignedByte,
+    Short,
+    UnsignedShort,
+    UnsignedInt,
+}
+
+/// Index types.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IndexKind {
+    UnsignedShort,
+    UnsignedInt,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Filter {
+    #[default]
+    Nearest,
+    Linear,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Wrap {
+    #[default]
+    ClampToEdge,
+    Repeat,
+    MirroredRepeat,
+}
+
+/// What `eglSwapBuffers` does to the colour buffer (`EGL_SWAP_BEHAVIOR`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SwapBehavior {
+    /// `EGL_BUFFER_DESTROYED`, the default: the contents are undefined after a swap.
+    #[default]
+    Destroyed,
+    /// `EGL_BUFFER_PRESERVED`: the colour buffer is kept.
+    Preserved,
+}
+
+/// The built-in programs (tiler's shaders are Rust, so a trace names a program instead of
+/// carrying GLSL). Attribute indices and uniforms are listed in `program.rs`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProgramKind {
+    /// Position (0) × `mvp`; colour `color`.
+    Solid,
+    /// Position (0) × `mvp`; colour from attribute 1; discards alpha below `alpha_cutoff`.
+    VertexColor,
+    /// Position (0) × `mvp`, normal (1) × `model`; Lambert lighting of `color` from `light_dir`.
+    Lambert,
+    /// Position (0) × `mvp`, texture coordinate (1); samples unit `sampler` times `color`;
+    /// discards alpha below `alpha_cutoff`.
+    Textured,
+}
+
+/// A uniform value (`{"mat4": [16 floats, column-major]}`, `{"vec4": [...]}`, ...).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum UniformValue {
+    Float(f32),
+    Int(i32),
+    Vec3([f32; 3]),
+    Vec4([f32; 4]),
+    /// Column-major, as `glUniformMatrix4fv` with `transpose = GL_FALSE`.
+    Mat4([f32; 16]),
+}
+
+impl UniformValue {
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            UniformValue::Float(_) => "float",
+            UniformValue::Int(_) => "int",
+            UniformValue::Vec3(_) => "vec3",
+            UniformValue::Vec4(_) => "vec4",
+            UniformValue::Mat4(_) => "mat4",
+        }
+    }
+
+    pub fn is_finite(&self) -> bool {
+        match self {
+            UniformValue::Float(v) => v.is_finite(),
+            UniformValue::Int(_) => true,
+            UniformValue::Vec3(v) => v.iter().all(|c| c.is_finite()),
+            UniformValue::Vec4(v) => v.iter().all(|c| c.is_finite()),
+            UniformValue::Mat4(v) => v.iter().all(|c| c.is_finite()),
+        }
+    }
+}

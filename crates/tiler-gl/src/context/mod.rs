@@ -1,0 +1,1185 @@
+//! The GL-style context: immediate-mode calls in, explicit render passes out.
+//!
+//! Nothing is rendered when a draw is called. The context keeps one *open render pass* — the
+//! pass of the bound draw framebuffer — and gathers its draws as frame data; `pass.rs` decides
+//! its load and store ops exactly as the inference table of `DESIGN.md` says, and renders it
+//! on the device when it ends (the framebuffer is unbound, the frame is swapped, or something
+//! forces a flush). `frames.rs` models the frames in flight behind the CPU.
+//!
+//! The context owns its [`Device`]; there are no globals. Every call goes through
+//! [`Context::call`], which checks it, applies it, and records it when recording is on.
+
+mod frames;
+mod pass;
+mod targets;
+
+use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, HashMap};
+use tiler::{Backend, BlendFactor, BlendOp, BufferId, CompareOp, Device, DeviceConfig, ImageDesc, ImageId, StencilOp};
+
+use crate::bytes::Bytes;
+use crate::call::{
+    AttachmentPoint, BufferSet, Call, Capability, ComponentType, Face, Filter, FramebufferTarget, Output, ProgramKind,
+    SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
+};
+use crate::program::{SamplerState, Uniforms};
+use crate::report::{CallRef, FrameRecord, PassRecord, Report, StartCause};
+
+pub(crate) use pass::OpenPass;
+
+/// The most texture units.
+pub const MAX_TEXTURE_UNITS: u32 = 8;
+/// The most vertex attributes.
+pub const MAX_VERTEX_ATTRIBS: u32 = 8;
+/// The largest number of frames in flight the model accepts.
+pub const MAX_FRAMES_IN_FLIGHT: u32 = 16;
+
+/// How a context is made: the window surface, the device, and the driver's model. This is
+/// also the `config` object of a trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContextConfig {
+    /// Window surface size in pixels.
+    pub width: u32,
+    pub height: u32,
+    /// The window's colour buffer.
+    #[serde(default = "default_color_format")]
+    pub color_format: TextureFormat,
+    /// The window's depth-stencil buffer; `null` for none.
+    #[serde(default = "default_depth_stencil_format")]
+    pub depth_stencil_format: Option<TextureFormat>,
+    /// Samples per pixel of the window surface.
+    #[serde(default = "default_one")]
+    pub samples: u32,
+    /// `EGL_SWAP_BEHAVIOR` at the start.
+    #[serde(default)]
+    pub swap_behavior: SwapBehavior,
+    /// Frames between submission and results: 3 models seed 000 §23.6's CPU, geometry and
+    /// fragment stages; 1 is a GPU that finishes a frame before the next begins.
+    #[serde(default = "default_frames_in_flight")]
+    pub frames_in_flight: u32,
+    #[serde(default = "default_tile")]
+    pub tile_width: u32,
+    #[serde(default = "default_tile")]
+    pub tile_height: u32,
+    /// Frame-data bytes a pass may gather before an incremental render.
+    #[serde(default = "default_budget")]
+    pub frame_data_budget: u64,
+    /// Count the display's scan-out of the window at each swap (`display`).
+    #[serde(default = "default_true")]
+    pub display: bool,
+    /// Count a window-system compositor's read and write of the window at each swap.
+    #[serde(default)]
+    pub composition: bool,
+    /// Which backend renders the passes.
+    #[serde(default)]
+    pub backend: Backend,
+    /// Worker threads (0 = one per core). Results do not depend on it.
+    #[serde(default)]
+    pub threads: usize,
+    /// The most bytes of images and buffers the context may allocate: a trace cannot make it
+    /// allocate more.
+    #[serde(default = "default_memory_limit")]
+    pub memory_limit: u64,
+}
+
+fn default_color_format() -> TextureFormat {
+    TextureFormat::Rgba8
+}
+fn default_depth_stencil_format() -> Option<TextureFormat> {
+    Some(TextureFormat::Depth24Stencil8)
+}
+fn default_one() -> u32 {
+    1
+}
+fn default_frames_in_flight() -> u32 {
+    3
+}
+fn default_tile() -> u32 {
+    32
+}
+fn default_budget() -> u64 {
+    DeviceConfig::default().frame_data_budget
+}
+fn default_true() -> bool {
+    true
+}
+fn default_memory_limit() -> u64 {
+    1 << 31
+}
+
+impl ContextConfig {
+    /// A `width × height` RGBA8 window with a packed depth-stencil buffer and the defaults.
+    pub fn new(width: u32, height: u32) -> ContextConfig {
+        ContextConfig {
+            width,
+            height,
+            color_format: default_color_format(),
+            depth_stencil_format: default_depth_stencil_format(),
+            samples: 1,
+            swap_behavior: SwapBehavior::Destroyed,
+            frames_in_flight: default_frames_in_flight(),
+            tile_width: default_tile(),
+            tile_height: default_tile(),
+            frame_data_budget: default_budget(),
+            display: true,
+            composition: false,
+            backend: Backend::Tbr,
+            threads: 0,
+            memory_limit: default_memory_limit(),
+        }
+    }
+
+    fn device_config(&self) -> DeviceConfig {
+        DeviceConfig {
+            backend: self.backend,
+            tile_width: self.tile_width,
+            tile_height: self.tile_height,
+            threads: self.threads,
+            frame_data_budget: self.frame_data_budget,
+            display: tiler::DisplayModel { scan_out: self.display, composition: self.composition },
+            ..DeviceConfig::default()
+        }
+    }
+}
+
+/// An error: the call that caused it and what was wrong.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("frame {frame}, call {call} ({name}): {message}")]
+pub struct Error {
+    pub frame: u32,
+    pub call: u32,
+    /// The call's name as a trace spells it.
+    pub name: &'static str,
+    pub message: String,
+}
+
+type Fallible<T = ()> = std::result::Result<T, String>;
+
+pub(crate) struct BufferObject {
+    pub storage: BufferId,
+    pub size: u64,
+    /// The last frame a draw read it.
+    pub last_use: Option<u32>,
+}
+
+pub(crate) struct TextureObject {
+    pub image: ImageId,
+    pub format: TextureFormat,
+    pub sampler: SamplerState,
+}
+
+pub(crate) struct RenderbufferObject {
+    pub image: ImageId,
+}
+
+/// What a framebuffer attachment point refers to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum AttachmentRef {
+    Texture(u32),
+    Renderbuffer(u32),
+    /// An image of the window surface (framebuffer 0).
+    Surface(ImageId),
+    /// Rendered in the multisampled image `samples`, resolved in the tile into the texture
+    /// (EXT_multisampled_render_to_texture).
+    MultisampleTexture {
+        texture: u32,
+        samples: ImageId,
+    },
+    /// The window's multisampled colour, resolved in the tile into the presented image.
+    SurfaceMultisample {
+        samples: ImageId,
+        resolve: ImageId,
+    },
+}
+
+impl AttachmentRef {
+    /// The texture it renders into, if any.
+    pub fn texture(self) -> Option<u32> {
+        match self {
+            AttachmentRef::Texture(t) | AttachmentRef::MultisampleTexture { texture: t, .. } => Some(t),
+            _ => None,
+        }
+    }
+}
+
+#[derive(Default)]
+pub(crate) struct FramebufferObject {
+    pub color: [Option<AttachmentRef>; 4],
+    pub depth: Option<AttachmentRef>,
+    pub stencil: Option<AttachmentRef>,
+}
+
+pub(crate) struct ProgramObject {
+    pub kind: ProgramKind,
+    pub uniforms: Uniforms,
+}
+
+#[derive(Default)]
+pub(crate) struct QueryObject {
+    pub ended: bool,
+    pub samples: u64,
+    /// Its draws still in the open pass.
+    pub pending_draws: u32,
+    /// The last frame whose work it depends on (its `end_query`, or a pass with its draws).
+    pub last_frame: u32,
+}
+
+/// What the driver knows about an image.
+pub(crate) struct ImageInfo {
+    pub desc: ImageDesc,
+    pub gl_format: TextureFormat,
+    /// Whether the contents are defined, per aspect: `[colour or depth, stencil]`. Undefined
+    /// contents (new storage, invalidated, after a destroying swap) are never loaded.
+    pub defined: [bool; 2],
+    /// The last frame that wrote it (a store, an upload).
+    pub last_write: Option<u32>,
+    /// The last frame a draw sampled it.
+    pub last_use: Option<u32>,
+}
+
+/// Where a vertex attribute reads from.
+#[derive(Clone, Debug)]
+pub(crate) enum AttribSource {
+    Buffer { buffer: u32, offset: u64 },
+    Client { data: Bytes },
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct Attrib {
+    pub enabled: bool,
+    pub source: Option<(AttribSource, u32, ComponentType, bool, u32)>,
+}
+
+/// The fixed-function and binding state, as GL's context holds it.
+#[derive(Clone, Debug)]
+pub(crate) struct GlState {
+    pub viewport: [i64; 4],
+    pub depth_range: [f32; 2],
+    pub scissor: [i64; 4],
+    pub scissor_test: bool,
+    pub depth_test: bool,
+    pub stencil_test: bool,
+    pub blend: bool,
+    pub cull_face: bool,
+    pub color_mask: [bool; 4],
+    pub depth_mask: bool,
+    pub stencil_write_mask: u8,
+    pub depth_func: CompareOp,
+    pub stencil_func: (CompareOp, u8, u8),
+    pub stencil_ops: (StencilOp, StencilOp, StencilOp),
+    pub blend_func: [BlendFactor; 4],
+    pub blend_equation: [BlendOp; 2],
+    pub blend_color: [f32; 4],
+    pub cull: Face,
+    pub front: Winding,
+    pub clear_color: [f32; 4],
+    pub clear_depth: f32,
+    pub clear_stencil: u8,
+    pub attribs: Vec<Attrib>,
+    pub index_buffer: u32,
+    pub textures: [u32; MAX_TEXTURE_UNITS as usize],
+    pub program: u32,
+}
+
+impl GlState {
+    fn new(width: u32, height: u32) -> GlState {
+        let full = [0, 0, width as i64, height as i64];
+        GlState {
+            viewport: full,
+            depth_range: [0.0, 1.0],
+            scissor: full,
+            scissor_test: false,
+            depth_test: false,
+            stencil_test: false,
+            blend: false,
+            cull_face: false,
+            color_mask: [true; 4],
+            depth_mask: true,
+            stencil_write_mask: 0xff,
+            depth_func: CompareOp::Less,
+            stencil_func: (CompareOp::Always, 0, 0xff),
+            stencil_ops: (StencilOp::Keep, StencilOp::Keep, StencilOp::Keep),
+            blend_func: [BlendFactor::One, BlendFactor::Zero, BlendFactor::One, BlendFactor::Zero],
+            blend_equation: [BlendOp::Add, BlendOp::Add],
+            blend_color: [0.0; 4],
+            cull: Face::Back,
+            front: Winding::Ccw,
+            clear_color: [0.0; 4],
+            clear_depth: 1.0,
+            clear_stencil: 0,
+            attribs: vec![Attrib { enabled: false, source: None }; MAX_VERTEX_ATTRIBS as usize],
+            index_buffer: 0,
+            textures: [0; MAX_TEXTURE_UNITS as usize],
+            program: 0,
+        }
+    }
+}
+
+/// An active `start_tiling` region.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Tiling {
+    /// tiler coordinates.
+    pub region: tiler::Rect,
+    pub preserve: BufferSet,
+    /// Whether the first pass of the region has started (the preserve mask applies to it).
+    pub started: bool,
+}
+
+/// The last store of an aspect of an image, until something reads it.
+#[derive(Clone, Debug)]
+pub(crate) struct PendingStore {
+    pub pass: u32,
+    pub frame: u32,
+    pub bytes: u64,
+    pub consumed: bool,
+}
+
+/// A GL-style context over a tiler device.
+pub struct Context {
+    pub(crate) device: Device,
+    pub(crate) config: ContextConfig,
+    pub(crate) buffers: BTreeMap<u32, BufferObject>,
+    pub(crate) textures: BTreeMap<u32, TextureObject>,
+    pub(crate) renderbuffers: BTreeMap<u32, RenderbufferObject>,
+    pub(crate) framebuffers: BTreeMap<u32, FramebufferObject>,
+    pub(crate) programs: BTreeMap<u32, ProgramObject>,
+    pub(crate) queries: BTreeMap<u32, QueryObject>,
+    pub(crate) images: HashMap<ImageId, ImageInfo>,
+    buffer_pool: HashMap<u64, Vec<BufferId>>,
+    image_pool: HashMap<ImageDesc, Vec<ImageId>>,
+    allocated: u64,
+    pub(crate) state: GlState,
+    pub(crate) draw_framebuffer: u32,
+    pub(crate) read_framebuffer: u32,
+    pub(crate) pass: Option<OpenPass>,
+    /// Why the next pass will start.
+    pub(crate) next_start: (StartCause, CallRef),
+    pub(crate) tiling: Option<Tiling>,
+    pub(crate) active_query: Option<u32>,
+    pub(crate) swap_behavior: SwapBehavior,
+    pub(crate) surface_color: ImageId,
+    pub(crate) surface_depth_stencil: Option<ImageId>,
+    pub(crate) frame: FrameRecord,
+    pub(crate) frames: Vec<FrameRecord>,
+    pub(crate) here: CallRef,
+    pub(crate) passes_rendered: u32,
+    /// The frame of the last pass rendered.
+    pub(crate) last_submit_frame: Option<u32>,
+    pub(crate) stores: HashMap<(ImageId, crate::report::Slot), PendingStore>,
+    recording: Option<Vec<Vec<Call>>>,
+}
+
+impl Context {
+    /// Makes a context with its window surface.
+    ///
+    /// # Errors
+    /// A configuration the device refuses (tile size, budget, surface size or samples), a
+    /// surface format of the wrong kind, or `frames_in_flight` outside `1..=16`.
+    pub fn new(config: ContextConfig) -> Result<Context, String> {
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&config.frames_in_flight) {
+            return Err(format!("frames_in_flight {} must be 1 to {MAX_FRAMES_IN_FLIGHT}", config.frames_in_flight));
+        }
+        if !config.color_format.is_color() {
+            return Err(format!("color_format {} is not a colour format", config.color_format.name()));
+        }
+        if let Some(ds) = config.depth_stencil_format
+            && ds.is_color()
+        {
+            return Err(format!("depth_stencil_format {} is not a depth or stencil format", ds.name()));
+        }
+        let mut device = Device::new(config.device_config()).map_err(|e| e.to_string())?;
+        let (w, h, samples) = (config.width, config.height, config.samples);
+        let mut images = HashMap::new();
+        let mut allocated = 0;
+        let mut surface_image = |format: TextureFormat, samples: u32| -> Fallible<ImageId> {
+            let desc = ImageDesc::new(w, h, format.format()).with_samples(samples);
+            desc.validate().map_err(|e| format!("window surface: {e}"))?;
+            allocated += desc.size_bytes();
+            if allocated > config.memory_limit {
+                return Err(format!(
+                    "the window surface needs more than the memory limit of {} bytes",
+                    config.memory_limit
+                ));
+            }
+            let image = device.create_image(desc).map_err(|e| e.to_string())?;
+            images.insert(
+                image,
+                ImageInfo { desc, gl_format: format, defined: [false; 2], last_write: None, last_use: None },
+            );
+            Ok(image)
+        };
+        let surface_depth_stencil = config.depth_stencil_format.map(|f| surface_image(f, samples)).transpose()?;
+        let mut fb = FramebufferObject::default();
+        let surface_color = if samples > 1 {
+            // A multisampled window: the samples live in the tile and are resolved into the
+            // single-sample image that is presented.
+            let msaa = surface_image(config.color_format, samples)?;
+            let resolve = surface_image(config.color_format, 1)?;
+            fb.color[0] = Some(AttachmentRef::SurfaceMultisample { samples: msaa, resolve });
+            resolve
+        } else {
+            let image = surface_image(config.color_format, 1)?;
+            fb.color[0] = Some(AttachmentRef::Surface(image));
+            image
+        };
+        if let (Some(image), Some(format)) = (surface_depth_stencil, config.depth_stencil_format) {
+            let r = Some(AttachmentRef::Surface(image));
+            if format.has_depth() {
+                fb.depth = r;
+            }
+            if format.has_stencil() {
+                fb.stencil = r;
+            }
+        }
+        let mut framebuffers = BTreeMap::new();
+        framebuffers.insert(0, fb);
+        Ok(Context {
+            device,
+            buffers: BTreeMap::new(),
+            textures: BTreeMap::new(),
+            renderbuffers: BTreeMap::new(),
+            framebuffers,
+            programs: BTreeMap::new(),
+            queries: BTreeMap::new(),
+            images,
+            buffer_pool: HashMap::new(),
+            image_pool: HashMap::new(),
+            allocated,
+            state: GlState::new(config.width, config.height),
+            draw_framebuffer: 0,
+            read_framebuffer: 0,
+            pass: None,
+            next_start: (StartCause::Bind, CallRef::default()),
+            tiling: None,
+            active_query: None,
+            swap_behavior: config.swap_behavior,
+            surface_color,
+            surface_depth_stencil,
+            frame: FrameRecord { latency_frames: config.frames_in_flight, ..FrameRecord::default() },
+            frames: Vec::new(),
+            here: CallRef::default(),
+            passes_rendered: 0,
+            last_submit_frame: None,
+            stores: HashMap::new(),
+            recording: None,
+            config,
+        })
+    }
+
+    /// A context that records every call it is given, for [`Context::recording`].
+    pub fn new_recording(config: ContextConfig) -> Result<Context, String> {
+        let mut ctx = Context::new(config)?;
+        ctx.recording = Some(vec![Vec::new()]);
+        Ok(ctx)
+    }
+
+    pub fn config(&self) -> &ContextConfig {
+        &self.config
+    }
+
+    pub fn device(&self) -> &Device {
+        &self.device
+    }
+
+    /// The window's colour image.
+    pub fn surface_color(&self) -> ImageId {
+        self.surface_color
+    }
+
+    /// The window's colour buffer as RGBA8, rows top to bottom (tiler's order).
+    pub fn surface_rgba8(&self) -> Vec<u8> {
+        self.device.read_rgba8(self.surface_color).unwrap_or_default()
+    }
+
+    /// The image a texture currently stores its texels in.
+    pub fn texture_image(&self, texture: u32) -> Option<ImageId> {
+        self.textures.get(&texture).map(|t| t.image)
+    }
+
+    /// Frames finished so far (each ended by a swap).
+    pub fn frames(&self) -> &[FrameRecord] {
+        &self.frames
+    }
+
+    /// The frame being built.
+    pub fn current_frame(&self) -> &FrameRecord {
+        &self.frame
+    }
+
+    /// Every pass rendered so far, in order, finished frames then the current one.
+    pub fn passes(&self) -> impl Iterator<Item = &PassRecord> {
+        self.frames.iter().chain(std::iter::once(&self.frame)).flat_map(|f| f.passes.iter())
+    }
+
+    /// The calls recorded so far, one list per frame (the last one is the frame being built).
+    pub fn recorded_frames(&self) -> Option<&[Vec<Call>]> {
+        self.recording.as_deref()
+    }
+
+    /// Renders whatever is still pending, closes the frame being built (if it did anything),
+    /// and returns everything the context did with the advisor's findings.
+    ///
+    /// # Errors
+    /// A pending pass that fails to render.
+    pub fn end(&mut self) -> Result<Report, Error> {
+        let here = self.here;
+        self.end_run().map_err(|message| Error { frame: here.frame, call: here.call, name: "end", message })?;
+        Ok(Report::new(self.config.clone(), self.frames.clone()))
+    }
+
+    /// Executes one call.
+    ///
+    /// # Errors
+    /// Anything GL would flag (unknown objects, incomplete framebuffers, out-of-range
+    /// draws, …) and anything tiler does not support, naming the frame and the call. The
+    /// context stays usable: a failed call changes nothing, except that a render pass that
+    /// fails to render is dropped.
+    pub fn call(&mut self, call: Call) -> Result<Output, Error> {
+        let name = call.name();
+        let here = self.here;
+        let recorded = self.recording.is_some().then(|| call.clone());
+        let result = self.execute(call);
+        if let (Ok(_), Some(call)) = (&result, recorded)
+            && let Some(frames) = &mut self.recording
+        {
+            frames.last_mut().expect("a frame").push(call);
+            if name == "swap_buffers" {
+                frames.push(Vec::new());
+            }
+        }
+        // A failed call changes nothing and is not recorded, so it takes no index either: a
+        // recording replays with the same call numbers.
+        if name != "swap_buffers" && result.is_ok() {
+            self.here.call += 1;
+            self.frame.calls = self.here.call;
+        }
+        result.map_err(|message| Error { frame: here.frame, call: here.call, name, message })
+    }
+
+    fn execute(&mut self, call: Call) -> Fallible<Output> {
+        use Call::*;
+        match call {
+            CreateBuffer { id, data } => self.create_buffer_object(id, data)?,
+            BufferData { id, data } => self.buffer_data(id, data)?,
+            BufferSubData { id, offset, data } => self.buffer_sub_data(id, offset, data)?,
+            DeleteBuffer { id } => self.delete_buffer(id)?,
+            CreateTexture { id, width, height, format, data } => {
+                if id == 0 || self.textures.contains_key(&id) {
+                    return Err(name_taken("texture", id));
+                }
+                self.texture_storage(id, width, height, format, data)?;
+            }
+            TexImage { id, width, height, format, data } => {
+                self.texture(id)?;
+                self.texture_storage(id, width, height, format, data)?;
+            }
+            TexSubImage { id, x, y, width, height, data } => self.tex_sub_image(id, x, y, width, height, data)?,
+            TexParameters { id, filter, wrap } => {
+                self.texture_mut(id)?.sampler = SamplerState { filter, wrap };
+            }
+            DeleteTexture { id } => self.delete_texture(id)?,
+            CreateRenderbuffer { id, width, height, format, samples } => {
+                if id == 0 || self.renderbuffers.contains_key(&id) {
+                    return Err(name_taken("renderbuffer", id));
+                }
+                let image = self.alloc_image(width, height, format, samples)?;
+                self.renderbuffers.insert(id, RenderbufferObject { image });
+            }
+            DeleteRenderbuffer { id } => self.delete_renderbuffer(id)?,
+            CreateFramebuffer { id } => {
+                if id == 0 || self.framebuffers.contains_key(&id) {
+                    return Err(name_taken("framebuffer", id));
+                }
+                self.framebuffers.insert(id, FramebufferObject::default());
+            }
+            DeleteFramebuffer { id } => self.delete_framebuffer(id)?,
+            FramebufferTexture { framebuffer, attachment, texture, samples } => {
+                let r = match (texture, samples) {
+                    (0, _) => None,
+                    (_, 1) => {
+                        self.texture(texture)?;
+                        Some(AttachmentRef::Texture(texture))
+                    }
+                    _ => {
+                        let t = self.texture(texture)?;
+                        if attachment.color_index().is_none() || !t.format.is_color() {
+                            return Err(
+                                "multisampled render to texture is supported for colour textures only".to_string()
+                            );
+                        }
+                        if framebuffer == 0 || !self.framebuffers.contains_key(&framebuffer) {
+                            return Err(format!("framebuffer {framebuffer} cannot take attachments"));
+                        }
+                        let (format, desc) = (t.format, self.images[&t.image].desc);
+                        let image = self.alloc_image(desc.width, desc.height, format, samples)?;
+                        Some(AttachmentRef::MultisampleTexture { texture, samples: image })
+                    }
+                };
+                self.attach(framebuffer, attachment, r)?;
+            }
+            FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
+                if renderbuffer != 0 && !self.renderbuffers.contains_key(&renderbuffer) {
+                    return Err(format!("renderbuffer {renderbuffer} does not exist"));
+                }
+                let r = (renderbuffer != 0).then_some(AttachmentRef::Renderbuffer(renderbuffer));
+                self.attach(framebuffer, attachment, r)?;
+            }
+            BindFramebuffer { target, framebuffer } => self.bind_framebuffer(target, framebuffer)?,
+            CreateProgram { id, program } => {
+                if id == 0 || self.programs.contains_key(&id) {
+                    return Err(name_taken("program", id));
+                }
+                self.programs.insert(id, ProgramObject { kind: program, uniforms: Uniforms::default() });
+            }
+            UseProgram { id } => {
+                if id != 0 && !self.programs.contains_key(&id) {
+                    return Err(format!("program {id} does not exist"));
+                }
+                self.state.program = id;
+            }
+            Uniform { name, value } => self.uniform(&name, value)?,
+            Viewport { x, y, width, height } => {
+                self.state.viewport = [x as i64, y as i64, width as i64, height as i64];
+            }
+            DepthRange { near, far } => {
+                if !near.is_finite() || !far.is_finite() {
+                    return Err(format!("depth range [{near}, {far}] is not finite"));
+                }
+                self.state.depth_range = [near.clamp(0.0, 1.0), far.clamp(0.0, 1.0)];
+            }
+            Scissor { x, y, width, height } => {
+                self.state.scissor = [x as i64, y as i64, width as i64, height as i64];
+            }
+            Enable { cap } => self.set_capability(cap, true),
+            Disable { cap } => self.set_capability(cap, false),
+            ColorMask { red, green, blue, alpha } => self.state.color_mask = [red, green, blue, alpha],
+            DepthMask { write } => self.state.depth_mask = write,
+            StencilMask { mask } => self.state.stencil_write_mask = mask,
+            DepthFunc { func } => self.state.depth_func = func,
+            StencilFunc { func, reference, mask } => self.state.stencil_func = (func, reference, mask),
+            StencilOp { fail, depth_fail, pass } => self.state.stencil_ops = (fail, depth_fail, pass),
+            BlendFunc { src, dst, src_alpha, dst_alpha } => {
+                self.state.blend_func = [src, dst, src_alpha.unwrap_or(src), dst_alpha.unwrap_or(dst)];
+            }
+            BlendEquation { rgb, alpha } => self.state.blend_equation = [rgb, alpha.unwrap_or(rgb)],
+            BlendColor { rgba } => self.state.blend_color = finite4("blend colour", rgba)?,
+            CullFace { face } => self.state.cull = face,
+            FrontFace { winding } => self.state.front = winding,
+            ClearColor { rgba } => self.state.clear_color = finite4("clear colour", rgba)?,
+            ClearDepth { depth } => {
+                if !depth.is_finite() {
+                    return Err(format!("clear depth {depth} is not finite"));
+                }
+                self.state.clear_depth = depth.clamp(0.0, 1.0);
+            }
+            ClearStencil { stencil } => self.state.clear_stencil = stencil,
+            VertexAttribPointer { index, buffer, size, component, normalized, stride, offset } => {
+                self.attrib_index(index)?;
+                if !self.buffers.contains_key(&buffer) {
+                    return Err(format!("buffer {buffer} does not exist"));
+                }
+                crate::context::pass::vertex_format(size, component, normalized)?;
+                self.state.attribs[index as usize].source =
+                    Some((AttribSource::Buffer { buffer, offset }, size, component, normalized, stride));
+            }
+            VertexAttribArray { index, size, component, normalized, stride, data } => {
+                self.attrib_index(index)?;
+                crate::context::pass::vertex_format(size, component, normalized)?;
+                self.state.attribs[index as usize].source =
+                    Some((AttribSource::Client { data }, size, component, normalized, stride));
+            }
+            EnableVertexAttrib { index } => {
+                self.attrib_index(index)?;
+                self.state.attribs[index as usize].enabled = true;
+            }
+            DisableVertexAttrib { index } => {
+                self.attrib_index(index)?;
+                self.state.attribs[index as usize].enabled = false;
+            }
+            BindIndexBuffer { buffer } => {
+                if buffer != 0 && !self.buffers.contains_key(&buffer) {
+                    return Err(format!("buffer {buffer} does not exist"));
+                }
+                self.state.index_buffer = buffer;
+            }
+            BindTexture { unit, texture } => {
+                if unit >= MAX_TEXTURE_UNITS {
+                    return Err(format!("texture unit {unit} is out of range (0 to {})", MAX_TEXTURE_UNITS - 1));
+                }
+                if texture != 0 {
+                    self.texture(texture)?;
+                }
+                self.state.textures[unit as usize] = texture;
+            }
+            DrawArrays { mode, first, count } => self.draw(mode, first, count, None)?,
+            DrawElements { mode, count, index_type, offset } => {
+                self.draw(mode, 0, count, Some((index_type, offset)))?;
+            }
+            Clear { color, depth, stencil } => self.clear(BufferSet { color, depth, stencil })?,
+            Invalidate { attachments } => self.invalidate(&attachments)?,
+            ReadPixels { x, y, width, height } => return self.read_pixels(x, y, width, height).map(Output::Pixels),
+            BlitFramebuffer { src, dst, filter } => self.blit(src, dst, filter)?,
+            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height } => {
+                self.copy_tex_sub_image(texture, x_offset, y_offset, [x, y], [width, height])?;
+            }
+            Flush => self.flush_open_pass(crate::report::FlushCause::Flush)?,
+            Finish => self.finish()?,
+            SwapBuffers => self.swap_buffers()?,
+            SwapBehavior { behavior } => self.swap_behavior = behavior,
+            StartTiling { x, y, width, height, preserve } => self.start_tiling([x, y], [width, height], preserve)?,
+            EndTiling { store } => self.end_tiling(store)?,
+            CreateQuery { id } => {
+                if id == 0 || self.queries.contains_key(&id) {
+                    return Err(name_taken("query", id));
+                }
+                self.queries.insert(id, QueryObject::default());
+            }
+            DeleteQuery { id } => {
+                if self.active_query == Some(id) {
+                    return Err(format!("query {id} is active"));
+                }
+                self.queries.remove(&id).ok_or_else(|| format!("query {id} does not exist"))?;
+            }
+            BeginQuery { id } => {
+                if let Some(active) = self.active_query {
+                    return Err(format!("query {active} is already active"));
+                }
+                let q = self.queries.get_mut(&id).ok_or_else(|| format!("query {id} does not exist"))?;
+                *q = QueryObject::default();
+                self.active_query = Some(id);
+            }
+            EndQuery => {
+                let id = self.active_query.take().ok_or("no query is active")?;
+                let frame = self.here.frame;
+                let q = self.queries.get_mut(&id).expect("active query exists");
+                q.ended = true;
+                q.last_frame = q.last_frame.max(frame);
+            }
+            QueryAvailable { id } => return self.query_available(id).map(Output::Available),
+            QueryResult { id } => return self.query_result(id).map(Output::Samples),
+        }
+        Ok(Output::None)
+    }
+
+    fn attrib_index(&self, index: u32) -> Fallible {
+        if index >= MAX_VERTEX_ATTRIBS {
+            return Err(format!("vertex attribute {index} is out of range (0 to {})", MAX_VERTEX_ATTRIBS - 1));
+        }
+        Ok(())
+    }
+
+    fn set_capability(&mut self, cap: Capability, on: bool) {
+        let s = &mut self.state;
+        match cap {
+            Capability::DepthTest => s.depth_test = on,
+            Capability::StencilTest => s.stencil_test = on,
+            Capability::Blend => s.blend = on,
+            Capability::CullFace => s.cull_face = on,
+            Capability::ScissorTest => s.scissor_test = on,
+        }
+    }
+
+    fn uniform(&mut self, name: &str, value: UniformValue) -> Fallible {
+        let id = self.state.program;
+        let program = self.programs.get_mut(&id).ok_or("no program is in use")?;
+        program.uniforms.set(program.kind, name, value)
+    }
+
+    pub(crate) fn texture(&self, id: u32) -> Fallible<&TextureObject> {
+        self.textures.get(&id).ok_or_else(|| format!("texture {id} does not exist"))
+    }
+
+    fn texture_mut(&mut self, id: u32) -> Fallible<&mut TextureObject> {
+        self.textures.get_mut(&id).ok_or_else(|| format!("texture {id} does not exist"))
+    }
+
+    // --- memory ----------------------------------------------------------------------------
+
+    /// An image for `format`, from the pool or newly allocated within the memory limit. Its
+    /// contents are undefined.
+    pub(crate) fn alloc_image(
+        &mut self,
+        width: u32,
+        height: u32,
+        format: TextureFormat,
+        samples: u32,
+    ) -> Fallible<ImageId> {
+        let desc = ImageDesc::new(width, height, format.format()).with_samples(samples);
+        desc.validate().map_err(|e| e.to_string())?;
+        let image = match self.image_pool.get_mut(&desc).and_then(|p| p.pop()) {
+            Some(image) => image,
+            None => {
+                self.reserve(desc.size_bytes())?;
+                self.device.create_image(desc).map_err(|e| e.to_string())?
+            }
+        };
+        self.images.insert(
+            image,
+            ImageInfo { desc, gl_format: format, defined: [false; 2], last_write: None, last_use: None },
+        );
+        Ok(image)
+    }
+
+    /// Returns an image to the pool (its stores die with it).
+    pub(crate) fn free_image(&mut self, image: ImageId) {
+        if let Some(info) = self.images.remove(&image) {
+            self.forget_stores(image, "storage released");
+            self.image_pool.entry(info.desc).or_default().push(image);
+        }
+    }
+
+    /// A buffer holding `bytes`, from the pool or newly allocated within the memory limit.
+    pub(crate) fn alloc_buffer(&mut self, bytes: &[u8]) -> Fallible<BufferId> {
+        let len = bytes.len() as u64;
+        if let Some(id) = self.buffer_pool.get_mut(&len).and_then(|p| p.pop()) {
+            self.device.write_buffer(id, 0, bytes).map_err(|e| e.to_string())?;
+            return Ok(id);
+        }
+        self.reserve(len)?;
+        self.device.create_buffer(bytes).map_err(|e| e.to_string())
+    }
+
+    pub(crate) fn free_buffer(&mut self, id: BufferId, len: u64) {
+        self.buffer_pool.entry(len).or_default().push(id);
+    }
+
+    fn reserve(&mut self, bytes: u64) -> Fallible {
+        let total = self.allocated.saturating_add(bytes);
+        if total > self.config.memory_limit {
+            return Err(format!(
+                "allocating {bytes} bytes would take the context's images and buffers to {total} bytes, \
+                 above its memory limit of {} bytes",
+                self.config.memory_limit
+            ));
+        }
+        self.allocated = total;
+        Ok(())
+    }
+
+    // --- buffers ---------------------------------------------------------------------------
+
+    fn create_buffer_object(&mut self, id: u32, data: Bytes) -> Fallible {
+        if id == 0 || self.buffers.contains_key(&id) {
+            return Err(name_taken("buffer", id));
+        }
+        let storage = self.alloc_buffer(&data)?;
+        self.buffers.insert(id, BufferObject { storage, size: data.len() as u64, last_use: None });
+        Ok(())
+    }
+
+    /// `glBufferData`: new storage (orphaning) when the old one may still be read.
+    fn buffer_data(&mut self, id: u32, data: Bytes) -> Fallible {
+        let b = self.buffers.get(&id).ok_or_else(|| format!("buffer {id} does not exist"))?;
+        let (storage, size) = (b.storage, b.size);
+        let in_open_pass = self.pass.as_ref().is_some_and(|p| p.buffers_used.contains(&storage));
+        if in_open_pass || size != data.len() as u64 {
+            let new = self.alloc_buffer(&data)?;
+            self.retire_buffer(storage, size);
+            let b = self.buffers.get_mut(&id).expect("checked");
+            b.storage = new;
+            b.size = data.len() as u64;
+        } else {
+            self.device.write_buffer(storage, 0, &data).map_err(|e| e.to_string())?;
+        }
+        // Orphaned: no pending frame uses the new storage.
+        self.buffers.get_mut(&id).expect("checked").last_use = None;
+        Ok(())
+    }
+
+    fn buffer_sub_data(&mut self, id: u32, offset: u64, data: Bytes) -> Fallible {
+        let b = self.buffers.get(&id).ok_or_else(|| format!("buffer {id} does not exist"))?;
+        let (storage, size, last_use) = (b.storage, b.size, b.last_use);
+        let end = offset.checked_add(data.len() as u64).filter(|e| *e <= size).ok_or_else(|| {
+            format!(
+                "a write of {} bytes at offset {offset} runs past the end of buffer {id} ({size} bytes)",
+                data.len()
+            )
+        })?;
+        let _ = end;
+        if let Some(used) = last_use
+            && self.in_flight(used)
+        {
+            self.count_copy_on_write(format!("buffer {id}"), used, size - data.len() as u64);
+        }
+        let in_open_pass = self.pass.as_ref().is_some_and(|p| p.buffers_used.contains(&storage));
+        if in_open_pass {
+            // The pending draws must keep reading the old contents: give the buffer a copy,
+            // which no frame uses yet.
+            let mut contents = self.device_buffer_bytes(storage, size)?;
+            contents[offset as usize..offset as usize + data.len()].copy_from_slice(&data);
+            let new = self.alloc_buffer(&contents)?;
+            self.retire_buffer(storage, size);
+            let b = self.buffers.get_mut(&id).expect("checked");
+            b.storage = new;
+            b.last_use = None;
+        } else {
+            self.device.write_buffer(storage, offset, &data).map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    /// A buffer's bytes (the device has no read-back for buffers, so the context keeps none
+    /// either: it reconstructs them by reading the storage through a scratch copy).
+    fn device_buffer_bytes(&self, storage: BufferId, size: u64) -> Fallible<Vec<u8>> {
+        self.device.buffer_data(storage).map(|b| b[..size as usize].to_vec()).map_err(|e| e.to_string())
+    }
+
+    /// Frees a buffer storage now, or when the open pass that reads it has been rendered.
+    pub(crate) fn retire_buffer(&mut self, storage: BufferId, size: u64) {
+        match &mut self.pass {
+            Some(pass) if pass.buffers_used.contains(&storage) => pass.retired_buffers.push((storage, size)),
+            _ => self.free_buffer(storage, size),
+        }
+    }
+
+    fn delete_buffer(&mut self, id: u32) -> Fallible {
+        let b = self.buffers.remove(&id).ok_or_else(|| format!("buffer {id} does not exist"))?;
+        self.retire_buffer(b.storage, b.size);
+        for attrib in &mut self.state.attribs {
+            if let Some((AttribSource::Buffer { buffer, .. }, ..)) = &attrib.source
+                && *buffer == id
+            {
+                attrib.source = None;
+            }
+        }
+        if self.state.index_buffer == id {
+            self.state.index_buffer = 0;
+        }
+        Ok(())
+    }
+
+    // --- textures and renderbuffers --------------------------------------------------------
+
+    /// Gives texture `id` new storage (creating the texture if needed).
+    fn texture_storage(
+        &mut self,
+        id: u32,
+        width: u32,
+        height: u32,
+        format: TextureFormat,
+        data: Option<Bytes>,
+    ) -> Fallible {
+        if let Some(data) = &data {
+            check_texel_bytes(format, width, height, data.len())?;
+        }
+        // Storage of an attachment of the open pass changes: the pass must end first.
+        if self.textures.contains_key(&id) && self.open_pass_attaches(AttachmentRef::Texture(id)) {
+            self.flush_open_pass(crate::report::FlushCause::AttachmentChange)?;
+        }
+        let image = self.alloc_image(width, height, format, 1)?;
+        if let Some(data) = data {
+            self.upload(image, 0, 0, width, height, &data)?;
+        }
+        let sampler = SamplerState { filter: Filter::Nearest, wrap: Wrap::ClampToEdge };
+        let old = self.textures.insert(id, TextureObject { image, format, sampler });
+        if let Some(old) = old {
+            self.textures.get_mut(&id).expect("inserted").sampler = old.sampler;
+            self.retire_image(old.image);
+        }
+        Ok(())
+    }
+
+    /// Frees an image now, or after the open pass that samples it has been rendered.
+    pub(crate) fn retire_image(&mut self, image: ImageId) {
+        match &mut self.pass {
+            Some(pass) if pass.images_sampled.contains(&image) => pass.retired_images.push(image),
+            _ => self.free_image(image),
+        }
+    }
+
+    fn tex_sub_image(&mut self, id: u32, x: u32, y: u32, width: u32, height: u32, data: Bytes) -> Fallible {
+        let t = self.texture(id)?;
+        let (image, format) = (t.image, t.format);
+        let desc = self.images[&image].desc;
+        if x as u64 + width as u64 > desc.width as u64 || y as u64 + height as u64 > desc.height as u64 {
+            return Err(format!(
+                "rectangle {width}×{height} at ({x}, {y}) is outside texture {id} ({}×{})",
+                desc.width, desc.height
+            ));
+        }
+        check_texel_bytes(format, width, height, data.len())?;
+        if self.open_pass_attaches(AttachmentRef::Texture(id)) {
+            self.flush_open_pass(crate::report::FlushCause::TextureUpdate)?;
+        }
+        let info = &self.images[&image];
+        let last = info.last_use.max(info.last_write);
+        if let Some(used) = last
+            && self.in_flight(used)
+        {
+            let replaced = width as u64 * height as u64 * desc.format.bytes_per_sample() as u64;
+            self.count_copy_on_write(format!("texture {id}"), used, desc.size_bytes() - replaced);
+        }
+        let sampled_by_open_pass = self.pass.as_ref().is_some_and(|p| p.images_sampled.contains(&image));
+        let target = if sampled_by_open_pass {
+            // Pending draws keep the old texels: the texture moves to a copy.
+            let copy = self.alloc_image(desc.width, desc.height, format, 1)?;
+            let old = self.device.image_data(image).map_err(|e| e.to_string())?.to_vec();
+            self.device.write_image(copy, &old).map_err(|e| e.to_string())?;
+            let info = &self.images[&image];
+            let (defined, last_write) = (info.defined, info.last_write);
+            let new = self.images.get_mut(&copy).expect("allocated");
+            new.defined = defined;
+            new.last_write = last_write;
+            self.retire_image(image);
+            self.textures.get_mut(&id).expect("checked").image = copy;
+            copy
+        } else {
+            image
+        };
+        self.upload(target, x, y, width, height, &data)
+    }
+
+    /// Writes texels (GL rows, bottom to top) into a rectangle of an image.
+    fn upload(&mut self, image: ImageId, x: u32, y: u32, width: u32, height: u32, data: &[u8]) -> Fallible {
+        let desc = self.images[&image].desc;
+        let bpp = desc.format.bytes_per_sample();
+        let mut contents = self.device.image_data(image).map_err(|e| e.to_string())?.to_vec();
+        for row in 0..height as usize {
+            // GL row y + row from the bottom is tiler row height − 1 − (y + row).
+            let tiler_row = desc.height as usize - 1 - (y as usize + row);
+            let dst = (tiler_row * desc.width as usize + x as usize) * bpp;
+            let src = row * width as usize * bpp;
+            contents[dst..dst + width as usize * bpp].copy_from_slice(&data[src..src + width as usize * bpp]);
+        }
+        self.device.write_image(image, &contents).map_err(|e| e.to_string())?;
+        let frame = self.here.frame;
+        let info = self.images.get_mut(&image).expect("known image");
+        info.defined = [true; 2];
+        info.last_write = Some(frame);
+        self.forget_stores(image, "overwritten by an upload");
+        Ok(())
+    }
+
+    fn delete_texture(&mut self, id: u32) -> Fallible {
+        self.texture(id)?;
+        if self.open_pass_attaches(AttachmentRef::Texture(id)) {
+            self.flush_open_pass(crate::report::FlushCause::AttachmentChange)?;
+        }
+        let t = self.textures.remove(&id).expect("checked");
+        self.retire_image(t.image);
+        for unit in &mut self.state.textures {
+            if *unit == id {
+                *unit = 0;
+            }
+        }
+        Ok(())
+    }
+
+    fn delete_renderbuffer(&mut self, id: u32) -> Fallible {
+        if !self.renderbuffers.contains_key(&id) {
+            return Err(format!("renderbuffer {id} does not exist"));
+        }
+        if self.open_pass_attaches(AttachmentRef::Renderbuffer(id)) {
+            self.flush_open_pass(crate::report::FlushCause::AttachmentChange)?;
+        }
+        let r = self.renderbuffers.remove(&id).expect("checked");
+        self.free_image(r.image);
+        Ok(())
+    }
+
+    // --- framebuffers ----------------------------------------------------------------------
+
+    fn attach(&mut self, framebuffer: u32, point: AttachmentPoint, r: Option<AttachmentRef>) -> Fallible {
+        if framebuffer == 0 {
+            return Err("the window's framebuffer (0) has fixed attachments".to_string());
+        }
+        if !self.framebuffers.contains_key(&framebuffer) {
+            return Err(format!("framebuffer {framebuffer} does not exist"));
+        }
+        if self.pass.as_ref().is_some_and(|p| p.framebuffer == framebuffer) {
+            // The frame data gathered so far applies to the old attachments (seed 000 §23.5).
+            self.flush_open_pass(crate::report::FlushCause::AttachmentChange)?;
+            self.pass = None;
+        }
+        let fb = self.framebuffers.get_mut(&framebuffer).expect("checked");
+        let old = match point {
+            AttachmentPoint::Depth => std::mem::replace(&mut fb.depth, r),
+            AttachmentPoint::Stencil => std::mem::replace(&mut fb.stencil, r),
+            AttachmentPoint::DepthStencil => {
+                fb.depth = r;
+                std::mem::replace(&mut fb.stencil, r)
+            }
+            colour => std::mem::replace(&mut fb.color[colour.color_index().expect("colour point")], r),
+        };
+        // The implicit multisampled image of a replaced multisampled attachment goes.
+        if let Some(AttachmentRef::MultisampleTexture { samples, .. }) = old {
+            self.free_image(samples);
+        }
+        Ok(())
+    }
+
+    fn delete_framebuffer(&mut self, id: u32) -> Fallible {
+        if id == 0 {
+            return Err("the window's framebuffer (0) cannot be deleted".to_string());
+        }
+        if !self.framebuffers.contains_key(&id) {
+            return Err(format!("framebuffer {id} does not exist"));
+        }
+        if self.draw_framebuffer == id {
+            self.bind_framebuffer(FramebufferTarget::Draw, 0)?;
+        }
+        if self.read_framebuffer == id {
+            self.read_framebuffer = 0;
+        }
+        let fb = self.framebuffers.remove(&id).expect("checked");
+        for r in fb.color.into_iter().flatten() {
+            if let AttachmentRef::MultisampleTexture { samples, .. } = r {
+                self.free_image(samples);
+            }
+        }
+        Ok(())
+    }
+
+    fn bind_framebuffer(&mut self, target: FramebufferTarget, framebuffer: u32) -> Fallible {
+        if !self.framebuffers.contains_key(&framebuffer) {
+            return Err(format!("framebuffer {framebuffer} does not exist"));
+        }
+        if target != FramebufferTarget::Read && framebuffer != self.draw_framebuffer {
+            if self.tiling.is_some() {
+                return Err(
+                    "a framebuffer cannot be bound inside a tiled-rendering region: call end_tiling first".to_string()
+                );
+            }
+            // Binding another framebuffer ends the render pass of the previous one.
+            self.end_open_pass(crate::report::EndCause::Bind)?;
+            self.draw_framebuffer = framebuffer;
+            self.next_start = (StartCause::Bind, self.here);
+        }
+        if target != FramebufferTarget::Draw {
+            self.read_framebuffer = framebuffer;
+        }
+        Ok(())
+    }
+
+    /// Whether the open pass has an attachment referring to `r`.
+    pub(crate) fn open_pass_attaches(&self, r: AttachmentRef) -> bool {
+        let Some(pass) = &self.pass else { return false };
+        if pass.copy_texture.is_some() {
+            return false;
+        }
+        let Some(fb) = self.framebuffers.get(&pass.framebuffer) else { return false };
+        fb.color
+            .iter()
+            .chain([&fb.depth, &fb.stencil])
+            .flatten()
+            .any(|a| *a == r || (r.texture().is_some() && a.texture() == r.texture()))
+    }
+}
+
+fn name_taken(kind: &str, id: u32) -> String {
+    if id == 0 { format!("{kind} name 0 is reserved") } else { format!("{kind} {id} already exists") }
+}
+
+fn finite4(what: &str, v: [f32; 4]) -> Fallible<[f32; 4]> {
+    if v.iter().all(|c| c.is_finite()) { Ok(v) } else { Err(format!("{what} {v:?} is not finite")) }
+}
+
+/// Checks that `len` bytes are exactly a `width × height` image of `format`.
+fn check_texel_bytes(format: TextureFormat, width: u32, height: u32, len: usize) -> Fallible {
+    let expected = width as u64 * height as u64 * format.format().bytes_per_sample() as u64;
+    if len as u64 != expected {
+        return Err(format!("{len} bytes of texels, but {width}×{height} of {} needs {expected}", format.name()));
+    }
+    Ok(())
+}

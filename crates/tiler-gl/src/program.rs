@@ -1,0 +1,501 @@
+//! The built-in program library: what a GL program is for tiler's Rust shaders.
+//!
+//! GL programs are GLSL; tiler's shaders are Rust types. A trace therefore names one of these
+//! programs ([`ProgramKind`]) and sets its uniforms by name; uniform values are snapshotted
+//! into each draw, as a driver snapshots state into its frame data. Adding a program means a
+//! `ProgramKind` variant, its [`ProgramInfo`] and its shaders here.
+//!
+//! | program | attributes | uniforms | varyings |
+//! |---|---|---|---|
+//! | `solid` | 0 position | `mvp` mat4, `color` vec4 | — |
+//! | `vertex_color` | 0 position, 1 color | `mvp`, `alpha_cutoff` float | colour (4) |
+//! | `lambert` | 0 position, 1 normal | `mvp`, `model` mat4, `color`, `light_dir` vec3 | normal (3) |
+//! | `textured` | 0 position, 1 texcoord | `mvp`, `color`, `alpha_cutoff`, `sampler` int | texcoord (2) |
+//!
+//! Every vertex shader computes GL's `gl_Position = mvp · position` and converts it to
+//! tiler's clip space (Vulkan's): `(x, −y, (z + w) / 2, w)`. The y negation maps GL's window
+//! (y up) onto tiler's framebuffer rows (row 0 at the top), and `(z + w) / 2` maps GL's depth
+//! range `[−w, w]` onto `[0, w]`, so window depth is GL's `(z_ndc + 1) / 2` within the depth
+//! range. A `alpha_cutoff` above 0 makes the fragment shader discard (GLSL `discard`), which
+//! tells tiler the shader may discard, so depth is tested after shading.
+//!
+//! # Texture sampling
+//!
+//! `textured` samples RGBA8 textures (linear or sRGB) with the core's sampler
+//! ([`tiler::Texture`]): nearest or bilinear on level 0 (the API has no mip maps), wrapped as
+//! the texture says, through the core's texture-cache model, so its reads are `texture_fetch`
+//! in the pass's ledger. The texture is the image's contents when its render pass is submitted
+//! (render to texture included). Formats the core sampler does not take (float, 565, depth —
+//! a shadow map) are sampled by [`TextureSnapshot`], the same filtering on decoded texels, whose
+//! reads are not counted. Blits and copies use [`TextureSnapshot`] too (it averages the samples
+//! of a multisampled source, a resolve) and count their source reads by formula (see
+//! `context`).
+
+use std::sync::Arc;
+
+use glam::{Mat3, Mat4, Vec3, Vec4};
+use tiler::{
+    F32x8, FragmentShader, Fragments, Interpolation, Pipeline, PipelineDesc, ShaderProperties, VertexInput,
+    VertexOutput, VertexShader,
+};
+
+use crate::call::{Filter, ProgramKind, UniformValue, Wrap};
+
+/// What a built-in program reads.
+pub struct ProgramInfo {
+    /// `(attribute index, name)`.
+    pub attributes: &'static [(u32, &'static str)],
+    /// `(name, type name)`.
+    pub uniforms: &'static [(&'static str, &'static str)],
+    /// Whether it samples the texture on unit `sampler`.
+    pub samples_texture: bool,
+}
+
+impl ProgramKind {
+    pub const ALL: [ProgramKind; 4] =
+        [ProgramKind::Solid, ProgramKind::VertexColor, ProgramKind::Lambert, ProgramKind::Textured];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ProgramKind::Solid => "solid",
+            ProgramKind::VertexColor => "vertex_color",
+            ProgramKind::Lambert => "lambert",
+            ProgramKind::Textured => "textured",
+        }
+    }
+
+    pub fn info(self) -> ProgramInfo {
+        match self {
+            ProgramKind::Solid => ProgramInfo {
+                attributes: &[(0, "position")],
+                uniforms: &[("mvp", "mat4"), ("color", "vec4")],
+                samples_texture: false,
+            },
+            ProgramKind::VertexColor => ProgramInfo {
+                attributes: &[(0, "position"), (1, "color")],
+                uniforms: &[("mvp", "mat4"), ("alpha_cutoff", "float")],
+                samples_texture: false,
+            },
+            ProgramKind::Lambert => ProgramInfo {
+                attributes: &[(0, "position"), (1, "normal")],
+                uniforms: &[("mvp", "mat4"), ("model", "mat4"), ("color", "vec4"), ("light_dir", "vec3")],
+                samples_texture: false,
+            },
+            ProgramKind::Textured => ProgramInfo {
+                attributes: &[(0, "position"), (1, "texcoord")],
+                uniforms: &[("mvp", "mat4"), ("color", "vec4"), ("alpha_cutoff", "float"), ("sampler", "int")],
+                samples_texture: true,
+            },
+        }
+    }
+
+    fn varyings(self) -> usize {
+        match self {
+            ProgramKind::Solid => 0,
+            ProgramKind::VertexColor => 4,
+            ProgramKind::Lambert => 3,
+            ProgramKind::Textured => 2,
+        }
+    }
+}
+
+/// The uniform values of a program object; each program reads the ones it declares.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Uniforms {
+    pub mvp: Mat4,
+    pub model: Mat4,
+    pub color: [f32; 4],
+    pub light_dir: [f32; 3],
+    pub alpha_cutoff: f32,
+    pub sampler: i32,
+}
+
+impl Default for Uniforms {
+    fn default() -> Uniforms {
+        Uniforms {
+            mvp: Mat4::IDENTITY,
+            model: Mat4::IDENTITY,
+            color: [1.0; 4],
+            light_dir: [0.0, 0.0, 1.0],
+            alpha_cutoff: 0.0,
+            sampler: 0,
+        }
+    }
+}
+
+impl Uniforms {
+    /// Sets uniform `name` of a `kind` program.
+    ///
+    /// # Errors
+    /// A name the program does not declare, a value of the wrong type, or a non-finite value.
+    pub fn set(&mut self, kind: ProgramKind, name: &str, value: UniformValue) -> Result<(), String> {
+        let info = kind.info();
+        let Some((_, expected)) = info.uniforms.iter().find(|(n, _)| *n == name) else {
+            let names: Vec<_> = info.uniforms.iter().map(|(n, _)| *n).collect();
+            return Err(format!("program '{}' has no uniform '{name}' (it has: {})", kind.name(), names.join(", ")));
+        };
+        if value.type_name() != *expected {
+            return Err(format!("uniform '{name}' is a {expected}, not a {}", value.type_name()));
+        }
+        if !value.is_finite() {
+            return Err(format!("uniform '{name}' has a non-finite value {value:?}"));
+        }
+        match (name, value) {
+            ("mvp", UniformValue::Mat4(m)) => self.mvp = Mat4::from_cols_array(&m),
+            ("model", UniformValue::Mat4(m)) => self.model = Mat4::from_cols_array(&m),
+            ("color", UniformValue::Vec4(c)) => self.color = c,
+            ("light_dir", UniformValue::Vec3(d)) => self.light_dir = d,
+            ("alpha_cutoff", UniformValue::Float(a)) => self.alpha_cutoff = a,
+            ("sampler", UniformValue::Int(u)) => self.sampler = u,
+            _ => unreachable!("uniform table and setter disagree on '{name}'"),
+        }
+        Ok(())
+    }
+}
+
+/// GL clip space → tiler clip space (see the module docs).
+#[inline]
+fn gl_to_tiler_clip(p: Vec4) -> Vec4 {
+    Vec4::new(p.x, -p.y, (p.z + p.w) * 0.5, p.w)
+}
+
+/// The vertex shader of every built-in program.
+struct ProgramVertexShader {
+    kind: ProgramKind,
+    mvp: Mat4,
+    normal_matrix: Mat3,
+}
+
+impl VertexShader for ProgramVertexShader {
+    fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+        out.position = gl_to_tiler_clip(self.mvp * input.attributes[0]);
+        let a = input.attributes[1];
+        match self.kind {
+            ProgramKind::Solid => {}
+            ProgramKind::VertexColor => out.varyings[..4].copy_from_slice(&a.to_array()),
+            ProgramKind::Lambert => {
+                let n = self.normal_matrix * a.truncate();
+                out.varyings[..3].copy_from_slice(&n.to_array());
+            }
+            ProgramKind::Textured => out.varyings[..2].copy_from_slice(&[a.x, a.y]),
+        }
+    }
+}
+
+struct SolidShader {
+    color: [f32; 4],
+}
+
+impl FragmentShader for SolidShader {
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        frag.set_color(0, self.color.map(F32x8::splat));
+    }
+}
+
+struct VertexColorShader {
+    alpha_cutoff: f32,
+}
+
+impl FragmentShader for VertexColorShader {
+    fn properties(&self) -> ShaderProperties {
+        ShaderProperties { discards: self.alpha_cutoff > 0.0, ..ShaderProperties::default() }
+    }
+
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        let c = frag.smooth_n::<4>(0);
+        if self.alpha_cutoff > 0.0 {
+            frag.discard(c[3].lt(F32x8::splat(self.alpha_cutoff)));
+        }
+        frag.set_color(0, c);
+    }
+}
+
+struct LambertShader {
+    color: [f32; 4],
+    light: [f32; 3],
+}
+
+impl FragmentShader for LambertShader {
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        let n = tiler::simd::normalize3(frag.smooth_n::<3>(0));
+        let diffuse = tiler::simd::dot3(n, self.light.map(F32x8::splat)).max(F32x8::ZERO);
+        let lit = F32x8::splat(0.2) + diffuse * 0.8;
+        let c = self.color;
+        frag.set_color(0, [lit * c[0], lit * c[1], lit * c[2], F32x8::splat(c[3])]);
+    }
+}
+
+/// A texture as the interim sampler reads it, row 0 at the top as tiler stores images (GL's
+/// texture coordinate t = 0 is the bottom row). Texels are decoded when read, so a snapshot
+/// costs no more memory than the image.
+#[derive(Debug)]
+pub struct TextureSnapshot {
+    pub width: u32,
+    pub height: u32,
+    texels: Texels,
+}
+
+#[derive(Debug)]
+enum Texels {
+    /// An image's bytes; a multisampled one reads as the mean of its samples, as the core
+    /// resolves.
+    Color {
+        format: tiler::Format,
+        samples: u32,
+        data: Vec<u8>,
+    },
+    /// Depths, read as `(z, z, z, 1)`.
+    Depth(Vec<f32>),
+    Constant([f32; 4]),
+}
+
+/// Filtering and wrapping of one sampler binding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SamplerState {
+    pub filter: Filter,
+    pub wrap: Wrap,
+}
+
+impl TextureSnapshot {
+    /// A colour image's bytes (sample planes one after another, as the device stores them).
+    pub fn color(width: u32, height: u32, format: tiler::Format, samples: u32, data: Vec<u8>) -> TextureSnapshot {
+        debug_assert_eq!(data.len(), width as usize * height as usize * format.bytes_per_sample() * samples as usize);
+        TextureSnapshot { width, height, texels: Texels::Color { format, samples, data } }
+    }
+
+    /// A depth image's depths, rows top to bottom.
+    pub fn depth(width: u32, height: u32, depths: Vec<f32>) -> TextureSnapshot {
+        TextureSnapshot { width, height, texels: Texels::Depth(depths) }
+    }
+
+    /// One texel of one value: what an unbound unit reads.
+    pub fn constant(rgba: [f32; 4]) -> TextureSnapshot {
+        TextureSnapshot { width: 1, height: 1, texels: Texels::Constant(rgba) }
+    }
+
+    fn texel(&self, x: i64, y_from_bottom: i64, wrap: Wrap) -> [f32; 4] {
+        let x = wrap_coord(x, self.width as i64, wrap);
+        let y = wrap_coord(y_from_bottom, self.height as i64, wrap);
+        let row = self.height as i64 - 1 - y;
+        let index = (row * self.width as i64 + x) as usize;
+        match &self.texels {
+            Texels::Color { format, samples, data } => {
+                let bpp = format.bytes_per_sample();
+                let plane = self.width as usize * self.height as usize * bpp;
+                let mut sum = [0.0f32; 4];
+                for s in 0..*samples as usize {
+                    let start = s * plane + index * bpp;
+                    let v = format.decode_color(&data[start..start + bpp]);
+                    for c in 0..4 {
+                        sum[c] += v[c];
+                    }
+                }
+                if *samples == 1 { sum } else { sum.map(|c| c * (1.0 / *samples as f32)) }
+            }
+            Texels::Depth(depths) => {
+                let z = depths[index];
+                [z, z, z, 1.0]
+            }
+            Texels::Constant(v) => *v,
+        }
+    }
+
+    /// Samples at GL texture coordinates `(s, t)`: nearest takes the texel containing the
+    /// point; linear blends the four around it, texel centres at half-integers.
+    pub fn sample(&self, s: f32, t: f32, state: SamplerState) -> [f32; 4] {
+        let (s, t) = if s.is_finite() && t.is_finite() { (s, t) } else { (0.0, 0.0) };
+        // Keep coordinates in a range where the conversions below are exact enough.
+        let (s, t) = (s.clamp(-65536.0, 65536.0), t.clamp(-65536.0, 65536.0));
+        let u = s * self.width as f32;
+        let v = t * self.height as f32;
+        match state.filter {
+            Filter::Nearest => self.texel(u.floor() as i64, v.floor() as i64, state.wrap),
+            Filter::Linear => {
+                let (u, v) = (u - 0.5, v - 0.5);
+                let (x0, y0) = (u.floor(), v.floor());
+                let (fx, fy) = (u - x0, v - y0);
+                let (x0, y0) = (x0 as i64, y0 as i64);
+                let a = self.texel(x0, y0, state.wrap);
+                let b = self.texel(x0 + 1, y0, state.wrap);
+                let c = self.texel(x0, y0 + 1, state.wrap);
+                let d = self.texel(x0 + 1, y0 + 1, state.wrap);
+                std::array::from_fn(|i| {
+                    let top = a[i] + (b[i] - a[i]) * fx;
+                    let bottom = c[i] + (d[i] - c[i]) * fx;
+                    top + (bottom - top) * fy
+                })
+            }
+        }
+    }
+}
+
+fn wrap_coord(i: i64, n: i64, wrap: Wrap) -> i64 {
+    match wrap {
+        Wrap::ClampToEdge => i.clamp(0, n - 1),
+        Wrap::Repeat => i.rem_euclid(n),
+        Wrap::MirroredRepeat => {
+            let period = i.rem_euclid(2 * n);
+            if period < n { period } else { 2 * n - 1 - period }
+        }
+    }
+}
+
+/// What a textured draw samples.
+#[derive(Clone, Debug)]
+pub enum ProgramTexture {
+    /// An RGBA8 texture through the core's sampler and texture cache.
+    Core(Arc<tiler::Texture>, tiler::Sampler),
+    /// Any other format (or a blit's source), decoded on read.
+    Snapshot(Arc<TextureSnapshot>, SamplerState),
+}
+
+/// Samples a texture at interpolated texture coordinates (varyings 0 and 1), times a colour.
+struct TexturedShader {
+    texture: ProgramTexture,
+    color: [f32; 4],
+    alpha_cutoff: f32,
+}
+
+impl FragmentShader for TexturedShader {
+    fn properties(&self) -> ShaderProperties {
+        ShaderProperties { discards: self.alpha_cutoff > 0.0, ..ShaderProperties::default() }
+    }
+
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        let [s, t] = frag.smooth_n::<2>(0);
+        let color: [F32x8; 4] = match &self.texture {
+            ProgramTexture::Core(texture, sampler) => {
+                // The core's v runs down the rows as tiler stores them; GL's t runs up.
+                let texel = frag.sample(texture, sampler, [s, F32x8::ONE - t]);
+                std::array::from_fn(|c| texel[c] * self.color[c])
+            }
+            ProgramTexture::Snapshot(texture, sampler) => {
+                let texels: [[f32; 4]; 8] =
+                    std::array::from_fn(|lane| texture.sample(s.lane(lane), t.lane(lane), *sampler));
+                std::array::from_fn(|c| F32x8::from_fn(|lane| texels[lane][c] * self.color[c]))
+            }
+        };
+        if self.alpha_cutoff > 0.0 {
+            frag.discard(color[3].lt(F32x8::splat(self.alpha_cutoff)));
+        }
+        frag.set_color(0, color);
+    }
+}
+
+/// Builds the pipeline of a draw of a built-in program.
+///
+/// # Errors
+/// What `Pipeline::new` refuses (the caller's state is validated before, so nothing
+/// expected).
+pub fn program_pipeline(
+    kind: ProgramKind,
+    uniforms: &Uniforms,
+    texture: Option<ProgramTexture>,
+    mut desc: PipelineDesc,
+) -> tiler::Result<Pipeline> {
+    desc.varyings = vec![Interpolation::Perspective; kind.varyings()];
+    let model3 = Mat3::from_mat4(uniforms.model);
+    let normal_matrix =
+        if model3.determinant().abs() > f32::MIN_POSITIVE { model3.inverse().transpose() } else { Mat3::IDENTITY };
+    let vertex = ProgramVertexShader { kind, mvp: uniforms.mvp, normal_matrix };
+    match kind {
+        ProgramKind::Solid => Pipeline::new(vertex, SolidShader { color: uniforms.color }, desc),
+        ProgramKind::VertexColor => {
+            Pipeline::new(vertex, VertexColorShader { alpha_cutoff: uniforms.alpha_cutoff }, desc)
+        }
+        ProgramKind::Lambert => {
+            let l = Vec3::from_array(uniforms.light_dir);
+            let light = if l.length_squared() > 0.0 { l.normalize() } else { Vec3::Z };
+            Pipeline::new(vertex, LambertShader { color: uniforms.color, light: light.to_array() }, desc)
+        }
+        ProgramKind::Textured => {
+            let texture = texture.unwrap_or_else(|| {
+                // An unbound unit samples as opaque black, as in GL.
+                ProgramTexture::Snapshot(
+                    Arc::new(TextureSnapshot::constant([0.0, 0.0, 0.0, 1.0])),
+                    SamplerState { filter: Filter::Nearest, wrap: Wrap::ClampToEdge },
+                )
+            });
+            Pipeline::new(
+                vertex,
+                TexturedShader { texture, color: uniforms.color, alpha_cutoff: uniforms.alpha_cutoff },
+                desc,
+            )
+        }
+    }
+}
+
+/// A full-framebuffer triangle at depth `depth`: `(−1, −1), (3, −1), (−1, 3)` in tiler's
+/// normalised device coordinates covers every pixel with one primitive (it stays inside the
+/// guard band, so it is never cut).
+struct ClearVertexShader {
+    depth: f32,
+}
+
+impl VertexShader for ClearVertexShader {
+    fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+        let (x, y) = match input.vertex_index {
+            0 => (-1.0, -1.0),
+            1 => (3.0, -1.0),
+            _ => (-1.0, 3.0),
+        };
+        out.position = Vec4::new(x, y, self.depth, 1.0);
+    }
+}
+
+/// Writes the clear colour to every colour attachment.
+struct ClearShader {
+    color: [f32; 4],
+    targets: usize,
+}
+
+impl FragmentShader for ClearShader {
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        for t in 0..self.targets {
+            frag.set_color(t, self.color.map(F32x8::splat));
+        }
+    }
+}
+
+/// The pipeline of a clear-quad: a draw that clears what a load op cannot (a scissored or
+/// masked clear, or a clear of some buffers after draws). `desc` carries the masks and tests.
+pub fn clear_pipeline(color: [f32; 4], depth: f32, targets: usize, desc: PipelineDesc) -> tiler::Result<Pipeline> {
+    Pipeline::new(ClearVertexShader { depth }, ClearShader { color, targets }, desc)
+}
+
+/// A rectangle in tiler's normalised device coordinates (`x0, y0, x1, y1`, y down) and the
+/// texture coordinates at its corners, for blits and copies: vertices 0..4 as a strip.
+struct BlitVertexShader {
+    ndc: [f32; 4],
+    tex: [f32; 4],
+}
+
+impl VertexShader for BlitVertexShader {
+    fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+        let right = input.vertex_index & 1 == 1;
+        let bottom = input.vertex_index & 2 == 2;
+        let x = if right { self.ndc[2] } else { self.ndc[0] };
+        let y = if bottom { self.ndc[3] } else { self.ndc[1] };
+        let s = if right { self.tex[2] } else { self.tex[0] };
+        let t = if bottom { self.tex[3] } else { self.tex[1] };
+        out.position = Vec4::new(x, y, 0.0, 1.0);
+        out.varyings[0] = s;
+        out.varyings[1] = t;
+    }
+}
+
+/// The pipeline of a blit or copy: a textured rectangle (`ndc` and `tex` as above).
+pub fn blit_pipeline(
+    ndc: [f32; 4],
+    tex: [f32; 4],
+    texture: Arc<TextureSnapshot>,
+    sampler: SamplerState,
+    mut desc: PipelineDesc,
+) -> tiler::Result<Pipeline> {
+    desc.varyings = vec![Interpolation::Perspective; 2];
+    Pipeline::new(
+        BlitVertexShader { ndc, tex },
+        TexturedShader { texture: ProgramTexture::Snapshot(texture, sampler), color: [1.0; 4], alpha_cutoff: 0.0 },
+        desc,
+    )
+}

@@ -1,0 +1,172 @@
+//! The plain-text report of `tiler analyze`: frames, their inferred passes with load and
+//! store ops and why, what each moved, and the advisor's findings.
+
+use std::fmt::Write;
+
+use tiler::{Category, Ledger};
+
+use crate::report::{EndCause, PassRecord, Report, StartCause};
+
+fn kb(bytes: u64) -> String {
+    if bytes == 0 {
+        "0".to_string()
+    } else if bytes < 10_000 {
+        format!("{bytes} B")
+    } else if bytes < 10_000_000 {
+        format!("{:.1} kB", bytes as f64 / 1e3)
+    } else {
+        format!("{:.2} MB", bytes as f64 / 1e6)
+    }
+}
+
+/// The non-zero categories of a ledger, `name bytes, …`.
+fn categories(ledger: &Ledger) -> String {
+    let parts: Vec<String> = Category::ALL
+        .iter()
+        .filter(|c| ledger.get(**c) > 0)
+        .map(|c| format!("{} {}", c.name().replace('_', " "), kb(ledger.get(*c))))
+        .collect();
+    if parts.is_empty() { "nothing".to_string() } else { parts.join(", ") }
+}
+
+fn start(pass: &PassRecord) -> String {
+    match pass.start {
+        StartCause::Bind => format!("bound at {}", pass.started_at),
+        StartCause::NewFrame => format!("new frame at {}", pass.started_at),
+        StartCause::AfterFlush { flush } => format!("continues after {} at {}", flush.describe(), pass.started_at),
+        StartCause::Tiling => format!("start_tiling at {}", pass.started_at),
+        StartCause::Copy => format!("copy at {}", pass.started_at),
+    }
+}
+
+fn end(pass: &PassRecord) -> String {
+    let what = match pass.end {
+        EndCause::Bind => "unbound".to_string(),
+        EndCause::Swap => "swap".to_string(),
+        EndCause::Flush { flush } => format!("FLUSHED by {}", flush.describe()),
+        EndCause::EndTiling => "end_tiling".to_string(),
+        EndCause::Copy => "copy done".to_string(),
+        EndCause::End => "end of trace".to_string(),
+    };
+    format!("{what} at {}", pass.ended_at)
+}
+
+/// The whole report as text.
+pub fn text_report(report: &Report) -> String {
+    let mut out = String::new();
+    let c = &report.config;
+    let _ = writeln!(
+        out,
+        "{} frame(s), {} render pass(es); window {}×{} {}, {} backend, {}×{} tiles, {} frame(s) in flight",
+        report.totals.frames,
+        report.totals.passes,
+        c.width,
+        c.height,
+        c.color_format.name(),
+        c.backend,
+        c.tile_width,
+        c.tile_height,
+        c.frames_in_flight
+    );
+    for frame in &report.frames {
+        let _ = writeln!(
+            out,
+            "\nframe {} ({} calls{}): {}",
+            frame.index,
+            frame.calls,
+            if frame.swapped { ", swapped" } else { "" },
+            kb(frame.ledger.total())
+        );
+        for pass in &frame.passes {
+            let target = match pass.copy_texture {
+                Some(t) => format!("copy into texture {t}"),
+                None if pass.framebuffer == 0 => "window".to_string(),
+                None => format!("framebuffer {}", pass.framebuffer),
+            };
+            let area = match pass.render_area {
+                Some(r) => format!(", region {}×{} at ({}, {})", r.width, r.height, r.x, r.y),
+                None => String::new(),
+            };
+            let _ = writeln!(
+                out,
+                "  pass {}: {target} {}×{}×{}{area}, {} draw(s); {} → {}",
+                pass.index,
+                pass.width,
+                pass.height,
+                pass.samples,
+                pass.draws.len(),
+                start(pass),
+                end(pass)
+            );
+            for a in &pass.attachments {
+                let _ = writeln!(
+                    out,
+                    "      {:<8} {:>9} → {:<9} load {:>8}  store {:>8}   ({}; {})",
+                    a.slot.to_string(),
+                    format!("{:?}", a.load).to_lowercase(),
+                    format!("{:?}", a.store).to_lowercase(),
+                    kb(a.load_bytes),
+                    kb(a.store_bytes),
+                    a.load_reason,
+                    a.store_reason
+                );
+            }
+            for d in &pass.dropped {
+                let _ = writeln!(out, "      {} draw(s) thrown away by the {} at {}", d.draws, d.by, d.call);
+            }
+            let mut all = pass.cost.ledger;
+            all.merge(&pass.extra);
+            let counters = &pass.cost.counters;
+            let _ = writeln!(
+                out,
+                "      moved {}: {}; {} primitives, {} fragments shaded, {} tiles, {} incremental render(s)",
+                kb(all.total()),
+                categories(&all),
+                counters.primitives,
+                counters.fragments_shaded,
+                counters.tiles_processed,
+                counters.incremental_renders
+            );
+        }
+        if frame.context_ledger.total() > 0 {
+            let _ = writeln!(out, "  outside passes: {}", categories(&frame.context_ledger));
+        }
+        for s in &frame.stalls {
+            let _ = writeln!(
+                out,
+                "  stall: {:?} at {} waited {} frame(s) for frame {}",
+                s.cause, s.call, s.frames, s.waited_for_frame
+            );
+        }
+    }
+    let _ = writeln!(out, "\ntotal {}: {}", kb(report.totals.ledger.total()), categories(&report.totals.ledger));
+    if report.findings.is_empty() {
+        let _ = writeln!(out, "\nno findings");
+    } else {
+        let _ = writeln!(out, "\n{} finding(s):", report.findings.len());
+    }
+    for f in &report.findings {
+        let place = match (f.pass, f.call) {
+            (Some(p), Some(c)) => format!("pass {p}, {c}"),
+            (None, Some(c)) => c.to_string(),
+            (Some(p), None) => format!("frame {}, pass {p}", f.frame),
+            (None, None) => format!("frame {}", f.frame),
+        };
+        let mut cost = Vec::new();
+        if f.cost.bytes > 0 {
+            cost.push(format!("{} bytes", f.cost.bytes));
+        }
+        if f.cost.fragments > 0 {
+            cost.push(format!("{} fragments", f.cost.fragments));
+        }
+        if f.cost.stall_frames > 0 {
+            cost.push(format!("{} frame(s) stalled", f.cost.stall_frames));
+        }
+        let cost = if cost.is_empty() { String::new() } else { format!(" — costs {}", cost.join(", ")) };
+        let _ = writeln!(out, "\n  [{:?}] {} at {place}{cost}", f.severity, f.id);
+        let _ = writeln!(out, "    {}", f.detail);
+        let _ = writeln!(out, "    rule ({}): {}", f.rule.section, f.rule.text);
+        let _ = writeln!(out, "    instead: {}", f.fix);
+    }
+    out
+}

@@ -1,0 +1,423 @@
+//! Traces: sequences of frames of context calls as JSON — reading them (checked, with errors
+//! naming the frame, the call and the problem), replaying them, and writing what a context
+//! recorded. The format is documented in `docs/trace-format.md`.
+//!
+//! ```json
+//! {
+//!   "format": "tiler-gl-trace",
+//!   "version": 1,
+//!   "config": { "width": 128, "height": 96 },
+//!   "frames": [
+//!     { "calls": [
+//!       { "call": "clear", "color": true, "depth": true, "stencil": true },
+//!       { "call": "swap_buffers" }
+//!     ] },
+//!     { "repeat": 3, "calls": [ ... ] }
+//!   ]
+//! }
+//! ```
+//!
+//! A frame is the calls up to and including a `swap_buffers`, which may only be a frame's
+//! last call; only the last frame may lack one. Bulk data is a [`DataSource`]: inline
+//! numbers, base64, a range of a binary side file, or a glTF accessor. Memory stays bounded:
+//! the data a trace may pull in is limited ([`Limits`]) before anything is allocated, the
+//! context has a memory limit, and `repeat` replays one parsed frame without copying it.
+
+mod gltf;
+mod source;
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+use serde_json::Value;
+
+pub use source::DataSource;
+
+use crate::call::Call;
+use crate::context::{Context, ContextConfig};
+use crate::report::Report;
+
+/// The `format` field of every trace.
+pub const TRACE_FORMAT: &str = "tiler-gl-trace";
+/// The trace format version this crate reads and writes.
+pub const TRACE_VERSION: u32 = 1;
+
+/// What a trace may make the reader and the replay do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Bytes of data (inline, base64, side files, glTF buffers) a trace may pull in.
+    pub max_data_bytes: u64,
+    /// Frames after `repeat` is expanded.
+    pub max_frames: u64,
+    /// Calls after `repeat` is expanded (the report keeps a record per draw, so this bounds
+    /// its memory too).
+    pub max_calls: u64,
+    /// Overrides the context's memory limit when set (the lower of the two applies).
+    pub memory_limit: Option<u64>,
+    /// Worker threads for the replay, instead of the trace's (results do not depend on it).
+    pub threads: Option<usize>,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits { max_data_bytes: 1 << 30, max_frames: 100_000, max_calls: 2_000_000, memory_limit: None, threads: None }
+    }
+}
+
+/// Where a trace went wrong: the frame and call when there is one.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub struct TraceError {
+    pub frame: Option<u32>,
+    pub call: Option<u32>,
+    pub message: String,
+}
+
+impl std::fmt::Display for TraceError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match (self.frame, self.call) {
+            (Some(frame), Some(call)) => write!(f, "frame {frame}, call {call}: {}", self.message),
+            (Some(frame), None) => write!(f, "frame {frame}: {}", self.message),
+            _ => write!(f, "trace: {}", self.message),
+        }
+    }
+}
+
+impl TraceError {
+    fn trace(message: impl Into<String>) -> TraceError {
+        TraceError { frame: None, call: None, message: message.into() }
+    }
+
+    fn at(frame: u64, call: Option<usize>, message: impl Into<String>) -> TraceError {
+        TraceError {
+            frame: Some(frame.min(u32::MAX as u64) as u32),
+            call: call.map(|c| c as u32),
+            message: message.into(),
+        }
+    }
+}
+
+/// One entry of a trace's `frames`: calls, replayed `repeat` times.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceFrame {
+    pub repeat: u32,
+    pub calls: Vec<Call>,
+}
+
+/// A parsed trace, its data read into memory.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trace {
+    pub description: Option<String>,
+    pub config: ContextConfig,
+    pub frames: Vec<TraceFrame>,
+}
+
+/// What a replay produced: the report, and the context (for its images).
+pub struct Replay {
+    pub report: Report,
+    pub context: Context,
+}
+
+/// Calls without arguments.
+const UNIT_CALLS: [&str; 4] = ["flush", "finish", "swap_buffers", "end_query"];
+
+/// The most times one frame entry may repeat.
+pub const MAX_REPEAT: u32 = 100_000;
+
+impl Trace {
+    /// Reads a trace file; side files and glTF files are found relative to its directory.
+    ///
+    /// # Errors
+    /// The file cannot be read, or [`Trace::parse`] fails.
+    pub fn read(path: &Path) -> Result<Trace, TraceError> {
+        Trace::read_with(path, Limits::default())
+    }
+
+    /// [`Trace::read`] with limits.
+    ///
+    /// # Errors
+    /// As [`Trace::read`].
+    pub fn read_with(path: &Path, limits: Limits) -> Result<Trace, TraceError> {
+        let size = std::fs::metadata(path).map_err(|e| TraceError::trace(format!("{}: {e}", path.display())))?.len();
+        if size > limits.max_data_bytes.saturating_mul(4).max(1 << 20) {
+            return Err(TraceError::trace(format!("{} is {size} bytes, more than a trace may be", path.display())));
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| TraceError::trace(format!("{}: {e}", path.display())))?;
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Trace::parse_with(&text, Some(&base), limits)
+    }
+
+    /// Parses a trace; relative data paths are resolved against `base` (none: they fail).
+    ///
+    /// # Errors
+    /// Bad JSON (with its line and column), a wrong `format` or `version`, a bad `config`,
+    /// and for each call: an unknown call, wrong or missing arguments, unreadable data, or a
+    /// `swap_buffers` that is not the last call of its frame — naming the frame and the call.
+    pub fn parse(json: &str, base: Option<&Path>) -> Result<Trace, TraceError> {
+        Trace::parse_with(json, base, Limits::default())
+    }
+
+    /// [`Trace::parse`] with limits.
+    ///
+    /// # Errors
+    /// As [`Trace::parse`], and anything beyond `limits`.
+    pub fn parse_with(json: &str, base: Option<&Path>, limits: Limits) -> Result<Trace, TraceError> {
+        let root: Value = serde_json::from_str(json).map_err(|e| TraceError::trace(format!("invalid JSON: {e}")))?;
+        let Value::Object(mut root) = root else {
+            return Err(TraceError::trace("a trace is a JSON object"));
+        };
+        match root.remove("format") {
+            Some(Value::String(f)) if f == TRACE_FORMAT => {}
+            Some(other) => return Err(TraceError::trace(format!("\"format\" is {other}, not \"{TRACE_FORMAT}\""))),
+            None => return Err(TraceError::trace(format!("missing \"format\": \"{TRACE_FORMAT}\""))),
+        }
+        match root.remove("version") {
+            Some(Value::Number(n)) if n.as_u64() == Some(TRACE_VERSION as u64) => {}
+            Some(other) => {
+                return Err(TraceError::trace(format!(
+                    "\"version\" is {other}; this reader understands version {TRACE_VERSION}"
+                )));
+            }
+            None => return Err(TraceError::trace("missing \"version\"")),
+        }
+        let description = match root.remove("description") {
+            None => None,
+            Some(Value::String(s)) => Some(s),
+            Some(other) => return Err(TraceError::trace(format!("\"description\" is {other}, not a string"))),
+        };
+        let config: ContextConfig = serde_json::from_value(
+            root.remove("config")
+                .ok_or_else(|| TraceError::trace("missing \"config\" (at least {\"width\": W, \"height\": H})"))?,
+        )
+        .map_err(|e| TraceError::trace(format!("config: {e}")))?;
+        let Some(Value::Array(frames)) = root.remove("frames") else {
+            return Err(TraceError::trace("missing \"frames\": an array of {\"calls\": [...]}"));
+        };
+        if let Some(key) = root.keys().next() {
+            return Err(TraceError::trace(format!("unknown field \"{key}\"")));
+        }
+
+        let mut resolver = source::Resolver::new(base.map(Path::to_path_buf), limits.max_data_bytes);
+        let mut out = Vec::with_capacity(frames.len());
+        let mut frame_index: u64 = 0;
+        let mut total_calls: u64 = 0;
+        let entries = frames.len();
+        for (entry, frame) in frames.into_iter().enumerate() {
+            let Value::Object(mut frame) = frame else {
+                return Err(TraceError::at(frame_index, None, "a frame is an object {\"calls\": [...]}"));
+            };
+            let repeat = match frame.remove("repeat") {
+                None => 1,
+                Some(Value::Number(n)) => match n.as_u64() {
+                    Some(r) if (1..=MAX_REPEAT as u64).contains(&r) => r as u32,
+                    _ => {
+                        return Err(TraceError::at(
+                            frame_index,
+                            None,
+                            format!("\"repeat\" is {n}; it must be a whole number from 1 to {MAX_REPEAT}"),
+                        ));
+                    }
+                },
+                Some(other) => {
+                    return Err(TraceError::at(frame_index, None, format!("\"repeat\" is {other}, not a number")));
+                }
+            };
+            let Some(Value::Array(calls)) = frame.remove("calls") else {
+                return Err(TraceError::at(frame_index, None, "missing \"calls\": an array of calls"));
+            };
+            if let Some(key) = frame.keys().next() {
+                return Err(TraceError::at(
+                    frame_index,
+                    None,
+                    format!("unknown field \"{key}\" (a frame has \"calls\" and \"repeat\")"),
+                ));
+            }
+            let mut parsed = Vec::with_capacity(calls.len());
+            let count = calls.len();
+            for (i, value) in calls.into_iter().enumerate() {
+                let name = value.get("call").and_then(Value::as_str).map(str::to_string);
+                let what = |e: String| match &name {
+                    Some(n) => format!("{n}: {e}"),
+                    None => e,
+                };
+                // serde accepts extra fields on unit variants of a tagged enum: refuse them here.
+                if let (Some(n), Some(object)) = (&name, value.as_object())
+                    && UNIT_CALLS.contains(&n.as_str())
+                    && let Some(key) = object.keys().find(|k| *k != "call")
+                {
+                    return Err(TraceError::at(
+                        frame_index,
+                        Some(i),
+                        format!("{n}: unknown field `{key}`, there are no fields"),
+                    ));
+                }
+                let call: Call<DataSource> = serde_json::from_value(value)
+                    .map_err(|e| TraceError::at(frame_index, Some(i), what(e.to_string())))?;
+                let call = call
+                    .try_map_data(|d| resolver.resolve(&d))
+                    .map_err(|e| TraceError::at(frame_index, Some(i), what(e)))?;
+                if matches!(call, Call::SwapBuffers) && i + 1 != count {
+                    return Err(TraceError::at(
+                        frame_index,
+                        Some(i),
+                        "swap_buffers ends a frame: it must be the last call of its frame",
+                    ));
+                }
+                parsed.push(call);
+            }
+            let swapped = matches!(parsed.last(), Some(Call::SwapBuffers));
+            if !swapped && (entry + 1 != entries || repeat != 1) {
+                return Err(TraceError::at(
+                    frame_index,
+                    None,
+                    "a frame must end with swap_buffers (only the last frame, not repeated, may leave it out)",
+                ));
+            }
+            frame_index += repeat as u64;
+            total_calls = total_calls.saturating_add(repeat as u64 * parsed.len() as u64);
+            if frame_index > limits.max_frames {
+                return Err(TraceError::at(
+                    frame_index - repeat as u64,
+                    None,
+                    format!("more than {} frames", limits.max_frames),
+                ));
+            }
+            if total_calls > limits.max_calls {
+                return Err(TraceError::at(
+                    frame_index - repeat as u64,
+                    None,
+                    format!("more than {} calls", limits.max_calls),
+                ));
+            }
+            out.push(TraceFrame { repeat, calls: parsed });
+        }
+        Ok(Trace { description, config, frames: out })
+    }
+
+    /// Frames after `repeat` is expanded.
+    pub fn frame_count(&self) -> u64 {
+        self.frames.iter().map(|f| f.repeat as u64).sum()
+    }
+
+    /// Replays the trace on a new context.
+    ///
+    /// # Errors
+    /// The first call the context refuses, naming its frame and index.
+    pub fn replay(&self) -> Result<Replay, TraceError> {
+        self.replay_with(Limits::default())
+    }
+
+    /// [`Trace::replay`] with the memory limit and threads of `limits`.
+    ///
+    /// # Errors
+    /// As [`Trace::replay`].
+    pub fn replay_with(&self, limits: Limits) -> Result<Replay, TraceError> {
+        let mut config = self.config.clone();
+        if let Some(limit) = limits.memory_limit {
+            config.memory_limit = config.memory_limit.min(limit);
+        }
+        if let Some(threads) = limits.threads {
+            config.threads = threads;
+        }
+        let mut gl = Context::new(config).map_err(|m| TraceError::trace(format!("config: {m}")))?;
+        for frame in &self.frames {
+            for _ in 0..frame.repeat {
+                for call in &frame.calls {
+                    gl.call(call.clone()).map_err(|e| TraceError {
+                        frame: Some(e.frame),
+                        call: Some(e.call),
+                        message: format!("{}: {}", e.name, e.message),
+                    })?;
+                }
+            }
+        }
+        let report = gl.end().map_err(|e| TraceError {
+            frame: Some(e.frame),
+            call: None,
+            message: format!("at the end of the trace: {}", e.message),
+        })?;
+        Ok(Replay { report, context: gl })
+    }
+
+    /// The trace as JSON, data inline as base64, one call per line.
+    pub fn to_json(&self) -> String {
+        self.write_json(|call| serde_json::to_string(call).expect("calls serialise"))
+    }
+
+    /// The trace as JSON with its data in a side file named `bin_name` (relative to the
+    /// JSON's directory): returns the JSON and the side file's bytes.
+    pub fn to_json_with_side_file(&self, bin_name: &str) -> (String, Vec<u8>) {
+        let mut blob = Vec::new();
+        let json = self.write_json(|call| {
+            let call = call
+                .clone()
+                .try_map_data::<DataSource, std::convert::Infallible>(|bytes| {
+                    let offset = blob.len() as u64;
+                    blob.extend_from_slice(&bytes);
+                    Ok(DataSource::File { path: bin_name.to_string(), offset, length: Some(bytes.len() as u64) })
+                })
+                .expect("infallible");
+            serde_json::to_string(&call).expect("calls serialise")
+        });
+        (json, blob)
+    }
+
+    fn write_json(&self, mut call_json: impl FnMut(&Call) -> String) -> String {
+        #[derive(Serialize)]
+        struct Header<'a> {
+            format: &'a str,
+            version: u32,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            description: Option<&'a str>,
+            config: &'a ContextConfig,
+        }
+        let header = serde_json::to_string_pretty(&Header {
+            format: TRACE_FORMAT,
+            version: TRACE_VERSION,
+            description: self.description.as_deref(),
+            config: &self.config,
+        })
+        .expect("the header serialises");
+        let mut out = header.trim_end_matches('}').trim_end().to_string();
+        out.push_str(",\n  \"frames\": [\n");
+        for (i, frame) in self.frames.iter().enumerate() {
+            out.push_str("    {");
+            if frame.repeat != 1 {
+                out.push_str(&format!("\"repeat\": {}, ", frame.repeat));
+            }
+            out.push_str("\"calls\": [\n");
+            for (j, call) in frame.calls.iter().enumerate() {
+                out.push_str("      ");
+                out.push_str(&call_json(call));
+                out.push_str(if j + 1 < frame.calls.len() { ",\n" } else { "\n" });
+            }
+            out.push_str(if i + 1 < self.frames.len() { "    ]},\n" } else { "    ]}\n" });
+        }
+        out.push_str("  ]\n}\n");
+        out
+    }
+}
+
+impl Context {
+    /// What a recording context was given, as a trace (one frame per swap).
+    pub fn recording(&self) -> Option<Trace> {
+        let frames = self.recorded_frames()?;
+        let frames = frames
+            .iter()
+            .filter(|calls| !calls.is_empty())
+            .map(|calls| TraceFrame { repeat: 1, calls: calls.clone() })
+            .collect();
+        Some(Trace { description: None, config: self.config().clone(), frames })
+    }
+}
+
+/// Reads `path` relative to `base`.
+pub(crate) fn resolve_path(base: &Option<PathBuf>, path: &str) -> Result<PathBuf, String> {
+    let p = Path::new(path);
+    if p.is_absolute() {
+        return Ok(p.to_path_buf());
+    }
+    match base {
+        Some(base) => Ok(base.join(p)),
+        None => Err(format!("\"{path}\" is a relative path, and this trace was not read from a file")),
+    }
+}

@@ -1,0 +1,13 @@
+//! Integration tests of the GL-style context, traces and advisor, in one binary (link time
+//! matters on 2 cores).
+
+#[path = "gl/common.rs"]
+mod common;
+#[path = "gl/fuzz.rs"]
+mod fuzz;
+#[path = "gl/inference.rs"]
+mod inference;
+#[path = "gl/smoke.rs"]
+mod smoke;
+#[path = "gl/traces.rs"]
+mod traces;

@@ -1,0 +1,409 @@
+//! The example traces, malformed traces, and recording.
+
+use std::path::{Path, PathBuf};
+
+use super::common::*;
+use tiler::Category;
+use tiler_gl::trace::Replay;
+use tiler_gl::*;
+
+fn traces() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("traces")
+}
+
+fn replay(name: &str) -> Replay {
+    let trace = Trace::read(&traces().join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let limits = Limits { threads: Some(1), ..Limits::default() };
+    trace.replay_with(limits).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Each pair, and the findings its bad form must have (and only those).
+const PAIRS: [(&str, &[&str]); 13] = [
+    ("clear", &["load-at-pass-start"]),
+    ("rebind", &["framebuffer-rebound"]),
+    ("invalidate", &["store-unread"]),
+    ("readback", &["flush-mid-pass", "readback-stall"]),
+    ("masked-clear", &["partial-clear"]),
+    ("query", &["flush-mid-pass", "query-stall"]),
+    ("tiled", &["preserved-swap"]),
+    ("copy-on-write", &["copy-on-write"]),
+    ("packed-depth-stencil", &["packed-depth-stencil-half"]),
+    ("alpha-test", &["early-z-disabled"]),
+    ("sort", &["unsorted-opaque"]),
+    ("budget", &["micro-triangles", "incremental-render"]),
+    ("msaa", &["msaa-stored"]),
+];
+
+/// The good form has no finding; the bad form has the pair's findings; the bad form costs
+/// more than the good one by exactly what they report, and both draw the same picture.
+#[test]
+fn each_example_pair_differs_by_what_the_advisor_reports() {
+    for (name, ids) in PAIRS {
+        let good = replay(&format!("{name}-good.json"));
+        let bad = replay(&format!("{name}-bad.json"));
+        assert!(good.report.findings.is_empty(), "{name}-good: {:#?}", good.report.findings);
+        for id in ids {
+            assert!(bad.report.findings_with(id).count() > 0, "{name}-bad has no {id}");
+        }
+        for f in &bad.report.findings {
+            assert!(ids.contains(&f.id), "{name}-bad: unexpected {}: {}", f.id, f.detail);
+        }
+        assert_eq!(good.context.surface_rgba8(), bad.context.surface_rgba8(), "{name}: the pictures differ");
+        let bytes = |r: &Replay| r.report.totals.ledger.total();
+        let fragments = |r: &Replay| r.report.totals.counters.fragments_shaded;
+        let reported: u64 = bad.report.findings.iter().map(|f| f.cost.bytes).sum();
+        let reported_fragments: u64 = bad.report.findings.iter().map(|f| f.cost.fragments).sum();
+        if name == "budget" {
+            // The fix changes the geometry: the good form's own (coarse) geometry and frame
+            // data remain, on top of which the bad form pays exactly what is reported.
+            let l = &good.report.totals.ledger;
+            let coarse: u64 =
+                [Category::VertexFetch, Category::IndexFetch, Category::FrameDataWrite, Category::FrameDataRead]
+                    .iter()
+                    .map(|c| l.get(*c))
+                    .sum();
+            assert_eq!(bytes(&bad) - bytes(&good), reported - coarse, "{name}");
+        } else {
+            assert_eq!(bytes(&bad) - bytes(&good), reported, "{name}: bytes");
+            assert_eq!(fragments(&bad) - fragments(&good), reported_fragments, "{name}: fragments");
+        }
+    }
+}
+
+/// `tiler analyze`'s text names the findings.
+#[test]
+fn the_text_report_names_the_findings() {
+    let bad = replay("rebind-bad.json");
+    let text = text_report(&bad.report);
+    assert!(text.contains("framebuffer-rebound"), "{text}");
+    assert!(text.contains("000 §23.5"), "{text}");
+    let good = replay("gltf-mesh.json");
+    assert!(text_report(&good.report).contains("no findings"));
+    let json = serde_json::to_value(&bad.report).unwrap();
+    assert_eq!(json["format"], "tiler-gl-report");
+    assert_eq!(json["findings"][0]["id"], "framebuffer-rebound");
+    assert!(json["frames"][0]["passes"][2]["attachments"][0]["load"] == "load");
+}
+
+/// Bad traces get an error naming the frame, the call and the problem.
+#[test]
+fn malformed_traces_are_errors_that_say_where() {
+    let frame = |calls: &str| {
+        format!(
+            r#"{{"format": "tiler-gl-trace", "version": 1, "config": {{"width": 16, "height": 16}},
+                "frames": [{{"calls": [{calls}]}}]}}"#
+        )
+    };
+    let cases: Vec<(String, &str)> = vec![
+        ("{".to_string(), "trace: invalid JSON"),
+        (r#"{"format": "x", "version": 1}"#.to_string(), "\"format\""),
+        (r#"{"format": "tiler-gl-trace", "version": 2}"#.to_string(), "version 1"),
+        (
+            r#"{"format": "tiler-gl-trace", "version": 1, "config": {"width": 8}}"#.to_string(),
+            "config: missing field `height`",
+        ),
+        (frame(r#"{"call": "draw_quads"}"#), "frame 0, call 0: draw_quads: unknown variant `draw_quads`"),
+        (
+            frame(r#"{"call": "flush"}, {"call": "viewport", "x": "a", "y": 0, "width": 1, "height": 1}"#),
+            "frame 0, call 1: viewport: invalid type",
+        ),
+        (
+            frame(r#"{"call": "draw_arrays", "mode": "triangles"}"#),
+            "frame 0, call 0: draw_arrays: missing field `first`",
+        ),
+        (frame(r#"{"call": "flush", "now": true}"#), "frame 0, call 0: flush: unknown field `now`"),
+        (
+            frame(r#"{"call": "scissor", "x": 0, "y": 0, "width": 1, "height": 1, "z": 0}"#),
+            "scissor: unknown field `z`",
+        ),
+        (frame(r#"{"call": "use_program", "id": 7}"#), "frame 0, call 0: use_program: program 7 does not exist"),
+        (
+            frame(r#"{"call": "draw_arrays", "mode": "triangles", "first": 0, "count": 3}"#),
+            "frame 0, call 0: draw_arrays: no program is in use",
+        ),
+        (
+            frame(
+                r#"{"call": "create_program", "id": 1, "program": "solid"}, {"call": "use_program", "id": 1},
+                {"call": "create_framebuffer", "id": 1}, {"call": "bind_framebuffer", "framebuffer": 1},
+                {"call": "draw_arrays", "mode": "triangles", "first": 0, "count": 3}"#,
+            ),
+            "frame 0, call 4: draw_arrays: framebuffer 1 is incomplete: it has no attachments",
+        ),
+        (
+            frame(r#"{"call": "bind_framebuffer", "framebuffer": 3}"#),
+            "call 0: bind_framebuffer: framebuffer 3 does not exist",
+        ),
+        (
+            frame(
+                r#"{"call": "create_buffer", "id": 1, "data": {"f32": [0, 0, 0]}}, {"call": "create_program", "id": 1, "program": "solid"},
+                {"call": "use_program", "id": 1}, {"call": "vertex_attrib_pointer", "index": 0, "buffer": 1, "size": 3, "type": "float"},
+                {"call": "enable_vertex_attrib", "index": 0}, {"call": "draw_arrays", "mode": "triangles", "first": 0, "count": 3}"#,
+            ),
+            "frame 0, call 5: draw_arrays: attribute 0 (position) of vertex 2 ends at byte 36, past the end of its data (12 bytes)",
+        ),
+        (frame(r#"{"call": "swap_buffers"}, {"call": "flush"}"#), "frame 0, call 0: swap_buffers ends a frame"),
+        (
+            r#"{"format": "tiler-gl-trace", "version": 1, "config": {"width": 16, "height": 16},
+                "frames": [{"calls": [{"call": "flush"}]}, {"calls": []}]}"#
+                .to_string(),
+            "frame 0: a frame must end with swap_buffers",
+        ),
+        (frame(r#"{"call": "create_buffer", "id": 1, "data": {"f32": [1], "u8": [1]}}"#), "exactly one of"),
+        (frame(r#"{"call": "create_buffer", "id": 1, "data": {"base64": "AB$="}}"#), "invalid base64 character"),
+        (frame(r#"{"call": "create_buffer", "id": 1, "data": {"file": "x.bin"}}"#), "relative path"),
+        (
+            frame(r#"{"call": "create_texture", "id": 1, "width": 16384, "height": 16384, "format": "rgba32f"}"#),
+            "frame 0, call 0: create_texture: image size 16384×16384 is invalid",
+        ),
+        (
+            frame(r#"{"call": "create_texture", "id": 1, "width": 8192, "height": 8192, "format": "rgba8"}"#),
+            "above its memory limit",
+        ),
+        (
+            frame(
+                r#"{"call": "create_program", "id": 1, "program": "solid"}, {"call": "use_program", "id": 1},
+                {"call": "uniform", "name": "color", "value": {"float": 1e39}}"#,
+            ),
+            "frame 0, call 2: uniform: uniform 'color' is a vec4, not a float",
+        ),
+        (
+            frame(
+                r#"{"call": "create_program", "id": 1, "program": "solid"}, {"call": "use_program", "id": 1},
+                {"call": "uniform", "name": "color", "value": {"vec4": [1e39, 0, 0, 1]}}"#,
+            ),
+            "non-finite",
+        ),
+        (
+            r#"{"format": "tiler-gl-trace", "version": 1, "config": {"width": 16, "height": 16},
+                "frames": [{"repeat": 0, "calls": [{"call": "swap_buffers"}]}]}"#
+                .to_string(),
+            "\"repeat\" is 0",
+        ),
+        (frame(r#"{"call": "end_tiling"}"#), "frame 0, call 0: end_tiling: end_tiling without start_tiling"),
+        (frame(r#"{"call": "query_result", "id": 1}"#), "query 1 does not exist"),
+        (
+            // A NaN position (0x7fc00000) is found when the pass renders, and named.
+            frame(
+                r#"{"call": "create_buffer", "id": 1, "data": {"base64": "AADAfwAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAAAA"}},
+                {"call": "create_program", "id": 1, "program": "solid"}, {"call": "use_program", "id": 1},
+                {"call": "vertex_attrib_pointer", "index": 0, "buffer": 1, "size": 3, "type": "float"},
+                {"call": "enable_vertex_attrib", "index": 0}, {"call": "draw_arrays", "mode": "triangles", "first": 0, "count": 3},
+                {"call": "swap_buffers"}"#,
+            ),
+            "frame 0, call 6: swap_buffers: the render pass of framebuffer 0 begun at frame 0, call 0 could not be \
+             rendered (the draw recorded at frame 0, call 5): draw 0, vertex 0: the vertex shader wrote a non-finite position",
+        ),
+    ];
+    let limits = Limits { memory_limit: Some(64 << 20), threads: Some(1), ..Limits::default() };
+    for (json, expected) in cases {
+        let error = match Trace::parse_with(&json, None, limits) {
+            Err(e) => e,
+            Ok(trace) => match trace.replay_with(limits) {
+                Err(e) => e,
+                Ok(_) => panic!("no error for {json}"),
+            },
+        };
+        let text = error.to_string();
+        assert!(text.contains(expected), "expected {expected:?} in {text:?}");
+    }
+}
+
+/// A program using most of the API, recording.
+fn recorded_program() -> Context {
+    let mut gl = Context::new_recording(config(48, 40)).unwrap();
+    geometry(&mut gl, 1, ProgramKind::Solid, &quad(-0.8, -0.8, 0.5, 0.6, 0.2));
+    framebuffer(&mut gl, 2, 48, 40);
+    let texels: Vec<u8> = (0..8 * 8 * 4).map(|i| (i * 7 % 256) as u8).collect();
+    c(
+        &mut gl,
+        Call::CreateTexture {
+            id: 3,
+            width: 8,
+            height: 8,
+            format: TextureFormat::Rgba8,
+            data: Some(Bytes::from(texels)),
+        },
+    );
+    c(&mut gl, Call::TexParameters { id: 3, filter: Filter::Linear, wrap: Wrap::Repeat });
+    c(&mut gl, Call::CreateProgram { id: 4, program: ProgramKind::Textured });
+    c(&mut gl, Call::CreateProgram { id: 5, program: ProgramKind::VertexColor });
+    c(&mut gl, Call::CreateQuery { id: 1 });
+    for frame in 0..3 {
+        bind(&mut gl, 2);
+        c(&mut gl, Call::ClearColor { rgba: [0.1, 0.2, 0.3, 1.0] });
+        clear_all(&mut gl);
+        c(&mut gl, Call::Enable { cap: Capability::DepthTest });
+        bind_geometry(&mut gl, 1);
+        set_color(&mut gl, [0.9, 0.5, 0.1, 1.0]);
+        c(&mut gl, Call::BeginQuery { id: 1 });
+        draw(&mut gl, 6);
+        c(&mut gl, Call::EndQuery);
+        // A client-side array with vertex colours, blended.
+        c(&mut gl, Call::UseProgram { id: 5 });
+        let v: Vec<[f32; 7]> = vec![
+            [-1.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.5],
+            [1.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.5],
+            [0.0, 1.0 - 0.3 * frame as f32, 0.0, 0.0, 0.0, 1.0, 0.5],
+        ];
+        let data = Bytes::from_slice(&v);
+        c(
+            &mut gl,
+            Call::VertexAttribArray {
+                index: 0,
+                size: 3,
+                component: ComponentType::Float,
+                normalized: false,
+                stride: 28,
+                data: data.clone(),
+            },
+        );
+        let colors: Vec<u8> = data.iter().copied().skip(12).collect();
+        c(
+            &mut gl,
+            Call::VertexAttribArray {
+                index: 1,
+                size: 4,
+                component: ComponentType::Float,
+                normalized: false,
+                stride: 28,
+                data: Bytes::from(colors),
+            },
+        );
+        c(&mut gl, Call::EnableVertexAttrib { index: 1 });
+        c(&mut gl, Call::Enable { cap: Capability::Blend });
+        c(
+            &mut gl,
+            Call::BlendFunc {
+                src: tiler::BlendFactor::SrcAlpha,
+                dst: tiler::BlendFactor::OneMinusSrcAlpha,
+                src_alpha: None,
+                dst_alpha: None,
+            },
+        );
+        draw(&mut gl, 3);
+        c(&mut gl, Call::Disable { cap: Capability::Blend });
+        c(&mut gl, Call::DisableVertexAttrib { index: 1 });
+        c(&mut gl, Call::Invalidate { attachments: vec![AttachmentPoint::DepthStencil] });
+        bind(&mut gl, 0);
+        clear_all(&mut gl);
+        // The render target and the uploaded texture, on a strip.
+        c(&mut gl, Call::UseProgram { id: 4 });
+        let uv: Vec<[f32; 4]> =
+            vec![[-1.0, -1.0, 0.0, 0.0], [1.0, -1.0, 2.0, 0.0], [-1.0, 0.0, 0.0, 1.0], [1.0, 0.0, 2.0, 1.0]];
+        c(&mut gl, Call::CreateBuffer { id: 10 + frame, data: Bytes::from_slice(&uv) });
+        for (index, offset) in [(0, 0), (1, 8)] {
+            c(
+                &mut gl,
+                Call::VertexAttribPointer {
+                    index,
+                    buffer: 10 + frame,
+                    size: 2,
+                    component: ComponentType::Float,
+                    normalized: false,
+                    stride: 16,
+                    offset,
+                },
+            );
+            c(&mut gl, Call::EnableVertexAttrib { index });
+        }
+        c(&mut gl, Call::BindTexture { unit: 0, texture: 3 });
+        c(&mut gl, Call::DrawArrays { mode: Mode::TriangleStrip, first: 0, count: 4 });
+        c(&mut gl, Call::BindTexture { unit: 0, texture: 2 });
+        c(&mut gl, Call::Viewport { x: 0, y: 20, width: 48, height: 20 });
+        c(&mut gl, Call::DrawArrays { mode: Mode::TriangleStrip, first: 0, count: 4 });
+        c(&mut gl, Call::Viewport { x: 0, y: 0, width: 48, height: 40 });
+        c(&mut gl, Call::DisableVertexAttrib { index: 1 });
+        c(&mut gl, Call::BufferSubData { id: 1, offset: 0, data: Bytes::from_slice(&[[-0.9f32, -0.9, 0.2]]) });
+        c(&mut gl, Call::ReadPixels { x: 0, y: 0, width: 4, height: 4 });
+        c(&mut gl, Call::QueryResult { id: 1 });
+        swap(&mut gl);
+    }
+    gl
+}
+
+/// Recording a run and replaying its trace reproduces the images and the counters exactly,
+/// with data inline or in a side file.
+#[test]
+fn recording_and_replaying_reproduces_the_run() {
+    let mut gl = recorded_program();
+    let trace = gl.recording().unwrap();
+    let image = gl.surface_rgba8();
+    let texture = gl.device().image_data(gl.texture_image(2).unwrap()).unwrap().to_vec();
+    let report = serde_json::to_value(gl.end().unwrap()).unwrap();
+    assert!(!report["findings"].as_array().unwrap().is_empty(), "the program is not a model of good practice");
+
+    let inline = trace.to_json();
+    let parsed = Trace::parse(&inline, None).unwrap();
+    assert_eq!(parsed, trace);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gl-record");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (json, blob) = trace.to_json_with_side_file("recorded.bin");
+    std::fs::write(dir.join("recorded.json"), json).unwrap();
+    std::fs::write(dir.join("recorded.bin"), blob).unwrap();
+    let side = Trace::read(&dir.join("recorded.json")).unwrap();
+    assert_eq!(side, trace);
+
+    for t in [parsed, side] {
+        let replay = t.replay().unwrap();
+        assert_eq!(replay.context.surface_rgba8(), image);
+        let t2 = replay.context.device().image_data(replay.context.texture_image(2).unwrap()).unwrap();
+        assert_eq!(t2, &texture[..]);
+        assert_eq!(serde_json::to_value(&replay.report).unwrap(), report, "the counters and ledgers are identical");
+    }
+}
+
+/// A GLB container works as a data source too.
+#[test]
+fn glb_accessors_are_read() {
+    let positions: Vec<u8> =
+        [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].iter().flatten().flat_map(|f| f.to_le_bytes()).collect();
+    let indices: Vec<u8> = vec![0, 1, 2, 0];
+    let mut bin = positions.clone();
+    bin.extend(&indices);
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "buffers": [{{"byteLength": {}}}],
+            "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}}, {{"buffer": 0, "byteOffset": 36, "byteLength": 3}}],
+            "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}},
+                          {{"bufferView": 1, "componentType": 5121, "count": 3, "type": "SCALAR"}}],
+            "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}}]}}  "#,
+        bin.len()
+    );
+    let mut glb = Vec::new();
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    glb.extend(0x4654_6c67u32.to_le_bytes());
+    glb.extend(2u32.to_le_bytes());
+    glb.extend((total as u32).to_le_bytes());
+    glb.extend((json.len() as u32).to_le_bytes());
+    glb.extend(0x4e4f_534au32.to_le_bytes());
+    glb.extend(json.as_bytes());
+    glb.extend((bin.len() as u32).to_le_bytes());
+    glb.extend(0x004e_4942u32.to_le_bytes());
+    glb.extend(&bin);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gl-glb");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("t.glb"), glb).unwrap();
+    let trace = r#"{"format": "tiler-gl-trace", "version": 1, "config": {"width": 8, "height": 8}, "frames": [{"calls": [
+            {"call": "create_buffer", "id": 1, "data": {"gltf": "t.glb", "attribute": "POSITION"}},
+            {"call": "create_buffer", "id": 2, "data": {"gltf": "t.glb", "attribute": "indices"}}]}]}"#;
+    let t = Trace::parse(trace, Some(&dir)).unwrap();
+    let Call::CreateBuffer { data, .. } = &t.frames[0].calls[0] else { panic!() };
+    assert_eq!(data.as_slice(), &positions[..]);
+    let Call::CreateBuffer { data, .. } = &t.frames[0].calls[1] else { panic!() };
+    assert_eq!(data.as_slice(), &[0, 0, 1, 0, 2, 0], "u8 indices widened to u16");
+}
+
+/// Every backend draws the same pictures from the same trace; only the costs differ.
+#[test]
+fn every_backend_draws_the_same_pictures() {
+    for (name, _) in PAIRS.iter().filter(|(n, _)| *n != "budget") {
+        let trace = Trace::read(&traces().join(format!("{name}-bad.json"))).unwrap();
+        let mut images = Vec::new();
+        for backend in [tiler::Backend::Tbr, tiler::Backend::Tbdr, tiler::Backend::Imr] {
+            let mut t = trace.clone();
+            t.config.backend = backend;
+            let replay = t.replay_with(Limits { threads: Some(1), ..Limits::default() }).unwrap();
+            images.push(replay.context.surface_rgba8());
+        }
+        assert!(images.windows(2).all(|w| w[0] == w[1]), "{name}: the backends disagree");
+    }
+}
