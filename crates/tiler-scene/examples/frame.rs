@@ -26,7 +26,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let samples: u32 = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(1);
     let assets =
         std::env::var_os("TILER_ASSETS").map(PathBuf::from).unwrap_or_else(|| PathBuf::from("../shared/assets"));
-    let mut device = Device::new(DeviceConfig { backend, ..DeviceConfig::default() })?;
+    let threads = std::env::var("TILER_THREADS").ok().map(|t| t.parse()).transpose()?.unwrap_or(0);
+    let mut device = Device::new(DeviceConfig { backend, threads, ..DeviceConfig::default() })?;
     let scene = if name == "builtin" {
         tiler_scene::builtin::build(&mut device, width, height, samples)?
     } else if let Some(count) = name.strip_prefix("tris:") {

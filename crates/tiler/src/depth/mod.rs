@@ -121,6 +121,30 @@ trait DepthBits {
     /// Writes the depth bits, leaving any stencil bits alone.
     fn store(bytes: &mut [u8], bits: u32);
     fn format() -> Format;
+
+    /// Tests a whole row of eight stored samples (`row`, `8 · BYTES` bytes) against
+    /// `fragment`, writes the passing ones when `write`, and returns which of `covered`
+    /// passed. Rows are read and written whole (lanes that do not pass are written back
+    /// unchanged), which vectorises.
+    #[inline(always)]
+    fn test_row(
+        row: &mut [u8],
+        fragment: &[u32; 8],
+        covered: u8,
+        write: bool,
+        compare: impl Fn(u32, u32) -> bool,
+    ) -> u8 {
+        let stored: [u32; 8] = std::array::from_fn(|c| Self::load(&row[c * Self::BYTES..]));
+        let pass = crate::simd::bool_bits(std::array::from_fn(|c| compare(fragment[c], stored[c]))) & covered;
+        if write && pass != 0 {
+            for c in 0..8 {
+                if pass >> c & 1 != 0 {
+                    Self::store(&mut row[c * Self::BYTES..], fragment[c]);
+                }
+            }
+        }
+        pass
+    }
 }
 
 struct D16;
@@ -146,7 +170,7 @@ impl DepthBits for D24 {
     const BYTES: usize = 4;
     #[inline(always)]
     fn load(b: &[u8]) -> u32 {
-        u32::from_le_bytes([b[0], b[1], b[2], 0])
+        u32::from_le_bytes([b[0], b[1], b[2], b[3]]) & 0x00ff_ffff
     }
     #[inline(always)]
     fn store(b: &mut [u8], bits: u32) {
@@ -155,10 +179,55 @@ impl DepthBits for D24 {
     fn format() -> Format {
         Format::D24UnormS8Uint
     }
+    #[inline(always)]
+    fn test_row(
+        row: &mut [u8],
+        fragment: &[u32; 8],
+        covered: u8,
+        write: bool,
+        compare: impl Fn(u32, u32) -> bool,
+    ) -> u8 {
+        words_row(row, fragment, covered, write, compare, 0x00ff_ffff)
+    }
+}
+
+/// [`DepthBits::test_row`] for depth in the low bits (`depth_mask`) of 32-bit words: whole
+/// words selected and stored at once, the other bits (stencil) kept.
+#[inline(always)]
+fn words_row(
+    row: &mut [u8],
+    fragment: &[u32; 8],
+    covered: u8,
+    write: bool,
+    compare: impl Fn(u32, u32) -> bool,
+    depth_mask: u32,
+) -> u8 {
+    let row: &mut [u8; 32] = (&mut row[..32]).try_into().expect("a row of eight words");
+    let words: [u32; 8] = std::array::from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
+    let pass = crate::simd::bool_bits(std::array::from_fn(|c| compare(fragment[c], words[c] & depth_mask))) & covered;
+    if write && pass != 0 {
+        let keep: [u32; 8] = std::array::from_fn(|c| if pass >> c & 1 != 0 { 0 } else { u32::MAX });
+        for c in 0..8 {
+            let new = (words[c] & !depth_mask) | fragment[c];
+            let word = (words[c] & keep[c]) | (new & !keep[c]);
+            row[4 * c..4 * c + 4].copy_from_slice(&word.to_le_bytes());
+        }
+    }
+    pass
 }
 
 impl DepthBits for D32 {
     const BYTES: usize = 4;
+    #[inline(always)]
+    fn test_row(
+        row: &mut [u8],
+        fragment: &[u32; 8],
+        covered: u8,
+        write: bool,
+        compare: impl Fn(u32, u32) -> bool,
+    ) -> u8 {
+        words_row(row, fragment, covered, write, compare, u32::MAX)
+    }
     #[inline(always)]
     fn load(b: &[u8]) -> u32 {
         u32::from_le_bytes([b[0], b[1], b[2], b[3]])
@@ -301,16 +370,7 @@ fn block_rows<D: DepthBits>(
             let plane = surface.plane_mut(s);
             let mut pass = 0u8;
             if whole_rows {
-                let row = &mut plane[offset..offset + 8 * D::BYTES];
-                let stored: [u32; 8] = std::array::from_fn(|c| D::load(&row[c * D::BYTES..]));
-                pass = crate::simd::bool_bits(std::array::from_fn(|c| compare(fragment[c], stored[c]))) & bits;
-                if write {
-                    for c in 0..8 {
-                        if pass >> c & 1 != 0 {
-                            D::store(&mut row[c * D::BYTES..], fragment[c]);
-                        }
-                    }
-                }
+                pass = D::test_row(&mut plane[offset..offset + 8 * D::BYTES], &fragment, bits, write, &compare);
             } else {
                 for (c, &fragment) in fragment.iter().enumerate() {
                     if bits >> c & 1 == 0 {

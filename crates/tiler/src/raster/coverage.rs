@@ -126,21 +126,22 @@ impl PrimitiveCoverage {
     /// The covered pixels of sample `s` in the 8×8 block whose top-left pixel is `(x, y)`:
     /// bit `8·row + column`. Each edge is evaluated incrementally along the rows, in 32-bit
     /// lanes when its values over the block fit (an edge shorter than about 2000 pixels),
-    /// else in 64-bit ones; edges that cover the whole block cost nothing.
+    /// else in 64-bit ones; edges that cover the whole block cost nothing. Only block rows
+    /// `rows` are evaluated; the others come back empty.
     #[inline]
-    pub fn block_mask(&self, x: i32, y: i32, s: usize) -> u64 {
+    pub fn block_mask(&self, x: i32, y: i32, s: usize, rows: std::ops::Range<i32>) -> u64 {
         let corner_x = SubPixel::pixel_corner(x);
         let corner_y = SubPixel::pixel_corner(y);
         let scale = SUBPIXEL_SCALE as i64;
         let mut mask = u64::MAX;
         for (e, edge) in self.edges.iter().enumerate() {
             let at_corner = edge.eval(corner_x, corner_y) + self.sample_offsets[e][s];
-            mask &= edge_block_mask(at_corner, edge.a * scale, edge.b * scale);
+            mask &= edge_block_mask(at_corner, edge.a * scale, edge.b * scale, rows.clone());
             if mask == 0 {
                 break;
             }
         }
-        mask
+        mask & row_span(rows.start, rows.end)
     }
 
     /// Whether the sample `s` of pixel `(x, y)` is covered: the scalar reference that
@@ -153,9 +154,10 @@ impl PrimitiveCoverage {
 }
 
 /// The pixels of an 8×8 block where `E ≥ 0`, for `E = at_corner + column·step_x + row·step_y`
-/// (bit `8·row + column`).
+/// (bit `8·row + column`), in `rows` (all of every other row when the edge covers the
+/// whole block).
 #[inline(always)]
-fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64) -> u64 {
+fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64, rows: std::ops::Range<i32>) -> u64 {
     let last = (BLOCK_SIZE - 1) as i64;
     let lo = at_corner + last * step_x.min(0) + last * step_y.min(0);
     let hi = at_corner + last * step_x.max(0) + last * step_y.max(0);
@@ -170,7 +172,7 @@ fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64) -> u64 {
         let (e0, sx, sy) = (at_corner as i32, step_x as i32, step_y as i32);
         let row: [i32; 8] = std::array::from_fn(|c| e0 + c as i32 * sx);
         let mut mask = 0u64;
-        for r in 0..8 {
+        for r in rows {
             let offset = r * sy;
             let negative = crate::simd::sign_bits(row.map(|v| v + offset));
             mask |= (!negative as u64) << (8 * r);
@@ -179,8 +181,8 @@ fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64) -> u64 {
     } else {
         let row: [i64; 8] = std::array::from_fn(|c| at_corner + c as i64 * step_x);
         let mut mask = 0u64;
-        for r in 0..8 {
-            let offset = r * step_y;
+        for r in rows {
+            let offset = r as i64 * step_y;
             let mut bits = 0u64;
             for (c, v) in row.iter().enumerate() {
                 bits |= ((v + offset >= 0) as u64) << c;
@@ -194,18 +196,26 @@ fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64) -> u64 {
 /// The pixels of the 8×8 block at `(x, y)` that lie inside `rect` (bit `8·row + column`).
 #[inline]
 pub fn block_rect_mask(x: i32, y: i32, rect: &super::PixelRect) -> u64 {
-    // Bits `unit·lo .. unit·hi` of a word: columns lo..hi of a row (unit 1), or rows lo..hi of
-    // the block (unit 8).
-    let span = |lo: i32, hi: i32, unit: u32| -> u64 {
-        let (lo, hi) = (lo.clamp(0, 8) as u32 * unit, hi.clamp(0, 8) as u32 * unit);
-        if hi <= lo {
-            return 0;
-        }
-        let below_hi = if hi >= 64 { u64::MAX } else { (1u64 << hi) - 1 };
-        below_hi & !((1u64 << lo) - 1)
-    };
     let columns = span(rect.x0 - x, rect.x1 - x, 1);
-    (columns * 0x0101_0101_0101_0101) & span(rect.y0 - y, rect.y1 - y, 8)
+    (columns * 0x0101_0101_0101_0101) & row_span(rect.y0 - y, rect.y1 - y)
+}
+
+/// Bits `unit·lo .. unit·hi` of a word (`lo`, `hi` clamped to 0..8): columns lo..hi of a row
+/// (unit 1), or rows lo..hi of a block (unit 8).
+#[inline(always)]
+fn span(lo: i32, hi: i32, unit: u32) -> u64 {
+    let (lo, hi) = (lo.clamp(0, 8) as u32 * unit, hi.clamp(0, 8) as u32 * unit);
+    if hi <= lo {
+        return 0;
+    }
+    let below_hi = if hi >= 64 { u64::MAX } else { (1u64 << hi) - 1 };
+    below_hi & !((1u64 << lo) - 1)
+}
+
+/// Rows `lo..hi` of a block mask.
+#[inline(always)]
+fn row_span(lo: i32, hi: i32) -> u64 {
+    span(lo, hi, 8)
 }
 
 /// The lanes of the 4×2 group at offset `(gx, gy)` in a block (gx ∈ {0, 4}, gy even), from a
@@ -241,7 +251,9 @@ mod tests {
                 for by in (-8..24).step_by(8) {
                     for bx in (-8..24).step_by(8) {
                         for s in 0..samples as usize {
-                            let mask = cov.block_mask(bx, by, s);
+                            let mask = cov.block_mask(bx, by, s, 0..8);
+                            let middle = cov.block_mask(bx, by, s, 2..5);
+                            assert_eq!(middle, mask & 0x00ff_ffff_0000, "rows 2..5 only");
                             for bit in 0..64 {
                                 let (c, r) = (bit % 8, bit / 8);
                                 let expected = cov.covers(bx + c, by + r, s);
@@ -282,8 +294,8 @@ mod tests {
         assert_eq!(cov.classify_block(48, 48, 8), BlockCoverage::Outside);
         assert_eq!(cov.classify_block(16, 16, 8), BlockCoverage::Partial);
         for s in 0..4 {
-            assert_eq!(cov.block_mask(0, 0, s), u64::MAX);
-            assert_eq!(cov.block_mask(48, 48, s), 0);
+            assert_eq!(cov.block_mask(0, 0, s, 0..8), u64::MAX);
+            assert_eq!(cov.block_mask(48, 48, s, 0..8), 0);
         }
     }
 

@@ -220,6 +220,10 @@ struct RasterPlan<'a, F> {
     colors: [Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
     /// Some attachment or input lives in external memory (immediate mode).
     external: bool,
+    /// The common case, run block by block without per-sample bookkeeping: one sample, tests
+    /// (if any) before shading on whole blocks, coverage the shader cannot change, and colour
+    /// outputs that replace 4-byte values in memory that needs no addresses.
+    single_sample_fast: bool,
 }
 
 impl<'a, F: FragmentShader> RasterPlan<'a, F> {
@@ -250,6 +254,22 @@ impl<'a, F: FragmentShader> RasterPlan<'a, F> {
                 Some(surface) => depth::block_test_applies(surface, ds, &tally.framebuffer),
                 None => false,
             };
+        let early_tests =
+            tests && target.early_z && !(coverage_changes || properties.writes_depth || properties.side_effects);
+        let simple_colors = colors.iter().zip(&target.color).all(|(plan, surface)| match (plan, surface) {
+            (Some(plan), Some(surface)) => {
+                plan.state.blend.is_none()
+                    && !plan.partial
+                    && surface.format.pack_lanes_u32(&[F32x8::ZERO; 4]).is_some()
+            }
+            _ => true,
+        });
+        let single_sample_fast = samples == 1
+            && desc.multisample.sample_mask & 1 != 0
+            && !(coverage_changes || properties.writes_depth)
+            && (!tests || (early_tests && block_tests))
+            && simple_colors
+            && !tally.framebuffer.needs_addresses();
         RasterPlan {
             shader,
             desc,
@@ -259,10 +279,9 @@ impl<'a, F: FragmentShader> RasterPlan<'a, F> {
             static_mask: static_sample_mask(desc.multisample.sample_mask, samples),
             sample_shading: desc.multisample.sample_shading && samples > 1,
             tests,
-            early_tests: tests
-                && target.early_z
-                && !(coverage_changes || properties.writes_depth || properties.side_effects),
+            early_tests,
             block_tests,
+            single_sample_fast,
             colors,
             external: target.color.iter().chain([&target.depth_stencil]).flatten().any(|s| s.is_external())
                 || target.inputs.iter().flatten().any(|s| s.is_external()),
@@ -311,6 +330,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                 let class = self.coverage.classify_block(bx, by, BLOCK_SIZE);
                 if class != BlockCoverage::Outside {
                     let clip = block_rect_mask(bx, by, rect);
+                    let rows = (rect.y0 - by).max(0)..(rect.y1 - by).min(BLOCK_SIZE);
                     let mut masks = [0u64; MAX_SAMPLES];
                     let mut any = 0u64;
                     for (s, mask) in masks[..samples].iter_mut().enumerate() {
@@ -320,7 +340,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                         *mask = match (class, &mode) {
                             // Ownership implies coverage: no need to rasterize again.
                             (_, Mode::Shade { .. }) | (BlockCoverage::Full, _) => clip,
-                            _ => clip & self.coverage.block_mask(bx, by, s),
+                            _ => clip & self.coverage.block_mask(bx, by, s, rows.clone()),
                         };
                         any |= *mask;
                     }
@@ -352,6 +372,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     ) {
         let samples = self.locations.count();
         match mode {
+            Mode::InOrder if self.single_sample_fast => self.single_sample_block(x, y, masks[0], target, tally),
             Mode::InOrder if self.early_tests && block_tests && !self.sample_shading => {
                 tally.counters.fragments_rasterized += any.count_ones() as u64;
                 self.test_block(x, y, &mut masks[..samples], target, tally);
@@ -396,6 +417,51 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                 });
             }
             _ => self.each_group(x, y, masks, |gx, gy, coverage| self.group(gx, gy, coverage, target, tally, mode)),
+        }
+    }
+
+    /// The fragment pipeline of a single-sample block in the common case
+    /// ([`RasterPlan::single_sample_fast`]): the same work and counts as group by group, with
+    /// the bookkeeping done once per block.
+    #[inline]
+    fn single_sample_block(&self, x: i32, y: i32, covered: u64, target: &mut RenderTarget, tally: &mut FragmentTally) {
+        tally.counters.fragments_rasterized += covered.count_ones() as u64;
+        let mut mask = [covered];
+        if self.tests {
+            self.test_block(x, y, &mut mask, target, tally);
+            tally.counters.fragments_early_z_killed += (covered.count_ones() - mask[0].count_ones()) as u64;
+        }
+        let passed = mask[0];
+        if passed == 0 {
+            return;
+        }
+        for gy in [0, 2, 4, 6] {
+            if (passed >> (8 * gy)) & 0xffff == 0 {
+                continue;
+            }
+            for gx in [0, 4] {
+                let lanes = group_lanes(passed, gx, gy);
+                if lanes.is_empty() {
+                    continue;
+                }
+                self.shade(x + gx, y + gy, lanes, ShadePoint::Centre, target, tally);
+                for (i, plan) in self.colors.iter().enumerate() {
+                    if let (Some(_), Some(surface)) = (plan, target.color[i].as_mut()) {
+                        write_packed(surface, x + gx, y + gy, lanes, &tally.outputs[i]);
+                    }
+                }
+            }
+        }
+        let count = passed.count_ones() as u64;
+        tally.counters.fragments_passed += count;
+        let stats = tally.draw_stats();
+        stats.fragments_shaded += count;
+        stats.samples_passed += count;
+        for (plan, surface) in self.colors.iter().zip(&target.color) {
+            if let (Some(_), Some(surface)) = (plan, surface) {
+                let bytes = surface.format.bytes_per_sample() as u32;
+                tally.framebuffer.accesses(&mut tally.ledger, Aspect::Color, bytes, count, true);
+            }
         }
     }
 
@@ -731,6 +797,32 @@ fn alpha_to_coverage(alpha: F32x8, samples: usize) -> Coverage {
         if kept >= 32 { u32::MAX } else { (1u32 << kept) - 1 }
     });
     lane_sample_masks(&masks, samples)
+}
+
+/// Writes a 4-byte colour (no blending, every channel) to the `lanes` of the group at `(x, y)`
+/// of a single-sample surface.
+#[inline(always)]
+fn write_packed(surface: &mut Surface, x: i32, y: i32, lanes: LaneMask, color: &Vec4x8) {
+    let packed = surface.format.pack_lanes_u32(color).expect("a 4-byte UNORM8 format");
+    let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
+    let plane = surface.plane_mut(0);
+    for (row, offset) in rows.into_iter().enumerate() {
+        let bits = lanes.0 >> (4 * row) & 0xf;
+        let words = &packed[4 * row..4 * row + 4];
+        if bits == 0xf {
+            let mut quad = [0u8; 16];
+            for (chunk, word) in quad.chunks_exact_mut(4).zip(words) {
+                chunk.copy_from_slice(&word.to_le_bytes());
+            }
+            plane[offset..offset + 16].copy_from_slice(&quad);
+        } else if bits != 0 {
+            for (i, word) in words.iter().enumerate() {
+                if bits >> i & 1 != 0 {
+                    plane[offset + 4 * i..offset + 4 * i + 4].copy_from_slice(&word.to_le_bytes());
+                }
+            }
+        }
+    }
 }
 
 /// Blends and writes one colour attachment for the covered samples of a group.
