@@ -187,6 +187,7 @@ struct SolidShader {
 }
 
 impl FragmentShader for SolidShader {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         frag.set_color(0, self.color.map(F32x8::splat));
     }
@@ -201,6 +202,7 @@ impl FragmentShader for VertexColorShader {
         ShaderProperties { discards: self.alpha_cutoff > 0.0, ..ShaderProperties::default() }
     }
 
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let c = frag.smooth_n::<4>(0);
         if self.alpha_cutoff > 0.0 {
@@ -216,6 +218,7 @@ struct LambertShader {
 }
 
 impl FragmentShader for LambertShader {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let n = tiler::simd::normalize3(frag.smooth_n::<3>(0));
         let diffuse = tiler::simd::dot3(n, self.light.map(F32x8::splat)).max(F32x8::ZERO);
@@ -361,6 +364,7 @@ impl FragmentShader for TexturedShader {
         ShaderProperties { discards: self.alpha_cutoff > 0.0, ..ShaderProperties::default() }
     }
 
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let [s, t] = frag.smooth_n::<2>(0);
         let color: [F32x8; 4] = match &self.texture {
@@ -450,6 +454,7 @@ struct ClearShader {
 }
 
 impl FragmentShader for ClearShader {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         for t in 0..self.targets {
             frag.set_color(t, self.color.map(F32x8::splat));

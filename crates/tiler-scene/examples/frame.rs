@@ -27,7 +27,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let assets =
         std::env::var_os("TILER_ASSETS").map(PathBuf::from).unwrap_or_else(|| PathBuf::from("../shared/assets"));
     let threads = std::env::var("TILER_THREADS").ok().map(|t| t.parse()).transpose()?.unwrap_or(0);
-    let mut device = Device::new(DeviceConfig { backend, threads, ..DeviceConfig::default() })?;
+    let simd = match std::env::var("TILER_SIMD").as_deref() {
+        Ok("baseline") => Some(tiler::SimdLevel::Baseline),
+        Ok("avx2") => Some(tiler::SimdLevel::Avx2),
+        _ => None,
+    };
+    let mut device = Device::new(DeviceConfig { backend, threads, simd, ..DeviceConfig::default() })?;
     let scene = if name == "builtin" {
         tiler_scene::builtin::build(&mut device, width, height, samples)?
     } else if let Some(count) = name.strip_prefix("tris:") {

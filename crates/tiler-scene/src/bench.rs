@@ -250,6 +250,7 @@ impl VertexShader for ColorVertexShader {
 pub struct FlatColorShader;
 
 impl FragmentShader for FlatColorShader {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let c = [0, 1, 2, 3].map(|i| F32x8::splat(frag.flat(i)));
         frag.set_color(0, c);
@@ -274,16 +275,21 @@ impl OverdrawShader {
 }
 
 impl FragmentShader for OverdrawShader {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         const A: [f32; 4] = [0.97, 0.98, 0.99, 0.96];
         const B: [f32; 4] = [0.03, 0.02, 0.01, 0.04];
         let (x, y) = frag.position();
         let gl_y = F32x8::splat(self.height) - y;
-        let mut v = [x * self.inverse_size[0], gl_y * self.inverse_size[1], F32x8::splat(frag.flat(0)), F32x8::ONE];
+        let (mut vx, mut vy, mut vz, mut vw) =
+            (x * self.inverse_size[0], gl_y * self.inverse_size[1], F32x8::splat(frag.flat(0)), F32x8::ONE);
+        // v = v · A + v.yzwx · B, component by component (written out: the compiler keeps each
+        // component in its own registers).
         for _ in 0..64 {
-            v = std::array::from_fn(|c| v[c] * A[c] + v[(c + 1) % 4] * B[c]);
+            (vx, vy, vz, vw) =
+                (vx * A[0] + vy * B[0], vy * A[1] + vz * B[1], vz * A[2] + vw * B[2], vw * A[3] + vx * B[3]);
         }
-        frag.set_color(0, [v[0], v[1], v[2], F32x8::ONE]);
+        frag.set_color(0, [vx, vy, vz, F32x8::ONE]);
     }
 }
 

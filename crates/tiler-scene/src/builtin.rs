@@ -46,6 +46,7 @@ pub struct LitFragmentShader {
 }
 
 impl FragmentShader for LitFragmentShader {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let n = normalize3(frag.smooth_n::<3>(0));
         let light = LIGHT.map(F32x8::splat);

@@ -42,6 +42,7 @@ struct GBufferShader {
 }
 
 impl FragmentShader for GBufferShader {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let n = normalize3(frag.smooth_n::<3>(0));
         let albedo: [F32x8; 4] = match self.checker {
@@ -87,6 +88,7 @@ struct LightingShader {
 const SKY: [f32; 4] = [0.42, 0.55, 0.72, 1.0];
 
 impl FragmentShader for LightingShader {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let albedo = frag.input(0);
         let normal = frag.input(1);

@@ -122,6 +122,7 @@ impl FragmentShader for BaseColorLambert {
         ShaderProperties { discards: matches!(self.alpha, AlphaMode::Mask { .. }), ..ShaderProperties::default() }
     }
 
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let mut base = self.factor.map(F32x8::splat);
         if let Some(binding) = &self.texture {

@@ -18,6 +18,44 @@
 
 use std::ops::{Add, AddAssign, BitAnd, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
+/// The instruction sets the pixel pipeline is compiled for. The pipeline is compiled once per
+/// level and the device picks one at run time; every level computes exactly the same values
+/// (plain IEEE operations, no fused multiply-add: Rust never contracts `a * b + c`), which
+/// tests hold bit for bit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SimdLevel {
+    /// The target's baseline (SSE2 on x86-64).
+    #[default]
+    Baseline,
+    /// x86-64 with AVX2 and FMA: eight `f32` lanes in one register.
+    Avx2,
+}
+
+impl SimdLevel {
+    /// The best level this processor runs.
+    pub fn best() -> SimdLevel {
+        if SimdLevel::Avx2.is_available() { SimdLevel::Avx2 } else { SimdLevel::Baseline }
+    }
+
+    /// Whether this processor runs code of this level.
+    pub fn is_available(self) -> bool {
+        match self {
+            SimdLevel::Baseline => true,
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Avx2 => is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
+            #[cfg(not(target_arch = "x86_64"))]
+            SimdLevel::Avx2 => false,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SimdLevel::Baseline => "baseline",
+            SimdLevel::Avx2 => "avx2",
+        }
+    }
+}
+
 /// Number of lanes (pixels) processed together.
 pub const LANES: usize = 8;
 

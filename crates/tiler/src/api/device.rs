@@ -15,6 +15,7 @@ use crate::ledger::cache::CacheConfig;
 use crate::ledger::display::DisplayModel;
 use crate::ledger::energy::EnergyModel;
 use crate::shade::texture_cache::TextureCacheConfig;
+use crate::simd::SimdLevel;
 
 /// The smallest frame-data budget: it must hold at least one chunk of binned triangles.
 pub const MIN_FRAME_DATA_BUDGET: u64 = 1 << 20;
@@ -46,6 +47,10 @@ pub struct DeviceConfig {
     /// Worker threads; 0 = one per available core. Not part of the model.
     #[serde(skip)]
     pub threads: usize,
+    /// The instruction set the pixel pipeline uses; `None` = the best this processor has.
+    /// Not part of the model: every level renders the same pictures, bit for bit.
+    #[serde(skip)]
+    pub simd: Option<SimdLevel>,
     /// Bytes of frame data (as modelled, see `binning::frame_data`) before an incremental
     /// render. The default, 64 MiB, is in the range of mobile drivers' tiler heaps and above
     /// llvmpipe's 36 MiB scene limit.
@@ -85,6 +90,7 @@ impl Default for DeviceConfig {
             tile_width: 32,
             tile_height: 32,
             threads: 0,
+            simd: None,
             frame_data_budget: 64 << 20,
             tile_memory_bytes: 32 << 10,
             early_z: true,
@@ -153,6 +159,12 @@ impl Device {
     /// An invalid configuration, or when the worker threads cannot be started.
     pub fn new(config: DeviceConfig) -> Result<Device> {
         config.validate()?;
+        let mut config = config;
+        let simd = config.simd.unwrap_or_else(SimdLevel::best);
+        if !simd.is_available() {
+            return Err(Error::invalid("device", format!("this processor cannot run the {} pipeline", simd.name())));
+        }
+        config.simd = Some(simd);
         let threads = if config.threads == 0 {
             std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
         } else {

@@ -160,7 +160,7 @@ impl Format {
 
     /// Packs eight lanes of colour: lane `i` gets exactly `encode_color` of its values, in the
     /// first `bytes_per_sample` bytes of `out[i]`. RGBA8 and BGRA8 go lane-parallel.
-    #[inline]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn encode_lanes(self, rgba: &crate::simd::Vec4x8, out: &mut [[u8; 16]; crate::simd::LANES]) {
         match self {
             Format::Rgba8Unorm | Format::Bgra8Unorm => {

@@ -69,6 +69,11 @@ pub trait FragmentShader: Send + Sync + 'static {
     }
 
     /// Shades the eight lanes of `frag`, writing colours with [`Fragments::set_color`].
+    ///
+    /// Mark implementations `#[inline(always)]`: the pixel pipeline is compiled once per
+    /// instruction set (`SimdLevel`) with the shader inlined into it; a shader left out of
+    /// line is compiled for the baseline only (on x86-64, four lanes at a time instead of
+    /// eight).
     fn shade(&self, frag: &mut Fragments<'_>);
 }
 

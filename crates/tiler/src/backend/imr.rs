@@ -133,6 +133,7 @@ pub fn render(
             framebuffer: FramebufferTraffic::external(cache),
             overdraw: config.overdraw_map.then(|| OverdrawRows::new(y0, resolved.width, rows.height() as u32)),
             context: ShadeContext::with_texture_cache(config.texture_cache),
+            simd: config.simd.unwrap_or_default(),
             ..FragmentTally::default()
         };
         bands.push(Band { surfaces, resolves, clip, tally });

@@ -105,6 +105,7 @@ pub fn render(
         transaction_elimination: config.transaction_elimination,
         transaction_elimination_saved: 0,
         texture_cache: config.texture_cache,
+        simd: config.simd.unwrap_or_default(),
         overdraw: config.overdraw_map.then(|| vec![0; resolved.width as usize * resolved.height as usize]),
         flushes: 0,
         scratch: resolved.attachments.iter().map(|_| None).collect(),
@@ -265,6 +266,7 @@ struct Run<'a> {
     transaction_elimination: bool,
     transaction_elimination_saved: u64,
     texture_cache: TextureCacheConfig,
+    simd: crate::simd::SimdLevel,
     overdraw: Option<Vec<u16>>,
     flushes: u64,
     /// Spill memory for transient attachments, made at their first incremental render.
@@ -302,6 +304,7 @@ struct FlushPlan<'a> {
     vertex_shading: VertexShading,
     overdraw: bool,
     texture_cache: TextureCacheConfig,
+    simd: crate::simd::SimdLevel,
 }
 
 impl Run<'_> {
@@ -384,6 +387,7 @@ impl Run<'_> {
             vertex_shading: frame.vertex_shading,
             overdraw: self.overdraw.is_some(),
             texture_cache: self.texture_cache,
+            simd: self.simd,
         };
         let spec: Vec<_> = resolved.attachments.iter().map(|a| (a.format, resolved.samples)).collect();
         let results: Vec<BandResult> = bands
@@ -451,6 +455,7 @@ fn render_band(
     let (attachment_images, resolve_images) = images.split_at_mut(resolved.attachments.len());
     let mut result = BandResult::default();
     result.tally.context = ShadeContext::with_texture_cache(plan.texture_cache);
+    result.tally.simd = plan.simd;
     if plan.overdraw {
         let rows = (grid.tile_height as i32).min(grid.height as i32 - band_y0);
         result.tally.overdraw = Some(OverdrawRows::new(band_y0, grid.width, rows as u32));

@@ -21,7 +21,7 @@ use crate::tile::target::Surface;
 /// writes, and returns the samples that passed. `depth(s)` gives the fragment depths of
 /// sample `s`. Every access goes through `traffic` (tile buffer, or external memory).
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn test_group(
     surface: &mut Surface,
     x: i32,
@@ -297,19 +297,25 @@ pub fn block_test_applies(surface: &Surface, state: &DepthStencilState, traffic:
         && matches!(surface.format, Format::D16Unorm | Format::D24UnormS8Uint | Format::D32Float)
 }
 
+/// Fragment depths of the rows of a block, per sample.
+pub trait RowDepths {
+    /// The fragment depths of sample `sample` for the block's pixels of row `y`.
+    fn row(&self, sample: usize, y: i32) -> F32x8;
+}
+
 /// The depth test (and writes) of a whole 8×8 block: `masks[s]` holds the covered pixels of
-/// sample `s` (bit `8·row + column`) and keeps those that pass. `depth(s, y)` gives the
-/// fragment depths of sample `s` for pixels `x..x + 8` of row `y`. The caller has checked
+/// sample `s` (bit `8·row + column`) and keeps those that pass. `depth` gives the fragment
+/// depths of each row. The caller has checked
 /// [`block_test_applies`]. Counts the same accesses as [`test_group`].
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn test_block(
     surface: &mut Surface,
     x: i32,
     y: i32,
     masks: &mut [u64],
     state: &DepthStencilState,
-    depth: impl Fn(usize, i32) -> F32x8,
+    depth: &impl RowDepths,
     traffic: &mut FramebufferTraffic,
     ledger: &mut Ledger,
 ) {
@@ -318,14 +324,14 @@ pub fn test_block(
     macro_rules! run {
         ($d:ty) => {
             match state.depth_compare {
-                CompareOp::Never => block_rows::<$d>(surface, x, y, masks, |_, _| false, write, &depth),
-                CompareOp::Less => block_rows::<$d>(surface, x, y, masks, |a, b| a < b, write, &depth),
-                CompareOp::Equal => block_rows::<$d>(surface, x, y, masks, |a, b| a == b, write, &depth),
-                CompareOp::LessOrEqual => block_rows::<$d>(surface, x, y, masks, |a, b| a <= b, write, &depth),
-                CompareOp::Greater => block_rows::<$d>(surface, x, y, masks, |a, b| a > b, write, &depth),
-                CompareOp::NotEqual => block_rows::<$d>(surface, x, y, masks, |a, b| a != b, write, &depth),
-                CompareOp::GreaterOrEqual => block_rows::<$d>(surface, x, y, masks, |a, b| a >= b, write, &depth),
-                CompareOp::Always => block_rows::<$d>(surface, x, y, masks, |_, _| true, write, &depth),
+                CompareOp::Never => block_rows::<$d>(surface, x, y, masks, |_, _| false, write, depth),
+                CompareOp::Less => block_rows::<$d>(surface, x, y, masks, |a, b| a < b, write, depth),
+                CompareOp::Equal => block_rows::<$d>(surface, x, y, masks, |a, b| a == b, write, depth),
+                CompareOp::LessOrEqual => block_rows::<$d>(surface, x, y, masks, |a, b| a <= b, write, depth),
+                CompareOp::Greater => block_rows::<$d>(surface, x, y, masks, |a, b| a > b, write, depth),
+                CompareOp::NotEqual => block_rows::<$d>(surface, x, y, masks, |a, b| a != b, write, depth),
+                CompareOp::GreaterOrEqual => block_rows::<$d>(surface, x, y, masks, |a, b| a >= b, write, depth),
+                CompareOp::Always => block_rows::<$d>(surface, x, y, masks, |_, _| true, write, depth),
             }
         };
     }
@@ -349,7 +355,7 @@ fn block_rows<D: DepthBits>(
     masks: &mut [u64],
     compare: impl Fn(u32, u32) -> bool,
     write: bool,
-    depth: &impl Fn(usize, i32) -> F32x8,
+    depth: &impl RowDepths,
 ) -> (u64, u64) {
     let format = D::format();
     let whole_rows = surface.holds_columns(x, x + 8);
@@ -364,7 +370,7 @@ fn block_rows<D: DepthBits>(
             if bits == 0 {
                 continue;
             }
-            let z = depth(s, y + r);
+            let z = depth.row(s, y + r);
             let fragment = format.depth_bits_lanes(z);
             let offset = surface.offset(x, y + r);
             let plane = surface.plane_mut(s);

@@ -106,7 +106,7 @@ impl PrimitiveCoverage {
 
     /// Classifies the `size × size` block whose top-left pixel is `(x, y)`, using the
     /// extreme sample positions of the block.
-    #[inline]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn classify_block(&self, x: i32, y: i32, size: i32) -> BlockCoverage {
         let (hx0, hy0, hx1, hy1) = self.hull;
         let x0 = SubPixel::pixel_corner(x) + hx0;
@@ -128,7 +128,7 @@ impl PrimitiveCoverage {
     /// lanes when its values over the block fit (an edge shorter than about 2000 pixels),
     /// else in 64-bit ones; edges that cover the whole block cost nothing. Only block rows
     /// `rows` are evaluated; the others come back empty.
-    #[inline]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn block_mask(&self, x: i32, y: i32, s: usize, rows: std::ops::Range<i32>) -> u64 {
         let corner_x = SubPixel::pixel_corner(x);
         let corner_y = SubPixel::pixel_corner(y);
@@ -194,7 +194,7 @@ fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64, rows: std::ops::Ran
 }
 
 /// The pixels of the 8×8 block at `(x, y)` that lie inside `rect` (bit `8·row + column`).
-#[inline]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn block_rect_mask(x: i32, y: i32, rect: &super::PixelRect) -> u64 {
     let columns = span(rect.x0 - x, rect.x1 - x, 1);
     (columns * 0x0101_0101_0101_0101) & row_span(rect.y0 - y, rect.y1 - y)

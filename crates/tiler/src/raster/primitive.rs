@@ -51,6 +51,8 @@ pub struct FragmentTally {
     /// The fragment shader's colour outputs for the current group (kept here, not copied
     /// around: 512 bytes per group).
     pub(crate) outputs: [Vec4x8; MAX_COLOR_ATTACHMENTS],
+    /// The instruction set the pipeline runs with.
+    pub simd: crate::simd::SimdLevel,
 }
 
 /// Fragments shaded per pixel over some rows of the framebuffer.
@@ -163,6 +165,7 @@ struct ShadeOutput {
 
 /// Rasterizes the primitives of `run` into `target`, in order, running the part of the
 /// pipeline `mode` says. What depends only on the draw and the target is worked out once.
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn rasterize<F: FragmentShader>(
     shader: &F,
     desc: &PipelineDesc,
@@ -172,35 +175,24 @@ pub fn rasterize<F: FragmentShader>(
     mode: &mut Mode,
 ) {
     let plan = RasterPlan::new(shader, desc, target, tally);
-    let varying_count = desc.varyings.len();
-    let mut one = |position: usize, index: usize| {
+    let count = run.indices.map_or(run.primitives.len(), <[u32]>::len);
+    for position in 0..count {
+        let index = run.indices.map_or(position, |indices| indices[position] as usize);
         let primitive = &run.primitives[index];
         let rect = primitive.bbox.intersect(&target.clip);
         if rect.is_empty() {
-            return;
+            continue;
         }
         let start = primitive.varyings as usize;
         let raster = PrimitiveRaster {
             plan: &plan,
             primitive,
-            varyings: &run.varyings[start..start + 3 * varying_count],
+            varyings: &run.varyings[start..start + 3 * plan.varying_count],
             coverage: PrimitiveCoverage::new(&primitive.edges, &target.samples),
             interpolator: Interpolator::new(primitive),
             entry: run.first_entry + position as u32,
         };
         raster.run(&rect, target, tally, mode);
-    };
-    match run.indices {
-        Some(indices) => {
-            for (position, &index) in indices.iter().enumerate() {
-                one(position, index as usize);
-            }
-        }
-        None => {
-            for index in 0..run.primitives.len() {
-                one(index, index);
-            }
-        }
     }
 }
 
@@ -320,6 +312,7 @@ impl<'a, F> std::ops::Deref for PrimitiveRaster<'_, 'a, F> {
 }
 
 impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn run(&self, rect: &PixelRect, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode) {
         let samples = self.locations.count();
         let block_tests = self.block_tests;
@@ -358,7 +351,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     /// are `masks[s]` (`any` their union). Depth tests that can run before shading run for the
     /// whole block at once where [`depth::test_block`] applies; the rest goes group by group.
     #[allow(clippy::too_many_arguments)]
-    #[inline]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn block(
         &self,
         x: i32,
@@ -378,9 +371,9 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                 self.test_block(x, y, &mut masks[..samples], target, tally);
                 let left = masks[..samples].iter().fold(0, |a, m| a | m);
                 tally.counters.fragments_early_z_killed += (any.count_ones() - left.count_ones()) as u64;
-                self.each_group(x, y, masks, |gx, gy, coverage| {
+                for (gx, gy, coverage) in self.groups(x, y, masks) {
                     self.in_order(gx, gy, coverage, ShadePoint::Centre, false, target, tally);
-                });
+                }
             }
             Mode::Resolve { visibility, claims } if block_tests => {
                 tally.counters.fragments_rasterized += any.count_ones() as u64;
@@ -403,7 +396,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                         *mask &= visibility.owned_block(s, x, y, self.entry);
                     }
                 }
-                self.each_group(x, y, masks, |gx, gy, owned| {
+                for (gx, gy, owned) in self.groups(x, y, masks) {
                     if self.sample_shading {
                         for s in 0..samples {
                             let one = owned.only_sample(s);
@@ -414,16 +407,20 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                     } else {
                         self.shade_owned(gx, gy, owned, ShadePoint::Centre, target, tally);
                     }
-                });
+                }
             }
-            _ => self.each_group(x, y, masks, |gx, gy, coverage| self.group(gx, gy, coverage, target, tally, mode)),
+            _ => {
+                for (gx, gy, coverage) in self.groups(x, y, masks) {
+                    self.group(gx, gy, coverage, target, tally, mode);
+                }
+            }
         }
     }
 
     /// The fragment pipeline of a single-sample block in the common case
     /// ([`RasterPlan::single_sample_fast`]): the same work and counts as group by group, with
     /// the bookkeeping done once per block.
-    #[inline]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn single_sample_block(&self, x: i32, y: i32, covered: u64, target: &mut RenderTarget, tally: &mut FragmentTally) {
         tally.counters.fragments_rasterized += covered.count_ones() as u64;
         let mut mask = [covered];
@@ -465,15 +462,20 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
         }
     }
 
-    /// Calls `f` for each 4×2 group of the block at `(x, y)` with covered samples, with its
-    /// coverage.
+    /// The 4×2 groups of the block at `(x, y)` with covered samples: their top-left pixels
+    /// and coverage, in order (no closures: the caller's loop body stays inline, which keeps it
+    /// compiled for the dispatched instruction set).
     #[inline(always)]
-    fn each_group(&self, x: i32, y: i32, masks: &[u64; MAX_SAMPLES], mut f: impl FnMut(i32, i32, Coverage)) {
+    fn groups(
+        &self,
+        x: i32,
+        y: i32,
+        masks: &[u64; MAX_SAMPLES],
+    ) -> impl Iterator<Item = (i32, i32, Coverage)> + use<F> {
         let samples = self.locations.count();
         let any = masks[..samples].iter().fold(0, |a, m| a | m);
-        if any == 0 {
-            return;
-        }
+        let mut list = [(0, 0, Coverage::NONE); 8];
+        let mut len = 0;
         for gy in [0, 2, 4, 6] {
             if (any >> (8 * gy)) & 0xffff == 0 {
                 continue;
@@ -486,38 +488,32 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                 for (s, mask) in masks[..samples].iter().enumerate() {
                     coverage.set_sample(s, group_lanes(*mask, gx, gy));
                 }
-                f(x + gx, y + gy, coverage);
+                list[len] = (x + gx, y + gy, coverage);
+                len += 1;
             }
         }
+        list.into_iter().take(len)
     }
 
     /// The early depth test of a whole block (see [`depth::test_block`]).
-    #[inline]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn test_block(&self, x: i32, y: i32, masks: &mut [u64], target: &mut RenderTarget, tally: &mut FragmentTally) {
         let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
-        let multisampled = self.locations.count() > 1;
-        let scale = super::fixed::SUBPIXEL_SCALE as f32;
+        let depths = BlockDepths { interpolator: &self.interpolator, locations: &self.locations, x };
         depth::test_block(
             surface,
             x,
             y,
             masks,
             &self.desc.depth_stencil,
-            |s, row| {
-                let (dx, dy) = if multisampled {
-                    let (sx, sy) = self.locations.offset(s);
-                    (sx as f32 / scale, sy as f32 / scale)
-                } else {
-                    (0.5, 0.5)
-                };
-                self.interpolator.row_depth(x, row, dx, dy)
-            },
+            &depths,
             &mut tally.framebuffer,
             &mut tally.ledger,
         );
     }
 
     /// The fragment pipeline for the covered samples of the 4×2 group at `(x, y)`.
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn group(
         &self,
         x: i32,
@@ -552,7 +548,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     /// In-order rendering of the covered samples; `early_tests` runs the depth and stencil
     /// tests before shading (false when they ran already, or must run after).
     #[allow(clippy::too_many_arguments)]
-    #[inline]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn in_order(
         &self,
         x: i32,
@@ -604,6 +600,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
 
     /// HSR pass one: the tests, and claims on the samples that pass.
     #[allow(clippy::too_many_arguments)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn resolve(
         &self,
         x: i32,
@@ -637,6 +634,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     }
 
     /// HSR pass two: shade and write the samples this primitive owns.
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn shade_owned(
         &self,
         x: i32,
@@ -654,6 +652,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
 
     /// Runs the fragment shader on the lanes of the group (`live` are covered, the rest of
     /// their quads are helpers).
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn shade(
         &self,
         x: i32,
@@ -731,6 +730,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
 
     /// Depth and stencil tests of the covered samples; `shader_depth` replaces the
     /// interpolated depth when the shader wrote one.
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn test(
         &self,
         x: i32,
@@ -765,12 +765,35 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
         )
     }
 
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn write_colors(&self, x: i32, y: i32, coverage: Coverage, target: &mut RenderTarget, tally: &mut FragmentTally) {
         let FragmentTally { outputs, framebuffer, ledger, .. } = tally;
         for (i, plan) in self.colors.iter().enumerate() {
             let (Some(plan), Some(surface)) = (plan, target.color[i].as_mut()) else { continue };
             write_color(surface, x, y, coverage, &outputs[i], plan, self.desc.blend_constant, framebuffer, ledger);
         }
+    }
+}
+
+/// The fragment depths of a block's rows: at pixel centres with one sample, at each sample's
+/// location with several (the same values the group-by-group tests use).
+struct BlockDepths<'a> {
+    interpolator: &'a Interpolator,
+    locations: &'a SampleLocations,
+    x: i32,
+}
+
+impl depth::RowDepths for BlockDepths<'_> {
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn row(&self, sample: usize, y: i32) -> F32x8 {
+        let (dx, dy) = if self.locations.count() > 1 {
+            let (sx, sy) = self.locations.offset(sample);
+            let scale = super::fixed::SUBPIXEL_SCALE as f32;
+            (sx as f32 / scale, sy as f32 / scale)
+        } else {
+            (0.5, 0.5)
+        };
+        self.interpolator.row_depth(self.x, y, dx, dy)
     }
 }
 
@@ -827,7 +850,7 @@ fn write_packed(surface: &mut Surface, x: i32, y: i32, lanes: LaneMask, color: &
 
 /// Blends and writes one colour attachment for the covered samples of a group.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn write_color(
     surface: &mut Surface,
     x: i32,

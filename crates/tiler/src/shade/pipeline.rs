@@ -10,6 +10,7 @@ use crate::geometry::fetch::VertexFetcher;
 use crate::geometry::vertex::{NonFinitePosition, ShadedVertices, VertexSet, shade_vertices};
 use crate::ledger::Category;
 use crate::raster::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
+use crate::simd::SimdLevel;
 use crate::tile::target::RenderTarget;
 
 /// A pipeline's shaders behind one dynamic call per draw or per primitive.
@@ -52,7 +53,15 @@ impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
     }
 
     fn rasterize(&self, run: &PrimitiveRun, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode) {
-        rasterize(&self.fragment, &self.desc, run, target, tally, mode);
+        match tally.simd {
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Avx2 => {
+                // SAFETY: the device picks `Avx2` only when the processor has AVX2 and FMA
+                // (`SimdLevel::is_available`).
+                unsafe { rasterize_avx2(&self.fragment, &self.desc, run, target, tally, mode) }
+            }
+            _ => rasterize(&self.fragment, &self.desc, run, target, tally, mode),
+        }
         // The one call site of `TextureFetch` for textures: `misses × line size` of the task's
         // texture cache (`shade::texture_cache`), handed over after every run.
         let fetched = tally.context.texture_cache.take_fetched_bytes();
@@ -62,4 +71,20 @@ impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
     fn properties(&self) -> ShaderProperties {
         self.fragment.properties()
     }
+}
+
+/// [`rasterize`] compiled for AVX2: `rasterize` and the pixel pipeline under it are
+/// `#[inline(always)]`, so all of it is compiled again here with eight-lane instructions.
+/// (A closure would not do: it stays a function of its own, compiled for the baseline.)
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+unsafe fn rasterize_avx2<F: FragmentShader>(
+    shader: &F,
+    desc: &PipelineDesc,
+    run: &PrimitiveRun,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+    mode: &mut Mode,
+) {
+    rasterize(shader, desc, run, target, tally, mode)
 }

@@ -19,6 +19,7 @@ impl VertexShader for PassThrough {
 pub struct Smooth;
 
 impl FragmentShader for Smooth {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         frag.set_color(0, frag.smooth_n::<4>(0));
     }
@@ -28,6 +29,7 @@ impl FragmentShader for Smooth {
 pub struct FlatColor;
 
 impl FragmentShader for FlatColor {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let c = [0, 1, 2, 3].map(|i| F32x8::splat(frag.flat(i)));
         frag.set_color(0, c);
@@ -38,6 +40,7 @@ impl FragmentShader for FlatColor {
 pub struct Solid(pub [f32; 4]);
 
 impl FragmentShader for Solid {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         frag.set_color(0, self.0.map(F32x8::splat));
     }
@@ -50,6 +53,7 @@ impl FragmentShader for AlphaTest {
     fn properties(&self) -> ShaderProperties {
         ShaderProperties { discards: true, ..ShaderProperties::default() }
     }
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let c = frag.smooth_n::<4>(0);
         frag.discard(c[3].lt(F32x8::splat(0.5)));
@@ -120,12 +124,25 @@ pub fn render_scene(
     threads: usize,
     budget: u64,
 ) -> (Vec<Vec<u8>>, PassReport) {
+    render_scene_at(build, backend, tile, threads, budget, None)
+}
+
+/// [`render_scene`] with the pixel pipeline compiled for `simd` (`None`: the best level).
+pub fn render_scene_at(
+    build: fn(&mut Device) -> TestScene,
+    backend: Backend,
+    tile: (u32, u32),
+    threads: usize,
+    budget: u64,
+    simd: Option<SimdLevel>,
+) -> (Vec<Vec<u8>>, PassReport) {
     let config = DeviceConfig {
         backend,
         threads,
         tile_width: tile.0,
         tile_height: tile.1,
         frame_data_budget: budget,
+        simd,
         ..DeviceConfig::default()
     };
     let mut device = Device::new(config).unwrap();

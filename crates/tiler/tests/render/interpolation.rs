@@ -8,6 +8,7 @@ use tiler::*;
 struct ThreeWays;
 
 impl FragmentShader for ThreeWays {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let smooth = frag.smooth(0);
         frag.set_color(0, [smooth, frag.linear(1), F32x8::splat(frag.flat(2)), smooth.ddx()]);

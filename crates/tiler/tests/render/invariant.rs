@@ -174,6 +174,7 @@ fn strips_scissor_load(device: &mut Device) -> TestScene {
 fn formats(device: &mut Device) -> TestScene {
     struct Mrt;
     impl FragmentShader for Mrt {
+        #[inline(always)]
         fn shade(&self, frag: &mut Fragments<'_>) {
             let c = frag.smooth_n::<4>(0);
             frag.set_color(0, c);
@@ -248,6 +249,41 @@ fn every_backend_tile_size_and_thread_count_gives_the_same_image() {
                     }
                 }
             }
+        }
+    }
+}
+
+#[test]
+fn every_simd_level_gives_the_same_image() {
+    let levels: Vec<SimdLevel> =
+        [SimdLevel::Baseline, SimdLevel::Avx2].into_iter().filter(|l| l.is_available()).collect();
+    if levels.len() < 2 {
+        eprintln!("only the baseline SIMD level runs on this processor: nothing to compare");
+    }
+    for (name, build) in
+        SCENES.iter().copied().chain([("many_triangles", many_triangles as fn(&mut Device) -> TestScene)])
+    {
+        let (reference, _) = render_scene_at(build, Backend::Imr, (32, 32), 1, BIG_BUDGET, Some(SimdLevel::Baseline));
+        for &level in &levels {
+            for backend in Backend::ALL {
+                let (images, _) = render_scene_at(build, backend, (16, 16), 2, BIG_BUDGET, Some(level));
+                for (i, (a, b)) in images.iter().zip(&reference).enumerate() {
+                    assert!(a == b, "{name}: image {i} differs on {backend} at SIMD level {}", level.name());
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_simd_level_the_processor_lacks_is_refused() {
+    for level in [SimdLevel::Baseline, SimdLevel::Avx2] {
+        let result = Device::new(DeviceConfig { simd: Some(level), ..DeviceConfig::default() });
+        if level.is_available() {
+            assert!(result.is_ok());
+        } else {
+            let message = result.err().expect("unavailable level accepted").to_string();
+            assert!(message.contains(level.name()), "{message}");
         }
     }
 }

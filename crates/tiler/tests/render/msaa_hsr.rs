@@ -215,6 +215,7 @@ fn silhouettes_shade_more_fragments_with_msaa() {
 struct SamplePosition;
 
 impl FragmentShader for SamplePosition {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let (x, y) = frag.position();
         frag.set_color(0, [x.fract(), y.fract(), F32x8::splat(0.5), F32x8::ONE]);
@@ -228,6 +229,7 @@ impl FragmentShader for Checkered {
     fn properties(&self) -> ShaderProperties {
         ShaderProperties { writes_sample_mask: true, ..ShaderProperties::default() }
     }
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         frag.set_sample_mask(std::array::from_fn(|lane| if lane % 2 == 0 { 0b0101 } else { 0b1010 }));
         frag.set_color(0, frag.smooth_n::<4>(0));
@@ -306,6 +308,9 @@ fn every_backend_agrees_at_every_sample_count() {
                     }
                 }
             }
+            // The baseline pipeline (the others above ran at the best level this processor has).
+            let (images, _) = render_scene_at(build, backend, (32, 32), 2, 64 << 20, Some(SimdLevel::Baseline));
+            assert!(images == reference, "{} samples: the baseline SIMD level differs on {backend}", 1 << i);
         }
     }
 }

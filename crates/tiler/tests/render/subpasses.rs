@@ -10,6 +10,7 @@ const H: u32 = 37;
 struct Invert;
 
 impl FragmentShader for Invert {
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let c = frag.input(0);
         let depth = frag.input(1)[0];
@@ -151,6 +152,7 @@ impl FragmentShader for Accumulate {
     fn properties(&self) -> ShaderProperties {
         ShaderProperties { reads_local: true, ..ShaderProperties::default() }
     }
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let old = frag.local(0);
         let red = old[0] * 1.25 + 0.1;
