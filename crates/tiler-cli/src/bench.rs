@@ -9,7 +9,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
-use tiler::{Backend, Device, DeviceConfig};
+use tiler::{Backend, Device, DeviceConfig, SimdLevel};
 use tiler_scene::bench::{BenchCase, BenchScene, build, standard_cases};
 
 use crate::scene_args::parse_size;
@@ -45,10 +45,15 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 32)]
     pub tile: u32,
 
-    /// Samples per pixel of the colour and depth attachments (1 or 4). With 4 the picture is
-    /// resolved when it is read back; the frame's resolve is not counted yet.
+    /// Samples per pixel of the colour and depth attachments (1, 2, 4 or 8); the samples are
+    /// resolved in the tile and only the resolved image is stored.
     #[arg(long, default_value_t = 1)]
     pub msaa: u32,
+
+    /// The instruction set of the pixel pipeline: `baseline` or `avx2` [default: the best this
+    /// processor runs].
+    #[arg(long)]
+    pub simd: Option<SimdLevel>,
 
     /// Folder holding the glTF models (DamagedHelmet/, Atrium/) [default: $TILER_ASSETS, else
     /// ../shared/assets].
@@ -92,6 +97,7 @@ struct SceneResult {
 struct Report {
     backend: Backend,
     threads: usize,
+    simd: String,
     tile: u32,
     results: Vec<SceneResult>,
     skipped: Vec<String>,
@@ -123,8 +129,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         chosen
     };
     let (width, height) = args.size;
-    let config = DeviceConfig { backend: args.backend, threads: args.threads, ..DeviceConfig::default() }
-        .with_tile_size(args.tile);
+    let config =
+        DeviceConfig { backend: args.backend, threads: args.threads, simd: args.simd, ..DeviceConfig::default() }
+            .with_tile_size(args.tile);
 
     let mut skipped = Vec::new();
     let runnable: Vec<BenchCase> = cases
@@ -156,10 +163,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 
     let mut results = Vec::new();
     let mut threads = 0;
+    let mut simd = SimdLevel::best();
     for case in &runnable {
         progress.set_message(format!("{} (loading)", case.name));
         let mut device = Device::new(config.clone()).context("creating the device")?;
         threads = device.threads();
+        simd = device.config().simd.unwrap_or_default();
         let started = Instant::now();
         let (scene, work) = build(&mut device, &case.scene, width, height, args.msaa)
             .with_context(|| format!("building scene {}", case.name))?;
@@ -191,7 +200,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     progress.finish_and_clear();
 
-    let report = Report { backend: args.backend, threads, tile: args.tile, results, skipped };
+    let report = Report { backend: args.backend, threads, simd: simd.to_string(), tile: args.tile, results, skipped };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
@@ -248,8 +257,11 @@ fn figures(
 fn table(report: &Report) -> String {
     use std::fmt::Write;
     let mut out = String::new();
-    let _ =
-        writeln!(out, "backend {}, {} threads, {}×{} tiles", report.backend, report.threads, report.tile, report.tile);
+    let _ = writeln!(
+        out,
+        "backend {}, {} threads, {}×{} tiles, {} pixel pipeline",
+        report.backend, report.threads, report.tile, report.tile, report.simd
+    );
     let _ = writeln!(
         out,
         "{:<14} {:>11} {:>7} {:>11} {:>9} {:>9} {:>10} {:>10} {:>11} {:>9}",

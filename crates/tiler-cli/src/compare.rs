@@ -53,7 +53,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     let presets = presets(&args.devices)?;
     let names: Vec<&str> =
         if args.scenes.is_empty() { vec!["builtin"] } else { args.scenes.iter().map(String::as_str).collect() };
-    let setup = Setup { threads: args.threads, tile: None, overdraw_map: args.report.wants_maps() };
+    let setup = Setup { threads: args.threads, simd: None, tile: None, overdraw_map: args.report.wants_maps() };
     let mut columns: Vec<Column> = Vec::with_capacity(presets.len() * names.len());
     let mut scenes = Vec::with_capacity(names.len());
     for name in &names {

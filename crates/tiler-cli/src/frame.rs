@@ -23,6 +23,8 @@ pub struct Rendered {
 pub struct Setup {
     /// Worker threads (0 = one per core).
     pub threads: usize,
+    /// The pixel pipeline's instruction set (`None`: the best this processor runs).
+    pub simd: Option<tiler::SimdLevel>,
     /// Square tile size overriding the preset's.
     pub tile: Option<u32>,
     /// Record per-pixel overdraw (for heat maps).
@@ -34,6 +36,7 @@ pub fn config(preset: &DevicePreset, backend: Backend, setup: &Setup) -> DeviceC
     let config = DeviceConfig {
         backend,
         threads: setup.threads,
+        simd: setup.simd,
         overdraw_map: setup.overdraw_map || preset.device.overdraw_map,
         ..preset.device.clone()
     };

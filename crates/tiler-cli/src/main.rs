@@ -3,6 +3,7 @@
 mod analyze;
 mod bench;
 mod compare;
+mod diff;
 mod frame;
 mod render;
 mod report_args;
@@ -33,6 +34,8 @@ enum Command {
     Compare(compare::CompareArgs),
     /// Replay a GL trace: its inferred render passes, what they cost, and advice.
     Analyze(analyze::AnalyzeArgs),
+    /// Compare two PNGs with the reference tolerance (99% of pixels within 8/255 per channel).
+    Diff(diff::DiffArgs),
 }
 
 fn main() -> ExitCode {
@@ -42,6 +45,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Analyze(args) => analyze::run(&args),
+        Command::Diff(args) => diff::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -44,6 +44,11 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
 
+    /// The instruction set of the pixel pipeline: `baseline` or `avx2` [default: the best this
+    /// processor runs]. Every level gives the same picture, bit for bit.
+    #[arg(long)]
+    pub simd: Option<tiler::SimdLevel>,
+
     /// A reference PNG to compare the picture with (at least 99% of pixels within 8/255 per
     /// channel); on failure the difference image is written beside the output as
     /// `<output>.diff.png`.
@@ -75,7 +80,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     args.report.check()?;
     let preset = device_preset(args.device.as_deref())?;
     let backend = args.backend.unwrap_or(preset.device.backend);
-    let setup = Setup { threads: args.threads, tile: args.tile, overdraw_map: args.report.wants_maps() };
+    let setup =
+        Setup { threads: args.threads, simd: args.simd, tile: args.tile, overdraw_map: args.report.wants_maps() };
     let source = args.scene_args.source(args.scene.as_deref())?;
     if let Some(line) = args.scene_args.describe(&source) {
         println!("{line}");

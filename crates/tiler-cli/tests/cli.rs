@@ -116,3 +116,56 @@ fn bench_prints_json() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown scene 'nothing'"));
 }
+
+#[test]
+fn diff_holds_pictures_to_the_reference_tolerance() {
+    let dir = scratch("diff");
+    let write = |name: &str, pixels: &[[u8; 4]]| {
+        let path = dir.join(name);
+        image::save_buffer(&path, pixels.as_flattened(), pixels.len() as u32, 1, image::ExtendedColorType::Rgba8)
+            .unwrap();
+        path
+    };
+    let reference = write("reference.png", &[[100, 100, 100, 255]; 100]);
+    let mut close = [[100, 100, 100, 255]; 100];
+    close[0] = [150, 100, 100, 255];
+    let close = write("close.png", &close);
+    let far = write("far.png", &[[108, 91, 100, 255]; 100]);
+    let diff_png = dir.join("far.diff.png");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+
+    // 99 of 100 pixels within 8/255: a match; 0 of 100: different, with the difference image.
+    let out = tiler(&["diff", &s(&close), &s(&reference)]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("99.000% of pixels within 8/255"));
+    let out = tiler(&["diff", &s(&far), &s(&reference), "--out", &s(&diff_png)]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("largest difference 9"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("far.png differs from"));
+    assert_eq!(image::open(&diff_png).unwrap().to_rgba8().get_pixel(0, 0).0, [91, 0, 0, 255]);
+    // A tolerance of 9 passes it; pictures of different sizes are an error that says so.
+    assert!(tiler(&["diff", &s(&far), &s(&reference), "--tolerance", "9"]).status.success());
+    let small = write("small.png", &[[0, 0, 0, 255]; 3]);
+    let out = tiler(&["diff", &s(&small), &s(&reference)]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("is 3×1 but"));
+}
+
+#[test]
+fn bench_runs_each_simd_level_alike() {
+    let run = |simd: &str| {
+        let out = tiler(&[
+            "bench", "--scene", "tris", "--size", "96x64", "--frames", "1", "--warmup", "0", "--json", "--simd", simd,
+        ]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(report["simd"], simd);
+        report["results"][0]["fragments_shaded"].as_u64().unwrap()
+    };
+    let baseline = run("baseline");
+    assert!(baseline > 0);
+    if tiler::SimdLevel::Avx2.is_available() {
+        assert_eq!(run("avx2"), baseline);
+    }
+    let out = tiler(&["bench", "--simd", "neon"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown SIMD level 'neon'"));
+}

@@ -56,6 +56,22 @@ impl SimdLevel {
     }
 }
 
+impl std::str::FromStr for SimdLevel {
+    type Err = String;
+    fn from_str(s: &str) -> Result<SimdLevel, String> {
+        [SimdLevel::Baseline, SimdLevel::Avx2]
+            .into_iter()
+            .find(|level| level.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| format!("unknown SIMD level '{s}' (expected one of: baseline, avx2)"))
+    }
+}
+
+impl std::fmt::Display for SimdLevel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Number of lanes (pixels) processed together.
 pub const LANES: usize = 8;
 

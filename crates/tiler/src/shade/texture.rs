@@ -49,6 +49,22 @@ pub const TEXEL_BYTES: u64 = 4;
 const BLOCK_TEXELS: u32 = 4;
 const BLOCK_BYTES: u64 = (BLOCK_TEXELS * BLOCK_TEXELS) as u64 * TEXEL_BYTES;
 
+/// The modelled bytes of the largest texture, `MAX_TEXTURE_DIMENSION` squared with every mip
+/// level (about 4/3 GiB). A level's bytes grow with its width and height, so every texture's
+/// modelled addresses, relative to its own, fit in 32 bits — and so do its texel indices
+/// (a quarter of the bytes).
+const MAX_MODELLED_BYTES: u64 = {
+    let (mut width, mut height, mut total) = (MAX_TEXTURE_DIMENSION, MAX_TEXTURE_DIMENSION, 0);
+    loop {
+        total += width.div_ceil(BLOCK_TEXELS) as u64 * height.div_ceil(BLOCK_TEXELS) as u64 * BLOCK_BYTES;
+        if width == 1 && height == 1 {
+            break total;
+        }
+        (width, height) = (if width > 1 { width / 2 } else { 1 }, if height > 1 { height / 2 } else { 1 });
+    }
+};
+const _: () = assert!(MAX_MODELLED_BYTES <= 1 << 32);
+
 /// How the colour channels of a texture are encoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ColorSpace {
@@ -274,30 +290,72 @@ impl Texture {
     /// Samples the eight lanes at `(u, v)`. Reads of the `counted` lanes go through `cache`
     /// (pass the lanes the GPU runs: every quad with a covered pixel, helpers included); the
     /// values of all lanes are computed the same way either way.
+    ///
+    /// A quad is sampled as a whole, as its lanes share a level plan: the texels of its four
+    /// lanes, their weights and cache lines are computed side by side ([`Footprint`]), the
+    /// cache model reads the lines in the order of the per-lane rules (lane by lane, each
+    /// lane's first level, then its second), and the filter runs across the lanes, channel by
+    /// channel. The tests hold it equal, bit for bit and count for count, to a lane-by-lane
+    /// reference.
+    #[inline(never)]
     pub fn sample(&self, sampler: &Sampler, u: F32x8, v: F32x8, counted: LaneMask, cache: &mut TextureCache) -> Vec4x8 {
+        match self.color_space {
+            // `color_table` is `UNORM8_TO_F32`: `c / 255`.
+            ColorSpace::Linear => self.sample_decoded(sampler, u, v, counted, cache, unorm8_to_f32),
+            ColorSpace::Srgb => self.sample_decoded(sampler, u, v, counted, cache, |c| self.color_table[c as usize]),
+        }
+    }
+
+    /// [`Texture::sample`] with `decode` for the colour channels of texels (alpha is UNORM8):
+    /// a kernel per colour space, so that linear textures decode with vector arithmetic.
+    #[inline(always)]
+    fn sample_decoded(
+        &self,
+        sampler: &Sampler,
+        u: F32x8,
+        v: F32x8,
+        counted: LaneMask,
+        cache: &mut TextureCache,
+        decode: impl Fn(u32) -> f32,
+    ) -> Vec4x8 {
         let lods = quad_lods(u * self.width() as f32, v * self.height() as f32);
-        let mut out = [[0.0f32; 8]; 4];
+        let line_shift = cache.line_shift();
+        // Texel (x, y)'s modelled address is `id · 2^40` plus an offset below 2^32
+        // (`MAX_MODELLED_BYTES`), so its line is the texture's first line plus the offset's:
+        // the low 40 bits of `id · 2^40` are zero, and lines are at most 2^12 bytes.
+        let first_line = (self.id << 40) >> line_shift;
+        let mut out = [F32x8::ZERO; 4];
         for (quad, lanes) in QUAD_LANES.iter().enumerate() {
-            let plan = self.plan(sampler, lods[quad] + sampler.lod_bias);
-            for &lane in lanes {
-                let count = counted.contains(lane);
-                let (lu, lv) = (u.lane(lane), v.lane(lane));
-                let rgba = match plan {
-                    LevelPlan::Single { level, filter } => {
-                        self.sample_level(level, filter, sampler, lu, lv, count, cache)
+            let u = reduce_quad(self::lanes(|i| u.lane(lanes[i])), sampler.wrap_u);
+            let v = reduce_quad(self::lanes(|i| v.lane(lanes[i])), sampler.wrap_v);
+            let counted = lanes.map(|lane| counted.contains(lane));
+            let rgba = match self.plan(sampler, lods[quad] + sampler.lod_bias) {
+                LevelPlan::Single { level, filter } => {
+                    let near = self.footprint(level, filter, sampler, u, v, line_shift);
+                    for lane in (0..4).filter(|&lane| counted[lane]) {
+                        near.read(lane, first_line, cache);
                     }
-                    LevelPlan::Blend { level, filter, weight } => {
-                        let a = self.sample_level(level, filter, sampler, lu, lv, count, cache);
-                        let b = self.sample_level(level + 1, filter, sampler, lu, lv, count, cache);
-                        std::array::from_fn(|c| a[c] + weight * (b[c] - a[c]))
+                    self.filter(&near, &decode)
+                }
+                LevelPlan::Blend { level, filter, weight } => {
+                    let near = self.footprint(level, filter, sampler, u, v, line_shift);
+                    let far = self.footprint(level + 1, filter, sampler, u, v, line_shift);
+                    for lane in (0..4).filter(|&lane| counted[lane]) {
+                        near.read(lane, first_line, cache);
+                        far.read(lane, first_line, cache);
                     }
-                };
-                for c in 0..4 {
-                    out[c][lane] = rgba[c];
+                    let (a, b) = (self.filter(&near, &decode), self.filter(&far, &decode));
+                    let blend = |c: usize| self::lanes(|i| a[c][i] + weight * (b[c][i] - a[c][i]));
+                    [blend(0), blend(1), blend(2), blend(3)]
+                }
+            };
+            for (rgba, out) in rgba.iter().zip(&mut out) {
+                for (&value, &lane) in rgba.iter().zip(lanes) {
+                    out.0[lane] = value;
                 }
             }
         }
-        out.map(F32x8)
+        out
     }
 
     /// The levels and filter for a level of detail `lambda` (GL §8.14–8.15, see the module
@@ -324,53 +382,128 @@ impl Texture {
         }
     }
 
-    /// One lane's filtered colour on one level.
-    #[allow(clippy::too_many_arguments)]
-    #[inline]
-    fn sample_level(
+    /// What a quad reads on `level` with `filter` at the reduced coordinates `(u, v)` of its
+    /// lanes (see [`reduce`]): texels and weights, and the cache lines that hold the texels
+    /// (`line_shift`: [`TextureCache::line_shift`]).
+    #[inline(always)]
+    fn footprint(
         &self,
         level: usize,
         filter: Filter,
         sampler: &Sampler,
-        u: f32,
-        v: f32,
-        count: bool,
-        cache: &mut TextureCache,
-    ) -> [f32; 4] {
-        let l = self.levels[level];
-        match filter {
+        u: Quad,
+        v: Quad,
+        line_shift: u32,
+    ) -> Footprint {
+        let l = &self.levels[level];
+        let (x, alpha, y, beta) = match filter {
             Filter::Nearest => {
-                let x = nearest_index(u, l.width, sampler.wrap_u);
-                let y = nearest_index(v, l.height, sampler.wrap_v);
-                self.fetch(level, x, y, count, cache)
+                let (x, y) = (nearest_texels(u, l.width, sampler.wrap_u), nearest_texels(v, l.height, sampler.wrap_v));
+                ([x; 2], [0.0; 4], [y; 2], [0.0; 4])
             }
             Filter::Linear => {
-                let (x0, x1, alpha) = linear_indices(u, l.width, sampler.wrap_u);
-                let (y0, y1, beta) = linear_indices(v, l.height, sampler.wrap_v);
-                let t00 = self.fetch(level, x0, y0, count, cache);
-                let t10 = self.fetch(level, x1, y0, count, cache);
-                let t01 = self.fetch(level, x0, y1, count, cache);
-                let t11 = self.fetch(level, x1, y1, count, cache);
-                std::array::from_fn(|c| {
-                    let top = t00[c] + alpha * (t10[c] - t00[c]);
-                    let bottom = t01[c] + alpha * (t11[c] - t01[c]);
-                    top + beta * (bottom - top)
-                })
+                let (x, alpha) = linear_texels(u, l.width, sampler.wrap_u);
+                let (y, beta) = linear_texels(v, l.height, sampler.wrap_v);
+                (x, alpha, y, beta)
             }
+        };
+        // Texel (x, y) is at `row(y) + x` in `texels`, and at `row_offset(y) + column_offset(x)`
+        // in the modelled memory of the texture.
+        let row = |y: Quad<u32>| lanes(|i| l.first_texel as u32 + y[i] * l.width);
+        let row_offset = |y: Quad<u32>| lanes(|i| l.row_offset(y[i]));
+        let column_offset = |x: Quad<u32>| lanes(|i| l.column_offset(x[i]));
+        let (rows, row_offsets) = ([row(y[0]), row(y[1])], [row_offset(y[0]), row_offset(y[1])]);
+        let column_offsets = [column_offset(x[0]), column_offset(x[1])];
+        let texel = |(cx, cy): (usize, usize)| lanes(|i| rows[cy][i] + x[cx][i]);
+        let line = |(cx, cy): (usize, usize)| lanes(|i| (row_offsets[cy][i] + column_offsets[cx][i]) >> line_shift);
+        let corners = [(0, 0), (1, 0), (0, 1), (1, 1)];
+        Footprint {
+            filter,
+            texels: [texel(corners[0]), texel(corners[1]), texel(corners[2]), texel(corners[3])],
+            lines: [line(corners[0]), line(corners[1]), line(corners[2]), line(corners[3])],
+            alpha,
+            beta,
         }
     }
 
-    /// One texel, decoded to floats, its read counted when `count`.
+    /// The filtered colour of a footprint's lanes, `[channel][lane]` (see the module notes for
+    /// the linear filter's formula), colour channels decoded by `decode`.
     #[inline(always)]
-    fn fetch(&self, level: usize, x: u32, y: u32, count: bool, cache: &mut TextureCache) -> [f32; 4] {
-        let l = &self.levels[level];
-        debug_assert!(x < l.width && y < l.height);
-        if count {
-            cache.access(self.texel_address(level, x, y));
+    fn filter(&self, footprint: &Footprint, decode: &impl Fn(u32) -> f32) -> [Quad; 4] {
+        let texels = |corner: usize| lanes(|i| u32::from_le_bytes(self.texels[footprint.texels[corner][i] as usize]));
+        match footprint.filter {
+            Filter::Nearest => {
+                let t = texels(0);
+                let channel = |c: u32| lanes(|i| decode(t[i] >> (8 * c) & 0xff));
+                [channel(0), channel(1), channel(2), lanes(|i| unorm8_to_f32(t[i] >> 24))]
+            }
+            Filter::Linear => {
+                let t = [texels(0), texels(1), texels(2), texels(3)];
+                let (alpha, beta) = (&footprint.alpha, &footprint.beta);
+                [
+                    bilinear_channel(&t, 0, alpha, beta, decode),
+                    bilinear_channel(&t, 1, alpha, beta, decode),
+                    bilinear_channel(&t, 2, alpha, beta, decode),
+                    bilinear_channel(&t, 3, alpha, beta, &unorm8_to_f32),
+                ]
+            }
         }
-        let [r, g, b, a] = self.texels[l.first_texel + y as usize * l.width as usize + x as usize];
-        let t = &self.color_table;
-        [t[r as usize], t[g as usize], t[b as usize], UNORM8_TO_F32[a as usize]]
+    }
+}
+
+/// Channel `c` of four lanes' bilinear filter: `t` holds the texels `[corner][lane]`,
+/// `decode` turns a channel's byte to a float. (Each channel through a function of its own,
+/// not a loop, which LLVM would vectorise across the channels of a texel instead.)
+#[inline(always)]
+fn bilinear_channel(t: &[Quad<u32>; 4], c: u32, alpha: &Quad, beta: &Quad, decode: &impl Fn(u32) -> f32) -> Quad {
+    let corner = |k: usize| lanes(|i| decode(t[k][i] >> (8 * c) & 0xff));
+    let (t00, t10, t01, t11) = (corner(0), corner(1), corner(2), corner(3));
+    let top = lanes(|i| t00[i] + alpha[i] * (t10[i] - t00[i]));
+    let bottom = lanes(|i| t01[i] + alpha[i] * (t11[i] - t01[i]));
+    lanes(|i| top[i] + beta[i] * (bottom[i] - top[i]))
+}
+
+/// Four lanes of a quad, in [`QUAD_LANES`] order.
+type Quad<T = f32> = [T; 4];
+
+/// `[f(0), f(1), f(2), f(3)]`, as a plain loop the vectoriser sees through.
+#[inline(always)]
+fn lanes<T: Copy + Default>(f: impl Fn(usize) -> T) -> Quad<T> {
+    let mut out = [T::default(); 4];
+    for (i, out) in out.iter_mut().enumerate() {
+        *out = f(i);
+    }
+    out
+}
+
+/// `c / 255` for a byte `c`: [`UNORM8_TO_F32`] computed, not looked up, so that it vectorises.
+#[inline(always)]
+fn unorm8_to_f32(c: u32) -> f32 {
+    c as i32 as f32 / 255.0
+}
+
+/// What a quad reads on one level: per lane, its texels (indices into the texture's `texels`)
+/// and the cache lines that hold them (relative to the texture's first line), both
+/// `[corner][lane]`. Nearest filtering reads corner 0; linear filtering reads `(x0, y0)`,
+/// `(x1, y0)`, `(x0, y1)`, `(x1, y1)` and weighs them with `α` and `β`.
+struct Footprint {
+    filter: Filter,
+    texels: [Quad<u32>; 4],
+    lines: [Quad<u32>; 4],
+    alpha: Quad,
+    beta: Quad,
+}
+
+impl Footprint {
+    /// Reads lane `lane`'s lines through `cache`, in the order of its texels (`first_line`:
+    /// the texture's).
+    #[inline(always)]
+    fn read(&self, lane: usize, first_line: u64, cache: &mut TextureCache) {
+        let l = &self.lines;
+        match self.filter {
+            Filter::Nearest => cache.access_lines(first_line, &[l[0][lane]]),
+            Filter::Linear => cache.access_lines(first_line, &[l[0][lane], l[1][lane], l[2][lane], l[3][lane]]),
+        }
     }
 }
 
@@ -382,6 +515,21 @@ impl Level {
     /// Bytes of the level in the modelled block layout.
     fn modelled_bytes(&self) -> u64 {
         self.blocks_x as u64 * self.height.div_ceil(BLOCK_TEXELS) as u64 * BLOCK_BYTES
+    }
+
+    /// The modelled address of texel `(x, y)` relative to the texture's (see
+    /// [`Texture::texel_address`]) is `row_offset(y) + column_offset(x)`, below 2^32
+    /// ([`MAX_MODELLED_BYTES`]): the level's, plus the block row's and the row's within the block.
+    #[inline(always)]
+    fn row_offset(&self, y: u32) -> u32 {
+        let block_row = y / BLOCK_TEXELS * self.blocks_x;
+        self.address as u32 + block_row * BLOCK_BYTES as u32 + y % BLOCK_TEXELS * (BLOCK_TEXELS * TEXEL_BYTES as u32)
+    }
+
+    /// See [`Level::row_offset`]: the block column's offset and the column's within the block.
+    #[inline(always)]
+    fn column_offset(&self, x: u32) -> u32 {
+        x / BLOCK_TEXELS * BLOCK_BYTES as u32 + x % BLOCK_TEXELS * TEXEL_BYTES as u32
     }
 }
 
@@ -450,19 +598,40 @@ pub fn log2(x: f32) -> f32 {
 
 /// `x.floor()`, exactly, without a call to the C library's `floorf` (which the baseline x86-64
 /// target has no instruction for): values of magnitude 2^23 or more, and NaN and infinities,
-/// are already integers (or not numbers) and come back unchanged, as do both zeros.
+/// are already integers (or not numbers) and come back unchanged, as do both zeros. Below
+/// 2^23, `(|x| + 2^23) − 2^23` rounds `|x|` to an integer (f32 has no fraction bits there), so
+/// with `x`'s sign it is within 1 of `x`, and one step down where it is above `x` gives `⌊x⌋`
+/// (`+0` for `x` in `(0, 1)`). Float operations and selects only — no conversion to integers,
+/// whose saturation keeps lanes of `as i32` from vectorising.
 #[inline(always)]
 fn floor(x: f32) -> f32 {
-    if x.is_nan() || x.abs() >= 8_388_608.0 || x == 0.0 {
-        return x;
-    }
-    let t = x as i32 as f32;
-    if t > x { t - 1.0 } else { t }
+    const TWO_POW_23: f32 = 8_388_608.0;
+    let magnitude = x.abs();
+    let rounded = ((magnitude + TWO_POW_23) - TWO_POW_23).copysign(x);
+    let below = if rounded > x { rounded - 1.0 } else { rounded };
+    let unchanged = x.is_nan() || magnitude >= TWO_POW_23 || x == 0.0;
+    if unchanged { x } else { below }
+}
+
+/// `(⌊x⌋, ⌊x⌋ as i32)` for `|x| < 2^22`, the first bit for bit [`floor`]: `x + 1.5 · 2^23`
+/// lies in `[2^23, 2^24)`, where consecutive floats are consecutive integers, so it rounds `x`
+/// to an integer whose value its bits count up from those of `1.5 · 2^23`; with `x`'s sign,
+/// one step down where that is above `x` gives `⌊x⌋`. Unlike `as i32`, whose saturation keeps
+/// lanes of it from vectorising, this is float and integer arithmetic only.
+#[inline(always)]
+fn floor_small(x: f32) -> (f32, i32) {
+    const ONE_AND_A_HALF_POW_23: f32 = 12_582_912.0;
+    debug_assert!(x.abs() < 4_194_304.0);
+    let shifted = x + ONE_AND_A_HALF_POW_23;
+    let rounded = (shifted - ONE_AND_A_HALF_POW_23).copysign(x);
+    let above = rounded > x;
+    let integer = shifted.to_bits() as i32 - ONE_AND_A_HALF_POW_23.to_bits() as i32 - above as i32;
+    (if above { rounded - 1.0 } else { rounded }, integer)
 }
 
 /// Reduces `u` for the wrap mode so that scaling keeps sub-texel precision: repeat to
-/// `[0, 1]`, mirrored repeat to `[0, 2)`, clamp-to-edge to `[−1, 2]` (past which nothing
-/// changes). NaN becomes 0.
+/// `[0, 1]`, mirrored repeat to `[0, 2]` (and `−2^-149`, whose half rounds to −0), clamp-to-edge
+/// to `[−1, 2]` (past which nothing changes). NaN becomes 0.
 #[inline(always)]
 fn reduce(u: f32, wrap: Wrap) -> f32 {
     let r = match wrap {
@@ -473,41 +642,218 @@ fn reduce(u: f32, wrap: Wrap) -> f32 {
     if r.is_nan() { 0.0 } else { r }
 }
 
-/// Applies the wrap to an integer texel index along an axis of `n` texels.
+/// Applies the wrap to texel index `i` of an axis of `n` texels, for the indices that reduced
+/// coordinates (see [`reduce`]) give, where `i mod n` and `i mod 2n` need one correction at
+/// most, no division. Repeat reduces to `[0, 1]`, so nearest filtering gives `⌊u · n⌋ ∈ [0, n]`
+/// and linear `i0 ∈ [−1, n − 1]`, `i1 ∈ [0, n]`, inside `[−n, 2n)` where one correction by
+/// `n` is `i mod n`. Mirrored repeat reduces to `[0, 2]` (and keeps `−2^-149`, whose half is
+/// −0), so `i ∈ [−1, 2n]`, inside `[−2n, 4n)` where one correction by `2n` is `i mod 2n`.
+/// Clamp-to-edge takes any `i`.
 #[inline(always)]
-fn wrap_index(i: i64, n: u32, wrap: Wrap) -> u32 {
-    let n = n as i64;
+fn wrap_reduced(i: i32, n: u32, wrap: Wrap) -> u32 {
+    let n = n as i32;
     let wrapped = match wrap {
-        Wrap::Repeat => i.rem_euclid(n),
+        Wrap::Repeat => {
+            debug_assert!((-n..2 * n).contains(&i));
+            if i < 0 {
+                i + n
+            } else if i >= n {
+                i - n
+            } else {
+                i
+            }
+        }
         Wrap::ClampToEdge => i.clamp(0, n - 1),
         Wrap::MirroredRepeat => {
-            let m = i.rem_euclid(2 * n);
+            debug_assert!((-2 * n..4 * n).contains(&i));
+            let m = if i < 0 {
+                i + 2 * n
+            } else if i >= 2 * n {
+                i - 2 * n
+            } else {
+                i
+            };
             if m < n { m } else { 2 * n - 1 - m }
         }
     };
     wrapped as u32
 }
 
-/// The texel index for nearest filtering: `⌊u · n⌋`, wrapped.
+/// Reduces a quad's coordinates for `wrap` ([`reduce`]).
 #[inline(always)]
-fn nearest_index(u: f32, n: u32, wrap: Wrap) -> u32 {
-    wrap_index(floor(reduce(u, wrap) * n as f32) as i64, n, wrap)
+fn reduce_quad(u: Quad, wrap: Wrap) -> Quad {
+    match wrap {
+        Wrap::Repeat => lanes(|i| reduce(u[i], Wrap::Repeat)),
+        Wrap::ClampToEdge => lanes(|i| reduce(u[i], Wrap::ClampToEdge)),
+        Wrap::MirroredRepeat => lanes(|i| reduce(u[i], Wrap::MirroredRepeat)),
+    }
 }
 
-/// The two texel indices and the weight of the second for linear filtering:
-/// `i0 = ⌊u · n − ½⌋`, `i1 = i0 + 1`, `α = frac(u · n − ½)`, wrapped.
+/// The texel indices for nearest filtering at reduced coordinates `r`: `⌊r · n⌋`, wrapped.
+/// (`⌊r · n⌋` is in `[−1, 2n]`, see [`wrap_reduced`].)
 #[inline(always)]
-fn linear_indices(u: f32, n: u32, wrap: Wrap) -> (u32, u32, f32) {
-    let x = reduce(u, wrap) * n as f32 - 0.5;
-    let base = floor(x);
-    let i0 = base as i64;
-    (wrap_index(i0, n, wrap), wrap_index(i0 + 1, n, wrap), x - base)
+fn nearest_texels(r: Quad, n: u32, wrap: Wrap) -> Quad<u32> {
+    let i = lanes(|i| floor_small(r[i] * n as f32).1);
+    match wrap {
+        Wrap::Repeat => lanes(|k| wrap_reduced(i[k], n, Wrap::Repeat)),
+        Wrap::ClampToEdge => lanes(|k| wrap_reduced(i[k], n, Wrap::ClampToEdge)),
+        Wrap::MirroredRepeat => lanes(|k| wrap_reduced(i[k], n, Wrap::MirroredRepeat)),
+    }
+}
+
+/// The two texel indices of each lane and the weight of the second for linear filtering at
+/// reduced coordinates `r`: `i0 = ⌊r · n − ½⌋`, `i1 = i0 + 1`, `α = frac(r · n − ½)`, wrapped
+/// as [`wrap_reduced`] does, with only the correction each can need: repeat and mirrored
+/// repeat take `i0` from `[−1, p)` and `i1` from `[0, p]`, `p` the period (`n`, `2n`).
+#[inline(always)]
+fn linear_texels(r: Quad, n: u32, wrap: Wrap) -> ([Quad<u32>; 2], Quad) {
+    let x = lanes(|i| r[i] * n as f32 - 0.5);
+    let floors = lanes(|i| floor_small(x[i]));
+    let i0 = lanes(|i| floors[i].1);
+    let (n, alpha) = (n as i32, lanes(|i| x[i] - floors[i].0));
+    let mirror = |m: i32| if m < n { m } else { 2 * n - 1 - m };
+    let (x0, x1) = match wrap {
+        Wrap::Repeat => (
+            lanes(|i| if i0[i] < 0 { i0[i] + n } else { i0[i] }),
+            lanes(|i| if i0[i] + 1 == n { 0 } else { i0[i] + 1 }),
+        ),
+        Wrap::ClampToEdge => (lanes(|i| i0[i].clamp(0, n - 1)), lanes(|i| (i0[i] + 1).clamp(0, n - 1))),
+        Wrap::MirroredRepeat => (
+            lanes(|i| mirror(if i0[i] < 0 { i0[i] + 2 * n } else { i0[i] })),
+            lanes(|i| mirror(if i0[i] + 1 == 2 * n { 0 } else { i0[i] + 1 })),
+        ),
+    };
+    ([x0.map(|x| x as u32), x1.map(|x| x as u32)], alpha)
 }
 
 #[cfg(test)]
 mod tests {
+    use proptest::prelude::*;
+
     use super::*;
     use crate::shade::texture_cache::TextureCacheConfig;
+    use crate::simd::{LANE_DX, LANE_DY};
+
+    /// The scalar reference of [`Texture::sample`]: the module's rules lane by lane, every
+    /// texel read through [`Texture::texel_address`] and [`TextureCache::access`] one by one.
+    fn reference_sample(
+        texture: &Texture,
+        sampler: &Sampler,
+        u: F32x8,
+        v: F32x8,
+        counted: LaneMask,
+        cache: &mut TextureCache,
+    ) -> Vec4x8 {
+        let lods = quad_lods(u * texture.width() as f32, v * texture.height() as f32);
+        let mut out = [[0.0f32; 8]; 4];
+        for (quad, lanes) in QUAD_LANES.iter().enumerate() {
+            let plan = texture.plan(sampler, lods[quad] + sampler.lod_bias);
+            for &lane in lanes {
+                let count = counted.contains(lane);
+                let (lu, lv) = (u.lane(lane), v.lane(lane));
+                let level = |level, filter, cache: &mut TextureCache| {
+                    reference_sample_level(texture, level, filter, sampler, lu, lv, count, cache)
+                };
+                let rgba = match plan {
+                    LevelPlan::Single { level: l, filter } => level(l, filter, cache),
+                    LevelPlan::Blend { level: l, filter, weight } => {
+                        let a = level(l, filter, cache);
+                        let b = level(l + 1, filter, cache);
+                        std::array::from_fn(|c| a[c] + weight * (b[c] - a[c]))
+                    }
+                };
+                for c in 0..4 {
+                    out[c][lane] = rgba[c];
+                }
+            }
+        }
+        out.map(F32x8)
+    }
+
+    /// One lane's filtered colour on one level.
+    #[allow(clippy::too_many_arguments)]
+    fn reference_sample_level(
+        texture: &Texture,
+        level: usize,
+        filter: Filter,
+        sampler: &Sampler,
+        u: f32,
+        v: f32,
+        count: bool,
+        cache: &mut TextureCache,
+    ) -> [f32; 4] {
+        let l = texture.levels[level];
+        let mut fetch = |x: u32, y: u32| {
+            assert!(x < l.width && y < l.height);
+            if count {
+                cache.access(texture.texel_address(level, x, y));
+            }
+            let [r, g, b, a] = texture.texels[l.first_texel + y as usize * l.width as usize + x as usize];
+            let t = &texture.color_table;
+            [t[r as usize], t[g as usize], t[b as usize], UNORM8_TO_F32[a as usize]]
+        };
+        match filter {
+            Filter::Nearest => {
+                let nearest = |u: f32, n: u32, wrap: Wrap| {
+                    wrap_index(reference_floor(reference_reduce(u, wrap) * n as f32) as i64, n, wrap)
+                };
+                let (x, y) = (nearest(u, l.width, sampler.wrap_u), nearest(v, l.height, sampler.wrap_v));
+                fetch(x, y)
+            }
+            Filter::Linear => {
+                let (x0, x1, alpha) = reference_linear_indices(u, l.width, sampler.wrap_u);
+                let (y0, y1, beta) = reference_linear_indices(v, l.height, sampler.wrap_v);
+                let (t00, t10, t01, t11) = (fetch(x0, y0), fetch(x1, y0), fetch(x0, y1), fetch(x1, y1));
+                std::array::from_fn(|c| {
+                    let top = t00[c] + alpha * (t10[c] - t00[c]);
+                    let bottom = t01[c] + alpha * (t11[c] - t01[c]);
+                    top + beta * (bottom - top)
+                })
+            }
+        }
+    }
+
+    /// The two texel indices and the weight of the second for linear filtering:
+    /// `i0 = ⌊u · n − ½⌋`, `i1 = i0 + 1`, `α = frac(u · n − ½)`, wrapped.
+    fn reference_linear_indices(u: f32, n: u32, wrap: Wrap) -> (u32, u32, f32) {
+        let x = reference_reduce(u, wrap) * n as f32 - 0.5;
+        let base = reference_floor(x);
+        let i0 = base as i64;
+        (wrap_index(i0, n, wrap), wrap_index(i0 + 1, n, wrap), x - base)
+    }
+
+    /// [`reduce`] with [`reference_floor`].
+    fn reference_reduce(u: f32, wrap: Wrap) -> f32 {
+        let r = match wrap {
+            Wrap::Repeat => u - reference_floor(u),
+            Wrap::MirroredRepeat => u - 2.0 * reference_floor(u * 0.5),
+            Wrap::ClampToEdge => u.clamp(-1.0, 2.0),
+        };
+        if r.is_nan() { 0.0 } else { r }
+    }
+
+    /// [`floor`] by truncation to an integer.
+    fn reference_floor(x: f32) -> f32 {
+        if x.is_nan() || x.abs() >= 8_388_608.0 || x == 0.0 {
+            return x;
+        }
+        let t = x as i32 as f32;
+        if t > x { t - 1.0 } else { t }
+    }
+
+    /// Applies the wrap to any integer texel index along an axis of `n` texels.
+    fn wrap_index(i: i64, n: u32, wrap: Wrap) -> u32 {
+        let n = n as i64;
+        let wrapped = match wrap {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::ClampToEdge => i.clamp(0, n - 1),
+            Wrap::MirroredRepeat => {
+                let m = i.rem_euclid(2 * n);
+                if m < n { m } else { 2 * n - 1 - m }
+            }
+        };
+        wrapped as u32
+    }
 
     /// A texture whose texel (x, y) of level 0 has red = x, green = y (as bytes).
     fn ramp(width: u32, height: u32, mips: MipChain) -> Texture {
@@ -570,6 +916,32 @@ mod tests {
         }
         assert!(floor(f32::NAN).is_nan());
         assert_eq!(floor(f32::NEG_INFINITY), f32::NEG_INFINITY);
+    }
+
+    #[test]
+    fn floor_and_floor_small_match_truncation_everywhere() {
+        // Every 97th bit pattern (all exponents, both signs, NaNs, infinities), and the
+        // neighbours of the integers and half-integers where rounding could go wrong.
+        let strided = (0..=u32::MAX / 97).map(|i| f32::from_bits(i * 97));
+        let near_integers = (-4096..4096).flat_map(|i| {
+            let x = i as f32 * 0.5;
+            [x, f32::from_bits(x.to_bits() + 1), f32::from_bits(x.to_bits().wrapping_sub(1))]
+        });
+        for x in strided.chain(near_integers) {
+            let (got, want) = (floor(x), reference_floor(x));
+            assert!(got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()), "{x:e}: {got} vs {want}");
+            if x.abs() < 4_194_304.0 {
+                let (floor, integer) = floor_small(x);
+                assert_eq!((floor.to_bits(), integer), (want.to_bits(), want as i32), "{x:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn unorm8_is_computed_as_the_table() {
+        for c in 0..256 {
+            assert_eq!(unorm8_to_f32(c).to_bits(), UNORM8_TO_F32[c as usize].to_bits(), "{c}");
+        }
     }
 
     #[test]
@@ -714,5 +1086,201 @@ mod tests {
         assert!(Texture::from_rgba8(0, 4, &[], ColorSpace::Linear, MipChain::Box).is_err());
         assert!(Texture::from_rgba8(2, 2, &[0; 15], ColorSpace::Linear, MipChain::Box).is_err());
         assert!(Texture::from_rgba8(MAX_TEXTURE_DIMENSION + 1, 1, &[], ColorSpace::Linear, MipChain::Box).is_err());
+    }
+
+    #[test]
+    fn wrap_reduced_matches_the_general_wrap_where_reduced_coordinates_land() {
+        for n in (1..=70).chain([255, 256, 4097, MAX_TEXTURE_DIMENSION]) {
+            let n64 = n as i64;
+            for i in -1..=n64 {
+                assert_eq!(
+                    wrap_reduced(i as i32, n, Wrap::Repeat),
+                    wrap_index(i, n, Wrap::Repeat),
+                    "repeat {i} of {n}"
+                );
+            }
+            for i in -1..=2 * n64 {
+                let mirror = Wrap::MirroredRepeat;
+                assert_eq!(wrap_reduced(i as i32, n, mirror), wrap_index(i, n, mirror), "mirror {i} of {n}");
+            }
+            for i in -n64 - 1..=2 * n64 {
+                let clamp = Wrap::ClampToEdge;
+                assert_eq!(wrap_reduced(i as i32, n, clamp), wrap_index(i, n, clamp), "clamp {i} of {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn reduced_coordinates_give_the_indices_wrap_reduced_takes() {
+        // At the edges of what f32 can do (−2^-149: its half underflows to −0, so mirrored
+        // repeat keeps it, and nearest filtering takes index −1).
+        let specials = [
+            0.0f32,
+            -0.0,
+            -1.0e-10,
+            1.0e-10,
+            -f32::MIN_POSITIVE,
+            -f32::from_bits(1),
+            -f32::from_bits(2),
+            1.0 - f32::EPSILON / 2.0,
+            -(1.0 - f32::EPSILON / 2.0),
+            1.0,
+            -1.0,
+            2.0,
+            -2.0,
+            8_388_607.5,
+            -8_388_607.5,
+            1.0e30,
+            -1.0e30,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ];
+        for u in specials {
+            for n in [1u32, 2, 3, 7, 64, 1000, MAX_TEXTURE_DIMENSION] {
+                let n64 = n as i64;
+                for (wrap, range) in [
+                    (Wrap::Repeat, -1..=n64),
+                    (Wrap::MirroredRepeat, -1..=2 * n64),
+                    (Wrap::ClampToEdge, -n64 - 1..=2 * n64),
+                ] {
+                    let r = reduce(u, wrap);
+                    let x = r * n as f32 - 0.5;
+                    for i in [floor(r * n as f32) as i64, floor(x) as i64, floor(x) as i64 + 1] {
+                        assert!(range.contains(&i), "{wrap:?} {u} of {n}: index {i}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn line_offsets_match_texel_addresses() {
+        let t = ramp(37, 21, MipChain::Box);
+        for config in cache_configs() {
+            let shift = TextureCache::new(config).line_shift();
+            for (level, l) in t.levels().iter().enumerate() {
+                for (x, y) in [(0, 0), (1, 0), (3, 3), (4, 0), (0, 4), (l.width - 1, l.height - 1)] {
+                    let line = ((t.id << 40) >> shift) + ((l.row_offset(y) + l.column_offset(x)) >> shift) as u64;
+                    assert_eq!(line, t.texel_address(level, x, y) >> shift, "level {level} ({x}, {y})");
+                }
+            }
+        }
+    }
+
+    /// Cache shapes to count with: the default, direct mapped, lines smaller and larger than a
+    /// 4×4 block, fully associative.
+    fn cache_configs() -> [TextureCacheConfig; 5] {
+        let config = |size_bytes, line_bytes, ways| TextureCacheConfig { size_bytes, line_bytes, ways };
+        [TextureCacheConfig::DEFAULT, config(256, 64, 1), config(512, 16, 2), config(8192, 256, 4), config(1024, 4, 64)]
+    }
+
+    /// A coordinate for the oracle: mostly ordinary, sometimes at the edges of f32.
+    fn coordinate() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            8 => -3.0f32..3.0,
+            1 => -1.0e6f32..1.0e6,
+            1 => prop::sample::select(vec![
+                0.0f32,
+                -0.0,
+                -1.0e-10,
+                1.0,
+                8_388_607.5,
+                1.0e30,
+                -1.0e30,
+                f32::INFINITY,
+                f32::NEG_INFINITY,
+                f32::NAN
+            ]),
+        ]
+    }
+
+    /// A texel-space step per pixel from far magnified to far minified.
+    fn step() -> impl Strategy<Value = f32> {
+        prop_oneof![4 => -0.1f32..0.1, 4 => -1.5f32..1.5, 1 => -200.0f32..200.0, 1 => Just(0.0)]
+    }
+
+    /// One 4×2 group: a base coordinate and its derivatives per pixel (as a rasterizer gives),
+    /// a lane replaced by an arbitrary coordinate at times, and the counted lanes.
+    fn group() -> impl Strategy<Value = (F32x8, F32x8, LaneMask)> {
+        (
+            coordinate(),
+            coordinate(),
+            step(),
+            step(),
+            step(),
+            step(),
+            any::<u8>(),
+            prop::option::of((0..8usize, coordinate(), coordinate())),
+        )
+            .prop_map(|(u0, v0, dudx, dvdx, dudy, dvdy, counted, odd)| {
+                let at = |base: f32, dx: f32, dy: f32, i: usize| base + dx * LANE_DX[i] as f32 + dy * LANE_DY[i] as f32;
+                let mut u = F32x8::from_fn(|i| at(u0, dudx, dudy, i));
+                let mut v = F32x8::from_fn(|i| at(v0, dvdx, dvdy, i));
+                if let Some((lane, ou, ov)) = odd {
+                    (u.0[lane], v.0[lane]) = (ou, ov);
+                }
+                (u, v, LaneMask(counted))
+            })
+    }
+
+    fn sampler() -> impl Strategy<Value = Sampler> {
+        let filter = || prop::sample::select(vec![Filter::Nearest, Filter::Linear]);
+        let wrap = || prop::sample::select(vec![Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat]);
+        let mipmap = prop::sample::select(vec![MipmapMode::None, MipmapMode::Nearest, MipmapMode::Linear]);
+        let lod_bias = prop_oneof![3 => Just(0.0f32), 1 => -4.0f32..4.0];
+        (filter(), filter(), mipmap, wrap(), wrap(), lod_bias).prop_map(
+            |(mag_filter, min_filter, mipmap, wrap_u, wrap_v, lod_bias)| Sampler {
+                mag_filter,
+                min_filter,
+                mipmap,
+                wrap_u,
+                wrap_v,
+                lod_bias,
+            },
+        )
+    }
+
+    /// A texture of random texels: any texel read in the wrong place shows.
+    fn texture() -> impl Strategy<Value = Texture> {
+        let color_space = prop::sample::select(vec![ColorSpace::Linear, ColorSpace::Srgb]);
+        let mips = prop::sample::select(vec![MipChain::Box, MipChain::BaseOnly]);
+        (1u32..70, 1u32..70, color_space, mips, any::<u64>()).prop_map(|(width, height, color_space, mips, seed)| {
+            let mut state = seed;
+            let rgba: Vec<u8> = (0..width * height * 4)
+                .map(|_| {
+                    // SplitMix64.
+                    state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+                    let z = (state ^ (state >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+                    ((z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb) >> 56) as u8
+                })
+                .collect();
+            Texture::from_rgba8(width, height, &rgba, color_space, mips).unwrap()
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// The quad-at-a-time sampler gives the reference's colours bit for bit, and the cache
+        /// model sees the same hits and misses after every group.
+        #[test]
+        fn sampling_matches_the_reference(
+            texture in texture(),
+            sampler in sampler(),
+            config in prop::sample::select(cache_configs().to_vec()),
+            groups in prop::collection::vec(group(), 1..24),
+        ) {
+            let (mut fast, mut reference) = (TextureCache::new(config), TextureCache::new(config));
+            for (u, v, counted) in groups {
+                let got = texture.sample(&sampler, u, v, counted, &mut fast);
+                let want = reference_sample(&texture, &sampler, u, v, counted, &mut reference);
+                let bits = |c: Vec4x8| c.map(|c| c.0.map(f32::to_bits));
+                prop_assert_eq!(bits(got), bits(want), "u {:?} v {:?}", u, v);
+                prop_assert_eq!((fast.hits(), fast.misses()), (reference.hits(), reference.misses()));
+            }
+        }
     }
 }

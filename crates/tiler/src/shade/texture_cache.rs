@@ -84,6 +84,8 @@ impl TextureCacheConfig {
 pub struct TextureCache {
     config: TextureCacheConfig,
     line_shift: u32,
+    /// `log2(ways)`: a set's lines start at `set << ways_shift`.
+    ways_shift: u32,
     set_mask: u64,
     /// `sets × ways` line addresses, each set's most recently used first; `EMPTY` when unused.
     /// Allocated on the first access, so tasks that sample nothing cost nothing.
@@ -112,6 +114,7 @@ impl TextureCache {
         TextureCache {
             config,
             line_shift: config.line_bytes.trailing_zeros(),
+            ways_shift: config.ways.trailing_zeros(),
             set_mask: config.sets() as u64 - 1,
             lines: Vec::new(),
             hits: 0,
@@ -127,31 +130,73 @@ impl TextureCache {
     /// Reads the byte at modelled address `address`; returns whether it hit.
     #[inline]
     pub fn access(&mut self, address: u64) -> bool {
-        let ways = self.config.ways as usize;
-        if self.lines.is_empty() {
-            self.lines = vec![Self::EMPTY; self.config.sets() as usize * ways];
+        self.access_line(address >> self.line_shift)
+    }
+
+    /// `log2` of the line size: the line of modelled address `a` is `a >> line_shift()`.
+    #[inline(always)]
+    pub fn line_shift(&self) -> u32 {
+        self.line_shift
+    }
+
+    /// Reads one byte of each line `first_line + lines[i]` in order (line numbers: see
+    /// [`TextureCache::line_shift`]): the same as [`TextureCache::access`] of an address in each.
+    /// A line equal to the one before it is a hit that changes nothing — the access before left
+    /// it most recently used in its set — and costs one comparison: texels next to each other
+    /// usually share a line.
+    #[inline]
+    pub fn access_lines(&mut self, first_line: u64, lines: &[u32]) {
+        let mut previous = None;
+        for &line in lines {
+            if previous == Some(line) {
+                self.hits += 1;
+            } else {
+                self.access_line(first_line + line as u64);
+                previous = Some(line);
+            }
         }
-        let line = address >> self.line_shift;
-        let set = (line & self.set_mask) as usize;
-        let entries = &mut self.lines[set * ways..(set + 1) * ways];
-        if entries[0] == line {
+    }
+
+    /// Reads line `line`; returns whether it hit. The hit on the set's most recently used line
+    /// changes no state and is the common case, inline; the rest is [`Self::access_slow`].
+    #[inline(always)]
+    fn access_line(&mut self, line: u64) -> bool {
+        let first = ((line & self.set_mask) as usize) << self.ways_shift;
+        // An empty `lines` (a cold cache not yet allocated) takes the slow path too.
+        if self.lines.get(first) == Some(&line) {
             self.hits += 1;
             return true;
         }
-        match entries.iter().position(|&l| l == line) {
-            Some(way) => {
-                entries[..=way].rotate_right(1);
-                self.hits += 1;
-                true
-            }
-            None => {
-                // Evict the least recently used (the last), insert as most recent.
-                entries.rotate_right(1);
-                entries[0] = line;
-                self.misses += 1;
-                false
-            }
+        self.access_slow(first, line)
+    }
+
+    /// [`Self::access_line`] past its fast path: moves `line` to the front of its set, each line
+    /// before it one place back; when it was not in the set, the least recently used (the
+    /// last) line falls out: a miss.
+    #[inline(never)]
+    fn access_slow(&mut self, first: usize, line: u64) -> bool {
+        if self.lines.is_empty() {
+            self.allocate();
         }
+        let ways = self.config.ways as usize;
+        let mut moving = line;
+        for entry in &mut self.lines[first..first + ways] {
+            let was = std::mem::replace(entry, moving);
+            if was == line {
+                self.hits += 1;
+                return true;
+            }
+            moving = was;
+        }
+        self.misses += 1;
+        false
+    }
+
+    /// Allocates a cold cache's lines, all empty.
+    #[cold]
+    #[inline(never)]
+    fn allocate(&mut self) {
+        self.lines = vec![Self::EMPTY; self.config.sets() as usize * self.config.ways as usize];
     }
 
     pub fn hits(&self) -> u64 {
@@ -172,6 +217,8 @@ impl TextureCache {
 
 #[cfg(test)]
 mod tests {
+    use proptest::prelude::*;
+
     use super::*;
 
     #[test]
@@ -230,5 +277,28 @@ mod tests {
             cache.access(128);
         }
         assert_eq!(cache.misses(), 6);
+    }
+
+    proptest! {
+        /// Runs of lines read together count and leave the cache exactly as the reads of an
+        /// address in each, one by one, whatever the shape (lines of 4 to 256 bytes, 1 to 64
+        /// ways) and however often lines repeat.
+        #[test]
+        fn access_lines_is_access_of_each(
+            shape in prop::sample::select(vec![(256u32, 64u32, 1u32), (1024, 64, 4), (512, 16, 2), (256, 4, 64), (8192, 256, 4)]),
+            runs in prop::collection::vec((0u64..3, prop::collection::vec(0u32..24, 1..9)), 1..40),
+        ) {
+            let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
+            let (mut together, mut one_by_one) = (TextureCache::new(config), TextureCache::new(config));
+            for (texture, lines) in runs {
+                let first_line = texture << 30;
+                together.access_lines(first_line, &lines);
+                for &line in &lines {
+                    one_by_one.access((first_line + line as u64) << one_by_one.line_shift() | 3);
+                }
+                prop_assert_eq!((together.hits(), together.misses()), (one_by_one.hits(), one_by_one.misses()));
+                prop_assert_eq!(&together.lines, &one_by_one.lines);
+            }
+        }
     }
 }
