@@ -90,6 +90,13 @@ struct SceneResult {
     external_bytes: u64,
     texture_fetch_bytes: u64,
     fragments_shaded: u64,
+    /// Primitives written to the frame data (tilers; immediate mode: rasterized).
+    primitives: u64,
+    /// Modelled frame-data bytes written per primitive: its primitive and state records and
+    /// polygon-list entries (tilers; 0 on immediate mode).
+    frame_data_bytes_per_primitive: f64,
+    /// The most host memory the frame data held during a pass.
+    frame_data_peak_host_bytes: u64,
     times_ms: Vec<f64>,
 }
 
@@ -192,11 +199,15 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
         let mut ledger = tiler::Ledger::default();
         let mut counters = tiler::Counters::default();
+        let mut frame_data_host = 0;
         for report in &last {
             ledger.merge(&report.ledger);
             counters.merge(&report.counters);
+            frame_data_host = frame_data_host.max(report.frame_data.peak_host_bytes);
         }
-        results.push(figures(case, args, width, height, load, &times, work, &ledger, &counters));
+        let mut result = figures(case, args, width, height, load, &times, work, &ledger, &counters);
+        result.frame_data_peak_host_bytes = frame_data_host;
+        results.push(result);
     }
     progress.finish_and_clear();
 
@@ -250,6 +261,13 @@ fn figures(
         external_bytes: ledger.total(),
         texture_fetch_bytes: ledger.get(tiler::Category::TextureFetch),
         fragments_shaded: counters.fragments_shaded,
+        primitives: counters.primitives,
+        frame_data_bytes_per_primitive: if args.backend.is_tiler() && counters.primitives > 0 {
+            ledger.get(tiler::Category::FrameDataWrite) as f64 / counters.primitives as f64
+        } else {
+            0.0
+        },
+        frame_data_peak_host_bytes: 0,
         times_ms,
     }
 }
@@ -264,13 +282,23 @@ fn table(report: &Report) -> String {
     );
     let _ = writeln!(
         out,
-        "{:<14} {:>11} {:>7} {:>11} {:>9} {:>9} {:>10} {:>10} {:>11} {:>9}",
-        "scene", "size", "frames", "median ms", "min ms", "frames/s", "Mpixels/s", "Mtris/s", "ext MB/frame", "load ms"
+        "{:<14} {:>11} {:>7} {:>11} {:>9} {:>9} {:>10} {:>10} {:>11} {:>9} {:>9}",
+        "scene",
+        "size",
+        "frames",
+        "median ms",
+        "min ms",
+        "frames/s",
+        "Mpixels/s",
+        "Mtris/s",
+        "ext MB/frame",
+        "FD B/prim",
+        "load ms"
     );
     for r in &report.results {
         let _ = writeln!(
             out,
-            "{:<14} {:>11} {:>7} {:>11.2} {:>9.2} {:>9.2} {:>10.1} {:>10} {:>11.2} {:>9.0}",
+            "{:<14} {:>11} {:>7} {:>11.2} {:>9.2} {:>9.2} {:>10.1} {:>10} {:>11.2} {:>9.1} {:>9.0}",
             r.scene,
             format!("{}x{}", r.width, r.height),
             r.frames,
@@ -280,6 +308,7 @@ fn table(report: &Report) -> String {
             r.mpix_per_s,
             r.mtris_per_s.map(|m| format!("{m:.2}")).unwrap_or_else(|| "-".into()),
             r.external_bytes as f64 / 1e6,
+            r.frame_data_bytes_per_primitive,
             r.load_ms
         );
     }

@@ -112,6 +112,10 @@ fn bench_prints_json() {
         assert!(r["median_ms"].as_f64().unwrap() > 0.0 && r["fps"].as_f64().unwrap() > 0.0);
     }
     assert_eq!(results[1]["fragments_shaded"], 32 * 64 * 32);
+    // 64 triangles binned, each with its records and polygon-list entries in the frame data.
+    assert_eq!(results[1]["primitives"], 64);
+    assert!(results[1]["frame_data_bytes_per_primitive"].as_f64().unwrap() > 16.0);
+    assert!(results[1]["frame_data_peak_host_bytes"].as_u64().unwrap() > 0);
     let out = tiler(&["bench", "--scene", "nothing"]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown scene 'nothing'"));

@@ -230,6 +230,32 @@ impl Device {
         Ok(())
     }
 
+    /// A texture holding a rendered image's pixels — render to texture: a later pass samples
+    /// what an earlier one stored. The image's format gives the texture's encoding
+    /// (`Rgba8UnormSrgb`: sRGB; other colour formats are converted to 8-bit linear RGBA); a
+    /// multisampled image is resolved first.
+    ///
+    /// # Errors
+    /// Unknown or non-colour image, and a transient image: it has no memory, so nothing of it
+    /// exists to sample (read it as an input attachment in a later subpass of its own pass
+    /// instead, or make it an image with memory and store it).
+    pub fn texture_from_image(&self, id: ImageId, mips: crate::MipChain) -> Result<crate::Texture> {
+        let d = self.image(id)?.desc;
+        if d.transient {
+            return Err(Error::invalid(
+                id.to_string(),
+                "a transient image has no memory, so it cannot be sampled as a texture: read it as an input \
+                 attachment in a later subpass of the same render pass, or create it with memory and store it",
+            ));
+        }
+        let color_space = match d.format {
+            Format::Rgba8UnormSrgb => crate::ColorSpace::Srgb,
+            _ => crate::ColorSpace::Linear,
+        };
+        let rgba = self.read_rgba8(id)?;
+        crate::Texture::from_rgba8(d.width, d.height, &rgba, color_space, mips)
+    }
+
     /// A colour image as 8-bit RGBA, rows top to bottom; a multisampled image is resolved
     /// (the average of its samples).
     ///

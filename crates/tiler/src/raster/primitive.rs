@@ -27,7 +27,7 @@ use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::ledger::{Category, Counters, DrawStats, Ledger};
 use crate::shade::ShadeContext;
 use crate::shade::interpolate::Interpolator;
-use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, Vec4x8};
+use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, Vec4x8};
 use crate::tile::target::{RenderTarget, Surface};
 
 /// What the fragment work of one task did and moved.
@@ -767,10 +767,21 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
 
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn write_colors(&self, x: i32, y: i32, coverage: Coverage, target: &mut RenderTarget, tally: &mut FragmentTally) {
-        let FragmentTally { outputs, framebuffer, ledger, .. } = tally;
+        let FragmentTally { outputs, framebuffer, ledger, simd, .. } = tally;
         for (i, plan) in self.colors.iter().enumerate() {
             let (Some(plan), Some(surface)) = (plan, target.color[i].as_mut()) else { continue };
-            write_color(surface, x, y, coverage, &outputs[i], plan, self.desc.blend_constant, framebuffer, ledger);
+            write_color(
+                surface,
+                x,
+                y,
+                coverage,
+                &outputs[i],
+                plan,
+                self.desc.blend_constant,
+                framebuffer,
+                ledger,
+                *simd,
+            );
         }
     }
 }
@@ -861,6 +872,7 @@ fn write_color(
     constant: [f32; 4],
     traffic: &mut FramebufferTraffic,
     ledger: &mut Ledger,
+    simd: SimdLevel,
 ) {
     let format = surface.format;
     let bytes = format.bytes_per_sample();
@@ -908,6 +920,71 @@ fn write_color(
         }
         return;
     }
+    blend_and_write(simd, surface, x, y, coverage, color, plan, constant, traffic, ledger);
+}
+
+/// [`write_color`] past its common case (blending, write masks, formats of other sizes): not
+/// generic, so compiled once per SIMD level for every shader, not inlined into each.
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+fn blend_and_write(
+    simd: SimdLevel,
+    surface: &mut Surface,
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    color: &Vec4x8,
+    plan: &ColorPlan,
+    constant: [f32; 4],
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
+) {
+    match simd {
+        #[cfg(target_arch = "x86_64")]
+        SimdLevel::Avx2 => {
+            // SAFETY: the device picks `Avx2` only when the processor has AVX2 and FMA
+            // (`SimdLevel::is_available`).
+            unsafe { blend_and_write_avx2(surface, x, y, coverage, color, plan, constant, traffic, ledger) }
+        }
+        _ => blend_and_write_body(surface, x, y, coverage, color, plan, constant, traffic, ledger),
+    }
+}
+
+/// [`blend_and_write_body`] compiled for AVX2.
+#[allow(clippy::too_many_arguments)]
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+unsafe fn blend_and_write_avx2(
+    surface: &mut Surface,
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    color: &Vec4x8,
+    plan: &ColorPlan,
+    constant: [f32; 4],
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
+) {
+    blend_and_write_body(surface, x, y, coverage, color, plan, constant, traffic, ledger)
+}
+
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn blend_and_write_body(
+    surface: &mut Surface,
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    color: &Vec4x8,
+    plan: &ColorPlan,
+    constant: [f32; 4],
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
+) {
+    let format = surface.format;
+    let bytes = format.bytes_per_sample();
+    let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
+    let reads = plan.state.blend.is_some() || plan.partial;
     let clamp = format.is_normalized();
     let mut packed = [[0u8; 16]; LANES];
     let src = match plan.state.blend {

@@ -254,3 +254,23 @@ fn subpass_errors() {
     };
     assert!(device.submit(&RenderPass::with_subpasses(desc, vec![read(1)], vec![])).is_ok());
 }
+
+#[test]
+fn a_transient_image_cannot_be_sampled_as_a_texture() {
+    let mut device = device(Backend::Tbr, 16, 1);
+    let transient = device.create_image(ImageDesc::new(16, 16, Format::Rgba8Unorm).transient()).unwrap();
+    let e = device.texture_from_image(transient, MipChain::BaseOnly).unwrap_err().to_string();
+    assert!(e.contains("transient image has no memory") && e.contains("input attachment"), "{e}");
+    // An image with memory is sampled as it was stored: render to texture.
+    let stored = device.create_image(ImageDesc::new(16, 16, Format::Rgba8Unorm)).unwrap();
+    let pass = RenderPass::new(RenderPassDesc {
+        color: vec![ColorAttachment::clear_store(stored, [1.0, 0.0, 0.0, 1.0])],
+        depth_stencil: None,
+        render_area: None,
+    });
+    device.submit(&pass).unwrap();
+    let texture = device.texture_from_image(stored, MipChain::BaseOnly).unwrap();
+    assert_eq!((texture.width(), texture.height()), (16, 16));
+    let depth = device.create_image(ImageDesc::new(16, 16, Format::D32Float)).unwrap();
+    assert!(device.texture_from_image(depth, MipChain::BaseOnly).is_err());
+}
