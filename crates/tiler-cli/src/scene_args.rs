@@ -55,12 +55,15 @@ pub struct SceneArgs {
 pub enum SceneSource {
     Builtin,
     Deferred(Variant),
+    /// Deferred shading of a glTF model's opaque primitives.
+    DeferredModel(Variant, Box<Model>),
     Model(Box<Model>),
 }
 
 /// The names of the scenes made in code, for help texts.
 pub const SCENE_NAMES: &str = "builtin, deferred (deferred shading in one pass with subpasses), deferred-passes (the same \
-                               in two passes through memory), or a .gltf/.glb file";
+                               in two passes through memory), deferred:FILE or deferred-passes:FILE (the same on a glTF \
+                               model), or a .gltf/.glb file";
 
 impl SceneArgs {
     /// Resolves a scene name or file: glTF files are loaded (once), warnings printed.
@@ -72,24 +75,35 @@ impl SceneArgs {
             "builtin" => SceneSource::Builtin,
             "deferred" => SceneSource::Deferred(Variant::Subpasses),
             "deferred-passes" => SceneSource::Deferred(Variant::Passes),
-            file => {
-                let path = PathBuf::from(file);
-                if path.extension().is_none() && !path.exists() {
-                    bail!("'{file}' is neither a scene ({SCENE_NAMES}) nor a file");
+            other => {
+                if let Some(file) = other.strip_prefix("deferred:") {
+                    SceneSource::DeferredModel(Variant::Subpasses, self.load(file)?)
+                } else if let Some(file) = other.strip_prefix("deferred-passes:") {
+                    SceneSource::DeferredModel(Variant::Passes, self.load(file)?)
+                } else {
+                    SceneSource::Model(self.load(other)?)
                 }
-                let model = tiler_scene::gltf::load(&path, self.shading)?;
-                for warning in &model.warnings {
-                    eprintln!("tiler: warning: {}: {warning}", model.file_name());
-                }
-                SceneSource::Model(Box::new(model))
             }
         })
+    }
+
+    /// Loads a glTF file, printing its warnings.
+    fn load(&self, file: &str) -> Result<Box<Model>> {
+        let path = PathBuf::from(file);
+        if path.extension().is_none() && !path.exists() {
+            bail!("'{file}' is neither a scene ({SCENE_NAMES}) nor a file");
+        }
+        let model = tiler_scene::gltf::load(&path, self.shading)?;
+        for warning in &model.warnings {
+            eprintln!("tiler: warning: {}: {warning}", model.file_name());
+        }
+        Ok(Box::new(model))
     }
 
     /// The framebuffer size for a source.
     pub fn size_for(&self, source: &SceneSource) -> (u32, u32) {
         self.size.unwrap_or(match source {
-            SceneSource::Model(_) => (1920, 1080),
+            SceneSource::Model(_) | SceneSource::DeferredModel(..) => (1920, 1080),
             _ => (1280, 720),
         })
     }
@@ -109,6 +123,13 @@ impl SceneArgs {
                     bail!("the deferred scenes are single-sample");
                 }
                 deferred::build(device, width, height, *variant).context("building the deferred scene")?
+            }
+            SceneSource::DeferredModel(variant, model) => {
+                if self.msaa != 1 {
+                    bail!("the deferred scenes are single-sample");
+                }
+                deferred::build_model(device, model, width, height, self.camera, *variant)
+                    .with_context(|| format!("building the deferred frame of {}", model.file_name()))?
             }
             SceneSource::Model(model) => {
                 let cull = self.cull.map(|c| match c {

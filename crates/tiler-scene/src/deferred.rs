@@ -9,6 +9,10 @@
 //!   without subpasses, and what it costs.
 //!
 //! Both give the same picture, bit for bit: the G-buffer holds the same values either way.
+//!
+//! The geometry is the built-in scene's opaque objects ([`build`]) or a glTF model's opaque and
+//! alpha-masked primitives ([`build_model`], lit by a grid of lights over its bounds; BLEND
+//! materials are left out: a G-buffer holds one surface per pixel).
 
 use glam::Mat4;
 use tiler::simd::{dot3, normalize3};
@@ -16,7 +20,10 @@ use tiler::*;
 
 use crate::Scene;
 use crate::builtin::{self, LIT_VARYINGS, LitVertexShader};
+use crate::camera::{CameraChoice, place};
+use crate::gltf::{AlphaMode, GltfVertex, Model, TextureBinding};
 use crate::mesh::Vertex;
+use crate::shading::{WORLD_VARYINGS, WorldVertexShader};
 
 /// How the frame is split into passes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -55,6 +62,43 @@ impl FragmentShader for GBufferShader {
             }
         };
         frag.set_color(0, [albedo[0], albedo[1], albedo[2], F32x8::ONE]);
+        frag.set_color(1, [n[0], n[1], n[2], F32x8::ONE]);
+    }
+}
+
+/// Writes the G-buffer of a glTF material: albedo = base colour factor × texture (alpha-masked
+/// materials discard below their cutoff) and the world normal (reversed on the back of
+/// double-sided materials).
+struct GBufferModelShader {
+    factor: [f32; 4],
+    texture: Option<TextureBinding>,
+    alpha: AlphaMode,
+    two_sided: bool,
+}
+
+impl FragmentShader for GBufferModelShader {
+    fn properties(&self) -> ShaderProperties {
+        ShaderProperties { discards: matches!(self.alpha, AlphaMode::Mask { .. }), ..ShaderProperties::default() }
+    }
+
+    #[inline(always)]
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        let mut base = self.factor.map(F32x8::splat);
+        if let Some(binding) = &self.texture {
+            let uv = frag.smooth_n::<2>(3);
+            let texel = frag.sample(&binding.texture, &binding.sampler, uv);
+            for c in 0..4 {
+                base[c] *= texel[c];
+            }
+        }
+        if let AlphaMode::Mask { cutoff } = self.alpha {
+            frag.discard(base[3].lt(F32x8::splat(cutoff)));
+        }
+        let mut n = normalize3(frag.smooth_n::<3>(0));
+        if self.two_sided && !frag.front_facing() {
+            n = n.map(|c| -c);
+        }
+        frag.set_color(0, [base[0], base[1], base[2], F32x8::ONE]);
         frag.set_color(1, [n[0], n[1], n[2], F32x8::ONE]);
     }
 }
@@ -153,15 +197,6 @@ fn lights() -> Vec<Light> {
 pub fn build(device: &mut Device, width: u32, height: u32, variant: Variant) -> Result<Scene> {
     let camera = builtin::camera();
     let view_proj = camera.view_proj(width as f32 / height as f32);
-    let transient = variant == Variant::Subpasses;
-    let image = |device: &mut Device, format| {
-        let desc = ImageDesc::new(width, height, format);
-        device.create_image(if transient { desc.transient() } else { desc })
-    };
-    let lit = device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm))?;
-    let albedo = image(device, ALBEDO)?;
-    let normal = image(device, NORMAL)?;
-    let depth = image(device, DEPTH)?;
 
     // G-buffer draws.
     let input = VertexInputState::interleaved(&[VertexFormat::Float32x3, VertexFormat::Float32x3]);
@@ -191,17 +226,135 @@ pub fn build(device: &mut Device, width: u32, height: u32, variant: Variant) -> 
         ));
     }
 
+    let name = match variant {
+        Variant::Subpasses => "deferred (subpasses)",
+        Variant::Passes => "deferred (two passes)",
+    };
+    let frame = Geometry { view_proj, gbuffer_draws, triangles, lights: lights() };
+    assemble(device, width, height, variant, frame, name.into())
+}
+
+/// The deferred frame of a glTF model's opaque and alpha-masked primitives, seen from
+/// `camera` (as [`crate::shading::build_model_scene`] places it), lit by [`LIGHTS`] point
+/// lights on a grid over the model's bounds.
+///
+/// # Errors
+/// A size the device refuses, a camera that cannot be placed, a model with nothing opaque.
+pub fn build_model(
+    device: &mut Device,
+    model: &Model,
+    width: u32,
+    height: u32,
+    camera: CameraChoice,
+    variant: Variant,
+) -> Result<Scene> {
+    let placement = place(model, camera, width as f64 / height as f64)
+        .map_err(|reason| Error::invalid(model.file_name(), reason))?;
+    // GL clip space → Vulkan's, as `gl_to_vulkan_clip` does per vertex: (x, −y, (z + w)/2, w).
+    let gl_to_vulkan =
+        Mat4::from_cols_array(&[1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.5, 1.0]);
+    let view_proj = gl_to_vulkan * placement.gl_view_proj;
+
+    let input =
+        VertexInputState::interleaved(&[VertexFormat::Float32x3, VertexFormat::Float32x3, VertexFormat::Float32x2]);
+    let mut gbuffer_draws = Vec::new();
+    let mut triangles = 0;
+    for primitive in &model.primitives {
+        let material = &model.materials[primitive.material];
+        if material.alpha_mode == AlphaMode::Blend {
+            continue;
+        }
+        let vertices = device.create_buffer_from::<GltfVertex>(&primitive.vertices)?;
+        let indices = device.create_buffer_from::<u32>(&primitive.indices)?;
+        let mut desc = PipelineDesc::new(format!("g-buffer {}", primitive.label), input.clone());
+        desc.varyings = WORLD_VARYINGS.to_vec();
+        desc.front_face = FrontFace::CounterClockwise;
+        desc.cull_mode = CullMode::None;
+        desc.depth_stencil = DepthStencilState::LESS_WRITE;
+        desc.color_targets = vec![ColorTargetState::REPLACE; 2];
+        let shader = GBufferModelShader {
+            factor: material.base_color_factor,
+            texture: material.base_color_texture.clone(),
+            alpha: material.alpha_mode,
+            two_sided: material.double_sided,
+        };
+        let pipeline = Pipeline::new(WorldVertexShader { gl_view_proj: placement.gl_view_proj }, shader, desc)?;
+        triangles += primitive.triangles() as u64;
+        gbuffer_draws.push(Draw::indexed(
+            &pipeline,
+            vertices,
+            indices,
+            IndexType::U32,
+            0,
+            primitive.indices.len() as u32,
+        ));
+    }
+    if gbuffer_draws.is_empty() {
+        return Err(Error::invalid(model.file_name(), "no opaque or alpha-masked primitive to shade deferred"));
+    }
+    let name = format!(
+        "{} deferred ({})",
+        model.file_name(),
+        if variant == Variant::Subpasses { "subpasses" } else { "two passes" }
+    );
+    let frame = Geometry { view_proj, gbuffer_draws, triangles, lights: model_lights(model) };
+    assemble(device, width, height, variant, frame, name)
+}
+
+/// Lights on an 8 × 6 grid over the model's bounds, a little above the middle of its height,
+/// each reaching about a quarter of its width.
+fn model_lights(model: &Model) -> Vec<Light> {
+    let (min, max) = (model.min.as_vec3(), model.max.as_vec3());
+    let size = max - min;
+    let palette = lights();
+    (0..LIGHTS)
+        .map(|i| {
+            let (gx, gz) = ((i % 8) as f32 + 0.5, (i / 8) as f32 + 0.5);
+            let lift = 0.35 + 0.15 * (i % 3) as f32;
+            Light {
+                position: [min.x + size.x * gx / 8.0, min.y + size.y * lift, min.z + size.z * gz / 6.0],
+                color: palette[i].color,
+                radius: 0.25 * size.x.max(size.z).max(size.y),
+            }
+        })
+        .collect()
+}
+
+/// What the G-buffer subpass draws, and what lights the lighting subpass.
+struct Geometry {
+    /// Vulkan clip space (y down, depth 0..1) of the world.
+    view_proj: Mat4,
+    gbuffer_draws: Vec<Draw>,
+    triangles: u64,
+    lights: Vec<Light>,
+}
+
+/// The frame's passes around its G-buffer draws: one pass with two subpasses, or two passes.
+fn assemble(
+    device: &mut Device,
+    width: u32,
+    height: u32,
+    variant: Variant,
+    frame: Geometry,
+    name: String,
+) -> Result<Scene> {
+    let Geometry { view_proj, gbuffer_draws, mut triangles, lights } = frame;
+    let transient = variant == Variant::Subpasses;
+    let image = |device: &mut Device, format| {
+        let desc = ImageDesc::new(width, height, format);
+        device.create_image(if transient { desc.transient() } else { desc })
+    };
+    let lit = device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm))?;
+    let albedo = image(device, ALBEDO)?;
+    let normal = image(device, NORMAL)?;
+    let depth = image(device, DEPTH)?;
+
     // The lighting draw: one triangle over the screen.
     let corners: [[f32; 4]; 3] = [[-1.0, -1.0, 0.0, 1.0], [3.0, -1.0, 0.0, 1.0], [-1.0, 3.0, 0.0, 1.0]];
     let screen = device.create_buffer_from(&corners)?;
     let lighting = Pipeline::new(
         FullScreen,
-        LightingShader {
-            inverse_view_proj: view_proj.inverse(),
-            width: width as f32,
-            height: height as f32,
-            lights: lights(),
-        },
+        LightingShader { inverse_view_proj: view_proj.inverse(), width: width as f32, height: height as f32, lights },
         PipelineDesc::new("lighting", VertexInputState::interleaved(&[VertexFormat::Float32x4])),
     )?;
     let lighting_draw = Draw::new(&lighting, screen, 0, 3);
@@ -279,9 +432,5 @@ pub fn build(device: &mut Device, width: u32, height: u32, variant: Variant) -> 
             vec![first, second]
         }
     };
-    let name = match variant {
-        Variant::Subpasses => "deferred (subpasses)",
-        Variant::Passes => "deferred (two passes)",
-    };
-    Ok(Scene { name: name.into(), width, height, color: lit, passes, triangles })
+    Ok(Scene { name, width, height, color: lit, passes, triangles })
 }

@@ -44,3 +44,29 @@ fn deferred_shading_in_subpasses_keeps_the_g_buffer_in_the_tile() {
         }
     }
 }
+
+#[test]
+fn deferred_shading_of_a_gltf_model_keeps_the_g_buffer_in_the_tile() {
+    let Some(assets) = super::common::assets_dir() else { return };
+    // The duck: one textured opaque material.
+    let model = tiler_scene::gltf::load(&assets.join("Duck/Duck.gltf"), tiler_scene::shading::Shading::Scenes).unwrap();
+    let (width, height) = (192, 108);
+    let pixels = (width * height) as u64;
+    let camera = tiler_scene::camera::CameraChoice::Orbit;
+    let model = &model;
+    let build =
+        |variant| move |d: &mut Device| deferred::build_model(d, model, width, height, camera, variant).unwrap();
+    let (reference, _) = render(Backend::Imr, build(Variant::Passes));
+    // Lit and textured: many colours, not the sky alone.
+    let colours: std::collections::HashSet<&[u8]> = reference.chunks_exact(4).collect();
+    assert!(colours.len() > 100, "{} colours", colours.len());
+    for backend in [Backend::Tbr, Backend::Tbdr] {
+        let (one_pass, one) = render(backend, build(Variant::Subpasses));
+        let (two_pass, _) = render(backend, build(Variant::Passes));
+        assert!(one_pass == reference && two_pass == reference, "{backend}: the same picture both ways");
+        let sum = |c| one.iter().map(|r: &tiler::PassReport| r.ledger.get(c)).sum::<u64>();
+        assert_eq!(sum(Category::TileStore), pixels * 4);
+        assert_eq!(sum(Category::TileLoad), 0);
+        assert_eq!(one[0].transient_bytes_saved, pixels * 16);
+    }
+}
