@@ -155,6 +155,13 @@ pub fn tile_start(format: Format, ops: &AttachmentOps) -> TileStart {
 /// [`apply_resolve`], so a tile resolved either way holds the same bytes).
 pub fn resolved_value(format: Format, samples: usize, pattern: &[u8; 16]) -> [u8; 16] {
     let bytes = format.bytes_per_sample();
+    if resolves_as_integers(format) {
+        let mut out = [0u8; 16];
+        for (out, &c) in out.iter_mut().zip(&pattern[..bytes]) {
+            *out = integer_mean(c as u32 * samples as u32, samples as u32);
+        }
+        return out;
+    }
     let v = format.decode_color(&pattern[..bytes]);
     let mut sum = [0.0f32; 4];
     for _ in 0..samples {
@@ -265,11 +272,16 @@ pub fn tile_signature(surface: &Surface, rect: &PixelRect) -> u64 {
 
 /// Averages the samples of `rect` of the multisampled `src` into the single-sample `dst`:
 /// each channel is the mean of the samples' values (linear values for sRGB formats), packed
-/// again in the format. Returns the pixels resolved.
+/// again in the format; linear 8-bit UNORM formats take the byte nearest the mean, computed on
+/// the integers. Returns the pixels resolved.
 pub fn apply_resolve(src: &Surface, dst: &mut Surface, rect: &PixelRect) -> u64 {
     let format = src.format;
     let bytes = format.bytes_per_sample();
     let samples = src.samples();
+    if resolves_as_integers(format) {
+        resolve_bytes(src, dst, rect);
+        return rect.area();
+    }
     let scale = 1.0 / samples as f32;
     for y in rect.y0..rect.y1 {
         for x in rect.x0..rect.x1 {
@@ -286,6 +298,43 @@ pub fn apply_resolve(src: &Surface, dst: &mut Surface, rect: &PixelRect) -> u64 
         }
     }
     rect.area()
+}
+
+/// Formats whose channels are bytes that resolve by themselves: linear 8-bit UNORM. Their
+/// mean is computed on the integers, exactly ([`integer_mean`]), a byte at a time across a row.
+fn resolves_as_integers(format: Format) -> bool {
+    matches!(format, Format::Rgba8Unorm | Format::Bgra8Unorm)
+}
+
+/// The mean of `samples` bytes whose sum is `sum`, rounded to nearest, halves up:
+/// `⌊(Σc + n/2) / n⌋`, the byte nearest the mean of the values `c/255` they encode.
+#[inline(always)]
+fn integer_mean(sum: u32, samples: u32) -> u8 {
+    ((sum + samples / 2) / samples) as u8
+}
+
+/// [`apply_resolve`] of a format that [`resolves_as_integers`]: per row, every sample's bytes
+/// summed into 16-bit lanes, then divided — loops the compiler vectorises.
+fn resolve_bytes(src: &Surface, dst: &mut Surface, rect: &PixelRect) {
+    const CHUNK: usize = 512;
+    let samples = src.samples();
+    let n = samples as u32;
+    for y in rect.y0..rect.y1 {
+        let out = dst.row_mut(0, y, rect.x0, rect.x1);
+        for start in (0..out.len()).step_by(CHUNK) {
+            let end = (start + CHUNK).min(out.len());
+            let mut sums = [0u16; CHUNK];
+            for s in 0..samples {
+                let row = &src.row(s, y, rect.x0, rect.x1)[start..end];
+                for (sum, &c) in sums.iter_mut().zip(row) {
+                    *sum += c as u16;
+                }
+            }
+            for (out, &sum) in out[start..end].iter_mut().zip(&sums) {
+                *out = integer_mean(sum as u32, n);
+            }
+        }
+    }
 }
 
 /// Depth and stencil packed as the format stores them (little-endian bytes).
@@ -343,5 +392,52 @@ fn copy_rect(dst: &mut Surface, src: &Surface, rect: &PixelRect) {
 impl<T> LoadOp<T> {
     pub fn is_load(&self) -> bool {
         matches!(self, LoadOp::Load)
+    }
+}
+
+#[cfg(test)]
+mod resolve_tests {
+    use super::*;
+
+    /// UNORM8 samples resolve to the byte nearest their mean (halves up), wherever the rect
+    /// is, and the uniform-tile shortcut agrees with the general resolve.
+    #[test]
+    fn unorm8_resolves_to_the_nearest_byte_of_the_mean() {
+        let (width, height) = (37usize, 5usize);
+        for samples in [2usize, 4, 8] {
+            let mut state = 7u32;
+            let mut planes: Vec<Vec<u8>> = (0..samples)
+                .map(|_| {
+                    (0..width * height * 4)
+                        .map(|_| {
+                            state = state.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+                            (state >> 23) as u8
+                        })
+                        .collect()
+                })
+                .collect();
+            let expected: Vec<u8> = (0..width * height * 4)
+                .map(|i| {
+                    let sum: u32 = planes.iter().map(|p| p[i] as u32).sum();
+                    let mean = sum as f64 / samples as f64;
+                    // Nearest, halves up.
+                    (mean + 0.5).floor() as u8
+                })
+                .collect();
+            let src = Surface::new(Format::Rgba8Unorm, (0, 0), width, planes.iter_mut().map(|p| p.as_mut_slice()));
+            let mut out = vec![0u8; width * height * 4];
+            let mut dst = Surface::new(Format::Rgba8Unorm, (0, 0), width, [out.as_mut_slice()]);
+            let rect = PixelRect { x0: 3, y0: 1, x1: width as i32, y1: height as i32 };
+            assert_eq!(apply_resolve(&src, &mut dst, &rect), rect.area());
+            for y in 0..height {
+                for x in 0..width * 4 {
+                    let i = y * width * 4 + x;
+                    let inside = y >= 1 && x >= 12;
+                    assert_eq!(out[i], if inside { expected[i] } else { 0 }, "{samples} samples, byte {i}");
+                }
+            }
+            let pattern = [200, 13, 0, 255, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+            assert_eq!(resolved_value(Format::Rgba8Unorm, samples, &pattern)[..4], pattern[..4]);
+        }
     }
 }
