@@ -259,6 +259,7 @@ impl Context {
     /// `source pixels × samples × bytes per sample`; a multisampled source is averaged, a
     /// resolve).
     pub(crate) fn blit(&mut self, src: [i32; 4], dst: [i32; 4], filter: Filter) -> Fallible {
+        self.outside_explicit_pass("blit_framebuffer")?;
         let (read, draw) = (self.read_framebuffer, self.draw_framebuffer);
         if read == draw {
             return Err(format!(
@@ -315,6 +316,7 @@ impl Context {
         [x, y]: [i32; 2],
         [width, height]: [u32; 2],
     ) -> Fallible {
+        self.outside_explicit_pass("copy_tex_sub_image")?;
         let read = self.read_framebuffer;
         let source = self.targets(read)?;
         let src_image =

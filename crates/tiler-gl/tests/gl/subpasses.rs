@@ -277,6 +277,10 @@ fn explicit_pass_errors_name_the_call() {
             ),
             "call 15: clear: a clear after draws in an explicit pass",
         ),
+        (
+            format!(r#"{BEGIN}, {{"call": "blit_framebuffer", "src": [0, 0, 16, 16], "dst": [0, 0, 16, 16]}}"#),
+            "call 12: blit_framebuffer: blit_framebuffer inside the explicit pass begun at frame 0, call 11",
+        ),
         (BEGIN.to_string(), "the end of the trace inside the explicit pass begun at frame 0, call 11"),
         // Transient images have no memory: nothing reads them back, samples, copies or
         // uploads them.
@@ -312,5 +316,61 @@ fn explicit_pass_errors_name_the_call() {
     for (calls, expected) in cases {
         let e = error(&calls);
         assert!(e.contains(expected), "{calls}\n  gave: {e}\n  expected: {expected}");
+    }
+}
+
+/// Inferred passes keep working with a transient depth buffer: never loaded or stored (not
+/// even when it is attached again later, or when only one half of it is attached), counted
+/// as memory not needed, and the API's draws see it as GL would within a pass.
+#[test]
+fn inferred_passes_take_transient_attachments() {
+    use super::common::*;
+    let mut gl = context(64, 64);
+    c(
+        &mut gl,
+        Call::CreateTexture {
+            id: 1,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Rgba8,
+            data: None,
+            transient: false,
+        },
+    );
+    c(
+        &mut gl,
+        Call::CreateRenderbuffer {
+            id: 2,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Depth24Stencil8,
+            samples: 1,
+            transient: true,
+        },
+    );
+    c(&mut gl, Call::CreateFramebuffer { id: 1 });
+    c(
+        &mut gl,
+        Call::FramebufferTexture { framebuffer: 1, attachment: AttachmentPoint::Color0, texture: 1, samples: 1 },
+    );
+    c(&mut gl, Call::FramebufferRenderbuffer { framebuffer: 1, attachment: AttachmentPoint::Depth, renderbuffer: 2 });
+    geometry(&mut gl, 1, ProgramKind::Solid, &quad(-1.0, -1.0, 1.0, 1.0, 0.0));
+    c(&mut gl, Call::Enable { cap: Capability::DepthTest });
+    for _ in 0..2 {
+        bind(&mut gl, 1);
+        clear_all(&mut gl);
+        draw(&mut gl, 6);
+        bind(&mut gl, 0);
+        clear_all(&mut gl);
+    }
+    swap(&mut gl);
+    let report = gl.end().unwrap();
+    let passes: Vec<_> = report.passes().filter(|p| p.framebuffer == 1).collect();
+    assert_eq!(passes.len(), 2);
+    for p in passes {
+        assert_eq!(op(p, report::Slot::Depth), (report::LoadKind::Clear, report::StoreKind::DontCare));
+        assert_eq!(op(p, report::Slot::Stencil).1, report::StoreKind::DontCare, "the unattached half too");
+        assert_eq!(p.cost.ledger.get(Category::TileStore), 64 * 64 * 4, "colour only");
+        assert_eq!(p.cost.transient_bytes_saved, 64 * 64 * 4);
     }
 }
