@@ -685,6 +685,19 @@ pub enum AttachmentPoint {
 }
 
 impl AttachmentPoint {
+    /// The point as a trace spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            AttachmentPoint::Color0 => "color0",
+            AttachmentPoint::Color1 => "color1",
+            AttachmentPoint::Color2 => "color2",
+            AttachmentPoint::Color3 => "color3",
+            AttachmentPoint::Depth => "depth",
+            AttachmentPoint::Stencil => "stencil",
+            AttachmentPoint::DepthStencil => "depth_stencil",
+        }
+    }
+
     pub fn color_index(self) -> Option<usize> {
         match self {
             AttachmentPoint::Color0 => Some(0),

@@ -19,7 +19,10 @@ use tiler::{AttachmentRef as CoreRef, SubpassDependency, SubpassDesc};
 
 use super::{Context, Fallible};
 use crate::call::{AttachmentPoint, DependencySpec, SubpassSpec};
-use crate::report::{CallRef, EndCause, StartCause};
+use crate::report::{CallRef, EndCause, LoadKind, Slot, StartCause};
+
+/// What [`Context::outside_explicit_pass`] is told at the end of a run.
+pub(crate) const END_OF_TRACE: &str = "the end of the trace";
 
 /// The subpass structure of an open explicit pass.
 #[derive(Clone, Debug)]
@@ -48,6 +51,9 @@ impl Context {
     /// Refuses `what` inside an explicit pass: it would end the pass before `end_pass`.
     pub(crate) fn outside_explicit_pass(&self, what: &str) -> Fallible {
         match self.explicit() {
+            Some(e) if what == END_OF_TRACE => {
+                Err(format!("the explicit pass begun at {} was never ended: call end_pass", e.begun_at))
+            }
             Some(e) => Err(format!(
                 "{what} inside the explicit pass begun at {}: it would end the pass early; call end_pass first",
                 e.begun_at
@@ -80,7 +86,7 @@ impl Context {
         }
         let colors = targets.color.len();
         let color_index = |s: usize, what: &str, p: AttachmentPoint| -> Fallible<u32> {
-            let name = serde_json::to_value(p).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default();
+            let name = p.name();
             let i = p.color_index().ok_or_else(|| {
                 format!("subpass {s}: {what} {name} is not a colour attachment point (color0 … color3)")
             })?;
@@ -198,6 +204,34 @@ impl Context {
                 e.subpasses.len(),
                 e.begun_at
             ));
+        }
+        // An input must hold something: written by an earlier subpass, or loaded or cleared.
+        let pass = self.pass.as_ref().expect("an explicit pass is open");
+        for (s, sp) in e.subpasses.iter().enumerate() {
+            for (i, input) in sp.input.iter().enumerate() {
+                let (written, name) = match *input {
+                    CoreRef::Color(c) => {
+                        (e.subpasses[..s].iter().any(|p| p.color.contains(&c)), Slot::Color(c as u8).to_string())
+                    }
+                    CoreRef::DepthStencil => {
+                        (e.subpasses[..s].iter().any(|p| p.depth_stencil), "the depth-stencil attachment".to_string())
+                    }
+                };
+                let defined = pass
+                    .aspects
+                    .iter()
+                    .filter(|a| match *input {
+                        CoreRef::Color(c) => a.slot == Slot::Color(c as u8),
+                        CoreRef::DepthStencil => !matches!(a.slot, Slot::Color(_)),
+                    })
+                    .any(|a| a.load != LoadKind::DontCare);
+                if !written && !defined {
+                    return Err(format!(
+                        "subpass {s} reads {name} as input {i}, but no earlier subpass writes it and the pass neither \
+                         loads nor clears it: its contents are undefined"
+                    ));
+                }
+            }
         }
         let here = self.here;
         self.end_open_pass(EndCause::EndPass)?;

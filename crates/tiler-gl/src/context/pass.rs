@@ -973,7 +973,7 @@ impl Context {
                 EndCause::Swap => "swap_buffers",
                 EndCause::EndTiling => "end_tiling",
                 EndCause::Copy => "copy_tex_sub_image",
-                EndCause::End => "the end of the trace",
+                EndCause::End => super::explicit::END_OF_TRACE,
                 EndCause::Flush { flush } => flush.describe(),
                 EndCause::EndPass => unreachable!(),
             };

@@ -281,7 +281,16 @@ fn explicit_pass_errors_name_the_call() {
             format!(r#"{BEGIN}, {{"call": "blit_framebuffer", "src": [0, 0, 16, 16], "dst": [0, 0, 16, 16]}}"#),
             "call 12: blit_framebuffer: blit_framebuffer inside the explicit pass begun at frame 0, call 11",
         ),
-        (BEGIN.to_string(), "the end of the trace inside the explicit pass begun at frame 0, call 11"),
+        (BEGIN.to_string(), "frame 0: at the end of the trace: the explicit pass begun at frame 0, call 11 was never ended"),
+        // Checked at end_pass, once the load ops are known: an input nothing wrote.
+        (
+            format!(
+                r#"{{"call": "begin_pass", "framebuffer": 1, "subpasses": [{{"color": ["color0"], "input": ["color1"]}}]}},
+                   {draw}, {{"call": "end_pass"}}"#
+            ),
+            "frame 0, call 13: end_pass: subpass 0 reads color1 as input 0, but no earlier subpass writes it and the \
+             pass neither loads nor clears it",
+        ),
         // Transient images have no memory: nothing reads them back, samples, copies or
         // uploads them.
         (
