@@ -23,6 +23,7 @@
 //! | `unsorted-opaque` | 000 §23.7, §23.11 | fragments shaded beyond one per pixel |
 //! | `msaa-stored` | 000 §23.9, §23.3; 004 §24.3.3 | the multisampled stores |
 //! | `post-process-chain` | 002 "Optimizing for TBR" (subpasses); 000 §23.5 | the intermediate store |
+//! | `subpass-split` | 002 "Optimizing for TBR", "Best Practices for TBR" | the split's stores and reloads |
 //! | `draws-discarded` (info) | 000 §23.10 | — |
 
 use serde::Serialize;
@@ -56,7 +57,7 @@ pub struct Rule {
 }
 
 /// Every rule the advisor checks.
-pub const RULES: [Rule; 18] = [
+pub const RULES: [Rule; 19] = [
     Rule {
         id: "load-at-pass-start",
         seed: "001, 000",
@@ -158,6 +159,12 @@ pub const RULES: [Rule; 18] = [
         seed: "002, 000",
         section: "002 \"Optimizing for TBR\" (subpasses); 000 §23.5",
         text: "A full-screen pass that only reads the previous pass's colour could be folded into it (or be a subpass reading an input attachment), keeping the intermediate image on chip.",
+    },
+    Rule {
+        id: "subpass-split",
+        seed: "002",
+        section: "002 \"Optimizing for TBR\" (subpasses), \"Best Practices for TBR\"",
+        text: "Make a subpass dependency by-region when each pixel reads only its own pixel of what the earlier subpass wrote (input attachments): otherwise a tiler must split the pass and store and reload every attachment, transient ones included, through memory.",
     },
     Rule {
         id: "draws-discarded",
@@ -371,7 +378,7 @@ fn pass_findings(config: &ContextConfig, pass: &PassRecord, earlier: &[&PassReco
                 ));
             }
         }
-        StartCause::Bind | StartCause::NewFrame => {
+        StartCause::Bind | StartCause::NewFrame | StartCause::BeginPass => {
             let mut loaded = Vec::new();
             let mut cost = 0;
             let mut window_cost = 0;
@@ -430,6 +437,44 @@ fn pass_findings(config: &ContextConfig, pass: &PassRecord, earlier: &[&PassReco
             ),
             "attach the image at depth_stencil, or use a depth-only format (depth16, depth24, depth32f) when no \
              stencil is needed"
+                .to_string(),
+        ));
+    }
+
+    // Subpass dependencies that are not by-region: the pass split through memory.
+    let splits = pass.cost.counters.subpass_splits;
+    if splits > 0 {
+        // What the split moved beyond the pass's own loads and stores; when incremental
+        // renders also stored and reloaded, the two cannot be told apart and the cost is theirs.
+        let planned: u64 = pass.attachments.iter().map(|a| a.load_bytes + a.store_bytes).sum();
+        let moved = pass.cost.ledger.get(Category::TileLoad) + pass.cost.ledger.get(Category::TileStore);
+        let extra = if pass.cost.counters.incremental_renders == 0 { moved.saturating_sub(planned) } else { 0 };
+        let deps: Vec<String> = pass
+            .dependencies
+            .iter()
+            .filter(|d| !d.by_region)
+            .map(|d| format!("subpass {} → {}", d.src, d.dst))
+            .collect();
+        let cost_text = if extra > 0 {
+            format!("{} more than the pass's own loads and stores", bytes(extra))
+        } else {
+            "its cost is counted with the pass's incremental renders".to_string()
+        };
+        out.push(finding(
+            "subpass-split",
+            pass,
+            Some(pass.started_at),
+            Cost { bytes: extra, ..Cost::default() },
+            format!(
+                "the dependency {} of the explicit pass {} on {fb} (begun at {}) is not by-region, so the tiler \
+                 split the pass {splits} time(s): every tile stored every attachment — the transient ones through \
+                 spill memory they would not otherwise need — and reloaded them for the next subpass; {cost_text}",
+                deps.join(", "),
+                pass.index,
+                pass.started_at
+            ),
+            "set \"by_region\": true on the dependency when each pixel of the later subpass reads only its own pixel \
+             of what the earlier one wrote (input attachments always do); only reads of other pixels need the split"
                 .to_string(),
         ));
     }

@@ -46,7 +46,10 @@ pub enum Call<D = Bytes> {
 
     // --- textures and renderbuffers ---------------------------------------------------------
     /// Creates texture `id` with storage (`glGenTextures` + `glTexImage2D`); `data` rows run
-    /// bottom to top as in GL; without `data` the contents are undefined.
+    /// bottom to top as in GL; without `data` the contents are undefined. A `transient`
+    /// texture has no memory (Vulkan's transient attachment, lazily allocated): it can only be
+    /// rendered and read as an input attachment within a pass, never uploaded, sampled or read
+    /// back, and its contents do not outlive a pass.
     CreateTexture {
         id: u32,
         width: u32,
@@ -54,6 +57,8 @@ pub enum Call<D = Bytes> {
         format: TextureFormat,
         #[serde(default = "none", skip_serializing_if = "Option::is_none")]
         data: Option<D>,
+        #[serde(default, skip_serializing_if = "is_false")]
+        transient: bool,
     },
     /// Gives a texture new storage (`glTexImage2D` on an existing texture).
     TexImage {
@@ -84,7 +89,8 @@ pub enum Call<D = Bytes> {
     DeleteTexture {
         id: u32,
     },
-    /// Creates renderbuffer `id` (`glGenRenderbuffers` + `glRenderbufferStorageMultisample`).
+    /// Creates renderbuffer `id` (`glGenRenderbuffers` + `glRenderbufferStorageMultisample`);
+    /// `transient` as for `create_texture`: no memory, contents live only within a pass.
     CreateRenderbuffer {
         id: u32,
         width: u32,
@@ -92,6 +98,8 @@ pub enum Call<D = Bytes> {
         format: TextureFormat,
         #[serde(default = "one")]
         samples: u32,
+        #[serde(default, skip_serializing_if = "is_false")]
+        transient: bool,
     },
     DeleteRenderbuffer {
         id: u32,
@@ -129,6 +137,25 @@ pub enum Call<D = Bytes> {
         target: FramebufferTarget,
         framebuffer: u32,
     },
+
+    // --- explicit render passes ---------------------------------------------------------
+    /// Binds `framebuffer` for drawing and begins an explicit render pass on it with these
+    /// subpasses (Vulkan's `vkCmdBeginRenderPass`; in GL terms, what a driver would infer,
+    /// made explicit). Load and store ops are still inferred (a `clear` before the first draw
+    /// clears, `invalidate` drops the store, transient attachments are never loaded or
+    /// stored); draws go to the current subpass until `next_subpass`. Nothing may end the pass
+    /// early: binding another framebuffer, flushes, read-backs and swaps are errors until
+    /// `end_pass`.
+    BeginPass {
+        framebuffer: u32,
+        subpasses: Vec<SubpassSpec>,
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        dependencies: Vec<DependencySpec>,
+    },
+    /// Moves on to the next subpass (`vkCmdNextSubpass`).
+    NextSubpass,
+    /// Ends the explicit pass in its last subpass and renders it (`vkCmdEndRenderPass`).
+    EndPass,
 
     // --- programs and uniforms -------------------------------------------------------------
     /// Creates program object `id` of a built-in program (see [`ProgramKind`]); its uniforms
@@ -382,6 +409,10 @@ fn is_one(v: &u32) -> bool {
     *v == 1
 }
 
+fn is_false(v: &bool) -> bool {
+    !*v
+}
+
 fn none<T>() -> Option<T> {
     None
 }
@@ -407,6 +438,9 @@ impl<D> Call<D> {
             FramebufferTexture { .. } => "framebuffer_texture",
             FramebufferRenderbuffer { .. } => "framebuffer_renderbuffer",
             BindFramebuffer { .. } => "bind_framebuffer",
+            BeginPass { .. } => "begin_pass",
+            NextSubpass => "next_subpass",
+            EndPass => "end_pass",
             CreateProgram { .. } => "create_program",
             UseProgram { .. } => "use_program",
             Uniform { .. } => "uniform",
@@ -468,8 +502,8 @@ impl<D> Call<D> {
             CreateBuffer { id, data } => CreateBuffer { id, data: f(data)? },
             BufferData { id, data } => BufferData { id, data: f(data)? },
             BufferSubData { id, offset, data } => BufferSubData { id, offset, data: f(data)? },
-            CreateTexture { id, width, height, format, data } => {
-                CreateTexture { id, width, height, format, data: data.map(&mut f).transpose()? }
+            CreateTexture { id, width, height, format, data, transient } => {
+                CreateTexture { id, width, height, format, data: data.map(&mut f).transpose()?, transient }
             }
             TexImage { id, width, height, format, data } => {
                 TexImage { id, width, height, format, data: data.map(&mut f).transpose()? }
@@ -481,8 +515,8 @@ impl<D> Call<D> {
             DeleteBuffer { id } => DeleteBuffer { id },
             TexParameters { id, filter, wrap } => TexParameters { id, filter, wrap },
             DeleteTexture { id } => DeleteTexture { id },
-            CreateRenderbuffer { id, width, height, format, samples } => {
-                CreateRenderbuffer { id, width, height, format, samples }
+            CreateRenderbuffer { id, width, height, format, samples, transient } => {
+                CreateRenderbuffer { id, width, height, format, samples, transient }
             }
             DeleteRenderbuffer { id } => DeleteRenderbuffer { id },
             CreateFramebuffer { id } => CreateFramebuffer { id },
@@ -494,6 +528,9 @@ impl<D> Call<D> {
                 FramebufferRenderbuffer { framebuffer, attachment, renderbuffer }
             }
             BindFramebuffer { target, framebuffer } => BindFramebuffer { target, framebuffer },
+            BeginPass { framebuffer, subpasses, dependencies } => BeginPass { framebuffer, subpasses, dependencies },
+            NextSubpass => NextSubpass,
+            EndPass => EndPass,
             CreateProgram { id, program } => CreateProgram { id, program },
             UseProgram { id } => UseProgram { id },
             Uniform { name, value } => Uniform { name, value },
@@ -648,6 +685,19 @@ pub enum AttachmentPoint {
 }
 
 impl AttachmentPoint {
+    /// The point as a trace spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            AttachmentPoint::Color0 => "color0",
+            AttachmentPoint::Color1 => "color1",
+            AttachmentPoint::Color2 => "color2",
+            AttachmentPoint::Color3 => "color3",
+            AttachmentPoint::Depth => "depth",
+            AttachmentPoint::Stencil => "stencil",
+            AttachmentPoint::DepthStencil => "depth_stencil",
+        }
+    }
+
     pub fn color_index(self) -> Option<usize> {
         match self {
             AttachmentPoint::Color0 => Some(0),
@@ -686,6 +736,38 @@ impl BufferSet {
     pub const NONE: BufferSet = BufferSet { color: false, depth: false, stencil: false };
     pub const COLOR: BufferSet = BufferSet { color: true, depth: false, stencil: false };
     pub const ALL: BufferSet = BufferSet { color: true, depth: true, stencil: true };
+}
+
+/// One subpass of a `begin_pass` (Vulkan's `VkSubpassDescription`), naming the
+/// framebuffer's attachments by their GL attachment points.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SubpassSpec {
+    /// Colour attachments written (`color0` … `color3`); the program's output goes to the
+    /// first.
+    #[serde(default)]
+    pub color: Vec<AttachmentPoint>,
+    /// Whether depth and stencil tests use the framebuffer's depth-stencil attachment.
+    #[serde(default)]
+    pub depth_stencil: bool,
+    /// Input attachments, read at the same pixel by programs that read inputs (`composite`):
+    /// `color0` … `color3`, or `depth` / `stencil` / `depth_stencil` (the depth-stencil attachment, read as
+    /// `(depth, stencil, 0, 1)`).
+    #[serde(default)]
+    pub input: Vec<AttachmentPoint>,
+}
+
+/// An ordering between two subpasses of a `begin_pass` (Vulkan's `VkSubpassDependency`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DependencySpec {
+    pub src: u32,
+    pub dst: u32,
+    /// `dst` reads only what `src` wrote at the same pixel (`VK_DEPENDENCY_BY_REGION_BIT`):
+    /// both stay in the tile. Without it a tiler finishes `src` everywhere first, storing and
+    /// reloading every attachment through memory.
+    #[serde(default)]
+    pub by_region: bool,
 }
 
 /// `glEnable` capabilities.
@@ -787,6 +869,9 @@ pub enum ProgramKind {
     /// Position (0) × `mvp`, texture coordinate (1); samples unit `sampler` times `color`;
     /// discards alpha below `alpha_cutoff`.
     Textured,
+    /// Position (0) × `mvp`; reads input attachment 0 of the current subpass at the pixel
+    /// and writes it times `color` (a lighting or composite subpass over a G-buffer).
+    Composite,
 }
 
 /// A uniform value (`{"mat4": [16 floats, column-major]}`, `{"vec4": [...]}`, ...).

@@ -43,6 +43,11 @@
 //!   texture cache (`texture_fetch` in the ledger), nearest or bilinear without mip maps;
 //!   other formats (float, 565, depth) with a context-side sampler whose reads are not
 //!   counted. Blits and copies count their source reads by formula (see `program`).
+//! - Explicit render passes: a trace (or program) may begin a pass with subpasses and their
+//!   dependencies (`begin_pass`, `next_subpass`, `end_pass`; `context::explicit`), mapped to
+//!   [`tiler::RenderPass::with_subpasses`], with transient textures and renderbuffers (no
+//!   memory) and the `composite` program reading input attachment 0. Load and store ops are
+//!   still inferred; everything else keeps inferring single-subpass passes.
 //! - Costs are a tiler's: with the immediate-mode backend the passes and images are the same,
 //!   the ledger is immediate mode's, and the advisor's costs describe what a tiler would pay.
 //!
@@ -71,8 +76,8 @@ pub mod trace;
 pub use advisor::{Finding, Severity};
 pub use bytes::Bytes;
 pub use call::{
-    AttachmentPoint, BufferSet, Call, Capability, ComponentType, Face, Filter, FramebufferTarget, IndexKind, Mode,
-    Output, ProgramKind, SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
+    AttachmentPoint, BufferSet, Call, Capability, ComponentType, DependencySpec, Face, Filter, FramebufferTarget,
+    IndexKind, Mode, Output, ProgramKind, SubpassSpec, SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
 };
 pub use context::{Context, ContextConfig, Error};
 pub use report::{CallRef, FrameRecord, PassRecord, Report, Slot};

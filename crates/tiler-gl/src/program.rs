@@ -11,6 +11,7 @@
 //! | `vertex_color` | 0 position, 1 color | `mvp`, `alpha_cutoff` float | colour (4) |
 //! | `lambert` | 0 position, 1 normal | `mvp`, `model` mat4, `color`, `light_dir` vec3 | normal (3) |
 //! | `textured` | 0 position, 1 texcoord | `mvp`, `color`, `alpha_cutoff`, `sampler` int | texcoord (2) |
+//! | `composite` | 0 position | `mvp`, `color` vec4 | — (reads input attachment 0) |
 //!
 //! Every vertex shader computes GL's `gl_Position = mvp · position` and converts it to
 //! tiler's clip space (Vulkan's): `(x, −y, (z + w) / 2, w)`. The y negation maps GL's window
@@ -52,8 +53,13 @@ pub struct ProgramInfo {
 }
 
 impl ProgramKind {
-    pub const ALL: [ProgramKind; 4] =
-        [ProgramKind::Solid, ProgramKind::VertexColor, ProgramKind::Lambert, ProgramKind::Textured];
+    pub const ALL: [ProgramKind; 5] = [
+        ProgramKind::Solid,
+        ProgramKind::VertexColor,
+        ProgramKind::Lambert,
+        ProgramKind::Textured,
+        ProgramKind::Composite,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -61,6 +67,7 @@ impl ProgramKind {
             ProgramKind::VertexColor => "vertex_color",
             ProgramKind::Lambert => "lambert",
             ProgramKind::Textured => "textured",
+            ProgramKind::Composite => "composite",
         }
     }
 
@@ -86,6 +93,11 @@ impl ProgramKind {
                 uniforms: &[("mvp", "mat4"), ("color", "vec4"), ("alpha_cutoff", "float"), ("sampler", "int")],
                 samples_texture: true,
             },
+            ProgramKind::Composite => ProgramInfo {
+                attributes: &[(0, "position")],
+                uniforms: &[("mvp", "mat4"), ("color", "vec4")],
+                samples_texture: false,
+            },
         }
     }
 
@@ -95,6 +107,15 @@ impl ProgramKind {
             ProgramKind::VertexColor => 4,
             ProgramKind::Lambert => 3,
             ProgramKind::Textured => 2,
+            ProgramKind::Composite => 0,
+        }
+    }
+
+    /// How many input attachments the program reads (the current subpass must have them).
+    pub fn inputs(self) -> usize {
+        match self {
+            ProgramKind::Composite => 1,
+            _ => 0,
         }
     }
 }
@@ -171,7 +192,7 @@ impl VertexShader for ProgramVertexShader {
         out.position = gl_to_tiler_clip(self.mvp * input.attributes[0]);
         let a = input.attributes[1];
         match self.kind {
-            ProgramKind::Solid => {}
+            ProgramKind::Solid | ProgramKind::Composite => {}
             ProgramKind::VertexColor => out.varyings[..4].copy_from_slice(&a.to_array()),
             ProgramKind::Lambert => {
                 let n = self.normal_matrix * a.truncate();
@@ -190,6 +211,20 @@ impl FragmentShader for SolidShader {
     #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         frag.set_color(0, self.color.map(F32x8::splat));
+    }
+}
+
+/// Input attachment 0 at the fragment's pixel (and sample), times a colour: what a lighting
+/// or composite subpass reads from the G-buffer written by an earlier subpass, in the tile.
+struct CompositeShader {
+    color: [f32; 4],
+}
+
+impl FragmentShader for CompositeShader {
+    #[inline(always)]
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        let input = frag.input(0);
+        frag.set_color(0, std::array::from_fn(|c| input[c] * self.color[c]));
     }
 }
 
@@ -404,6 +439,7 @@ pub fn program_pipeline(
     let vertex = ProgramVertexShader { kind, mvp: uniforms.mvp, normal_matrix };
     match kind {
         ProgramKind::Solid => Pipeline::new(vertex, SolidShader { color: uniforms.color }, desc),
+        ProgramKind::Composite => Pipeline::new(vertex, CompositeShader { color: uniforms.color }, desc),
         ProgramKind::VertexColor => {
             Pipeline::new(vertex, VertexColorShader { alpha_cutoff: uniforms.alpha_cutoff }, desc)
         }

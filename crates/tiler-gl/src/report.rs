@@ -64,6 +64,8 @@ pub enum StartCause {
     Tiling,
     /// A `copy_tex_sub_image` renders into its texture.
     Copy,
+    /// `begin_pass` began an explicit pass.
+    BeginPass,
 }
 
 /// Why a pass was flushed before its framebuffer was unbound (seed 000 §23.5).
@@ -118,6 +120,8 @@ pub enum EndCause {
     Copy,
     /// The trace (or the program) ended with work pending.
     End,
+    /// `end_pass` ended an explicit pass.
+    EndPass,
 }
 
 /// A load op as reported.
@@ -249,6 +253,9 @@ pub struct PassCost {
     pub tile_height: u32,
     pub tiles_x: u32,
     pub tiles_y: u32,
+    /// Memory the pass's transient attachments did not need (tilers, when they never
+    /// spilled to memory through an incremental render or a subpass split).
+    pub transient_bytes_saved: u64,
 }
 
 impl From<&PassReport> for PassCost {
@@ -261,6 +268,7 @@ impl From<&PassReport> for PassCost {
             tile_height: r.tile_height,
             tiles_x: r.tiles_x,
             tiles_y: r.tiles_y,
+            transient_bytes_saved: r.transient_bytes_saved,
         }
     }
 }
@@ -288,6 +296,15 @@ pub struct PassRecord {
     pub end: EndCause,
     pub ended_at: CallRef,
     pub attachments: Vec<AttachmentRecord>,
+    /// The subpasses of an explicit pass (`begin_pass`), as the core took them; empty for an
+    /// inferred pass (one subpass writing everything).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub subpasses: Vec<tiler::SubpassDesc>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub dependencies: Vec<tiler::SubpassDependency>,
+    /// The index of each draw's subpass, for explicit passes (empty otherwise).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub draw_subpasses: Vec<u32>,
     pub draws: Vec<DrawRecord>,
     pub dropped: Vec<Dropped>,
     pub cost: PassCost,

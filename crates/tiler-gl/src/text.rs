@@ -36,6 +36,7 @@ fn start(pass: &PassRecord) -> String {
         StartCause::AfterFlush { flush } => format!("continues after {} at {}", flush.describe(), pass.started_at),
         StartCause::Tiling => format!("start_tiling at {}", pass.started_at),
         StartCause::Copy => format!("copy at {}", pass.started_at),
+        StartCause::BeginPass => format!("begin_pass at {}", pass.started_at),
     }
 }
 
@@ -47,6 +48,7 @@ fn end(pass: &PassRecord) -> String {
         EndCause::EndTiling => "end_tiling".to_string(),
         EndCause::Copy => "copy done".to_string(),
         EndCause::End => "end of trace".to_string(),
+        EndCause::EndPass => "end_pass".to_string(),
     };
     format!("{what} at {}", pass.ended_at)
 }
@@ -109,6 +111,49 @@ pub fn text_report(report: &Report) -> String {
                     kb(a.store_bytes),
                     a.load_reason,
                     a.store_reason
+                );
+            }
+            for (i, sp) in pass.subpasses.iter().enumerate() {
+                let into: Vec<_> = pass.dependencies.iter().filter(|d| d.dst == i as u32).collect();
+                let mut writes: Vec<String> = sp.color.iter().map(|c| format!("color{c}")).collect();
+                if sp.depth_stencil {
+                    writes.push("depth-stencil".to_string());
+                }
+                let reads: Vec<String> = sp
+                    .input
+                    .iter()
+                    .map(|r| match r {
+                        tiler::AttachmentRef::Color(c) => format!("color{c}"),
+                        tiler::AttachmentRef::DepthStencil => "depth-stencil".to_string(),
+                    })
+                    .collect();
+                let _ = writeln!(
+                    out,
+                    "      subpass {i}: writes {}, reads {}, {} draw(s){}",
+                    if writes.is_empty() { "nothing".to_string() } else { writes.join(", ") },
+                    if reads.is_empty() { "no inputs".to_string() } else { reads.join(", ") },
+                    pass.draw_subpasses.iter().filter(|s| **s == i as u32).count(),
+                    into.iter()
+                        .map(|d| format!(
+                            "; after subpass {} {}",
+                            d.src,
+                            if d.by_region { "by region" } else { "NOT by region (split)" }
+                        ))
+                        .collect::<String>()
+                );
+            }
+            if pass.cost.transient_bytes_saved > 0 {
+                let _ = writeln!(
+                    out,
+                    "      transient attachments: {} of memory not needed (never left the tile)",
+                    kb(pass.cost.transient_bytes_saved)
+                );
+            }
+            if pass.cost.counters.subpass_splits > 0 {
+                let _ = writeln!(
+                    out,
+                    "      {} subpass split(s): every attachment stored and reloaded through memory",
+                    pass.cost.counters.subpass_splits
                 );
             }
             for d in &pass.dropped {

@@ -9,5 +9,7 @@ mod fuzz;
 mod inference;
 #[path = "gl/smoke.rs"]
 mod smoke;
+#[path = "gl/subpasses.rs"]
+mod subpasses;
 #[path = "gl/traces.rs"]
 mod traces;

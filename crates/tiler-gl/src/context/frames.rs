@@ -191,6 +191,7 @@ impl Context {
             .first()
             .ok_or_else(|| format!("framebuffer {read} has no colour attachment to read"))?
             .readable();
+        self.check_has_memory(image, &format!("read_pixels of framebuffer {read}'s color0"))?;
         if self.images[&image].desc.samples > 1 {
             return Err(format!(
                 "framebuffer {read} is multisampled (GL_INVALID_OPERATION): blit it to a single-sampled framebuffer first"
@@ -258,6 +259,7 @@ impl Context {
     /// `source pixels × samples × bytes per sample`; a multisampled source is averaged, a
     /// resolve).
     pub(crate) fn blit(&mut self, src: [i32; 4], dst: [i32; 4], filter: Filter) -> Fallible {
+        self.outside_explicit_pass("blit_framebuffer")?;
         let (read, draw) = (self.read_framebuffer, self.draw_framebuffer);
         if read == draw {
             return Err(format!(
@@ -267,6 +269,7 @@ impl Context {
         let source = self.targets(read)?;
         let image =
             source.color.first().ok_or_else(|| format!("framebuffer {read} has no colour attachment"))?.readable();
+        self.check_has_memory(image, &format!("blit_framebuffer from framebuffer {read}'s color0"))?;
         let (sw, sh) = (source.width as i32, source.height as i32);
         if src.iter().enumerate().any(|(i, v)| *v < 0 || *v > if i % 2 == 0 { sw } else { sh }) {
             return Err(format!("source rectangle {src:?} is not inside framebuffer {read} ({sw}×{sh})"));
@@ -313,12 +316,15 @@ impl Context {
         [x, y]: [i32; 2],
         [width, height]: [u32; 2],
     ) -> Fallible {
+        self.outside_explicit_pass("copy_tex_sub_image")?;
         let read = self.read_framebuffer;
         let source = self.targets(read)?;
         let src_image =
             source.color.first().ok_or_else(|| format!("framebuffer {read} has no colour attachment"))?.readable();
+        self.check_has_memory(src_image, &format!("copy_tex_sub_image from framebuffer {read}'s color0"))?;
         let t = self.texture(texture)?;
         let (dst_image, dst_format) = (t.image, t.format);
+        self.check_has_memory(dst_image, &format!("copy_tex_sub_image into texture {texture}"))?;
         if !dst_format.is_color() {
             return Err(format!("texture {texture} has format {}, not a colour format", dst_format.name()));
         }
@@ -373,6 +379,7 @@ impl Context {
             store_reason: "the copied texels".to_string(),
             invalidated: false,
             resolve: None,
+            transient: false,
         };
         let copy = OpenPass {
             framebuffer: read,
@@ -395,6 +402,7 @@ impl Context {
             images_sampled: Default::default(),
             retired_buffers: Vec::new(),
             retired_images: Vec::new(),
+            explicit: None,
         };
         let src_desc = self.images[&src_image].desc;
         let read_bytes =

@@ -9,6 +9,7 @@
 //! The context owns its [`Device`]; there are no globals. Every call goes through
 //! [`Context::call`], which checks it, applies it, and records it when recording is on.
 
+mod explicit;
 mod frames;
 mod pass;
 mod targets;
@@ -564,26 +565,29 @@ impl Context {
             BufferData { id, data } => self.buffer_data(id, data)?,
             BufferSubData { id, offset, data } => self.buffer_sub_data(id, offset, data)?,
             DeleteBuffer { id } => self.delete_buffer(id)?,
-            CreateTexture { id, width, height, format, data } => {
+            CreateTexture { id, width, height, format, data, transient } => {
                 if id == 0 || self.textures.contains_key(&id) {
                     return Err(name_taken("texture", id));
                 }
-                self.texture_storage(id, width, height, format, data)?;
+                if transient && data.is_some() {
+                    return Err(format!("texture {id} is transient (it has no memory), so it cannot be given data"));
+                }
+                self.texture_storage(id, width, height, format, data, transient)?;
             }
             TexImage { id, width, height, format, data } => {
                 self.texture(id)?;
-                self.texture_storage(id, width, height, format, data)?;
+                self.texture_storage(id, width, height, format, data, false)?;
             }
             TexSubImage { id, x, y, width, height, data } => self.tex_sub_image(id, x, y, width, height, data)?,
             TexParameters { id, filter, wrap } => {
                 self.texture_mut(id)?.sampler = SamplerState { filter, wrap };
             }
             DeleteTexture { id } => self.delete_texture(id)?,
-            CreateRenderbuffer { id, width, height, format, samples } => {
+            CreateRenderbuffer { id, width, height, format, samples, transient } => {
                 if id == 0 || self.renderbuffers.contains_key(&id) {
                     return Err(name_taken("renderbuffer", id));
                 }
-                let image = self.alloc_image(width, height, format, samples)?;
+                let image = self.alloc_image_with(width, height, format, samples, transient)?;
                 self.renderbuffers.insert(id, RenderbufferObject { image });
             }
             DeleteRenderbuffer { id } => self.delete_renderbuffer(id)?,
@@ -612,6 +616,12 @@ impl Context {
                             return Err(format!("framebuffer {framebuffer} cannot take attachments"));
                         }
                         let (format, desc) = (t.format, self.images[&t.image].desc);
+                        if desc.transient {
+                            return Err(format!(
+                                "texture {texture} is transient (it has no memory), so multisamples cannot be \
+                                 resolved into it: attach it single-sampled"
+                            ));
+                        }
                         let image = self.alloc_image(desc.width, desc.height, format, samples)?;
                         Some(AttachmentRef::MultisampleTexture { texture, samples: image })
                     }
@@ -626,6 +636,11 @@ impl Context {
                 self.attach(framebuffer, attachment, r)?;
             }
             BindFramebuffer { target, framebuffer } => self.bind_framebuffer(target, framebuffer)?,
+            BeginPass { framebuffer, subpasses, dependencies } => {
+                self.begin_pass(framebuffer, &subpasses, &dependencies)?;
+            }
+            NextSubpass => self.next_subpass()?,
+            EndPass => self.end_pass()?,
             CreateProgram { id, program } => {
                 if id == 0 || self.programs.contains_key(&id) {
                     return Err(name_taken("program", id));
@@ -805,12 +820,27 @@ impl Context {
         format: TextureFormat,
         samples: u32,
     ) -> Fallible<ImageId> {
-        let desc = ImageDesc::new(width, height, format.format()).with_samples(samples);
+        self.alloc_image_with(width, height, format, samples, false)
+    }
+
+    /// [`Context::alloc_image`], or a transient image (no memory, so nothing is reserved).
+    pub(crate) fn alloc_image_with(
+        &mut self,
+        width: u32,
+        height: u32,
+        format: TextureFormat,
+        samples: u32,
+        transient: bool,
+    ) -> Fallible<ImageId> {
+        let mut desc = ImageDesc::new(width, height, format.format()).with_samples(samples);
+        if transient {
+            desc = desc.transient();
+        }
         desc.validate().map_err(|e| e.to_string())?;
         let image = match self.image_pool.get_mut(&desc).and_then(|p| p.pop()) {
             Some(image) => image,
             None => {
-                self.reserve(desc.size_bytes())?;
+                self.reserve(if transient { 0 } else { desc.size_bytes() })?;
                 self.device.create_image(desc).map_err(|e| e.to_string())?
             }
         };
@@ -959,6 +989,7 @@ impl Context {
         height: u32,
         format: TextureFormat,
         data: Option<Bytes>,
+        transient: bool,
     ) -> Fallible {
         if let Some(data) = &data {
             check_texel_bytes(format, width, height, data.len())?;
@@ -967,7 +998,7 @@ impl Context {
         if self.textures.contains_key(&id) && self.open_pass_attaches(AttachmentRef::Texture(id)) {
             self.flush_open_pass(crate::report::FlushCause::AttachmentChange)?;
         }
-        let image = self.alloc_image(width, height, format, 1)?;
+        let image = self.alloc_image_with(width, height, format, 1, transient)?;
         if let Some(data) = data {
             self.upload(image, 0, 0, width, height, &data)?;
         }
@@ -999,6 +1030,7 @@ impl Context {
             ));
         }
         check_texel_bytes(format, width, height, data.len())?;
+        self.check_has_memory(image, &format!("tex_sub_image of texture {id}"))?;
         if self.open_pass_attaches(AttachmentRef::Texture(id)) {
             self.flush_open_pass(crate::report::FlushCause::TextureUpdate)?;
         }
@@ -1164,6 +1196,19 @@ impl Context {
             .chain([&fb.depth, &fb.stencil])
             .flatten()
             .any(|a| *a == r || (r.texture().is_some() && a.texture() == r.texture()))
+    }
+}
+
+impl Context {
+    /// Refuses to read or write the memory of a transient image, which has none.
+    pub(crate) fn check_has_memory(&self, image: ImageId, what: &str) -> Fallible {
+        if self.images.get(&image).is_some_and(|i| i.desc.transient) {
+            return Err(format!(
+                "{what}: the image is transient (it has no memory), so it cannot be read back, sampled, copied or \
+                 uploaded; read it as an input attachment in a later subpass of the pass that renders it"
+            ));
+        }
+        Ok(())
     }
 }
 

@@ -14,6 +14,8 @@
 //! | `start_tiling` / `end_tiling` | render area = the region; load and store as the masks say | [`Context::start_tiling`] |
 //! | exceeds the frame-data budget | incremental render (in the core: `tiler::backend::tbr`) | — |
 //! | changes a buffer a pending frame uses | copy-on-write, counted | `mod.rs`, `frames.rs` |
+//! | begins an explicit pass (`begin_pass`) | the same inference, with the given subpasses; nothing may end it before `end_pass` | `explicit.rs` |
+//! | attaches a transient image | never loaded or stored (load `DontCare` or `Clear`, store `DontCare`) | `start_aspect` |
 //!
 //! # Load ops
 //!
@@ -80,6 +82,8 @@ pub(crate) struct PassAspect {
     pub invalidated: bool,
     /// Where a multisampled colour is resolved, in the tile, at the end of the pass.
     pub resolve: Option<ImageId>,
+    /// A transient image: never loaded or stored, whatever happens in the pass.
+    pub transient: bool,
 }
 
 /// Which aspects a draw writes.
@@ -162,6 +166,8 @@ pub(crate) struct OpenPass {
     /// Storage to free once the pass is rendered: `(buffer, bytes)`.
     pub retired_buffers: Vec<(BufferId, u64)>,
     pub retired_images: Vec<ImageId>,
+    /// The subpasses of a `begin_pass`; `None` for an inferred pass.
+    pub explicit: Option<super::explicit::ExplicitPass>,
 }
 
 impl OpenPass {
@@ -313,6 +319,7 @@ impl Context {
                 images_sampled: HashSet::new(),
                 retired_buffers: Vec::new(),
                 retired_images: Vec::new(),
+                explicit: None,
             });
         }
         Ok(self.pass.as_mut().expect("just made"))
@@ -322,7 +329,14 @@ impl Context {
     fn start_aspect(&self, slot: Slot, image: ImageId, role: Role, preserve: Option<BufferSet>) -> PassAspect {
         let info = &self.images[&image];
         let defined = info.defined[defined_index(slot)];
+        let transient = info.desc.transient;
         let (load, load_reason, store, store_reason) = match role {
+            _ if transient => (
+                LoadKind::DontCare,
+                "transient: it has no memory, so it is never loaded".to_string(),
+                StoreKind::DontCare,
+                "transient: it has no memory, so it is never stored".to_string(),
+            ),
             Role::Padding => (
                 LoadKind::DontCare,
                 format!("padding: {} has no {slot} aspect", info.gl_format.name()),
@@ -361,6 +375,7 @@ impl Context {
             store_reason,
             invalidated: false,
             resolve: None,
+            transient,
         }
     }
 
@@ -418,6 +433,13 @@ impl Context {
                 Slot::Depth => [clear_depth, 0.0, 0.0, 0.0],
                 Slot::Stencil => [clear_stencil as f32, 0.0, 0.0, 0.0],
             };
+            let explicit = pass.explicit.is_some();
+            if explicit && !pass.draws.is_empty() {
+                return Err(
+                    "a clear after draws in an explicit pass: clear before the first draw (it becomes the load op)"
+                        .to_string(),
+                );
+            }
             if every_aspect_fully {
                 // Row 2: a full clear. Everything gathered so far is thrown away.
                 pass.drop_draws(&mut queries, here, "clear");
@@ -460,6 +482,13 @@ impl Context {
             }
             if quad_slots.is_empty() {
                 return Ok(());
+            }
+            if explicit {
+                return Err(format!(
+                    "a clear that needs a clear-quad draw ({}) in an explicit pass: clear whole buffers with the \
+                     scissor test off and every write mask on",
+                    quad_reasons.join(", ")
+                ));
             }
             // Row 3: a clear-quad draw; the load ops stay as they are.
             let color = quad_slots.iter().any(|s| matches!(s, Slot::Color(_)));
@@ -539,7 +568,7 @@ impl Context {
                     a.load_reason = format!("invalidated at {here} before any draw");
                 }
             }
-            if !at_start && pass.attached().all(|a| a.invalidated) {
+            if !at_start && pass.explicit.is_none() && pass.attached().all(|a| a.invalidated) {
                 // Every attachment is undefined now: nothing gathered can matter.
                 pass.drop_draws(&mut queries, here, "invalidate");
                 for a in pass.aspects.iter_mut().filter(|a| a.role == Role::Attached) {
@@ -657,12 +686,36 @@ impl Context {
                 0 => None,
                 id => {
                     let t = self.texture(id)?;
-                    Some((t.image, t.sampler))
+                    let (image, sampler) = (t.image, t.sampler);
+                    self.check_has_memory(image, &format!("program '{}' samples texture {id}", kind.name()))?;
+                    Some((image, sampler))
                 }
             }
         } else {
             None
         };
+        // The subpass the draw goes to, and the input attachments the program reads.
+        let subpass = self.explicit().map(|e| (e.current, e.subpass().clone()));
+        let input_count = kind.inputs();
+        if input_count > 0 {
+            match &subpass {
+                None => {
+                    return Err(format!(
+                        "program '{}' reads input attachment 0, which only a subpass of an explicit pass has \
+                         (begin_pass with \"input\")",
+                        kind.name()
+                    ));
+                }
+                Some((s, d)) if d.input.len() < input_count => {
+                    return Err(format!(
+                        "program '{}' reads {input_count} input attachment(s), but subpass {s} has {}",
+                        kind.name(),
+                        d.input.len()
+                    ));
+                }
+                _ => {}
+            }
+        }
         if let Some((image, _)) = texture
             && self.pass.as_ref().is_some_and(|p| p.has_work() && p.targets.images().any(|i| i == image))
         {
@@ -701,8 +754,11 @@ impl Context {
             clip_rect = intersect(clip_rect, region);
         }
 
-        let depth_test = s.depth_test && targets.has_depth();
-        let stencil_test = s.stencil_test && targets.has_stencil();
+        // In a subpass without the depth-stencil attachment, there is nothing to test against.
+        let subpass_depth = subpass.as_ref().is_none_or(|(_, d)| d.depth_stencil);
+        let subpass_color = subpass.as_ref().is_none_or(|(_, d)| !d.color.is_empty());
+        let depth_test = s.depth_test && targets.has_depth() && subpass_depth;
+        let stencil_test = s.stencil_test && targets.has_stencil() && subpass_depth;
         let (func, reference, compare_mask) = s.stencil_func;
         let face = StencilFaceState {
             compare: func,
@@ -727,7 +783,7 @@ impl Context {
         });
         let write_mask = color_writes(s.color_mask);
         let writes = Writes {
-            color: !targets.color.is_empty() && write_mask != ColorWrites::NONE,
+            color: !targets.color.is_empty() && subpass_color && write_mask != ColorWrites::NONE,
             depth: depth_stencil.depth_write,
             stencil: stencil_test && (face.writes()),
         };
@@ -805,8 +861,11 @@ impl Context {
         desc.cull_mode = desc_cull;
         desc.front_face = front_face;
         desc.depth_stencil = depth_stencil;
-        desc.color_targets =
-            if targets.color.is_empty() { Vec::new() } else { vec![ColorTargetState { blend, write_mask }] };
+        desc.color_targets = if targets.color.is_empty() || !subpass_color {
+            Vec::new()
+        } else {
+            vec![ColorTargetState { blend, write_mask }]
+        };
         desc.blend_constant = blend_constant;
         if let Some(q) = query.and_then(|q| self.queries.get_mut(&q)) {
             q.pending_draws += 1;
@@ -850,6 +909,7 @@ impl Context {
 
     /// Flush: the open pass renders now, and drawing continues in a new pass (row 5).
     pub(crate) fn flush_open_pass(&mut self, cause: FlushCause) -> Fallible {
+        self.outside_explicit_pass(cause.describe())?;
         if self.pass.as_ref().is_some_and(|p| p.has_work()) {
             self.end_open_pass(EndCause::Flush { flush: cause })?;
             self.next_start = (StartCause::AfterFlush { flush: cause }, self.here);
@@ -862,6 +922,7 @@ impl Context {
         if self.tiling.is_some() {
             return Err("start_tiling inside a tiled-rendering region: call end_tiling first".to_string());
         }
+        self.outside_explicit_pass("start_tiling")?;
         let targets = self.targets(self.draw_framebuffer)?;
         let region = gl_rect(x as i64, y as i64, w as i64, h as i64, targets.width, targets.height);
         if region.area() == 0 {
@@ -906,6 +967,18 @@ impl Context {
 
     /// Ends the open pass: renders it if it has work, and keeps the books.
     pub(crate) fn end_open_pass(&mut self, cause: EndCause) -> Fallible {
+        if cause != EndCause::EndPass {
+            let what = match cause {
+                EndCause::Bind => "binding another framebuffer",
+                EndCause::Swap => "swap_buffers",
+                EndCause::EndTiling => "end_tiling",
+                EndCause::Copy => "copy_tex_sub_image",
+                EndCause::End => super::explicit::END_OF_TRACE,
+                EndCause::Flush { flush } => flush.describe(),
+                EndCause::EndPass => unreachable!(),
+            };
+            self.outside_explicit_pass(what)?;
+        }
         let Some(mut pass) = self.pass.take() else { return Ok(()) };
         let here = self.here;
         if cause == EndCause::Swap && pass.framebuffer == 0 && pass.copy_texture.is_none() {
@@ -922,7 +995,7 @@ impl Context {
         if let EndCause::Flush { .. } = cause {
             // The rest of the pass needs the samples: a flush keeps them.
             for a in pass.aspects.iter_mut() {
-                if a.resolve.is_some() && !a.invalidated && a.store == StoreKind::DontCare {
+                if a.resolve.is_some() && !a.invalidated && !a.transient && a.store == StoreKind::DontCare {
                     a.store = StoreKind::Store;
                     a.store_reason = "the samples are kept for the rest of the pass, cut by a flush".to_string();
                 }
@@ -1007,7 +1080,15 @@ impl Context {
                 scissor: d.scissor,
             });
         }
-        let mut render_pass = RenderPass::new(RenderPassDesc { color, depth_stencil, render_area: pass.region });
+        let desc = RenderPassDesc { color, depth_stencil, render_area: pass.region };
+        let mut render_pass = match &pass.explicit {
+            Some(e) => {
+                let mut p = RenderPass::with_subpasses(desc, e.subpasses.clone(), e.dependencies.clone());
+                p.subpass_starts = e.starts.clone();
+                p
+            }
+            None => RenderPass::new(desc),
+        };
         render_pass.draws = draws;
         let report = match self.device.submit(&render_pass) {
             Ok(report) => report,
@@ -1147,6 +1228,13 @@ impl Context {
             end: cause,
             ended_at: here,
             attachments,
+            subpasses: render_pass.subpasses.clone(),
+            dependencies: render_pass.dependencies.clone(),
+            draw_subpasses: if pass.explicit.is_some() {
+                (0..pass.draws.len()).map(|i| render_pass.subpass_of(i) as u32).collect()
+            } else {
+                Vec::new()
+            },
             draws,
             dropped: std::mem::take(&mut pass.dropped),
             cost: PassCost::from(&report),
@@ -1296,7 +1384,7 @@ impl Context {
 /// Gathers a draw; an aspect it writes after an invalidate is stored again.
 fn push_draw(pass: &mut OpenPass, draw: PendingDraw) {
     for a in pass.aspects.iter_mut() {
-        if a.invalidated && a.role == Role::Attached && draw.writes.writes(a.slot) {
+        if a.invalidated && !a.transient && a.role == Role::Attached && draw.writes.writes(a.slot) {
             a.invalidated = false;
             a.store = StoreKind::Store;
             a.store_reason = format!("written at {} after being invalidated", draw.call);
@@ -1307,7 +1395,7 @@ fn push_draw(pass: &mut OpenPass, draw: PendingDraw) {
 
 /// A clear defines the contents again: an invalidated aspect is stored after all.
 fn restore_store(a: &mut PassAspect, here: CallRef) {
-    if a.invalidated {
+    if a.invalidated && !a.transient {
         a.invalidated = false;
         a.store = StoreKind::Store;
         a.store_reason = format!("cleared at {here} after being invalidated");

@@ -118,7 +118,7 @@ pub struct Replay {
 }
 
 /// Calls without arguments.
-const UNIT_CALLS: [&str; 4] = ["flush", "finish", "swap_buffers", "end_query"];
+const UNIT_CALLS: [&str; 6] = ["flush", "finish", "swap_buffers", "end_query", "next_subpass", "end_pass"];
 
 /// The most times one frame entry may repeat.
 pub const MAX_REPEAT: u32 = 100_000;

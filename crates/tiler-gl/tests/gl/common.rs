@@ -73,8 +73,18 @@ pub fn bind(gl: &mut Context, framebuffer: u32) {
 /// Framebuffer `id` with an RGBA8 colour texture `id` and a `depth24_stencil8` renderbuffer
 /// `id`, all `w × h`.
 pub fn framebuffer(gl: &mut Context, id: u32, w: u32, h: u32) {
-    c(gl, Call::CreateTexture { id, width: w, height: h, format: TextureFormat::Rgba8, data: None });
-    c(gl, Call::CreateRenderbuffer { id, width: w, height: h, format: TextureFormat::Depth24Stencil8, samples: 1 });
+    c(gl, Call::CreateTexture { id, width: w, height: h, format: TextureFormat::Rgba8, data: None, transient: false });
+    c(
+        gl,
+        Call::CreateRenderbuffer {
+            id,
+            width: w,
+            height: h,
+            format: TextureFormat::Depth24Stencil8,
+            samples: 1,
+            transient: false,
+        },
+    );
     c(gl, Call::CreateFramebuffer { id });
     c(gl, Call::FramebufferTexture { framebuffer: id, attachment: AttachmentPoint::Color0, texture: id, samples: 1 });
     c(

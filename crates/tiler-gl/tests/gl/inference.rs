@@ -232,7 +232,17 @@ fn invalidating_everything_drops_the_frame_data() {
 /// The window pass, a draw, a flush trigger, another draw, a swap.
 fn flushed(trigger: impl FnOnce(&mut Context)) -> Report {
     let mut gl = window();
-    c(&mut gl, Call::CreateTexture { id: 9, width: 64, height: 64, format: TextureFormat::Rgba8, data: None });
+    c(
+        &mut gl,
+        Call::CreateTexture {
+            id: 9,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Rgba8,
+            data: None,
+            transient: false,
+        },
+    );
     c(&mut gl, Call::CreateQuery { id: 1 });
     c(&mut gl, Call::BeginQuery { id: 1 });
     clear_all(&mut gl);
@@ -344,7 +354,17 @@ fn attachment_changes_and_texture_writes_flush() {
     draw(&mut gl, 6);
     c(&mut gl, Call::TexSubImage { id: 2, x: 0, y: 0, width: 1, height: 1, data: Bytes::from(vec![9u8; 4]) });
     draw(&mut gl, 6);
-    c(&mut gl, Call::CreateTexture { id: 7, width: 64, height: 64, format: TextureFormat::Rgba8, data: None });
+    c(
+        &mut gl,
+        Call::CreateTexture {
+            id: 7,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Rgba8,
+            data: None,
+            transient: false,
+        },
+    );
     c(
         &mut gl,
         Call::FramebufferTexture { framebuffer: 2, attachment: AttachmentPoint::Color0, texture: 7, samples: 1 },
@@ -488,7 +508,17 @@ fn exceeding_the_frame_data_budget_is_an_incremental_render() {
     let run = |budget: u64| {
         let mut gl = Context::new(ContextConfig { frame_data_budget: budget, ..config(64, 64) }).unwrap();
         // 4 samples per pixel, depth and stencil.
-        c(&mut gl, Call::CreateRenderbuffer { id: 1, width: 64, height: 64, format: TextureFormat::Rgba8, samples: 4 });
+        c(
+            &mut gl,
+            Call::CreateRenderbuffer {
+                id: 1,
+                width: 64,
+                height: 64,
+                format: TextureFormat::Rgba8,
+                samples: 4,
+                transient: false,
+            },
+        );
         c(
             &mut gl,
             Call::CreateRenderbuffer {
@@ -497,6 +527,7 @@ fn exceeding_the_frame_data_budget_is_an_incremental_render() {
                 height: 64,
                 format: TextureFormat::Depth24Stencil8,
                 samples: 4,
+                transient: false,
             },
         );
         c(&mut gl, Call::CreateFramebuffer { id: 1 });
@@ -596,10 +627,27 @@ fn changing_a_buffer_in_use_is_copy_on_write() {
 #[test]
 fn half_a_packed_depth_stencil_image_is_a_warning() {
     let mut gl = window();
-    c(&mut gl, Call::CreateTexture { id: 2, width: 64, height: 64, format: TextureFormat::Rgba8, data: None });
     c(
         &mut gl,
-        Call::CreateRenderbuffer { id: 2, width: 64, height: 64, format: TextureFormat::Depth24Stencil8, samples: 1 },
+        Call::CreateTexture {
+            id: 2,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Rgba8,
+            data: None,
+            transient: false,
+        },
+    );
+    c(
+        &mut gl,
+        Call::CreateRenderbuffer {
+            id: 2,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Depth24Stencil8,
+            samples: 1,
+            transient: false,
+        },
     );
     c(&mut gl, Call::CreateFramebuffer { id: 2 });
     c(
@@ -626,8 +674,28 @@ fn half_a_packed_depth_stencil_image_is_a_warning() {
     assert_eq!(f.len(), 2);
     assert_eq!(f[1].cost.bytes, 2 * STENCIL);
 
-    c(&mut gl, Call::CreateRenderbuffer { id: 3, width: 64, height: 64, format: TextureFormat::Depth16, samples: 1 });
-    c(&mut gl, Call::CreateRenderbuffer { id: 4, width: 64, height: 64, format: TextureFormat::Stencil8, samples: 1 });
+    c(
+        &mut gl,
+        Call::CreateRenderbuffer {
+            id: 3,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Depth16,
+            samples: 1,
+            transient: false,
+        },
+    );
+    c(
+        &mut gl,
+        Call::CreateRenderbuffer {
+            id: 4,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Stencil8,
+            samples: 1,
+            transient: false,
+        },
+    );
     c(&mut gl, Call::FramebufferRenderbuffer { framebuffer: 2, attachment: AttachmentPoint::Depth, renderbuffer: 3 });
     c(&mut gl, Call::FramebufferRenderbuffer { framebuffer: 2, attachment: AttachmentPoint::Stencil, renderbuffer: 4 });
     bind(&mut gl, 2);
@@ -695,10 +763,27 @@ fn readback_stalls_by_the_frames_still_in_flight() {
 #[test]
 fn multisampled_render_to_texture_resolves_in_the_tile() {
     let mut gl = window();
-    c(&mut gl, Call::CreateTexture { id: 2, width: 64, height: 64, format: TextureFormat::Rgba8, data: None });
     c(
         &mut gl,
-        Call::CreateRenderbuffer { id: 3, width: 64, height: 64, format: TextureFormat::Depth24Stencil8, samples: 4 },
+        Call::CreateTexture {
+            id: 2,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Rgba8,
+            data: None,
+            transient: false,
+        },
+    );
+    c(
+        &mut gl,
+        Call::CreateRenderbuffer {
+            id: 3,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Depth24Stencil8,
+            samples: 4,
+            transient: false,
+        },
     );
     c(&mut gl, Call::CreateFramebuffer { id: 2 });
     c(

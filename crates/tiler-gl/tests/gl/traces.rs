@@ -18,7 +18,7 @@ fn replay(name: &str) -> Replay {
 }
 
 /// Each pair, and the findings its bad form must have (and only those).
-const PAIRS: [(&str, &[&str]); 13] = [
+const PAIRS: [(&str, &[&str]); 14] = [
     ("clear", &["load-at-pass-start"]),
     ("rebind", &["framebuffer-rebound"]),
     ("invalidate", &["store-unread"]),
@@ -32,6 +32,7 @@ const PAIRS: [(&str, &[&str]); 13] = [
     ("sort", &["unsorted-opaque"]),
     ("budget", &["micro-triangles", "incremental-render"]),
     ("msaa", &["msaa-stored"]),
+    ("subpass", &["subpass-split"]),
 ];
 
 /// The good form has no finding; the bad form has the pair's findings; the bad form costs
@@ -222,6 +223,7 @@ fn recorded_program() -> Context {
             height: 8,
             format: TextureFormat::Rgba8,
             data: Some(Bytes::from(texels)),
+            transient: false,
         },
     );
     c(&mut gl, Call::TexParameters { id: 3, filter: Filter::Linear, wrap: Wrap::Repeat });
