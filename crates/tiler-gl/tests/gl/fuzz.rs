@@ -10,8 +10,9 @@ use serde_json::{Map, Value};
 use tiler_gl::{Limits, Trace};
 
 /// Small traces to start from.
-const SEEDS: [&str; 7] = [
+const SEEDS: [&str; 8] = [
     "clear-bad.json",
+    "subpass-bad.json",
     "query-bad.json",
     "tiled-good.json",
     "copy-on-write-bad.json",
@@ -121,6 +122,16 @@ const WORDS: &[&str] = &[
     "stencil",
     "depth",
     "color1",
+    "begin_pass",
+    "next_subpass",
+    "end_pass",
+    "subpasses",
+    "dependencies",
+    "by_region",
+    "input",
+    "transient",
+    "composite",
+    "depth_stencil",
 ];
 
 fn seeds() -> Vec<String> {
