@@ -23,7 +23,7 @@ use crate::builtin::{self, LIT_VARYINGS, LitVertexShader};
 use crate::camera::{CameraChoice, place};
 use crate::gltf::{AlphaMode, GltfVertex, Model, TextureBinding};
 use crate::mesh::Vertex;
-use crate::shading::{WORLD_VARYINGS, WorldVertexShader};
+use crate::shading::{WORLD_VARYINGS, WorldVertexShader, material_surface};
 
 /// How the frame is split into passes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,21 +83,7 @@ impl FragmentShader for GBufferModelShader {
 
     #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
-        let mut base = self.factor.map(F32x8::splat);
-        if let Some(binding) = &self.texture {
-            let uv = frag.smooth_n::<2>(3);
-            let texel = frag.sample(&binding.texture, &binding.sampler, uv);
-            for c in 0..4 {
-                base[c] *= texel[c];
-            }
-        }
-        if let AlphaMode::Mask { cutoff } = self.alpha {
-            frag.discard(base[3].lt(F32x8::splat(cutoff)));
-        }
-        let mut n = normalize3(frag.smooth_n::<3>(0));
-        if self.two_sided && !frag.front_facing() {
-            n = n.map(|c| -c);
-        }
+        let (base, n) = material_surface(frag, self.factor, self.texture.as_ref(), self.alpha, self.two_sided);
         frag.set_color(0, [base[0], base[1], base[2], F32x8::ONE]);
         frag.set_color(1, [n[0], n[1], n[2], F32x8::ONE]);
     }

@@ -124,26 +124,41 @@ impl FragmentShader for BaseColorLambert {
 
     #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
-        let mut base = self.factor.map(F32x8::splat);
-        if let Some(binding) = &self.texture {
-            let uv = frag.smooth_n::<2>(3);
-            let texel = frag.sample(&binding.texture, &binding.sampler, uv);
-            for c in 0..4 {
-                base[c] *= texel[c];
-            }
-        }
-        if let AlphaMode::Mask { cutoff } = self.alpha {
-            frag.discard(base[3].lt(F32x8::splat(cutoff)));
-        }
-        let mut n = normalize3(frag.smooth_n::<3>(0));
-        if self.two_sided_lighting && !frag.front_facing() {
-            n = n.map(|c| -c);
-        }
+        let (base, n) = material_surface(frag, self.factor, self.texture.as_ref(), self.alpha, self.two_sided_lighting);
         let l = self.light.map(F32x8::splat);
         let lambert = F32x8::splat(0.2) + F32x8::splat(0.8) * dot3(n, l).max(F32x8::ZERO);
         let alpha = if self.alpha == AlphaMode::Blend { base[3] } else { F32x8::ONE };
         frag.set_color(0, [base[0] * lambert, base[1] * lambert, base[2] * lambert, alpha]);
     }
+}
+
+/// A glTF material's surface at the fragments of [`WorldVertexShader`]: the base colour
+/// (`factor` × the texture at the uv varyings; MASK discards alpha below the cutoff) and the
+/// unit normal, reversed on back faces when `two_sided`.
+#[inline(always)]
+pub fn material_surface(
+    frag: &mut Fragments<'_>,
+    factor: [f32; 4],
+    texture: Option<&TextureBinding>,
+    alpha: AlphaMode,
+    two_sided: bool,
+) -> ([F32x8; 4], [F32x8; 3]) {
+    let mut base = factor.map(F32x8::splat);
+    if let Some(binding) = texture {
+        let uv = frag.smooth_n::<2>(3);
+        let texel = frag.sample(&binding.texture, &binding.sampler, uv);
+        for c in 0..4 {
+            base[c] *= texel[c];
+        }
+    }
+    if let AlphaMode::Mask { cutoff } = alpha {
+        frag.discard(base[3].lt(F32x8::splat(cutoff)));
+    }
+    let mut n = normalize3(frag.smooth_n::<3>(0));
+    if two_sided && !frag.front_facing() {
+        n = n.map(|c| -c);
+    }
+    (base, n)
 }
 
 /// The pipeline that draws `material` in `shading` mode.

@@ -839,7 +839,13 @@ fn alpha_to_coverage(alpha: F32x8, samples: usize) -> Coverage {
 fn write_packed(surface: &mut Surface, x: i32, y: i32, lanes: LaneMask, color: &Vec4x8) {
     let packed = surface.format.pack_lanes_u32(color).expect("a 4-byte UNORM8 format");
     let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
-    let plane = surface.plane_mut(0);
+    store_packed(surface.plane_mut(0), rows, lanes, &packed);
+}
+
+/// Stores the packed 4-byte colours of the `lanes` of a group whose two rows start at bytes
+/// `rows` of `plane`: a whole row of four as one 16-byte copy.
+#[inline(always)]
+fn store_packed(plane: &mut [u8], rows: [usize; 2], lanes: LaneMask, packed: &[u32; LANES]) {
     for (row, offset) in rows.into_iter().enumerate() {
         let bits = lanes.0 >> (4 * row) & 0xf;
         let words = &packed[4 * row..4 * row + 4];
@@ -859,6 +865,42 @@ fn write_packed(surface: &mut Surface, x: i32, y: i32, lanes: LaneMask, color: &
     }
 }
 
+/// Counts the colour traffic of writing the covered samples of a group (`written` of them),
+/// each read first when `reads` (blending, partial write masks): by address when the device
+/// caches the framebuffer, else as a number of accesses.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn count_color_traffic(
+    surface: &Surface,
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    written: u64,
+    reads: bool,
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
+) {
+    let bytes = surface.format.bytes_per_sample() as u32;
+    if traffic.needs_addresses() {
+        for s in 0..surface.samples() {
+            for lane in 0..LANES {
+                if coverage.sample(s).contains(lane) {
+                    let address = surface.address(s, x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
+                    if reads {
+                        traffic.access(ledger, Aspect::Color, address, bytes, false);
+                    }
+                    traffic.access(ledger, Aspect::Color, address, bytes, true);
+                }
+            }
+        }
+    } else {
+        if reads {
+            traffic.accesses(ledger, Aspect::Color, bytes, written, false);
+        }
+        traffic.accesses(ledger, Aspect::Color, bytes, written, true);
+    }
+}
+
 /// Blends and writes one colour attachment for the covered samples of a group.
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(debug_assertions), inline(always))]
@@ -874,50 +916,17 @@ fn write_color(
     ledger: &mut Ledger,
     simd: SimdLevel,
 ) {
-    let format = surface.format;
-    let bytes = format.bytes_per_sample();
-    let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
     let reads = plan.state.blend.is_some() || plan.partial;
-    if !reads && let Some(packed) = format.pack_lanes_u32(color) {
+    if !reads && let Some(packed) = surface.format.pack_lanes_u32(color) {
         // The common case: a 4-byte colour replacing what is there.
+        let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
         let mut written = 0u64;
         for s in 0..surface.samples() {
             let lanes = coverage.sample(s);
-            if lanes.is_empty() {
-                continue;
-            }
             written += lanes.count() as u64;
-            let plane = surface.plane_mut(s);
-            for (row, offset) in rows.iter().enumerate() {
-                let bits = lanes.0 >> (4 * row) & 0xf;
-                let words = &packed[4 * row..4 * row + 4];
-                if bits == 0xf {
-                    let mut quad = [0u8; 16];
-                    for (chunk, word) in quad.chunks_exact_mut(4).zip(words) {
-                        chunk.copy_from_slice(&word.to_le_bytes());
-                    }
-                    plane[*offset..offset + 16].copy_from_slice(&quad);
-                } else {
-                    for (i, word) in words.iter().enumerate() {
-                        if bits >> i & 1 != 0 {
-                            plane[offset + 4 * i..offset + 4 * i + 4].copy_from_slice(&word.to_le_bytes());
-                        }
-                    }
-                }
-            }
+            store_packed(surface.plane_mut(s), rows, lanes, &packed);
         }
-        if traffic.needs_addresses() {
-            for s in 0..surface.samples() {
-                for lane in 0..LANES {
-                    if coverage.sample(s).contains(lane) {
-                        let address = surface.address(s, x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
-                        traffic.access(ledger, Aspect::Color, address, bytes as u32, true);
-                    }
-                }
-            }
-        } else {
-            traffic.accesses(ledger, Aspect::Color, bytes as u32, written, true);
-        }
+        count_color_traffic(surface, x, y, coverage, written, false, traffic, ledger);
         return;
     }
     blend_and_write(simd, surface, x, y, coverage, color, plan, constant, traffic, ledger);
@@ -1034,24 +1043,7 @@ fn blend_and_write_body(
             }
         }
     }
-    if traffic.needs_addresses() {
-        for s in 0..surface.samples() {
-            for lane in 0..LANES {
-                if coverage.sample(s).contains(lane) {
-                    let address = surface.address(s, x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
-                    if reads {
-                        traffic.access(ledger, Aspect::Color, address, bytes as u32, false);
-                    }
-                    traffic.access(ledger, Aspect::Color, address, bytes as u32, true);
-                }
-            }
-        }
-    } else {
-        if reads {
-            traffic.accesses(ledger, Aspect::Color, bytes as u32, written, false);
-        }
-        traffic.accesses(ledger, Aspect::Color, bytes as u32, written, true);
-    }
+    count_color_traffic(surface, x, y, coverage, written, reads, traffic, ledger);
 }
 
 #[cfg(test)]
