@@ -4,29 +4,40 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 
-/// `$TILER_ASSETS`, else `../shared/assets` from the workspace root; `None` (and a note) when
-/// absent, so tests that need it skip.
+/// `$TILER_ASSETS`, else `../shared/assets` from the workspace root; `None` when absent, so
+/// tests that need it skip, saying so (see [`skip`]).
 pub fn assets_dir() -> Option<PathBuf> {
     let dir = std::env::var_os("TILER_ASSETS")
         .map(PathBuf::from)
         .unwrap_or_else(|| workspace_root().join("../shared/assets"));
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipping: no assets at {} (set TILER_ASSETS)", dir.display());
-        None
-    }
+    present(dir, "assets", " (set TILER_ASSETS)")
 }
 
 /// `../shared/reference` beside the workspace, if present.
 pub fn reference_dir() -> Option<PathBuf> {
-    let dir = workspace_root().join("../shared/reference");
+    present(workspace_root().join("../shared/reference"), "reference images", "")
+}
+
+fn present(dir: PathBuf, what: &str, hint: &str) -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
-        eprintln!("skipping: no reference images at {}", dir.display());
+        skip(&format!("no {what} at {}{hint}", dir.display()));
         None
     }
+}
+
+/// Reports a test that cannot run here. The line goes straight to the process's stderr, past
+/// the test harness's capture, so a run without `../shared` shows what it did not check. Where
+/// `TILER_REQUIRE_ASSETS` is set (`.ci/run` sets it: CI always has `../shared`), a skip is a
+/// failure instead: a CI that silently checked nothing would be green for the wrong reason.
+pub fn skip(why: &str) {
+    let test = std::thread::current().name().unwrap_or("?").to_owned();
+    if std::env::var_os("TILER_REQUIRE_ASSETS").is_some() {
+        panic!("{test}: {why}, and TILER_REQUIRE_ASSETS is set");
+    }
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "skipped: {test}: {why}");
 }
 
 pub fn workspace_root() -> PathBuf {

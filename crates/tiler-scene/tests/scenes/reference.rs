@@ -81,7 +81,7 @@ fn bench_with_samples(reference: &str, scene: BenchScene, samples: u32) {
     if let BenchScene::Gltf { path } = &scene
         && !path.exists()
     {
-        eprintln!("skipping: {} not found", path.display());
+        crate::common::skip(&format!("{} not found", path.display()));
         return;
     }
     check_on_every_backend(&references.join(format!("{reference}.png")), |device| {
