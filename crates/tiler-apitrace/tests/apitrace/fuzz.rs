@@ -1,0 +1,166 @@
+//! Property tests that run in CI: damaged captures never panic, stay within the small limits,
+//! and fail with an error that says where.
+
+use proptest::prelude::*;
+use tiler_apitrace::wire::{Limits, ReadError, TraceReader};
+
+use crate::writer::{W, Writer, snappy_container};
+
+/// A small capture touching every tag, signatures reused, and a pair of calls leaving out of
+/// order.
+fn sample_stream() -> Vec<u8> {
+    let mut writer = Writer::new(6);
+    for frame in 0..3u64 {
+        writer.call("glClearColor", &[("red", W::Float(0.5)), ("green", W::Double(0.25))], None, frame == 0);
+        writer.call(
+            "glShaderSource",
+            &[
+                ("shader", W::UInt(2)),
+                ("count", W::UInt(1)),
+                ("string", W::Array(vec![W::Str("void main() {}")])),
+                ("length", W::Null),
+            ],
+            None,
+            false,
+        );
+        writer.call("glEnable", &[("cap", W::gl_enum("GL_BLEND", 0x0be2))], None, false);
+        writer.call(
+            "glClear",
+            &[("mask", W::Bitmask { id: 1, flags: vec![("GL_COLOR_BUFFER_BIT", 0x4000)], value: 0x4000 })],
+            None,
+            false,
+        );
+        writer.call(
+            "memcpy",
+            &[("dest", W::Pointer(0x1000)), ("src", W::Blob(vec![frame as u8; 40])), ("n", W::UInt(40))],
+            None,
+            true,
+        );
+        writer.call(
+            "odd",
+            &[
+                ("neg", W::Neg(5)),
+                ("repr", W::Repr(Box::new(W::Str("x")), Box::new(W::UInt(1)))),
+                ("wide", W::Wide(vec![104, 105])),
+                ("point", W::Struct { id: 2, name: "P", members: vec!["x"], values: vec![W::Bool(true)] }),
+            ],
+            Some(W::Null),
+            false,
+        );
+        let a = writer.enter("glFinish", &[]);
+        writer.end();
+        let b = writer.enter("eglSwapBuffers", &["dpy"]);
+        writer.arg(0, &W::Pointer(7));
+        writer.end();
+        writer.leave(b);
+        writer.ret(&W::Bool(true));
+        writer.end();
+        writer.leave(a);
+        writer.end();
+    }
+    writer.stream
+}
+
+/// Reads everything with the small limits; the calls read, or the error.
+fn read(bytes: &[u8]) -> Result<usize, ReadError> {
+    let mut count = 0;
+    for call in TraceReader::new(bytes, Limits::SMALL)? {
+        call?;
+        count += 1;
+    }
+    Ok(count)
+}
+
+/// An error names a place inside what was read.
+fn check_error(error: &ReadError, stream_len: u64) {
+    assert!(
+        error.location.offset <= stream_len,
+        "offset {} past the stream's {stream_len} bytes: {error}",
+        error.location.offset
+    );
+    assert!(!error.to_string().is_empty());
+}
+
+#[test]
+fn the_sample_reads_whole() {
+    let stream = sample_stream();
+    assert_eq!(read(&snappy_container(&stream, 1 << 20)).unwrap(), 24);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn truncated_streams_fail_cleanly(cut in 0usize..4000, chunk in 1usize..300) {
+        let stream = sample_stream();
+        let cut = cut % (stream.len() + 1);
+        match read(&snappy_container(&stream[..cut], chunk)) {
+            Ok(count) => prop_assert!(count <= 24),
+            Err(e) => check_error(&e, cut as u64),
+        }
+    }
+
+    #[test]
+    fn truncated_files_fail_cleanly(cut in 0usize..4000, chunk in 1usize..300) {
+        let file = snappy_container(&sample_stream(), chunk);
+        let cut = cut % (file.len() + 1);
+        if let Err(e) = read(&file[..cut]) {
+            check_error(&e, Limits::SMALL.max_stream_bytes);
+        }
+    }
+
+    #[test]
+    fn flipped_stream_bytes_fail_cleanly(
+        flips in proptest::collection::vec((any::<usize>(), any::<u8>()), 1..8),
+        chunk in 1usize..500,
+    ) {
+        let mut stream = sample_stream();
+        let len = stream.len();
+        for (at, byte) in flips {
+            stream[at % len] ^= byte | 1;
+        }
+        if let Err(e) = read(&snappy_container(&stream, chunk)) {
+            check_error(&e, len as u64);
+        }
+    }
+
+    #[test]
+    fn flipped_file_bytes_fail_cleanly(
+        flips in proptest::collection::vec((any::<usize>(), any::<u8>()), 1..8),
+    ) {
+        let mut file = snappy_container(&sample_stream(), 256);
+        let len = file.len();
+        for (at, byte) in flips {
+            file[at % len] ^= byte | 1;
+        }
+        if let Err(e) = read(&file) {
+            check_error(&e, Limits::SMALL.max_stream_bytes);
+        }
+    }
+
+    /// A valid header then anything: bad varints, unknown events, details, tags and
+    /// signature ids never seen.
+    #[test]
+    fn random_events_fail_cleanly(tail in proptest::collection::vec(any::<u8>(), 0..600)) {
+        let mut stream = Writer::new(6).stream;
+        stream.extend(&tail);
+        if let Err(e) = read(&snappy_container(&stream, 1 << 20)) {
+            check_error(&e, stream.len() as u64);
+        }
+    }
+
+    /// Events that start well (an enter of a fresh signature) and continue randomly, so the
+    /// randomness reaches values and signatures.
+    #[test]
+    fn random_values_fail_cleanly(tail in proptest::collection::vec(any::<u8>(), 0..600)) {
+        let mut writer = Writer::new(6);
+        writer.enter("f", &["a", "b", "c"]);
+        writer.byte(0x01);
+        writer.uint(0);
+        let mut stream = writer.stream;
+        stream.extend(&tail);
+        if let Err(e) = read(&snappy_container(&stream, 1 << 20)) {
+            check_error(&e, stream.len() as u64);
+        }
+    }
+}

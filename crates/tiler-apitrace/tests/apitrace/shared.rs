@@ -1,0 +1,53 @@
+//! The shared glmark2 captures (skipped when ../shared is absent).
+
+use std::collections::BTreeMap;
+
+use tiler_apitrace::wire::{Compression, TraceReader};
+
+use crate::common;
+
+/// `SCENE-CALL.png` names of the llvmpipe reference frames: scene → sorted call numbers.
+fn reference_swaps() -> Option<BTreeMap<String, Vec<u64>>> {
+    let dir = common::reference_dir()?.join("glmark2");
+    let mut swaps: BTreeMap<String, Vec<u64>> = BTreeMap::new();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        let Some(stem) = name.strip_suffix(".png") else { continue };
+        let (scene, call) = stem.rsplit_once('-').unwrap();
+        swaps.entry(scene.to_string()).or_default().push(call.parse().unwrap());
+    }
+    for calls in swaps.values_mut() {
+        calls.sort();
+    }
+    Some(swaps)
+}
+
+#[test]
+fn every_shared_capture_reads_whole_and_swaps_where_llvmpipe_did() {
+    let Some(traces) = common::glmark2_traces() else { return };
+    let Some(reference) = reference_swaps() else { return };
+    assert_eq!(traces.len(), 10);
+    for (scene, path) in &traces {
+        let mut reader = TraceReader::open(path).unwrap();
+        assert_eq!(reader.header().compression, Compression::Snappy);
+        assert_eq!(reader.header().version, 6);
+        let process = &reader.header().properties;
+        assert!(
+            process.iter().any(|(name, value)| name == "process.name" && value.contains("glmark2")),
+            "{scene}: {process:?}"
+        );
+        let mut swaps = Vec::new();
+        let mut last = None;
+        for call in &mut reader {
+            let call = call.unwrap_or_else(|e| panic!("{scene}: {e}"));
+            assert!(!call.flags.incomplete, "{scene}: {call}");
+            // glmark2 is single-threaded: calls leave in order.
+            assert!(last.is_none_or(|last| call.number == last + 1), "{scene}: {call}");
+            last = Some(call.number);
+            if call.name() == "eglSwapBuffers" {
+                swaps.push(call.number);
+            }
+        }
+        assert_eq!(Some(&swaps), reference.get(scene), "{scene}");
+    }
+}
