@@ -1,22 +1,33 @@
-//! Prints a capture one call a line, like `apitrace dump -v`: `cargo run -p tiler-apitrace
-//! --example dump -- FILE`. With `--time`, reads each file given and prints only how long it
-//! took and what it held.
+//! Prints a capture one call a line: `cargo run -p tiler-apitrace --example dump -- FILE`.
+//!
+//! - default: like `apitrace dump -v` (number, name, arguments, return value, `// fake`);
+//! - `--typed`: each call as this crate decodes it (`number command`);
+//! - `--time`: reads each file given, raw and typed, and prints only how long that took.
 
+use std::io::Write;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use tiler_apitrace::TraceReader;
+use tiler_apitrace::{GlesReader, TraceReader};
 
 fn main() -> ExitCode {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let time = args.iter().any(|a| a == "--time");
-    args.retain(|a| a != "--time");
+    let typed = args.iter().any(|a| a == "--typed");
+    args.retain(|a| a != "--time" && a != "--typed");
     if args.is_empty() {
-        eprintln!("usage: dump [--time] FILE...");
+        eprintln!("usage: dump [--typed | --time] FILE...");
         return ExitCode::FAILURE;
     }
     for path in &args {
-        if let Err(e) = if time { time_file(path) } else { dump_file(path) } {
+        let result = if time {
+            time_file(path)
+        } else if typed {
+            dump_typed(path)
+        } else {
+            dump_file(path)
+        };
+        if let Err(e) = result {
             eprintln!("{path}: {e}");
             return ExitCode::FAILURE;
         }
@@ -25,7 +36,6 @@ fn main() -> ExitCode {
 }
 
 fn dump_file(path: &str) -> Result<(), Box<dyn std::error::Error>> {
-    use std::io::Write;
     let reader = TraceReader::open(path)?;
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     for (name, value) in &reader.header().properties {
@@ -37,15 +47,35 @@ fn dump_file(path: &str) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+fn dump_typed(path: &str) -> Result<(), Box<dyn std::error::Error>> {
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    for call in GlesReader::open(path)? {
+        let call = call?;
+        let fake = if call.fake { " // fake" } else { "" };
+        writeln!(out, "{} {:?}{fake}", call.number, call.command)?;
+    }
+    Ok(())
+}
+
 fn time_file(path: &str) -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
-    let mut calls = 0u64;
     let mut reader = TraceReader::open(path)?;
+    let mut calls = 0u64;
     for call in &mut reader {
         call?;
         calls += 1;
     }
     let wire = start.elapsed();
-    println!("{path}: {calls} calls, {} stream bytes, read in {:.2} ms", reader.offset(), wire.as_secs_f64() * 1e3);
+    let start = Instant::now();
+    for call in GlesReader::open(path)? {
+        call?;
+    }
+    let typed = start.elapsed();
+    println!(
+        "{path}: {calls} calls, {} uncompressed bytes; wire {:.2} ms, typed {:.2} ms",
+        reader.offset(),
+        wire.as_secs_f64() * 1e3,
+        typed.as_secs_f64() * 1e3
+    );
     Ok(())
 }

@@ -4,6 +4,10 @@
 //!
 //! - [`wire`]: the binary format — container, header, events, signatures, values — into
 //!   [`Call`]s carrying untyped [`Value`]s, streamed by [`TraceReader`] with bounded memory.
+//! - [`gles`]: each call decoded into a [`Command`] — every OpenGL ES 2.0 call that draws or
+//!   changes state, the GLES 3.0 calls applications use most, their OES/EXT variants, and EGL —
+//!   streamed by [`GlesReader`]; writes through mapped buffers resolved to
+//!   [`Command::BufferWrite`].
 //!
 //! This crate knows nothing of tiler's other crates; a later step maps its output onto
 //! tiler-gl's GL-style context.
@@ -56,6 +60,51 @@
 //! bounded too. Every error is a [`ReadError`] naming the byte of the uncompressed stream, the
 //! snappy chunk (file offset and offset inside it) and the call being read.
 
+//! # The typed layer's ignore list
+//!
+//! These calls change nothing tiler models; they decode to [`Command::Ignored`] carrying the
+//! reason ([`gles::IGNORED`] is the list in code). Any call neither decoded nor listed is an
+//! error naming its number and function.
+//!
+//! - *Reads state back* (`glGet*`, `glIs*`, `glCheckFramebufferStatus`, `eglQuery*`,
+//!   `eglGetConfigAttrib`): glGetActiveAttrib, glGetActiveUniform, glGetActiveUniformBlockiv,
+//!   glGetActiveUniformBlockName, glGetActiveUniformsiv, glGetAttachedShaders, glGetBooleanv,
+//!   glGetBufferParameteriv, glGetBufferParameteri64v, glGetBufferPointerv,
+//!   glGetBufferPointervOES, glGetFloatv, glGetFragDataLocation,
+//!   glGetFramebufferAttachmentParameteriv, glGetInteger64v, glGetIntegeri_v,
+//!   glGetInteger64i_v, glGetIntegerv, glGetInternalformativ, glGetProgramInfoLog,
+//!   glGetProgramiv, glGetQueryiv, glGetQueryivEXT, glGetRenderbufferParameteriv,
+//!   glGetSamplerParameterfv, glGetSamplerParameteriv, glGetShaderInfoLog,
+//!   glGetShaderPrecisionFormat, glGetShaderSource, glGetShaderiv, glGetString, glGetStringi,
+//!   glGetTexParameterfv, glGetTexParameteriv, glGetUniformIndices, glGetUniformfv,
+//!   glGetUniformiv, glGetUniformuiv, glGetVertexAttribPointerv, glGetVertexAttribfv,
+//!   glGetVertexAttribiv, glCheckFramebufferStatus, glIsBuffer, glIsEnabled, glIsFramebuffer,
+//!   glIsProgram, glIsQuery, glIsRenderbuffer, glIsSampler, glIsShader, glIsTexture,
+//!   glIsVertexArray, glIsVertexArrayOES, eglQueryString, eglQueryContext, eglQuerySurface,
+//!   eglQueryAPI, eglGetConfigAttrib.
+//! - *Reads the error flag*: glGetError, eglGetError.
+//! - *EGL display and config setup* — the surface and context calls carry what rendering
+//!   needs: eglGetConfigs, eglChooseConfig, eglGetDisplay, eglGetPlatformDisplay,
+//!   eglGetPlatformDisplayEXT, eglInitialize, eglTerminate, eglBindAPI, eglReleaseThread.
+//! - *Reads which context or surface is current* (`eglMakeCurrent` sets it):
+//!   eglGetCurrentContext, eglGetCurrentDisplay, eglGetCurrentSurface.
+//! - *Looks up a function pointer*: eglGetProcAddress.
+//! - *Paces presentation* — the image and its traffic are the same: eglSwapInterval.
+//! - *Sets only the validate status*, which only a query reads: glValidateProgram.
+//! - *A hint to free compiler resources*: glReleaseShaderCompiler.
+//! - *Debug labels, markers, callbacks*: glDebugMessageCallback (+KHR),
+//!   glDebugMessageControl (+KHR), glDebugMessageInsert (+KHR), glInsertEventMarkerEXT,
+//!   glObjectLabel (+KHR), glPopDebugGroup (+KHR), glPopGroupMarkerEXT, glPushDebugGroup (+KHR),
+//!   glPushGroupMarkerEXT.
+//!
+//! `glGetUniformLocation`, `glGetAttribLocation` and `glGetUniformBlockIndex` change nothing
+//! either, but their recorded return values are the names later calls use, so they decode to
+//! [`Command::UniformLocation`], [`Command::AttribLocation`] and
+//! [`Command::UniformBlockIndex`]. `glGetQueryObjectuiv` and `glReadPixels` read back too, but
+//! make a tiler render what is pending, so they decode to commands.
+
+pub mod gles;
 pub mod wire;
 
+pub use gles::{Command, Decoder, Error, GlesCall, GlesReader, Memory};
 pub use wire::{Call, CallFlags, Limits, ReadError, TraceReader, Value};

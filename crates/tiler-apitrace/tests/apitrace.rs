@@ -4,6 +4,8 @@
 mod common;
 #[path = "apitrace/fuzz.rs"]
 mod fuzz;
+#[path = "apitrace/gles.rs"]
+mod gles;
 #[path = "apitrace/shared.rs"]
 mod shared;
 #[path = "apitrace/wire.rs"]

@@ -164,3 +164,87 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The typed layer over damaged captures: decoded calls or an error, never a panic.
+    #[test]
+    fn the_typed_layer_fails_cleanly(
+        flips in proptest::collection::vec((any::<usize>(), any::<u8>()), 0..8),
+    ) {
+        let mut stream = gl_stream();
+        let len = stream.len();
+        for (at, byte) in flips {
+            stream[at % len] ^= byte | 1;
+        }
+        let file = snappy_container(&stream, 128);
+        let reader = tiler_apitrace::GlesReader::new(&file[..], Limits::SMALL);
+        if let Ok(reader) = reader {
+            for call in reader {
+                if let Err(e) = call {
+                    prop_assert!(!e.to_string().is_empty());
+                }
+            }
+        }
+    }
+}
+
+/// GL calls that decode: a buffer mapped and written, a shader, a draw, a swap.
+fn gl_stream() -> Vec<u8> {
+    let mut writer = Writer::new(6);
+    let array = || W::gl_enum("GL_ARRAY_BUFFER", 0x8892);
+    writer.call("glBindBuffer", &[("target", array()), ("buffer", W::UInt(1))], None, false);
+    writer.call(
+        "glBufferData",
+        &[
+            ("target", array()),
+            ("size", W::UInt(64)),
+            ("data", W::Null),
+            ("usage", W::gl_enum("GL_STATIC_DRAW", 0x88e4)),
+        ],
+        None,
+        false,
+    );
+    writer.call(
+        "glMapBufferOES",
+        &[("target", array()), ("access", W::gl_enum("GL_WRITE_ONLY", 0x88b9))],
+        Some(W::Pointer(0x4000)),
+        false,
+    );
+    writer.call(
+        "memcpy",
+        &[("dest", W::Pointer(0x4008)), ("src", W::Blob(vec![7; 16])), ("n", W::UInt(16))],
+        None,
+        true,
+    );
+    writer.call("glUnmapBufferOES", &[("target", array())], Some(W::gl_enum("GL_TRUE", 1)), false);
+    writer.call(
+        "glShaderSource",
+        &[
+            ("shader", W::UInt(2)),
+            ("count", W::UInt(1)),
+            ("string", W::Array(vec![W::Str("void main() {}")])),
+            ("length", W::Null),
+        ],
+        None,
+        false,
+    );
+    writer.call(
+        "glDrawArrays",
+        &[("mode", W::gl_enum("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))],
+        None,
+        false,
+    );
+    writer.call("eglSwapBuffers", &[("dpy", W::Pointer(1)), ("surface", W::Pointer(2))], Some(W::Bool(true)), false);
+    writer.stream
+}
+
+#[test]
+fn the_gl_sample_decodes_whole() {
+    let file = snappy_container(&gl_stream(), 1 << 20);
+    let calls: Vec<_> =
+        tiler_apitrace::GlesReader::new(&file[..], Limits::SMALL).unwrap().collect::<Result<_, _>>().unwrap();
+    assert_eq!(calls.len(), 8);
+    assert_eq!(calls[3].command, tiler_apitrace::Command::BufferWrite { buffer: 1, offset: 8, data: vec![7; 16] });
+}

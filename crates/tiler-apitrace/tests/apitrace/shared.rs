@@ -51,3 +51,54 @@ fn every_shared_capture_reads_whole_and_swaps_where_llvmpipe_did() {
         assert_eq!(Some(&swaps), reference.get(scene), "{scene}");
     }
 }
+
+#[test]
+fn every_call_of_the_shared_captures_decodes() {
+    use tiler_apitrace::gles::{Command, GlesReader};
+    let Some(traces) = common::glmark2_traces() else { return };
+    let mut shaders = 0;
+    for (scene, path) in &traces {
+        // Buffer name → size, from glBufferData, to check where mapped writes land.
+        let mut bound = 0;
+        let mut sizes = std::collections::HashMap::new();
+        let mut last_map = None;
+        let mut writes = 0;
+        for call in GlesReader::open(path).unwrap() {
+            let call = call.unwrap_or_else(|e| panic!("{scene}: {e}"));
+            match call.command {
+                Command::ShaderSource { source, .. } => {
+                    assert!(source.contains("main"), "{scene} call {}: {source}", call.number);
+                    shaders += 1;
+                }
+                Command::BindBuffer { buffer, .. } => bound = buffer,
+                Command::BufferData { size, .. } => {
+                    sizes.insert(bound, size);
+                }
+                Command::MapBuffer { buffer, pointer, .. } => {
+                    assert_ne!(pointer, 0, "{scene} call {}", call.number);
+                    last_map = Some((call.number, buffer));
+                }
+                Command::BufferWrite { buffer, offset, data } => {
+                    // The write follows the map of the same buffer, inside the buffer.
+                    assert_eq!(last_map, Some((call.number - 1, buffer)), "{scene} call {}", call.number);
+                    assert!(call.fake);
+                    let size = sizes[&buffer];
+                    assert!(
+                        !data.is_empty() && offset + data.len() as u64 <= size,
+                        "{scene} call {}: {offset} + {} > {size}",
+                        call.number,
+                        data.len()
+                    );
+                    writes += 1;
+                }
+                Command::UnmapBuffer { buffer, .. } => {
+                    assert_eq!(last_map.map(|(_, b)| b), Some(buffer));
+                }
+                _ => {}
+            }
+        }
+        // glmark2's buffer scene updates its four buffers through mappings every frame.
+        assert_eq!(writes, if scene == "buffer" { 24 } else { 0 }, "{scene}");
+    }
+    assert_eq!(shaders, 40);
+}
