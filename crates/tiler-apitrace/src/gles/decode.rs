@@ -249,7 +249,7 @@ impl Decoder {
         {
             return Err(unmapped());
         }
-        let offset = mapping.offset + into_mapping;
+        let offset = mapping.offset.checked_add(into_mapping).ok_or_else(unmapped)?;
         if let Some(&buffer_size) = state.sizes.get(&mapping.buffer)
             && offset.checked_add(size).is_none_or(|end| end > buffer_size)
         {
@@ -687,7 +687,7 @@ fn uniform(name: &str, a: &Args) -> Result<Option<Command>> {
         };
         let count = a.u32(1)?;
         let values = a.f32s(3)?;
-        check_count(a, count, columns as u64 * rows as u64, values.len())?;
+        check_count(a, 3, count, columns as u64 * rows as u64, values.len())?;
         return Ok(Some(Command::Uniform {
             location: location(a)?,
             value: UniformValue::Matrix { columns, rows, transpose: a.bool(2)?, values },
@@ -719,7 +719,7 @@ fn uniform(name: &str, a: &Args) -> Result<Option<Command>> {
             UniformValue::UInt { values, .. } => values.len(),
             UniformValue::Matrix { values, .. } => values.len(),
         };
-        check_count(a, count, components as u64, len)?;
+        check_count(a, 2, count, components as u64, len)?;
         value
     } else {
         match kind {
@@ -741,12 +741,12 @@ fn dimension_from_1(digit: u8) -> Option<u8> {
     matches!(digit, b'1'..=b'4').then(|| digit - b'0')
 }
 
-/// A `glUniform*v` array holds `count` elements of `per_element` values.
-fn check_count(a: &Args, count: u32, per_element: u64, found: usize) -> Result<()> {
+/// A `glUniform*v` array (argument `index`) holds `count` elements of `per_element` values.
+fn check_count(a: &Args, index: usize, count: u32, per_element: u64, found: usize) -> Result<()> {
     let expected = count as u64 * per_element;
     if found as u64 != expected {
         return Err(DecodeErrorKind::Count {
-            argument: a.call.sig.arg_names.get(2).cloned().unwrap_or_default(),
+            argument: a.call.sig.arg_names.get(index).cloned().unwrap_or_default(),
             expected,
             found: found as u64,
         });

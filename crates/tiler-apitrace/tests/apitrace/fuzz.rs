@@ -248,3 +248,76 @@ fn the_gl_sample_decodes_whole() {
     assert_eq!(calls.len(), 8);
     assert_eq!(calls[3].command, tiler_apitrace::Command::BufferWrite { buffer: 1, offset: 8, data: vec![7; 16] });
 }
+
+/// A call whose signature has ten argument names, whatever it is (each function's signature
+/// is defined by its first call).
+fn emit(writer: &mut Writer, name: &str, args: &[W], ret: Option<W>) {
+    const NAMES: [&str; 10] = ["a", "b", "c", "d", "e", "f", "g", "h", "i", "j"];
+    let number = writer.enter(name, &NAMES);
+    for (index, value) in args.iter().enumerate() {
+        writer.arg(index as u64, value);
+    }
+    writer.end();
+    writer.leave(number);
+    if let Some(ret) = ret {
+        writer.ret(&ret);
+    }
+    writer.end();
+}
+
+/// Any value of any kind, small.
+fn any_value() -> impl Strategy<Value = W> {
+    let leaf = prop_oneof![
+        Just(W::Null),
+        any::<bool>().prop_map(W::Bool),
+        (0..=1u64 << 63).prop_map(W::Neg),
+        any::<u64>().prop_map(W::UInt),
+        (0u64..0x2000).prop_map(W::UInt),
+        any::<f32>().prop_map(W::Float),
+        Just(W::Str("void main() {}")),
+        proptest::collection::vec(any::<u8>(), 0..64).prop_map(W::Blob),
+        any::<u64>().prop_map(W::Pointer),
+        (0x1000u64..0x1100).prop_map(W::Pointer),
+        (0u32..0x9000).prop_map(|v| W::gl_enum("E", v as i64)),
+    ];
+    leaf.prop_recursive(2, 16, 8, |inner| proptest::collection::vec(inner, 0..8).prop_map(W::Array))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2048, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Known calls with arguments of any kind and value (wrong types, huge sizes, pointers
+    /// near and far from a mapping): decoded or an error naming the call, never a panic.
+    #[test]
+    fn known_calls_with_any_arguments_fail_cleanly(
+        calls in proptest::collection::vec(
+            (0..crate::gles::GLES2.len() + crate::gles::MORE.len(),
+             proptest::collection::vec(any_value(), 0..10),
+             proptest::option::of(any_value())),
+            1..12,
+        ),
+    ) {
+        let mut writer = Writer::new(6);
+        let all: Vec<&str> = crate::gles::GLES2.iter().chain(crate::gles::MORE).copied().collect();
+        // A live mapping for memcpy to hit.
+        let array = W::gl_enum("GL_ARRAY_BUFFER", 0x8892);
+        emit(&mut writer, "glBindBuffer", &[array.clone(), W::UInt(1)], None);
+        emit(
+            &mut writer,
+            "glMapBufferOES",
+            &[array, W::gl_enum("GL_WRITE_ONLY", 0x88b9)],
+            Some(W::Pointer(0x1000)),
+        );
+        for (which, args, ret) in calls {
+            emit(&mut writer, all[which], &args, ret);
+        }
+        let file = snappy_container(&writer.stream, 1 << 20);
+        for call in tiler_apitrace::GlesReader::new(&file[..], Limits::SMALL).unwrap() {
+            match call {
+                Ok(_) => {}
+                Err(tiler_apitrace::Error::Decode(e)) => prop_assert!(e.to_string().contains(&e.function)),
+                Err(e) => prop_assert!(false, "the wire is valid: {e}"),
+            }
+        }
+    }
+}

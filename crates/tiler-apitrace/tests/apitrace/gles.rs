@@ -340,7 +340,7 @@ fn single_and_separate_forms_share_a_command() {
 }
 
 /// Every OpenGL ES 2.0 entry point (Khronos `gl2.h`).
-const GLES2: &[&str] = &[
+pub const GLES2: &[&str] = &[
     "glActiveTexture",
     "glAttachShader",
     "glBindAttribLocation",
@@ -486,7 +486,7 @@ const GLES2: &[&str] = &[
 ];
 
 /// The GLES 3.0, extension and EGL calls the typed layer promises.
-const MORE: &[&str] = &[
+pub const MORE: &[&str] = &[
     "glGenVertexArrays",
     "glBindVertexArray",
     "glDeleteVertexArrays",
