@@ -102,3 +102,33 @@ fn every_call_of_the_shared_captures_decodes() {
     }
     assert_eq!(shaders, 40);
 }
+
+#[test]
+fn uniforms_set_in_the_shared_captures_use_locations_the_captures_asked_for() {
+    use std::collections::{HashMap, HashSet};
+    use tiler_apitrace::gles::{Command, GlesReader};
+    let Some(traces) = common::glmark2_traces() else { return };
+    let mut checked = 0;
+    for (scene, path) in &traces {
+        let mut locations: HashMap<u32, HashSet<i32>> = HashMap::new();
+        let mut program = 0;
+        for call in GlesReader::open(path).unwrap() {
+            let call = call.unwrap();
+            match call.command {
+                // Each capture recreates its context: names start over.
+                Command::CreateContext { .. } => locations.clear(),
+                Command::UniformLocation { program, location, .. } => {
+                    locations.entry(program).or_default().insert(location);
+                }
+                Command::UseProgram { program: used } => program = used,
+                Command::Uniform { location, .. } if location != -1 => {
+                    let known = locations.get(&program).is_some_and(|l| l.contains(&location));
+                    assert!(known, "{scene} call {}: location {location} of program {program}", call.number);
+                    checked += 1;
+                }
+                _ => {}
+            }
+        }
+    }
+    assert!(checked > 100, "only {checked} uniform calls");
+}
