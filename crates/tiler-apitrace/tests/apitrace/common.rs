@@ -1,35 +1,8 @@
 //! Where the shared captures and reference images are.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-/// `$TILER_TRACES`, else `../shared/traces` from the workspace root; `None` (and a note) when
-/// absent, so tests that need it skip.
-pub fn traces_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("TILER_TRACES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| workspace_root().join("../shared/traces"));
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipping: no captures at {} (set TILER_TRACES)", dir.display());
-        None
-    }
-}
-
-/// `../shared/reference` beside the workspace, if present.
-pub fn reference_dir() -> Option<PathBuf> {
-    let dir = workspace_root().join("../shared/reference");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipping: no reference images at {}", dir.display());
-        None
-    }
-}
-
-pub fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+pub use tiler_test_support::{reference_dir, traces_dir};
 
 /// The glmark2 captures, sorted by name, with their scene names.
 pub fn glmark2_traces() -> Option<Vec<(String, PathBuf)>> {

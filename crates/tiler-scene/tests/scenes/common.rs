@@ -4,52 +4,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 
-/// `$TILER_ASSETS`, else `../shared/assets` from the workspace root; `None` when absent, so
-/// tests that need it skip, saying so (see [`skip`]).
-pub fn assets_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("TILER_ASSETS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| workspace_root().join("../shared/assets"));
-    present(dir, "assets", " (set TILER_ASSETS)")
-}
-
-/// `../shared/reference` beside the workspace, if present.
-pub fn reference_dir() -> Option<PathBuf> {
-    present(workspace_root().join("../shared/reference"), "reference images", "")
-}
-
-fn present(dir: PathBuf, what: &str, hint: &str) -> Option<PathBuf> {
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        skip(&format!("no {what} at {}{hint}", dir.display()));
-        None
-    }
-}
-
-/// Reports a test that cannot run here. The line goes straight to the process's stderr, past
-/// the test harness's capture, so a run without `../shared` shows what it did not check. Where
-/// `TILER_REQUIRE_ASSETS` is set (`.ci/run` sets it: CI always has `../shared`), a skip is a
-/// failure instead: a CI that silently checked nothing would be green for the wrong reason.
-pub fn skip(why: &str) {
-    let test = std::thread::current().name().unwrap_or("?").to_owned();
-    if std::env::var_os("TILER_REQUIRE_ASSETS").is_some() {
-        panic!("{test}: {why}, and TILER_REQUIRE_ASSETS is set");
-    }
-    use std::io::Write;
-    let _ = writeln!(std::io::stderr(), "skipped: {test}: {why}");
-}
-
-pub fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// Where tests write what a person should look at when they fail.
-pub fn output_dir() -> PathBuf {
-    let dir = workspace_root().join("target/tiler-test-output");
-    std::fs::create_dir_all(&dir).expect("creating target/tiler-test-output");
-    dir
-}
+pub use tiler_test_support::{assets_dir, output_dir, reference_dir, skip};
 
 /// A fresh folder for one test's generated files.
 pub fn scratch_dir(name: &str) -> PathBuf {
