@@ -14,7 +14,6 @@
 //! Every figure is computed once, in [`schema::Document`]; the JSON is that document, and
 //! the HTML and text tables print its numbers, so the three always agree.
 
-mod base64;
 pub mod finding;
 pub mod format;
 pub mod heatmap;
