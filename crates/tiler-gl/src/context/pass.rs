@@ -1325,19 +1325,9 @@ impl Context {
         Ok(snapshot)
     }
 
-    /// Records a textured rectangle (a blit) into the open pass.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn push_rectangle(
-        &mut self,
-        kind: DrawKind,
-        image: ImageId,
-        dst: Rect,
-        ndc: [f32; 4],
-        tex: [f32; 4],
-        filter: Filter,
-        read_bytes: u64,
-        scissor: Option<Rect>,
-    ) -> Fallible {
+    /// Records a textured rectangle (a blit or a copy) into the open pass.
+    pub(crate) fn push_rectangle(&mut self, rect: TexturedRect) -> Fallible {
+        let TexturedRect { kind, image, dst, ndc, tex, filter, read_bytes, scissor } = rect;
         let here = self.here;
         let pass = self.ensure_pass()?;
         let (width, height) = (pass.targets.width, pass.targets.height);
@@ -1379,6 +1369,24 @@ impl Context {
         );
         Ok(())
     }
+}
+
+/// A textured rectangle the driver draws itself: a `blit_framebuffer` or a
+/// `copy_tex_sub_image`.
+pub(crate) struct TexturedRect {
+    pub kind: DrawKind,
+    /// The image sampled.
+    pub image: ImageId,
+    /// Pixels written, tiler coordinates.
+    pub dst: Rect,
+    /// Two opposite corners in normalized device coordinates, `[x0, y0, x1, y1]`.
+    pub ndc: [f32; 4],
+    /// The texture coordinates at those corners, `[u0, v0, u1, v1]`.
+    pub tex: [f32; 4],
+    pub filter: Filter,
+    /// Source bytes read, counted as `texture_fetch`.
+    pub read_bytes: u64,
+    pub scissor: Option<Rect>,
 }
 
 /// Gathers a draw; an aspect it writes after an invalidate is stored again.
