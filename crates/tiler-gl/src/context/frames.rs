@@ -161,7 +161,9 @@ impl Context {
     /// end of a trace or a program. Stored depth and stencil nobody read are reported then.
     pub(crate) fn end_run(&mut self) -> Fallible {
         self.end_open_pass(EndCause::End)?;
-        let keys: Vec<_> = self.stores.keys().copied().filter(|(_, slot)| *slot != Slot::Color(0)).collect();
+        // In image and aspect order: the map's own order would differ from run to run.
+        let mut keys: Vec<_> = self.stores.keys().copied().filter(|(_, slot)| *slot != Slot::Color(0)).collect();
+        keys.sort();
         for (image, slot) in keys {
             self.kill_store(image, slot, "never read before the end");
         }
