@@ -23,7 +23,8 @@
 
 use tiler::{Category, ImageId};
 
-use super::pass::{OpenPass, TexturedRect, defined_index, gl_rect, store_key};
+use super::draw::{TexturedRect, gl_rect};
+use super::pass::{OpenPass, defined_index, store_key};
 use super::targets::{ColorTarget, Targets};
 use super::{Context, Fallible, PendingStore};
 use crate::call::{Filter, SwapBehavior};
