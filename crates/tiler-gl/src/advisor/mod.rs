@@ -42,8 +42,11 @@
 //! over the run), and a pass by its number (a map). Advising a run of `P` passes is then
 //! `O(P)` plus the draws and attachments it holds. The first advisor compared each pass with
 //! every earlier one: 10,000 short frames took 0.28 s, 40,000 took 3.25 s and 100,000 did not
-//! finish (issue 13). The index counts what it hands out, so a test checks the work grows in
-//! step with the run, without timing anything.
+//! finish (issue 13). Measured with `tiler analyze` (dev profile) on a generated trace of
+//! short frames (two passes each, a multisampled one blitted to the window): 10,000 / 20,000
+//! frames took 1.32 / 6.60 s of CPU before, 0.58 / 1.19 s after, and 40,000 / 100,000 take
+//! 2.36 / 5.45 s. The index counts what it hands out, so a test checks the work grows in step
+//! with the run, without timing anything.
 
 mod frame;
 mod pass;
