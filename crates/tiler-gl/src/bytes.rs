@@ -1,8 +1,12 @@
 //! Bulk data carried by calls (buffer contents, texels, client arrays), and the base64 codec
-//! traces use to store it exactly.
+//! traces use to store it exactly (the `base64` crate, configured as traces write it).
 
 use std::sync::Arc;
 
+use base64::DecodeError;
+use base64::Engine;
+use base64::alphabet;
+use base64::engine::{DecodePaddingMode, GeneralPurpose, GeneralPurposeConfig};
 use serde::ser::SerializeMap;
 use serde::{Serialize, Serializer};
 
@@ -95,23 +99,19 @@ impl<T: ToLeBytes, const N: usize> ToLeBytes for [T; N] {
     }
 }
 
-const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+/// The traces' base64: the standard alphabet (RFC 4648 §4), `=` padding written; reading
+/// takes it or leaves it, and ignores the unused low bits of a final partial group.
+const TRACE_BASE64: GeneralPurpose = GeneralPurpose::new(
+    &alphabet::STANDARD,
+    GeneralPurposeConfig::new()
+        .with_encode_padding(true)
+        .with_decode_padding_mode(DecodePaddingMode::RequireNone)
+        .with_decode_allow_trailing_bits(true),
+);
 
 /// Standard base64 (RFC 4648 §4) with `=` padding.
 pub fn encode_base64(bytes: &[u8]) -> String {
-    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for chunk in bytes.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for i in 0..4 {
-            if i <= chunk.len() {
-                out.push(ALPHABET[(n >> (18 - 6 * i) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
+    TRACE_BASE64.encode(bytes)
 }
 
 /// Decodes standard base64; padding is optional, whitespace is not allowed.
@@ -119,31 +119,17 @@ pub fn encode_base64(bytes: &[u8]) -> String {
 /// # Errors
 /// A character outside the alphabet (with its position) or a truncated final group.
 pub fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
+    // Any run of padding at the end is accepted, as written by any encoder.
     let text = text.trim_end_matches('=');
-    let mut out = Vec::with_capacity(text.len() / 4 * 3 + 3);
-    let mut acc = 0u32;
-    let mut bits = 0;
-    for (i, c) in text.bytes().enumerate() {
-        let v = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => return Err(format!("invalid base64 character {:?} at position {i}", c as char)),
-        };
-        acc = acc << 6 | v as u32;
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
+    TRACE_BASE64.decode(text).map_err(|e| match e {
+        DecodeError::InvalidByte(i, c) => format!("invalid base64 character {:?} at position {i}", c as char),
+        DecodeError::InvalidLength(_) => "truncated base64 (a final group of one character)".to_string(),
+        // Neither can happen with trailing bits allowed and padding trimmed; named anyway.
+        DecodeError::InvalidLastSymbol(i, c) => {
+            format!("invalid final base64 character {:?} at position {i}", c as char)
         }
-    }
-    if bits >= 6 {
-        return Err("truncated base64 (a final group of one character)".to_string());
-    }
-    Ok(out)
+        DecodeError::InvalidPadding => "invalid base64 padding".to_string(),
+    })
 }
 
 #[cfg(test)]
@@ -161,5 +147,10 @@ mod tests {
         assert_eq!(encode_base64(b"Ma"), "TWE=");
         assert!(decode_base64("TW!u").is_err());
         assert!(decode_base64("T").is_err());
+        // What the hand-written codec accepted: padding optional or repeated, stray low bits.
+        assert_eq!(decode_base64("TWE").unwrap(), b"Ma");
+        assert_eq!(decode_base64("TWE===").unwrap(), b"Ma");
+        assert_eq!(decode_base64("TWF").unwrap(), b"Ma");
+        assert_eq!(decode_base64("TW!u").unwrap_err(), "invalid base64 character '!' at position 2");
     }
 }

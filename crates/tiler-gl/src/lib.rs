@@ -73,7 +73,7 @@ pub mod report;
 pub mod text;
 pub mod trace;
 
-pub use advisor::{Finding, Severity};
+pub use advisor::{Finding, RuleId, Severity};
 pub use bytes::Bytes;
 pub use call::{
     AttachmentPoint, BufferSet, Call, Capability, ComponentType, DependencySpec, Face, Filter, FramebufferTarget,

@@ -18,6 +18,13 @@ pub struct CallRef {
     pub call: u32,
 }
 
+impl From<tiler_finding::CallAt> for CallRef {
+    /// A call a finding names; its numbers came from a `CallRef`.
+    fn from(c: tiler_finding::CallAt) -> CallRef {
+        CallRef { frame: c.frame as u32, call: c.call as u32 }
+    }
+}
+
 impl std::fmt::Display for CallRef {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "frame {}, call {}", self.frame, self.call)
@@ -437,7 +444,67 @@ pub struct Report {
     pub config: ContextConfig,
     pub frames: Vec<FrameRecord>,
     pub totals: Totals,
+    /// The advisor's findings; written in this format's own shape (see [`GlFinding`]).
+    #[serde(serialize_with = "gl_findings")]
     pub findings: Vec<Finding>,
+}
+
+/// A finding as `tiler-gl-report` version 1 writes it (`docs/report-format.md`): `id`,
+/// `severity`, `rule` `{id, seed, section, text}`, `frame`, `pass`?, `call`? (a [`CallRef`]),
+/// `cost` `{bytes, fragments, stall_frames}`, `detail`, `fix`. The same [`Finding`] as every
+/// report shows, under the field names this format has always had.
+#[derive(Serialize)]
+struct GlFinding<'a> {
+    id: &'a str,
+    severity: crate::advisor::Severity,
+    rule: GlRule<'a>,
+    frame: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pass: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    call: Option<CallRef>,
+    cost: GlCost,
+    detail: &'a str,
+    fix: &'a str,
+}
+
+#[derive(Serialize)]
+struct GlRule<'a> {
+    id: &'a str,
+    seed: &'a str,
+    section: &'a str,
+    text: &'a str,
+}
+
+#[derive(Serialize)]
+struct GlCost {
+    bytes: u64,
+    fragments: u64,
+    stall_frames: u64,
+}
+
+impl<'a> From<&'a Finding> for GlFinding<'a> {
+    fn from(f: &'a Finding) -> GlFinding<'a> {
+        GlFinding {
+            id: &f.id,
+            severity: f.severity,
+            rule: GlRule { id: &f.id, seed: &f.rule.seed, section: &f.rule.section, text: &f.rule.text },
+            frame: f.location.frame.unwrap_or(0) as u32,
+            pass: f.location.pass.map(|p| p as u32),
+            call: f.location.call_at.map(CallRef::from),
+            cost: GlCost {
+                bytes: f.cost_bytes.unwrap_or(0),
+                fragments: f.cost_fragments.unwrap_or(0),
+                stall_frames: f.cost_stall_frames.unwrap_or(0),
+            },
+            detail: &f.message,
+            fix: &f.advice,
+        }
+    }
+}
+
+fn gl_findings<S: Serializer>(findings: &[Finding], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(findings.iter().map(GlFinding::from))
 }
 
 impl Report {

@@ -5,7 +5,7 @@ use std::fmt::Write;
 
 use tiler::{Category, Ledger};
 
-use crate::report::{EndCause, PassRecord, Report, StartCause};
+use crate::report::{CallRef, EndCause, PassRecord, Report, StartCause};
 
 fn kb(bytes: u64) -> String {
     if bytes == 0 {
@@ -191,27 +191,28 @@ pub fn text_report(report: &Report) -> String {
         let _ = writeln!(out, "\n{} finding(s):", report.findings.len());
     }
     for f in &report.findings {
-        let place = match (f.pass, f.call) {
+        let (frame, pass) = (f.location.frame.unwrap_or(0), f.location.pass);
+        let place = match (pass, f.location.call_at.map(CallRef::from)) {
             (Some(p), Some(c)) => format!("pass {p}, {c}"),
             (None, Some(c)) => c.to_string(),
-            (Some(p), None) => format!("frame {}, pass {p}", f.frame),
-            (None, None) => format!("frame {}", f.frame),
+            (Some(p), None) => format!("frame {frame}, pass {p}"),
+            (None, None) => format!("frame {frame}"),
         };
         let mut cost = Vec::new();
-        if f.cost.bytes > 0 {
-            cost.push(format!("{} bytes", f.cost.bytes));
+        if let Some(bytes) = f.cost_bytes.filter(|n| *n > 0) {
+            cost.push(format!("{bytes} bytes"));
         }
-        if f.cost.fragments > 0 {
-            cost.push(format!("{} fragments", f.cost.fragments));
+        if let Some(fragments) = f.cost_fragments.filter(|n| *n > 0) {
+            cost.push(format!("{fragments} fragments"));
         }
-        if f.cost.stall_frames > 0 {
-            cost.push(format!("{} frame(s) stalled", f.cost.stall_frames));
+        if let Some(frames) = f.cost_stall_frames.filter(|n| *n > 0) {
+            cost.push(format!("{frames} frame(s) stalled"));
         }
         let cost = if cost.is_empty() { String::new() } else { format!(" — costs {}", cost.join(", ")) };
         let _ = writeln!(out, "\n  [{:?}] {} at {place}{cost}", f.severity, f.id);
-        let _ = writeln!(out, "    {}", f.detail);
+        let _ = writeln!(out, "    {}", f.message);
         let _ = writeln!(out, "    rule ({}): {}", f.rule.section, f.rule.text);
-        let _ = writeln!(out, "    instead: {}", f.fix);
+        let _ = writeln!(out, "    instead: {}", f.advice);
     }
     out
 }

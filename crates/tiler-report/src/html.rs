@@ -13,6 +13,8 @@
 
 use std::fmt::Write;
 
+use base64::Engine;
+use base64::engine::general_purpose::STANDARD as BASE64;
 use tiler::ledger::HsrFallbacks;
 use tiler::{Backend, Category};
 
@@ -24,7 +26,7 @@ use crate::heatmap::{
 use crate::schema::{ColumnFigures, Document, PassFigures};
 use crate::svg::{category_color, gradient_legend, stacked_bars};
 use crate::text::COUNTER_ROWS;
-use crate::{Report, Rgba8Image, base64};
+use crate::{Report, Rgba8Image};
 
 /// Escapes text for HTML content and attribute values.
 pub fn escape(text: &str) -> String {
@@ -55,7 +57,7 @@ fn png_data_uri(image: &Rgba8Image) -> Option<String> {
     if !image.is_consistent() || image.width == 0 || image.height == 0 {
         return None;
     }
-    png_bytes(image).ok().map(|png| format!("data:image/png;base64,{}", base64::encode(&png)))
+    png_bytes(image).ok().map(|png| format!("data:image/png;base64,{}", BASE64.encode(&png)))
 }
 
 /// How a numeric cell shows its value.

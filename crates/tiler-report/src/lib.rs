@@ -14,8 +14,6 @@
 //! Every figure is computed once, in [`schema::Document`]; the JSON is that document, and
 //! the HTML and text tables print its numbers, so the three always agree.
 
-mod base64;
-pub mod finding;
 pub mod format;
 pub mod heatmap;
 mod html;
@@ -25,11 +23,14 @@ mod text;
 
 use tiler::{Backend, DevicePreset, FrameCost};
 
-pub use finding::{Finding, Location, Rule, Severity};
 pub use heatmap::{TileMetric, write_heatmaps};
 pub use html::to_html;
 pub use schema::{Document, SCHEMA};
 pub use text::text_table;
+/// The findings a report shows, as `tiler_report::finding` (their own crate, shared with the
+/// advisors that produce them).
+pub use tiler_finding as finding;
+pub use tiler_finding::{CallAt, Finding, Location, Rule, Severity};
 
 /// One frame of a scene on one or more devices, and what the advisor found in it.
 #[derive(Clone, Debug)]

@@ -288,10 +288,11 @@ fn finding() -> Finding {
     Finding {
         id: "load-then-overwrite".into(),
         severity: Severity::Warning,
-        rule: Rule { seed: "003".into(), section: "23.3".into() },
-        location: Location { frame: Some(0), pass: Some(0), call: Some("glClear #1".into()) },
+        rule: Rule { seed: "003".into(), section: "23.3".into(), text: String::new() },
+        location: Location { frame: Some(0), pass: Some(0), call: Some("glClear #1".into()), call_at: None },
         cost_bytes: Some(24_576),
         cost_fragments: None,
+        cost_stall_frames: None,
         message: "The pass loads colour it then overwrites entirely.".into(),
         advice: "Clear the attachment (`LoadOp::Clear`) or invalidate it.".into(),
     }

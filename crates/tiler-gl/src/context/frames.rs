@@ -23,7 +23,8 @@
 
 use tiler::{Category, ImageId};
 
-use super::pass::{OpenPass, defined_index, gl_rect, store_key};
+use super::draw::{TexturedRect, gl_rect};
+use super::pass::{OpenPass, defined_index, store_key};
 use super::targets::{ColorTarget, Targets};
 use super::{Context, Fallible, PendingStore};
 use crate::call::{Filter, SwapBehavior};
@@ -161,7 +162,9 @@ impl Context {
     /// end of a trace or a program. Stored depth and stencil nobody read are reported then.
     pub(crate) fn end_run(&mut self) -> Fallible {
         self.end_open_pass(EndCause::End)?;
-        let keys: Vec<_> = self.stores.keys().copied().filter(|(_, slot)| *slot != Slot::Color(0)).collect();
+        // In image and aspect order: the map's own order would differ from run to run.
+        let mut keys: Vec<_> = self.stores.keys().copied().filter(|(_, slot)| *slot != Slot::Color(0)).collect();
+        keys.sort();
         for (image, slot) in keys {
             self.kill_store(image, slot, "never read before the end");
         }
@@ -301,7 +304,16 @@ impl Context {
         let scissor = s
             .scissor_test
             .then(|| gl_rect(s.scissor[0], s.scissor[1], s.scissor[2], s.scissor[3], targets.width, targets.height));
-        self.push_rectangle(DrawKind::Blit, image, rect, ndc, tex, filter, read_bytes, scissor)?;
+        self.push_rectangle(TexturedRect {
+            kind: DrawKind::Blit,
+            image,
+            dst: rect,
+            ndc,
+            tex,
+            filter,
+            read_bytes,
+            scissor,
+        })?;
         self.sampled(image, self.here.frame);
         Ok(())
     }
@@ -423,7 +435,16 @@ impl Context {
         ];
         let saved = self.pass.replace(copy);
         let result = self
-            .push_rectangle(DrawKind::Copy, src_image, region, ndc, tex, Filter::Nearest, read_bytes, None)
+            .push_rectangle(TexturedRect {
+                kind: DrawKind::Copy,
+                image: src_image,
+                dst: region,
+                ndc,
+                tex,
+                filter: Filter::Nearest,
+                read_bytes,
+                scissor: None,
+            })
             .and_then(|()| {
                 self.sampled(src_image, here.frame);
                 self.end_open_pass(EndCause::Copy)

@@ -1,17 +1,20 @@
 //! The GL-style context: immediate-mode calls in, explicit render passes out.
 //!
 //! Nothing is rendered when a draw is called. The context keeps one *open render pass* — the
-//! pass of the bound draw framebuffer — and gathers its draws as frame data; `pass.rs` decides
-//! its load and store ops exactly as the inference table of `DESIGN.md` says, and renders it
-//! on the device when it ends (the framebuffer is unbound, the frame is swapped, or something
-//! forces a flush). `frames.rs` models the frames in flight behind the CPU.
+//! pass of the bound draw framebuffer — and gathers its draws as frame data: `draw.rs`
+//! translates each GL draw and its state into tiler's terms, `pass.rs` decides the pass's
+//! load and store ops exactly as the inference table of `DESIGN.md` says, and `submit.rs`
+//! renders it on the device when it ends (the framebuffer is unbound, the frame is swapped,
+//! or something forces a flush). `frames.rs` models the frames in flight behind the CPU.
 //!
 //! The context owns its [`Device`]; there are no globals. Every call goes through
 //! [`Context::call`], which checks it, applies it, and records it when recording is on.
 
+mod draw;
 mod explicit;
 mod frames;
 mod pass;
+mod submit;
 mod targets;
 
 use serde::{Deserialize, Serialize};
@@ -694,13 +697,13 @@ impl Context {
                 if !self.buffers.contains_key(&buffer) {
                     return Err(format!("buffer {buffer} does not exist"));
                 }
-                crate::context::pass::vertex_format(size, component, normalized)?;
+                crate::context::draw::vertex_format(size, component, normalized)?;
                 self.state.attribs[index as usize].source =
                     Some((AttribSource::Buffer { buffer, offset }, size, component, normalized, stride));
             }
             VertexAttribArray { index, size, component, normalized, stride, data } => {
                 self.attrib_index(index)?;
-                crate::context::pass::vertex_format(size, component, normalized)?;
+                crate::context::draw::vertex_format(size, component, normalized)?;
                 self.state.attribs[index as usize].source =
                     Some((AttribSource::Client { data }, size, component, normalized, stride));
             }

@@ -1,11 +1,20 @@
 //! Just enough glTF 2.0 to take mesh data from it: a primitive's attribute or index
 //! accessor, as tightly packed elements. `.gltf` (JSON, buffers in files or `data:` URIs) and
 //! `.glb` (binary container) are read; sparse accessors are refused.
+//!
+//! The `gltf` crate parses the file (the GLB container and the JSON, into its typed document);
+//! this module only follows the indices a trace names — mesh, primitive, accessor, buffer
+//! view, buffer — checking each where it is used, so a bad index is an error naming it rather
+//! than a panic (the crate's validation would panic on some, and would refuse files the
+//! trace reader has always taken, such as a `POSITION` accessor without `min` and `max`).
+//! Buffers are read here too, within the trace's data limit and never outside the glTF's
+//! folder.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use serde_json::Value;
+use gltf::json::Root;
+use gltf::json::validation::Checked;
 
 use crate::bytes::{Bytes, decode_base64};
 
@@ -16,13 +25,9 @@ pub(crate) struct Cache {
 }
 
 struct Document {
-    json: Value,
+    root: Root,
     buffers: Vec<Bytes>,
 }
-
-const GLB_MAGIC: u32 = 0x4654_6c67; // "glTF"
-const CHUNK_JSON: u32 = 0x4e4f_534a; // "JSON"
-const CHUNK_BIN: u32 = 0x004e_4942; // "BIN\0"
 
 impl Cache {
     /// The elements of the accessor a primitive uses for `attribute` (`"indices"` for its
@@ -46,69 +51,52 @@ impl Cache {
             self.documents.insert(path.to_path_buf(), document);
         }
         let doc = &self.documents[path];
+        let root = &doc.root;
         let name = path.display();
         let fail = |what: String| format!("{name}: {what}");
-        let prim = doc
-            .json
-            .pointer(&format!("/meshes/{mesh}/primitives/{primitive}"))
+        let prim = root
+            .meshes
+            .get(mesh as usize)
+            .and_then(|m| m.primitives.get(primitive as usize))
             .ok_or_else(|| fail(format!("no mesh {mesh} primitive {primitive}")))?;
         let accessor_index = if attribute == "indices" {
-            prim.get("indices")
-                .and_then(Value::as_u64)
-                .ok_or_else(|| fail(format!("mesh {mesh} primitive {primitive} has no indices")))?
+            prim.indices.ok_or_else(|| fail(format!("mesh {mesh} primitive {primitive} has no indices")))?
         } else {
-            prim.pointer(&format!("/attributes/{attribute}"))
-                .and_then(Value::as_u64)
+            prim.attributes
+                .iter()
+                .find(|(semantic, _)| matches!(semantic, Checked::Valid(s) if s.to_string() == attribute))
+                .map(|(_, accessor)| *accessor)
                 .ok_or_else(|| fail(format!("mesh {mesh} primitive {primitive} has no attribute {attribute}")))?
-        };
-        let acc = doc
-            .json
-            .pointer(&format!("/accessors/{accessor_index}"))
-            .ok_or_else(|| fail(format!("no accessor {accessor_index}")))?;
-        if acc.get("sparse").is_some() {
+        }
+        .value();
+        let acc = root.accessors.get(accessor_index).ok_or_else(|| fail(format!("no accessor {accessor_index}")))?;
+        if acc.sparse.is_some() {
             return Err(fail(format!("accessor {accessor_index} is sparse, which is not supported")));
         }
-        let count = acc
-            .get("count")
-            .and_then(Value::as_u64)
-            .ok_or_else(|| fail(format!("accessor {accessor_index} has no count")))?;
-        let component = match acc.get("componentType").and_then(Value::as_u64) {
-            Some(5120 | 5121) => 1u64,
-            Some(5122 | 5123) => 2,
-            Some(5125 | 5126) => 4,
-            other => return Err(fail(format!("accessor {accessor_index} has component type {other:?}"))),
+        let count = acc.count.0;
+        let component = match &acc.component_type {
+            Checked::Valid(c) => c.0.size() as u64,
+            Checked::Invalid => return Err(fail(format!("accessor {accessor_index} has an invalid component type"))),
         };
-        let components = match acc.get("type").and_then(Value::as_str) {
-            Some("SCALAR") => 1u64,
-            Some("VEC2") => 2,
-            Some("VEC3") => 3,
-            Some("VEC4") => 4,
-            Some("MAT2") => 4,
-            Some("MAT3") => 9,
-            Some("MAT4") => 16,
-            other => return Err(fail(format!("accessor {accessor_index} has type {other:?}"))),
+        let components = match &acc.type_ {
+            Checked::Valid(t) => t.multiplicity() as u64,
+            Checked::Invalid => return Err(fail(format!("accessor {accessor_index} has an invalid type"))),
         };
         let element = component * components;
         let size = count.checked_mul(element).filter(|s| *s <= budget).ok_or_else(|| {
             fail(format!("accessor {accessor_index} ({count} elements of {element} bytes) is larger than allowed"))
         })?;
-        let Some(view_index) = acc.get("bufferView").and_then(Value::as_u64) else {
+        let Some(view_index) = acc.buffer_view.map(|v| v.value()) else {
             // No view: all zeros, as the specification says.
             return Ok((Bytes::from(vec![0u8; size as usize]), loaded));
         };
-        let view = doc
-            .json
-            .pointer(&format!("/bufferViews/{view_index}"))
-            .ok_or_else(|| fail(format!("no bufferView {view_index}")))?;
-        let buffer = view
-            .get("buffer")
-            .and_then(Value::as_u64)
-            .ok_or_else(|| fail(format!("bufferView {view_index} has no buffer")))?;
-        let data = doc.buffers.get(buffer as usize).ok_or_else(|| fail(format!("no buffer {buffer}")))?;
-        let view_offset = view.get("byteOffset").and_then(Value::as_u64).unwrap_or(0);
-        let view_length = view.get("byteLength").and_then(Value::as_u64).unwrap_or(0);
-        let stride = view.get("byteStride").and_then(Value::as_u64).unwrap_or(element).max(element);
-        let offset = acc.get("byteOffset").and_then(Value::as_u64).unwrap_or(0);
+        let view = root.buffer_views.get(view_index).ok_or_else(|| fail(format!("no bufferView {view_index}")))?;
+        let buffer = view.buffer.value();
+        let data = doc.buffers.get(buffer).ok_or_else(|| fail(format!("no buffer {buffer}")))?;
+        let view_offset = view.byte_offset.map_or(0, |o| o.0);
+        let view_length = view.byte_length.0;
+        let stride = view.byte_stride.map_or(element, |s| s.0 as u64).max(element);
+        let offset = acc.byte_offset.map_or(0, |o| o.0);
         if view_offset.saturating_add(view_length) > data.len() as u64 {
             return Err(fail(format!("bufferView {view_index} runs past the end of buffer {buffer}")));
         }
@@ -146,56 +134,131 @@ fn load(path: &Path, budget: u64) -> Result<(Document, u64), String> {
     };
     let mut loaded = 0;
     let bytes = read(path, &mut loaded)?;
-    let word = |b: &[u8], at: usize| b.get(at..at + 4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]));
-    let (json_bytes, bin) = if word(&bytes, 0) == Some(GLB_MAGIC) {
-        let mut at = 12;
-        let mut json = None;
-        let mut bin = None;
-        while let (Some(len), Some(kind)) = (word(&bytes, at), word(&bytes, at + 4)) {
-            let start = at + 8;
-            let end = start
-                .checked_add(len as usize)
-                .filter(|e| *e <= bytes.len())
-                .ok_or_else(|| format!("{name}: a GLB chunk runs past the end"))?;
-            match kind {
-                CHUNK_JSON => json = Some(bytes[start..end].to_vec()),
-                CHUNK_BIN => bin = Some(Bytes::from(&bytes[start..end])),
-                _ => {}
+    let gltf = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| match e {
+        gltf::Error::Deserialize(e) => format!("{name}: invalid glTF JSON: {e}"),
+        gltf::Error::Binary(e) => format!("{name}: invalid GLB container: {e}"),
+        other => format!("{name}: invalid glTF: {other}"),
+    })?;
+    let bin = gltf.blob.map(Bytes::from);
+    let root = gltf.document.into_json();
+    let mut buffers = Vec::with_capacity(root.buffers.len());
+    for (i, b) in root.buffers.iter().enumerate() {
+        let data = match b.uri.as_deref() {
+            None => {
+                bin.clone().ok_or_else(|| format!("{name}: buffer {i} has no uri and there is no GLB binary chunk"))?
             }
-            at = end;
-        }
-        (json.ok_or_else(|| format!("{name}: a GLB without a JSON chunk"))?, bin)
-    } else {
-        (bytes, None)
-    };
-    let json: Value = serde_json::from_slice(&json_bytes).map_err(|e| format!("{name}: invalid glTF JSON: {e}"))?;
-    let mut buffers = Vec::new();
-    if let Some(list) = json.get("buffers").and_then(Value::as_array) {
-        for (i, b) in list.iter().enumerate() {
-            let data = match b.get("uri").and_then(Value::as_str) {
-                None => bin
-                    .clone()
-                    .ok_or_else(|| format!("{name}: buffer {i} has no uri and there is no GLB binary chunk"))?,
-                Some(uri) if uri.starts_with("data:") => {
-                    let (_, payload) = uri
-                        .split_once(";base64,")
-                        .ok_or_else(|| format!("{name}: buffer {i}: only base64 data URIs are supported"))?;
-                    loaded += payload.len() as u64;
-                    if loaded > budget {
-                        return Err(format!("{name}: the glTF data exceeds the trace's data limit"));
-                    }
-                    Bytes::from(decode_base64(payload).map_err(|e| format!("{name}: buffer {i}: {e}"))?)
+            Some(uri) if uri.starts_with("data:") => {
+                let (_, payload) = uri
+                    .split_once(";base64,")
+                    .ok_or_else(|| format!("{name}: buffer {i}: only base64 data URIs are supported"))?;
+                loaded += payload.len() as u64;
+                if loaded > budget {
+                    return Err(format!("{name}: the glTF data exceeds the trace's data limit"));
                 }
-                Some(uri) => {
-                    if uri.contains("..") || uri.starts_with('/') {
-                        return Err(format!("{name}: buffer {i}: uri {uri:?} leaves the glTF's directory"));
-                    }
-                    let dir = path.parent().unwrap_or(Path::new(""));
-                    Bytes::from(read(&dir.join(uri), &mut loaded)?)
+                Bytes::from(decode_base64(payload).map_err(|e| format!("{name}: buffer {i}: {e}"))?)
+            }
+            Some(uri) => {
+                if uri.contains("..") || uri.starts_with('/') {
+                    return Err(format!("{name}: buffer {i}: uri {uri:?} leaves the glTF's directory"));
                 }
-            };
-            buffers.push(data);
+                let dir = path.parent().unwrap_or(Path::new(""));
+                Bytes::from(read(&dir.join(uri), &mut loaded)?)
+            }
+        };
+        buffers.push(data);
+    }
+    Ok((Document { root, buffers }, loaded))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A glTF of one triangle (positions, then u8 indices) in a folder of its own; the JSON is
+    /// `edit`ed first.
+    fn write(test: &str, edit: impl FnOnce(&mut serde_json::Value)) -> PathBuf {
+        let mut bin: Vec<u8> =
+            [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+        bin.extend([0u8, 1, 2]);
+        let mut json = serde_json::json!({
+            "asset": {"version": "2.0"},
+            "buffers": [{"byteLength": bin.len(), "uri": "t.bin"}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 3}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                          {"bufferView": 1, "componentType": 5121, "count": 3, "type": "SCALAR"}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}]
+        });
+        edit(&mut json);
+        let dir = std::env::temp_dir().join(format!("tiler-gl-gltf-{}-{test}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("t.bin"), bin).unwrap();
+        std::fs::write(dir.join("t.gltf"), json.to_string()).unwrap();
+        dir.join("t.gltf")
+    }
+
+    fn read(path: &Path, attribute: &str) -> Result<Bytes, String> {
+        Cache::default().accessor(path, 0, 0, attribute, 1 << 20).map(|(bytes, _)| bytes)
+    }
+
+    #[test]
+    fn accessors_are_read_through_their_views() {
+        let path = write("good", |_| {});
+        assert_eq!(read(&path, "POSITION").unwrap().len(), 36);
+        assert_eq!(read(&path, "indices").unwrap().as_slice(), &[0, 0, 1, 0, 2, 0], "u8 indices widened to u16");
+    }
+
+    #[test]
+    fn bad_files_are_errors_that_name_what_and_where() {
+        /// A name, an edit of the JSON, the attribute read, and what the error must say.
+        type Case = (&'static str, fn(&mut serde_json::Value), &'static str, &'static str);
+        let cases: [Case; 7] = [
+            ("attribute", |_| {}, "NORMAL", "mesh 0 primitive 0 has no attribute NORMAL"),
+            (
+                "accessor",
+                |j| j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9.into(),
+                "POSITION",
+                "no accessor 9",
+            ),
+            ("view", |j| j["accessors"][0]["bufferView"] = 5.into(), "POSITION", "no bufferView 5"),
+            (
+                "buffer",
+                |j| j["bufferViews"][0]["byteLength"] = 400.into(),
+                "POSITION",
+                "bufferView 0 runs past the end of buffer 0",
+            ),
+            (
+                "count",
+                |j| j["accessors"][0]["count"] = 4.into(),
+                "POSITION",
+                "accessor 0 runs past the end of bufferView 0",
+            ),
+            (
+                "uri",
+                |j| j["buffers"][0]["uri"] = "../t.bin".into(),
+                "POSITION",
+                "buffer 0: uri \"../t.bin\" leaves the glTF's directory",
+            ),
+            ("json", |j| j["accessors"] = "none".into(), "POSITION", "invalid glTF JSON"),
+        ];
+        for (test, edit, attribute, expected) in cases {
+            let path = write(test, edit);
+            let error = read(&path, attribute).unwrap_err();
+            assert!(error.starts_with(&path.display().to_string()), "{test}: {error}");
+            assert!(error.contains(expected), "{test}: {error}");
         }
     }
-    Ok((Document { json, buffers }, loaded))
+
+    #[test]
+    fn a_truncated_glb_is_an_error() {
+        let dir = std::env::temp_dir().join(format!("tiler-gl-gltf-{}-glb", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut glb = Vec::new();
+        for word in [0x4654_6c67u32, 2, 100, 80, 0x4e4f_534a] {
+            glb.extend(word.to_le_bytes());
+        }
+        glb.extend(b"{}");
+        std::fs::write(dir.join("t.glb"), glb).unwrap();
+        let error = read(&dir.join("t.glb"), "POSITION").unwrap_err();
+        assert!(error.contains("invalid GLB container"), "{error}");
+    }
 }

@@ -135,7 +135,7 @@ fn a_scissored_clear_is_a_clear_quad_and_loads_stay() {
     let f: Vec<_> = report.findings_with("partial-clear").collect();
     assert_eq!(f.len(), 1);
     let frame_data = p.cost.ledger.get(Category::FrameDataWrite) + p.cost.ledger.get(Category::FrameDataRead);
-    assert_eq!(f[0].cost.bytes, COLOR + DEPTH + STENCIL + frame_data);
+    assert_eq!(f[0].cost_bytes.unwrap_or(0), COLOR + DEPTH + STENCIL + frame_data);
     // Only the scissored bottom-left quarter was cleared.
     let image = gl.device().read_rgba8(gl.texture_image(2).unwrap()).unwrap();
     assert_eq!(pixel(&image, 64, 10, 50), [255, 255, 0, 255]);
@@ -265,7 +265,7 @@ fn check_flush(report: &Report, cause: FlushCause) {
     assert_eq!(op(p[1], Slot::Depth).1, StoreKind::DontCare, "the swap still discards depth");
     let f: Vec<_> = report.findings_with("flush-mid-pass").collect();
     assert_eq!(f.len(), 1, "{cause:?}");
-    assert_eq!(f[0].cost.bytes, 2 * (COLOR + DEPTH + STENCIL));
+    assert_eq!(f[0].cost_bytes.unwrap_or(0), 2 * (COLOR + DEPTH + STENCIL));
 }
 
 /// Row 5: reading pixels, copying, flushing, finishing, asking a query of the pass and
@@ -425,8 +425,8 @@ fn binding_again_is_a_second_pass_that_loads() {
     assert_eq!(load(p[1]), COLOR + DEPTH + STENCIL);
     let f: Vec<_> = report.findings_with("framebuffer-rebound").collect();
     assert_eq!(f.len(), 1);
-    assert_eq!(f[0].cost.bytes, 2 * (COLOR + DEPTH + STENCIL), "the reloads and the stores they read");
-    assert_eq!(f[0].pass, Some(p[1].index));
+    assert_eq!(f[0].cost_bytes.unwrap_or(0), 2 * (COLOR + DEPTH + STENCIL), "the reloads and the stores they read");
+    assert_eq!(f[0].location.pass, Some(p[1].index as u64));
 }
 
 fn two_frames(behavior: SwapBehavior) -> Report {
@@ -575,13 +575,13 @@ fn exceeding_the_frame_data_budget_is_an_incremental_render() {
     assert_eq!(op(p, Slot::Depth), (Clear, StoreKind::DontCare), "the pass's own ops are unchanged");
     let f: Vec<_> = cliff.findings_with("incremental-render").collect();
     assert_eq!(f.len(), 1);
-    assert_eq!(f[0].cost.bytes, k * (color + depth_stencil) * 2);
+    assert_eq!(f[0].cost_bytes.unwrap_or(0), k * (color + depth_stencil) * 2);
     // The same pass within its budget: no cliff, and the difference is exactly the finding.
     let smooth = run(64 << 20);
     let q = passes(&smooth)[0];
     assert_eq!(q.cost.counters.incremental_renders, 0);
     assert_eq!(load(q), 0);
-    assert_eq!(store(p) + load(p) - store(q) - load(q), f[0].cost.bytes);
+    assert_eq!(store(p) + load(p) - store(q) - load(q), f[0].cost_bytes.unwrap_or(0));
 }
 
 /// Row 10: changing a buffer a pending frame uses makes the driver copy it, and the pending
@@ -619,7 +619,7 @@ fn changing_a_buffer_in_use_is_copy_on_write() {
     assert!(report.frames[4].copies.is_empty());
     let f: Vec<_> = report.findings_with("copy-on-write").collect();
     assert_eq!(f.len(), 2);
-    assert_eq!(f[0].cost.bytes, 72);
+    assert_eq!(f[0].cost_bytes.unwrap_or(0), 72);
 }
 
 /// Row 11: attaching one half of a packed depth-stencil image keeps the other half, loaded
@@ -672,7 +672,7 @@ fn half_a_packed_depth_stencil_image_is_a_warning() {
     assert_eq!(store(p[1]), COLOR + STENCIL);
     let f: Vec<_> = report.findings_with("packed-depth-stencil-half").collect();
     assert_eq!(f.len(), 2);
-    assert_eq!(f[1].cost.bytes, 2 * STENCIL);
+    assert_eq!(f[1].cost_bytes.unwrap_or(0), 2 * STENCIL);
 
     c(
         &mut gl,

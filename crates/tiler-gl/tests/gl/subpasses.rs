@@ -62,11 +62,11 @@ fn a_dependency_that_is_not_by_region_splits_the_pass_and_the_advisor_says_so() 
     let findings: Vec<_> = bad.report.findings_with("subpass-split").collect();
     assert_eq!(findings.len(), passes.len());
     for (f, p) in findings.iter().zip(&passes) {
-        assert_eq!(f.pass, Some(p.index));
-        assert_eq!(f.call, Some(p.started_at), "the begin_pass call");
-        assert_eq!(f.cost.bytes, PIXELS * (4 + 4 + 4) * 2);
-        assert!(f.detail.contains("subpass 0 → 1") && f.detail.contains("not by-region"), "{}", f.detail);
-        assert!(f.fix.contains("\"by_region\": true"), "{}", f.fix);
+        assert_eq!(f.location.pass, Some(p.index as u64));
+        assert_eq!(f.location.call_at.map(CallRef::from), Some(p.started_at), "the begin_pass call");
+        assert_eq!(f.cost_bytes.unwrap_or(0), PIXELS * (4 + 4 + 4) * 2);
+        assert!(f.message.contains("subpass 0 → 1") && f.message.contains("not by-region"), "{}", f.message);
+        assert!(f.advice.contains("\"by_region\": true"), "{}", f.advice);
         assert_eq!(f.rule.seed, "002");
     }
 }

@@ -47,13 +47,13 @@ fn each_example_pair_differs_by_what_the_advisor_reports() {
             assert!(bad.report.findings_with(id).count() > 0, "{name}-bad has no {id}");
         }
         for f in &bad.report.findings {
-            assert!(ids.contains(&f.id), "{name}-bad: unexpected {}: {}", f.id, f.detail);
+            assert!(ids.contains(&f.id.as_str()), "{name}-bad: unexpected {}: {}", f.id, f.message);
         }
         assert_eq!(good.context.surface_rgba8(), bad.context.surface_rgba8(), "{name}: the pictures differ");
         let bytes = |r: &Replay| r.report.totals.ledger.total();
         let fragments = |r: &Replay| r.report.totals.counters.fragments_shaded;
-        let reported: u64 = bad.report.findings.iter().map(|f| f.cost.bytes).sum();
-        let reported_fragments: u64 = bad.report.findings.iter().map(|f| f.cost.fragments).sum();
+        let reported: u64 = bad.report.findings.iter().map(|f| f.cost_bytes.unwrap_or(0)).sum();
+        let reported_fragments: u64 = bad.report.findings.iter().map(|f| f.cost_fragments.unwrap_or(0)).sum();
         if name == "budget" {
             // The fix changes the geometry: the good form's own (coarse) geometry and frame
             // data remain, on top of which the bad form pays exactly what is reported.

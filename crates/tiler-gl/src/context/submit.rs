@@ -1,0 +1,394 @@
+//! Submission: an ended pass becomes a `tiler::RenderPass` — attachments with the load and
+//! store ops `pass.rs` inferred, the gathered draws with their programs, uniforms and
+//! textures — rendered on the device at once; its report becomes the pass's record
+//! (attachments, draws, cost) and the store tracker learns what it stored. Also what a
+//! submission reads: textures through the core's sampler or a decoded snapshot, once per
+//! submission.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use tiler::{ColorAttachment, DepthStencilAttachment, Draw, ImageId, LoadOp, RenderPass, RenderPassDesc, StoreOp};
+
+use super::draw::DrawSource;
+use super::pass::{OpenPass, PassAspect, defined_index};
+use super::{Context, Fallible};
+use crate::call::{ProgramKind, Wrap};
+use crate::program::{ProgramTexture, SamplerState, TextureSnapshot, blit_pipeline, clear_pipeline, program_pipeline};
+use crate::report::{AttachmentRecord, DrawRecord, EndCause, LoadKind, PassCost, PassRecord, Role, Slot, StoreKind};
+
+impl Context {
+    /// Ends the open pass: renders it if it has work, and keeps the books.
+    pub(crate) fn end_open_pass(&mut self, cause: EndCause) -> Fallible {
+        if cause != EndCause::EndPass {
+            let what = match cause {
+                EndCause::Bind => "binding another framebuffer",
+                EndCause::Swap => "swap_buffers",
+                EndCause::EndTiling => "end_tiling",
+                EndCause::Copy => "copy_tex_sub_image",
+                EndCause::End => super::explicit::END_OF_TRACE,
+                EndCause::Flush { flush } => flush.describe(),
+                EndCause::EndPass => unreachable!(),
+            };
+            self.outside_explicit_pass(what)?;
+        }
+        let Some(mut pass) = self.pass.take() else { return Ok(()) };
+        let here = self.here;
+        if cause == EndCause::Swap && pass.framebuffer == 0 && pass.copy_texture.is_none() {
+            for a in pass.aspects.iter_mut() {
+                if matches!(a.slot, Slot::Depth | Slot::Stencil)
+                    && a.role == Role::Attached
+                    && a.store == StoreKind::Store
+                {
+                    a.store = StoreKind::DontCare;
+                    a.store_reason = "the window's depth and stencil are undefined after a swap (EGL)".to_string();
+                }
+            }
+        }
+        if let EndCause::Flush { .. } = cause {
+            // The rest of the pass needs the samples: a flush keeps them.
+            for a in pass.aspects.iter_mut() {
+                if a.resolve.is_some() && !a.invalidated && !a.transient && a.store == StoreKind::DontCare {
+                    a.store = StoreKind::Store;
+                    a.store_reason = "the samples are kept for the rest of the pass, cut by a flush".to_string();
+                }
+            }
+        }
+        let full_area = pass.region.is_none_or(|r| r.area() == pass.targets.width as u64 * pass.targets.height as u64);
+        if !pass.has_work() {
+            // Nothing to render; what was invalidated is undefined from now on.
+            for a in &pass.aspects {
+                if a.invalidated && full_area {
+                    self.undefine(a.image, a.slot, "invalidated");
+                }
+            }
+            self.release(pass);
+            return Ok(());
+        }
+
+        // The explicit render pass.
+        let load_color = |a: &PassAspect| match a.load {
+            LoadKind::Load => LoadOp::Load,
+            LoadKind::Clear => LoadOp::Clear(a.clear),
+            LoadKind::DontCare => LoadOp::DontCare,
+        };
+        let store = |a: &PassAspect| match a.store {
+            StoreKind::Store => StoreOp::Store,
+            StoreKind::DontCare => StoreOp::DontCare,
+        };
+        let color = pass
+            .aspects
+            .iter()
+            .filter(|a| matches!(a.slot, Slot::Color(_)))
+            .map(|a| ColorAttachment {
+                image: a.image,
+                load: load_color(a),
+                store: store(a),
+                resolve: a.resolve.filter(|_| !a.invalidated),
+            })
+            .collect();
+        let depth_stencil = pass.targets.depth_stencil.map(|ds| {
+            let find = |slot| pass.aspects.iter().find(|a| a.slot == slot);
+            let (depth_load, depth_store) = match find(Slot::Depth) {
+                Some(a) => (load_color(a).map(|c| c[0]), store(a)),
+                None => (LoadOp::DontCare, StoreOp::DontCare),
+            };
+            let (stencil_load, stencil_store) = match find(Slot::Stencil) {
+                Some(a) => (load_color(a).map(|c| c[0] as u8), store(a)),
+                None => (LoadOp::DontCare, StoreOp::DontCare),
+            };
+            DepthStencilAttachment { image: ds.image, depth_load, depth_store, stencil_load, stencil_store }
+        });
+        let mut snapshots: HashMap<ImageId, Arc<TextureSnapshot>> = HashMap::new();
+        let mut textures: HashMap<ImageId, Arc<tiler::Texture>> = HashMap::new();
+        let mut draws = Vec::with_capacity(pass.draws.len());
+        let mut extra = tiler::Ledger::default();
+        for d in &pass.draws {
+            let pipeline = match &d.source {
+                DrawSource::Program { kind, uniforms, texture } => {
+                    let texture = match texture {
+                        Some((image, sampler)) => {
+                            Some(self.program_texture(&mut snapshots, &mut textures, *image, *sampler)?)
+                        }
+                        None => None,
+                    };
+                    program_pipeline(*kind, uniforms, texture, d.desc.clone())
+                }
+                DrawSource::Clear { color, depth, targets } => clear_pipeline(*color, *depth, *targets, d.desc.clone()),
+                DrawSource::Rectangle { image, ndc, tex, sampler, read_bytes } => {
+                    extra.add(tiler::Category::TextureFetch, *read_bytes);
+                    let snapshot = self.snapshot(&mut snapshots, *image)?;
+                    blit_pipeline(*ndc, *tex, snapshot, *sampler, d.desc.clone())
+                }
+            }
+            .map_err(|e| format!("draw recorded at {}: {e}", d.call))?;
+            draws.push(Draw {
+                pipeline,
+                vertex_buffers: d.vertex_buffers.clone(),
+                index_buffer: d.index,
+                first: d.first,
+                count: d.count,
+                vertex_offset: 0,
+                viewport: Some(d.viewport),
+                scissor: d.scissor,
+            });
+        }
+        let desc = RenderPassDesc { color, depth_stencil, render_area: pass.region };
+        let mut render_pass = match &pass.explicit {
+            Some(e) => {
+                let mut p = RenderPass::with_subpasses(desc, e.subpasses.clone(), e.dependencies.clone());
+                p.subpass_starts = e.starts.clone();
+                p
+            }
+            None => RenderPass::new(desc),
+        };
+        render_pass.draws = draws;
+        let report = match self.device.submit(&render_pass) {
+            Ok(report) => report,
+            Err(e) => {
+                let at = match &e {
+                    tiler::Error::Draw { draw, .. }
+                    | tiler::Error::IndexOutOfRange { draw, .. }
+                    | tiler::Error::NonFinitePosition { draw, .. } => {
+                        pass.draws.get(*draw).map(|d| format!(" (the draw recorded at {})", d.call))
+                    }
+                    _ => None,
+                };
+                let what = match pass.copy_texture {
+                    Some(t) => format!("the copy into texture {t}"),
+                    None => format!("the render pass of framebuffer {} begun at {}", pass.framebuffer, pass.started_at),
+                };
+                self.release(pass);
+                return Err(format!("{what} could not be rendered{}: {e}", at.unwrap_or_default()));
+            }
+        };
+
+        // The books: queries, what was read and written, and the pass record.
+        let index = self.passes_rendered;
+        self.passes_rendered += 1;
+        let frame = here.frame;
+        self.last_submit_frame = Some(frame);
+        for (d, stats) in pass.draws.iter().zip(&report.draws) {
+            if let Some(q) = d.query.and_then(|q| self.queries.get_mut(&q)) {
+                q.samples += stats.samples_passed;
+                q.pending_draws = q.pending_draws.saturating_sub(1);
+                q.last_frame = q.last_frame.max(frame);
+            }
+        }
+        let area = match pass.region {
+            Some(r) => r.area(),
+            None => pass.targets.width as u64 * pass.targets.height as u64,
+        };
+        let samples = pass.targets.samples as u64;
+        let mut attachments = Vec::new();
+        for a in &pass.aspects {
+            let info = &self.images[&a.image];
+            let format = info.desc.format;
+            let aspect_bytes = match a.slot {
+                Slot::Color(_) => format.bytes_per_sample(),
+                Slot::Depth => format.depth_aspect_bytes(),
+                Slot::Stencil => format.stencil_aspect_bytes(),
+            } as u64;
+            let bytes = area * samples * aspect_bytes;
+            let gl_format = info.gl_format;
+            if a.load == LoadKind::Load {
+                self.consume(a.image, a.slot);
+            }
+            match a.store {
+                StoreKind::Store => {
+                    let info = self.images.get_mut(&a.image).expect("attached image");
+                    info.defined[defined_index(a.slot)] = true;
+                    info.last_write = Some(frame);
+                    self.register_store(a.image, a.slot, index, bytes, full_area);
+                }
+                StoreKind::DontCare if a.role == Role::Attached && full_area => {
+                    self.undefine(a.image, a.slot, &format!("not stored by pass {index}"));
+                }
+                StoreKind::DontCare => {}
+            }
+            let mut resolve_bytes = 0;
+            if let Some(resolve) = a.resolve.filter(|_| !a.invalidated) {
+                let d = self.images[&resolve].desc;
+                resolve_bytes = area * d.format.bytes_per_sample() as u64;
+                let info = self.images.get_mut(&resolve).expect("resolve image");
+                info.defined[0] = true;
+                info.last_write = Some(frame);
+                self.register_store(resolve, Slot::Color(0), index, resolve_bytes, full_area);
+            }
+            attachments.push(AttachmentRecord {
+                slot: a.slot,
+                image: a.image,
+                format,
+                gl_format,
+                samples: pass.targets.samples,
+                role: a.role,
+                load: a.load,
+                load_reason: a.load_reason.clone(),
+                store: a.store,
+                store_reason: a.store_reason.clone(),
+                load_bytes: if a.load == LoadKind::Load { bytes } else { 0 },
+                store_bytes: if a.store == StoreKind::Store { bytes } else { 0 },
+                resolve: a.resolve.filter(|_| !a.invalidated),
+                resolve_bytes,
+            });
+        }
+        let draws = pass
+            .draws
+            .iter()
+            .zip(&report.draws)
+            .map(|(d, stats)| DrawRecord {
+                call: d.call,
+                kind: d.kind,
+                program: match &d.source {
+                    DrawSource::Program { kind, .. } => Some(*kind),
+                    _ => None,
+                },
+                clip_rect: d.clip_rect,
+                blend: d.desc.color_targets.iter().any(|t| t.blend.is_some()),
+                depth_test: d.desc.depth_stencil.depth_test,
+                depth_write: d.desc.depth_stencil.depth_write,
+                discards: match &d.source {
+                    DrawSource::Program {
+                        kind: ProgramKind::VertexColor | ProgramKind::Textured, uniforms, ..
+                    } => uniforms.alpha_cutoff > 0.0,
+                    _ => false,
+                },
+                texture_bytes: match &d.source {
+                    DrawSource::Rectangle { read_bytes, .. } => *read_bytes,
+                    _ => 0,
+                },
+                sampled: match &d.source {
+                    DrawSource::Program { texture, .. } => texture.map(|t| t.0),
+                    DrawSource::Rectangle { image, .. } => Some(*image),
+                    DrawSource::Clear { .. } => None,
+                },
+                stats: *stats,
+                partial_clear: d.partial_clear.clone(),
+            })
+            .collect();
+        let record = PassRecord {
+            index,
+            frame,
+            framebuffer: pass.framebuffer,
+            copy_texture: pass.copy_texture,
+            window_preserved: pass.window_preserved,
+            width: pass.targets.width,
+            height: pass.targets.height,
+            samples: pass.targets.samples,
+            render_area: pass.region,
+            start: pass.start,
+            started_at: pass.started_at,
+            end: cause,
+            ended_at: here,
+            attachments,
+            subpasses: render_pass.subpasses.clone(),
+            dependencies: render_pass.dependencies.clone(),
+            draw_subpasses: if pass.explicit.is_some() {
+                (0..pass.draws.len()).map(|i| render_pass.subpass_of(i) as u32).collect()
+            } else {
+                Vec::new()
+            },
+            draws,
+            dropped: std::mem::take(&mut pass.dropped),
+            cost: PassCost::from(&report),
+            extra,
+        };
+        self.frame.passes.push(record);
+        self.release(pass);
+        Ok(())
+    }
+
+    /// Frees what a finished pass held on to.
+    fn release(&mut self, pass: OpenPass) {
+        for (buffer, len) in pass.retired_buffers {
+            self.free_buffer(buffer, len);
+        }
+        for image in pass.retired_images {
+            self.free_image(image);
+        }
+    }
+
+    /// What a textured draw samples: RGBA8 images through the core's sampler, others through
+    /// a snapshot; each texture made once per submission.
+    fn program_texture(
+        &self,
+        snapshots: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
+        textures: &mut HashMap<ImageId, Arc<tiler::Texture>>,
+        image: ImageId,
+        sampler: SamplerState,
+    ) -> Fallible<ProgramTexture> {
+        let d = self.images[&image].desc;
+        let color_space = match d.format {
+            tiler::Format::Rgba8Unorm => tiler::ColorSpace::Linear,
+            tiler::Format::Rgba8UnormSrgb => tiler::ColorSpace::Srgb,
+            _ => return Ok(ProgramTexture::Snapshot(self.snapshot(snapshots, image)?, sampler)),
+        };
+        if d.samples != 1 {
+            return Ok(ProgramTexture::Snapshot(self.snapshot(snapshots, image)?, sampler));
+        }
+        let texture = match textures.get(&image) {
+            Some(t) => t.clone(),
+            None => {
+                let data = self.device.image_data(image).map_err(|e| e.to_string())?;
+                let t = tiler::Texture::from_rgba8(d.width, d.height, data, color_space, tiler::MipChain::BaseOnly)
+                    .map_err(|e| e.to_string())?;
+                let t = Arc::new(t);
+                textures.insert(image, t.clone());
+                t
+            }
+        };
+        let filter = match sampler.filter {
+            crate::call::Filter::Nearest => tiler::Filter::Nearest,
+            crate::call::Filter::Linear => tiler::Filter::Linear,
+        };
+        let wrap = match sampler.wrap {
+            Wrap::ClampToEdge => tiler::Wrap::ClampToEdge,
+            Wrap::Repeat => tiler::Wrap::Repeat,
+            Wrap::MirroredRepeat => tiler::Wrap::MirroredRepeat,
+        };
+        let core = tiler::Sampler {
+            mag_filter: filter,
+            min_filter: filter,
+            mipmap: tiler::MipmapMode::None,
+            wrap_u: wrap,
+            wrap_v: wrap,
+            lod_bias: 0.0,
+        };
+        Ok(ProgramTexture::Core(texture, core))
+    }
+
+    /// The decoded texels of an image, once per submission.
+    fn snapshot(
+        &self,
+        cache: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
+        image: ImageId,
+    ) -> Fallible<Arc<TextureSnapshot>> {
+        if let Some(s) = cache.get(&image) {
+            return Ok(s.clone());
+        }
+        let d = self.images[&image].desc;
+        let snapshot = if d.format.is_color() {
+            let data = self.device.image_data(image).map_err(|e| e.to_string())?.to_vec();
+            Arc::new(TextureSnapshot::color(d.width, d.height, d.format, d.samples, data))
+        } else {
+            let depths = self.device.read_depth(image).map_err(|e| e.to_string())?;
+            Arc::new(TextureSnapshot::depth(d.width, d.height, depths))
+        };
+        cache.insert(image, snapshot.clone());
+        Ok(snapshot)
+    }
+}
+
+trait MapLoad<T> {
+    fn map<U>(self, f: impl FnOnce(T) -> U) -> LoadOp<U>;
+}
+
+impl<T> MapLoad<T> for LoadOp<T> {
+    fn map<U>(self, f: impl FnOnce(T) -> U) -> LoadOp<U> {
+        match self {
+            LoadOp::Load => LoadOp::Load,
+            LoadOp::Clear(v) => LoadOp::Clear(f(v)),
+            LoadOp::DontCare => LoadOp::DontCare,
+        }
+    }
+}
