@@ -170,13 +170,7 @@ fn a_closed_pipe_ends_the_program_quietly() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert_eq!(out.status.signal(), Some(libc_sigpipe()), "{:?}: {stderr}", out.status);
-}
-
-/// SIGPIPE's number (13 on every unix tiler runs on).
-#[cfg(unix)]
-fn libc_sigpipe() -> i32 {
-    13
+    assert_eq!(out.status.signal(), Some(libc::SIGPIPE), "{:?}: {stderr}", out.status);
 }
 
 #[cfg(unix)]
@@ -195,15 +189,42 @@ fn a_200_mb_trace_stays_under_2_gb() {
         write!(f, r#"{{"call": "swap_buffers"}}]}}]}}"#).unwrap();
     }
     assert!(std::fs::metadata(&path).unwrap().len() > 200 << 20);
-    let started = Instant::now();
-    // Address space capped at 2 GiB: an allocation past it fails, and Rust would abort.
-    let out = Command::new("sh")
-        .args(["-c", &format!("ulimit -v 2097152 && exec '{}' analyze '{}'", env!("CARGO_BIN_EXE_tiler"), s(&path))])
-        .output()
+    // Address space capped at 2 GiB too: an allocation past it would fail, and Rust abort.
+    let mut command = Command::new("sh");
+    command
+        .args(["-c", &format!("ulimit -v 2097152 && exec '{}' analyze '{}'", env!("CARGO_BIN_EXE_tiler"), s(&path))]);
+    let (status, cpu, max_resident, stderr) = run_measured(&mut command, &dir.join("stderr.txt"));
+    assert!(status.success(), "{status:?}: {stderr}");
+    // CPU time, not wall time: the machine running the tests may be busy with other work.
+    assert!(cpu < Duration::from_secs(20), "took {cpu:?} of CPU");
+    assert!(max_resident < 2 << 30, "{max_resident} bytes resident");
+    std::fs::remove_file(&path).unwrap();
+}
+
+/// Runs `command` to its end: its exit status, CPU time (user and system), largest resident
+/// set in bytes, and standard error.
+#[cfg(unix)]
+#[expect(clippy::zombie_processes, reason = "the child is waited for with wait4, which gives its resource usage")]
+fn run_measured(command: &mut Command, stderr_file: &Path) -> (std::process::ExitStatus, Duration, u64, String) {
+    use std::os::unix::process::ExitStatusExt;
+    let child = command
+        .stdout(std::process::Stdio::null())
+        .stderr(std::fs::File::create(stderr_file).unwrap())
+        .spawn()
         .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{:?}: {stderr}", out.status);
-    assert!(started.elapsed() < Duration::from_secs(20), "took {:?}", started.elapsed());
+    let mut status = 0;
+    // SAFETY: `rusage` is plain data, valid when all zero.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: the pid is our child's, not yet waited for; both out-pointers are valid for the
+    // call. `wait4` is the one call that gives one child's resource usage.
+    let waited = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
+    assert_eq!(waited, child.id() as libc::pid_t);
+    let time = |t: libc::timeval| Duration::new(t.tv_sec as u64, t.tv_usec as u32 * 1000);
+    let cpu = time(usage.ru_utime) + time(usage.ru_stime);
+    // ru_maxrss is in kilobytes on Linux.
+    let max_resident = usage.ru_maxrss as u64 * 1024;
+    let stderr = std::fs::read_to_string(stderr_file).unwrap();
+    (std::process::ExitStatus::from_raw(status), cpu, max_resident, stderr)
 }
 
 #[test]
@@ -303,4 +324,36 @@ fn unclear_errors_are_clear() {
     // A benchmark scene asked for by name whose model is missing.
     let missing = dir.join("no-assets");
     fails(&dir, &["bench", "--scene", "helmet", "--assets", s(&missing), "--size", "16x16"], &["helmet", "not found"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn huge_node_hierarchies_stay_bounded() {
+    let dir = scratch("nodes");
+    let model = triangle_gltf(&dir);
+    let base: serde_json::Value = serde_json::from_slice(&std::fs::read(&model).unwrap()).unwrap();
+    let o = dir.join("o.png");
+    let command_for = |name: &str, nodes: serde_json::Value| {
+        let mut json = base.clone();
+        json["nodes"] = nodes;
+        let path = dir.join(name);
+        std::fs::write(&path, json.to_string()).unwrap();
+        let mut command = Command::new(env!("CARGO_BIN_EXE_tiler"));
+        command.args(["render", s(&path), "--size", "16x16", "-o", s(&o)]);
+        run_measured(&mut command, &dir.join("stderr.txt"))
+    };
+    // One mesh on a million nodes: a clear error.
+    let mut nodes = vec![serde_json::json!({"children": (1..=1_000_000u32).collect::<Vec<_>>()})];
+    nodes.extend((0..1_000_000).map(|_| serde_json::json!({"mesh": 0})));
+    let (status, cpu, resident, stderr) = command_for("wide.gltf", serde_json::Value::Array(nodes));
+    assert_eq!(status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("more than") && !stderr.contains("panicked"), "{stderr}");
+    assert!(cpu < Duration::from_secs(20) && resident < 2 << 30, "{cpu:?}, {resident} bytes");
+    // 200,000 nodes deep: drawn.
+    let mut nodes: Vec<serde_json::Value> = (1..=200_000u32).map(|i| serde_json::json!({"children": [i]})).collect();
+    nodes.push(serde_json::json!({"mesh": 0}));
+    let (status, cpu, resident, stderr) = command_for("deep.gltf", serde_json::Value::Array(nodes));
+    assert!(status.success(), "{status:?}: {stderr}");
+    assert!(cpu < Duration::from_secs(20) && resident < 2 << 30, "{cpu:?}, {resident} bytes");
+    assert!(o.exists());
 }

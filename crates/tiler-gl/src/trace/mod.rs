@@ -24,6 +24,7 @@
 //! context has a memory limit, and `repeat` replays one parsed frame without copying it.
 
 mod gltf;
+mod raw;
 mod source;
 
 use std::collections::BTreeMap;
@@ -31,7 +32,6 @@ use std::path::{Path, PathBuf};
 
 use serde::de::IgnoredAny;
 use serde::{Deserialize, Serialize};
-use serde_json::value::RawValue;
 
 pub use source::DataSource;
 
@@ -180,23 +180,26 @@ impl Trace {
         Trace::parse_into(json, &mut resolver, limits)
     }
 
-    /// Parses a trace without building a tree of the whole JSON: the text is checked once and
-    /// split into raw pieces (a frame, a call) that borrow it, and each call is deserialised
+    /// Parses a trace without building a tree of the whole JSON: the text is read once and
+    /// split into raw pieces (a frame, a call) that borrow it ([`raw`]), and each call is deserialised
     /// straight into its typed form, its data resolved before the next call is read. Memory is
     /// the text, the resolved data and one call's numbers; the text counts against the data
     /// limit, since holding it is part of what reading the trace costs.
     fn parse_into(json: &str, resolver: &mut source::Resolver, limits: Limits) -> Result<Trace, TraceError> {
         resolver.charge(json.len() as u64).map_err(TraceError::trace)?;
-        let mut root: BTreeMap<String, &RawValue> =
+        let root: raw::Root<'_> =
             serde_json::from_str(json).map_err(|e| TraceError::trace(format!("invalid JSON: {e}")))?;
-        match root.remove("format").map(|v| (v, serde_json::from_str::<String>(v.get()))) {
+        if root.not_object {
+            return Err(TraceError::trace("a trace is a JSON object"));
+        }
+        match root.format.map(|v| (v, serde_json::from_str::<String>(v.get()))) {
             Some((_, Ok(f))) if f == TRACE_FORMAT => {}
             Some((other, _)) => {
                 return Err(TraceError::trace(format!("\"format\" is {}, not \"{TRACE_FORMAT}\"", other.get())));
             }
             None => return Err(TraceError::trace(format!("missing \"format\": \"{TRACE_FORMAT}\""))),
         }
-        match root.remove("version") {
+        match root.version {
             Some(v) if serde_json::from_str::<u64>(v.get()).ok() == Some(TRACE_VERSION as u64) => {}
             Some(other) => {
                 return Err(TraceError::trace(format!(
@@ -206,7 +209,7 @@ impl Trace {
             }
             None => return Err(TraceError::trace("missing \"version\"")),
         }
-        let description = match root.remove("description") {
+        let description = match root.description {
             None => None,
             Some(v) => Some(
                 serde_json::from_str::<String>(v.get())
@@ -214,16 +217,14 @@ impl Trace {
             ),
         };
         let config: ContextConfig = serde_json::from_str(
-            root.remove("config")
+            root.config
                 .ok_or_else(|| TraceError::trace("missing \"config\" (at least {\"width\": W, \"height\": H})"))?
                 .get(),
         )
         .map_err(|e| TraceError::trace(format!("config: {}", without_position(&e))))?;
-        let frames: Vec<&RawValue> = root
-            .remove("frames")
-            .and_then(|v| serde_json::from_str(v.get()).ok())
-            .ok_or_else(|| TraceError::trace("missing \"frames\": an array of {\"calls\": [...]}"))?;
-        if let Some(key) = root.keys().next() {
+        let frames =
+            root.frames.ok_or_else(|| TraceError::trace("missing \"frames\": an array of {\"calls\": [...]}"))?;
+        if let Some(key) = root.unknown {
             return Err(TraceError::trace(format!("unknown field \"{key}\"")));
         }
 
@@ -232,10 +233,10 @@ impl Trace {
         let mut total_calls: u64 = 0;
         let entries = frames.len();
         for (entry, frame) in frames.into_iter().enumerate() {
-            let Ok(mut frame) = serde_json::from_str::<BTreeMap<String, &RawValue>>(frame.get()) else {
+            if frame.not_object {
                 return Err(TraceError::at(frame_index, None, "a frame is an object {\"calls\": [...]}"));
-            };
-            let repeat = match frame.remove("repeat") {
+            }
+            let repeat = match frame.repeat {
                 None => 1,
                 Some(v) => match serde_json::from_str::<serde_json::Number>(v.get()) {
                     Ok(n) => match n.as_u64() {
@@ -257,11 +258,10 @@ impl Trace {
                     }
                 },
             };
-            let Some(calls) = frame.remove("calls").and_then(|v| serde_json::from_str::<Vec<&RawValue>>(v.get()).ok())
-            else {
+            let Some(calls) = frame.calls else {
                 return Err(TraceError::at(frame_index, None, "missing \"calls\": an array of calls"));
             };
-            if let Some(key) = frame.keys().next() {
+            if let Some(key) = frame.unknown {
                 return Err(TraceError::at(
                     frame_index,
                     None,
@@ -276,28 +276,31 @@ impl Trace {
             let mut parsed = Vec::with_capacity(calls.len());
             let count = calls.len();
             for (i, value) in calls.into_iter().enumerate() {
-                let name = serde_json::from_str::<CallName>(value.get()).ok().and_then(|c| c.call);
-                let what = |e: String| match &name {
-                    Some(n) => format!("{n}: {e}"),
-                    None => e,
-                };
+                // The call is read once; its name is looked up again only for an error message.
+                let call: Call<DataSource> = serde_json::from_str(value.get()).map_err(|e| {
+                    let name = serde_json::from_str::<CallName>(value.get()).ok().and_then(|c| c.call);
+                    let message = without_position(&e);
+                    let message = match name {
+                        Some(n) => format!("{n}: {message}"),
+                        None => message,
+                    };
+                    TraceError::at(frame_index, Some(i), message)
+                })?;
+                let name = call.name();
                 // serde accepts extra fields on unit variants of a tagged enum: refuse them here.
-                if let Some(n) = &name
-                    && UNIT_CALLS.contains(&n.as_str())
+                if UNIT_CALLS.contains(&name)
                     && let Ok(object) = serde_json::from_str::<BTreeMap<String, IgnoredAny>>(value.get())
                     && let Some(key) = object.keys().find(|k| *k != "call")
                 {
                     return Err(TraceError::at(
                         frame_index,
                         Some(i),
-                        format!("{n}: unknown field `{key}`, there are no fields"),
+                        format!("{name}: unknown field `{key}`, there are no fields"),
                     ));
                 }
-                let call: Call<DataSource> = serde_json::from_str(value.get())
-                    .map_err(|e| TraceError::at(frame_index, Some(i), what(without_position(&e))))?;
                 let call = call
                     .try_map_data(|d| resolver.resolve(&d))
-                    .map_err(|e| TraceError::at(frame_index, Some(i), what(e)))?;
+                    .map_err(|e| TraceError::at(frame_index, Some(i), format!("{name}: {e}")))?;
                 if matches!(call, Call::SwapBuffers) && i + 1 != count {
                     return Err(TraceError::at(
                         frame_index,
