@@ -125,6 +125,11 @@ const UNIT_CALLS: [&str; 6] = ["flush", "finish", "swap_buffers", "end_query", "
 /// The most times one frame entry may repeat.
 pub const MAX_REPEAT: u32 = 100_000;
 
+/// The most values (numbers, strings, fields) one call may hold: reading a call costs about 32
+/// bytes a value before its data is packed, so this bounds that to some 128 MiB. Bulk data
+/// past it belongs in base64 (what the recorder writes) or a side file.
+pub const MAX_CALL_VALUES: usize = 1 << 22;
+
 impl Trace {
     /// Reads a trace file; side files and glTF files are found relative to its directory.
     ///
@@ -276,6 +281,19 @@ impl Trace {
             let mut parsed = Vec::with_capacity(calls.len());
             let count = calls.len();
             for (i, value) in calls.into_iter().enumerate() {
+                // serde reads a call (an internally tagged enum) into a buffer of values first,
+                // some 32 bytes for each number of an inline array: bound that before reading.
+                let values = json_values(value.get());
+                if values > MAX_CALL_VALUES {
+                    return Err(TraceError::at(
+                        frame_index,
+                        Some(i),
+                        format!(
+                            "the call holds {values} values, more than the {MAX_CALL_VALUES} a call may; give \
+                             large data as base64 or a side file"
+                        ),
+                    ));
+                }
                 // The call is read once; its name is looked up again only for an error message.
                 let call: Call<DataSource> = serde_json::from_str(value.get()).map_err(|e| {
                     let name = serde_json::from_str::<CallName>(value.get()).ok().and_then(|c| c.call);
@@ -469,4 +487,49 @@ fn without_position(e: &serde_json::Error) -> String {
     let text = e.to_string();
     let suffix = format!(" at line {} column {}", e.line(), e.column());
     text.strip_suffix(&suffix).map(str::to_string).unwrap_or(text)
+}
+
+/// About how many values a JSON text holds: the commas outside strings, plus one (exact for a
+/// flat array; an upper bound on the work of reading nested objects, to within their count).
+fn json_values(text: &str) -> usize {
+    let mut commas = 0;
+    let mut in_string = false;
+    let mut escaped = false;
+    for &b in text.as_bytes() {
+        if in_string {
+            match b {
+                _ if escaped => escaped = false,
+                b'\\' => escaped = true,
+                b'"' => in_string = false,
+                _ => {}
+            }
+        } else if b == b'"' {
+            in_string = true;
+        } else if b == b',' {
+            commas += 1;
+        }
+    }
+    commas + 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_are_counted_outside_strings() {
+        assert_eq!(json_values(r#"{"u8": [1, 2, 3]}"#), 3);
+        assert_eq!(json_values(r#"{"call": "x", "s": "a,b,\",c"}"#), 2);
+    }
+
+    #[test]
+    fn a_call_with_too_many_numbers_is_refused_before_it_is_read() {
+        let numbers = "0,".repeat(MAX_CALL_VALUES);
+        let json = format!(
+            r#"{{"format": "tiler-gl-trace", "version": 1, "config": {{"width": 8, "height": 8}},
+            "frames": [{{"calls": [{{"call": "create_buffer", "id": 1, "data": {{"u8": [{numbers}0]}}}}]}}]}}"#
+        );
+        let e = Trace::parse(&json, None).unwrap_err().to_string();
+        assert!(e.contains("frame 0, call 0") && e.contains("base64 or a side file"), "{e}");
+    }
 }
