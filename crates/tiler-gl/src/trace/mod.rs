@@ -523,6 +523,16 @@ mod tests {
     }
 
     #[test]
+    fn the_text_counts_against_the_data_limit() {
+        let json = r#"{"format": "tiler-gl-trace", "version": 1, "config": {"width": 8, "height": 8},
+            "frames": [{"calls": [{"call": "create_buffer", "id": 1, "data": {"base64": "AAAA"}}]}]}"#;
+        let limits = |max_data_bytes| Limits { max_data_bytes, ..Limits::default() };
+        assert!(Trace::parse_with(json, None, limits(json.len() as u64 + 3)).is_ok());
+        let e = Trace::parse_with(json, None, limits(json.len() as u64 + 2)).unwrap_err().to_string();
+        assert!(e.contains("exceeds its limit"), "{e}");
+    }
+
+    #[test]
     fn a_call_with_too_many_numbers_is_refused_before_it_is_read() {
         let numbers = "0,".repeat(MAX_CALL_VALUES);
         let json = format!(

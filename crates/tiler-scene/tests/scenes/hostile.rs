@@ -117,6 +117,19 @@ fn devices_and_fifos_are_refused_without_blocking() {
         assert!(status.success());
         json["buffers"][0]["uri"] = json!("pipe.bin");
     });
+    // /dev/zero reached through a link inside the folder, as a buffer and as an image.
+    expect_error("zero_buffer", &["buffer 0", "outside"], |dir, json| {
+        std::os::unix::fs::symlink("/dev/zero", dir.join("zero.bin")).unwrap();
+        json["buffers"][0]["uri"] = json!("zero.bin");
+    });
+    let model = load_edited("zero_image", |dir, json| {
+        std::os::unix::fs::symlink("/dev/zero", dir.join("zero.png")).unwrap();
+        json["images"] = json!([{"uri": "zero.png"}]);
+        json["textures"] = json!([{"source": 0}]);
+        json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
+    })
+    .unwrap();
+    assert!(model.warnings.iter().any(|w| w.contains("zero.png") && w.contains("outside")), "{:?}", model.warnings);
     let dir = scratch_dir("fifo_model");
     let fifo = dir.join("model.gltf");
     assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
