@@ -610,6 +610,12 @@ impl Loader<'_> {
         let mut uvs = uvs;
         if normals.is_none() {
             if self.shading == Shading::Gltf {
+                if indices.len() > MAX_ACCESSOR_ELEMENTS {
+                    return Err(fail(format!(
+                        "flat normals would give {} vertices, more than the {MAX_ACCESSOR_ELEMENTS} tiler makes",
+                        indices.len()
+                    )));
+                }
                 // Flat: every triangle gets vertices of its own.
                 positions = indices.iter().map(|&i| positions[i as usize]).collect();
                 uvs = indices.iter().map(|&i| uvs[i as usize]).collect();

@@ -234,8 +234,7 @@ impl Resolver {
                     None => {
                         // Read through what is left of the budget, checked as bytes arrive.
                         let left = self.budget.saturating_sub(self.used);
-                        let data = tiler_io::read_file(&full, left)
-                            .map_err(|e| format!("{e} (the trace's data is limited to {} bytes)", self.budget))?;
+                        let data = tiler_io::read_file(&full, left).map_err(|e| e.to_string())?;
                         self.charge(data.len() as u64)?;
                         self.note_input(&full);
                         let data = Bytes::from(data);
