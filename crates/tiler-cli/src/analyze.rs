@@ -5,7 +5,9 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use tiler_gl::{Trace, text_report};
+use tiler_gl::{Limits, Trace, text_report};
+
+use crate::files;
 
 #[derive(Args, Debug)]
 pub struct AnalyzeArgs {
@@ -22,16 +24,31 @@ pub struct AnalyzeArgs {
 }
 
 pub fn run(args: &AnalyzeArgs) -> Result<()> {
-    let trace = Trace::read(&args.trace).with_context(|| format!("reading {}", args.trace.display()))?;
+    // Outputs are checked before any work, against the trace and then against every file it
+    // read (side files, glTF files): none may be overwritten.
+    let check = |inputs: &[PathBuf]| -> Result<()> {
+        if let Some(path) = &args.report {
+            files::check_output("--report", path, inputs)?;
+        }
+        if let Some(path) = &args.png {
+            files::check_png("--png", path, inputs)?;
+        }
+        Ok(())
+    };
+    check(std::slice::from_ref(&args.trace))?;
+    let (trace, inputs) = Trace::read_listing_inputs(&args.trace, Limits::default())
+        .with_context(|| format!("reading {}", args.trace.display()))?;
+    check(&inputs)?;
     let replay = trace.replay().with_context(|| format!("replaying {}", args.trace.display()))?;
-    print!("{}", text_report(&replay.report));
     if let Some(path) = &args.report {
         let json = serde_json::to_string_pretty(&replay.report)?;
-        std::fs::write(path, json).with_context(|| format!("writing {}", path.display()))?;
+        tiler_io::write_atomic(path, json.as_bytes()).context("writing the report")?;
     }
     if let Some(path) = &args.png {
         let c = trace.config;
-        crate::render::write_png(path, c.width, c.height, &replay.context.surface_rgba8())?;
+        files::write_png(path, c.width, c.height, &replay.context.surface_rgba8())?;
     }
+    // Files first, so output piped into `head` cannot lose them.
+    print!("{}", text_report(&replay.report));
     Ok(())
 }

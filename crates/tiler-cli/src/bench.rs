@@ -110,9 +110,19 @@ struct Report {
     skipped: Vec<String>,
 }
 
+/// The most timed or warm-up frames a run may ask for (nothing is allocated per frame up
+/// front, but a run should end: at 1 ms a frame this is over a minute and a half).
+const MAX_FRAMES: usize = 100_000;
+
 pub fn run(args: &BenchArgs) -> Result<()> {
-    if args.frames == 0 {
-        bail!("--frames must be at least 1");
+    if args.frames == 0 || args.frames > MAX_FRAMES {
+        bail!("--frames must be from 1 to {MAX_FRAMES}, not {}", args.frames);
+    }
+    if args.warmup > MAX_FRAMES {
+        bail!("--warmup must be at most {MAX_FRAMES}, not {}", args.warmup);
+    }
+    if let Some(dir) = &args.out {
+        crate::files::check_dir("--out", dir)?;
     }
     let assets = args
         .assets
@@ -151,11 +161,17 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             _ => true,
         })
         .collect();
+    // A scene asked for by name must run; only the default set skips missing models.
+    if !args.scenes.is_empty()
+        && let Some(first) = skipped.first()
+    {
+        bail!("cannot run {first}");
+    }
     for s in &skipped {
         eprintln!("tiler: skipped {s}");
     }
 
-    let total_frames = (runnable.len() * (args.frames + args.warmup)) as u64;
+    let total_frames = runnable.len() as u64 * (args.frames + args.warmup) as u64;
     let progress = if std::io::stdout().is_terminal() {
         let bar = ProgressBar::new(total_frames);
         bar.set_style(
@@ -181,7 +197,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             .with_context(|| format!("building scene {}", case.name))?;
         let load = started.elapsed();
         progress.set_message(case.name.clone());
-        let mut times = Vec::with_capacity(args.frames);
+        let mut times = Vec::new();
         let mut last = Vec::new();
         for frame in 0..args.warmup + args.frames {
             let started = Instant::now();

@@ -3,6 +3,8 @@
 //! energy, fragments shaded, overdraw, and the ratio to the first column — with a check that
 //! every device rendered the same picture of each scene.
 
+use std::path::PathBuf;
+
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use tiler::{Device, DevicePreset};
@@ -37,27 +39,35 @@ pub struct CompareArgs {
     pub report: ReportArgs,
 }
 
-/// The presets named, or every built-in one.
-fn presets(names: &[String]) -> Result<Vec<DevicePreset>> {
+/// The presets named, or every built-in one, and the preset files read.
+fn presets(names: &[String]) -> Result<(Vec<DevicePreset>, Vec<PathBuf>)> {
     if names.is_empty() {
-        return Ok(DevicePreset::builtins());
+        return Ok((DevicePreset::builtins(), Vec::new()));
     }
-    names
-        .iter()
-        .map(|name| DevicePreset::load(name.trim()).with_context(|| format!("--devices: loading '{}'", name.trim())))
-        .collect()
+    let mut presets = Vec::new();
+    let mut files = Vec::new();
+    for name in names {
+        let (preset, file) = crate::files::load_preset(Some(name.trim()))
+            .with_context(|| format!("--devices: loading '{}'", name.trim()))?;
+        presets.push(preset);
+        files.extend(file);
+    }
+    Ok((presets, files))
 }
 
 pub fn run(args: &CompareArgs) -> Result<()> {
-    args.report.check()?;
-    let presets = presets(&args.devices)?;
+    args.report.check(&[])?;
+    let (presets, mut inputs) = presets(&args.devices)?;
     let names: Vec<&str> =
         if args.scenes.is_empty() { vec!["builtin"] } else { args.scenes.iter().map(String::as_str).collect() };
+    // Every scene is loaded before anything is rendered, so no report overwrites one of its files.
+    let sources = names.iter().map(|name| args.scene_args.source(Some(name))).collect::<Result<Vec<_>>>()?;
+    inputs.extend(sources.iter().flat_map(|s| s.inputs()));
+    args.report.check(&inputs)?;
     let setup = Setup { threads: args.threads, simd: None, tile: None, overdraw_map: args.report.wants_maps() };
     let mut columns: Vec<Column> = Vec::with_capacity(presets.len() * names.len());
     let mut scenes = Vec::with_capacity(names.len());
-    for name in &names {
-        let source = args.scene_args.source(Some(name))?;
+    for (name, source) in names.iter().zip(sources) {
         if let Some(line) = args.scene_args.describe(&source) {
             println!("{line}");
         }

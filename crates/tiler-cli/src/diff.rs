@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
-use tiler_scene::compare::{REFERENCE_MIN_FRACTION, REFERENCE_TOLERANCE, compare_rgba8, read_png, write_png};
+use tiler_scene::compare::{REFERENCE_MIN_FRACTION, REFERENCE_TOLERANCE, compare_rgba8, read_png};
 
 #[derive(Args, Debug)]
 pub struct DiffArgs {
@@ -35,6 +35,9 @@ pub fn run(args: &DiffArgs) -> Result<()> {
     if !(0.0..=1.0).contains(&args.min_fraction) {
         bail!("--min-fraction must be between 0 and 1, not {}", args.min_fraction);
     }
+    if let Some(out) = &args.out {
+        crate::files::check_png("--out", out, &[args.ours.clone(), args.reference.clone()])?;
+    }
     let (width, height, ours) = read_png(&args.ours).map_err(|e| anyhow!(e))?;
     let (rw, rh, reference) = read_png(&args.reference).map_err(|e| anyhow!(e))?;
     if (width, height) != (rw, rh) {
@@ -49,7 +52,7 @@ pub fn run(args: &DiffArgs) -> Result<()> {
         if c.passes(args.min_fraction) { "match" } else { "DIFFERENT" }
     );
     if let Some(out) = &args.out {
-        write_png(out, width, height, &c.difference_image).map_err(|e| anyhow!(e))?;
+        crate::files::write_png(out, width, height, &c.difference_image)?;
     }
     if !c.passes(args.min_fraction) {
         bail!(

@@ -4,6 +4,7 @@ mod analyze;
 mod bench;
 mod compare;
 mod diff;
+mod files;
 mod frame;
 mod render;
 mod report_args;
@@ -39,6 +40,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    restore_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
@@ -55,3 +57,18 @@ fn main() -> ExitCode {
         }
     }
 }
+
+/// Printing into a closed pipe (`tiler analyze t.json | head -1`) ends the program quietly, by
+/// SIGPIPE, as it ends `cat` or `grep`: Rust ignores the signal at start-up, which turns every
+/// later `print!` into a panic instead.
+#[cfg(unix)]
+fn restore_sigpipe() {
+    // SAFETY: called first thing in `main`, before any other thread exists; SIG_DFL is a valid
+    // disposition for SIGPIPE and no handler of ours is replaced.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn restore_sigpipe() {}

@@ -5,10 +5,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
-use tiler::{Backend, Device, DeviceConfig, DevicePreset};
+use tiler::{Backend, Device};
 use tiler_report::Report;
 use tiler_scene::compare::{REFERENCE_MIN_FRACTION, REFERENCE_TOLERANCE, compare_rgba8, read_png};
 
+use crate::files;
 use crate::frame::{self, Setup};
 use crate::report_args::ReportArgs;
 use crate::scene_args::SceneArgs;
@@ -63,26 +64,25 @@ pub struct RenderArgs {
     pub report: ReportArgs,
 }
 
-/// The preset `--device` names, or tiler's default device.
-pub fn device_preset(device: Option<&str>) -> Result<DevicePreset> {
-    match device {
-        Some(name) => DevicePreset::load(name).with_context(|| format!("--device {name}")),
-        None => Ok(DevicePreset {
-            name: "default".into(),
-            description: "tiler's default device: 32×32 tiles, 32 KiB tile memory, early-Z, no framebuffer cache"
-                .into(),
-            device: DeviceConfig::default(),
-        }),
-    }
-}
-
 pub fn run(args: &RenderArgs) -> Result<()> {
-    args.report.check()?;
-    let preset = device_preset(args.device.as_deref())?;
+    // Outputs first: a known format and a place to write, before anything is loaded.
+    files::check_png("-o", &args.output, &[])?;
+    args.report.check(&[])?;
+    let (preset, preset_file) = files::load_preset(args.device.as_deref())
+        .with_context(|| format!("--device {}", args.device.as_deref().unwrap_or("")))?;
     let backend = args.backend.unwrap_or(preset.device.backend);
     let setup =
         Setup { threads: args.threads, simd: args.simd, tile: args.tile, overdraw_map: args.report.wants_maps() };
     let source = args.scene_args.source(args.scene.as_deref())?;
+    // Then no output may be an input: the model and its files, the preset, the reference.
+    let mut inputs = source.inputs();
+    inputs.extend(preset_file);
+    inputs.extend(args.compare.clone());
+    files::check_png("-o", &args.output, &inputs)?;
+    args.report.check(&inputs)?;
+    if args.compare.is_some() {
+        files::check_png("the difference image", &diff_path(&args.output), &inputs)?;
+    }
     if let Some(line) = args.scene_args.describe(&source) {
         println!("{line}");
     }
@@ -91,7 +91,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // The picture, with the chosen backend.
     let first = frame::render(backend.name(), &preset, backend, &setup, &load)?;
     let image = &first.column.image;
-    write_png(&args.output, image.width, image.height, &image.pixels)?;
+    files::write_png(&args.output, image.width, image.height, &image.pixels)?;
     let scene = first.scene.clone();
     println!(
         "{} scene: {}×{}, {} draws, {} triangles; loaded in {:.1} ms",
@@ -162,8 +162,8 @@ fn compare_with(reference: &Path, output: &Path, width: u32, height: u32, pixels
         c.max_difference
     );
     if !c.passes(REFERENCE_MIN_FRACTION) {
-        let diff = output.with_extension("diff.png");
-        tiler_scene::compare::write_png(&diff, width, height, &c.difference_image).map_err(|e| anyhow!(e))?;
+        let diff = diff_path(output);
+        files::write_png(&diff, width, height, &c.difference_image)?;
         bail!(
             "the picture differs from {}: fewer than {}% of pixels within tolerance; difference image: {}",
             reference.display(),
@@ -174,7 +174,7 @@ fn compare_with(reference: &Path, output: &Path, width: u32, height: u32, pixels
     Ok(())
 }
 
-pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()> {
-    image::save_buffer(path, rgba, width, height, image::ExtendedColorType::Rgba8)
-        .with_context(|| format!("writing {}", path.display()))
+/// Where `--compare` writes the difference image: beside the output, `<output>.diff.png`.
+fn diff_path(output: &Path) -> PathBuf {
+    output.with_extension("diff.png")
 }

@@ -49,17 +49,19 @@ fn parse_fps(s: &str) -> Result<f64, String> {
 }
 
 impl ReportArgs {
-    /// Checks the report paths before any rendering: a known format, an existing directory.
+    /// Checks the report paths before any rendering: a known format, a place to write that
+    /// is none of `inputs`; and that `--heatmaps` names a folder, not a file.
     ///
     /// # Errors
-    /// An unknown extension or a missing directory, naming the path.
-    pub fn check(&self) -> Result<()> {
+    /// An unknown extension, a missing directory, a directory or input named as a report, or
+    /// a file named as the heat-map folder, naming the path.
+    pub fn check(&self, inputs: &[PathBuf]) -> Result<()> {
         for path in &self.report {
             format_of(path)?;
-            let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-            if !dir.is_dir() {
-                bail!("--report {}: the directory {} does not exist", path.display(), dir.display());
-            }
+            crate::files::check_output("--report", path, inputs)?;
+        }
+        if let Some(dir) = &self.heatmaps {
+            crate::files::check_dir("--heatmaps", dir)?;
         }
         Ok(())
     }
@@ -82,7 +84,7 @@ impl ReportArgs {
                 Format::Html => tiler_report::to_html(report),
                 Format::Json => tiler_report::to_json(report),
             };
-            std::fs::write(path, text).with_context(|| format!("writing the report {}", path.display()))?;
+            tiler_io::write_atomic(path, text.as_bytes()).context("writing the report")?;
             lines.push(format!("report → {}", path.display()));
         }
         if let Some(dir) = &self.heatmaps {

@@ -60,6 +60,16 @@ pub enum SceneSource {
     Model(Box<Model>),
 }
 
+impl SceneSource {
+    /// The files loading it read (a glTF model, its buffers and images).
+    pub fn inputs(&self) -> Vec<PathBuf> {
+        match self {
+            SceneSource::Model(model) | SceneSource::DeferredModel(_, model) => model.inputs.clone(),
+            SceneSource::Builtin | SceneSource::Deferred(_) => Vec::new(),
+        }
+    }
+}
+
 /// The names of the scenes made in code, for help texts.
 pub const SCENE_NAMES: &str = "builtin, deferred (deferred shading in one pass with subpasses), deferred-passes (the same \
                                in two passes through memory), deferred:FILE or deferred-passes:FILE (the same on a glTF \

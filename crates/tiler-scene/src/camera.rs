@@ -25,7 +25,8 @@ impl Camera {
     /// Vulkan projection (y down, depth in [0, 1]), so a triangle counter-clockwise seen from
     /// the front is counter-clockwise in tiler's framebuffer.
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
-        let view = glam::camera::rh::view::look_at_mat4(self.eye, self.target, Vec3::Y);
+        let up = up_for(self.target.as_dvec3() - self.eye.as_dvec3()).as_vec3();
+        let view = glam::camera::rh::view::look_at_mat4(self.eye, self.target, up);
         let proj = glam::camera::rh::proj::vulkan::perspective(self.fov_y_radians, aspect, self.near, self.far);
         proj * view
     }
@@ -117,10 +118,19 @@ fn normalize(v: DVec3) -> DVec3 {
     v / v.dot(v).sqrt()
 }
 
-/// SCENES.md §3's view matrix (right-handed, looking down −z, y up).
+/// The up vector for a camera looking along `forward`: y, unless the camera looks (almost)
+/// straight up or down, where y is no direction at all for the picture's top and the view
+/// matrix would be NaN; then −z, so the top of the picture is the far side of the scene.
+pub fn up_for(forward: DVec3) -> DVec3 {
+    let f = forward.normalize_or_zero();
+    if f.cross(DVec3::Y).length_squared() < 1e-12 { DVec3::NEG_Z } else { DVec3::Y }
+}
+
+/// SCENES.md §3's view matrix (right-handed, looking down −z, y up; see [`up_for`] for a camera
+/// looking straight up or down).
 pub fn gl_look_at(eye: DVec3, target: DVec3) -> DMat4 {
     let f = normalize(target - eye);
-    let s = normalize(f.cross(DVec3::Y));
+    let s = normalize(f.cross(up_for(target - eye)));
     let u = s.cross(f);
     DMat4::from_cols(
         DVec4::new(s.x, u.x, -f.x, 0.0),
@@ -189,6 +199,9 @@ pub fn place(model: &Model, choice: CameraChoice, aspect: f64) -> Result<Placeme
             look("interior", eye, min + size * DVec3::new(0.0, 0.3, 0.5), fov_60, far)
         }
         CameraChoice::LookAt { eye, target, fov_y_degrees } => {
+            if !(target - eye).is_finite() || (target - eye).length_squared() == 0.0 {
+                return Err(format!("the camera's eye {eye} and target {target} must be two different points"));
+            }
             let far = far.max((eye - centre).length() + 2.0 * radius);
             look("look-at", eye, target, fov_y_degrees.to_radians(), far)
         }
@@ -251,5 +264,20 @@ mod tests {
         let far = proj * DVec4::new(0.0, 0.0, -10.0, 1.0);
         assert!((near.z / near.w + 1.0).abs() < 1e-12 && (far.z / far.w - 1.0).abs() < 1e-12);
         assert!((proj.x_axis.x * 2.0 - proj.y_axis.y).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_camera_looking_straight_down_or_up_has_a_finite_view() {
+        for target in [DVec3::new(0.0, -3.0, 0.0), DVec3::new(0.0, 7.0, 0.0)] {
+            let view = gl_look_at(DVec3::ZERO, target);
+            assert!(view.is_finite(), "{view}");
+            // The target is straight ahead, on the −z axis of the view.
+            let t = view.transform_point3(target);
+            assert!(t.x.abs() < 1e-12 && t.y.abs() < 1e-12 && t.z < 0.0, "{t}");
+            let camera = Camera::look_at(Vec3::ZERO, target.as_vec3(), 1.0, 0.1, 10.0);
+            assert!(camera.view_proj(1.0).is_finite());
+        }
+        // An ordinary camera keeps y up.
+        assert_eq!(up_for(DVec3::new(0.0, -1.0, -1.0)), DVec3::Y);
     }
 }

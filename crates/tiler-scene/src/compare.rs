@@ -67,16 +67,27 @@ pub fn compare_rgba8(ours: &[u8], reference: &[u8], width: u32, height: u32, tol
     Comparison { width, height, tolerance, pixels_within, max_difference, difference_image }
 }
 
-/// Reads a PNG as RGBA8, rows top to bottom.
+/// The largest picture file read (a 16384² RGBA PNG stored uncompressed is a gigabyte).
+pub const MAX_PICTURE_BYTES: u64 = 1 << 30;
+
+/// Reads a PNG as RGBA8, rows top to bottom: a regular file of at most [`MAX_PICTURE_BYTES`],
+/// decoded within the image crate's default allocation limit.
 ///
 /// # Errors
 /// A file that cannot be read or decoded.
 pub fn read_png(path: &Path) -> Result<(u32, u32, Vec<u8>), String> {
-    let image = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?.to_rgba8();
+    let bytes = tiler_io::read_file(path, MAX_PICTURE_BYTES).map_err(|e| e.to_string())?;
+    let image = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| format!("{}: {e}", path.display()))?
+        .decode()
+        .map_err(|e| format!("{}: {e}", path.display()))?
+        .to_rgba8();
     Ok((image.width(), image.height(), image.into_raw()))
 }
 
-/// Writes RGBA8 pixels, rows top to bottom, as a PNG (creating the folder if needed).
+/// Writes RGBA8 pixels, rows top to bottom, as a PNG (creating the folder if needed),
+/// atomically: encoded to a temporary file beside `path` and renamed over it when complete.
 ///
 /// # Errors
 /// A file that cannot be written.
@@ -84,8 +95,13 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
-    image::save_buffer(path, rgba, width, height, image::ExtendedColorType::Rgba8)
-        .map_err(|e| format!("{}: {e}", path.display()))
+    tiler_io::write_atomic_with(path, |out| {
+        use image::ImageEncoder;
+        image::codecs::png::PngEncoder::new(out)
+            .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
+            .map_err(std::io::Error::other)
+    })
+    .map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

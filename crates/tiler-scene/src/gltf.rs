@@ -24,6 +24,14 @@
 //!   are PNG or JPEG, decoded to RGBA8 (grey and RGB expanded, alpha 255 when absent), row 0 at
 //!   `v = 0`; only images some drawn primitive uses are decoded.
 //!
+//! **Hostile files.** A model is a file people download, so loading it is safe whatever it
+//! holds: the files it names are read only from its folder, only if they are regular files,
+//! and through caps checked as bytes arrive (`tiler_io`); every size, count and offset taken
+//! from it is checked arithmetic; the node hierarchy is walked without recursion; and what
+//! parsing and drawing it may cost is bounded ([`MAX_JSON_BYTES`], [`MAX_LOADED_BYTES`],
+//! [`MAX_ACCESSOR_ELEMENTS`], [`MAX_DRAWN_PRIMITIVES`], [`MAX_NODE_VISITS`]). Only glTF 2.x is
+//! read (`asset.version`).
+//!
 //! Errors name the file and the object at fault (`Box.gltf: accessor 3: …`). A required
 //! extension is refused (tiler supports none: Draco, meshopt, texture transforms, …); an optional
 //! one is ignored with a warning. A missing or undecodable *image* is a warning and the
@@ -39,6 +47,25 @@ use gltf::json;
 use tiler::{ColorSpace, Filter, MipChain, MipmapMode, Sampler, Texture, Wrap};
 
 use crate::shading::Shading;
+
+/// The largest glTF JSON read (a `.gltf` file, or a GLB's JSON chunk). Parsing costs several
+/// times the text (the glTF crate's structures are ~300 bytes a node), so this bounds the
+/// memory of the parse to about a gigabyte; the largest JSON of the sample models is well
+/// under a megabyte.
+pub const MAX_JSON_BYTES: u64 = 32 << 20;
+/// Bytes of files one model may read: the glTF or GLB, its buffers and images, and its data
+/// URIs decoded.
+pub const MAX_LOADED_BYTES: u64 = 1 << 30;
+/// Elements of one accessor (16 Mi: a POSITION accessor read as doubles is then 384 MiB).
+pub const MAX_ACCESSOR_ELEMENTS: usize = 1 << 24;
+/// Primitives the default scene may draw, over all the nodes that use them (the sample
+/// models draw at most a few hundred; each costs a draw, its buffers and its records).
+pub const MAX_DRAWN_PRIMITIVES: usize = 1 << 17;
+/// Vertices the default scene may draw, summed over its primitives (32 bytes each).
+pub const MAX_DRAWN_VERTICES: u64 = 1 << 25;
+/// Nodes the traversal may visit (a node reached along k paths counts k times, so a small
+/// file whose nodes each name the next one twice cannot make it visit 2^n nodes).
+pub const MAX_NODE_VISITS: usize = 1 << 20;
 
 /// A glTF file that could not be loaded: the file, and what is wrong where.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -155,6 +182,9 @@ pub struct Model {
     pub max: DVec3,
     /// What was ignored or replaced (optional extensions, skipped primitives, missing images).
     pub warnings: Vec<String>,
+    /// The files read to load it: the glTF or GLB itself (when loaded with [`load`]), then its
+    /// buffers and images, so a command can refuse to overwrite any of them.
+    pub inputs: Vec<PathBuf>,
 }
 
 impl Model {
@@ -187,9 +217,64 @@ fn file_label(path: &Path) -> String {
 pub fn load(path: &Path, shading: Shading) -> Result<Model, LoadError> {
     let file = path.display().to_string();
     let fail = |message: String| LoadError { file: file.clone(), message };
-    let bytes = std::fs::read(path).map_err(|e| fail(format!("cannot read the file: {e}")))?;
+    let bytes = tiler_io::read_file(path, MAX_LOADED_BYTES).map_err(|e| fail(e.message))?;
     let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    load_from_slice(&bytes, &base_dir, path, shading).map_err(fail)
+    let mut model = load_from_slice(&bytes, &base_dir, path, shading).map_err(fail)?;
+    model.inputs.insert(0, path.to_path_buf());
+    Ok(model)
+}
+
+/// The magic that starts every GLB file (glTF §4.4.2).
+const GLB_MAGIC: &[u8; 4] = b"glTF";
+
+/// Checks what kind of file `bytes` is before parsing it, and that its JSON is small enough
+/// to parse: a GLB (starting with `glTF`) or JSON (starting with `{`).
+fn check_container(bytes: &[u8], path: &Path) -> Result<(), String> {
+    let json_len = if bytes.starts_with(GLB_MAGIC) {
+        // Header (magic, version, length), then the first chunk's length: the JSON chunk.
+        let word = |at: usize| bytes.get(at..at + 4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as u64);
+        let (Some(length), Some(json_len)) = (word(8), word(12)) else {
+            return Err("invalid GLB container: shorter than its 20-byte header".into());
+        };
+        // The glTF crate subtracts the header from `length` unchecked.
+        if !(20..=bytes.len() as u64).contains(&length) {
+            return Err(format!(
+                "invalid GLB container: its header gives a length of {length} bytes, but the file has {}",
+                bytes.len()
+            ));
+        }
+        json_len
+    } else if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb")) {
+        return Err("invalid GLB container: bad magic (a GLB file starts with the bytes 'glTF')".into());
+    } else if bytes.iter().find(|b| !b.is_ascii_whitespace()) != Some(&b'{') {
+        return Err(
+            "neither glTF JSON (which starts with '{') nor a GLB container (which starts with the magic 'glTF')".into(),
+        );
+    } else {
+        bytes.len() as u64
+    };
+    if json_len > MAX_JSON_BYTES {
+        return Err(format!("its JSON is {json_len} bytes, more than the {MAX_JSON_BYTES} tiler reads"));
+    }
+    Ok(())
+}
+
+/// Refuses a file that is not glTF 2.x (`asset.version`, and `asset.minVersion` when given).
+fn check_version(asset: &json::Asset) -> Result<(), String> {
+    let major_minor = |v: &str| -> Option<(u32, u32)> {
+        let (major, minor) = v.split_once('.')?;
+        Some((major.parse().ok()?, minor.parse().ok()?))
+    };
+    match major_minor(&asset.version) {
+        Some((2, _)) => {}
+        _ => return Err(format!("asset.version is \"{}\"; tiler reads glTF 2.x", asset.version)),
+    }
+    if let Some(min) = &asset.min_version
+        && major_minor(min) != Some((2, 0))
+    {
+        return Err(format!("asset.minVersion is \"{min}\"; tiler reads glTF 2.0"));
+    }
+    Ok(())
 }
 
 /// Loads a glTF or GLB held in memory; relative URIs are read from `base_dir`. `path` names
@@ -198,10 +283,12 @@ pub fn load(path: &Path, shading: Shading) -> Result<Model, LoadError> {
 /// # Errors
 /// As [`load`].
 pub fn load_from_slice(bytes: &[u8], base_dir: &Path, path: &Path, shading: Shading) -> Result<Model, String> {
+    check_container(bytes, path)?;
     let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(describe_parse_error)?;
     let mut warnings = Vec::new();
     {
         let root = gltf.document.as_json();
+        check_version(&root.asset)?;
         if let Some(ext) = root.extensions_required.first() {
             return Err(format!("requires extension {ext}, which tiler does not support"));
         }
@@ -238,6 +325,8 @@ pub fn load_from_slice(bytes: &[u8], base_dir: &Path, path: &Path, shading: Shad
         shading,
         buffers: Vec::new(),
         warnings,
+        loaded: bytes.len() as u64,
+        inputs: Vec::new(),
     };
     loader.load_buffers()?;
     loader.load(path)
@@ -265,6 +354,10 @@ struct Loader<'a> {
     shading: Shading,
     buffers: Vec<Vec<u8>>,
     warnings: Vec<String>,
+    /// Bytes read so far (files and decoded data URIs), against [`MAX_LOADED_BYTES`].
+    loaded: u64,
+    /// Files read so far.
+    inputs: Vec<PathBuf>,
 }
 
 /// An accessor's bytes, from its first element, `stride` bytes from one element to the next.
@@ -289,15 +382,38 @@ impl Loader<'_> {
             };
             let data = match &buffer.uri {
                 None => self.blob.ok_or_else(|| format!("{what}: no uri and no GLB binary chunk"))?.to_vec(),
-                Some(uri) => read_uri(self.base_dir, uri).map_err(|e| format!("{what}: {e}"))?,
+                Some(uri) => self.read_uri(uri).map_err(|e| format!("{what}: {e}"))?,
             };
-            let declared = buffer.byte_length.0 as usize;
-            if data.len() < declared {
+            let declared = buffer.byte_length.0;
+            if (data.len() as u64) < declared {
                 return Err(format!("{what}: {} bytes, but byteLength is {declared}", data.len()));
             }
             self.buffers.push(data);
         }
         Ok(())
+    }
+
+    /// The bytes a URI names: a `data:` URI (base64), or a file inside the glTF's folder
+    /// (percent-decoded), counted against [`MAX_LOADED_BYTES`].
+    fn read_uri(&mut self, uri: &str) -> Result<Vec<u8>, String> {
+        let left = MAX_LOADED_BYTES.saturating_sub(self.loaded);
+        let data = if let Some(rest) = uri.strip_prefix("data:") {
+            decode_data_uri(rest)?
+        } else {
+            let relative = percent_decode(uri).ok_or_else(|| format!("URI '{uri}' has invalid percent-encoding"))?;
+            let path = tiler_io::resolve_inside(self.base_dir, &relative).map_err(|e| e.to_string())?;
+            let data = tiler_io::read_file(&path, left)
+                .map_err(|e| format!("{e} (a model may read {MAX_LOADED_BYTES} bytes in all)"))?;
+            if !self.inputs.contains(&path) {
+                self.inputs.push(path);
+            }
+            data
+        };
+        if data.len() as u64 > left {
+            return Err(format!("the model's data exceeds the {MAX_LOADED_BYTES} bytes a model may read"));
+        }
+        self.loaded += data.len() as u64;
+        Ok(data)
     }
 
     fn load(mut self, path: &Path) -> Result<Model, String> {
@@ -307,6 +423,7 @@ impl Loader<'_> {
         let default_material = self.root.materials.len();
         // Which images the drawn primitives' materials use, decoded once each.
         let mut used_materials = vec![false; self.root.materials.len()];
+        let mut drawn_vertices: u64 = 0;
         for instance in &instances {
             let mesh = self.document.meshes().nth(instance.mesh).expect("validated mesh index");
             for primitive in mesh.primitives() {
@@ -314,6 +431,14 @@ impl Loader<'_> {
                     used_materials[m] = true;
                 }
                 if let Some(p) = self.primitive(instance, &primitive)? {
+                    drawn_vertices += p.vertices.len() as u64;
+                    if primitives.len() >= MAX_DRAWN_PRIMITIVES || drawn_vertices > MAX_DRAWN_VERTICES {
+                        return Err(format!(
+                            "node {}: the default scene draws more than {MAX_DRAWN_PRIMITIVES} primitives or \
+                             {MAX_DRAWN_VERTICES} vertices, more than tiler loads",
+                            instance.node
+                        ));
+                    }
                     primitives.push(DrawPrimitive {
                         material: primitive.material().index().unwrap_or(default_material),
                         ..p
@@ -346,6 +471,7 @@ impl Loader<'_> {
             min,
             max,
             warnings: self.warnings,
+            inputs: self.inputs,
         })
     }
 
@@ -364,55 +490,68 @@ impl Loader<'_> {
             let scene = root.scene.map(|s| s.value()).unwrap_or(0);
             root.scenes[scene].nodes.iter().map(|n| n.value()).collect()
         };
+        // Depth first with an explicit stack (a hierarchy 200,000 deep must not overflow the
+        // thread's stack); `on_path` finds cycles in constant time per node.
+        enum Step {
+            Enter(usize, DMat4),
+            Leave(usize),
+        }
+        let mut stack: Vec<Step> = roots.iter().rev().map(|&n| Step::Enter(n, DMat4::IDENTITY)).collect();
+        let mut on_path = vec![false; root.nodes.len()];
+        let mut visits = 0usize;
         let mut instances = Vec::new();
         let mut cameras = Vec::new();
-        let mut path = Vec::new();
-        for node in roots {
-            self.visit(node, DMat4::IDENTITY, &mut path, &mut instances, &mut cameras)?;
+        while let Some(step) = stack.pop() {
+            let (index, parent) = match step {
+                Step::Leave(index) => {
+                    on_path[index] = false;
+                    continue;
+                }
+                Step::Enter(index, parent) => (index, parent),
+            };
+            if on_path[index] {
+                return Err(format!("node {index}: is its own ancestor (the node hierarchy has a cycle)"));
+            }
+            visits += 1;
+            if visits > MAX_NODE_VISITS || instances.len() > MAX_DRAWN_PRIMITIVES {
+                return Err(format!(
+                    "node {index}: the default scene has more than {MAX_NODE_VISITS} node instances or \
+                     {MAX_DRAWN_PRIMITIVES} mesh instances, more than tiler loads"
+                ));
+            }
+            let node = &root.nodes[index];
+            let world = parent * local_matrix(node);
+            if let Some(mesh) = node.mesh {
+                instances.push(Instance { node: index, mesh: mesh.value(), world });
+            }
+            if let Some(camera) = node.camera {
+                cameras.push(GltfCamera { node: index, world, projection: self.projection(camera.value()) });
+            }
+            on_path[index] = true;
+            stack.push(Step::Leave(index));
+            for child in node.children.iter().flatten().rev() {
+                stack.push(Step::Enter(child.value(), world));
+            }
         }
         Ok((instances, cameras))
     }
 
-    fn visit(
-        &self,
-        index: usize,
-        parent: DMat4,
-        path: &mut Vec<usize>,
-        instances: &mut Vec<Instance>,
-        cameras: &mut Vec<GltfCamera>,
-    ) -> Result<(), String> {
-        if path.contains(&index) {
-            return Err(format!("node {index}: is its own ancestor (the node hierarchy has a cycle)"));
+    fn projection(&self, camera: usize) -> GltfProjection {
+        let camera = self.document.cameras().nth(camera).expect("validated camera index");
+        match camera.projection() {
+            gltf::camera::Projection::Perspective(p) => GltfProjection::Perspective {
+                yfov_radians: p.yfov() as f64,
+                aspect_ratio: p.aspect_ratio().map(f64::from),
+                znear: p.znear() as f64,
+                zfar: p.zfar().map(f64::from),
+            },
+            gltf::camera::Projection::Orthographic(o) => GltfProjection::Orthographic {
+                xmag: o.xmag() as f64,
+                ymag: o.ymag() as f64,
+                znear: o.znear() as f64,
+                zfar: o.zfar() as f64,
+            },
         }
-        let node = &self.root.nodes[index];
-        let world = parent * local_matrix(node);
-        if let Some(mesh) = node.mesh {
-            instances.push(Instance { node: index, mesh: mesh.value(), world });
-        }
-        if let Some(camera) = node.camera {
-            let camera = self.document.cameras().nth(camera.value()).expect("validated camera index");
-            let projection = match camera.projection() {
-                gltf::camera::Projection::Perspective(p) => GltfProjection::Perspective {
-                    yfov_radians: p.yfov() as f64,
-                    aspect_ratio: p.aspect_ratio().map(f64::from),
-                    znear: p.znear() as f64,
-                    zfar: p.zfar().map(f64::from),
-                },
-                gltf::camera::Projection::Orthographic(o) => GltfProjection::Orthographic {
-                    xmag: o.xmag() as f64,
-                    ymag: o.ymag() as f64,
-                    znear: o.znear() as f64,
-                    zfar: o.zfar() as f64,
-                },
-            };
-            cameras.push(GltfCamera { node: index, world, projection });
-        }
-        path.push(index);
-        for child in node.children.iter().flatten() {
-            self.visit(child.value(), world, path, instances, cameras)?;
-        }
-        path.pop();
-        Ok(())
     }
 
     /// One primitive of one instance, in world space; `None` when it draws nothing.
@@ -471,6 +610,12 @@ impl Loader<'_> {
         let mut uvs = uvs;
         if normals.is_none() {
             if self.shading == Shading::Gltf {
+                if indices.len() > MAX_ACCESSOR_ELEMENTS {
+                    return Err(fail(format!(
+                        "flat normals would give {} vertices, more than the {MAX_ACCESSOR_ELEMENTS} tiler makes",
+                        indices.len()
+                    )));
+                }
                 // Flat: every triangle gets vertices of its own.
                 positions = indices.iter().map(|&i| positions[i as usize]).collect();
                 uvs = indices.iter().map(|&i| uvs[i as usize]).collect();
@@ -543,9 +688,13 @@ impl Loader<'_> {
                 view.index()
             ));
         }
-        let count = accessor.count();
+        let count = accessor.count() as u64;
         if count > 0 {
-            let needed = (accessor.offset() as u64) + stride as u64 * (count as u64 - 1) + element as u64;
+            let needed = (count - 1)
+                .checked_mul(stride as u64)
+                .and_then(|n| n.checked_add(accessor.offset() as u64))
+                .and_then(|n| n.checked_add(element as u64))
+                .unwrap_or(u64::MAX);
             if needed > data.len() as u64 {
                 return Err(format!(
                     "{what}: {count} elements of {element} bytes (stride {stride}, offset {}) need {needed} bytes, \
@@ -589,6 +738,9 @@ impl Loader<'_> {
             ));
         }
         let count = accessor.count();
+        if count > MAX_ACCESSOR_ELEMENTS {
+            return Err(format!("{what}: {count} elements, more than the {MAX_ACCESSOR_ELEMENTS} tiler reads"));
+        }
         let Some(StridedBytes { data, stride }) = self.accessor_bytes(accessor)? else {
             return Ok(vec![[0.0; N]; count]);
         };
@@ -694,7 +846,7 @@ impl Loader<'_> {
 
     /// The encoded bytes of an image: `Err` inside for a file that cannot be read (a warning
     /// later), `Err` outside for a broken reference into a buffer (an error).
-    fn image_bytes(&self, index: usize) -> Result<Result<Vec<u8>, String>, String> {
+    fn image_bytes(&mut self, index: usize) -> Result<Result<Vec<u8>, String>, String> {
         let image = &self.root.images[index];
         if let Some(view) = image.buffer_view {
             let view = &self.root.buffer_views[view.value()];
@@ -711,7 +863,7 @@ impl Loader<'_> {
             };
         }
         match &image.uri {
-            Some(uri) => Ok(read_uri(self.base_dir, uri)),
+            Some(uri) => Ok(self.read_uri(uri)),
             None => Err(format!("image {index}: neither uri nor bufferView")),
         }
     }
@@ -834,19 +986,19 @@ fn face_normal_sums(positions: &[DVec3], indices: &[u32]) -> Vec<DVec3> {
     normals
 }
 
-/// The bytes a URI names: a `data:` URI (base64), or a file relative to `base_dir`
-/// (percent-decoded).
-fn read_uri(base_dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
-    if let Some(rest) = uri.strip_prefix("data:") {
-        let (header, data) = rest.split_once(',').ok_or("data URI without a comma")?;
-        if !header.ends_with(";base64") {
-            return Err("data URI that is not base64".into());
-        }
-        return decode_base64(data).ok_or_else(|| "data URI with invalid base64".into());
+/// The bytes of a `data:` URI (after `data:`): base64 only (RFC 2397), padding optional.
+fn decode_data_uri(rest: &str) -> Result<Vec<u8>, String> {
+    use base64::Engine;
+    use base64::engine::{DecodePaddingMode, GeneralPurpose, GeneralPurposeConfig};
+    const BASE64: GeneralPurpose = GeneralPurpose::new(
+        &base64::alphabet::STANDARD,
+        GeneralPurposeConfig::new().with_decode_padding_mode(DecodePaddingMode::Indifferent),
+    );
+    let (header, data) = rest.split_once(',').ok_or("data URI without a comma")?;
+    if !header.ends_with(";base64") {
+        return Err("data URI that is not base64".into());
     }
-    let relative = percent_decode(uri).ok_or_else(|| format!("URI '{uri}' has invalid percent-encoding"))?;
-    let path = base_dir.join(&relative);
-    std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))
+    BASE64.decode(data).map_err(|e| format!("data URI with invalid base64: {e}"))
 }
 
 /// `%XX` escapes decoded (RFC 3986); `None` for a bad escape or invalid UTF-8.
@@ -867,42 +1019,19 @@ fn percent_decode(s: &str) -> Option<String> {
     String::from_utf8(out).ok()
 }
 
-/// Standard base64 (RFC 4648 §4), padding optional, whitespace ignored.
-fn decode_base64(s: &str) -> Option<Vec<u8>> {
-    let mut out = Vec::with_capacity(s.len() / 4 * 3);
-    let mut acc = 0u32;
-    let mut bits = 0;
-    for c in s.bytes() {
-        let v = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            b'=' | b' ' | b'\n' | b'\r' | b'\t' => continue,
-            _ => return None,
-        };
-        acc = (acc << 6) | v as u32;
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
-        }
-    }
-    Some(out)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn base64_decodes_rfc4648_vectors() {
-        for (text, plain) in [("", ""), ("Zg==", "f"), ("Zm8=", "fo"), ("Zm9v", "foo"), ("Zm9vYmFy", "foobar")] {
-            assert_eq!(decode_base64(text).unwrap(), plain.as_bytes());
+    fn data_uris_decode_rfc4648_vectors() {
+        for (text, plain) in
+            [("", ""), ("Zg==", "f"), ("Zg", "f"), ("Zm8=", "fo"), ("Zm9v", "foo"), ("Zm9vYmFy", "foobar")]
+        {
+            assert_eq!(decode_data_uri(&format!("application/octet-stream;base64,{text}")).unwrap(), plain.as_bytes());
         }
-        assert!(decode_base64("Zm9v!").is_none());
+        assert!(decode_data_uri("application/octet-stream;base64,Zm9v!").is_err());
+        assert!(decode_data_uri("text/plain,abc").unwrap_err().contains("not base64"));
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! Integration tests of scene loading and rendering, in one binary (link time matters on 2
-//! cores): generated glTF files (good and broken), every model of `../shared/assets`, the
+//! cores): generated glTF files (good and broken), hostile files and fuzzing, every model of `../shared/assets`, the
 //! llvmpipe reference images, the benchmark scenes' checksums, and textured rendering.
 
 #[path = "scenes/assets.rs"]
@@ -10,6 +10,8 @@ mod bench_scenes;
 mod common;
 #[path = "scenes/gltf_files.rs"]
 mod gltf_files;
+#[path = "scenes/hostile.rs"]
+mod hostile;
 #[path = "scenes/made_in_code.rs"]
 mod made_in_code;
 #[path = "scenes/reference.rs"]

@@ -24,12 +24,14 @@
 //! context has a memory limit, and `repeat` replays one parsed frame without copying it.
 
 mod gltf;
+mod raw;
 mod source;
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use serde::Serialize;
-use serde_json::Value;
+use serde::de::IgnoredAny;
+use serde::{Deserialize, Serialize};
 
 pub use source::DataSource;
 
@@ -123,6 +125,11 @@ const UNIT_CALLS: [&str; 6] = ["flush", "finish", "swap_buffers", "end_query", "
 /// The most times one frame entry may repeat.
 pub const MAX_REPEAT: u32 = 100_000;
 
+/// The most values (numbers, strings, fields) one call may hold: reading a call costs about 32
+/// bytes a value before its data is packed, so this bounds that to some 128 MiB. Bulk data
+/// past it belongs in base64 (what the recorder writes) or a side file.
+pub const MAX_CALL_VALUES: usize = 1 << 22;
+
 impl Trace {
     /// Reads a trace file; side files and glTF files are found relative to its directory.
     ///
@@ -137,13 +144,26 @@ impl Trace {
     /// # Errors
     /// As [`Trace::read`].
     pub fn read_with(path: &Path, limits: Limits) -> Result<Trace, TraceError> {
-        let size = std::fs::metadata(path).map_err(|e| TraceError::trace(format!("{}: {e}", path.display())))?.len();
-        if size > limits.max_data_bytes.saturating_mul(4).max(1 << 20) {
-            return Err(TraceError::trace(format!("{} is {size} bytes, more than a trace may be", path.display())));
-        }
-        let text = std::fs::read_to_string(path).map_err(|e| TraceError::trace(format!("{}: {e}", path.display())))?;
+        Ok(Trace::read_listing_inputs(path, limits)?.0)
+    }
+
+    /// [`Trace::read_with`], and the files it read: the trace, its side files and glTF files
+    /// (so a command can refuse to overwrite any of them).
+    ///
+    /// The trace must be a regular file of at most `limits.max_data_bytes` bytes, read through
+    /// that cap (never trusting its reported size: `/dev/zero` reads as empty); the files it
+    /// names must be inside its folder ([`tiler_io::resolve_inside`]).
+    ///
+    /// # Errors
+    /// As [`Trace::read`].
+    pub fn read_listing_inputs(path: &Path, limits: Limits) -> Result<(Trace, Vec<PathBuf>), TraceError> {
+        let text = tiler_io::read_text(path, limits.max_data_bytes).map_err(|e| TraceError::trace(e.to_string()))?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        Trace::parse_with(&text, Some(&base), limits)
+        let mut resolver = source::Resolver::new(Some(base), limits.max_data_bytes);
+        let trace = Trace::parse_into(&text, &mut resolver, limits)?;
+        let mut inputs = vec![path.to_path_buf()];
+        inputs.extend(resolver.into_inputs());
+        Ok((trace, inputs))
     }
 
     /// Parses a trace; relative data paths are resolved against `base` (none: they fail).
@@ -161,100 +181,144 @@ impl Trace {
     /// # Errors
     /// As [`Trace::parse`], and anything beyond `limits`.
     pub fn parse_with(json: &str, base: Option<&Path>, limits: Limits) -> Result<Trace, TraceError> {
-        let root: Value = serde_json::from_str(json).map_err(|e| TraceError::trace(format!("invalid JSON: {e}")))?;
-        let Value::Object(mut root) = root else {
+        let mut resolver = source::Resolver::new(base.map(Path::to_path_buf), limits.max_data_bytes);
+        Trace::parse_into(json, &mut resolver, limits)
+    }
+
+    /// Parses a trace without building a tree of the whole JSON: the text is read once and
+    /// split into raw pieces (a frame, a call) that borrow it ([`raw`]), and each call is deserialised
+    /// straight into its typed form, its data resolved before the next call is read. Memory is
+    /// the text, the resolved data and one call's numbers; the text counts against the data
+    /// limit, since holding it is part of what reading the trace costs.
+    fn parse_into(json: &str, resolver: &mut source::Resolver, limits: Limits) -> Result<Trace, TraceError> {
+        resolver.charge(json.len() as u64).map_err(TraceError::trace)?;
+        let root: raw::Root<'_> =
+            serde_json::from_str(json).map_err(|e| TraceError::trace(format!("invalid JSON: {e}")))?;
+        if root.not_object {
             return Err(TraceError::trace("a trace is a JSON object"));
-        };
-        match root.remove("format") {
-            Some(Value::String(f)) if f == TRACE_FORMAT => {}
-            Some(other) => return Err(TraceError::trace(format!("\"format\" is {other}, not \"{TRACE_FORMAT}\""))),
+        }
+        match root.format.map(|v| (v, serde_json::from_str::<String>(v.get()))) {
+            Some((_, Ok(f))) if f == TRACE_FORMAT => {}
+            Some((other, _)) => {
+                return Err(TraceError::trace(format!("\"format\" is {}, not \"{TRACE_FORMAT}\"", other.get())));
+            }
             None => return Err(TraceError::trace(format!("missing \"format\": \"{TRACE_FORMAT}\""))),
         }
-        match root.remove("version") {
-            Some(Value::Number(n)) if n.as_u64() == Some(TRACE_VERSION as u64) => {}
+        match root.version {
+            Some(v) if serde_json::from_str::<u64>(v.get()).ok() == Some(TRACE_VERSION as u64) => {}
             Some(other) => {
                 return Err(TraceError::trace(format!(
-                    "\"version\" is {other}; this reader understands version {TRACE_VERSION}"
+                    "\"version\" is {}; this reader understands version {TRACE_VERSION}",
+                    other.get()
                 )));
             }
             None => return Err(TraceError::trace("missing \"version\"")),
         }
-        let description = match root.remove("description") {
+        let description = match root.description {
             None => None,
-            Some(Value::String(s)) => Some(s),
-            Some(other) => return Err(TraceError::trace(format!("\"description\" is {other}, not a string"))),
+            Some(v) => Some(
+                serde_json::from_str::<String>(v.get())
+                    .map_err(|_| TraceError::trace(format!("\"description\" is {}, not a string", v.get())))?,
+            ),
         };
-        let config: ContextConfig = serde_json::from_value(
-            root.remove("config")
-                .ok_or_else(|| TraceError::trace("missing \"config\" (at least {\"width\": W, \"height\": H})"))?,
+        let config: ContextConfig = serde_json::from_str(
+            root.config
+                .ok_or_else(|| TraceError::trace("missing \"config\" (at least {\"width\": W, \"height\": H})"))?
+                .get(),
         )
-        .map_err(|e| TraceError::trace(format!("config: {e}")))?;
-        let Some(Value::Array(frames)) = root.remove("frames") else {
-            return Err(TraceError::trace("missing \"frames\": an array of {\"calls\": [...]}"));
-        };
-        if let Some(key) = root.keys().next() {
+        .map_err(|e| TraceError::trace(format!("config: {}", without_position(&e))))?;
+        let frames =
+            root.frames.ok_or_else(|| TraceError::trace("missing \"frames\": an array of {\"calls\": [...]}"))?;
+        if let Some(key) = root.unknown {
             return Err(TraceError::trace(format!("unknown field \"{key}\"")));
         }
 
-        let mut resolver = source::Resolver::new(base.map(Path::to_path_buf), limits.max_data_bytes);
-        let mut out = Vec::with_capacity(frames.len());
+        let mut out = Vec::new();
         let mut frame_index: u64 = 0;
         let mut total_calls: u64 = 0;
         let entries = frames.len();
         for (entry, frame) in frames.into_iter().enumerate() {
-            let Value::Object(mut frame) = frame else {
+            if frame.not_object {
                 return Err(TraceError::at(frame_index, None, "a frame is an object {\"calls\": [...]}"));
-            };
-            let repeat = match frame.remove("repeat") {
+            }
+            let repeat = match frame.repeat {
                 None => 1,
-                Some(Value::Number(n)) => match n.as_u64() {
-                    Some(r) if (1..=MAX_REPEAT as u64).contains(&r) => r as u32,
-                    _ => {
+                Some(v) => match serde_json::from_str::<serde_json::Number>(v.get()) {
+                    Ok(n) => match n.as_u64() {
+                        Some(r) if (1..=MAX_REPEAT as u64).contains(&r) => r as u32,
+                        _ => {
+                            return Err(TraceError::at(
+                                frame_index,
+                                None,
+                                format!("\"repeat\" is {n}; it must be a whole number from 1 to {MAX_REPEAT}"),
+                            ));
+                        }
+                    },
+                    Err(_) => {
                         return Err(TraceError::at(
                             frame_index,
                             None,
-                            format!("\"repeat\" is {n}; it must be a whole number from 1 to {MAX_REPEAT}"),
+                            format!("\"repeat\" is {}, not a number", v.get()),
                         ));
                     }
                 },
-                Some(other) => {
-                    return Err(TraceError::at(frame_index, None, format!("\"repeat\" is {other}, not a number")));
-                }
             };
-            let Some(Value::Array(calls)) = frame.remove("calls") else {
+            let Some(calls) = frame.calls else {
                 return Err(TraceError::at(frame_index, None, "missing \"calls\": an array of calls"));
             };
-            if let Some(key) = frame.keys().next() {
+            if let Some(key) = frame.unknown {
                 return Err(TraceError::at(
                     frame_index,
                     None,
                     format!("unknown field \"{key}\" (a frame has \"calls\" and \"repeat\")"),
                 ));
             }
+            // The limits hold before the calls are read, so a huge frame is refused up front.
+            let expanded_calls = (repeat as u64).saturating_mul(calls.len() as u64);
+            if total_calls.saturating_add(expanded_calls) > limits.max_calls {
+                return Err(TraceError::at(frame_index, None, format!("more than {} calls", limits.max_calls)));
+            }
             let mut parsed = Vec::with_capacity(calls.len());
             let count = calls.len();
             for (i, value) in calls.into_iter().enumerate() {
-                let name = value.get("call").and_then(Value::as_str).map(str::to_string);
-                let what = |e: String| match &name {
-                    Some(n) => format!("{n}: {e}"),
-                    None => e,
-                };
+                // serde reads a call (an internally tagged enum) into a buffer of values first,
+                // some 32 bytes for each number of an inline array: bound that before reading.
+                let values = json_values(value.get());
+                if values > MAX_CALL_VALUES {
+                    return Err(TraceError::at(
+                        frame_index,
+                        Some(i),
+                        format!(
+                            "the call holds {values} values, more than the {MAX_CALL_VALUES} a call may; give \
+                             large data as base64 or a side file"
+                        ),
+                    ));
+                }
+                // The call is read once; its name is looked up again only for an error message.
+                let call: Call<DataSource> = serde_json::from_str(value.get()).map_err(|e| {
+                    let name = serde_json::from_str::<CallName>(value.get()).ok().and_then(|c| c.call);
+                    let message = without_position(&e);
+                    let message = match name {
+                        Some(n) => format!("{n}: {message}"),
+                        None => message,
+                    };
+                    TraceError::at(frame_index, Some(i), message)
+                })?;
+                let name = call.name();
                 // serde accepts extra fields on unit variants of a tagged enum: refuse them here.
-                if let (Some(n), Some(object)) = (&name, value.as_object())
-                    && UNIT_CALLS.contains(&n.as_str())
+                if UNIT_CALLS.contains(&name)
+                    && let Ok(object) = serde_json::from_str::<BTreeMap<String, IgnoredAny>>(value.get())
                     && let Some(key) = object.keys().find(|k| *k != "call")
                 {
                     return Err(TraceError::at(
                         frame_index,
                         Some(i),
-                        format!("{n}: unknown field `{key}`, there are no fields"),
+                        format!("{name}: unknown field `{key}`, there are no fields"),
                     ));
                 }
-                let call: Call<DataSource> = serde_json::from_value(value)
-                    .map_err(|e| TraceError::at(frame_index, Some(i), what(e.to_string())))?;
                 let call = call
                     .try_map_data(|d| resolver.resolve(&d))
-                    .map_err(|e| TraceError::at(frame_index, Some(i), what(e)))?;
+                    .map_err(|e| TraceError::at(frame_index, Some(i), format!("{name}: {e}")))?;
                 if matches!(call, Call::SwapBuffers) && i + 1 != count {
                     return Err(TraceError::at(
                         frame_index,
@@ -273,19 +337,12 @@ impl Trace {
                 ));
             }
             frame_index += repeat as u64;
-            total_calls = total_calls.saturating_add(repeat as u64 * parsed.len() as u64);
+            total_calls = total_calls.saturating_add(expanded_calls);
             if frame_index > limits.max_frames {
                 return Err(TraceError::at(
                     frame_index - repeat as u64,
                     None,
                     format!("more than {} frames", limits.max_frames),
-                ));
-            }
-            if total_calls > limits.max_calls {
-                return Err(TraceError::at(
-                    frame_index - repeat as u64,
-                    None,
-                    format!("more than {} calls", limits.max_calls),
                 ));
             }
             out.push(TraceFrame { repeat, calls: parsed });
@@ -410,14 +467,79 @@ impl Context {
     }
 }
 
-/// Reads `path` relative to `base`.
+/// The file `path` names, inside `base` (see [`tiler_io::resolve_inside`]).
 pub(crate) fn resolve_path(base: &Option<PathBuf>, path: &str) -> Result<PathBuf, String> {
-    let p = Path::new(path);
-    if p.is_absolute() {
-        return Ok(p.to_path_buf());
-    }
     match base {
-        Some(base) => Ok(base.join(p)),
+        Some(base) => tiler_io::resolve_inside(base, path).map_err(|e| e.to_string()),
         None => Err(format!("\"{path}\" is a relative path, and this trace was not read from a file")),
+    }
+}
+
+/// Just the name of a call, read before the call itself so errors can name it.
+#[derive(Deserialize)]
+struct CallName {
+    call: Option<String>,
+}
+
+/// A serde error's message without " at line L column C": positions inside one call's text
+/// would mislead, since the frame and call index already say where.
+fn without_position(e: &serde_json::Error) -> String {
+    let text = e.to_string();
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    text.strip_suffix(&suffix).map(str::to_string).unwrap_or(text)
+}
+
+/// About how many values a JSON text holds: the commas outside strings, plus one (exact for a
+/// flat array; an upper bound on the work of reading nested objects, to within their count).
+fn json_values(text: &str) -> usize {
+    let mut commas = 0;
+    let mut in_string = false;
+    let mut escaped = false;
+    for &b in text.as_bytes() {
+        if in_string {
+            match b {
+                _ if escaped => escaped = false,
+                b'\\' => escaped = true,
+                b'"' => in_string = false,
+                _ => {}
+            }
+        } else if b == b'"' {
+            in_string = true;
+        } else if b == b',' {
+            commas += 1;
+        }
+    }
+    commas + 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_are_counted_outside_strings() {
+        assert_eq!(json_values(r#"{"u8": [1, 2, 3]}"#), 3);
+        assert_eq!(json_values(r#"{"call": "x", "s": "a,b,\",c"}"#), 2);
+    }
+
+    #[test]
+    fn the_text_counts_against_the_data_limit() {
+        let json = r#"{"format": "tiler-gl-trace", "version": 1, "config": {"width": 8, "height": 8},
+            "frames": [{"calls": [{"call": "create_buffer", "id": 1, "data": {"base64": "AAAA"}}]}]}"#;
+        let limits = |max_data_bytes| Limits { max_data_bytes, ..Limits::default() };
+        assert!(Trace::parse_with(json, None, limits(json.len() as u64 + 3)).is_ok());
+        let e = Trace::parse_with(json, None, limits(json.len() as u64 + 2)).unwrap_err().to_string();
+        assert!(e.contains("exceeds its limit"), "{e}");
+    }
+
+    #[test]
+    fn a_call_with_too_many_numbers_is_refused_before_it_is_read() {
+        let numbers = "0,".repeat(MAX_CALL_VALUES);
+        let json = format!(
+            r#"{{"format": "tiler-gl-trace", "version": 1, "config": {{"width": 8, "height": 8}},
+            "frames": [{{"calls": [{{"call": "create_buffer", "id": 1, "data": {{"u8": [{numbers}0]}}}}]}}]}}"#
+        );
+        let e = Trace::parse(&json, None).unwrap_err().to_string();
+        assert!(e.contains("frame 0, call 0") && e.contains("base64 or a side file"), "{e}");
     }
 }

@@ -171,14 +171,38 @@ pub(crate) struct Resolver {
     used: u64,
     files: HashMap<PathBuf, Bytes>,
     gltf: super::gltf::Cache,
+    /// Every file read, in the order first read.
+    inputs: Vec<PathBuf>,
 }
 
 impl Resolver {
     pub fn new(base: Option<PathBuf>, budget: u64) -> Resolver {
-        Resolver { base, budget, used: 0, files: HashMap::new(), gltf: super::gltf::Cache::default() }
+        Resolver {
+            base,
+            budget,
+            used: 0,
+            files: HashMap::new(),
+            gltf: super::gltf::Cache::default(),
+            inputs: Vec::new(),
+        }
     }
 
-    fn charge(&mut self, bytes: u64) -> Result<(), String> {
+    /// The files the sources read (side files, glTF files), each once.
+    pub fn into_inputs(self) -> Vec<PathBuf> {
+        self.inputs
+    }
+
+    fn note_input(&mut self, path: &std::path::Path) {
+        if !self.inputs.iter().any(|p| p == path) {
+            self.inputs.push(path.to_path_buf());
+        }
+    }
+
+    /// Counts `bytes` against the budget.
+    ///
+    /// # Errors
+    /// The budget is exceeded.
+    pub fn charge(&mut self, bytes: u64) -> Result<(), String> {
         self.used = self.used.saturating_add(bytes);
         if self.used > self.budget {
             return Err(format!("the trace's data exceeds its limit of {} bytes", self.budget));
@@ -208,9 +232,12 @@ impl Resolver {
                 let file = match self.files.get(&full) {
                     Some(f) => f.clone(),
                     None => {
-                        let size = std::fs::metadata(&full).map_err(|e| format!("{}: {e}", full.display()))?.len();
-                        self.charge(size)?;
-                        let data = Bytes::from(std::fs::read(&full).map_err(|e| format!("{}: {e}", full.display()))?);
+                        // Read through what is left of the budget, checked as bytes arrive.
+                        let left = self.budget.saturating_sub(self.used);
+                        let data = tiler_io::read_file(&full, left).map_err(|e| e.to_string())?;
+                        self.charge(data.len() as u64)?;
+                        self.note_input(&full);
+                        let data = Bytes::from(data);
                         self.files.insert(full.clone(), data.clone());
                         data
                     }
@@ -227,6 +254,9 @@ impl Resolver {
             }
             DataSource::Gltf { path, mesh, primitive, attribute } => {
                 let full = super::resolve_path(&self.base, path)?;
+                // The glTF reader trusts the file's size: refuse devices and FIFOs here.
+                tiler_io::check_regular_file(&full).map_err(|e| e.to_string())?;
+                self.note_input(&full);
                 let budget = self.budget.saturating_sub(self.used);
                 let (bytes, loaded) = self.gltf.accessor(&full, *mesh, *primitive, attribute, budget)?;
                 self.charge(loaded)?;

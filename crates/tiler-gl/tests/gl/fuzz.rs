@@ -322,3 +322,102 @@ proptest! {
         survive(&trace.to_string());
     }
 }
+
+/// Names a trace's `file` and `gltf` sources may give: a side file and a glTF inside the
+/// folder, and everything that must be refused — outside it, absolute, a directory, a FIFO, a
+/// link to a device or out of the folder, empty.
+const HOSTILE_NAMES: &[&str] = &[
+    "side.bin",
+    "mesh.gltf",
+    "../outside.bin",
+    "%2e%2e/outside.bin",
+    "sub/../side.bin",
+    "/etc/passwd",
+    "/dev/zero",
+    "sub",
+    "pipe",
+    "zero",
+    "out-link",
+    "",
+    ".",
+];
+
+/// A folder holding a trace's possible side files (made once per test process).
+fn hostile_folder() -> &'static Path {
+    static DIR: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-hostile");
+        let _ = std::fs::remove_dir_all(&root);
+        let dir = root.join("trace");
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        std::fs::write(root.join("outside.bin"), [7u8; 64]).unwrap();
+        std::fs::write(dir.join("side.bin"), (0..=255u8).collect::<Vec<_>>()).unwrap();
+        // A triangle whose buffer is a data URI: three VEC3 positions, all zero.
+        std::fs::write(
+            dir.join("mesh.gltf"),
+            r#"{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+            "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAA"}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}]}"#,
+        )
+        .unwrap();
+        #[cfg(unix)]
+        {
+            assert!(std::process::Command::new("mkfifo").arg(dir.join("pipe")).status().unwrap().success());
+            std::os::unix::fs::symlink("/dev/zero", dir.join("zero")).unwrap();
+            std::os::unix::fs::symlink(root.join("outside.bin"), dir.join("out-link")).unwrap();
+        }
+        dir
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Data sources naming any of [`HOSTILE_NAMES`], with any offset and length: the trace
+    /// reads only the side file and glTF inside its folder, never blocks on the FIFO or reads
+    /// the device, and never panics.
+    #[test]
+    fn hostile_file_names_are_refused_or_read_inside(
+        sources in prop::collection::vec((any::<bool>(), 0..HOSTILE_NAMES.len(), any::<u64>(), prop::option::of(any::<u64>())), 1..6),
+    ) {
+        let dir = hostile_folder();
+        let calls: Vec<Value> = sources
+            .iter()
+            .enumerate()
+            .map(|(i, &(gltf, name, offset, length))| {
+                let data = if gltf {
+                    serde_json::json!({"gltf": HOSTILE_NAMES[name], "attribute": "POSITION"})
+                } else {
+                    let mut d = serde_json::json!({"file": HOSTILE_NAMES[name], "offset": offset % 300});
+                    if let Some(length) = length {
+                        d["length"] = (length % 300).into();
+                    }
+                    d
+                };
+                serde_json::json!({"call": "create_buffer", "id": i + 1, "data": data})
+            })
+            .collect();
+        let json = serde_json::json!({
+            "format": "tiler-gl-trace", "version": 1, "config": {"width": 8, "height": 8},
+            "frames": [{"calls": calls}]
+        });
+        let path = dir.join(format!("t{}.json", std::process::id()));
+        std::fs::write(&path, json.to_string()).unwrap();
+        let started = std::time::Instant::now();
+        let read = Trace::read_listing_inputs(&path, limits());
+        prop_assert!(started.elapsed() < std::time::Duration::from_secs(5));
+        let good = |gltf: bool, name: &str| if gltf { name == "mesh.gltf" } else { matches!(name, "side.bin" | "mesh.gltf") };
+        let inside_only = sources.iter().all(|&(gltf, name, _, _)| good(gltf, HOSTILE_NAMES[name]));
+        if let Ok((_, inputs)) = &read {
+            for input in inputs {
+                let real = input.canonicalize().unwrap();
+                prop_assert!(real.starts_with(dir.canonicalize().unwrap()), "{} read", real.display());
+            }
+        } else if inside_only {
+            // Only an offset or length past the end may fail then.
+            let e = read.unwrap_err().to_string();
+            prop_assert!(e.contains("past the end"), "{}", e);
+        }
+    }
+}
