@@ -282,7 +282,8 @@ fn slug(label: &str) -> String {
 /// the picture are drawn over it; others over black. Returns the files written.
 ///
 /// # Errors
-/// The directory cannot be created or a file cannot be written, naming the path.
+/// The directory cannot be created or a file cannot be written, naming the path. Each file is
+/// written beside its target and renamed into place, so a failure leaves no half-written map.
 pub fn write_heatmaps(report: &Report, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     let named = |path: &Path, e: &dyn std::fmt::Display| std::io::Error::other(format!("{}: {e}", path.display()));
     std::fs::create_dir_all(dir).map_err(|e| named(dir, &e))?;
@@ -306,7 +307,7 @@ pub fn write_heatmaps(report: &Report, dir: &Path) -> std::io::Result<Vec<PathBu
             for (name, map) in maps {
                 let path = dir.join(format!("{stem}-pass{pass_index}-{name}.png"));
                 let png = png_bytes(&map).map_err(|e| named(&path, &e))?;
-                std::fs::write(&path, png).map_err(|e| named(&path, &e))?;
+                tiler_io::write_atomic(&path, &png).map_err(|e| std::io::Error::other(e.to_string()))?;
                 written.push(path);
             }
         }

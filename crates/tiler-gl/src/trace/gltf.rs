@@ -124,13 +124,13 @@ impl Cache {
 /// Reads a `.gltf` or `.glb` file and its buffers.
 fn load(path: &Path, budget: u64) -> Result<(Document, u64), String> {
     let name = path.display().to_string();
+    // Through tiler-io: regular files only (a FIFO or device is refused, not waited on or read
+    // forever), read through what is left of the budget as bytes arrive.
     let read = |p: &Path, loaded: &mut u64| -> Result<Vec<u8>, String> {
-        let size = std::fs::metadata(p).map_err(|e| format!("{}: {e}", p.display()))?.len();
-        *loaded += size;
-        if *loaded > budget {
-            return Err(format!("{}: the glTF data exceeds the trace's data limit", p.display()));
-        }
-        std::fs::read(p).map_err(|e| format!("{}: {e}", p.display()))
+        let bytes = tiler_io::read_file(p, budget.saturating_sub(*loaded))
+            .map_err(|e| format!("{e} (the glTF data counts against the trace's data limit of {budget} bytes)"))?;
+        *loaded += bytes.len() as u64;
+        Ok(bytes)
     };
     let mut loaded = 0;
     let bytes = read(path, &mut loaded)?;
@@ -158,11 +158,10 @@ fn load(path: &Path, budget: u64) -> Result<(Document, u64), String> {
                 Bytes::from(decode_base64(payload).map_err(|e| format!("{name}: buffer {i}: {e}"))?)
             }
             Some(uri) => {
-                if uri.contains("..") || uri.starts_with('/') {
-                    return Err(format!("{name}: buffer {i}: uri {uri:?} leaves the glTF's directory"));
-                }
                 let dir = path.parent().unwrap_or(Path::new(""));
-                Bytes::from(read(&dir.join(uri), &mut loaded)?)
+                let file = tiler_io::resolve_inside(dir, uri)
+                    .map_err(|e| format!("{name}: buffer {i}: uri {uri:?} leaves the glTF's directory: {e}"))?;
+                Bytes::from(read(&file, &mut loaded)?)
             }
         };
         buffers.push(data);
@@ -245,6 +244,36 @@ mod tests {
             let error = read(&path, attribute).unwrap_err();
             assert!(error.starts_with(&path.display().to_string()), "{test}: {error}");
             assert!(error.contains(expected), "{test}: {error}");
+        }
+    }
+
+    /// A buffer that is a FIFO, a device, or a link leading out of the folder is refused, not
+    /// waited on, read forever or followed.
+    #[cfg(unix)]
+    #[test]
+    fn buffers_must_be_regular_files_inside_the_folder() {
+        /// A name, and how to make `t.bin` hostile.
+        type Case = (&'static str, fn(&Path));
+        let cases: [Case; 3] = [
+            ("fifo", |bin| {
+                let status = std::process::Command::new("mkfifo").arg(bin).status().unwrap();
+                assert!(status.success());
+            }),
+            ("device", |bin| std::os::unix::fs::symlink("/dev/zero", bin).unwrap()),
+            ("outside", |bin| {
+                let outside = bin.parent().unwrap().with_extension("elsewhere");
+                std::fs::write(&outside, b"hunter2-contents").unwrap();
+                std::os::unix::fs::symlink(&outside, bin).unwrap();
+            }),
+        ];
+        for (test, make) in cases {
+            let path = write(test, |_| {});
+            let bin = path.with_file_name("t.bin");
+            std::fs::remove_file(&bin).unwrap();
+            make(&bin);
+            let error = read(&path, "POSITION").unwrap_err();
+            assert!(error.contains("t.bin"), "{test}: {error}");
+            assert!(!error.contains("hunter2"), "{test}: the error shows the file's bytes: {error}");
         }
     }
 
