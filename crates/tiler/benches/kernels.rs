@@ -46,8 +46,8 @@ use tiler::tile::target::{RenderTarget, Surface};
 use tiler::{
     ColorAttachment, CullMode, DepthStencilAttachment, DepthStencilState, Device, DeviceConfig, Draw, F32x8, Format,
     FragmentShader, Fragments, FrontFace, ImageDesc, Interpolation, LoadOp, MAX_COLOR_ATTACHMENTS, Pipeline,
-    PipelineDesc, RenderPass, RenderPassDesc, SimdLevel, StoreOp, VertexFormat, VertexInput, VertexInputState,
-    VertexOutput, VertexShader, Viewport,
+    PipelineDesc, RenderPass, RenderPassDesc, SimdLevel, SimdSupport, StoreOp, VertexFormat, VertexInput,
+    VertexInputState, VertexOutput, VertexShader, Viewport,
 };
 
 /// A group with short measurements, so the whole bench runs in a couple of minutes.
@@ -301,11 +301,12 @@ impl TiledScene {
     }
 }
 
-/// [`TiledScene::render`] compiled for AVX2 and FMA, as the crate's pipeline object compiles
+/// [`TiledScene::render`] compiled for AVX2, as the crate's pipeline object compiles
 /// `rasterize` (`shade::pipeline`; a closure would not do, it would stay baseline code).
 ///
 /// # Safety
-/// The processor must have AVX2 and FMA (`SimdLevel::Avx2.is_available()`).
+/// The processor must have every feature of `tiler::simd::AVX2_FEATURES` (a `SimdSupport` of
+/// level `Avx2` is the proof).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 unsafe fn render_avx2<F: FragmentShader>(
@@ -322,14 +323,15 @@ fn render_scene<F: FragmentShader>(
     scene: &mut TiledScene,
     shader: &F,
     desc: &PipelineDesc,
-    simd: SimdLevel,
+    simd: SimdSupport,
 ) -> FragmentTally {
     let mut tally = FragmentTally::default();
     tally.simd = simd;
-    match simd {
+    match simd.level() {
         #[cfg(target_arch = "x86_64")]
         SimdLevel::Avx2 => {
-            // SAFETY: the bench runs `Avx2` only when `SimdLevel::Avx2.is_available()`.
+            // SAFETY: `simd` was detected on this processor (`SimdSupport::detect`), which
+            // checks every feature `render_avx2` is compiled with.
             unsafe { render_avx2(scene, shader, desc, &mut tally) }
         }
         _ => scene.render(shader, desc, &mut tally),
@@ -348,14 +350,11 @@ fn shade_case<F: FragmentShader + Copy>(
     let pipeline = shade_pipeline(shader, depth);
     let desc = pipeline.desc();
     let mut scene = TiledScene::new(triangles, depth);
-    let mut levels = vec![SimdLevel::Baseline];
-    if SimdLevel::Avx2.is_available() {
-        levels.push(SimdLevel::Avx2);
-    }
+    let levels = [SimdLevel::Baseline, SimdLevel::Avx2].into_iter().filter_map(SimdSupport::detect);
     for simd in levels {
         let fragments = render_scene(&mut scene, &shader, desc, simd).counters.fragments_rasterized;
         group.throughput(Throughput::Elements(fragments));
-        group.bench_function(format!("{name}_{simd}"), |b| {
+        group.bench_function(format!("{name}_{}", simd.level()), |b| {
             b.iter(|| render_scene(&mut scene, &shader, desc, simd).counters.fragments_shaded)
         });
     }

@@ -103,4 +103,4 @@ pub use ledger::energy::{EnergyEstimate, EnergyModel};
 pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
 pub use shade::texture::{ColorSpace, Filter, MipChain, MipmapMode, Sampler, Texture, Wrap};
 pub use shade::texture_cache::TextureCacheConfig;
-pub use simd::{F32x8, LaneMask, SimdLevel, Vec4x8};
+pub use simd::{F32x8, LaneMask, SimdLevel, SimdSupport, Vec4x8};

@@ -9,13 +9,13 @@ use super::format::Format;
 use super::image::{Image, ImageDesc, ImageId};
 use super::render_pass::RenderPass;
 use crate::backend::pass::ResolvedPass;
-use crate::backend::{Backend, PassReport, imr, tbr};
+use crate::backend::{Backend, PassReport, Workers, imr, tbr};
 use crate::ledger::Ledger;
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::display::DisplayModel;
 use crate::ledger::energy::EnergyModel;
 use crate::shade::texture_cache::TextureCacheConfig;
-use crate::simd::SimdLevel;
+use crate::simd::{SimdLevel, SimdSupport};
 
 /// The smallest frame-data budget: it must hold at least one chunk of binned triangles.
 pub const MIN_FRAME_DATA_BUDGET: u64 = 1 << 20;
@@ -148,7 +148,7 @@ impl DeviceConfig {
 /// A software GPU: its memory (images, buffers) and its workers.
 pub struct Device {
     config: DeviceConfig,
-    threads: usize,
+    workers: Workers,
     pool: rayon::ThreadPool,
     images: Vec<Image>,
     buffers: Vec<Vec<u8>>,
@@ -160,11 +160,20 @@ impl Device {
     pub fn new(config: DeviceConfig) -> Result<Device> {
         config.validate()?;
         let mut config = config;
-        let simd = config.simd.unwrap_or_else(SimdLevel::best);
-        if !simd.is_available() {
-            return Err(Error::invalid("device", format!("this processor cannot run the {} pipeline", simd.name())));
-        }
-        config.simd = Some(simd);
+        let simd = match config.simd {
+            None => SimdSupport::best(),
+            Some(level) => SimdSupport::detect(level).ok_or_else(|| {
+                Error::invalid(
+                    "device",
+                    format!(
+                        "this processor cannot run the {} pipeline (it needs {})",
+                        level.name(),
+                        level.features().join(", ")
+                    ),
+                )
+            })?,
+        };
+        config.simd = Some(simd.level());
         let threads = if config.threads == 0 {
             std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
         } else {
@@ -175,7 +184,7 @@ impl Device {
             .thread_name(|i| format!("tiler-worker-{i}"))
             .build()
             .map_err(|e| Error::invalid("device", format!("cannot start {threads} worker threads: {e}")))?;
-        Ok(Device { config, threads, pool, images: Vec::new(), buffers: Vec::new() })
+        Ok(Device { config, workers: Workers { threads, simd }, pool, images: Vec::new(), buffers: Vec::new() })
     }
 
     pub fn config(&self) -> &DeviceConfig {
@@ -184,7 +193,7 @@ impl Device {
 
     /// Worker threads in use.
     pub fn threads(&self) -> usize {
-        self.threads
+        self.workers.threads
     }
 
     /// Creates an image, zero-filled.
@@ -405,11 +414,11 @@ impl Device {
     /// tiler that had not flushed yet; the cleared image and earlier draws in immediate mode.
     pub fn submit_with(&mut self, pass: &RenderPass, backend: Backend) -> Result<PassReport> {
         let resolved = ResolvedPass::new(pass, &self.images)?;
-        let (images, buffers, config, threads) = (&mut self.images, &self.buffers, &self.config, self.threads);
+        let (images, buffers, config, workers) = (&mut self.images, &self.buffers, &self.config, self.workers);
         self.pool.install(|| match backend {
-            Backend::Tbr => tbr::render(pass, &resolved, images, buffers, config, threads, false),
-            Backend::Tbdr => tbr::render(pass, &resolved, images, buffers, config, threads, true),
-            Backend::Imr => imr::render(pass, &resolved, images, buffers, config),
+            Backend::Tbr => tbr::render(pass, &resolved, images, buffers, config, workers, false),
+            Backend::Tbdr => tbr::render(pass, &resolved, images, buffers, config, workers, true),
+            Backend::Imr => imr::render(pass, &resolved, images, buffers, config, workers.simd),
         })
     }
 }

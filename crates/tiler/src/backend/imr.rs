@@ -27,6 +27,7 @@ use crate::raster::PixelRect;
 use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::samples::SampleLocations;
 use crate::shade::ShadeContext;
+use crate::simd::SimdSupport;
 use crate::tile::load_store::{apply_load, apply_resolve};
 use crate::tile::target::{RenderTarget, Surface};
 
@@ -53,7 +54,7 @@ fn cache_slice(cache: CacheConfig, rows: u32, height: u32) -> CacheConfig {
     if !cache.is_enabled() {
         return cache;
     }
-    let set = (cache.line_bytes * cache.ways) as u64;
+    let set = cache.line_bytes as u64 * cache.ways as u64;
     let share = cache.size_bytes as u64 * rows as u64 / height as u64;
     CacheConfig { size_bytes: ((share / set).max(1) * set) as u32, ..cache }
 }
@@ -65,6 +66,7 @@ pub fn render(
     images: &mut [Image],
     buffers: &[Vec<u8>],
     config: &DeviceConfig,
+    simd: SimdSupport,
 ) -> Result<PassReport> {
     let samples = SampleLocations::standard(resolved.samples);
     let lookup = |id: BufferId| buffers.get(id.0 as usize).map(|b| b.as_slice());
@@ -133,7 +135,7 @@ pub fn render(
             framebuffer: FramebufferTraffic::external(cache),
             overdraw: config.overdraw_map.then(|| OverdrawRows::new(y0, resolved.width, rows.height() as u32)),
             context: ShadeContext::with_texture_cache(config.texture_cache),
-            simd: config.simd.unwrap_or_default(),
+            simd,
             ..FragmentTally::default()
         };
         bands.push(Band { surfaces, resolves, clip, tally });

@@ -19,6 +19,17 @@ pub mod tbr;
 use serde::{Deserialize, Serialize};
 
 use crate::ledger::{Counters, DrawStats, Ledger, TileStats};
+use crate::simd::SimdSupport;
+
+/// How a device runs a pass, beyond its configuration: not part of the model (every choice
+/// gives the same image and counters).
+#[derive(Clone, Copy, Debug)]
+pub struct Workers {
+    /// Worker threads in the device's pool.
+    pub threads: usize,
+    /// The pixel pipeline's instruction set, detected on this processor.
+    pub simd: SimdSupport,
+}
 
 /// How a render pass is executed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]

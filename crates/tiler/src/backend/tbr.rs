@@ -23,7 +23,7 @@
 use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, band_surface, data_bands};
-use super::{Backend, FrameDataReport, PassReport};
+use super::{Backend, FrameDataReport, PassReport, Workers};
 use crate::api::buffer::BufferId;
 use crate::api::device::DeviceConfig;
 use crate::api::device::VertexShading;
@@ -76,7 +76,7 @@ pub fn render(
     images: &mut [Image],
     buffers: &[Vec<u8>],
     config: &DeviceConfig,
-    threads: usize,
+    workers: Workers,
     hsr: bool,
 ) -> Result<PassReport> {
     let (tile_width, tile_height) = tile_size(config, resolved.tile_bytes_per_pixel());
@@ -105,12 +105,12 @@ pub fn render(
         transaction_elimination: config.transaction_elimination,
         transaction_elimination_saved: 0,
         texture_cache: config.texture_cache,
-        simd: config.simd.unwrap_or_default(),
+        simd: workers.simd,
         overdraw: config.overdraw_map.then(|| vec![0; resolved.width as usize * resolved.height as usize]),
         flushes: 0,
         scratch: resolved.attachments.iter().map(|_| None).collect(),
     };
-    let bands = threads * 4;
+    let bands = workers.threads * 4;
 
     let mut subpass = 0;
     for (draw_index, draw) in pass.draws.iter().enumerate() {
@@ -266,7 +266,7 @@ struct Run<'a> {
     transaction_elimination: bool,
     transaction_elimination_saved: u64,
     texture_cache: TextureCacheConfig,
-    simd: crate::simd::SimdLevel,
+    simd: crate::simd::SimdSupport,
     overdraw: Option<Vec<u16>>,
     flushes: u64,
     /// Spill memory for transient attachments, made at their first incremental render.
@@ -304,7 +304,7 @@ struct FlushPlan<'a> {
     vertex_shading: VertexShading,
     overdraw: bool,
     texture_cache: TextureCacheConfig,
-    simd: crate::simd::SimdLevel,
+    simd: crate::simd::SimdSupport,
 }
 
 impl Run<'_> {

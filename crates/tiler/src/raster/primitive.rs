@@ -27,7 +27,7 @@ use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::ledger::{Category, Counters, DrawStats, Ledger};
 use crate::shade::ShadeContext;
 use crate::shade::interpolate::Interpolator;
-use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, Vec4x8};
+use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, SimdSupport, Vec4x8};
 use crate::tile::target::{RenderTarget, Surface};
 
 /// What the fragment work of one task did and moved.
@@ -51,8 +51,8 @@ pub struct FragmentTally {
     /// The fragment shader's colour outputs for the current group (kept here, not copied
     /// around: 512 bytes per group).
     pub(crate) outputs: [Vec4x8; MAX_COLOR_ATTACHMENTS],
-    /// The instruction set the pipeline runs with.
-    pub simd: crate::simd::SimdLevel,
+    /// The instruction set the pipeline runs with, detected on this processor.
+    pub simd: SimdSupport,
 }
 
 /// Fragments shaded per pixel over some rows of the framebuffer.
@@ -914,7 +914,7 @@ fn write_color(
     constant: [f32; 4],
     traffic: &mut FramebufferTraffic,
     ledger: &mut Ledger,
-    simd: SimdLevel,
+    simd: SimdSupport,
 ) {
     let reads = plan.state.blend.is_some() || plan.partial;
     if !reads && let Some(packed) = surface.format.pack_lanes_u32(color) {
@@ -937,7 +937,7 @@ fn write_color(
 #[allow(clippy::too_many_arguments)]
 #[inline(never)]
 fn blend_and_write(
-    simd: SimdLevel,
+    simd: SimdSupport,
     surface: &mut Surface,
     x: i32,
     y: i32,
@@ -948,11 +948,11 @@ fn blend_and_write(
     traffic: &mut FramebufferTraffic,
     ledger: &mut Ledger,
 ) {
-    match simd {
+    match simd.level() {
         #[cfg(target_arch = "x86_64")]
         SimdLevel::Avx2 => {
-            // SAFETY: the device picks `Avx2` only when the processor has AVX2 and FMA
-            // (`SimdLevel::is_available`).
+            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+            // every feature `blend_and_write_avx2` is compiled with (`SimdSupport::detect`).
             unsafe { blend_and_write_avx2(surface, x, y, coverage, color, plan, constant, traffic, ledger) }
         }
         _ => blend_and_write_body(surface, x, y, coverage, color, plan, constant, traffic, ledger),

@@ -53,11 +53,11 @@ impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
     }
 
     fn rasterize(&self, run: &PrimitiveRun, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode) {
-        match tally.simd {
+        match tally.simd.level() {
             #[cfg(target_arch = "x86_64")]
             SimdLevel::Avx2 => {
-                // SAFETY: the device picks `Avx2` only when the processor has AVX2 and FMA
-                // (`SimdLevel::is_available`).
+                // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+                // every feature `rasterize_avx2` is compiled with (`SimdSupport::detect`).
                 unsafe { rasterize_avx2(&self.fragment, &self.desc, run, target, tally, mode) }
             }
             _ => rasterize(&self.fragment, &self.desc, run, target, tally, mode),
