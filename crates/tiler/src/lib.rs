@@ -70,7 +70,9 @@ pub mod api;
 pub mod backend;
 pub mod binning;
 pub mod blend;
+pub mod config;
 pub mod depth;
+pub mod device;
 pub mod frame;
 pub mod geometry;
 pub mod ledger;
@@ -80,7 +82,6 @@ pub mod simd;
 pub mod tile;
 
 pub use api::buffer::BufferId;
-pub use api::device::{Device, DeviceConfig, VertexShading};
 pub use api::error::{Error, Result};
 pub use api::format::{ColorWrites, Format};
 pub use api::image::{ImageDesc, ImageId, MAX_IMAGE_BYTES, MAX_IMAGE_DIMENSION};
@@ -89,14 +90,18 @@ pub use api::pipeline::{
     FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES, Pipeline, PipelineDesc,
     StencilFaceState, StencilOp, Topology, VertexAttribute, VertexBinding, VertexFormat, VertexInputState,
 };
-pub use api::preset::DevicePreset;
 pub use api::render_pass::{
-    AttachmentRef, ColorAttachment, DepthStencilAttachment, Draw, IndexBufferBinding, IndexType, LoadOp, Rect,
-    RenderPass, RenderPassDesc, StoreOp, SubpassDependency, SubpassDesc, VertexBufferBinding, Viewport,
+    AttachmentRef, ColorAttachment, DepthStencilAttachment, Draw, IndexBufferBinding, IndexType, LoadOp,
+    MAX_INPUT_ATTACHMENTS, Rect, RenderPass, RenderPassDesc, StoreOp, SubpassDependency, SubpassDesc,
+    VertexBufferBinding, Viewport,
 };
 pub use api::shader::{FragmentShader, Fragments, ShaderProperties, VertexInput, VertexOutput, VertexShader};
-pub use backend::{Backend, PassReport};
+pub use backend::PassReport;
+pub use config::Backend;
+pub use config::{DeviceConfig, preset::DevicePreset};
+pub use device::Device;
 pub use frame::FrameCost;
+pub use geometry::VertexShading;
 pub use ledger::cache::CacheConfig;
 pub use ledger::display::DisplayModel;
 pub use ledger::energy::{EnergyEstimate, EnergyModel};

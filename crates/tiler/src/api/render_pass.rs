@@ -330,3 +330,68 @@ impl RenderPass {
         self.subpass_starts.iter().take_while(|&&start| start <= draw).count()
     }
 }
+
+/// The load and store ops of one attachment, per aspect.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AttachmentOps {
+    Color { load: LoadOp<[f32; 4]>, store: StoreOp },
+    DepthStencil { depth_load: LoadOp<f32>, depth_store: StoreOp, stencil_load: LoadOp<u8>, stencil_store: StoreOp },
+}
+
+impl AttachmentOps {
+    /// The ops of an incremental render's middle: load and store everything.
+    pub fn load_store_all(&self) -> AttachmentOps {
+        match self {
+            AttachmentOps::Color { .. } => AttachmentOps::Color { load: LoadOp::Load, store: StoreOp::Store },
+            AttachmentOps::DepthStencil { .. } => AttachmentOps::DepthStencil {
+                depth_load: LoadOp::Load,
+                depth_store: StoreOp::Store,
+                stencil_load: LoadOp::Load,
+                stencil_store: StoreOp::Store,
+            },
+        }
+    }
+
+    /// These ops with the load ops replaced by `Load` (a continuation after a flush).
+    pub fn with_load(&self) -> AttachmentOps {
+        match *self {
+            AttachmentOps::Color { store, .. } => AttachmentOps::Color { load: LoadOp::Load, store },
+            AttachmentOps::DepthStencil { depth_store, stencil_store, .. } => AttachmentOps::DepthStencil {
+                depth_load: LoadOp::Load,
+                depth_store,
+                stencil_load: LoadOp::Load,
+                stencil_store,
+            },
+        }
+    }
+
+    /// These ops with every store op `Store` (the end of a flush that is not the last).
+    pub fn with_store(&self) -> AttachmentOps {
+        match *self {
+            AttachmentOps::Color { load, .. } => AttachmentOps::Color { load, store: StoreOp::Store },
+            AttachmentOps::DepthStencil { depth_load, stencil_load, .. } => AttachmentOps::DepthStencil {
+                depth_load,
+                depth_store: StoreOp::Store,
+                stencil_load,
+                stencil_store: StoreOp::Store,
+            },
+        }
+    }
+}
+
+/// The most input attachments a subpass may read.
+pub const MAX_INPUT_ATTACHMENTS: usize = 4;
+
+/// A validated subpass, naming attachments by their index in the validated pass's attachments (`backend::pass::ResolvedPass`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ResolvedSubpass {
+    /// Attachment of each colour output.
+    pub color: Vec<usize>,
+    pub depth_stencil: Option<usize>,
+    /// Attachment of each input.
+    pub inputs: Vec<usize>,
+    /// Resolve images of colour outputs (before validation into the pass's resolves).
+    pub resolves: Vec<Option<ImageId>>,
+    /// A dependency into this subpass is not by-region: a tiler must split the pass here.
+    pub split_before: bool,
+}

@@ -9,12 +9,12 @@ use glam::Vec4;
 use serde::{Deserialize, Serialize};
 
 use super::pipeline::{MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES};
-use crate::backend::pass::MAX_INPUT_ATTACHMENTS;
+use super::render_pass::MAX_INPUT_ATTACHMENTS;
+use crate::raster::target::Surface;
 use crate::shade::ShadeContext;
 use crate::shade::texture::{Sampler, Texture};
 use crate::simd::{F32x8, LaneMask, Vec4x8};
 use crate::simd::{LANE_DX, LANE_DY, LANES};
-use crate::tile::target::Surface;
 
 /// What the vertex shader reads: each attribute fetched and converted to a vector.
 #[derive(Clone, Copy, Debug)]

@@ -15,10 +15,10 @@ use rayon::prelude::*;
 use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
 use super::{Backend, FrameDataReport, PassReport};
 use crate::api::buffer::BufferId;
-use crate::api::device::DeviceConfig;
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::render_pass::RenderPass;
+use crate::config::DeviceConfig;
 use crate::geometry::{PassFrame, prepare_draw};
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::framebuffer::FramebufferTraffic;
@@ -26,10 +26,10 @@ use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
 use crate::raster::PixelRect;
 use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::samples::SampleLocations;
+use crate::raster::target::{RenderTarget, Surface};
 use crate::shade::ShadeContext;
 use crate::simd::SimdSupport;
 use crate::tile::load_store::{apply_load, apply_resolve};
-use crate::tile::target::{RenderTarget, Surface};
 
 /// Rows per band of the framebuffer.
 pub const BAND_ROWS: u32 = 32;

@@ -16,8 +16,9 @@ pub mod imr;
 pub mod pass;
 pub mod tbr;
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
+pub use crate::config::Backend;
 use crate::ledger::{Counters, DrawStats, Ledger, TileStats};
 use crate::simd::SimdSupport;
 
@@ -29,51 +30,6 @@ pub struct Workers {
     pub threads: usize,
     /// The pixel pipeline's instruction set, detected on this processor.
     pub simd: SimdSupport,
-}
-
-/// How a render pass is executed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum Backend {
-    /// Tile-based rendering with early-Z: tiles shade their lists in submission order.
-    #[default]
-    Tbr,
-    /// Tile-based deferred rendering: hidden-surface removal before shading.
-    Tbdr,
-    /// Immediate-mode rendering into external memory.
-    Imr,
-}
-
-impl Backend {
-    pub const ALL: [Backend; 3] = [Backend::Tbr, Backend::Tbdr, Backend::Imr];
-
-    pub const fn name(self) -> &'static str {
-        match self {
-            Backend::Tbr => "tbr",
-            Backend::Tbdr => "tbdr",
-            Backend::Imr => "imr",
-        }
-    }
-
-    pub const fn is_tiler(self) -> bool {
-        matches!(self, Backend::Tbr | Backend::Tbdr)
-    }
-}
-
-impl std::fmt::Display for Backend {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for Backend {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Backend, String> {
-        Backend::ALL
-            .into_iter()
-            .find(|b| b.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| format!("unknown backend '{s}' (expected one of: tbr, tbdr, imr)"))
-    }
 }
 
 /// Frame-data figures of a pass (tilers only).

@@ -4,10 +4,10 @@
 use crate::api::error::{Error, Result};
 use crate::api::image::Image;
 use crate::api::pipeline::MAX_COLOR_ATTACHMENTS;
-use crate::api::render_pass::{AttachmentRef, LoadOp, RenderPass, StoreOp};
+use crate::api::render_pass::{AttachmentOps, AttachmentRef, LoadOp, RenderPass, StoreOp};
+pub use crate::api::render_pass::{MAX_INPUT_ATTACHMENTS, ResolvedSubpass};
 use crate::raster::PixelRect;
-use crate::tile::load_store::AttachmentOps;
-use crate::tile::target::Surface;
+use crate::raster::target::Surface;
 
 /// A validated attachment.
 #[derive(Clone, Copy, Debug)]
@@ -286,23 +286,6 @@ impl ResolvedPass {
             subpasses,
         })
     }
-}
-
-/// The most input attachments a subpass may read.
-pub const MAX_INPUT_ATTACHMENTS: usize = 4;
-
-/// A validated subpass, naming attachments by their index in [`ResolvedPass::attachments`].
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ResolvedSubpass {
-    /// Attachment of each colour output.
-    pub color: Vec<usize>,
-    pub depth_stencil: Option<usize>,
-    /// Attachment of each input.
-    pub inputs: Vec<usize>,
-    /// Resolve images of colour outputs (before validation into the pass's resolves).
-    pub resolves: Vec<Option<crate::ImageId>>,
-    /// A dependency into this subpass is not by-region: a tiler must split the pass here.
-    pub split_before: bool,
 }
 
 /// Checks the pass's subpasses (or makes the implicit one) and its dependencies.

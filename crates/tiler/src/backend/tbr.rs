@@ -25,29 +25,29 @@ use rayon::prelude::*;
 use super::pass::{ResolvedPass, attachment_images, band_surface, data_bands};
 use super::{Backend, FrameDataReport, PassReport, Workers};
 use crate::api::buffer::BufferId;
-use crate::api::device::DeviceConfig;
-use crate::api::device::VertexShading;
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::image::TileSignatures;
 use crate::api::render_pass::RenderPass;
 use crate::binning::binner::bin;
 use crate::binning::frame_data::{FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, record_bytes};
+use crate::binning::grid::TileGrid;
+use crate::config::DeviceConfig;
 use crate::depth::hsr::{HsrMode, Visibility};
+use crate::geometry::VertexShading;
 use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
 use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
 use crate::raster::PixelRect;
 use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::samples::SampleLocations;
+use crate::raster::target::{RenderTarget, Surface};
 use crate::shade::ShadeContext;
 use crate::shade::texture_cache::TextureCacheConfig;
 use crate::tile::buffer::TileBuffer;
-use crate::tile::grid::TileGrid;
 use crate::tile::load_store::{
     AttachmentOps, TileStart, apply_load, apply_resolve, apply_store, fill_value, load_bytes, resolved_value,
     store_bytes, store_bytes_of, tile_signature, tile_start,
 };
-use crate::tile::target::{RenderTarget, Surface};
 
 /// Triangles set up and binned at a time.
 pub const BIN_CHUNK: u32 = 16384;

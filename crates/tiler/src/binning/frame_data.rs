@@ -18,12 +18,13 @@
 //! planes, see [`Primitive`]) so that tiles need not set triangles up again; its size is
 //! reported separately as host memory. The budget applies to the modelled bytes, as on a GPU.
 
-use crate::api::device::VertexShading;
 use crate::api::pipeline::Pipeline;
+use crate::binning::grid::TileGrid;
 use crate::depth::hsr::HsrMode;
+use crate::geometry::VertexShading;
 use crate::raster::PixelRect;
-use crate::raster::edge::Edge;
-use crate::tile::grid::TileGrid;
+
+pub use crate::geometry::primitive::Primitive;
 
 /// Bytes of a primitive record's header (state index and flags).
 pub const PRIMITIVE_HEADER_BYTES: u64 = 8;
@@ -47,33 +48,6 @@ pub const fn record_bytes(varyings: usize, shading: VertexShading) -> u64 {
         VertexShading::Once => primitive_record_bytes(varyings),
         VertexShading::PerTile => PRIMITIVE_HEADER_BYTES + 3 * VERTEX_POSITION_BYTES,
     }
-}
-
-/// A set-up triangle, ready to rasterize in any tile.
-///
-/// Vertices are ordered so the signed area is positive (vertex 0 is the provoking vertex).
-/// Interpolation uses screen-space barycentrics `λ1, λ2` of vertices 1 and 2, as planes
-/// relative to vertex 0's window position `origin`:
-/// `λk(x, y) = lk[0]·(x − origin.x) + lk[1]·(y − origin.y)`.
-/// Depth is `z[0] + λ1·z[1] + λ2·z[2]` (linear in screen space, Vulkan); varyings are
-/// perspective-correct through `q = 1/w` of each vertex.
-#[derive(Clone, Copy, Debug)]
-pub struct Primitive {
-    pub edges: [Edge; 3],
-    /// Pixels that may hold a covered sample, within the draw's clip rectangle.
-    pub bbox: PixelRect,
-    pub origin: [f32; 2],
-    pub l1: [f32; 2],
-    pub l2: [f32; 2],
-    pub z: [f32; 3],
-    pub q: [f32; 3],
-    /// Index of the state record.
-    pub state: u32,
-    /// Offset of the three vertices' varyings in [`FrameData::varyings`].
-    pub varyings: u32,
-    /// The draw's vertices this primitive came from (clipped pieces keep their triangle's).
-    pub vertex_ids: [u32; 3],
-    pub front_facing: bool,
 }
 
 /// What every primitive of a draw shares.

@@ -14,8 +14,8 @@ use crate::api::pipeline::{DepthStencilState, StencilFaceState};
 use crate::ledger::Ledger;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::raster::coverage::Coverage;
+use crate::raster::target::Surface;
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask};
-use crate::tile::target::Surface;
 
 /// Tests the covered samples of the group at `(x, y)`, applies the stencil ops and depth
 /// writes, and returns the samples that passed. `depth(s)` gives the fragment depths of

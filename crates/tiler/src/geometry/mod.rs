@@ -6,16 +6,18 @@
 pub mod assemble;
 pub mod clip;
 pub mod fetch;
+pub mod primitive;
 pub mod setup;
 pub mod vertex;
 
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use crate::api::buffer::BufferId;
 use crate::api::error::{Error, Result};
 use crate::api::pipeline::{MAX_VARYINGS, Pipeline};
 use crate::api::render_pass::{Draw, IndexType, Rect, Viewport};
-use crate::binning::frame_data::Primitive;
+use crate::geometry::primitive::Primitive;
 use crate::ledger::Counters;
 use crate::raster::PixelRect;
 use crate::raster::fixed::MAX_VIEWPORT_EXTENT_PX;
@@ -24,6 +26,19 @@ use clip::{ClipVertex, ClipVolume};
 use fetch::VertexFetcher;
 use setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
 use vertex::{ShadedVertices, VertexSet};
+
+/// Where vertex shading happens on a tiler (seed 004 §24.5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum VertexShading {
+    /// Once per vertex before binning; the post-transform position and varyings of every
+    /// primitive are stored in the frame data.
+    #[default]
+    Once,
+    /// A position-only binning pass stores positions; every tile that lists a primitive
+    /// fetches its vertices' attributes again and shades them again (a vertex once per tile).
+    PerTile,
+}
 
 /// Triangles set up per parallel task.
 const SETUP_CHUNK: u32 = 1024;

@@ -20,15 +20,15 @@ use super::samples::SampleLocations;
 use crate::api::format::ColorWrites;
 use crate::api::pipeline::{ColorTargetState, MAX_COLOR_ATTACHMENTS, PipelineDesc};
 use crate::api::shader::{FragmentShader, Fragments, ShaderProperties};
-use crate::binning::frame_data::Primitive;
 use crate::depth;
 use crate::depth::hsr::Visibility;
+use crate::geometry::primitive::Primitive;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::ledger::{Category, Counters, DrawStats, Ledger};
+use crate::raster::target::{RenderTarget, Surface};
 use crate::shade::ShadeContext;
 use crate::shade::interpolate::Interpolator;
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, SimdSupport, Vec4x8};
-use crate::tile::target::{RenderTarget, Surface};
 
 /// What the fragment work of one task did and moved.
 #[derive(Debug, Default)]

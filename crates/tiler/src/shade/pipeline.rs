@@ -10,8 +10,8 @@ use crate::geometry::fetch::VertexFetcher;
 use crate::geometry::vertex::{NonFinitePosition, ShadedVertices, VertexSet, shade_vertices};
 use crate::ledger::Category;
 use crate::raster::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
+use crate::raster::target::RenderTarget;
 use crate::simd::SimdLevel;
-use crate::tile::target::RenderTarget;
 
 /// A pipeline's shaders behind one dynamic call per draw or per primitive.
 pub trait PipelineObject: Send + Sync {

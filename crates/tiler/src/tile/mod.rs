@@ -3,6 +3,7 @@
 //! for immediate mode).
 
 pub mod buffer;
-pub mod grid;
 pub mod load_store;
-pub mod target;
+
+pub use crate::binning::grid;
+pub use crate::raster::target;

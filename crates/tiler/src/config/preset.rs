@@ -19,8 +19,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::device::DeviceConfig;
-use super::error::{Error, Result};
+use super::DeviceConfig;
+use crate::api::error::{Error, Result};
 
 /// A named device configuration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -157,10 +157,11 @@ mod tests {
         // Too many lines for the model, though the size is within 64 MiB.
         let e = DevicePreset::parse_toml(&preset("framebuffer_cache", 64 << 20, 4, 1), "gpu.toml").unwrap_err();
         assert!(e.to_string().contains("lines"), "{e}");
-        // The largest shapes accepted build a device.
-        for text in [preset("framebuffer_cache", 64 << 20, 64, 16), preset("texture_cache", 64 << 20, 4096, 64)] {
-            let device = DevicePreset::parse_toml(&text, "gpu.toml").unwrap().device;
-            assert!(crate::Device::new(DeviceConfig { threads: 1, ..device }).is_ok());
-        }
+        // The largest shapes accepted build their cache models.
+        let device =
+            DevicePreset::parse_toml(&preset("framebuffer_cache", 64 << 20, 64, 16), "gpu.toml").unwrap().device;
+        crate::ledger::cache::CacheModel::new(device.framebuffer_cache);
+        let device = DevicePreset::parse_toml(&preset("texture_cache", 64 << 20, 4096, 64), "gpu.toml").unwrap().device;
+        crate::shade::texture_cache::TextureCache::new(device.texture_cache);
     }
 }

@@ -3,7 +3,7 @@
 
 use crate::api::format::Format;
 use crate::api::pipeline::MAX_COLOR_ATTACHMENTS;
-use crate::backend::pass::{MAX_INPUT_ATTACHMENTS, ResolvedSubpass};
+use crate::api::render_pass::{MAX_INPUT_ATTACHMENTS, ResolvedSubpass};
 use crate::raster::PixelRect;
 use crate::raster::samples::{MAX_SAMPLES, SampleLocations};
 
