@@ -35,9 +35,9 @@ use criterion::{
 use glam::Vec4;
 use tiler::binning::frame_data::Primitive;
 use tiler::geometry::setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
+use tiler::pixel::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
 use tiler::raster::PixelRect;
 use tiler::raster::coverage::{BLOCK_SIZE, BlockCoverage, PrimitiveCoverage, block_rect_mask};
-use tiler::raster::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
 use tiler::raster::samples::SampleLocations;
 use tiler::tile::buffer::TileBuffer;
 use tiler::tile::grid::TileGrid;

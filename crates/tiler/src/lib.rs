@@ -76,6 +76,8 @@ pub mod device;
 pub mod frame;
 pub mod geometry;
 pub mod ledger;
+pub mod pass;
+pub mod pixel;
 pub mod raster;
 pub mod shade;
 pub mod simd;
@@ -87,15 +89,15 @@ pub use api::format::{ColorWrites, Format};
 pub use api::image::{ImageDesc, ImageId, MAX_IMAGE_BYTES, MAX_IMAGE_DIMENSION};
 pub use api::pipeline::{
     BlendComponent, BlendFactor, BlendOp, BlendState, ColorTargetState, CompareOp, CullMode, DepthStencilState,
-    FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES, Pipeline, PipelineDesc,
+    FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES, PipelineDesc,
     StencilFaceState, StencilOp, Topology, VertexAttribute, VertexBinding, VertexFormat, VertexInputState,
 };
 pub use api::render_pass::{
-    AttachmentRef, ColorAttachment, DepthStencilAttachment, Draw, IndexBufferBinding, IndexType, LoadOp,
-    MAX_INPUT_ATTACHMENTS, Rect, RenderPass, RenderPassDesc, StoreOp, SubpassDependency, SubpassDesc,
-    VertexBufferBinding, Viewport,
+    AttachmentRef, ColorAttachment, DepthStencilAttachment, IndexBufferBinding, IndexType, LoadOp,
+    MAX_INPUT_ATTACHMENTS, Rect, RenderPassDesc, StoreOp, SubpassDependency, SubpassDesc, VertexBufferBinding,
+    Viewport,
 };
-pub use api::shader::{FragmentShader, Fragments, ShaderProperties, VertexInput, VertexOutput, VertexShader};
+pub use api::shader::{ShaderProperties, VertexInput, VertexOutput, VertexShader};
 pub use backend::PassReport;
 pub use config::Backend;
 pub use config::{DeviceConfig, preset::DevicePreset};
@@ -106,6 +108,9 @@ pub use ledger::cache::CacheConfig;
 pub use ledger::display::DisplayModel;
 pub use ledger::energy::{EnergyEstimate, EnergyModel};
 pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
+pub use pass::{Draw, RenderPass};
+pub use pixel::Pipeline;
+pub use shade::fragments::{FragmentShader, Fragments};
 pub use shade::texture::{ColorSpace, Filter, MipChain, MipmapMode, Sampler, Texture, Wrap};
 pub use shade::texture_cache::TextureCacheConfig;
 pub use simd::{F32x8, LaneMask, SimdLevel, SimdSupport, Vec4x8};

@@ -17,7 +17,6 @@ fn src() -> &'static Path {
 }
 
 #[test]
-#[ignore = "issue 12: the last cycles are being removed"]
 fn top_level_modules_form_a_dag() {
     let graph = ModuleGraph::read(src());
     println!("{}", graph.render());

@@ -17,14 +17,14 @@ use super::{Backend, FrameDataReport, PassReport};
 use crate::api::buffer::BufferId;
 use crate::api::error::Result;
 use crate::api::image::Image;
-use crate::api::render_pass::RenderPass;
 use crate::config::DeviceConfig;
 use crate::geometry::{PassFrame, prepare_draw};
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::framebuffer::FramebufferTraffic;
 use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
+use crate::pass::RenderPass;
+use crate::pixel::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::PixelRect;
-use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::samples::SampleLocations;
 use crate::raster::target::{RenderTarget, Surface};
 use crate::shade::ShadeContext;
@@ -157,7 +157,7 @@ pub fn render(
     ledger.add(Category::ImrClear, cleared);
 
     for (draw_index, draw) in pass.draws.iter().enumerate() {
-        let geometry = prepare_draw(draw_index, draw, &frame_info, config.post_transform_cache)?;
+        let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
         counters.draws += 1;
         counters.vertices_shaded += geometry.vertices_shaded;
         ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);

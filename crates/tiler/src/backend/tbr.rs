@@ -28,7 +28,6 @@ use crate::api::buffer::BufferId;
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::image::TileSignatures;
-use crate::api::render_pass::RenderPass;
 use crate::binning::binner::bin;
 use crate::binning::frame_data::{FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, record_bytes};
 use crate::binning::grid::TileGrid;
@@ -37,13 +36,15 @@ use crate::depth::hsr::{HsrMode, Visibility};
 use crate::geometry::VertexShading;
 use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
 use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
+use crate::pass::{Draw, RenderPass};
+use crate::pixel::primitive::{FragmentTally, OverdrawRows};
 use crate::raster::PixelRect;
-use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::samples::SampleLocations;
 use crate::raster::target::{RenderTarget, Surface};
 use crate::shade::ShadeContext;
 use crate::shade::texture_cache::TextureCacheConfig;
 use crate::tile::buffer::TileBuffer;
+use crate::tile::list::{render_hsr, render_in_order};
 use crate::tile::load_store::{
     AttachmentOps, TileStart, apply_load, apply_resolve, apply_store, fill_value, load_bytes, resolved_value,
     store_bytes, store_bytes_of, tile_signature, tile_start,
@@ -93,6 +94,7 @@ pub fn render(
     let mut frame = FrameData::new(grid, config.vertex_shading);
     let mut run = Run {
         resolved,
+        pass_draws: &pass.draws,
         samples,
         hsr,
         early_z: config.early_z,
@@ -124,14 +126,13 @@ pub fn render(
             }
             subpass = draw_subpass;
         }
-        let geometry = prepare_draw(draw_index, draw, &frame_info, config.post_transform_cache)?;
+        let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
         run.counters.draws += 1;
         run.counters.vertices_shaded += geometry.vertices_shaded;
         run.ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
         run.ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
         let varying_count = geometry.vertices.varying_count;
         let state = StateRecord {
-            pipeline: draw.pipeline.clone(),
             draw: draw_index as u32,
             clip_rect: geometry.clip_rect,
             varying_count: varying_count as u32,
@@ -254,6 +255,7 @@ enum Flush {
 /// The state of one pass being rendered.
 struct Run<'a> {
     resolved: &'a ResolvedPass,
+    pass_draws: &'a [Draw],
     samples: SampleLocations,
     hsr: bool,
     early_z: bool,
@@ -296,6 +298,8 @@ struct Worker {
 /// What a flush does beyond the frame data.
 struct FlushPlan<'a> {
     resolved: &'a ResolvedPass,
+    /// The pass's draws: the tile phase finds each state record's pipeline here.
+    draws: &'a [Draw],
     ops: Vec<AttachmentOps>,
     resolve: bool,
     samples: SampleLocations,
@@ -379,6 +383,7 @@ impl Run<'_> {
         }
         let plan = FlushPlan {
             resolved,
+            draws: self.pass_draws,
             ops,
             resolve: last,
             samples: self.samples,
@@ -532,29 +537,9 @@ fn render_band(
             );
             match worker.visibility.as_mut() {
                 Some(visibility) => {
-                    crate::depth::hsr::render_list(entries, frame, &mut target, &mut result.tally, visibility, &tile)
+                    render_hsr(entries, frame, plan.draws, &mut target, &mut result.tally, visibility, &tile)
                 }
-                None => {
-                    // One call per run of the same draw's primitives.
-                    let mut first = 0;
-                    while first < entries.len() {
-                        let state_index = frame.primitives[entries[first] as usize].state;
-                        let count = entries[first..]
-                            .iter()
-                            .take_while(|&&e| frame.primitives[e as usize].state == state_index)
-                            .count();
-                        let state = &frame.states[state_index as usize];
-                        result.tally.draw = state.draw as usize;
-                        let run = PrimitiveRun::entries(
-                            &frame.primitives,
-                            &frame.varyings,
-                            &entries[first..first + count],
-                            first as u32,
-                        );
-                        state.pipeline.object.rasterize(&run, &mut target, &mut result.tally, &mut Mode::InOrder);
-                        first += count;
-                    }
-                }
+                None => render_in_order(entries, frame, plan.draws, &mut target, &mut result.tally),
             }
             start += run;
         }

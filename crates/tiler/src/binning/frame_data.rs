@@ -18,7 +18,6 @@
 //! planes, see [`Primitive`]) so that tiles need not set triangles up again; its size is
 //! reported separately as host memory. The budget applies to the modelled bytes, as on a GPU.
 
-use crate::api::pipeline::Pipeline;
 use crate::binning::grid::TileGrid;
 use crate::depth::hsr::HsrMode;
 use crate::geometry::VertexShading;
@@ -53,8 +52,7 @@ pub const fn record_bytes(varyings: usize, shading: VertexShading) -> u64 {
 /// What every primitive of a draw shares.
 #[derive(Clone, Debug)]
 pub struct StateRecord {
-    pub pipeline: Pipeline,
-    /// The draw's index in its render pass.
+    /// The draw's index in its render pass (the tile phase finds its pipeline there).
     pub draw: u32,
     /// Viewport ∩ scissor ∩ render area ∩ framebuffer.
     pub clip_rect: PixelRect,

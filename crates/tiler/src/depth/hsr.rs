@@ -26,11 +26,8 @@
 use crate::api::format::ColorWrites;
 use crate::api::pipeline::PipelineDesc;
 use crate::api::shader::ShaderProperties;
-use crate::binning::frame_data::FrameData;
 pub use crate::ledger::hsr::{HsrFallback, HsrFallbacks};
 use crate::raster::PixelRect;
-use crate::raster::primitive::{FragmentTally, Mode, PrimitiveRun};
-use crate::raster::target::RenderTarget;
 
 /// How a draw takes part in hidden-surface removal.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -199,85 +196,6 @@ impl Visibility {
         }
         self.visible.iter().enumerate().filter(|(_, v)| **v).map(move |(i, _)| first + i as u32)
     }
-}
-
-/// Renders a tile's polygon list with hidden-surface removal (see the module docs).
-pub fn render_list(
-    list: &[u32],
-    frame: &FrameData,
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-    visibility: &mut Visibility,
-    tile: &PixelRect,
-) {
-    let mut segment: Option<usize> = None;
-    let mut i = 0;
-    while i < list.len() {
-        // A run of one draw's primitives, handed over in one call.
-        let state_index = frame.primitives[list[i] as usize].state;
-        let count = list[i..].iter().take_while(|&&e| frame.primitives[e as usize].state == state_index).count();
-        let state = &frame.states[state_index as usize];
-        let run = PrimitiveRun::entries(&frame.primitives, &frame.varyings, &list[i..i + count], i as u32);
-        tally.draw = state.draw as usize;
-        match state.hsr {
-            HsrMode::Deferred { claims } => {
-                if segment.is_none() {
-                    visibility.reset(tile);
-                    segment = Some(i);
-                }
-                let mut mode = Mode::Resolve { visibility, claims };
-                state.pipeline.object.rasterize(&run, target, tally, &mut mode);
-            }
-            HsrMode::InOrder(reason) => {
-                if let Some(start) = segment.take() {
-                    shade_segment(list, start..i, frame, target, tally, visibility);
-                }
-                tally.draw = state.draw as usize;
-                let before = tally.counters.fragments_rasterized;
-                state.pipeline.object.rasterize(&run, target, tally, &mut Mode::InOrder);
-                tally.counters.hsr_fallback.add(reason, tally.counters.fragments_rasterized - before);
-            }
-        }
-        i += count;
-    }
-    if let Some(start) = segment {
-        shade_segment(list, start..list.len(), frame, target, tally, visibility);
-    }
-}
-
-/// Pass two of a segment: shade each primitive that still owns samples, in list order, runs of
-/// consecutive owners of one draw in one call.
-fn shade_segment(
-    list: &[u32],
-    segment: std::ops::Range<usize>,
-    frame: &FrameData,
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-    visibility: &mut Visibility,
-) {
-    let shaded_before = tally.counters.fragments_shaded;
-    let owners: Vec<u32> = visibility.owners_in(segment.start as u32, segment.len()).collect();
-    let state_of = |position: u32| frame.primitives[list[position as usize] as usize].state;
-    let mut k = 0;
-    while k < owners.len() {
-        let first = owners[k];
-        let mut count = 1;
-        while k + count < owners.len()
-            && owners[k + count] == first + count as u32
-            && state_of(owners[k + count]) == state_of(first)
-        {
-            count += 1;
-        }
-        let state = &frame.states[state_of(first) as usize];
-        tally.draw = state.draw as usize;
-        let entries = &list[first as usize..first as usize + count];
-        let run = PrimitiveRun::entries(&frame.primitives, &frame.varyings, entries, first);
-        state.pipeline.object.rasterize(&run, target, tally, &mut Mode::Shade { visibility });
-        k += count;
-    }
-    let shaded = tally.counters.fragments_shaded - shaded_before;
-    tally.counters.fragments_hsr_killed += tally.hsr_candidates.saturating_sub(shaded);
-    tally.hsr_candidates = 0;
 }
 
 #[cfg(test)]

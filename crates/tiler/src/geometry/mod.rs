@@ -15,8 +15,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::api::buffer::BufferId;
 use crate::api::error::{Error, Result};
-use crate::api::pipeline::{MAX_VARYINGS, Pipeline};
-use crate::api::render_pass::{Draw, IndexType, Rect, Viewport};
+use crate::api::pipeline::MAX_VARYINGS;
+use crate::api::pipeline::PipelineDesc;
+use crate::api::render_pass::{IndexBufferBinding, IndexType, Rect, VertexBufferBinding, Viewport};
 use crate::geometry::primitive::Primitive;
 use crate::ledger::Counters;
 use crate::raster::PixelRect;
@@ -69,7 +70,7 @@ impl IndexSource<'_> {
 /// A validated draw with its vertices shaded, ready for setup.
 pub struct DrawGeometry<'a> {
     pub draw_index: usize,
-    pub pipeline: &'a Pipeline,
+    pub desc: &'a PipelineDesc,
     indices: Option<IndexSource<'a>>,
     first: u32,
     vertex_offset: i64,
@@ -96,6 +97,35 @@ pub struct PassFrame<'a> {
     pub buffers: &'a dyn Fn(BufferId) -> Option<&'a [u8]>,
 }
 
+/// What the geometry phase reads of a draw (`pass::Draw`): its pipeline's state and vertex
+/// stage, its buffers, and which vertices.
+#[derive(Clone, Copy)]
+pub struct DrawInput<'a> {
+    pub desc: &'a PipelineDesc,
+    pub vertex: &'a dyn VertexStage,
+    pub vertex_buffers: &'a [VertexBufferBinding],
+    pub index_buffer: Option<IndexBufferBinding>,
+    /// The first vertex (non-indexed) or the first index (indexed).
+    pub first: u32,
+    /// How many vertices (non-indexed) or indices (indexed).
+    pub count: u32,
+    /// Added to every index of an indexed draw.
+    pub vertex_offset: i32,
+    pub viewport: Option<Viewport>,
+    pub scissor: Option<Rect>,
+}
+
+/// A pipeline's vertex shader behind one dynamic call per draw (implemented by
+/// `pixel::pipeline`, where the shaders' types are erased).
+pub trait VertexStage: Send + Sync {
+    fn shade_vertices(
+        &self,
+        fetcher: &VertexFetcher,
+        set: &VertexSet,
+        varying_count: usize,
+    ) -> std::result::Result<ShadedVertices, vertex::NonFinitePosition>;
+}
+
 /// Validates a draw against its buffers and the pass, and shades its vertices.
 ///
 /// # Errors
@@ -103,11 +133,11 @@ pub struct PassFrame<'a> {
 /// positions that are not finite — each naming the draw.
 pub fn prepare_draw<'a>(
     draw_index: usize,
-    draw: &'a Draw,
+    draw: DrawInput<'a>,
     frame: &PassFrame<'a>,
     post_transform_cache: u32,
 ) -> Result<DrawGeometry<'a>> {
-    let desc = draw.pipeline.desc();
+    let desc = draw.desc;
     let fail = |reason: String| Error::draw(draw_index, reason);
     let input = &desc.vertex_input;
     if draw.vertex_buffers.len() < input.bindings.len() {
@@ -248,8 +278,7 @@ pub fn prepare_draw<'a>(
 
     let fetcher = VertexFetcher::new(input, &bindings);
     let vertices = draw
-        .pipeline
-        .object
+        .vertex
         .shade_vertices(&fetcher, &set, desc.varyings.len())
         .map_err(|e| Error::NonFinitePosition { draw: draw_index, vertex: e.vertex, position: e.position })?;
     // The work a GPU does: without indices every vertex of the stream is shaded; with them,
@@ -265,7 +294,7 @@ pub fn prepare_draw<'a>(
     let triangles = assemble::triangle_count(desc.topology, draw.count);
     Ok(DrawGeometry {
         draw_index,
-        pipeline: &draw.pipeline,
+        desc: draw.desc,
         indices,
         first: draw.first,
         vertex_offset: draw.vertex_offset as i64,
@@ -346,7 +375,7 @@ impl DrawGeometry<'_> {
     /// The vertex slots of triangle `t`, provoking vertex first.
     #[inline]
     fn triangle_slots(&self, t: u32) -> [usize; 3] {
-        let positions = assemble::triangle(self.pipeline.desc().topology, t);
+        let positions = assemble::triangle(self.desc.topology, t);
         match self.indices {
             None => positions.map(|p| p as usize),
             Some(source) => positions.map(|p| {
@@ -362,7 +391,7 @@ impl DrawGeometry<'_> {
 
     /// Clips, culls and sets up triangles `range`, in parallel, in submission order.
     pub fn setup(&self, range: std::ops::Range<u32>, samples: &SampleLocations, state: u32) -> Vec<SetupBatch> {
-        let desc = self.pipeline.desc();
+        let desc = self.desc;
         let params = SetupParams {
             viewport: ViewportTransform::new(&self.viewport),
             clip_rect: self.clip_rect,
@@ -418,7 +447,7 @@ impl DrawGeometry<'_> {
         let n = self.vertices.varying_count;
         debug_assert!(n <= MAX_VARYINGS);
         let triangle = [0, 1, 2].map(|i| ClipVertex::new(positions[i], self.vertices.varyings_of(slots[i])));
-        let clipped = clip::clip_triangle(volume, triangle, planes, &self.pipeline.desc().varyings);
+        let clipped = clip::clip_triangle(volume, triangle, planes, &self.desc.varyings);
         batch.counters.triangles_clipped += 1;
         let Some(poly) = clipped else {
             batch.counters.triangles_clip_rejected += 1;

@@ -5,7 +5,6 @@
 pub mod coverage;
 pub mod edge;
 pub mod fixed;
-pub mod primitive;
 pub mod samples;
 pub mod target;
 

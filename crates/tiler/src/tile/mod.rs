@@ -3,6 +3,7 @@
 //! for immediate mode).
 
 pub mod buffer;
+pub mod list;
 pub mod load_store;
 
 pub use crate::binning::grid;

@@ -13,20 +13,21 @@
 //! writes) run before shading, in submission order, so fragments that fail are never shaded.
 //! Otherwise the tests run after shading, on the coverage the shader left.
 
-use super::PixelRect;
-use super::coverage::{BLOCK_SIZE, BlockCoverage, Coverage, PrimitiveCoverage, block_rect_mask, group_lanes};
-use super::samples::MAX_SAMPLES;
-use super::samples::SampleLocations;
 use crate::api::format::ColorWrites;
 use crate::api::pipeline::{ColorTargetState, MAX_COLOR_ATTACHMENTS, PipelineDesc};
-use crate::api::shader::{FragmentShader, Fragments, ShaderProperties};
+use crate::api::shader::ShaderProperties;
 use crate::depth;
 use crate::depth::hsr::Visibility;
 use crate::geometry::primitive::Primitive;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::ledger::{Category, Counters, DrawStats, Ledger};
+use crate::raster::PixelRect;
+use crate::raster::coverage::{BLOCK_SIZE, BlockCoverage, Coverage, PrimitiveCoverage, block_rect_mask, group_lanes};
+use crate::raster::samples::MAX_SAMPLES;
+use crate::raster::samples::SampleLocations;
 use crate::raster::target::{RenderTarget, Surface};
 use crate::shade::ShadeContext;
+use crate::shade::fragments::{FragmentShader, Fragments};
 use crate::shade::interpolate::Interpolator;
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, SimdSupport, Vec4x8};
 
@@ -666,7 +667,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
             ShadePoint::Centre => (0.5, 0.5),
             ShadePoint::Sample(s) => {
                 let (sx, sy) = self.locations.offset(s);
-                let scale = super::fixed::SUBPIXEL_SCALE as f32;
+                let scale = crate::raster::fixed::SUBPIXEL_SCALE as f32;
                 (sx as f32 / scale, sy as f32 / scale)
             }
         };
@@ -799,7 +800,7 @@ impl depth::RowDepths for BlockDepths<'_> {
     fn row(&self, sample: usize, y: i32) -> F32x8 {
         let (dx, dy) = if self.locations.count() > 1 {
             let (sx, sy) = self.locations.offset(sample);
-            let scale = super::fixed::SUBPIXEL_SCALE as f32;
+            let scale = crate::raster::fixed::SUBPIXEL_SCALE as f32;
             (sx as f32 / scale, sy as f32 / scale)
         } else {
             (0.5, 0.5)
