@@ -429,3 +429,16 @@ fn resolve_subpasses(
     }
     Ok(out)
 }
+
+/// Mutable references to the images a pass touches, in the order of
+/// [`ResolvedPass::memory_images`]: attachments, then resolve targets.
+pub fn attachment_images<'a>(images: &'a mut [Image], pass: &ResolvedPass) -> Vec<&'a mut Image> {
+    let wanted = pass.memory_images();
+    let mut out: Vec<Option<&'a mut Image>> = wanted.iter().map(|_| None).collect();
+    for (index, image) in images.iter_mut().enumerate() {
+        if let Some(slot) = wanted.iter().position(|w| *w == index) {
+            out[slot] = Some(image);
+        }
+    }
+    out.into_iter().map(|i| i.expect("validated attachment")).collect()
+}

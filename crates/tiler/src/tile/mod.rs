@@ -5,6 +5,7 @@
 pub mod buffer;
 pub mod list;
 pub mod load_store;
+pub mod task;
 
 pub use crate::binning::grid;
 pub use crate::raster::target;
