@@ -30,11 +30,11 @@ use crate::api::image::Image;
 use crate::api::image::TileSignatures;
 use crate::api::render_pass::AttachmentOps;
 use crate::binning::binner::bin;
-use crate::binning::frame_data::{FrameData, POLYGON_LIST_ENTRY_BYTES, StateRecord, record_bytes};
+use crate::binning::frame_data::{FrameData, StateRecord};
 use crate::binning::grid::TileGrid;
 use crate::config::DeviceConfig;
 use crate::depth::hsr::{HsrMode, Visibility};
-use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
+use crate::geometry::{PassFrame, prepare_draw};
 use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
 use crate::pass::{Draw, RenderPass};
 use crate::raster::samples::SampleLocations;
@@ -83,7 +83,7 @@ pub fn render(
         buffers: &lookup,
     };
     let mut memory = attachment_images(images, resolved);
-    let mut frame = FrameData::new(grid, config.vertex_shading);
+    let mut frame = FrameData::new(grid, config.vertex_shading, config.frame_data_budget);
     let mut run = Run {
         resolved,
         pass_draws: &pass.draws,
@@ -132,7 +132,6 @@ pub fn render(
             fetch_bytes_per_vertex: geometry.fetch_bytes_per_vertex,
             subpass: pass.subpass_of(draw_index) as u32,
         };
-        let record_bytes = record_bytes(varying_count, config.vertex_shading);
         let mut state_index = None;
         let mut start = 0;
         while start < geometry.triangles {
@@ -141,31 +140,22 @@ pub fn render(
             for batch in &batches {
                 run.counters.merge(&batch.counters);
                 run.draws[draw_index].primitives += batch.counters.primitives;
-                // Append the longest run of primitives whose frame data surely fits the
-                // budget (entries bounded by the tiles their box meets); flush when full.
+                // Append the longest run of primitives the frame data says surely fits its
+                // budget; render it (an incremental render) when it is full.
                 let mut i = 0;
                 while i < batch.primitives.len() {
                     let index = *state_index.get_or_insert_with(|| frame.push_state(state.clone()));
-                    let mut room = config.frame_data_budget.saturating_sub(frame.bytes.total());
-                    let mut k = i;
-                    while let Some(p) = batch.primitives.get(k) {
-                        let cost = record_bytes + POLYGON_LIST_ENTRY_BYTES * grid.tiles_meeting_count(&p.bbox);
-                        if cost > room {
-                            break;
-                        }
-                        room -= cost;
-                        k += 1;
-                    }
-                    if k == i && !frame.is_empty() {
+                    let fitting = frame.fitting(&batch.primitives[i..], varying_count);
+                    if fitting == 0 && !frame.is_empty() {
                         run.flush(&frame, &mut memory, Flush::Incremental);
                         frame.clear();
                         state_index = None;
                         continue;
                     }
                     // A primitive too large for an empty budget still goes in alone.
-                    let k = k.max(i + 1);
+                    let k = i + fitting.max(1);
                     let first = frame.primitives.len();
-                    append(&mut frame, batch, i..k, index, varying_count);
+                    frame.append(&batch.primitives[i..k], &batch.varyings, index, varying_count);
                     bin(&mut frame, first, &samples, bands);
                     i = k;
                 }
@@ -212,25 +202,6 @@ pub fn render(
 /// Bytes an attachment's image would occupy in memory.
 fn images_desc_size(resolved: &ResolvedPass, a: &super::pass::ResolvedAttachment) -> u64 {
     resolved.width as u64 * resolved.height as u64 * resolved.samples as u64 * a.format.bytes_per_sample() as u64
-}
-
-/// Appends primitives `range` of a batch (and their varyings) to the frame data, under state
-/// record `state`.
-fn append(frame: &mut FrameData, batch: &SetupBatch, range: std::ops::Range<usize>, state: u32, varying_count: usize) {
-    let modelled = record_bytes(varying_count, frame.vertex_shading);
-    let primitives = &batch.primitives[range];
-    let first_varying = primitives[0].varyings as usize;
-    let base = frame.varyings.len() as u32;
-    frame.primitives.extend(primitives.iter().map(|p| {
-        let mut p = *p;
-        p.varyings = p.varyings - first_varying as u32 + base;
-        p.state = state;
-        p
-    }));
-    frame
-        .varyings
-        .extend_from_slice(&batch.varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
-    frame.bytes.primitive_records += primitives.len() as u64 * modelled;
 }
 
 /// Why the frame data is being rendered.

@@ -90,11 +90,15 @@ pub struct FrameData {
     /// One polygon list per tile, row-major; entries are primitive indices in submission order.
     pub lists: Vec<Vec<u32>>,
     pub bytes: FrameDataBytes,
+    /// Modelled bytes it may hold before an incremental render (the device's
+    /// `frame_data_budget`): the frame data says when it is full ([`FrameData::fitting`]).
+    budget: u64,
 }
 
 impl FrameData {
-    pub fn new(grid: TileGrid, vertex_shading: VertexShading) -> FrameData {
+    pub fn new(grid: TileGrid, vertex_shading: VertexShading, budget: u64) -> FrameData {
         FrameData {
+            budget,
             vertex_shading,
             lists: vec![Vec::new(); grid.tile_count()],
             grid,
@@ -118,6 +122,44 @@ impl FrameData {
             list.clear();
         }
         self.bytes = FrameDataBytes::default();
+    }
+
+    /// How many primitives from the front of `primitives` (of a draw with `varying_count`
+    /// varyings) surely fit the budget: each costs its record and a polygon-list entry for
+    /// every tile its box meets (a bound on the entries binning writes). 0 means full: the
+    /// caller renders what is here (an incremental render), clears, and tries again; a
+    /// primitive too large for an empty budget still goes in alone.
+    pub fn fitting(&self, primitives: &[Primitive], varying_count: usize) -> usize {
+        let record = record_bytes(varying_count, self.vertex_shading);
+        let mut room = self.budget.saturating_sub(self.bytes.total());
+        let mut count = 0;
+        for primitive in primitives {
+            let cost = record + POLYGON_LIST_ENTRY_BYTES * self.grid.tiles_meeting_count(&primitive.bbox);
+            if cost > room {
+                break;
+            }
+            room -= cost;
+            count += 1;
+        }
+        count
+    }
+
+    /// Appends `primitives` under state record `state`, with their varyings: `3 ×
+    /// varying_count` per primitive in `varyings`, the first primitive's at its own offset.
+    /// Counts their modelled record bytes.
+    pub fn append(&mut self, primitives: &[Primitive], varyings: &[f32], state: u32, varying_count: usize) {
+        let Some(first) = primitives.first() else { return };
+        let modelled = record_bytes(varying_count, self.vertex_shading);
+        let first_varying = first.varyings as usize;
+        let base = self.varyings.len() as u32;
+        self.primitives.extend(primitives.iter().map(|p| {
+            let mut p = *p;
+            p.varyings = p.varyings - first_varying as u32 + base;
+            p.state = state;
+            p
+        }));
+        self.varyings.extend_from_slice(&varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
+        self.bytes.primitive_records += primitives.len() as u64 * modelled;
     }
 
     /// Adds a state record and returns its index.
@@ -150,5 +192,55 @@ impl FrameData {
         (self.primitives.capacity() * std::mem::size_of::<Primitive>()
             + self.varyings.capacity() * 4
             + self.lists.iter().map(|l| l.capacity() * 4).sum::<usize>()) as u64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn primitive(bbox: PixelRect) -> Primitive {
+        let edge = crate::raster::edge::Edge { a: 0, b: 0, c: 0 };
+        Primitive {
+            edges: [edge; 3],
+            bbox,
+            origin: [0.0; 2],
+            l1: [0.0; 2],
+            l2: [0.0; 2],
+            z: [0.0; 3],
+            q: [1.0; 3],
+            state: 0,
+            varyings: 0,
+            vertex_ids: [0, 1, 2],
+            front_facing: true,
+        }
+    }
+
+    #[test]
+    fn the_frame_data_says_when_it_is_full() {
+        // 64×64 pixels in 32×32 tiles; no varyings: a record is 8 + 3 × 16 = 56 bytes.
+        let grid = TileGrid::new(64, 64, 32, 32);
+        let one_tile = primitive(PixelRect::new(0, 0, 8, 8)); // 56 + 4 = 60 bytes
+        let four_tiles = primitive(PixelRect::new(16, 16, 48, 48)); // 56 + 16 = 72 bytes
+        let budget = STATE_RECORD_BYTES + 60 + 72 + 59;
+        let mut frame = FrameData::new(grid, VertexShading::Once, budget);
+        let state = frame.push_state(StateRecord {
+            draw: 0,
+            clip_rect: PixelRect::new(0, 0, 64, 64),
+            varying_count: 0,
+            hsr: HsrMode::Deferred { claims: true },
+            fetch_bytes_per_vertex: 16,
+            subpass: 0,
+        });
+        let batch = [one_tile, four_tiles, one_tile];
+        assert_eq!(frame.fitting(&batch, 0), 2, "the third needs 60 bytes, 59 are left");
+        frame.append(&batch[..2], &[], state, 0);
+        assert_eq!(frame.bytes.primitive_records, 2 * 56);
+        // Entries are bounded, not yet written: binning writes them.
+        assert_eq!(frame.fitting(&batch[2..], 0), 1);
+        frame.bytes.polygon_list_entries += 5 * POLYGON_LIST_ENTRY_BYTES;
+        assert_eq!(frame.fitting(&batch[2..], 0), 0, "full");
+        frame.clear();
+        assert_eq!(frame.fitting(&batch, 0), 3);
     }
 }
