@@ -351,10 +351,11 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     /// The fragment pipeline for the 8×8 block at `(x, y)`, whose covered pixels of sample `s`
     /// are `masks[s]` (`any` their union). Depth tests that can run before shading run for the
     /// whole block at once where [`depth::test_block`] applies; the rest goes group by group.
-    // Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every
-    // shader's loop and run per 8×8 block. Its arguments are the block's position, coverage masks and test choice and the state it
-    // updates, which no single owner holds together; a parameter struct would be assembled
-    // per call in the hottest loop, and its code generation was tuned with the kernel bench.
+    // Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's
+    // loop and run per 8×8 block. Its arguments are the block's position, coverage masks and test
+    // choice and the state it updates, which no single owner holds together; a parameter struct
+    // would be assembled per call in the hottest loop, and its code generation was tuned with the
+    // kernel bench.
     #[allow(clippy::too_many_arguments)]
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn block(
@@ -552,10 +553,11 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
 
     /// In-order rendering of the covered samples; `early_tests` runs the depth and stencil
     /// tests before shading (false when they ran already, or must run after).
-    // Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every
-    // shader's loop and run per 4×2 group. Its arguments are the group's position, coverage and shading point and the state it
-    // updates, which no single owner holds together; a parameter struct would be assembled
-    // per call in the hottest loop, and its code generation was tuned with the kernel bench.
+    // Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's
+    // loop and run per 4×2 group. Its arguments are the group's position, coverage and shading
+    // point and the state it updates, which no single owner holds together; a parameter struct
+    // would be assembled per call in the hottest loop, and its code generation was tuned with the
+    // kernel bench.
     #[allow(clippy::too_many_arguments)]
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn in_order(
@@ -608,10 +610,11 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     }
 
     /// HSR pass one: the tests, and claims on the samples that pass.
-    // Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every
-    // shader's loop and run per 4×2 group. Its arguments are the group's position, coverage and HSR claim and the state it
-    // updates, which no single owner holds together; a parameter struct would be assembled
-    // per call in the hottest loop, and its code generation was tuned with the kernel bench.
+    // Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's
+    // loop and run per 4×2 group. Its arguments are the group's position, coverage and HSR claim
+    // and the state it updates, which no single owner holds together; a parameter struct would be
+    // assembled per call in the hottest loop, and its code generation was tuned with the kernel
+    // bench.
     #[allow(clippy::too_many_arguments)]
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn resolve(
@@ -881,10 +884,10 @@ fn store_packed(plane: &mut [u8], rows: [usize; 2], lanes: LaneMask, packed: &[u
 /// Counts the colour traffic of writing the covered samples of a group (`written` of them),
 /// each read first when `reads` (blending, partial write masks): by address when the device
 /// caches the framebuffer, else as a number of accesses.
-// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every
-// shader's loop and run per 4×2 group and attachment. Its arguments are the group's position, coverage and counts and the state it
-// updates, which no single owner holds together; a parameter struct would be assembled
-// per call in the hottest loop, and its code generation was tuned with the kernel bench.
+// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's loop
+// and run per 4×2 group and attachment. Its arguments are the group's position, coverage and counts
+// and the state it updates, which no single owner holds together; a parameter struct would be
+// assembled per call in the hottest loop, and its code generation was tuned with the kernel bench.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn count_color_traffic(
@@ -919,10 +922,11 @@ fn count_color_traffic(
 }
 
 /// Blends and writes one colour attachment for the covered samples of a group.
-// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every
-// shader's loop and run per 4×2 group and attachment. Its arguments are the group's position, coverage, colour and plan and the state it
-// updates, which no single owner holds together; a parameter struct would be assembled
-// per call in the hottest loop, and its code generation was tuned with the kernel bench.
+// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's loop
+// and run per 4×2 group and attachment. Its arguments are the group's position, coverage, colour
+// and plan and the state it updates, which no single owner holds together; a parameter struct would
+// be assembled per call in the hottest loop, and its code generation was tuned with the kernel
+// bench.
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn write_color(
@@ -1000,10 +1004,11 @@ unsafe fn blend_and_write_avx2(
     blend_and_write_body(surface, x, y, coverage, color, plan, constant, traffic, ledger)
 }
 
-// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every
-// shader's loop and run per 4×2 group and attachment. Its arguments are the group's position, coverage, colour and plan and the state it
-// updates, which no single owner holds together; a parameter struct would be assembled
-// per call in the hottest loop, and its code generation was tuned with the kernel bench.
+// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's loop
+// and run per 4×2 group and attachment. Its arguments are the group's position, coverage, colour
+// and plan and the state it updates, which no single owner holds together; a parameter struct would
+// be assembled per call in the hottest loop, and its code generation was tuned with the kernel
+// bench.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn blend_and_write_body(
