@@ -33,16 +33,11 @@ use criterion::{
     BenchmarkGroup, Criterion, SamplingMode, Throughput, criterion_group, criterion_main, measurement::WallTime,
 };
 use glam::Vec4;
-use tiler::binning::frame_data::Primitive;
-use tiler::geometry::setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
-use tiler::pixel::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
-use tiler::raster::PixelRect;
-use tiler::raster::coverage::{BLOCK_SIZE, BlockCoverage, PrimitiveCoverage, block_rect_mask};
-use tiler::raster::samples::SampleLocations;
-use tiler::tile::buffer::TileBuffer;
-use tiler::tile::grid::TileGrid;
-use tiler::tile::load_store::{AttachmentOps, apply_load, apply_resolve, apply_store};
-use tiler::tile::target::{RenderTarget, Surface};
+use tiler::__bench::{
+    AttachmentOps, BLOCK_SIZE, BlockCoverage, FragmentTally, Mode, PixelRect, Primitive, PrimitiveCoverage,
+    PrimitiveRun, RenderTarget, SampleLocations, SetupOutcome, SetupParams, Surface, TileBuffer, TileGrid,
+    ViewportTransform, apply_load, apply_resolve, apply_store, block_rect_mask, rasterize, setup_triangle,
+};
 use tiler::{
     ColorAttachment, CullMode, DepthStencilAttachment, DepthStencilState, Device, DeviceConfig, Draw, F32x8, Format,
     FragmentShader, Fragments, FrontFace, ImageDesc, Interpolation, LoadOp, MAX_COLOR_ATTACHMENTS, Pipeline,

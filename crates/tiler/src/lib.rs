@@ -66,22 +66,24 @@
 //! assert_eq!(&device.read_rgba8(color).unwrap()[..4], &[255, 0, 0, 255]);
 //! ```
 
+#[doc(hidden)]
+pub mod __bench;
 pub mod api;
 pub mod backend;
 pub mod binning;
-pub mod blend;
+pub(crate) mod blend;
 pub mod config;
-pub mod depth;
+pub(crate) mod depth;
 pub mod device;
 pub mod frame;
-pub mod geometry;
+pub(crate) mod geometry;
 pub mod ledger;
-pub mod pass;
-pub mod pixel;
-pub mod raster;
+pub(crate) mod pass;
+pub(crate) mod pixel;
+pub(crate) mod raster;
 pub mod shade;
 pub mod simd;
-pub mod tile;
+pub(crate) mod tile;
 
 pub use api::buffer::BufferId;
 pub use api::error::{Error, Result};

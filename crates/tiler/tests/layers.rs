@@ -45,8 +45,11 @@ fn the_graph_reader_finds_cycles() {
     let dir = std::env::temp_dir().join(format!("tiler-layers-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("b")).unwrap();
-    std::fs::write(dir.join("lib.rs"), "pub mod a;\npub mod b;\nmod c;\npub use b::thing::{Thing, Other as O};\n")
-        .unwrap();
+    std::fs::write(
+        dir.join("lib.rs"),
+        "pub mod a;\npub(crate) mod b;\nmod c;\npub use b::thing::{Thing, Other as O};\n",
+    )
+    .unwrap();
     std::fs::write(dir.join("a.rs"), "use crate::{b::x, c};\n// crate::a is not code\n").unwrap();
     std::fs::write(dir.join("b/mod.rs"), "pub mod thing;\n").unwrap();
     std::fs::write(dir.join("b/thing.rs"), "fn f() -> crate::Other { todo!() }\nconst S: &str = \"crate::c\";\n")

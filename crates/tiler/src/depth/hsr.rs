@@ -26,7 +26,7 @@
 use crate::api::format::ColorWrites;
 use crate::api::pipeline::PipelineDesc;
 use crate::api::shader::ShaderProperties;
-pub use crate::ledger::hsr::{HsrFallback, HsrFallbacks};
+pub use crate::ledger::hsr::HsrFallback;
 use crate::raster::PixelRect;
 
 /// How a draw takes part in hidden-surface removal.

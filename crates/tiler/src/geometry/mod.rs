@@ -69,7 +69,6 @@ impl IndexSource<'_> {
 
 /// A validated draw with its vertices shaded, ready for setup.
 pub struct DrawGeometry<'a> {
-    pub draw_index: usize,
     pub desc: &'a PipelineDesc,
     indices: Option<IndexSource<'a>>,
     first: u32,
@@ -293,7 +292,6 @@ pub fn prepare_draw<'a>(
     let vertex_fetch_bytes = vertices_shaded * fetch_bytes_per_vertex;
     let triangles = assemble::triangle_count(desc.topology, draw.count);
     Ok(DrawGeometry {
-        draw_index,
         desc: draw.desc,
         indices,
         first: draw.first,

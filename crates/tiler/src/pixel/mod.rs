@@ -6,4 +6,4 @@
 pub mod pipeline;
 pub mod primitive;
 
-pub use pipeline::{Pipeline, PipelineObject};
+pub use pipeline::Pipeline;

@@ -8,4 +8,3 @@ pub mod load_store;
 pub mod task;
 
 pub use crate::binning::grid;
-pub use crate::raster::target;

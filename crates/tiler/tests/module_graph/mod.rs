@@ -25,7 +25,13 @@ impl ModuleGraph {
             .lines()
             .filter_map(|l| {
                 let l = l.trim();
-                let rest = l.strip_prefix("pub mod ").or_else(|| l.strip_prefix("mod "))?;
+                // `mod x;` after any visibility (`pub`, `pub(crate)`, …).
+                let l = match l.strip_prefix("pub") {
+                    Some(rest) if rest.starts_with('(') => rest[rest.find(')')? + 1..].trim_start(),
+                    Some(rest) => rest.trim_start(),
+                    None => l,
+                };
+                let rest = l.strip_prefix("mod ")?;
                 let name = rest.strip_suffix(';')?.trim();
                 Some(name.to_string())
             })
