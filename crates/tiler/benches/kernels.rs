@@ -10,7 +10,7 @@
 //!   bounding box, as the pixel pipeline walks it: classify the block (outside / partial /
 //!   full), then a coverage mask per sample of the partial ones. Small (16 px) and large
 //!   (128 px) triangles at one sample, small ones at 4×. Throughput in blocks visited.
-//! - `shade`: `raster::primitive::rasterize` — coverage, early-Z, shading of 4×2 groups,
+//! - `shade`: `pixel::primitive::rasterize` — coverage, early-Z, shading of 4×2 groups,
 //!   colour writes — of 400 triangles (32 px across, overdraw ≈ 2) over a 256×256 target cut
 //!   into 32×32 tiles of a `TileBuffer`, each tile cleared first and given only the
 //!   triangles whose box meets it (no binning, no store). `flat`: provoking-vertex colour into
@@ -297,7 +297,7 @@ impl TiledScene {
 }
 
 /// [`TiledScene::render`] compiled for AVX2, as the crate's pipeline object compiles
-/// `rasterize` (`shade::pipeline`; a closure would not do, it would stay baseline code).
+/// `rasterize` (`pixel::pipeline`; a closure would not do, it would stay baseline code).
 ///
 /// # Safety
 /// The processor must have every feature of `tiler::simd::AVX2_FEATURES` (a `SimdSupport` of

@@ -5,11 +5,11 @@ use crate::api::buffer::{BufferId, MAX_BUFFER_BYTES};
 use crate::api::error::{Error, Result};
 use crate::api::format::Format;
 use crate::api::image::{Image, ImageDesc, ImageId};
-use crate::backend::pass::ResolvedPass;
 use crate::backend::{Backend, PassReport, Workers, imr, tbr};
 use crate::config::DeviceConfig;
 use crate::ledger::Ledger;
 use crate::pass::RenderPass;
+use crate::pass::resolved::ResolvedPass;
 use crate::simd::SimdSupport;
 
 /// A software GPU: its memory (images, buffers) and its workers.

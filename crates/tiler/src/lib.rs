@@ -9,9 +9,10 @@
 //!  geometry phase (`geometry`): fetch → vertex shader → assemble → clip → cull → viewport
 //!      → triangle setup in fixed point → BINNING (`binning`) into FRAME DATA
 //!      │   (polygon lists per tile + primitive and state records; it has a budget)
-//!  tile phase (`tile`, `raster`, `depth`, `shade`, `blend`), one tile at a time, in parallel:
-//!      load op → rasterize the tile's list (coverage per sample, early-Z) → shade 2×2 quads
-//!      → blend in the tile buffer → store op
+//!  tile phase (`tile::task`), one tile at a time, in parallel: load op → the tile's list by
+//!      draw through the pixel pipeline (`pixel`: coverage per sample from `raster`, early-Z
+//!      or HSR from `depth`, 2×2 quads shaded by `shade`, `blend` in the tile buffer)
+//!      → store op → resolve
 //!      │
 //!  external memory: images and buffers, and the LEDGER (`ledger`) of every byte moved
 //! ```
@@ -19,6 +20,11 @@
 //! Backends (`backend`): `Tbr` (the above) and `Imr` (immediate mode: the same primitives in
 //! submission order, straight into the images). For one input every backend, tile size and
 //! thread count gives the same image, bit for bit; only the counters differ.
+//!
+//! The top-level modules import each other only downwards, in data-flow order (`simd`,
+//! `ledger`, `api` at the bottom; `backend`, `device` at the top): the `layers` test fails on
+//! a cycle, and `cargo run -p tiler --example module-graph` prints the graph with the site of
+//! every import.
 //!
 //! Textures (`shade::texture`: RGBA8 with mip chains, nearest/bilinear/trilinear filtering,
 //! repeat/clamp/mirror wraps) are fields of shader values; [`Fragments::sample`] reads them with

@@ -273,7 +273,8 @@ impl AttachmentOps {
 /// The most input attachments a subpass may read.
 pub const MAX_INPUT_ATTACHMENTS: usize = 4;
 
-/// A validated subpass, naming attachments by their index in the validated pass's attachments (`backend::pass::ResolvedPass`).
+/// A validated subpass, naming attachments by their index in the validated pass's
+/// attachments (`pass::resolved::ResolvedPass`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ResolvedSubpass {
     /// Attachment of each colour output.

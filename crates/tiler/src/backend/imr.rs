@@ -14,11 +14,10 @@ use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
 use super::{Backend, FrameDataReport, PassReport};
-use crate::api::buffer::BufferId;
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::config::DeviceConfig;
-use crate::geometry::{PassFrame, prepare_draw};
+use crate::geometry::prepare_draw;
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::framebuffer::FramebufferTraffic;
 use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
@@ -69,13 +68,7 @@ pub fn render(
     simd: SimdSupport,
 ) -> Result<PassReport> {
     let samples = SampleLocations::standard(resolved.samples);
-    let lookup = |id: BufferId| buffers.get(id.0 as usize).map(|b| b.as_slice());
-    let frame_info = PassFrame {
-        width: resolved.width,
-        height: resolved.height,
-        render_area: resolved.render_area,
-        buffers: &lookup,
-    };
+    let frame_info = resolved.frame(buffers);
     // Transient attachments have no memory on a tiler; an immediate-mode GPU needs some.
     let mut scratch: Vec<Image> = resolved
         .attachments
@@ -158,10 +151,7 @@ pub fn render(
 
     for (draw_index, draw) in pass.draws.iter().enumerate() {
         let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
-        counters.draws += 1;
-        counters.vertices_shaded += geometry.vertices_shaded;
-        ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
-        ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
+        geometry.record(&mut counters, &mut ledger);
         let batches = geometry.setup(0..geometry.triangles, &samples, 0);
         for batch in &batches {
             counters.merge(&batch.counters);

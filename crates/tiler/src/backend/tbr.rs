@@ -24,7 +24,6 @@ use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, data_bands};
 use super::{Backend, FrameDataReport, PassReport, Workers};
-use crate::api::buffer::BufferId;
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::image::TileSignatures;
@@ -34,7 +33,7 @@ use crate::binning::frame_data::{FrameData, StateRecord};
 use crate::binning::grid::TileGrid;
 use crate::config::DeviceConfig;
 use crate::depth::hsr::{HsrMode, Visibility};
-use crate::geometry::{PassFrame, prepare_draw};
+use crate::geometry::prepare_draw;
 use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
 use crate::pass::{Draw, RenderPass};
 use crate::raster::samples::SampleLocations;
@@ -75,13 +74,7 @@ pub fn render(
     let (tile_width, tile_height) = tile_size(config, resolved.tile_bytes_per_pixel());
     let grid = TileGrid::new(resolved.width, resolved.height, tile_width, tile_height);
     let samples = SampleLocations::standard(resolved.samples);
-    let lookup = |id: BufferId| buffers.get(id.0 as usize).map(|b| b.as_slice());
-    let frame_info = PassFrame {
-        width: resolved.width,
-        height: resolved.height,
-        render_area: resolved.render_area,
-        buffers: &lookup,
-    };
+    let frame_info = resolved.frame(buffers);
     let mut memory = attachment_images(images, resolved);
     let mut frame = FrameData::new(grid, config.vertex_shading, config.frame_data_budget);
     let mut run = Run {
@@ -119,10 +112,7 @@ pub fn render(
             subpass = draw_subpass;
         }
         let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
-        run.counters.draws += 1;
-        run.counters.vertices_shaded += geometry.vertices_shaded;
-        run.ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
-        run.ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
+        geometry.record(&mut run.counters, &mut run.ledger);
         let varying_count = geometry.vertices.varying_count;
         let state = StateRecord {
             draw: draw_index as u32,

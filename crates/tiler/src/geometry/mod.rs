@@ -19,7 +19,7 @@ use crate::api::pipeline::MAX_VARYINGS;
 use crate::api::pipeline::PipelineDesc;
 use crate::api::render_pass::{IndexBufferBinding, IndexType, Rect, VertexBufferBinding, Viewport};
 use crate::geometry::primitive::Primitive;
-use crate::ledger::Counters;
+use crate::ledger::{Category, Counters, Ledger};
 use crate::raster::PixelRect;
 use crate::raster::fixed::MAX_VIEWPORT_EXTENT_PX;
 use crate::raster::samples::SampleLocations;
@@ -93,7 +93,15 @@ pub struct PassFrame<'a> {
     pub width: u32,
     pub height: u32,
     pub render_area: PixelRect,
-    pub buffers: &'a dyn Fn(BufferId) -> Option<&'a [u8]>,
+    /// The device's buffers, by id.
+    pub buffers: &'a [Vec<u8>],
+}
+
+impl<'a> PassFrame<'a> {
+    /// The bytes of buffer `id`, if the device has it.
+    pub fn buffer(&self, id: BufferId) -> Option<&'a [u8]> {
+        self.buffers.get(id.0 as usize).map(Vec::as_slice)
+    }
 }
 
 /// What the geometry phase reads of a draw (`pass::Draw`): its pipeline's state and vertex
@@ -149,7 +157,8 @@ pub fn prepare_draw<'a>(
     }
     let mut bindings: Vec<&[u8]> = Vec::with_capacity(input.bindings.len());
     for (i, binding) in draw.vertex_buffers.iter().take(input.bindings.len()).enumerate() {
-        let bytes = (frame.buffers)(binding.buffer)
+        let bytes = frame
+            .buffer(binding.buffer)
             .ok_or_else(|| fail(format!("vertex binding {i}: {} does not exist", binding.buffer)))?;
         if binding.offset > bytes.len() as u64 {
             return Err(fail(format!(
@@ -172,8 +181,8 @@ pub fn prepare_draw<'a>(
             }
         }
         Some(ib) => {
-            let bytes = (frame.buffers)(ib.buffer)
-                .ok_or_else(|| fail(format!("index buffer: {} does not exist", ib.buffer)))?;
+            let bytes =
+                frame.buffer(ib.buffer).ok_or_else(|| fail(format!("index buffer: {} does not exist", ib.buffer)))?;
             let size = ib.index_type.size_bytes();
             let needed = ib.offset + (draw.first as u64 + draw.count as u64) * size;
             if needed > bytes.len() as u64 {
@@ -370,6 +379,16 @@ pub struct SetupBatch {
 }
 
 impl DrawGeometry<'_> {
+    /// Counts the draw and what its vertices cost before setup: vertices shaded, and the
+    /// ledger's `VertexFetch` (`vertices shaded × attribute bytes per vertex`) and `IndexFetch`
+    /// (`indices × index size`) of the geometry phase — the one call site for both backends.
+    pub fn record(&self, counters: &mut Counters, ledger: &mut Ledger) {
+        counters.draws += 1;
+        counters.vertices_shaded += self.vertices_shaded;
+        ledger.add(Category::VertexFetch, self.vertex_fetch_bytes);
+        ledger.add(Category::IndexFetch, self.index_fetch_bytes);
+    }
+
     /// The vertex slots of triangle `t`, provoking vertex first.
     #[inline]
     fn triangle_slots(&self, t: u32) -> [usize; 3] {

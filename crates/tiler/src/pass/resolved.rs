@@ -5,6 +5,7 @@ use crate::api::error::{Error, Result};
 use crate::api::image::Image;
 use crate::api::pipeline::MAX_COLOR_ATTACHMENTS;
 use crate::api::render_pass::{AttachmentOps, AttachmentRef, LoadOp, MAX_INPUT_ATTACHMENTS, ResolvedSubpass, StoreOp};
+use crate::geometry::PassFrame;
 use crate::pass::RenderPass;
 use crate::raster::PixelRect;
 
@@ -41,6 +42,11 @@ pub struct ResolvedPass {
 }
 
 impl ResolvedPass {
+    /// What the geometry phase needs of the pass around its draws.
+    pub fn frame<'a>(&self, buffers: &'a [Vec<u8>]) -> PassFrame<'a> {
+        PassFrame { width: self.width, height: self.height, render_area: self.render_area, buffers }
+    }
+
     /// Tile-buffer bytes per pixel: every attachment, every sample.
     pub fn tile_bytes_per_pixel(&self) -> u64 {
         self.attachments.iter().map(|a| a.format.bytes_per_sample() as u64 * self.samples as u64).sum()

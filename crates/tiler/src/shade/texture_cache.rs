@@ -2,7 +2,7 @@
 //!
 //! A set-associative cache with least-recently-used replacement, in front of every texture
 //! read of a shading task. The ledger's `TextureFetch` category is counted from it, once per
-//! task (`shade::pipeline`):
+//! task (`pixel::pipeline`):
 //!
 //! ```text
 //! TextureFetch bytes = cache misses × line size
