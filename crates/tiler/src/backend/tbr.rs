@@ -144,13 +144,13 @@ pub fn render(
                     }
                     // A primitive too large for an empty budget still goes in alone.
                     let k = i + fitting.max(1);
-                    let first = frame.primitives.len();
+                    let first = frame.primitives().len();
                     frame.append(&batch.primitives[i..k], &batch.varyings, index, varying_count);
                     bin(&mut frame, first, &samples, bands);
                     i = k;
                 }
             }
-            run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes.total());
+            run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes().total());
             run.frame_data.peak_host_bytes = run.frame_data.peak_host_bytes.max(frame.host_bytes());
             start = end;
         }
@@ -253,7 +253,7 @@ impl Run<'_> {
                 }
             }
         }
-        let grid = frame.grid;
+        let grid = frame.grid();
         let (tx0, ty0, tx1, ty1) = grid.tiles_meeting(&resolved.render_area);
 
         // Cut every image into bands of tile rows: bands[row][image] = sample slices (and the
@@ -306,7 +306,7 @@ impl Run<'_> {
             samples: self.samples,
             hsr: self.hsr,
             early_z: self.early_z,
-            vertex_shading: frame.vertex_shading,
+            vertex_shading: frame.vertex_shading(),
             overdraw: self.overdraw.is_some(),
             texture_cache: self.texture_cache,
             simd: self.simd,
@@ -341,7 +341,7 @@ impl Run<'_> {
                 t.bytes_stored += stats.bytes_stored;
             }
         }
-        self.ledger.add(Category::FrameDataWrite, frame.bytes.total());
+        self.ledger.add(Category::FrameDataWrite, frame.bytes().total());
         match kind {
             Flush::Incremental => self.counters.incremental_renders += 1,
             Flush::SubpassSplit => self.counters.subpass_splits += 1,

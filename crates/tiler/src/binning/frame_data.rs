@@ -81,15 +81,15 @@ impl FrameDataBytes {
 
 /// Primitive records, state records and polygon lists of the draws binned since the last flush.
 pub struct FrameData {
-    pub grid: TileGrid,
+    pub(super) grid: TileGrid,
     /// Where vertices are shaded, which decides the modelled record size.
-    pub vertex_shading: VertexShading,
-    pub primitives: Vec<Primitive>,
-    pub varyings: Vec<f32>,
-    pub states: Vec<StateRecord>,
+    pub(super) vertex_shading: VertexShading,
+    pub(super) primitives: Vec<Primitive>,
+    pub(super) varyings: Vec<f32>,
+    pub(super) states: Vec<StateRecord>,
     /// One polygon list per tile, row-major; entries are primitive indices in submission order.
-    pub lists: Vec<Vec<u32>>,
-    pub bytes: FrameDataBytes,
+    pub(super) lists: Vec<Vec<u32>>,
+    pub(super) bytes: FrameDataBytes,
     /// Modelled bytes it may hold before an incremental render (the device's
     /// `frame_data_budget`): the frame data says when it is full ([`FrameData::fitting`]).
     budget: u64,
@@ -107,6 +107,39 @@ impl FrameData {
             states: Vec::new(),
             bytes: FrameDataBytes::default(),
         }
+    }
+
+    pub fn grid(&self) -> TileGrid {
+        self.grid
+    }
+
+    /// Where vertices are shaded, which decides the modelled record size.
+    pub fn vertex_shading(&self) -> VertexShading {
+        self.vertex_shading
+    }
+
+    /// Every primitive record, in submission order.
+    pub fn primitives(&self) -> &[Primitive] {
+        &self.primitives
+    }
+
+    /// The varyings of every primitive's vertices (see [`FrameData::varyings_of`]).
+    pub fn varyings(&self) -> &[f32] {
+        &self.varyings
+    }
+
+    pub fn states(&self) -> &[StateRecord] {
+        &self.states
+    }
+
+    /// One polygon list per tile, row-major; entries are primitive indices in submission order.
+    pub fn lists(&self) -> &[Vec<u32>] {
+        &self.lists
+    }
+
+    /// Modelled bytes held now.
+    pub fn bytes(&self) -> FrameDataBytes {
+        self.bytes
     }
 
     pub fn is_empty(&self) -> bool {

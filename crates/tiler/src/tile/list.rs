@@ -15,8 +15,8 @@ fn draw_runs<'a>(list: &'a [u32], frame: &'a FrameData) -> impl Iterator<Item = 
     let mut start = 0;
     std::iter::from_fn(move || {
         let first = *list.get(start)?;
-        let state = frame.primitives[first as usize].state;
-        let count = list[start..].iter().take_while(|&&e| frame.primitives[e as usize].state == state).count();
+        let state = frame.primitives()[first as usize].state;
+        let count = list[start..].iter().take_while(|&&e| frame.primitives()[e as usize].state == state).count();
         let run = (start, count);
         start += count;
         Some(run)
@@ -32,9 +32,10 @@ pub fn render_in_order(
     tally: &mut FragmentTally,
 ) {
     for (first, count) in draw_runs(list, frame) {
-        let state = &frame.states[frame.primitives[list[first] as usize].state as usize];
+        let state = &frame.states()[frame.primitives()[list[first] as usize].state as usize];
         tally.draw = state.draw as usize;
-        let run = PrimitiveRun::entries(&frame.primitives, &frame.varyings, &list[first..first + count], first as u32);
+        let run =
+            PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[first..first + count], first as u32);
         draws[state.draw as usize].pipeline.object.rasterize(&run, target, tally, &mut Mode::InOrder);
     }
 }
@@ -51,9 +52,9 @@ pub fn render_hsr(
 ) {
     let mut segment: Option<usize> = None;
     for (i, count) in draw_runs(list, frame) {
-        let state = &frame.states[frame.primitives[list[i] as usize].state as usize];
+        let state = &frame.states()[frame.primitives()[list[i] as usize].state as usize];
         let pipeline = &draws[state.draw as usize].pipeline;
-        let run = PrimitiveRun::entries(&frame.primitives, &frame.varyings, &list[i..i + count], i as u32);
+        let run = PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[i..i + count], i as u32);
         tally.draw = state.draw as usize;
         match state.hsr {
             HsrMode::Deferred { claims } => {
@@ -93,7 +94,7 @@ fn shade_segment(
 ) {
     let shaded_before = tally.counters.fragments_shaded;
     let owners: Vec<u32> = visibility.owners_in(segment.start as u32, segment.len()).collect();
-    let state_of = |position: u32| frame.primitives[list[position as usize] as usize].state;
+    let state_of = |position: u32| frame.primitives()[list[position as usize] as usize].state;
     let mut k = 0;
     while k < owners.len() {
         let first = owners[k];
@@ -104,10 +105,10 @@ fn shade_segment(
         {
             count += 1;
         }
-        let state = &frame.states[state_of(first) as usize];
+        let state = &frame.states()[state_of(first) as usize];
         tally.draw = state.draw as usize;
         let entries = &list[first as usize..first as usize + count];
-        let run = PrimitiveRun::entries(&frame.primitives, &frame.varyings, entries, first);
+        let run = PrimitiveRun::entries(frame.primitives(), frame.varyings(), entries, first);
         let pipeline = &draws[state.draw as usize].pipeline;
         pipeline.object.rasterize(&run, target, tally, &mut Mode::Shade { visibility });
         k += count;

@@ -69,7 +69,7 @@ pub(crate) fn render_band<'a>(
     columns: std::ops::RangeInclusive<u32>,
 ) -> BandResult {
     let resolved = plan.resolved;
-    let grid = frame.grid;
+    let grid = frame.grid();
     let band_y0 = (ty * grid.tile_height) as i32;
     let formats = resolved
         .attachments
@@ -103,7 +103,7 @@ pub(crate) fn render_band<'a>(
         if rect.is_empty() {
             continue;
         }
-        let list = &frame.lists[grid.index(tx, ty)];
+        let list = &frame.lists()[grid.index(tx, ty)];
         if untouched_fast && list.is_empty() {
             let mut stats = TileStats::default();
             let mut resolve_bytes = 0;
@@ -209,7 +209,7 @@ fn frame_data_read(frame: &FrameData, list: &[u32]) -> u64 {
     let mut bytes = list.len() as u64 * POLYGON_LIST_ENTRY_BYTES;
     let mut last_state = u32::MAX;
     for &entry in list {
-        let primitive = &frame.primitives[entry as usize];
+        let primitive = &frame.primitives()[entry as usize];
         if primitive.state != last_state {
             bytes += STATE_RECORD_BYTES;
             last_state = primitive.state;
@@ -286,8 +286,8 @@ fn render_tile(
         worker.tile_vertices.clear();
         let mut bytes = 0;
         for &entry in list {
-            let primitive = &frame.primitives[entry as usize];
-            let state = &frame.states[primitive.state as usize];
+            let primitive = &frame.primitives()[entry as usize];
+            let state = &frame.states()[primitive.state as usize];
             for id in primitive.vertex_ids {
                 if worker.tile_vertices.insert((state.draw, id)) {
                     bytes += state.fetch_bytes_per_vertex;
