@@ -13,14 +13,14 @@
 use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
-use super::{Backend, FrameDataReport, PassReport};
+use super::{Backend, FrameDataReport, PassReport, PassTotals};
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::config::DeviceConfig;
 use crate::geometry::prepare_draw;
+use crate::ledger::Category;
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::framebuffer::FramebufferTraffic;
-use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
 use crate::pass::RenderPass;
 use crate::pixel::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::PixelRect;
@@ -134,9 +134,9 @@ pub fn render(
         bands.push(Band { surfaces, resolves, clip, tally });
     }
 
-    let mut counters = Counters::default();
-    let mut ledger = Ledger::default();
-    let mut draws = vec![DrawStats::default(); pass.draws.len()];
+    let pixels = resolved.width as usize * resolved.height as usize;
+    let mut totals = PassTotals::new(pass.draws.len(), config.overdraw_map.then_some(pixels));
+    let PassTotals { counters, ledger, draws, .. } = &mut totals;
 
     // Load ops act on the images themselves: a clear writes the render area.
     let cleared: u64 = bands
@@ -151,7 +151,7 @@ pub fn render(
 
     for (draw_index, draw) in pass.draws.iter().enumerate() {
         let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
-        geometry.record(&mut counters, &mut ledger);
+        geometry.record(counters, ledger);
         let batches = geometry.setup(0..geometry.triangles, &samples, 0);
         for batch in &batches {
             counters.merge(&batch.counters);
@@ -187,16 +187,8 @@ pub fn render(
         })
         .sum();
     ledger.add(Category::Resolve, resolved_bytes);
-    let mut on_chip_bytes = 0;
-    let mut overdraw_map = config.overdraw_map.then(|| vec![0u16; resolved.width as usize * resolved.height as usize]);
     for band in &bands {
-        if let (Some(map), Some(rows)) = (overdraw_map.as_mut(), band.tally.overdraw.as_ref()) {
-            rows.add_to(map);
-        }
-        counters.merge(&band.tally.counters);
-        ledger.merge(&band.tally.ledger);
-        merge_draw_stats(&mut draws, &band.tally.draws);
-        on_chip_bytes += band.tally.framebuffer.on_chip_bytes;
+        totals.add_tally(&band.tally);
     }
 
     Ok(PassReport {
@@ -210,14 +202,14 @@ pub fn render(
         tile_bytes: 0,
         tiles_x: 0,
         tiles_y: 0,
-        ledger,
-        on_chip_bytes,
+        ledger: totals.ledger,
+        on_chip_bytes: totals.on_chip_bytes,
         transaction_elimination_saved: 0,
         transient_bytes_saved: 0,
-        overdraw_map,
-        counters,
+        overdraw_map: totals.overdraw,
+        counters: totals.counters,
         frame_data: FrameDataReport::default(),
         tiles: Vec::new(),
-        draws,
+        draws: totals.draws,
     })
 }

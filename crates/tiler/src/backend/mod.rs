@@ -19,8 +19,44 @@ pub mod tbr;
 use serde::Serialize;
 
 pub use crate::config::Backend;
-use crate::ledger::{Counters, DrawStats, Ledger, TileStats};
+use crate::ledger::{Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
+use crate::pixel::primitive::FragmentTally;
 use crate::simd::SimdSupport;
+
+/// What a pass did and moved, summed over its fragment tasks (bands of tiles or of rows) in a
+/// fixed order: the one place both backends merge their tasks' counts.
+pub(crate) struct PassTotals {
+    pub counters: Counters,
+    pub ledger: Ledger,
+    pub draws: Vec<DrawStats>,
+    /// Bytes moved on chip (tile buffer, framebuffer cache hits).
+    pub on_chip_bytes: u64,
+    /// Fragments shaded per pixel, when an overdraw map is wanted.
+    pub overdraw: Option<Vec<u16>>,
+}
+
+impl PassTotals {
+    pub fn new(draws: usize, overdraw_pixels: Option<usize>) -> PassTotals {
+        PassTotals {
+            counters: Counters::default(),
+            ledger: Ledger::default(),
+            draws: vec![DrawStats::default(); draws],
+            on_chip_bytes: 0,
+            overdraw: overdraw_pixels.map(|pixels| vec![0; pixels]),
+        }
+    }
+
+    /// Adds what one fragment task did.
+    pub fn add_tally(&mut self, tally: &FragmentTally) {
+        if let (Some(map), Some(rows)) = (self.overdraw.as_mut(), tally.overdraw.as_ref()) {
+            rows.add_to(map);
+        }
+        self.counters.merge(&tally.counters);
+        self.ledger.merge(&tally.ledger);
+        merge_draw_stats(&mut self.draws, &tally.draws);
+        self.on_chip_bytes += tally.framebuffer.on_chip_bytes;
+    }
+}
 
 /// How a device runs a pass, beyond its configuration: not part of the model (every choice
 /// gives the same image and counters).

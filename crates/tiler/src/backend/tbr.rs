@@ -23,7 +23,7 @@
 use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, data_bands};
-use super::{Backend, FrameDataReport, PassReport, Workers};
+use super::{Backend, FrameDataReport, PassReport, PassTotals, Workers};
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::image::TileSignatures;
@@ -34,7 +34,7 @@ use crate::binning::grid::TileGrid;
 use crate::config::DeviceConfig;
 use crate::depth::hsr::{HsrMode, Visibility};
 use crate::geometry::prepare_draw;
-use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
+use crate::ledger::{Category, TileStats};
 use crate::pass::{Draw, RenderPass};
 use crate::raster::samples::SampleLocations;
 use crate::shade::texture_cache::TextureCacheConfig;
@@ -77,23 +77,20 @@ pub fn render(
     let frame_info = resolved.frame(buffers);
     let mut memory = attachment_images(images, resolved);
     let mut frame = FrameData::new(grid, config.vertex_shading, config.frame_data_budget);
+    let pixels = resolved.width as usize * resolved.height as usize;
     let mut run = Run {
         resolved,
         pass_draws: &pass.draws,
         samples,
         hsr,
         early_z: config.early_z,
-        counters: Counters::default(),
-        ledger: Ledger::default(),
+        totals: PassTotals::new(pass.draws.len(), config.overdraw_map.then_some(pixels)),
         tiles: vec![TileStats::default(); grid.tile_count()],
-        draws: vec![DrawStats::default(); pass.draws.len()],
         frame_data: FrameDataReport::default(),
-        on_chip_bytes: 0,
         transaction_elimination: config.transaction_elimination,
         transaction_elimination_saved: 0,
         texture_cache: config.texture_cache,
         simd: workers.simd,
-        overdraw: config.overdraw_map.then(|| vec![0; resolved.width as usize * resolved.height as usize]),
         flushes: 0,
         scratch: resolved.attachments.iter().map(|_| None).collect(),
     };
@@ -112,7 +109,7 @@ pub fn render(
             subpass = draw_subpass;
         }
         let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
-        geometry.record(&mut run.counters, &mut run.ledger);
+        geometry.record(&mut run.totals.counters, &mut run.totals.ledger);
         let varying_count = geometry.vertices.varying_count;
         let state = StateRecord {
             draw: draw_index as u32,
@@ -128,8 +125,8 @@ pub fn render(
             let end = (start + BIN_CHUNK).min(geometry.triangles);
             let batches = geometry.setup(start..end, &samples, 0);
             for batch in &batches {
-                run.counters.merge(&batch.counters);
-                run.draws[draw_index].primitives += batch.counters.primitives;
+                run.totals.counters.merge(&batch.counters);
+                run.totals.draws[draw_index].primitives += batch.counters.primitives;
                 // Append the longest run of primitives the frame data says surely fits its
                 // budget; render it (an incremental render) when it is full.
                 let mut i = 0;
@@ -177,15 +174,15 @@ pub fn render(
         tile_bytes: tile_width as u64 * tile_height as u64 * resolved.tile_bytes_per_pixel(),
         tiles_x: grid.tiles_x,
         tiles_y: grid.tiles_y,
-        ledger: run.ledger,
-        on_chip_bytes: run.on_chip_bytes,
+        ledger: run.totals.ledger,
+        on_chip_bytes: run.totals.on_chip_bytes,
         transaction_elimination_saved: run.transaction_elimination_saved,
         transient_bytes_saved,
-        overdraw_map: run.overdraw,
-        counters: run.counters,
+        overdraw_map: run.totals.overdraw,
+        counters: run.totals.counters,
         frame_data: run.frame_data,
         tiles: run.tiles,
-        draws: run.draws,
+        draws: run.totals.draws,
     })
 }
 
@@ -212,17 +209,13 @@ struct Run<'a> {
     samples: SampleLocations,
     hsr: bool,
     early_z: bool,
-    counters: Counters,
-    ledger: Ledger,
+    totals: PassTotals,
     tiles: Vec<TileStats>,
-    draws: Vec<DrawStats>,
     frame_data: FrameDataReport,
-    on_chip_bytes: u64,
     transaction_elimination: bool,
     transaction_elimination_saved: u64,
     texture_cache: TextureCacheConfig,
     simd: crate::simd::SimdSupport,
-    overdraw: Option<Vec<u16>>,
     flushes: u64,
     /// Spill memory for transient attachments, made at their first incremental render.
     scratch: Vec<Option<Image>>,
@@ -307,7 +300,7 @@ impl Run<'_> {
             hsr: self.hsr,
             early_z: self.early_z,
             vertex_shading: frame.vertex_shading(),
-            overdraw: self.overdraw.is_some(),
+            overdraw: self.totals.overdraw.is_some(),
             texture_cache: self.texture_cache,
             simd: self.simd,
         };
@@ -324,15 +317,10 @@ impl Run<'_> {
             )
             .collect();
         for band in results {
-            self.on_chip_bytes += band.tally.framebuffer.on_chip_bytes + band.on_chip_bytes;
+            self.totals.add_tally(&band.tally);
+            self.totals.on_chip_bytes += band.on_chip_bytes;
+            self.totals.ledger.merge(&band.ledger);
             self.transaction_elimination_saved += band.eliminated_bytes;
-            if let (Some(map), Some(rows)) = (self.overdraw.as_mut(), band.tally.overdraw.as_ref()) {
-                rows.add_to(map);
-            }
-            self.counters.merge(&band.tally.counters);
-            self.ledger.merge(&band.tally.ledger);
-            self.ledger.merge(&band.ledger);
-            merge_draw_stats(&mut self.draws, &band.tally.draws);
             for (index, stats) in band.tiles {
                 let t = &mut self.tiles[index];
                 t.list_entries += stats.list_entries;
@@ -341,10 +329,10 @@ impl Run<'_> {
                 t.bytes_stored += stats.bytes_stored;
             }
         }
-        self.ledger.add(Category::FrameDataWrite, frame.bytes().total());
+        self.totals.ledger.add(Category::FrameDataWrite, frame.bytes().total());
         match kind {
-            Flush::Incremental => self.counters.incremental_renders += 1,
-            Flush::SubpassSplit => self.counters.subpass_splits += 1,
+            Flush::Incremental => self.totals.counters.incremental_renders += 1,
+            Flush::SubpassSplit => self.totals.counters.subpass_splits += 1,
             Flush::Final => {}
         }
         self.flushes += 1;
