@@ -202,6 +202,23 @@ impl FrameData {
         (self.states.len() - 1) as u32
     }
 
+    /// Modelled bytes a tile reads of its polygon `list`: its entries, the record of each
+    /// primitive they name, and a state record at each change of state along the list (the
+    /// ledger's `FrameDataRead`, counted by the tile task).
+    pub fn bytes_read_by(&self, list: &[u32]) -> u64 {
+        let mut bytes = list.len() as u64 * POLYGON_LIST_ENTRY_BYTES;
+        let mut last_state = u32::MAX;
+        for &entry in list {
+            let primitive = &self.primitives[entry as usize];
+            if primitive.state != last_state {
+                bytes += STATE_RECORD_BYTES;
+                last_state = primitive.state;
+            }
+            bytes += self.primitive_bytes(primitive);
+        }
+        bytes
+    }
+
     /// Modelled bytes of a primitive record.
     pub fn primitive_bytes(&self, primitive: &Primitive) -> u64 {
         record_bytes(self.states[primitive.state as usize].varying_count as usize, self.vertex_shading)

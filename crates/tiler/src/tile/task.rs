@@ -2,7 +2,7 @@
 //! resolve — and what it moved. Backends decide the order of work (`backend::tbr` bins and
 //! flushes); every tile of every flush goes through [`render_band`].
 
-use crate::binning::frame_data::{FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES};
+use crate::binning::frame_data::FrameData;
 use crate::depth::hsr::Visibility;
 use crate::geometry::VertexShading;
 use crate::ledger::{Category, Ledger, TileStats};
@@ -203,22 +203,6 @@ fn finish_tile(
     result.tiles.push((index, stats));
 }
 
-/// Frame data a tile reads: its polygon-list entries, the record of each primitive they
-/// name, and a state record at each change of state along the list.
-fn frame_data_read(frame: &FrameData, list: &[u32]) -> u64 {
-    let mut bytes = list.len() as u64 * POLYGON_LIST_ENTRY_BYTES;
-    let mut last_state = u32::MAX;
-    for &entry in list {
-        let primitive = &frame.primitives()[entry as usize];
-        if primitive.state != last_state {
-            bytes += STATE_RECORD_BYTES;
-            last_state = primitive.state;
-        }
-        bytes += frame.primitive_bytes(primitive);
-    }
-    bytes
-}
-
 /// One tile to render: its column, its index in the grid, its rectangle, the part of it inside
 /// the render area, and its polygon list.
 struct TileJob<'f> {
@@ -280,7 +264,7 @@ fn render_tile(
         }
         start += run;
     }
-    let frame_data_read = frame_data_read(frame, list);
+    let frame_data_read = frame.bytes_read_by(list);
     if plan.vertex_shading == VertexShading::PerTile {
         // Position-only binning: the tile fetches and shades each vertex it uses again.
         worker.tile_vertices.clear();
