@@ -30,7 +30,7 @@ pub struct Draw {
 
 impl Draw {
     /// What the geometry phase reads of this draw.
-    pub fn geometry_input(&self) -> DrawInput<'_> {
+    pub(crate) fn geometry_input(&self) -> DrawInput<'_> {
         DrawInput {
             desc: self.pipeline.desc(),
             vertex: &*self.pipeline.object,

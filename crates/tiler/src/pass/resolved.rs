@@ -43,7 +43,7 @@ pub struct ResolvedPass {
 
 impl ResolvedPass {
     /// What the geometry phase needs of the pass around its draws.
-    pub fn frame<'a>(&self, buffers: &'a [Vec<u8>]) -> PassFrame<'a> {
+    pub(crate) fn frame<'a>(&self, buffers: &'a [Vec<u8>]) -> PassFrame<'a> {
         PassFrame { width: self.width, height: self.height, render_area: self.render_area, buffers }
     }
 
