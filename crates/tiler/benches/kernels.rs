@@ -10,7 +10,7 @@
 //!   bounding box, as the pixel pipeline walks it: classify the block (outside / partial /
 //!   full), then a coverage mask per sample of the partial ones. Small (16 px) and large
 //!   (128 px) triangles at one sample, small ones at 4×. Throughput in blocks visited.
-//! - `shade`: `raster::primitive::rasterize` — coverage, early-Z, shading of 4×2 groups,
+//! - `shade`: `pixel::primitive::rasterize` — coverage, early-Z, shading of 4×2 groups,
 //!   colour writes — of 400 triangles (32 px across, overdraw ≈ 2) over a 256×256 target cut
 //!   into 32×32 tiles of a `TileBuffer`, each tile cleared first and given only the
 //!   triangles whose box meets it (no binning, no store). `flat`: provoking-vertex colour into
@@ -33,21 +33,16 @@ use criterion::{
     BenchmarkGroup, Criterion, SamplingMode, Throughput, criterion_group, criterion_main, measurement::WallTime,
 };
 use glam::Vec4;
-use tiler::binning::frame_data::Primitive;
-use tiler::geometry::setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
-use tiler::raster::PixelRect;
-use tiler::raster::coverage::{BLOCK_SIZE, BlockCoverage, PrimitiveCoverage, block_rect_mask};
-use tiler::raster::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
-use tiler::raster::samples::SampleLocations;
-use tiler::tile::buffer::TileBuffer;
-use tiler::tile::grid::TileGrid;
-use tiler::tile::load_store::{AttachmentOps, apply_load, apply_resolve, apply_store};
-use tiler::tile::target::{RenderTarget, Surface};
+use tiler::__bench::{
+    AttachmentOps, BLOCK_SIZE, BlockCoverage, FragmentTally, Mode, PixelRect, Primitive, PrimitiveCoverage,
+    PrimitiveRun, RenderTarget, SampleLocations, SetupOutcome, SetupParams, Surface, TileBuffer, TileGrid,
+    ViewportTransform, apply_load, apply_resolve, apply_store, block_rect_mask, rasterize, setup_triangle,
+};
 use tiler::{
     ColorAttachment, CullMode, DepthStencilAttachment, DepthStencilState, Device, DeviceConfig, Draw, F32x8, Format,
     FragmentShader, Fragments, FrontFace, ImageDesc, Interpolation, LoadOp, MAX_COLOR_ATTACHMENTS, Pipeline,
-    PipelineDesc, RenderPass, RenderPassDesc, SimdLevel, StoreOp, VertexFormat, VertexInput, VertexInputState,
-    VertexOutput, VertexShader, Viewport,
+    PipelineDesc, RenderPass, RenderPassDesc, SimdLevel, SimdSupport, StoreOp, VertexFormat, VertexInput,
+    VertexInputState, VertexOutput, VertexShader, Viewport,
 };
 
 /// A group with short measurements, so the whole bench runs in a couple of minutes.
@@ -301,11 +296,12 @@ impl TiledScene {
     }
 }
 
-/// [`TiledScene::render`] compiled for AVX2 and FMA, as the crate's pipeline object compiles
-/// `rasterize` (`shade::pipeline`; a closure would not do, it would stay baseline code).
+/// [`TiledScene::render`] compiled for AVX2, as the crate's pipeline object compiles
+/// `rasterize` (`pixel::pipeline`; a closure would not do, it would stay baseline code).
 ///
 /// # Safety
-/// The processor must have AVX2 and FMA (`SimdLevel::Avx2.is_available()`).
+/// The processor must have every feature of `tiler::simd::AVX2_FEATURES` (a `SimdSupport` of
+/// level `Avx2` is the proof).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 unsafe fn render_avx2<F: FragmentShader>(
@@ -322,14 +318,15 @@ fn render_scene<F: FragmentShader>(
     scene: &mut TiledScene,
     shader: &F,
     desc: &PipelineDesc,
-    simd: SimdLevel,
+    simd: SimdSupport,
 ) -> FragmentTally {
     let mut tally = FragmentTally::default();
     tally.simd = simd;
-    match simd {
+    match simd.level() {
         #[cfg(target_arch = "x86_64")]
         SimdLevel::Avx2 => {
-            // SAFETY: the bench runs `Avx2` only when `SimdLevel::Avx2.is_available()`.
+            // SAFETY: `simd` was detected on this processor (`SimdSupport::detect`), which
+            // checks every feature `render_avx2` is compiled with.
             unsafe { render_avx2(scene, shader, desc, &mut tally) }
         }
         _ => scene.render(shader, desc, &mut tally),
@@ -348,14 +345,11 @@ fn shade_case<F: FragmentShader + Copy>(
     let pipeline = shade_pipeline(shader, depth);
     let desc = pipeline.desc();
     let mut scene = TiledScene::new(triangles, depth);
-    let mut levels = vec![SimdLevel::Baseline];
-    if SimdLevel::Avx2.is_available() {
-        levels.push(SimdLevel::Avx2);
-    }
+    let levels = [SimdLevel::Baseline, SimdLevel::Avx2].into_iter().filter_map(SimdSupport::detect);
     for simd in levels {
         let fragments = render_scene(&mut scene, &shader, desc, simd).counters.fragments_rasterized;
         group.throughput(Throughput::Elements(fragments));
-        group.bench_function(format!("{name}_{simd}"), |b| {
+        group.bench_function(format!("{name}_{}", simd.level()), |b| {
             b.iter(|| render_scene(&mut scene, &shader, desc, simd).counters.fragments_shaded)
         });
     }

@@ -7,7 +7,7 @@
 //! neighbouring groups that a rasterizer gives it.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use tiler::shade::texture_cache::TextureCache;
+use tiler::__bench::TextureCache;
 use tiler::simd::{LANE_DX, LANE_DY};
 use tiler::{ColorSpace, F32x8, LaneMask, MipChain, Sampler, Texture};
 

@@ -9,9 +9,10 @@
 //!  geometry phase (`geometry`): fetch → vertex shader → assemble → clip → cull → viewport
 //!      → triangle setup in fixed point → BINNING (`binning`) into FRAME DATA
 //!      │   (polygon lists per tile + primitive and state records; it has a budget)
-//!  tile phase (`tile`, `raster`, `depth`, `shade`, `blend`), one tile at a time, in parallel:
-//!      load op → rasterize the tile's list (coverage per sample, early-Z) → shade 2×2 quads
-//!      → blend in the tile buffer → store op
+//!  tile phase (`tile::task`), one tile at a time, in parallel: load op → the tile's list by
+//!      draw through the pixel pipeline (`pixel`: coverage per sample from `raster`, early-Z
+//!      or HSR from `depth`, 2×2 quads shaded by `shade`, `blend` in the tile buffer)
+//!      → store op → resolve
 //!      │
 //!  external memory: images and buffers, and the LEDGER (`ledger`) of every byte moved
 //! ```
@@ -19,6 +20,11 @@
 //! Backends (`backend`): `Tbr` (the above) and `Imr` (immediate mode: the same primitives in
 //! submission order, straight into the images). For one input every backend, tile size and
 //! thread count gives the same image, bit for bit; only the counters differ.
+//!
+//! The top-level modules import each other only downwards, in data-flow order (`simd`,
+//! `ledger`, `api` at the bottom; `backend`, `device` at the top): the `layers` test fails on
+//! a cycle, and `cargo run -p tiler --example module-graph` prints the graph with the site of
+//! every import.
 //!
 //! Textures (`shade::texture`: RGBA8 with mip chains, nearest/bilinear/trilinear filtering,
 //! repeat/clamp/mirror wraps) are fields of shader values; [`Fragments::sample`] reads them with
@@ -66,41 +72,53 @@
 //! assert_eq!(&device.read_rgba8(color).unwrap()[..4], &[255, 0, 0, 255]);
 //! ```
 
+#[doc(hidden)]
+pub mod __bench;
 pub mod api;
 pub mod backend;
 pub mod binning;
-pub mod blend;
-pub mod depth;
+pub(crate) mod blend;
+pub mod config;
+pub(crate) mod depth;
+pub mod device;
 pub mod frame;
-pub mod geometry;
+pub(crate) mod geometry;
 pub mod ledger;
-pub mod raster;
+pub(crate) mod pass;
+pub(crate) mod pixel;
+pub(crate) mod raster;
 pub mod shade;
 pub mod simd;
-pub mod tile;
+pub(crate) mod tile;
 
 pub use api::buffer::BufferId;
-pub use api::device::{Device, DeviceConfig, VertexShading};
 pub use api::error::{Error, Result};
 pub use api::format::{ColorWrites, Format};
 pub use api::image::{ImageDesc, ImageId, MAX_IMAGE_BYTES, MAX_IMAGE_DIMENSION};
 pub use api::pipeline::{
     BlendComponent, BlendFactor, BlendOp, BlendState, ColorTargetState, CompareOp, CullMode, DepthStencilState,
-    FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES, Pipeline, PipelineDesc,
+    FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES, PipelineDesc,
     StencilFaceState, StencilOp, Topology, VertexAttribute, VertexBinding, VertexFormat, VertexInputState,
 };
-pub use api::preset::DevicePreset;
 pub use api::render_pass::{
-    AttachmentRef, ColorAttachment, DepthStencilAttachment, Draw, IndexBufferBinding, IndexType, LoadOp, Rect,
-    RenderPass, RenderPassDesc, StoreOp, SubpassDependency, SubpassDesc, VertexBufferBinding, Viewport,
+    AttachmentRef, ColorAttachment, DepthStencilAttachment, IndexBufferBinding, IndexType, LoadOp,
+    MAX_INPUT_ATTACHMENTS, Rect, RenderPassDesc, StoreOp, SubpassDependency, SubpassDesc, VertexBufferBinding,
+    Viewport,
 };
-pub use api::shader::{FragmentShader, Fragments, ShaderProperties, VertexInput, VertexOutput, VertexShader};
-pub use backend::{Backend, PassReport};
+pub use api::shader::{ShaderProperties, VertexInput, VertexOutput, VertexShader};
+pub use backend::PassReport;
+pub use config::Backend;
+pub use config::{DeviceConfig, preset::DevicePreset};
+pub use device::Device;
 pub use frame::FrameCost;
+pub use geometry::VertexShading;
 pub use ledger::cache::CacheConfig;
 pub use ledger::display::DisplayModel;
 pub use ledger::energy::{EnergyEstimate, EnergyModel};
 pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
+pub use pass::{Draw, RenderPass};
+pub use pixel::Pipeline;
+pub use shade::fragments::{FragmentShader, Fragments};
 pub use shade::texture::{ColorSpace, Filter, MipChain, MipmapMode, Sampler, Texture, Wrap};
 pub use shade::texture_cache::TextureCacheConfig;
-pub use simd::{F32x8, LaneMask, SimdLevel, Vec4x8};
+pub use simd::{F32x8, LaneMask, SimdLevel, SimdSupport, Vec4x8};

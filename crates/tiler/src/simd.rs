@@ -22,29 +22,40 @@ use std::ops::{Add, AddAssign, BitAnd, Div, Mul, MulAssign, Neg, Sub, SubAssign}
 /// level and the device picks one at run time; every level computes exactly the same values
 /// (plain IEEE operations, no fused multiply-add: Rust never contracts `a * b + c`), which
 /// tests hold bit for bit.
+///
+/// A level is a request: code runs at a level only through a [`SimdSupport`], which only
+/// detection on this processor can make.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum SimdLevel {
     /// The target's baseline (SSE2 on x86-64).
     #[default]
     Baseline,
-    /// x86-64 with AVX2 and FMA: eight `f32` lanes in one register.
+    /// x86-64 with every feature of [`AVX2_FEATURES`]: eight `f32` lanes in one register.
     Avx2,
 }
+
+/// The processor features the `Avx2` pipeline is compiled with. Every
+/// `#[target_feature(enable = …)]` of the crate names exactly these (a test reads the sources
+/// to hold it), and [`SimdSupport::detect`] checks every one of them.
+pub const AVX2_FEATURES: [&str; 6] = ["avx2", "fma", "bmi1", "bmi2", "lzcnt", "popcnt"];
 
 impl SimdLevel {
     /// The best level this processor runs.
     pub fn best() -> SimdLevel {
-        if SimdLevel::Avx2.is_available() { SimdLevel::Avx2 } else { SimdLevel::Baseline }
+        SimdSupport::best().level()
     }
 
-    /// Whether this processor runs code of this level.
+    /// Whether this processor runs code of this level (every feature the level's code is
+    /// compiled with).
     pub fn is_available(self) -> bool {
+        SimdSupport::detect(self).is_some()
+    }
+
+    /// The features code of this level is compiled with, beyond the target's baseline.
+    pub fn features(self) -> &'static [&'static str] {
         match self {
-            SimdLevel::Baseline => true,
-            #[cfg(target_arch = "x86_64")]
-            SimdLevel::Avx2 => is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
-            #[cfg(not(target_arch = "x86_64"))]
-            SimdLevel::Avx2 => false,
+            SimdLevel::Baseline => &[],
+            SimdLevel::Avx2 => &AVX2_FEATURES,
         }
     }
 
@@ -53,6 +64,65 @@ impl SimdLevel {
             SimdLevel::Baseline => "baseline",
             SimdLevel::Avx2 => "avx2",
         }
+    }
+}
+
+/// Proof that this processor runs the code of a SIMD level: what the pixel pipeline takes to
+/// choose its instruction set. Sound by construction: its field is private, and the only
+/// constructors are the baseline and [`SimdSupport::detect`], which checks on this processor
+/// every feature the level's code is compiled with ([`SimdLevel::features`]). So the
+/// `unsafe` calls into `#[target_feature]` code need no promise from any caller.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct SimdSupport {
+    level: SimdLevel,
+}
+
+impl SimdSupport {
+    /// The target's baseline, which every processor of the target runs.
+    pub const BASELINE: SimdSupport = SimdSupport { level: SimdLevel::Baseline };
+
+    /// `level`, if this processor has every feature its code is compiled with.
+    pub fn detect(level: SimdLevel) -> Option<SimdSupport> {
+        SimdSupport::detect_with(level, processor_has)
+    }
+
+    /// The best level this processor runs.
+    pub fn best() -> SimdSupport {
+        SimdSupport::detect(SimdLevel::Avx2).unwrap_or(SimdSupport::BASELINE)
+    }
+
+    /// [`SimdSupport::detect`] over a given answer to "does the processor have this feature".
+    fn detect_with(level: SimdLevel, has: impl Fn(&str) -> bool) -> Option<SimdSupport> {
+        let possible = match level {
+            SimdLevel::Baseline => true,
+            SimdLevel::Avx2 => cfg!(target_arch = "x86_64"),
+        };
+        (possible && level.features().iter().all(|f| has(f))).then_some(SimdSupport { level })
+    }
+
+    pub fn level(self) -> SimdLevel {
+        self.level
+    }
+}
+
+/// Whether this processor has a feature of [`AVX2_FEATURES`] (`false` for any other name).
+fn processor_has(feature: &str) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        match feature {
+            "avx2" => std::arch::is_x86_feature_detected!("avx2"),
+            "fma" => std::arch::is_x86_feature_detected!("fma"),
+            "bmi1" => std::arch::is_x86_feature_detected!("bmi1"),
+            "bmi2" => std::arch::is_x86_feature_detected!("bmi2"),
+            "lzcnt" => std::arch::is_x86_feature_detected!("lzcnt"),
+            "popcnt" => std::arch::is_x86_feature_detected!("popcnt"),
+            _ => false,
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = feature;
+        false
     }
 }
 
@@ -237,15 +307,18 @@ impl F32x8 {
 
     /// Lane-wise UNORM conversion `round_half_up(clamp(v, 0, 1) · max)` (NaN gives 0), for
     /// `max < 2^24`: exactly `api::format::unorm` of each lane, in a form that vectorises.
+    /// Defined for every input: `max` is clamped to `[0, 2^24]` (NaN to 0) first.
     #[inline(always)]
     pub fn unorm(self, max: f32) -> [i32; LANES] {
-        debug_assert!((0.0..16_777_216.0).contains(&max));
+        // Once per call, not per lane; the identity for every `max` callers pass.
+        let max = if max > 0.0 { max.min(16_777_216.0) } else { 0.0 };
         std::array::from_fn(|i| {
             let v = self.0[i];
             let v = if v > 0.0 { v.min(1.0) } else { 0.0 };
             let scaled = v * max + 0.5;
-            // SAFETY: `v` is in [0, 1] (the comparison sends NaN to 0), so `scaled` is finite
-            // and in [0.5, max + 0.5] ⊂ [0, 2^24], where truncation to i32 is defined. The
+            // SAFETY: `v` is in [0, 1] (the comparison sends NaN to 0) and `max` in [0, 2^24]
+            // (clamped above, NaN to 0), so `scaled` is finite and in [0.5, 2^24 + 0.5], where
+            // truncation to i32 is defined — for every caller, whatever it passes. The
             // saturating `as` does not vectorise on x86-64 and made colour packing scalar
             // (tris scene: write_color went from 179M to 78M instructions per 100K triangles).
             unsafe { scaled.to_int_unchecked::<i32>() }
@@ -487,6 +560,32 @@ mod tests {
             assert_eq!(floor(a), a.floor(), "{a}");
         }
         assert!(floor(f32::NAN).is_nan());
+    }
+
+    #[test]
+    fn unorm_is_defined_for_every_input() {
+        let v = F32x8([f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30, 0.5, 1.0, 0.0]);
+        assert_eq!(v.unorm(255.0), [0, 255, 0, 255, 0, 128, 255, 0]);
+        assert_eq!(v.unorm(65535.0), [0, 65535, 0, 65535, 0, 32768, 65535, 0]);
+        // Out-of-contract scales are clamped, never undefined.
+        let top = 16_777_216;
+        assert_eq!(v.unorm(f32::INFINITY), [0, top, 0, top, 0, top / 2, top, 0]);
+        assert_eq!(v.unorm(1e30), [0, top, 0, top, 0, top / 2, top, 0]);
+        assert_eq!(v.unorm(f32::NAN), [0; LANES]);
+        assert_eq!(v.unorm(-5.0), [0; LANES]);
+    }
+
+    #[test]
+    fn avx2_needs_every_feature_it_is_compiled_with() {
+        for missing in AVX2_FEATURES {
+            let found = SimdSupport::detect_with(SimdLevel::Avx2, |f| f != missing);
+            assert_eq!(found, None, "AVX2 granted without {missing}");
+        }
+        let all = SimdSupport::detect_with(SimdLevel::Avx2, |_| true);
+        assert_eq!(all.map(SimdSupport::level), cfg!(target_arch = "x86_64").then_some(SimdLevel::Avx2));
+        assert_eq!(SimdSupport::detect_with(SimdLevel::Baseline, |_| false), Some(SimdSupport::BASELINE));
+        assert_eq!(SimdSupport::best().level(), SimdLevel::best());
+        assert_eq!(SimdLevel::Avx2.is_available(), AVX2_FEATURES.iter().all(|f| processor_has(f)));
     }
 
     #[test]

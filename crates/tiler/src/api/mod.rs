@@ -2,11 +2,9 @@
 //! images and buffers owned by a device, pipelines, render passes, submission.
 
 pub mod buffer;
-pub mod device;
 pub mod error;
 pub mod format;
 pub mod image;
 pub mod pipeline;
-pub mod preset;
 pub mod render_pass;
 pub mod shader;

@@ -2,14 +2,10 @@
 //! all plain data with named presets (Vulkan's graphics pipeline, without dynamic dispatch per
 //! fragment: the shaders are monomorphised into the pixel loop).
 
-use std::sync::Arc;
-
 use serde::{Deserialize, Serialize};
 
 use super::error::{Error, Result};
 use super::format::ColorWrites;
-use super::shader::{FragmentShader, VertexShader};
-use crate::shade::pipeline::{PipelineObject, Shaders};
 
 /// The most colour attachments a subpass may write.
 pub const MAX_COLOR_ATTACHMENTS: usize = 4;
@@ -426,7 +422,7 @@ impl PipelineDesc {
         }
     }
 
-    fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         let what = || format!("pipeline '{}'", self.label);
         if self.varyings.len() > MAX_VARYINGS {
             return Err(Error::invalid(what(), format!("{} varyings, at most {MAX_VARYINGS}", self.varyings.len())));
@@ -477,36 +473,5 @@ impl PipelineDesc {
             return Err(Error::invalid(what(), "the blend constant is not finite"));
         }
         Ok(())
-    }
-}
-
-/// A compiled pipeline: shaders plus state. Cheap to clone; draws hold it by reference count.
-#[derive(Clone)]
-pub struct Pipeline {
-    pub(crate) desc: Arc<PipelineDesc>,
-    pub(crate) object: Arc<dyn PipelineObject>,
-}
-
-impl Pipeline {
-    /// Builds a pipeline from its shaders and state.
-    ///
-    /// # Errors
-    /// When the state breaks a limit above or is inconsistent (an attribute outside its
-    /// binding's stride, two attributes at one location, …).
-    pub fn new<V: VertexShader, F: FragmentShader>(vertex: V, fragment: F, desc: PipelineDesc) -> Result<Pipeline> {
-        desc.validate()?;
-        let desc = Arc::new(desc);
-        let object = Arc::new(Shaders::new(vertex, fragment, desc.clone()));
-        Ok(Pipeline { desc, object })
-    }
-
-    pub fn desc(&self) -> &PipelineDesc {
-        &self.desc
-    }
-}
-
-impl std::fmt::Debug for Pipeline {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Pipeline").field("label", &self.desc.label).finish_non_exhaustive()
     }
 }

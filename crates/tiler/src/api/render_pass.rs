@@ -4,7 +4,6 @@ use serde::{Deserialize, Serialize};
 
 use super::buffer::BufferId;
 use super::image::ImageId;
-use super::pipeline::Pipeline;
 
 /// A rectangle of pixels, `x, y` its top-left corner (y down).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -184,63 +183,6 @@ pub struct IndexBufferBinding {
     pub index_type: IndexType,
 }
 
-/// One draw: a pipeline, its buffers, and which vertices (or indices) to draw.
-#[derive(Clone, Debug)]
-pub struct Draw {
-    pub pipeline: Pipeline,
-    pub vertex_buffers: Vec<VertexBufferBinding>,
-    pub index_buffer: Option<IndexBufferBinding>,
-    /// The first vertex (non-indexed) or the first index (indexed).
-    pub first: u32,
-    /// How many vertices (non-indexed) or indices (indexed).
-    pub count: u32,
-    /// Added to every index of an indexed draw.
-    pub vertex_offset: i32,
-    /// `None` = the whole framebuffer.
-    pub viewport: Option<Viewport>,
-    /// `None` = no scissor.
-    pub scissor: Option<Rect>,
-}
-
-impl Draw {
-    /// A non-indexed draw of `count` vertices from one vertex buffer.
-    pub fn new(pipeline: &Pipeline, vertex_buffer: BufferId, first: u32, count: u32) -> Draw {
-        Draw {
-            pipeline: pipeline.clone(),
-            vertex_buffers: vec![VertexBufferBinding { buffer: vertex_buffer, offset: 0 }],
-            index_buffer: None,
-            first,
-            count,
-            vertex_offset: 0,
-            viewport: None,
-            scissor: None,
-        }
-    }
-
-    /// An indexed draw of `count` indices from one vertex buffer and an index buffer.
-    pub fn indexed(
-        pipeline: &Pipeline,
-        vertex_buffer: BufferId,
-        index_buffer: BufferId,
-        index_type: IndexType,
-        first: u32,
-        count: u32,
-    ) -> Draw {
-        Draw {
-            index_buffer: Some(IndexBufferBinding { buffer: index_buffer, offset: 0, index_type }),
-            ..Draw::new(pipeline, vertex_buffer, first, count)
-        }
-    }
-
-    pub fn with_viewport(self, viewport: Viewport) -> Draw {
-        Draw { viewport: Some(viewport), ..self }
-    }
-
-    pub fn with_scissor(self, scissor: Rect) -> Draw {
-        Draw { scissor: Some(scissor), ..self }
-    }
-}
-
 /// An attachment of the pass named by a subpass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -280,53 +222,68 @@ pub struct SubpassDependency {
     pub by_region: bool,
 }
 
-/// A render pass: its description, its subpasses and its draws in submission order.
-#[derive(Clone, Debug)]
-pub struct RenderPass {
-    pub desc: RenderPassDesc,
-    /// Empty: one subpass writing every colour attachment and using the depth-stencil one.
-    pub subpasses: Vec<SubpassDesc>,
-    pub dependencies: Vec<SubpassDependency>,
-    pub draws: Vec<Draw>,
-    /// The index of the first draw of each subpass after the first.
-    pub subpass_starts: Vec<usize>,
+/// The load and store ops of one attachment, per aspect.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AttachmentOps {
+    Color { load: LoadOp<[f32; 4]>, store: StoreOp },
+    DepthStencil { depth_load: LoadOp<f32>, depth_store: StoreOp, stencil_load: LoadOp<u8>, stencil_store: StoreOp },
 }
 
-impl RenderPass {
-    /// A pass with one subpass that writes every attachment.
-    pub fn new(desc: RenderPassDesc) -> RenderPass {
-        RenderPass {
-            desc,
-            subpasses: Vec::new(),
-            dependencies: Vec::new(),
-            draws: Vec::new(),
-            subpass_starts: Vec::new(),
+impl AttachmentOps {
+    /// The ops of an incremental render's middle: load and store everything.
+    pub fn load_store_all(&self) -> AttachmentOps {
+        match self {
+            AttachmentOps::Color { .. } => AttachmentOps::Color { load: LoadOp::Load, store: StoreOp::Store },
+            AttachmentOps::DepthStencil { .. } => AttachmentOps::DepthStencil {
+                depth_load: LoadOp::Load,
+                depth_store: StoreOp::Store,
+                stencil_load: LoadOp::Load,
+                stencil_store: StoreOp::Store,
+            },
         }
     }
 
-    /// A pass with explicit subpasses; draws go to the first until [`RenderPass::next_subpass`].
-    pub fn with_subpasses(
-        desc: RenderPassDesc,
-        subpasses: Vec<SubpassDesc>,
-        dependencies: Vec<SubpassDependency>,
-    ) -> RenderPass {
-        RenderPass { subpasses, dependencies, ..RenderPass::new(desc) }
+    /// These ops with the load ops replaced by `Load` (a continuation after a flush).
+    pub fn with_load(&self) -> AttachmentOps {
+        match *self {
+            AttachmentOps::Color { store, .. } => AttachmentOps::Color { load: LoadOp::Load, store },
+            AttachmentOps::DepthStencil { depth_store, stencil_store, .. } => AttachmentOps::DepthStencil {
+                depth_load: LoadOp::Load,
+                depth_store,
+                stencil_load: LoadOp::Load,
+                stencil_store,
+            },
+        }
     }
 
-    /// Records a draw in the current subpass.
-    pub fn draw(&mut self, draw: Draw) -> &mut RenderPass {
-        self.draws.push(draw);
-        self
+    /// These ops with every store op `Store` (the end of a flush that is not the last).
+    pub fn with_store(&self) -> AttachmentOps {
+        match *self {
+            AttachmentOps::Color { load, .. } => AttachmentOps::Color { load, store: StoreOp::Store },
+            AttachmentOps::DepthStencil { depth_load, stencil_load, .. } => AttachmentOps::DepthStencil {
+                depth_load,
+                depth_store: StoreOp::Store,
+                stencil_load,
+                stencil_store: StoreOp::Store,
+            },
+        }
     }
+}
 
-    /// Moves on to the next subpass (Vulkan `vkCmdNextSubpass`).
-    pub fn next_subpass(&mut self) -> &mut RenderPass {
-        self.subpass_starts.push(self.draws.len());
-        self
-    }
+/// The most input attachments a subpass may read.
+pub const MAX_INPUT_ATTACHMENTS: usize = 4;
 
-    /// The subpass draw `draw` belongs to.
-    pub fn subpass_of(&self, draw: usize) -> usize {
-        self.subpass_starts.iter().take_while(|&&start| start <= draw).count()
-    }
+/// A validated subpass, naming attachments by their index in the validated pass's
+/// attachments (`pass::resolved::ResolvedPass`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ResolvedSubpass {
+    /// Attachment of each colour output.
+    pub color: Vec<usize>,
+    pub depth_stencil: Option<usize>,
+    /// Attachment of each input.
+    pub inputs: Vec<usize>,
+    /// Resolve images of colour outputs (before validation into the pass's resolves).
+    pub resolves: Vec<Option<ImageId>>,
+    /// A dependency into this subpass is not by-region: a tiler must split the pass here.
+    pub split_before: bool,
 }

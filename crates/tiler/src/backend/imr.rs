@@ -13,22 +13,22 @@
 use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
-use super::{Backend, FrameDataReport, PassReport};
-use crate::api::buffer::BufferId;
-use crate::api::device::DeviceConfig;
+use super::{Backend, FrameDataReport, PassReport, PassTotals};
 use crate::api::error::Result;
 use crate::api::image::Image;
-use crate::api::render_pass::RenderPass;
-use crate::geometry::{PassFrame, prepare_draw};
+use crate::config::DeviceConfig;
+use crate::geometry::prepare_draw;
+use crate::ledger::Category;
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::framebuffer::FramebufferTraffic;
-use crate::ledger::{Category, Counters, DrawStats, Ledger, merge_draw_stats};
+use crate::pass::RenderPass;
+use crate::pixel::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::PixelRect;
-use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::samples::SampleLocations;
+use crate::raster::target::{RenderTarget, Surface};
 use crate::shade::ShadeContext;
+use crate::simd::SimdSupport;
 use crate::tile::load_store::{apply_load, apply_resolve};
-use crate::tile::target::{RenderTarget, Surface};
 
 /// Rows per band of the framebuffer.
 pub const BAND_ROWS: u32 = 32;
@@ -53,7 +53,7 @@ fn cache_slice(cache: CacheConfig, rows: u32, height: u32) -> CacheConfig {
     if !cache.is_enabled() {
         return cache;
     }
-    let set = (cache.line_bytes * cache.ways) as u64;
+    let set = cache.line_bytes as u64 * cache.ways as u64;
     let share = cache.size_bytes as u64 * rows as u64 / height as u64;
     CacheConfig { size_bytes: ((share / set).max(1) * set) as u32, ..cache }
 }
@@ -65,15 +65,10 @@ pub fn render(
     images: &mut [Image],
     buffers: &[Vec<u8>],
     config: &DeviceConfig,
+    simd: SimdSupport,
 ) -> Result<PassReport> {
     let samples = SampleLocations::standard(resolved.samples);
-    let lookup = |id: BufferId| buffers.get(id.0 as usize).map(|b| b.as_slice());
-    let frame_info = PassFrame {
-        width: resolved.width,
-        height: resolved.height,
-        render_area: resolved.render_area,
-        buffers: &lookup,
-    };
+    let frame_info = resolved.frame(buffers);
     // Transient attachments have no memory on a tiler; an immediate-mode GPU needs some.
     let mut scratch: Vec<Image> = resolved
         .attachments
@@ -133,15 +128,15 @@ pub fn render(
             framebuffer: FramebufferTraffic::external(cache),
             overdraw: config.overdraw_map.then(|| OverdrawRows::new(y0, resolved.width, rows.height() as u32)),
             context: ShadeContext::with_texture_cache(config.texture_cache),
-            simd: config.simd.unwrap_or_default(),
+            simd,
             ..FragmentTally::default()
         };
         bands.push(Band { surfaces, resolves, clip, tally });
     }
 
-    let mut counters = Counters::default();
-    let mut ledger = Ledger::default();
-    let mut draws = vec![DrawStats::default(); pass.draws.len()];
+    let pixels = resolved.width as usize * resolved.height as usize;
+    let mut totals = PassTotals::new(pass.draws.len(), config.overdraw_map.then_some(pixels));
+    let PassTotals { counters, ledger, draws, .. } = &mut totals;
 
     // Load ops act on the images themselves: a clear writes the render area.
     let cleared: u64 = bands
@@ -155,11 +150,8 @@ pub fn render(
     ledger.add(Category::ImrClear, cleared);
 
     for (draw_index, draw) in pass.draws.iter().enumerate() {
-        let geometry = prepare_draw(draw_index, draw, &frame_info, config.post_transform_cache)?;
-        counters.draws += 1;
-        counters.vertices_shaded += geometry.vertices_shaded;
-        ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
-        ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
+        let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
+        geometry.record(counters, ledger);
         let batches = geometry.setup(0..geometry.triangles, &samples, 0);
         for batch in &batches {
             counters.merge(&batch.counters);
@@ -195,16 +187,8 @@ pub fn render(
         })
         .sum();
     ledger.add(Category::Resolve, resolved_bytes);
-    let mut on_chip_bytes = 0;
-    let mut overdraw_map = config.overdraw_map.then(|| vec![0u16; resolved.width as usize * resolved.height as usize]);
     for band in &bands {
-        if let (Some(map), Some(rows)) = (overdraw_map.as_mut(), band.tally.overdraw.as_ref()) {
-            rows.add_to(map);
-        }
-        counters.merge(&band.tally.counters);
-        ledger.merge(&band.tally.ledger);
-        merge_draw_stats(&mut draws, &band.tally.draws);
-        on_chip_bytes += band.tally.framebuffer.on_chip_bytes;
+        totals.add_tally(&band.tally);
     }
 
     Ok(PassReport {
@@ -218,14 +202,14 @@ pub fn render(
         tile_bytes: 0,
         tiles_x: 0,
         tiles_y: 0,
-        ledger,
-        on_chip_bytes,
+        ledger: totals.ledger,
+        on_chip_bytes: totals.on_chip_bytes,
         transaction_elimination_saved: 0,
         transient_bytes_saved: 0,
-        overdraw_map,
-        counters,
+        overdraw_map: totals.overdraw,
+        counters: totals.counters,
         frame_data: FrameDataReport::default(),
         tiles: Vec::new(),
-        draws,
+        draws: totals.draws,
     })
 }

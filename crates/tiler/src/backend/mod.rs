@@ -16,53 +16,56 @@ pub mod imr;
 pub mod pass;
 pub mod tbr;
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
-use crate::ledger::{Counters, DrawStats, Ledger, TileStats};
+pub use crate::config::Backend;
+use crate::ledger::{Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
+use crate::pixel::primitive::FragmentTally;
+use crate::simd::SimdSupport;
 
-/// How a render pass is executed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum Backend {
-    /// Tile-based rendering with early-Z: tiles shade their lists in submission order.
-    #[default]
-    Tbr,
-    /// Tile-based deferred rendering: hidden-surface removal before shading.
-    Tbdr,
-    /// Immediate-mode rendering into external memory.
-    Imr,
+/// What a pass did and moved, summed over its fragment tasks (bands of tiles or of rows) in a
+/// fixed order: the one place both backends merge their tasks' counts.
+pub(crate) struct PassTotals {
+    pub counters: Counters,
+    pub ledger: Ledger,
+    pub draws: Vec<DrawStats>,
+    /// Bytes moved on chip (tile buffer, framebuffer cache hits).
+    pub on_chip_bytes: u64,
+    /// Fragments shaded per pixel, when an overdraw map is wanted.
+    pub overdraw: Option<Vec<u16>>,
 }
 
-impl Backend {
-    pub const ALL: [Backend; 3] = [Backend::Tbr, Backend::Tbdr, Backend::Imr];
-
-    pub const fn name(self) -> &'static str {
-        match self {
-            Backend::Tbr => "tbr",
-            Backend::Tbdr => "tbdr",
-            Backend::Imr => "imr",
+impl PassTotals {
+    pub fn new(draws: usize, overdraw_pixels: Option<usize>) -> PassTotals {
+        PassTotals {
+            counters: Counters::default(),
+            ledger: Ledger::default(),
+            draws: vec![DrawStats::default(); draws],
+            on_chip_bytes: 0,
+            overdraw: overdraw_pixels.map(|pixels| vec![0; pixels]),
         }
     }
 
-    pub const fn is_tiler(self) -> bool {
-        matches!(self, Backend::Tbr | Backend::Tbdr)
+    /// Adds what one fragment task did.
+    pub fn add_tally(&mut self, tally: &FragmentTally) {
+        if let (Some(map), Some(rows)) = (self.overdraw.as_mut(), tally.overdraw.as_ref()) {
+            rows.add_to(map);
+        }
+        self.counters.merge(&tally.counters);
+        self.ledger.merge(&tally.ledger);
+        merge_draw_stats(&mut self.draws, &tally.draws);
+        self.on_chip_bytes += tally.framebuffer.on_chip_bytes;
     }
 }
 
-impl std::fmt::Display for Backend {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for Backend {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Backend, String> {
-        Backend::ALL
-            .into_iter()
-            .find(|b| b.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| format!("unknown backend '{s}' (expected one of: tbr, tbdr, imr)"))
-    }
+/// How a device runs a pass, beyond its configuration: not part of the model (every choice
+/// gives the same image and counters).
+#[derive(Clone, Copy, Debug)]
+pub struct Workers {
+    /// Worker threads in the device's pool.
+    pub threads: usize,
+    /// The pixel pipeline's instruction set, detected on this processor.
+    pub simd: SimdSupport,
 }
 
 /// Frame-data figures of a pass (tilers only).

@@ -22,32 +22,24 @@
 
 use rayon::prelude::*;
 
-use super::pass::{ResolvedPass, attachment_images, band_surface, data_bands};
-use super::{Backend, FrameDataReport, PassReport};
-use crate::api::buffer::BufferId;
-use crate::api::device::DeviceConfig;
-use crate::api::device::VertexShading;
+use super::pass::{ResolvedPass, attachment_images, data_bands};
+use super::{Backend, FrameDataReport, PassReport, PassTotals, Workers};
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::image::TileSignatures;
-use crate::api::render_pass::RenderPass;
+use crate::api::render_pass::AttachmentOps;
 use crate::binning::binner::bin;
-use crate::binning::frame_data::{FrameData, POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, StateRecord, record_bytes};
+use crate::binning::frame_data::{FrameData, StateRecord};
+use crate::binning::grid::TileGrid;
+use crate::config::DeviceConfig;
 use crate::depth::hsr::{HsrMode, Visibility};
-use crate::geometry::{PassFrame, SetupBatch, prepare_draw};
-use crate::ledger::{Category, Counters, DrawStats, Ledger, TileStats, merge_draw_stats};
-use crate::raster::PixelRect;
-use crate::raster::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
+use crate::geometry::prepare_draw;
+use crate::ledger::{Category, TileStats};
+use crate::pass::{Draw, RenderPass};
 use crate::raster::samples::SampleLocations;
-use crate::shade::ShadeContext;
 use crate::shade::texture_cache::TextureCacheConfig;
 use crate::tile::buffer::TileBuffer;
-use crate::tile::grid::TileGrid;
-use crate::tile::load_store::{
-    AttachmentOps, TileStart, apply_load, apply_resolve, apply_store, fill_value, load_bytes, resolved_value,
-    store_bytes, store_bytes_of, tile_signature, tile_start,
-};
-use crate::tile::target::{RenderTarget, Surface};
+use crate::tile::task::{BandResult, FlushPlan, Worker, render_band};
 
 /// Triangles set up and binned at a time.
 pub const BIN_CHUNK: u32 = 16384;
@@ -76,41 +68,33 @@ pub fn render(
     images: &mut [Image],
     buffers: &[Vec<u8>],
     config: &DeviceConfig,
-    threads: usize,
+    workers: Workers,
     hsr: bool,
 ) -> Result<PassReport> {
     let (tile_width, tile_height) = tile_size(config, resolved.tile_bytes_per_pixel());
     let grid = TileGrid::new(resolved.width, resolved.height, tile_width, tile_height);
     let samples = SampleLocations::standard(resolved.samples);
-    let lookup = |id: BufferId| buffers.get(id.0 as usize).map(|b| b.as_slice());
-    let frame_info = PassFrame {
-        width: resolved.width,
-        height: resolved.height,
-        render_area: resolved.render_area,
-        buffers: &lookup,
-    };
+    let frame_info = resolved.frame(buffers);
     let mut memory = attachment_images(images, resolved);
-    let mut frame = FrameData::new(grid, config.vertex_shading);
+    let mut frame = FrameData::new(grid, config.vertex_shading, config.frame_data_budget);
+    let pixels = resolved.width as usize * resolved.height as usize;
     let mut run = Run {
         resolved,
+        pass_draws: &pass.draws,
         samples,
         hsr,
         early_z: config.early_z,
-        counters: Counters::default(),
-        ledger: Ledger::default(),
+        totals: PassTotals::new(pass.draws.len(), config.overdraw_map.then_some(pixels)),
         tiles: vec![TileStats::default(); grid.tile_count()],
-        draws: vec![DrawStats::default(); pass.draws.len()],
         frame_data: FrameDataReport::default(),
-        on_chip_bytes: 0,
         transaction_elimination: config.transaction_elimination,
         transaction_elimination_saved: 0,
         texture_cache: config.texture_cache,
-        simd: config.simd.unwrap_or_default(),
-        overdraw: config.overdraw_map.then(|| vec![0; resolved.width as usize * resolved.height as usize]),
+        simd: workers.simd,
         flushes: 0,
         scratch: resolved.attachments.iter().map(|_| None).collect(),
     };
-    let bands = threads * 4;
+    let bands = workers.threads * 4;
 
     let mut subpass = 0;
     for (draw_index, draw) in pass.draws.iter().enumerate() {
@@ -124,14 +108,10 @@ pub fn render(
             }
             subpass = draw_subpass;
         }
-        let geometry = prepare_draw(draw_index, draw, &frame_info, config.post_transform_cache)?;
-        run.counters.draws += 1;
-        run.counters.vertices_shaded += geometry.vertices_shaded;
-        run.ledger.add(Category::VertexFetch, geometry.vertex_fetch_bytes);
-        run.ledger.add(Category::IndexFetch, geometry.index_fetch_bytes);
+        let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
+        geometry.record(&mut run.totals.counters, &mut run.totals.ledger);
         let varying_count = geometry.vertices.varying_count;
         let state = StateRecord {
-            pipeline: draw.pipeline.clone(),
             draw: draw_index as u32,
             clip_rect: geometry.clip_rect,
             varying_count: varying_count as u32,
@@ -139,45 +119,35 @@ pub fn render(
             fetch_bytes_per_vertex: geometry.fetch_bytes_per_vertex,
             subpass: pass.subpass_of(draw_index) as u32,
         };
-        let record_bytes = record_bytes(varying_count, config.vertex_shading);
         let mut state_index = None;
         let mut start = 0;
         while start < geometry.triangles {
             let end = (start + BIN_CHUNK).min(geometry.triangles);
             let batches = geometry.setup(start..end, &samples, 0);
             for batch in &batches {
-                run.counters.merge(&batch.counters);
-                run.draws[draw_index].primitives += batch.counters.primitives;
-                // Append the longest run of primitives whose frame data surely fits the
-                // budget (entries bounded by the tiles their box meets); flush when full.
+                run.totals.counters.merge(&batch.counters);
+                run.totals.draws[draw_index].primitives += batch.counters.primitives;
+                // Append the longest run of primitives the frame data says surely fits its
+                // budget; render it (an incremental render) when it is full.
                 let mut i = 0;
                 while i < batch.primitives.len() {
                     let index = *state_index.get_or_insert_with(|| frame.push_state(state.clone()));
-                    let mut room = config.frame_data_budget.saturating_sub(frame.bytes.total());
-                    let mut k = i;
-                    while let Some(p) = batch.primitives.get(k) {
-                        let cost = record_bytes + POLYGON_LIST_ENTRY_BYTES * grid.tiles_meeting_count(&p.bbox);
-                        if cost > room {
-                            break;
-                        }
-                        room -= cost;
-                        k += 1;
-                    }
-                    if k == i && !frame.is_empty() {
+                    let fitting = frame.fitting(&batch.primitives[i..], varying_count);
+                    if fitting == 0 && !frame.is_empty() {
                         run.flush(&frame, &mut memory, Flush::Incremental);
                         frame.clear();
                         state_index = None;
                         continue;
                     }
                     // A primitive too large for an empty budget still goes in alone.
-                    let k = k.max(i + 1);
-                    let first = frame.primitives.len();
-                    append(&mut frame, batch, i..k, index, varying_count);
+                    let k = i + fitting.max(1);
+                    let first = frame.primitives().len();
+                    frame.append(&batch.primitives[i..k], &batch.varyings, index, varying_count);
                     bin(&mut frame, first, &samples, bands);
                     i = k;
                 }
             }
-            run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes.total());
+            run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes().total());
             run.frame_data.peak_host_bytes = run.frame_data.peak_host_bytes.max(frame.host_bytes());
             start = end;
         }
@@ -204,40 +174,21 @@ pub fn render(
         tile_bytes: tile_width as u64 * tile_height as u64 * resolved.tile_bytes_per_pixel(),
         tiles_x: grid.tiles_x,
         tiles_y: grid.tiles_y,
-        ledger: run.ledger,
-        on_chip_bytes: run.on_chip_bytes,
+        ledger: run.totals.ledger,
+        on_chip_bytes: run.totals.on_chip_bytes,
         transaction_elimination_saved: run.transaction_elimination_saved,
         transient_bytes_saved,
-        overdraw_map: run.overdraw,
-        counters: run.counters,
+        overdraw_map: run.totals.overdraw,
+        counters: run.totals.counters,
         frame_data: run.frame_data,
         tiles: run.tiles,
-        draws: run.draws,
+        draws: run.totals.draws,
     })
 }
 
 /// Bytes an attachment's image would occupy in memory.
 fn images_desc_size(resolved: &ResolvedPass, a: &super::pass::ResolvedAttachment) -> u64 {
     resolved.width as u64 * resolved.height as u64 * resolved.samples as u64 * a.format.bytes_per_sample() as u64
-}
-
-/// Appends primitives `range` of a batch (and their varyings) to the frame data, under state
-/// record `state`.
-fn append(frame: &mut FrameData, batch: &SetupBatch, range: std::ops::Range<usize>, state: u32, varying_count: usize) {
-    let modelled = record_bytes(varying_count, frame.vertex_shading);
-    let primitives = &batch.primitives[range];
-    let first_varying = primitives[0].varyings as usize;
-    let base = frame.varyings.len() as u32;
-    frame.primitives.extend(primitives.iter().map(|p| {
-        let mut p = *p;
-        p.varyings = p.varyings - first_varying as u32 + base;
-        p.state = state;
-        p
-    }));
-    frame
-        .varyings
-        .extend_from_slice(&batch.varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
-    frame.bytes.primitive_records += primitives.len() as u64 * modelled;
 }
 
 /// Why the frame data is being rendered.
@@ -254,57 +205,20 @@ enum Flush {
 /// The state of one pass being rendered.
 struct Run<'a> {
     resolved: &'a ResolvedPass,
+    pass_draws: &'a [Draw],
     samples: SampleLocations,
     hsr: bool,
     early_z: bool,
-    counters: Counters,
-    ledger: Ledger,
+    totals: PassTotals,
     tiles: Vec<TileStats>,
-    draws: Vec<DrawStats>,
     frame_data: FrameDataReport,
-    on_chip_bytes: u64,
     transaction_elimination: bool,
     transaction_elimination_saved: u64,
     texture_cache: TextureCacheConfig,
-    simd: crate::simd::SimdLevel,
-    overdraw: Option<Vec<u16>>,
+    simd: crate::simd::SimdSupport,
     flushes: u64,
     /// Spill memory for transient attachments, made at their first incremental render.
     scratch: Vec<Option<Image>>,
-}
-
-/// What one band of tiles did.
-#[derive(Default)]
-struct BandResult {
-    tally: FragmentTally,
-    ledger: Ledger,
-    tiles: Vec<(usize, TileStats)>,
-    /// Tile-buffer bytes moved by loads, stores and resolves.
-    on_chip_bytes: u64,
-    /// Bytes of stores skipped by transaction elimination.
-    eliminated_bytes: u64,
-}
-
-/// Per-worker tile memory.
-struct Worker {
-    buffer: TileBuffer,
-    visibility: Option<Visibility>,
-    /// Scratch for counting the vertices a tile shades again (position-only binning).
-    tile_vertices: std::collections::HashSet<(u32, u32)>,
-}
-
-/// What a flush does beyond the frame data.
-struct FlushPlan<'a> {
-    resolved: &'a ResolvedPass,
-    ops: Vec<AttachmentOps>,
-    resolve: bool,
-    samples: SampleLocations,
-    hsr: bool,
-    early_z: bool,
-    vertex_shading: VertexShading,
-    overdraw: bool,
-    texture_cache: TextureCacheConfig,
-    simd: crate::simd::SimdLevel,
 }
 
 impl Run<'_> {
@@ -332,7 +246,7 @@ impl Run<'_> {
                 }
             }
         }
-        let grid = frame.grid;
+        let grid = frame.grid();
         let (tx0, ty0, tx1, ty1) = grid.tiles_meeting(&resolved.render_area);
 
         // Cut every image into bands of tile rows: bands[row][image] = sample slices (and the
@@ -379,13 +293,14 @@ impl Run<'_> {
         }
         let plan = FlushPlan {
             resolved,
+            draws: self.pass_draws,
             ops,
             resolve: last,
             samples: self.samples,
             hsr: self.hsr,
             early_z: self.early_z,
-            vertex_shading: frame.vertex_shading,
-            overdraw: self.overdraw.is_some(),
+            vertex_shading: frame.vertex_shading(),
+            overdraw: self.totals.overdraw.is_some(),
             texture_cache: self.texture_cache,
             simd: self.simd,
         };
@@ -402,15 +317,10 @@ impl Run<'_> {
             )
             .collect();
         for band in results {
-            self.on_chip_bytes += band.tally.framebuffer.on_chip_bytes + band.on_chip_bytes;
+            self.totals.add_tally(&band.tally);
+            self.totals.on_chip_bytes += band.on_chip_bytes;
+            self.totals.ledger.merge(&band.ledger);
             self.transaction_elimination_saved += band.eliminated_bytes;
-            if let (Some(map), Some(rows)) = (self.overdraw.as_mut(), band.tally.overdraw.as_ref()) {
-                rows.add_to(map);
-            }
-            self.counters.merge(&band.tally.counters);
-            self.ledger.merge(&band.tally.ledger);
-            self.ledger.merge(&band.ledger);
-            merge_draw_stats(&mut self.draws, &band.tally.draws);
             for (index, stats) in band.tiles {
                 let t = &mut self.tiles[index];
                 t.list_entries += stats.list_entries;
@@ -419,257 +329,12 @@ impl Run<'_> {
                 t.bytes_stored += stats.bytes_stored;
             }
         }
-        self.ledger.add(Category::FrameDataWrite, frame.bytes.total());
+        self.totals.ledger.add(Category::FrameDataWrite, frame.bytes().total());
         match kind {
-            Flush::Incremental => self.counters.incremental_renders += 1,
-            Flush::SubpassSplit => self.counters.subpass_splits += 1,
+            Flush::Incremental => self.totals.counters.incremental_renders += 1,
+            Flush::SubpassSplit => self.totals.counters.subpass_splits += 1,
             Flush::Final => {}
         }
         self.flushes += 1;
     }
-}
-
-/// Renders the tiles `columns` of tile row `ty`.
-fn render_band(
-    frame: &FrameData,
-    plan: &FlushPlan,
-    worker: &mut Worker,
-    ty: u32,
-    slices: Vec<Option<Vec<&mut [u8]>>>,
-    mut signatures: Vec<Option<&mut [u64]>>,
-    columns: std::ops::RangeInclusive<u32>,
-) -> BandResult {
-    let resolved = plan.resolved;
-    let grid = frame.grid;
-    let band_y0 = (ty * grid.tile_height) as i32;
-    let formats = resolved
-        .attachments
-        .iter()
-        .map(|a| a.format)
-        .chain(resolved.resolves.iter().map(|r| resolved.attachments[r.color].format));
-    let mut images: Vec<Option<Surface>> = slices
-        .into_iter()
-        .zip(formats)
-        .map(|(s, format)| s.map(|s| band_surface(format, grid.width, band_y0, s)))
-        .collect();
-    let (attachment_images, resolve_images) = images.split_at_mut(resolved.attachments.len());
-    let mut result = BandResult::default();
-    result.tally.context = ShadeContext::with_texture_cache(plan.texture_cache);
-    result.tally.simd = plan.simd;
-    if plan.overdraw {
-        let rows = (grid.tile_height as i32).min(grid.height as i32 - band_y0);
-        result.tally.overdraw = Some(OverdrawRows::new(band_y0, grid.width, rows as u32));
-    }
-    let starts: Vec<TileStart> =
-        resolved.attachments.iter().zip(&plan.ops).map(|(a, ops)| tile_start(a.format, ops)).collect();
-    // A tile no primitive touches can skip the tile buffer: its stores write the load ops'
-    // values (or what was loaded) straight to memory. Same bytes, same ledger.
-    let untouched_fast = signatures.iter().all(Option::is_none)
-        && starts.iter().all(|s| *s != TileStart::Mixed)
-        && resolved.resolves.iter().all(|r| !plan.resolve || matches!(starts[r.color], TileStart::Value(_)));
-    let mut pending: Option<PixelRect> = None;
-    for tx in columns {
-        let tile = grid.tile_rect(tx, ty);
-        let rect = tile.intersect(&resolved.render_area);
-        if rect.is_empty() {
-            continue;
-        }
-        let list = &frame.lists[grid.index(tx, ty)];
-        if untouched_fast && list.is_empty() {
-            let mut stats = TileStats::default();
-            let mut resolve_bytes = 0;
-            for (a, attachment) in resolved.attachments.iter().enumerate() {
-                let has_image = attachment_images[a].is_some();
-                let samples = resolved.samples as usize;
-                stats.bytes_loaded += load_bytes(attachment.format, samples, has_image, &rect, &plan.ops[a]).loaded;
-                if has_image {
-                    stats.bytes_stored += store_bytes_of(attachment.format, samples, &rect, &plan.ops[a]);
-                }
-            }
-            if plan.resolve {
-                for (r, target) in resolved.resolves.iter().enumerate() {
-                    let format = resolved.attachments[target.color].format;
-                    let bytes = rect.area() * format.bytes_per_sample() as u64;
-                    resolve_bytes += bytes;
-                    result.on_chip_bytes += bytes * resolved.samples as u64;
-                    debug_assert!(resolve_images[r].is_some());
-                }
-            }
-            finish_tile(&mut result, grid.index(tx, ty), stats, resolve_bytes, 0, 0);
-            // Neighbouring untouched tiles are written in one go.
-            pending = Some(match pending {
-                Some(run) if run.x1 == rect.x0 => PixelRect::new(run.x0, run.y0, rect.x1, run.y1),
-                Some(run) => {
-                    fill_untouched(plan, &starts, attachment_images, resolve_images, &run);
-                    rect
-                }
-                None => rect,
-            });
-            continue;
-        }
-        if let Some(run) = pending.take() {
-            fill_untouched(plan, &starts, attachment_images, resolve_images, &run);
-        }
-        let mut stats = TileStats::default();
-        let mut surfaces = worker.buffer.surfaces(&tile);
-        for (a, surface) in surfaces.iter_mut().enumerate() {
-            stats.bytes_loaded += apply_load(surface, attachment_images[a].as_ref(), &rect, &plan.ops[a]).loaded;
-        }
-
-        // The list is in submission order, so each subpass's primitives are one run of it.
-        let shaded_before = result.tally.counters.fragments_shaded;
-        let mut start = 0;
-        while start < list.len() {
-            let subpass = frame.subpass_of(list[start]);
-            let run = list[start..].iter().take_while(|&&e| frame.subpass_of(e) == subpass).count();
-            let entries = &list[start..start + run];
-            let mut target = RenderTarget::for_subpass(
-                &mut surfaces,
-                &resolved.subpasses[subpass as usize],
-                plan.samples,
-                rect,
-                plan.early_z,
-            );
-            match worker.visibility.as_mut() {
-                Some(visibility) => {
-                    crate::depth::hsr::render_list(entries, frame, &mut target, &mut result.tally, visibility, &tile)
-                }
-                None => {
-                    // One call per run of the same draw's primitives.
-                    let mut first = 0;
-                    while first < entries.len() {
-                        let state_index = frame.primitives[entries[first] as usize].state;
-                        let count = entries[first..]
-                            .iter()
-                            .take_while(|&&e| frame.primitives[e as usize].state == state_index)
-                            .count();
-                        let state = &frame.states[state_index as usize];
-                        result.tally.draw = state.draw as usize;
-                        let run = PrimitiveRun::entries(
-                            &frame.primitives,
-                            &frame.varyings,
-                            &entries[first..first + count],
-                            first as u32,
-                        );
-                        state.pipeline.object.rasterize(&run, &mut target, &mut result.tally, &mut Mode::InOrder);
-                        first += count;
-                    }
-                }
-            }
-            start += run;
-        }
-        let frame_data_read = frame_data_read(frame, list);
-        if plan.vertex_shading == VertexShading::PerTile {
-            // Position-only binning: the tile fetches and shades each vertex it uses again.
-            worker.tile_vertices.clear();
-            let mut bytes = 0;
-            for &entry in list {
-                let primitive = &frame.primitives[entry as usize];
-                let state = &frame.states[primitive.state as usize];
-                for id in primitive.vertex_ids {
-                    if worker.tile_vertices.insert((state.draw, id)) {
-                        bytes += state.fetch_bytes_per_vertex;
-                    }
-                }
-            }
-            result.tally.counters.vertices_shaded += worker.tile_vertices.len() as u64;
-            result.ledger.add(Category::VertexFetch, bytes);
-        }
-
-        for (a, surface) in surfaces.iter().enumerate() {
-            let Some(image) = attachment_images[a].as_mut() else { continue };
-            let bytes = store_bytes(surface, &rect, &plan.ops[a]);
-            if bytes > 0
-                && let Some(row) = signatures[a].as_mut()
-            {
-                // Transaction elimination: a tile stored unchanged is not written again.
-                let signature = tile_signature(surface, &rect);
-                if row[tx as usize] == signature {
-                    result.eliminated_bytes += bytes;
-                    continue;
-                }
-                row[tx as usize] = signature;
-            }
-            stats.bytes_stored += apply_store(surface, image, &rect, &plan.ops[a]);
-        }
-        let mut resolve_bytes = 0;
-        if plan.resolve {
-            for (r, target) in resolved.resolves.iter().enumerate() {
-                let image = resolve_images[r].as_mut().expect("resolve targets have memory");
-                let pixels = apply_resolve(&surfaces[target.color], image, &rect);
-                resolve_bytes += pixels * image.format.bytes_per_sample() as u64;
-                result.on_chip_bytes += pixels * image.format.bytes_per_sample() as u64 * resolved.samples as u64;
-            }
-        }
-        let shaded = (result.tally.counters.fragments_shaded - shaded_before) as u32;
-        stats.list_entries = list.len() as u32;
-        finish_tile(&mut result, grid.index(tx, ty), stats, resolve_bytes, frame_data_read, shaded);
-    }
-    if let Some(run) = pending.take() {
-        fill_untouched(plan, &starts, attachment_images, resolve_images, &run);
-    }
-    result
-}
-
-/// Writes what untouched tiles over `rect` store: each attachment's load-op value where it
-/// is stored, and its resolve.
-fn fill_untouched(
-    plan: &FlushPlan,
-    starts: &[TileStart],
-    attachment_images: &mut [Option<Surface>],
-    resolve_images: &mut [Option<Surface>],
-    rect: &PixelRect,
-) {
-    let resolved = plan.resolved;
-    for (a, attachment) in resolved.attachments.iter().enumerate() {
-        let Some(image) = attachment_images[a].as_mut() else { continue };
-        let stored = store_bytes_of(attachment.format, resolved.samples as usize, rect, &plan.ops[a]) > 0;
-        if stored && let TileStart::Value(pattern) = starts[a] {
-            fill_value(image, rect, &pattern);
-        }
-    }
-    if plan.resolve {
-        for (r, target) in resolved.resolves.iter().enumerate() {
-            let image = resolve_images[r].as_mut().expect("resolve targets have memory");
-            let TileStart::Value(pattern) = starts[target.color] else { unreachable!("only cleared colour") };
-            fill_value(image, rect, &resolved_value(image.format, resolved.samples as usize, &pattern));
-        }
-    }
-}
-
-/// The ledger and statistics of a rendered tile.
-fn finish_tile(
-    result: &mut BandResult,
-    index: usize,
-    mut stats: TileStats,
-    resolve_bytes: u64,
-    frame_data_read: u64,
-    fragments_shaded: u32,
-) {
-    result.on_chip_bytes += stats.bytes_loaded + stats.bytes_stored;
-    stats.bytes_stored += resolve_bytes;
-    result.ledger.add(Category::TileLoad, stats.bytes_loaded);
-    result.ledger.add(Category::TileStore, stats.bytes_stored - resolve_bytes);
-    result.ledger.add(Category::Resolve, resolve_bytes);
-    result.ledger.add(Category::FrameDataRead, frame_data_read);
-    result.tally.counters.tiles_processed += 1;
-    result.tally.counters.polygon_list_entries += stats.list_entries as u64;
-    stats.fragments_shaded = fragments_shaded;
-    result.tiles.push((index, stats));
-}
-
-/// Frame data a tile reads: its polygon-list entries, the record of each primitive they
-/// name, and a state record at each change of state along the list.
-fn frame_data_read(frame: &FrameData, list: &[u32]) -> u64 {
-    let mut bytes = list.len() as u64 * POLYGON_LIST_ENTRY_BYTES;
-    let mut last_state = u32::MAX;
-    for &entry in list {
-        let primitive = &frame.primitives[entry as usize];
-        if primitive.state != last_state {
-            bytes += STATE_RECORD_BYTES;
-            last_state = primitive.state;
-        }
-        bytes += frame.primitive_bytes(primitive);
-    }
-    bytes
 }

@@ -14,10 +14,10 @@
 use rayon::prelude::*;
 
 use super::frame_data::{FrameData, POLYGON_LIST_ENTRY_BYTES, Primitive};
+use crate::binning::grid::TileGrid;
 use crate::raster::PixelRect;
 use crate::raster::fixed::SubPixel;
 use crate::raster::samples::SampleLocations;
-use crate::tile::grid::TileGrid;
 
 /// Bins primitives `from..` of the frame data; returns the entries added.
 pub fn bin(frame: &mut FrameData, from: usize, samples: &SampleLocations, bands: usize) -> u64 {

@@ -18,12 +18,12 @@
 //! planes, see [`Primitive`]) so that tiles need not set triangles up again; its size is
 //! reported separately as host memory. The budget applies to the modelled bytes, as on a GPU.
 
-use crate::api::device::VertexShading;
-use crate::api::pipeline::Pipeline;
+use crate::binning::grid::TileGrid;
 use crate::depth::hsr::HsrMode;
+use crate::geometry::VertexShading;
 use crate::raster::PixelRect;
-use crate::raster::edge::Edge;
-use crate::tile::grid::TileGrid;
+
+pub use crate::geometry::primitive::Primitive;
 
 /// Bytes of a primitive record's header (state index and flags).
 pub const PRIMITIVE_HEADER_BYTES: u64 = 8;
@@ -49,38 +49,10 @@ pub const fn record_bytes(varyings: usize, shading: VertexShading) -> u64 {
     }
 }
 
-/// A set-up triangle, ready to rasterize in any tile.
-///
-/// Vertices are ordered so the signed area is positive (vertex 0 is the provoking vertex).
-/// Interpolation uses screen-space barycentrics `λ1, λ2` of vertices 1 and 2, as planes
-/// relative to vertex 0's window position `origin`:
-/// `λk(x, y) = lk[0]·(x − origin.x) + lk[1]·(y − origin.y)`.
-/// Depth is `z[0] + λ1·z[1] + λ2·z[2]` (linear in screen space, Vulkan); varyings are
-/// perspective-correct through `q = 1/w` of each vertex.
-#[derive(Clone, Copy, Debug)]
-pub struct Primitive {
-    pub edges: [Edge; 3],
-    /// Pixels that may hold a covered sample, within the draw's clip rectangle.
-    pub bbox: PixelRect,
-    pub origin: [f32; 2],
-    pub l1: [f32; 2],
-    pub l2: [f32; 2],
-    pub z: [f32; 3],
-    pub q: [f32; 3],
-    /// Index of the state record.
-    pub state: u32,
-    /// Offset of the three vertices' varyings in [`FrameData::varyings`].
-    pub varyings: u32,
-    /// The draw's vertices this primitive came from (clipped pieces keep their triangle's).
-    pub vertex_ids: [u32; 3],
-    pub front_facing: bool,
-}
-
 /// What every primitive of a draw shares.
 #[derive(Clone, Debug)]
 pub struct StateRecord {
-    pub pipeline: Pipeline,
-    /// The draw's index in its render pass.
+    /// The draw's index in its render pass (the tile phase finds its pipeline there).
     pub draw: u32,
     /// Viewport ∩ scissor ∩ render area ∩ framebuffer.
     pub clip_rect: PixelRect,
@@ -109,20 +81,24 @@ impl FrameDataBytes {
 
 /// Primitive records, state records and polygon lists of the draws binned since the last flush.
 pub struct FrameData {
-    pub grid: TileGrid,
+    pub(super) grid: TileGrid,
     /// Where vertices are shaded, which decides the modelled record size.
-    pub vertex_shading: VertexShading,
-    pub primitives: Vec<Primitive>,
-    pub varyings: Vec<f32>,
-    pub states: Vec<StateRecord>,
+    pub(super) vertex_shading: VertexShading,
+    pub(super) primitives: Vec<Primitive>,
+    pub(super) varyings: Vec<f32>,
+    pub(super) states: Vec<StateRecord>,
     /// One polygon list per tile, row-major; entries are primitive indices in submission order.
-    pub lists: Vec<Vec<u32>>,
-    pub bytes: FrameDataBytes,
+    pub(super) lists: Vec<Vec<u32>>,
+    pub(super) bytes: FrameDataBytes,
+    /// Modelled bytes it may hold before an incremental render (the device's
+    /// `frame_data_budget`): the frame data says when it is full ([`FrameData::fitting`]).
+    budget: u64,
 }
 
 impl FrameData {
-    pub fn new(grid: TileGrid, vertex_shading: VertexShading) -> FrameData {
+    pub fn new(grid: TileGrid, vertex_shading: VertexShading, budget: u64) -> FrameData {
         FrameData {
+            budget,
             vertex_shading,
             lists: vec![Vec::new(); grid.tile_count()],
             grid,
@@ -131,6 +107,39 @@ impl FrameData {
             states: Vec::new(),
             bytes: FrameDataBytes::default(),
         }
+    }
+
+    pub fn grid(&self) -> TileGrid {
+        self.grid
+    }
+
+    /// Where vertices are shaded, which decides the modelled record size.
+    pub fn vertex_shading(&self) -> VertexShading {
+        self.vertex_shading
+    }
+
+    /// Every primitive record, in submission order.
+    pub fn primitives(&self) -> &[Primitive] {
+        &self.primitives
+    }
+
+    /// The varyings of every primitive's vertices (see [`FrameData::varyings_of`]).
+    pub fn varyings(&self) -> &[f32] {
+        &self.varyings
+    }
+
+    pub fn states(&self) -> &[StateRecord] {
+        &self.states
+    }
+
+    /// One polygon list per tile, row-major; entries are primitive indices in submission order.
+    pub fn lists(&self) -> &[Vec<u32>] {
+        &self.lists
+    }
+
+    /// Modelled bytes held now.
+    pub fn bytes(&self) -> FrameDataBytes {
+        self.bytes
     }
 
     pub fn is_empty(&self) -> bool {
@@ -148,11 +157,66 @@ impl FrameData {
         self.bytes = FrameDataBytes::default();
     }
 
+    /// How many primitives from the front of `primitives` (of a draw with `varying_count`
+    /// varyings) surely fit the budget: each costs its record and a polygon-list entry for
+    /// every tile its box meets (a bound on the entries binning writes). 0 means full: the
+    /// caller renders what is here (an incremental render), clears, and tries again; a
+    /// primitive too large for an empty budget still goes in alone.
+    pub fn fitting(&self, primitives: &[Primitive], varying_count: usize) -> usize {
+        let record = record_bytes(varying_count, self.vertex_shading);
+        let mut room = self.budget.saturating_sub(self.bytes.total());
+        let mut count = 0;
+        for primitive in primitives {
+            let cost = record + POLYGON_LIST_ENTRY_BYTES * self.grid.tiles_meeting_count(&primitive.bbox);
+            if cost > room {
+                break;
+            }
+            room -= cost;
+            count += 1;
+        }
+        count
+    }
+
+    /// Appends `primitives` under state record `state`, with their varyings: `3 ×
+    /// varying_count` per primitive in `varyings`, the first primitive's at its own offset.
+    /// Counts their modelled record bytes.
+    pub fn append(&mut self, primitives: &[Primitive], varyings: &[f32], state: u32, varying_count: usize) {
+        let Some(first) = primitives.first() else { return };
+        let modelled = record_bytes(varying_count, self.vertex_shading);
+        let first_varying = first.varyings as usize;
+        let base = self.varyings.len() as u32;
+        self.primitives.extend(primitives.iter().map(|p| {
+            let mut p = *p;
+            p.varyings = p.varyings - first_varying as u32 + base;
+            p.state = state;
+            p
+        }));
+        self.varyings.extend_from_slice(&varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
+        self.bytes.primitive_records += primitives.len() as u64 * modelled;
+    }
+
     /// Adds a state record and returns its index.
     pub fn push_state(&mut self, state: StateRecord) -> u32 {
         self.states.push(state);
         self.bytes.state_records += STATE_RECORD_BYTES;
         (self.states.len() - 1) as u32
+    }
+
+    /// Modelled bytes a tile reads of its polygon `list`: its entries, the record of each
+    /// primitive they name, and a state record at each change of state along the list (the
+    /// ledger's `FrameDataRead`, counted by the tile task).
+    pub fn bytes_read_by(&self, list: &[u32]) -> u64 {
+        let mut bytes = list.len() as u64 * POLYGON_LIST_ENTRY_BYTES;
+        let mut last_state = u32::MAX;
+        for &entry in list {
+            let primitive = &self.primitives[entry as usize];
+            if primitive.state != last_state {
+                bytes += STATE_RECORD_BYTES;
+                last_state = primitive.state;
+            }
+            bytes += self.primitive_bytes(primitive);
+        }
+        bytes
     }
 
     /// Modelled bytes of a primitive record.
@@ -178,5 +242,55 @@ impl FrameData {
         (self.primitives.capacity() * std::mem::size_of::<Primitive>()
             + self.varyings.capacity() * 4
             + self.lists.iter().map(|l| l.capacity() * 4).sum::<usize>()) as u64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn primitive(bbox: PixelRect) -> Primitive {
+        let edge = crate::raster::edge::Edge { a: 0, b: 0, c: 0 };
+        Primitive {
+            edges: [edge; 3],
+            bbox,
+            origin: [0.0; 2],
+            l1: [0.0; 2],
+            l2: [0.0; 2],
+            z: [0.0; 3],
+            q: [1.0; 3],
+            state: 0,
+            varyings: 0,
+            vertex_ids: [0, 1, 2],
+            front_facing: true,
+        }
+    }
+
+    #[test]
+    fn the_frame_data_says_when_it_is_full() {
+        // 64×64 pixels in 32×32 tiles; no varyings: a record is 8 + 3 × 16 = 56 bytes.
+        let grid = TileGrid::new(64, 64, 32, 32);
+        let one_tile = primitive(PixelRect::new(0, 0, 8, 8)); // 56 + 4 = 60 bytes
+        let four_tiles = primitive(PixelRect::new(16, 16, 48, 48)); // 56 + 16 = 72 bytes
+        let budget = STATE_RECORD_BYTES + 60 + 72 + 59;
+        let mut frame = FrameData::new(grid, VertexShading::Once, budget);
+        let state = frame.push_state(StateRecord {
+            draw: 0,
+            clip_rect: PixelRect::new(0, 0, 64, 64),
+            varying_count: 0,
+            hsr: HsrMode::Deferred { claims: true },
+            fetch_bytes_per_vertex: 16,
+            subpass: 0,
+        });
+        let batch = [one_tile, four_tiles, one_tile];
+        assert_eq!(frame.fitting(&batch, 0), 2, "the third needs 60 bytes, 59 are left");
+        frame.append(&batch[..2], &[], state, 0);
+        assert_eq!(frame.bytes.primitive_records, 2 * 56);
+        // Entries are bounded, not yet written: binning writes them.
+        assert_eq!(frame.fitting(&batch[2..], 0), 1);
+        frame.bytes.polygon_list_entries += 5 * POLYGON_LIST_ENTRY_BYTES;
+        assert_eq!(frame.fitting(&batch[2..], 0), 0, "full");
+        frame.clear();
+        assert_eq!(frame.fitting(&batch, 0), 3);
     }
 }

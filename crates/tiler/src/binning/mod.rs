@@ -3,3 +3,4 @@
 
 pub mod binner;
 pub mod frame_data;
+pub mod grid;

@@ -58,6 +58,7 @@ fn factor_lanes(f: BlendFactor, c: usize, src: &Vec4x8, dst: &Vec4x8, constant: 
 }
 
 /// Blends one pixel. `dst` is the stored value unpacked (sRGB attachments: linear).
+#[allow(dead_code, reason = "the scalar reference `blend_lanes` is tested equal to")]
 #[inline]
 pub fn blend_pixel(state: &BlendState, src: [f32; 4], dst: [f32; 4], constant: [f32; 4]) -> [f32; 4] {
     let mut out = [0.0; 4];
@@ -68,6 +69,7 @@ pub fn blend_pixel(state: &BlendState, src: [f32; 4], dst: [f32; 4], constant: [
     out
 }
 
+#[allow(dead_code, reason = "part of the scalar reference `blend_pixel`")]
 #[inline(always)]
 fn blend_channel(component: &BlendComponent, c: usize, src: [f32; 4], dst: [f32; 4], constant: [f32; 4]) -> f32 {
     let (s, d) = (src[c], dst[c]);
@@ -88,6 +90,7 @@ fn blend_channel(component: &BlendComponent, c: usize, src: [f32; 4], dst: [f32;
 }
 
 /// The value of a blend factor for channel `c` (3 = alpha).
+#[allow(dead_code, reason = "part of the scalar reference `blend_pixel`")]
 #[inline(always)]
 fn factor(f: BlendFactor, c: usize, src: [f32; 4], dst: [f32; 4], constant: [f32; 4]) -> f32 {
     match f {

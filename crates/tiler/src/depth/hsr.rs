@@ -23,37 +23,11 @@
 //! A draw that writes no colour at all (a depth prepass) takes part in pass one but claims
 //! nothing: its depth hides what is behind it, and the colour already in the tile stays.
 
-use serde::Serialize;
-
 use crate::api::format::ColorWrites;
 use crate::api::pipeline::PipelineDesc;
 use crate::api::shader::ShaderProperties;
-use crate::binning::frame_data::FrameData;
+pub use crate::ledger::hsr::HsrFallback;
 use crate::raster::PixelRect;
-use crate::raster::primitive::{FragmentTally, Mode, PrimitiveRun};
-use crate::tile::target::RenderTarget;
-
-/// Why a draw's fragments are rendered in submission order instead of waiting for HSR.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum HsrFallback {
-    /// The fragment shader may `discard` (seed 000 §23.7, seed 002 "Depth Testing").
-    Discard,
-    /// Blending reads what is behind (seed 000 §23.7, §23.8).
-    Blending,
-    /// The fragment shader writes depth (seed 002: `gl_FragDepth`).
-    ShaderDepth,
-    /// Alpha-to-coverage changes coverage after shading (seed 000 §23.7).
-    AlphaToCoverage,
-    /// The fragment shader writes the sample mask (seed 000 §23.7, seed 002: `gl_SampleMask`).
-    SampleMask,
-    /// Some but not all channels are written, so the result mixes surfaces.
-    PartialWriteMask,
-    /// The shader has side effects and must run for every fragment (seed 002: storage writes).
-    SideEffects,
-    /// The shader reads the attachments it writes (pixel-local storage): order matters.
-    PixelLocalRead,
-}
 
 /// How a draw takes part in hidden-surface removal.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,56 +70,6 @@ impl HsrMode {
             return HsrMode::InOrder(HsrFallback::PartialWriteMask);
         }
         HsrMode::Deferred { claims: full > 0 }
-    }
-}
-
-/// Fragments rendered in submission order on the TBDR backend, by reason.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
-pub struct HsrFallbacks {
-    pub discard: u64,
-    pub blending: u64,
-    pub shader_depth: u64,
-    pub alpha_to_coverage: u64,
-    pub sample_mask: u64,
-    pub partial_write_mask: u64,
-    pub side_effects: u64,
-    pub pixel_local_read: u64,
-}
-
-impl HsrFallbacks {
-    pub fn add(&mut self, reason: HsrFallback, fragments: u64) {
-        *match reason {
-            HsrFallback::Discard => &mut self.discard,
-            HsrFallback::Blending => &mut self.blending,
-            HsrFallback::ShaderDepth => &mut self.shader_depth,
-            HsrFallback::AlphaToCoverage => &mut self.alpha_to_coverage,
-            HsrFallback::SampleMask => &mut self.sample_mask,
-            HsrFallback::PartialWriteMask => &mut self.partial_write_mask,
-            HsrFallback::SideEffects => &mut self.side_effects,
-            HsrFallback::PixelLocalRead => &mut self.pixel_local_read,
-        } += fragments;
-    }
-
-    pub fn total(&self) -> u64 {
-        self.discard
-            + self.blending
-            + self.shader_depth
-            + self.alpha_to_coverage
-            + self.sample_mask
-            + self.partial_write_mask
-            + self.side_effects
-            + self.pixel_local_read
-    }
-
-    pub fn merge(&mut self, o: &HsrFallbacks) {
-        self.discard += o.discard;
-        self.blending += o.blending;
-        self.shader_depth += o.shader_depth;
-        self.alpha_to_coverage += o.alpha_to_coverage;
-        self.sample_mask += o.sample_mask;
-        self.partial_write_mask += o.partial_write_mask;
-        self.side_effects += o.side_effects;
-        self.pixel_local_read += o.pixel_local_read;
     }
 }
 
@@ -272,85 +196,6 @@ impl Visibility {
         }
         self.visible.iter().enumerate().filter(|(_, v)| **v).map(move |(i, _)| first + i as u32)
     }
-}
-
-/// Renders a tile's polygon list with hidden-surface removal (see the module docs).
-pub fn render_list(
-    list: &[u32],
-    frame: &FrameData,
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-    visibility: &mut Visibility,
-    tile: &PixelRect,
-) {
-    let mut segment: Option<usize> = None;
-    let mut i = 0;
-    while i < list.len() {
-        // A run of one draw's primitives, handed over in one call.
-        let state_index = frame.primitives[list[i] as usize].state;
-        let count = list[i..].iter().take_while(|&&e| frame.primitives[e as usize].state == state_index).count();
-        let state = &frame.states[state_index as usize];
-        let run = PrimitiveRun::entries(&frame.primitives, &frame.varyings, &list[i..i + count], i as u32);
-        tally.draw = state.draw as usize;
-        match state.hsr {
-            HsrMode::Deferred { claims } => {
-                if segment.is_none() {
-                    visibility.reset(tile);
-                    segment = Some(i);
-                }
-                let mut mode = Mode::Resolve { visibility, claims };
-                state.pipeline.object.rasterize(&run, target, tally, &mut mode);
-            }
-            HsrMode::InOrder(reason) => {
-                if let Some(start) = segment.take() {
-                    shade_segment(list, start..i, frame, target, tally, visibility);
-                }
-                tally.draw = state.draw as usize;
-                let before = tally.counters.fragments_rasterized;
-                state.pipeline.object.rasterize(&run, target, tally, &mut Mode::InOrder);
-                tally.counters.hsr_fallback.add(reason, tally.counters.fragments_rasterized - before);
-            }
-        }
-        i += count;
-    }
-    if let Some(start) = segment {
-        shade_segment(list, start..list.len(), frame, target, tally, visibility);
-    }
-}
-
-/// Pass two of a segment: shade each primitive that still owns samples, in list order, runs of
-/// consecutive owners of one draw in one call.
-fn shade_segment(
-    list: &[u32],
-    segment: std::ops::Range<usize>,
-    frame: &FrameData,
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-    visibility: &mut Visibility,
-) {
-    let shaded_before = tally.counters.fragments_shaded;
-    let owners: Vec<u32> = visibility.owners_in(segment.start as u32, segment.len()).collect();
-    let state_of = |position: u32| frame.primitives[list[position as usize] as usize].state;
-    let mut k = 0;
-    while k < owners.len() {
-        let first = owners[k];
-        let mut count = 1;
-        while k + count < owners.len()
-            && owners[k + count] == first + count as u32
-            && state_of(owners[k + count]) == state_of(first)
-        {
-            count += 1;
-        }
-        let state = &frame.states[state_of(first) as usize];
-        tally.draw = state.draw as usize;
-        let entries = &list[first as usize..first as usize + count];
-        let run = PrimitiveRun::entries(&frame.primitives, &frame.varyings, entries, first);
-        state.pipeline.object.rasterize(&run, target, tally, &mut Mode::Shade { visibility });
-        k += count;
-    }
-    let shaded = tally.counters.fragments_shaded - shaded_before;
-    tally.counters.fragments_hsr_killed += tally.hsr_candidates.saturating_sub(shaded);
-    tally.hsr_candidates = 0;
 }
 
 #[cfg(test)]

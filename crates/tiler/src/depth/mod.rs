@@ -14,12 +14,16 @@ use crate::api::pipeline::{DepthStencilState, StencilFaceState};
 use crate::ledger::Ledger;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::raster::coverage::Coverage;
+use crate::raster::target::Surface;
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask};
-use crate::tile::target::Surface;
 
 /// Tests the covered samples of the group at `(x, y)`, applies the stencil ops and depth
 /// writes, and returns the samples that passed. `depth(s)` gives the fragment depths of
 /// sample `s`. Every access goes through `traffic` (tile buffer, or external memory).
+// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's loop
+// and run per 4×2 group. Its arguments are the group's position, coverage, state, facing and depths
+// and the state it updates, which no single owner holds together; a parameter struct would be
+// assembled per call in the hottest loop, and its code generation was tuned with the kernel bench.
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub fn test_group(
@@ -307,6 +311,10 @@ pub trait RowDepths {
 /// sample `s` (bit `8·row + column`) and keeps those that pass. `depth` gives the fragment
 /// depths of each row. The caller has checked
 /// [`block_test_applies`]. Counts the same accesses as [`test_group`].
+// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's loop
+// and run per 8×8 block. Its arguments are the block's position, masks, state and depths and the
+// state it updates, which no single owner holds together; a parameter struct would be assembled per
+// call in the hottest loop, and its code generation was tuned with the kernel bench.
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub fn test_block(

@@ -6,17 +6,20 @@
 pub mod assemble;
 pub mod clip;
 pub mod fetch;
+pub mod primitive;
 pub mod setup;
 pub mod vertex;
 
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use crate::api::buffer::BufferId;
 use crate::api::error::{Error, Result};
-use crate::api::pipeline::{MAX_VARYINGS, Pipeline};
-use crate::api::render_pass::{Draw, IndexType, Rect, Viewport};
-use crate::binning::frame_data::Primitive;
-use crate::ledger::Counters;
+use crate::api::pipeline::MAX_VARYINGS;
+use crate::api::pipeline::PipelineDesc;
+use crate::api::render_pass::{IndexBufferBinding, IndexType, Rect, VertexBufferBinding, Viewport};
+use crate::geometry::primitive::Primitive;
+use crate::ledger::{Category, Counters, Ledger};
 use crate::raster::PixelRect;
 use crate::raster::fixed::MAX_VIEWPORT_EXTENT_PX;
 use crate::raster::samples::SampleLocations;
@@ -24,6 +27,19 @@ use clip::{ClipVertex, ClipVolume};
 use fetch::VertexFetcher;
 use setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
 use vertex::{ShadedVertices, VertexSet};
+
+/// Where vertex shading happens on a tiler (seed 004 §24.5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum VertexShading {
+    /// Once per vertex before binning; the post-transform position and varyings of every
+    /// primitive are stored in the frame data.
+    #[default]
+    Once,
+    /// A position-only binning pass stores positions; every tile that lists a primitive
+    /// fetches its vertices' attributes again and shades them again (a vertex once per tile).
+    PerTile,
+}
 
 /// Triangles set up per parallel task.
 const SETUP_CHUNK: u32 = 1024;
@@ -53,8 +69,7 @@ impl IndexSource<'_> {
 
 /// A validated draw with its vertices shaded, ready for setup.
 pub struct DrawGeometry<'a> {
-    pub draw_index: usize,
-    pub pipeline: &'a Pipeline,
+    pub desc: &'a PipelineDesc,
     indices: Option<IndexSource<'a>>,
     first: u32,
     vertex_offset: i64,
@@ -78,7 +93,44 @@ pub struct PassFrame<'a> {
     pub width: u32,
     pub height: u32,
     pub render_area: PixelRect,
-    pub buffers: &'a dyn Fn(BufferId) -> Option<&'a [u8]>,
+    /// The device's buffers, by id.
+    pub buffers: &'a [Vec<u8>],
+}
+
+impl<'a> PassFrame<'a> {
+    /// The bytes of buffer `id`, if the device has it.
+    pub fn buffer(&self, id: BufferId) -> Option<&'a [u8]> {
+        self.buffers.get(id.0 as usize).map(Vec::as_slice)
+    }
+}
+
+/// What the geometry phase reads of a draw (`pass::Draw`): its pipeline's state and vertex
+/// stage, its buffers, and which vertices.
+#[derive(Clone, Copy)]
+pub struct DrawInput<'a> {
+    pub desc: &'a PipelineDesc,
+    pub vertex: &'a dyn VertexStage,
+    pub vertex_buffers: &'a [VertexBufferBinding],
+    pub index_buffer: Option<IndexBufferBinding>,
+    /// The first vertex (non-indexed) or the first index (indexed).
+    pub first: u32,
+    /// How many vertices (non-indexed) or indices (indexed).
+    pub count: u32,
+    /// Added to every index of an indexed draw.
+    pub vertex_offset: i32,
+    pub viewport: Option<Viewport>,
+    pub scissor: Option<Rect>,
+}
+
+/// A pipeline's vertex shader behind one dynamic call per draw (implemented by
+/// `pixel::pipeline`, where the shaders' types are erased).
+pub trait VertexStage: Send + Sync {
+    fn shade_vertices(
+        &self,
+        fetcher: &VertexFetcher,
+        set: &VertexSet,
+        varying_count: usize,
+    ) -> std::result::Result<ShadedVertices, vertex::NonFinitePosition>;
 }
 
 /// Validates a draw against its buffers and the pass, and shades its vertices.
@@ -88,11 +140,11 @@ pub struct PassFrame<'a> {
 /// positions that are not finite — each naming the draw.
 pub fn prepare_draw<'a>(
     draw_index: usize,
-    draw: &'a Draw,
+    draw: DrawInput<'a>,
     frame: &PassFrame<'a>,
     post_transform_cache: u32,
 ) -> Result<DrawGeometry<'a>> {
-    let desc = draw.pipeline.desc();
+    let desc = draw.desc;
     let fail = |reason: String| Error::draw(draw_index, reason);
     let input = &desc.vertex_input;
     if draw.vertex_buffers.len() < input.bindings.len() {
@@ -105,7 +157,8 @@ pub fn prepare_draw<'a>(
     }
     let mut bindings: Vec<&[u8]> = Vec::with_capacity(input.bindings.len());
     for (i, binding) in draw.vertex_buffers.iter().take(input.bindings.len()).enumerate() {
-        let bytes = (frame.buffers)(binding.buffer)
+        let bytes = frame
+            .buffer(binding.buffer)
             .ok_or_else(|| fail(format!("vertex binding {i}: {} does not exist", binding.buffer)))?;
         if binding.offset > bytes.len() as u64 {
             return Err(fail(format!(
@@ -128,8 +181,8 @@ pub fn prepare_draw<'a>(
             }
         }
         Some(ib) => {
-            let bytes = (frame.buffers)(ib.buffer)
-                .ok_or_else(|| fail(format!("index buffer: {} does not exist", ib.buffer)))?;
+            let bytes =
+                frame.buffer(ib.buffer).ok_or_else(|| fail(format!("index buffer: {} does not exist", ib.buffer)))?;
             let size = ib.index_type.size_bytes();
             let needed = ib.offset + (draw.first as u64 + draw.count as u64) * size;
             if needed > bytes.len() as u64 {
@@ -233,8 +286,7 @@ pub fn prepare_draw<'a>(
 
     let fetcher = VertexFetcher::new(input, &bindings);
     let vertices = draw
-        .pipeline
-        .object
+        .vertex
         .shade_vertices(&fetcher, &set, desc.varyings.len())
         .map_err(|e| Error::NonFinitePosition { draw: draw_index, vertex: e.vertex, position: e.position })?;
     // The work a GPU does: without indices every vertex of the stream is shaded; with them,
@@ -249,8 +301,7 @@ pub fn prepare_draw<'a>(
     let vertex_fetch_bytes = vertices_shaded * fetch_bytes_per_vertex;
     let triangles = assemble::triangle_count(desc.topology, draw.count);
     Ok(DrawGeometry {
-        draw_index,
-        pipeline: &draw.pipeline,
+        desc: draw.desc,
         indices,
         first: draw.first,
         vertex_offset: draw.vertex_offset as i64,
@@ -328,10 +379,20 @@ pub struct SetupBatch {
 }
 
 impl DrawGeometry<'_> {
+    /// Counts the draw and what its vertices cost before setup: vertices shaded, and the
+    /// ledger's `VertexFetch` (`vertices shaded × attribute bytes per vertex`) and `IndexFetch`
+    /// (`indices × index size`) of the geometry phase — the one call site for both backends.
+    pub fn record(&self, counters: &mut Counters, ledger: &mut Ledger) {
+        counters.draws += 1;
+        counters.vertices_shaded += self.vertices_shaded;
+        ledger.add(Category::VertexFetch, self.vertex_fetch_bytes);
+        ledger.add(Category::IndexFetch, self.index_fetch_bytes);
+    }
+
     /// The vertex slots of triangle `t`, provoking vertex first.
     #[inline]
     fn triangle_slots(&self, t: u32) -> [usize; 3] {
-        let positions = assemble::triangle(self.pipeline.desc().topology, t);
+        let positions = assemble::triangle(self.desc.topology, t);
         match self.indices {
             None => positions.map(|p| p as usize),
             Some(source) => positions.map(|p| {
@@ -347,7 +408,7 @@ impl DrawGeometry<'_> {
 
     /// Clips, culls and sets up triangles `range`, in parallel, in submission order.
     pub fn setup(&self, range: std::ops::Range<u32>, samples: &SampleLocations, state: u32) -> Vec<SetupBatch> {
-        let desc = self.pipeline.desc();
+        let desc = self.desc;
         let params = SetupParams {
             viewport: ViewportTransform::new(&self.viewport),
             clip_rect: self.clip_rect,
@@ -403,7 +464,7 @@ impl DrawGeometry<'_> {
         let n = self.vertices.varying_count;
         debug_assert!(n <= MAX_VARYINGS);
         let triangle = [0, 1, 2].map(|i| ClipVertex::new(positions[i], self.vertices.varyings_of(slots[i])));
-        let clipped = clip::clip_triangle(volume, triangle, planes, &self.pipeline.desc().varyings);
+        let clipped = clip::clip_triangle(volume, triangle, planes, &self.desc.varyings);
         batch.counters.triangles_clipped += 1;
         let Some(poly) = clipped else {
             batch.counters.triangles_clip_rejected += 1;

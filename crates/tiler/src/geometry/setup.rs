@@ -6,7 +6,7 @@ use glam::Vec4;
 
 use crate::api::pipeline::{CullMode, FrontFace};
 use crate::api::render_pass::Viewport;
-use crate::binning::frame_data::Primitive;
+use crate::geometry::primitive::Primitive;
 use crate::raster::PixelRect;
 use crate::raster::edge::Edge;
 use crate::raster::fixed::{SUBPIXEL_SCALE, SubPixel};

@@ -50,8 +50,6 @@ pub struct ShadedVertices {
     pub varyings: Vec<f32>,
     pub varying_count: usize,
     pub varying_stride: usize,
-    /// Vertices actually shaded (referenced ones).
-    pub shaded: u64,
 }
 
 impl ShadedVertices {
@@ -82,14 +80,13 @@ pub fn shade_vertices<V: VertexShader>(
     let stride = varying_count.max(1);
     let mut positions = vec![Vec4::ZERO; slots];
     let mut varyings = vec![0.0f32; slots * stride];
-    let results: Vec<(u64, Option<NonFinitePosition>)> = positions
+    let errors: Vec<Option<NonFinitePosition>> = positions
         .par_chunks_mut(CHUNK)
         .zip(varyings.par_chunks_mut(CHUNK * stride))
         .enumerate()
         .map(|(chunk, (positions, varyings))| {
             let mut input = VertexInput::default();
             let mut out = VertexOutput::default();
-            let mut shaded = 0;
             let mut error = None;
             for (i, position) in positions.iter_mut().enumerate() {
                 let slot = chunk * CHUNK + i;
@@ -101,14 +98,12 @@ pub fn shade_vertices<V: VertexShader>(
                 }
                 *position = out.position;
                 varyings[i * stride..i * stride + varying_count].copy_from_slice(&out.varyings[..varying_count]);
-                shaded += 1;
             }
-            (shaded, error)
+            error
         })
         .collect();
-    let shaded = results.iter().map(|r| r.0).sum();
-    if let Some(error) = results.iter().filter_map(|r| r.1).min_by_key(|e| e.vertex) {
+    if let Some(error) = errors.into_iter().flatten().min_by_key(|e| e.vertex) {
         return Err(error);
     }
-    Ok(ShadedVertices { positions, varyings, varying_count, varying_stride: stride, shaded })
+    Ok(ShadedVertices { positions, varyings, varying_count, varying_stride: stride })
 }

@@ -34,28 +34,43 @@ impl CacheConfig {
         self.size_bytes > 0
     }
 
-    /// Checks the shape: power-of-two lines, whole sets.
+    /// The most lines a cache may have: the model keeps 32 bytes of state per line, so a cache
+    /// model costs at most 32 MiB of host memory (64 MiB of 64-byte lines).
+    pub const MAX_LINES: u32 = 1 << 20;
+
+    /// Checks the shape: at most 64 MiB and [`CacheConfig::MAX_LINES`] lines, power-of-two lines,
+    /// whole sets. Every product is computed in `u64`, so no shape overflows into a valid one.
     pub fn validate(&self, what: &str) -> Result<(), String> {
         if !self.is_enabled() {
             return Ok(());
         }
+        if self.size_bytes > 64 << 20 {
+            return Err(format!("{what}: {} bytes is more than the 64 MiB the model allows", self.size_bytes));
+        }
         if !self.line_bytes.is_power_of_two() || self.line_bytes < 4 || self.line_bytes > 4096 {
             return Err(format!("{what}: line size {} must be a power of two from 4 to 4096", self.line_bytes));
         }
-        if self.ways == 0 || !self.size_bytes.is_multiple_of(self.line_bytes * self.ways) {
+        let set_bytes = self.line_bytes as u64 * self.ways as u64;
+        if self.ways == 0 || set_bytes > self.size_bytes as u64 || !(self.size_bytes as u64).is_multiple_of(set_bytes) {
             return Err(format!(
                 "{what}: {} bytes is not a whole number of {}-way sets of {}-byte lines",
                 self.size_bytes, self.ways, self.line_bytes
             ));
         }
-        if self.size_bytes > 64 << 20 {
-            return Err(format!("{what}: {} bytes is more than the 64 MiB the model allows", self.size_bytes));
+        let lines = self.size_bytes / self.line_bytes;
+        if lines > CacheConfig::MAX_LINES {
+            return Err(format!(
+                "{what}: {lines} lines of {} bytes is more than the {} lines the model allows",
+                self.line_bytes,
+                CacheConfig::MAX_LINES
+            ));
         }
         Ok(())
     }
 
+    /// Sets of a valid, enabled shape (`line_bytes × ways` divides `size_bytes`, so it fits).
     fn sets(&self) -> u32 {
-        self.size_bytes / (self.line_bytes * self.ways)
+        (self.size_bytes as u64 / (self.line_bytes as u64 * self.ways as u64)) as u32
     }
 }
 
@@ -95,7 +110,8 @@ pub struct CacheModel {
 
 impl CacheModel {
     pub fn new(config: CacheConfig) -> CacheModel {
-        let lines = if config.is_enabled() { (config.sets() * config.ways) as usize } else { 0 };
+        debug_assert!(config.validate("cache").is_ok(), "invalid cache shape {config:?}");
+        let lines = if config.is_enabled() { config.sets() as usize * config.ways as usize } else { 0 };
         CacheModel { config, lines: vec![Line::default(); lines], clock: 0 }
     }
 

@@ -9,10 +9,11 @@ pub mod cache;
 pub mod display;
 pub mod energy;
 pub mod framebuffer;
+pub mod hsr;
 
 use serde::{Deserialize, Serialize};
 
-pub use crate::depth::hsr::HsrFallbacks;
+pub use hsr::HsrFallbacks;
 
 /// Declares [`Category`] and derives [`Category::formula`] from each variant's doc comment, so
 /// the formula of a category is written once, next to the code, and reports quote that text.

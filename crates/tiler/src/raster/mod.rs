@@ -5,8 +5,8 @@
 pub mod coverage;
 pub mod edge;
 pub mod fixed;
-pub mod primitive;
 pub mod samples;
+pub mod target;
 
 /// A rectangle of pixels, `[x0, x1) × [y0, y1)` in window coordinates (y down).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]

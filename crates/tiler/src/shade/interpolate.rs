@@ -5,7 +5,7 @@
 //! Varyings are perspective-correct: with screen-space barycentrics `λ1, λ2` and `q = 1/w`,
 //! `b_k = λ_k·q_k / (λ0·q0 + λ1·q1 + λ2·q2)` (Vulkan "Barycentric Interpolation").
 
-use crate::binning::frame_data::Primitive;
+use crate::geometry::primitive::Primitive;
 use crate::raster::fixed::SUBPIXEL_SCALE;
 use crate::simd::{F32x8, LANE_DX, LANE_DY};
 

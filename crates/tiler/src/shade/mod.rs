@@ -2,8 +2,8 @@
 //! samplers, the per-task context shaders see (with its texture cache), and the pipeline
 //! object that ties monomorphised shaders to the phases.
 
+pub mod fragments;
 pub mod interpolate;
-pub mod pipeline;
 pub mod texture;
 pub mod texture_cache;
 

@@ -771,6 +771,8 @@ mod tests {
     }
 
     /// One lane's filtered colour on one level.
+    // Kept flat: the scalar reference the SIMD sampler is tested against, written as the textbook
+    // formula with each input named (texture, level, filter, sampler, coordinates, cache).
     #[allow(clippy::too_many_arguments)]
     fn reference_sample_level(
         texture: &Texture,

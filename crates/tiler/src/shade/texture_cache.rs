@@ -2,7 +2,7 @@
 //!
 //! A set-associative cache with least-recently-used replacement, in front of every texture
 //! read of a shading task. The ledger's `TextureFetch` category is counted from it, once per
-//! task (`shade::pipeline`):
+//! task (`pixel::pipeline`):
 //!
 //! ```text
 //! TextureFetch bytes = cache misses × line size
@@ -50,7 +50,7 @@ impl TextureCacheConfig {
 
     /// The number of sets.
     pub fn sets(&self) -> u32 {
-        self.size_bytes / (self.line_bytes * self.ways)
+        (self.size_bytes as u64 / (self.line_bytes as u64 * self.ways as u64).max(1)) as u32
     }
 
     /// Checks the shape: powers of two, lines of 4 bytes to 4 KiB, 1 to 64 ways, at least one
@@ -67,7 +67,10 @@ impl TextureCacheConfig {
         if !ways.is_power_of_two() || ways > 64 {
             return Err(Error::invalid(what, format!("{ways} ways must be a power of two from 1 to 64")));
         }
-        if !size_bytes.is_power_of_two() || size_bytes > 64 << 20 || size_bytes < line_bytes * ways {
+        if !size_bytes.is_power_of_two()
+            || size_bytes > 64 << 20
+            || (size_bytes as u64) < line_bytes as u64 * ways as u64
+        {
             return Err(Error::invalid(
                 what,
                 format!(

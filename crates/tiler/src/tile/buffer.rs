@@ -1,9 +1,9 @@
 //! The tile buffer: on-chip memory holding one tile of every attachment, every sample, in the
 //! attachment's own format.
 
-use super::target::Surface;
 use crate::api::format::Format;
 use crate::raster::PixelRect;
+use crate::raster::target::Surface;
 
 /// Storage for one tile of each attachment of a render pass. One per worker thread, reused
 /// from tile to tile.

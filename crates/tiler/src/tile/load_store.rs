@@ -6,58 +6,11 @@
 //! The same load function initialises an image in place for immediate mode, where a clear is
 //! a write to external memory (`ImrClear`).
 
-use super::target::Surface;
 use crate::api::format::Format;
+pub use crate::api::render_pass::AttachmentOps;
 use crate::api::render_pass::{LoadOp, StoreOp};
 use crate::raster::PixelRect;
-
-/// The load and store ops of one attachment, per aspect.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum AttachmentOps {
-    Color { load: LoadOp<[f32; 4]>, store: StoreOp },
-    DepthStencil { depth_load: LoadOp<f32>, depth_store: StoreOp, stencil_load: LoadOp<u8>, stencil_store: StoreOp },
-}
-
-impl AttachmentOps {
-    /// The ops of an incremental render's middle: load and store everything.
-    pub fn load_store_all(&self) -> AttachmentOps {
-        match self {
-            AttachmentOps::Color { .. } => AttachmentOps::Color { load: LoadOp::Load, store: StoreOp::Store },
-            AttachmentOps::DepthStencil { .. } => AttachmentOps::DepthStencil {
-                depth_load: LoadOp::Load,
-                depth_store: StoreOp::Store,
-                stencil_load: LoadOp::Load,
-                stencil_store: StoreOp::Store,
-            },
-        }
-    }
-
-    /// These ops with the load ops replaced by `Load` (a continuation after a flush).
-    pub fn with_load(&self) -> AttachmentOps {
-        match *self {
-            AttachmentOps::Color { store, .. } => AttachmentOps::Color { load: LoadOp::Load, store },
-            AttachmentOps::DepthStencil { depth_store, stencil_store, .. } => AttachmentOps::DepthStencil {
-                depth_load: LoadOp::Load,
-                depth_store,
-                stencil_load: LoadOp::Load,
-                stencil_store,
-            },
-        }
-    }
-
-    /// These ops with every store op `Store` (the end of a flush that is not the last).
-    pub fn with_store(&self) -> AttachmentOps {
-        match *self {
-            AttachmentOps::Color { load, .. } => AttachmentOps::Color { load, store: StoreOp::Store },
-            AttachmentOps::DepthStencil { depth_load, stencil_load, .. } => AttachmentOps::DepthStencil {
-                depth_load,
-                depth_store: StoreOp::Store,
-                stencil_load,
-                stencil_store: StoreOp::Store,
-            },
-        }
-    }
-}
+use crate::raster::target::Surface;
 
 /// What a load did: bytes read from external memory, and bytes set to a clear value.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -3,6 +3,8 @@
 //! for immediate mode).
 
 pub mod buffer;
-pub mod grid;
+pub mod list;
 pub mod load_store;
-pub mod target;
+pub mod task;
+
+pub use crate::binning::grid;

@@ -1,154 +1,21 @@
 //! The device: owns images and buffers (its external memory), its configuration and its
 //! worker threads, and executes render passes.
 
-use serde::{Deserialize, Serialize};
-
-use super::buffer::{BufferId, MAX_BUFFER_BYTES};
-use super::error::{Error, Result};
-use super::format::Format;
-use super::image::{Image, ImageDesc, ImageId};
-use super::render_pass::RenderPass;
-use crate::backend::pass::ResolvedPass;
-use crate::backend::{Backend, PassReport, imr, tbr};
+use crate::api::buffer::{BufferId, MAX_BUFFER_BYTES};
+use crate::api::error::{Error, Result};
+use crate::api::format::Format;
+use crate::api::image::{Image, ImageDesc, ImageId};
+use crate::backend::{Backend, PassReport, Workers, imr, tbr};
+use crate::config::DeviceConfig;
 use crate::ledger::Ledger;
-use crate::ledger::cache::CacheConfig;
-use crate::ledger::display::DisplayModel;
-use crate::ledger::energy::EnergyModel;
-use crate::shade::texture_cache::TextureCacheConfig;
-use crate::simd::SimdLevel;
-
-/// The smallest frame-data budget: it must hold at least one chunk of binned triangles.
-pub const MIN_FRAME_DATA_BUDGET: u64 = 1 << 20;
-
-/// Where vertex shading happens on a tiler (seed 004 §24.5).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum VertexShading {
-    /// Once per vertex before binning; the post-transform position and varyings of every
-    /// primitive are stored in the frame data.
-    #[default]
-    Once,
-    /// A position-only binning pass stores positions; every tile that lists a primitive
-    /// fetches its vertices' attributes again and shades them again (a vertex once per tile).
-    PerTile,
-}
-
-/// How a device is built: its backend, tiles, budgets and the cost model. Presets are this,
-/// as data (see [`crate::api::preset`]); every field has a default, so a preset names only
-/// what differs.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct DeviceConfig {
-    /// The backend `submit` uses.
-    pub backend: Backend,
-    /// Tile size in pixels: multiples of 8 from 8 to 256.
-    pub tile_width: u32,
-    pub tile_height: u32,
-    /// Worker threads; 0 = one per available core. Not part of the model.
-    #[serde(skip)]
-    pub threads: usize,
-    /// The instruction set the pixel pipeline uses; `None` = the best this processor has.
-    /// Not part of the model: every level renders the same pictures, bit for bit.
-    #[serde(skip)]
-    pub simd: Option<SimdLevel>,
-    /// Bytes of frame data (as modelled, see `binning::frame_data`) before an incremental
-    /// render. The default, 64 MiB, is in the range of mobile drivers' tiler heaps and above
-    /// llvmpipe's 36 MiB scene limit.
-    pub frame_data_budget: u64,
-    /// Bytes of tile buffer for one tile: every attachment at every sample must fit, or the
-    /// tile shrinks. The default, 32 KiB, is Apple's per-tile budget; 32×32 tiles of RGBA8
-    /// and D24S8 at 4× MSAA fill it exactly.
-    pub tile_memory_bytes: u64,
-    /// Run the depth and stencil tests before shading when the shader allows it.
-    pub early_z: bool,
-    /// Where a tiler shades vertices.
-    pub vertex_shading: VertexShading,
-    /// Entries of the post-transform vertex cache (FIFO) that saves re-shading and
-    /// re-fetching vertices shared by nearby triangles of an indexed draw; 0 = none. The
-    /// default, 32, is the size commonly cited for mobile and desktop GPUs.
-    pub post_transform_cache: u32,
-    /// The framebuffer cache of an immediate-mode GPU (its ROP/L2 share for colour and
-    /// depth); size 0 = every access goes to memory, as the seeds' arithmetic assumes.
-    pub framebuffer_cache: CacheConfig,
-    /// The texture cache in front of every texture read (see `shade::texture_cache`).
-    pub texture_cache: TextureCacheConfig,
-    /// Picojoules per byte, for the energy estimate.
-    pub energy: EnergyModel,
-    /// What presenting a frame costs.
-    pub display: DisplayModel,
-    /// Skip storing a tile whose content has not changed since the last frame (Arm's
-    /// transaction elimination); the bytes saved are reported.
-    pub transaction_elimination: bool,
-    /// Record fragments shaded per pixel (for overdraw maps).
-    pub overdraw_map: bool,
-}
-
-impl Default for DeviceConfig {
-    fn default() -> DeviceConfig {
-        DeviceConfig {
-            backend: Backend::Tbr,
-            tile_width: 32,
-            tile_height: 32,
-            threads: 0,
-            simd: None,
-            frame_data_budget: 64 << 20,
-            tile_memory_bytes: 32 << 10,
-            early_z: true,
-            vertex_shading: VertexShading::Once,
-            post_transform_cache: 32,
-            framebuffer_cache: CacheConfig::NONE,
-            texture_cache: TextureCacheConfig::DEFAULT,
-            energy: EnergyModel::default(),
-            display: DisplayModel { scan_out: true, composition: false },
-            transaction_elimination: false,
-            overdraw_map: false,
-        }
-    }
-}
-
-impl DeviceConfig {
-    /// Square tiles of `size` pixels.
-    pub fn with_tile_size(self, size: u32) -> DeviceConfig {
-        DeviceConfig { tile_width: size, tile_height: size, ..self }
-    }
-
-    /// Checks every field.
-    ///
-    /// # Errors
-    /// A field outside its range, naming it.
-    pub fn validate(&self) -> Result<()> {
-        let fail = |reason: String| Err(Error::invalid("device config", reason));
-        for (name, v) in [("tile width", self.tile_width), ("tile height", self.tile_height)] {
-            if !(8..=256).contains(&v) || v % 8 != 0 {
-                return fail(format!("{name} {v} must be a multiple of 8 from 8 to 256"));
-            }
-        }
-        if self.frame_data_budget < MIN_FRAME_DATA_BUDGET {
-            return fail(format!(
-                "frame-data budget {} is below the minimum {MIN_FRAME_DATA_BUDGET} bytes",
-                self.frame_data_budget
-            ));
-        }
-        if self.tile_memory_bytes < 256 {
-            return fail(format!("tile memory {} bytes is below 256 bytes", self.tile_memory_bytes));
-        }
-        if self.threads > 1024 {
-            return fail(format!("{} threads is more than 1024", self.threads));
-        }
-        if self.post_transform_cache > 4096 {
-            return fail(format!("a post-transform cache of {} entries is more than 4096", self.post_transform_cache));
-        }
-        self.framebuffer_cache.validate("framebuffer cache").or_else(fail)?;
-        self.texture_cache.validate()?;
-        self.energy.validate().or_else(fail)?;
-        Ok(())
-    }
-}
+use crate::pass::RenderPass;
+use crate::pass::resolved::ResolvedPass;
+use crate::simd::SimdSupport;
 
 /// A software GPU: its memory (images, buffers) and its workers.
 pub struct Device {
     config: DeviceConfig,
-    threads: usize,
+    workers: Workers,
     pool: rayon::ThreadPool,
     images: Vec<Image>,
     buffers: Vec<Vec<u8>>,
@@ -160,11 +27,20 @@ impl Device {
     pub fn new(config: DeviceConfig) -> Result<Device> {
         config.validate()?;
         let mut config = config;
-        let simd = config.simd.unwrap_or_else(SimdLevel::best);
-        if !simd.is_available() {
-            return Err(Error::invalid("device", format!("this processor cannot run the {} pipeline", simd.name())));
-        }
-        config.simd = Some(simd);
+        let simd = match config.simd {
+            None => SimdSupport::best(),
+            Some(level) => SimdSupport::detect(level).ok_or_else(|| {
+                Error::invalid(
+                    "device",
+                    format!(
+                        "this processor cannot run the {} pipeline (it needs {})",
+                        level.name(),
+                        level.features().join(", ")
+                    ),
+                )
+            })?,
+        };
+        config.simd = Some(simd.level());
         let threads = if config.threads == 0 {
             std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
         } else {
@@ -175,7 +51,7 @@ impl Device {
             .thread_name(|i| format!("tiler-worker-{i}"))
             .build()
             .map_err(|e| Error::invalid("device", format!("cannot start {threads} worker threads: {e}")))?;
-        Ok(Device { config, threads, pool, images: Vec::new(), buffers: Vec::new() })
+        Ok(Device { config, workers: Workers { threads, simd }, pool, images: Vec::new(), buffers: Vec::new() })
     }
 
     pub fn config(&self) -> &DeviceConfig {
@@ -184,7 +60,7 @@ impl Device {
 
     /// Worker threads in use.
     pub fn threads(&self) -> usize {
-        self.threads
+        self.workers.threads
     }
 
     /// Creates an image, zero-filled.
@@ -405,11 +281,11 @@ impl Device {
     /// tiler that had not flushed yet; the cleared image and earlier draws in immediate mode.
     pub fn submit_with(&mut self, pass: &RenderPass, backend: Backend) -> Result<PassReport> {
         let resolved = ResolvedPass::new(pass, &self.images)?;
-        let (images, buffers, config, threads) = (&mut self.images, &self.buffers, &self.config, self.threads);
+        let (images, buffers, config, workers) = (&mut self.images, &self.buffers, &self.config, self.workers);
         self.pool.install(|| match backend {
-            Backend::Tbr => tbr::render(pass, &resolved, images, buffers, config, threads, false),
-            Backend::Tbdr => tbr::render(pass, &resolved, images, buffers, config, threads, true),
-            Backend::Imr => imr::render(pass, &resolved, images, buffers, config),
+            Backend::Tbr => tbr::render(pass, &resolved, images, buffers, config, workers, false),
+            Backend::Tbdr => tbr::render(pass, &resolved, images, buffers, config, workers, true),
+            Backend::Imr => imr::render(pass, &resolved, images, buffers, config, workers.simd),
         })
     }
 }

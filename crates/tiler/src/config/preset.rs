@@ -19,8 +19,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::device::DeviceConfig;
-use super::error::{Error, Result};
+use super::DeviceConfig;
+use crate::api::error::{Error, Result};
 
 /// A named device configuration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -136,5 +136,32 @@ mod tests {
         assert!(e.to_string().contains("gpu.json"), "{e}");
         let json = serde_json::to_string(&DevicePreset::builtin("imr").unwrap()).unwrap();
         assert_eq!(DevicePreset::parse_json(&json, "round trip").unwrap(), DevicePreset::builtin("imr").unwrap());
+    }
+
+    /// Issue 13: `line_bytes × ways` wrapped around `u32` and passed validation; the device
+    /// then tried to allocate the cache model's lines and aborted.
+    #[test]
+    fn cache_shapes_that_overflow_are_refused_by_name() {
+        let preset = |table: &str, size: u64, line: u64, ways: u64| {
+            format!(
+                "name = \"x\"\ndescription = \"y\"\n[device.{table}]\nsize_bytes = {size}\nline_bytes = {line}\nways = {ways}\n"
+            )
+        };
+        // 4096 × (2^20 + 1) = 2^32 + 4096 ≡ 4096 (mod 2^32): a "whole set" of 4096 bytes.
+        for (size, line, ways) in [(4096, 4096, (1 << 20) + 1), (1 << 26, 4096, 1 << 20), (4096, 64, u32::MAX as u64)] {
+            let e = DevicePreset::parse_toml(&preset("framebuffer_cache", size, line, ways), "gpu.toml").unwrap_err();
+            assert!(e.to_string().contains("gpu.toml") && e.to_string().contains("framebuffer cache"), "{e}");
+            let e = DevicePreset::parse_toml(&preset("texture_cache", size, line, ways), "gpu.toml").unwrap_err();
+            assert!(e.to_string().contains("gpu.toml") && e.to_string().contains("texture cache"), "{e}");
+        }
+        // Too many lines for the model, though the size is within 64 MiB.
+        let e = DevicePreset::parse_toml(&preset("framebuffer_cache", 64 << 20, 4, 1), "gpu.toml").unwrap_err();
+        assert!(e.to_string().contains("lines"), "{e}");
+        // The largest shapes accepted build their cache models.
+        let device =
+            DevicePreset::parse_toml(&preset("framebuffer_cache", 64 << 20, 64, 16), "gpu.toml").unwrap().device;
+        crate::ledger::cache::CacheModel::new(device.framebuffer_cache);
+        let device = DevicePreset::parse_toml(&preset("texture_cache", 64 << 20, 4096, 64), "gpu.toml").unwrap().device;
+        crate::shade::texture_cache::TextureCache::new(device.texture_cache);
     }
 }

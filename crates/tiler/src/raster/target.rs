@@ -2,8 +2,9 @@
 //! whether in a tile buffer or in a band of an image in external memory.
 
 use crate::api::format::Format;
+use crate::api::image::{Image, ImageDesc};
 use crate::api::pipeline::MAX_COLOR_ATTACHMENTS;
-use crate::backend::pass::{MAX_INPUT_ATTACHMENTS, ResolvedSubpass};
+use crate::api::render_pass::{MAX_INPUT_ATTACHMENTS, ResolvedSubpass};
 use crate::raster::PixelRect;
 use crate::raster::samples::{MAX_SAMPLES, SampleLocations};
 
@@ -161,4 +162,27 @@ impl<'t, 'a> RenderTarget<'t, 'a> {
         }
         RenderTarget { color, depth_stencil, inputs, samples, clip, early_z }
     }
+}
+
+/// Cuts an image into bands of `rows` rows: for each band, one slice per sample plane.
+/// A transient image (no memory) gives no bands.
+pub fn image_bands(image: &mut Image, rows: usize) -> Vec<Vec<&mut [u8]>> {
+    data_bands(&image.desc, &mut image.data, rows)
+}
+
+/// [`image_bands`] over an image's description and data, borrowed apart.
+pub fn data_bands<'a>(desc: &ImageDesc, data: &'a mut [u8], rows: usize) -> Vec<Vec<&'a mut [u8]>> {
+    if data.is_empty() || desc.transient {
+        return Vec::new();
+    }
+    let plane = desc.plane_bytes();
+    let band_bytes = desc.width as usize * desc.format.bytes_per_sample() * rows;
+    let mut planes: Vec<_> = data.chunks_mut(plane).map(|p| p.chunks_mut(band_bytes)).collect();
+    let bands = (desc.height as usize).div_ceil(rows);
+    (0..bands).map(|_| planes.iter_mut().map(|p| p.next().expect("band")).collect()).collect()
+}
+
+/// A surface over one band of an image.
+pub fn band_surface<'a>(image_format: Format, width: u32, band_y0: i32, slices: Vec<&'a mut [u8]>) -> Surface<'a> {
+    Surface::new(image_format, (0, band_y0), width as usize, slices)
 }

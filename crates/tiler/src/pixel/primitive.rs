@@ -13,22 +13,23 @@
 //! writes) run before shading, in submission order, so fragments that fail are never shaded.
 //! Otherwise the tests run after shading, on the coverage the shader left.
 
-use super::PixelRect;
-use super::coverage::{BLOCK_SIZE, BlockCoverage, Coverage, PrimitiveCoverage, block_rect_mask, group_lanes};
-use super::samples::MAX_SAMPLES;
-use super::samples::SampleLocations;
 use crate::api::format::ColorWrites;
 use crate::api::pipeline::{ColorTargetState, MAX_COLOR_ATTACHMENTS, PipelineDesc};
-use crate::api::shader::{FragmentShader, Fragments, ShaderProperties};
-use crate::binning::frame_data::Primitive;
+use crate::api::shader::ShaderProperties;
 use crate::depth;
 use crate::depth::hsr::Visibility;
+use crate::geometry::primitive::Primitive;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::ledger::{Category, Counters, DrawStats, Ledger};
+use crate::raster::PixelRect;
+use crate::raster::coverage::{BLOCK_SIZE, BlockCoverage, Coverage, PrimitiveCoverage, block_rect_mask, group_lanes};
+use crate::raster::samples::MAX_SAMPLES;
+use crate::raster::samples::SampleLocations;
+use crate::raster::target::{RenderTarget, Surface};
 use crate::shade::ShadeContext;
+use crate::shade::fragments::{FragmentShader, Fragments};
 use crate::shade::interpolate::Interpolator;
-use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, Vec4x8};
-use crate::tile::target::{RenderTarget, Surface};
+use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, SimdSupport, Vec4x8};
 
 /// What the fragment work of one task did and moved.
 #[derive(Debug, Default)]
@@ -51,8 +52,8 @@ pub struct FragmentTally {
     /// The fragment shader's colour outputs for the current group (kept here, not copied
     /// around: 512 bytes per group).
     pub(crate) outputs: [Vec4x8; MAX_COLOR_ATTACHMENTS],
-    /// The instruction set the pipeline runs with.
-    pub simd: crate::simd::SimdLevel,
+    /// The instruction set the pipeline runs with, detected on this processor.
+    pub simd: SimdSupport,
 }
 
 /// Fragments shaded per pixel over some rows of the framebuffer.
@@ -350,6 +351,11 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     /// The fragment pipeline for the 8×8 block at `(x, y)`, whose covered pixels of sample `s`
     /// are `masks[s]` (`any` their union). Depth tests that can run before shading run for the
     /// whole block at once where [`depth::test_block`] applies; the rest goes group by group.
+    // Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's
+    // loop and run per 8×8 block. Its arguments are the block's position, coverage masks and test
+    // choice and the state it updates, which no single owner holds together; a parameter struct
+    // would be assembled per call in the hottest loop, and its code generation was tuned with the
+    // kernel bench.
     #[allow(clippy::too_many_arguments)]
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn block(
@@ -547,6 +553,11 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
 
     /// In-order rendering of the covered samples; `early_tests` runs the depth and stencil
     /// tests before shading (false when they ran already, or must run after).
+    // Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's
+    // loop and run per 4×2 group. Its arguments are the group's position, coverage and shading
+    // point and the state it updates, which no single owner holds together; a parameter struct
+    // would be assembled per call in the hottest loop, and its code generation was tuned with the
+    // kernel bench.
     #[allow(clippy::too_many_arguments)]
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn in_order(
@@ -599,6 +610,11 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     }
 
     /// HSR pass one: the tests, and claims on the samples that pass.
+    // Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's
+    // loop and run per 4×2 group. Its arguments are the group's position, coverage and HSR claim
+    // and the state it updates, which no single owner holds together; a parameter struct would be
+    // assembled per call in the hottest loop, and its code generation was tuned with the kernel
+    // bench.
     #[allow(clippy::too_many_arguments)]
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn resolve(
@@ -666,7 +682,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
             ShadePoint::Centre => (0.5, 0.5),
             ShadePoint::Sample(s) => {
                 let (sx, sy) = self.locations.offset(s);
-                let scale = super::fixed::SUBPIXEL_SCALE as f32;
+                let scale = crate::raster::fixed::SUBPIXEL_SCALE as f32;
                 (sx as f32 / scale, sy as f32 / scale)
             }
         };
@@ -799,7 +815,7 @@ impl depth::RowDepths for BlockDepths<'_> {
     fn row(&self, sample: usize, y: i32) -> F32x8 {
         let (dx, dy) = if self.locations.count() > 1 {
             let (sx, sy) = self.locations.offset(sample);
-            let scale = super::fixed::SUBPIXEL_SCALE as f32;
+            let scale = crate::raster::fixed::SUBPIXEL_SCALE as f32;
             (sx as f32 / scale, sy as f32 / scale)
         } else {
             (0.5, 0.5)
@@ -868,6 +884,10 @@ fn store_packed(plane: &mut [u8], rows: [usize; 2], lanes: LaneMask, packed: &[u
 /// Counts the colour traffic of writing the covered samples of a group (`written` of them),
 /// each read first when `reads` (blending, partial write masks): by address when the device
 /// caches the framebuffer, else as a number of accesses.
+// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's loop
+// and run per 4×2 group and attachment. Its arguments are the group's position, coverage and counts
+// and the state it updates, which no single owner holds together; a parameter struct would be
+// assembled per call in the hottest loop, and its code generation was tuned with the kernel bench.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn count_color_traffic(
@@ -902,6 +922,11 @@ fn count_color_traffic(
 }
 
 /// Blends and writes one colour attachment for the covered samples of a group.
+// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's loop
+// and run per 4×2 group and attachment. Its arguments are the group's position, coverage, colour
+// and plan and the state it updates, which no single owner holds together; a parameter struct would
+// be assembled per call in the hottest loop, and its code generation was tuned with the kernel
+// bench.
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn write_color(
@@ -914,7 +939,7 @@ fn write_color(
     constant: [f32; 4],
     traffic: &mut FramebufferTraffic,
     ledger: &mut Ledger,
-    simd: SimdLevel,
+    simd: SimdSupport,
 ) {
     let reads = plan.state.blend.is_some() || plan.partial;
     if !reads && let Some(packed) = surface.format.pack_lanes_u32(color) {
@@ -934,10 +959,11 @@ fn write_color(
 
 /// [`write_color`] past its common case (blending, write masks, formats of other sizes): not
 /// generic, so compiled once per SIMD level for every shader, not inlined into each.
+// Kept flat: the same arguments as `write_color`, forwarded once per SIMD level.
 #[allow(clippy::too_many_arguments)]
 #[inline(never)]
 fn blend_and_write(
-    simd: SimdLevel,
+    simd: SimdSupport,
     surface: &mut Surface,
     x: i32,
     y: i32,
@@ -948,11 +974,11 @@ fn blend_and_write(
     traffic: &mut FramebufferTraffic,
     ledger: &mut Ledger,
 ) {
-    match simd {
+    match simd.level() {
         #[cfg(target_arch = "x86_64")]
         SimdLevel::Avx2 => {
-            // SAFETY: the device picks `Avx2` only when the processor has AVX2 and FMA
-            // (`SimdLevel::is_available`).
+            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+            // every feature `blend_and_write_avx2` is compiled with (`SimdSupport::detect`).
             unsafe { blend_and_write_avx2(surface, x, y, coverage, color, plan, constant, traffic, ledger) }
         }
         _ => blend_and_write_body(surface, x, y, coverage, color, plan, constant, traffic, ledger),
@@ -960,6 +986,7 @@ fn blend_and_write(
 }
 
 /// [`blend_and_write_body`] compiled for AVX2.
+// Kept flat: `blend_and_write_body`'s arguments, compiled for AVX2.
 #[allow(clippy::too_many_arguments)]
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
@@ -977,6 +1004,11 @@ unsafe fn blend_and_write_avx2(
     blend_and_write_body(surface, x, y, coverage, color, plan, constant, traffic, ledger)
 }
 
+// Kept flat (measured code, not style): a pixel-pipeline kernel inlined into every shader's loop
+// and run per 4×2 group and attachment. Its arguments are the group's position, coverage, colour
+// and plan and the state it updates, which no single owner holds together; a parameter struct would
+// be assembled per call in the hottest loop, and its code generation was tuned with the kernel
+// bench.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn blend_and_write_body(

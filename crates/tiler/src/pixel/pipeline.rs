@@ -4,24 +4,21 @@
 
 use std::sync::Arc;
 
+use crate::api::error::Result;
 use crate::api::pipeline::PipelineDesc;
-use crate::api::shader::{FragmentShader, ShaderProperties, VertexShader};
+use crate::api::shader::{ShaderProperties, VertexShader};
+use crate::geometry::VertexStage;
 use crate::geometry::fetch::VertexFetcher;
 use crate::geometry::vertex::{NonFinitePosition, ShadedVertices, VertexSet, shade_vertices};
 use crate::ledger::Category;
-use crate::raster::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
+use crate::pixel::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
+use crate::raster::target::RenderTarget;
+use crate::shade::fragments::FragmentShader;
 use crate::simd::SimdLevel;
-use crate::tile::target::RenderTarget;
 
-/// A pipeline's shaders behind one dynamic call per draw or per primitive.
-pub trait PipelineObject: Send + Sync {
-    fn shade_vertices(
-        &self,
-        fetcher: &VertexFetcher,
-        set: &VertexSet,
-        varying_count: usize,
-    ) -> Result<ShadedVertices, NonFinitePosition>;
-
+/// A pipeline's shaders behind one dynamic call per draw (its [`VertexStage`], for the
+/// geometry phase) or per run of primitives.
+pub trait PipelineObject: VertexStage {
     /// Runs the primitives of `run` (all of this pipeline's draw) through the pixel pipeline.
     fn rasterize(&self, run: &PrimitiveRun, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode);
 
@@ -42,22 +39,24 @@ impl<V, F> Shaders<V, F> {
     }
 }
 
-impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
+impl<V: VertexShader, F: FragmentShader> VertexStage for Shaders<V, F> {
     fn shade_vertices(
         &self,
         fetcher: &VertexFetcher,
         set: &VertexSet,
         varying_count: usize,
-    ) -> Result<ShadedVertices, NonFinitePosition> {
+    ) -> std::result::Result<ShadedVertices, NonFinitePosition> {
         shade_vertices(&self.vertex, fetcher, set, varying_count)
     }
+}
 
+impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
     fn rasterize(&self, run: &PrimitiveRun, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode) {
-        match tally.simd {
+        match tally.simd.level() {
             #[cfg(target_arch = "x86_64")]
             SimdLevel::Avx2 => {
-                // SAFETY: the device picks `Avx2` only when the processor has AVX2 and FMA
-                // (`SimdLevel::is_available`).
+                // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+                // every feature `rasterize_avx2` is compiled with (`SimdSupport::detect`).
                 unsafe { rasterize_avx2(&self.fragment, &self.desc, run, target, tally, mode) }
             }
             _ => rasterize(&self.fragment, &self.desc, run, target, tally, mode),
@@ -87,4 +86,35 @@ unsafe fn rasterize_avx2<F: FragmentShader>(
     mode: &mut Mode,
 ) {
     rasterize(shader, desc, run, target, tally, mode)
+}
+
+/// A compiled pipeline: shaders plus state. Cheap to clone; draws hold it by reference count.
+#[derive(Clone)]
+pub struct Pipeline {
+    pub(crate) desc: Arc<PipelineDesc>,
+    pub(crate) object: Arc<dyn PipelineObject>,
+}
+
+impl Pipeline {
+    /// Builds a pipeline from its shaders and state.
+    ///
+    /// # Errors
+    /// When the state breaks a limit above or is inconsistent (an attribute outside its
+    /// binding's stride, two attributes at one location, …).
+    pub fn new<V: VertexShader, F: FragmentShader>(vertex: V, fragment: F, desc: PipelineDesc) -> Result<Pipeline> {
+        desc.validate()?;
+        let desc = Arc::new(desc);
+        let object = Arc::new(Shaders::new(vertex, fragment, desc.clone()));
+        Ok(Pipeline { desc, object })
+    }
+
+    pub fn desc(&self) -> &PipelineDesc {
+        &self.desc
+    }
+}
+
+impl std::fmt::Debug for Pipeline {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Pipeline").field("label", &self.desc.label).finish_non_exhaustive()
+    }
 }
