@@ -8,9 +8,6 @@ use std::path::{Path, PathBuf};
 use anyhow::{Result, anyhow, bail};
 use tiler::{DeviceConfig, DevicePreset};
 
-/// The largest preset file read (presets are a few hundred bytes).
-const MAX_PRESET_BYTES: u64 = 1 << 20;
-
 /// Checks that `path` can take an output of the option `what` and is none of `inputs`.
 ///
 /// # Errors
@@ -70,12 +67,6 @@ pub fn load_preset(name: Option<&str>) -> Result<(DevicePreset, Option<PathBuf>)
         return Ok((DevicePreset::builtin(name)?, None));
     }
     let path = PathBuf::from(name);
-    let text = tiler_io::read_text(&path, MAX_PRESET_BYTES).map_err(|e| anyhow!(e))?;
-    let what = path.display().to_string();
-    let preset = if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
-        DevicePreset::parse_json(&text, &what)?
-    } else {
-        DevicePreset::parse_toml(&text, &what)?
-    };
+    let preset = DevicePreset::from_file(&path)?;
     Ok((preset, Some(path)))
 }

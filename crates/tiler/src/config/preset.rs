@@ -80,10 +80,15 @@ impl DevicePreset {
         DevicePreset::from_file(Path::new(name_or_path))
     }
 
-    /// Reads a preset file: JSON if its name ends in `.json`, TOML otherwise.
+    /// The largest preset file read: presets are a few hundred bytes.
+    pub const MAX_FILE_BYTES: u64 = 1 << 20;
+
+    /// Reads a preset file: JSON if its name ends in `.json`, TOML otherwise. Only a regular
+    /// file of at most [`MAX_FILE_BYTES`](Self::MAX_FILE_BYTES) is read (a device or a FIFO is
+    /// refused, not read forever or waited on).
     pub fn from_file(path: &Path) -> Result<DevicePreset> {
         let what = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| Error::invalid(&what, format!("cannot read it: {e}")))?;
+        let text = tiler_io::read_text(path, Self::MAX_FILE_BYTES).map_err(|e| Error::invalid(&what, e.message))?;
         if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
             DevicePreset::parse_json(&text, &what)
         } else {
@@ -163,5 +168,27 @@ mod tests {
         crate::ledger::cache::CacheModel::new(device.framebuffer_cache);
         let device = DevicePreset::parse_toml(&preset("texture_cache", 64 << 20, 4096, 64), "gpu.toml").unwrap().device;
         crate::shade::texture_cache::TextureCache::new(device.texture_cache);
+    }
+
+    /// A preset file that is a device or a FIFO is refused, not read until memory runs out or
+    /// waited on forever; an oversized one is refused by its size (issue 13).
+    #[cfg(unix)]
+    #[test]
+    fn preset_files_must_be_small_regular_files() {
+        let e = DevicePreset::from_file(Path::new("/dev/zero")).unwrap_err();
+        assert!(e.to_string().contains("/dev/zero"), "{e}");
+        let dir = std::env::temp_dir().join(format!("tiler-preset-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let fifo = dir.join("gpu.toml");
+        let _ = std::fs::remove_file(&fifo);
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let e = DevicePreset::from_file(&fifo).unwrap_err();
+        assert!(e.to_string().contains("gpu.toml"), "{e}");
+        let big = dir.join("big.toml");
+        std::fs::write(&big, vec![b'#'; DevicePreset::MAX_FILE_BYTES as usize + 1]).unwrap();
+        let e = DevicePreset::from_file(&big).unwrap_err();
+        assert!(e.to_string().contains("limit"), "{e}");
+        let e = DevicePreset::from_file(&dir).unwrap_err();
+        assert!(e.to_string().contains(&*dir.to_string_lossy()), "{e}");
     }
 }
