@@ -208,6 +208,8 @@ struct Compiler<'a> {
     /// Zeroing of lazily declared built-ins, run before the prologue.
     pending_front: Vec<Inst>,
     next_slot: Reg,
+    /// Whether the code reads `gl_FragCoord` (which then needs a varying for `w`).
+    reads_frag_coord: bool,
 }
 
 fn err<T>(line: u32, message: impl Into<String>) -> CResult<T> {
@@ -243,6 +245,7 @@ impl<'a> Compiler<'a> {
             prologue: Vec::new(),
             pending_front: Vec::new(),
             next_slot: 0,
+            reads_frag_coord: false,
         }
     }
 
@@ -279,7 +282,7 @@ impl<'a> Compiler<'a> {
             outputs: if self.stage == Stage::Vertex { self.outputs } else { Vec::new() },
             samplers: self.samplers,
             position: self.position,
-            frag_coord: self.frag_coord,
+            frag_coord: self.frag_coord.filter(|_| self.reads_frag_coord),
             front_facing: self.front_facing,
             colors,
             discards: self.discards,
@@ -1255,6 +1258,7 @@ impl<'a> Compiler<'a> {
         match &e.content {
             E::Variable(id) => {
                 let name = id.as_str();
+                self.reads_frag_coord |= name == "gl_FragCoord";
                 let symbol = if name == "gl_FragData" && self.stage == Stage::Fragment {
                     self.frag_data()
                 } else {
