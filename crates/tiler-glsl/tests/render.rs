@@ -2,6 +2,9 @@
 //! the same arithmetic; vertex-stage math checked against Rust f32 directly; compile errors;
 //! introspection.
 
+// The native shaders loop over lanes by index, as the per-lane arithmetic reads best.
+#![allow(clippy::needless_range_loop)]
+
 use std::sync::Arc;
 
 use glam::Vec4;
