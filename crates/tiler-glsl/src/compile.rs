@@ -731,11 +731,25 @@ impl<'a> Compiler<'a> {
                             ast::InitializerData::Simple(e) if is_const => self.const_eval(e),
                             _ => None,
                         };
+                        let start = self.work;
                         let v = self.initializer(init, &ty)?;
-                        let regs = self.temps(ty.size());
-                        for (&d, &s) in regs.iter().zip(&v.regs) {
-                            self.emit(Inst::Un(UnOp::Mov, d, s));
-                        }
+                        // Registers the initializer just computed (each written in every
+                        // lane, read by nothing else) become the variable's; anything else
+                        // (another variable, a constant, a repeated register) is copied.
+                        let fresh = v
+                            .regs
+                            .iter()
+                            .enumerate()
+                            .all(|(i, &r)| r & BANK == 0 && r >= start && !v.regs[..i].contains(&r));
+                        let regs = if fresh && !ty.contains_sampler() {
+                            v.regs
+                        } else {
+                            let regs = self.temps(ty.size());
+                            for (&d, &s) in regs.iter().zip(&v.regs) {
+                                self.emit(Inst::Un(UnOp::Mov, d, s));
+                            }
+                            regs
+                        };
                         (regs, konst.filter(|k| k.len() == ty.size()))
                     }
                     None if is_const => return self.fail(format!("const '{name}' needs an initializer")),
