@@ -46,14 +46,15 @@
 //! std's f32 functions.
 //!
 //! Measured with `benches/executor.rs` (a Blinn-Phong fragment shader, 74 instructions per
-//! group, over a 256×256 full-screen triangle through `Device`, one tile thread): the GLSL
-//! pipeline takes 3.5× the time of the native Rust one (6.8–7.3 ms against 2.0–2.1 ms per
-//! frame; 0.4 ms of it is the pipeline itself, measured with a flat shader), so the shader
-//! alone costs ≈ 4× native (≈ 105 ns against ≈ 26 ns per fragment, `powf` per lane in
-//! both). Measured on a 2-core machine under a load average of 7, so absolute times are
-//! inflated; the ratio is what to read. The interpreter dispatches twice per instruction
-//! (instruction, then operation) and reads operands through a bank check; flattening that,
-//! hoisting uniform-only expressions and wider batches are the known next steps.
+//! group, over a 256×256 full-screen triangle through `Device`, one tile thread; the
+//! interpreter's AVX2 build): the GLSL pipeline takes 2.4–2.9× the time of the native Rust
+//! one (7.0–7.5 ms against 2.6–2.9 ms per frame, of which 0.42 ms is the pipeline itself,
+//! measured with a flat shader), so the shader alone costs ≈ 3× native (≈ 100 ns against
+//! ≈ 34 ns per fragment, `powf` per lane in both). Measured on a 2-core machine under a load
+//! average of 8, so absolute times are inflated and noisy; the ratio is what to read. The
+//! interpreter dispatches twice per instruction (instruction, then operation) and reads
+//! operands through a bank check; flattening that, hoisting uniform-only expressions and
+//! wider batches are the known next steps.
 //!
 //! # Coordinate conventions
 //!
