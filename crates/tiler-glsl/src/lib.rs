@@ -63,8 +63,9 @@
 //! `height − y` from tiler's pixel centres (y down), window depth, and `1/w` (a hidden
 //! varying carries clip w when the fragment shader reads `gl_FragCoord`). Texture
 //! coordinates are GL's (t up): a core texture is sampled at `(s, 1 − t)`, as tiler stores
-//! rows top first. `gl_FrontFacing` is tiler's front-facing flag; the pipeline's front face
-//! must be set for the flipped y (as tiler-gl does).
+//! rows top first. `gl_FrontFacing` is tiler's front-facing flag: with tiler-gl's mapping of
+//! `glFrontFace` (`GL_CCW` → `FrontFace::CounterClockwise`, the picture being upright in both
+//! windows) it is GL's (tested).
 
 pub mod compile;
 pub mod exec;
