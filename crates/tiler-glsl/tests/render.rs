@@ -670,3 +670,31 @@ void main() {
     let unorm = |x: f32| (x * 255.0).round() as u8;
     assert_eq!(bottom_left, &[unorm(0.25 / 40.0), unorm(0.25 / 24.0), unorm(0.5), 255]);
 }
+
+#[test]
+fn hostile_programs_fail_cleanly() {
+    let vs = "attribute vec4 p; void main() { gl_Position = p; }";
+    let fail = |fs: &str, needle: &str| {
+        let e = CompiledProgram::new(vs, fs, &[]).unwrap_err();
+        assert!(matches!(e, Error::Compile { stage: Stage::Fragment, .. }), "{e}");
+        assert!(e.to_string().contains(needle), "{e}");
+    };
+    // Each level calls the one below four times: 4^12 inlined copies.
+    let mut fs = String::from("float f0(float x) { return x * 2.0 + 1.0; }\n");
+    for i in 1..=12 {
+        let p = i - 1;
+        fs += &format!("float f{i}(float x) {{ return f{p}(x) + f{p}(x + 1.0) + f{p}(x * 2.0) + f{p}(-x); }}\n");
+    }
+    fs += "void main() { gl_FragColor = vec4(f12(1.0)); }";
+    fail(&fs, "too large");
+    fail("void main() { float a[4096][4096]; gl_FragColor = vec4(a[0][0]); }", "at most");
+    fail("void g() {}\nvoid main() { bool b = g() == g(); }", "compare");
+    fail(
+        "uniform sampler2D a; uniform sampler2D b; uniform bool c;\nvoid main() { gl_FragColor = texture2D(c ? a : b, vec2(0.0)); }",
+        "?:",
+    );
+    fail(
+        "uniform sampler2D a;\nvec4 f(sampler2D s) { s = a; return vec4(0.0); }\nvoid main() { gl_FragColor = f(a); }",
+        "read-only",
+    );
+}
