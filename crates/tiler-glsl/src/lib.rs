@@ -32,6 +32,25 @@
 //! floats (promoted, as desktop GLSL allows); ints are held in f32 (exact to 2²⁴, beyond ES
 //! 1.00's required ±2¹⁶).
 //!
+//! Limits, each a compile error: [`compile::MAX_INSTRUCTIONS`] instructions and
+//! [`compile::MAX_REGISTERS`] registers per stage (inlining can grow code exponentially),
+//! [`compile::MAX_ARRAY_COMPONENTS`] per array, [`compile::MAX_CALL_DEPTH`] nested calls.
+//!
+//! # Linking and instances
+//!
+//! Attributes bound by the caller (`glBindAttribLocation`) or by `layout(location)` keep
+//! their locations; the others take the lowest free ones in declaration order (a `matN`
+//! takes N). Varyings the fragment shader reads must be declared by the vertex shader with
+//! the same type; they are packed in the fragment shader's order, as smooth floats
+//! ([`CompiledProgram::pipeline_varyings`]). Uniforms get locations in declaration order,
+//! the vertex shader's first, then the fragment shader's new ones; an array takes one per
+//! element, a struct is listed field by field (`light.color`), as GL's introspection lists
+//! them. A program's recorded locations (a trace's `glGetUniformLocation` results) map to
+//! these by name. Sampler uniforms hold texture units; each unit is a [`TextureBinding`]: a
+//! core texture sampled through `Fragments::sample` (counted in the texture-cache model) or
+//! the caller's [`TextureSource`]. A vertex shader reads a core texture's nearest texel of
+//! the requested level, uncounted; a bias applies per 4×2 group (its first lane's).
+//!
 //! # IR and executor
 //!
 //! Values are lists of component registers, each `W` lanes of f32 ([`ir`]); arithmetic is
