@@ -56,8 +56,11 @@ pub struct StageCode {
     pub code: Vec<Inst>,
     /// Registers of the work file.
     pub work_regs: usize,
-    /// The bank's values: constants, and zeros where uniforms go.
+    /// The bank's values: constants, and zeros where uniforms and hoisted results go.
     pub bank: Vec<f32>,
+    /// Instructions computing bank registers from uniforms and constants, run once per
+    /// program instance (see `hoist`).
+    pub bank_program: Vec<Inst>,
     pub uniforms: Vec<StageVar>,
     /// Attributes (vertex) or varyings (fragment).
     pub inputs: Vec<StageVar>,
@@ -284,11 +287,27 @@ impl<'a> Compiler<'a> {
             }
             colors.retain(|(i, _)| *i < MAX_DRAW_BUFFERS);
         }
+        // What the interface reads or fills stays in the work file (uniforms live in the
+        // bank, or are sampler slots).
+        let mut pinned: Vec<Reg> = Vec::new();
+        for var in self.inputs.iter().chain(&self.outputs) {
+            pinned.extend(&var.regs);
+        }
+        pinned.extend(self.position.iter().flatten());
+        pinned.extend(self.frag_coord.iter().flatten());
+        pinned.extend(self.front_facing);
+        for (_, c) in &colors {
+            pinned.extend(c);
+        }
+        let mut code = self.code;
+        let mut bank = self.bank;
+        let bank_program = crate::hoist::hoist(&mut code, self.work as usize, &mut bank, &pinned);
         StageCode {
             stage: self.stage,
-            code: self.code,
+            code,
             work_regs: self.work as usize,
-            bank: self.bank,
+            bank,
+            bank_program,
             uniforms: self.uniforms,
             inputs: self.inputs,
             outputs: if self.stage == Stage::Vertex { self.outputs } else { Vec::new() },

@@ -286,6 +286,19 @@ fn b(x: bool) -> f32 {
     if x { 1.0 } else { 0.0 }
 }
 
+/// Runs straight-line arithmetic over bank registers (a program instance's hoisted code).
+pub fn run_bank<const W: usize>(code: &[Inst], bank: &mut [[f32; W]]) {
+    let at = |r: Reg| (r & !BANK) as usize;
+    for inst in code {
+        match *inst {
+            Inst::Un(op, d, a) => bank[at(d)] = unary(op, bank[at(a)]),
+            Inst::Bin(op, d, a, b) => bank[at(d)] = binary(op, bank[at(a)], bank[at(b)]),
+            Inst::Tri(op, d, a, b, c) => bank[at(d)] = ternary(op, bank[at(a)], bank[at(b)], bank[at(c)]),
+            _ => debug_assert!(false, "only arithmetic is hoisted"),
+        }
+    }
+}
+
 #[inline(always)]
 fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
     let f: fn(f32) -> f32 = match op {

@@ -88,6 +88,7 @@
 
 pub mod compile;
 pub mod exec;
+mod hoist;
 pub mod ir;
 mod program;
 pub mod types;

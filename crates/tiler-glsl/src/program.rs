@@ -371,6 +371,7 @@ fn stage_state<const W: usize>(
             }
         }
     }
+    crate::exec::run_bank(&code.bank_program, &mut bank);
     (bank, slots)
 }
 

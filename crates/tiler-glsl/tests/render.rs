@@ -698,3 +698,21 @@ fn hostile_programs_fail_cleanly() {
         "read-only",
     );
 }
+
+#[test]
+fn uniform_only_arithmetic_is_computed_once_per_instance() {
+    const FS: &str = "
+uniform vec3 u;
+void main() { gl_FragColor = vec4(normalize(u) * 0.5 + 0.5, 1.0); }";
+    let program = glsl(PASS_VS, FS);
+    // gl_FragColor's zeroing and its four stores are all that is left per group.
+    assert_eq!(program.instruction_counts().1, 8);
+    let u = [0.3f32, -0.7, 0.2];
+    let mut uniforms = program.new_uniform_values();
+    program.set_uniform(&mut uniforms, 0, &u).unwrap();
+    let (image, _) = render(&glsl_pipeline(&program, &uniforms, &[]));
+    let len = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
+    let unorm = |x: f32| (x * 255.0).round() as u8;
+    let want: Vec<u8> = u.iter().map(|c| unorm(c / len * 0.5 + 0.5)).chain([255]).collect();
+    assert!(image.chunks(4).all(|p| p == want.as_slice()), "{:?} vs {want:?}", &image[..4]);
+}
