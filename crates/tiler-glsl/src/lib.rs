@@ -64,16 +64,17 @@
 //! written in that call, loops are capped at [`exec::MAX_ITERATIONS`], and the built-ins are
 //! std's f32 functions.
 //!
-//! Measured with `benches/executor.rs` (a Blinn-Phong fragment shader, 74 instructions per
-//! group, over a 256×256 full-screen triangle through `Device`, one tile thread; the
-//! interpreter's AVX2 build): the GLSL pipeline takes 2.4–2.9× the time of the native Rust
-//! one (7.0–7.5 ms against 2.6–2.9 ms per frame, of which 0.42 ms is the pipeline itself,
-//! measured with a flat shader), so the shader alone costs ≈ 3× native (≈ 100 ns against
-//! ≈ 34 ns per fragment, `powf` per lane in both). Measured on a 2-core machine under a load
-//! average of 8, so absolute times are inflated and noisy; the ratio is what to read. The
+//! Measured with `benches/executor.rs` (a Blinn-Phong fragment shader, 63 instructions per
+//! group after hoisting, over a 256×256 full-screen triangle through `Device`, one tile
+//! thread; the interpreter's AVX2 build): the GLSL pipeline takes 2.7–2.9× the time of the
+//! native Rust one (4.15–4.29 ms against 1.42–1.58 ms per frame, of which 0.25 ms is the
+//! pipeline itself, measured with a flat shader), so the shader alone costs ≈ 3–3.4× native
+//! (≈ 60 ns against ≈ 19 ns per fragment, `powf` per lane in both). Measured on a 2-core
+//! machine under a load average of 6–8, so absolute times are inflated and noisy (earlier
+//! runs under heavier load were 1.7× slower for both); the ratio is what to read. The
 //! interpreter dispatches twice per instruction (instruction, then operation) and reads
-//! operands through a bank check; flattening that, hoisting uniform-only expressions and
-//! wider batches are the known next steps.
+//! operands through a bank check; flattening that and wider batches (the notes measured a
+//! register VM at 64 lanes ≈ 1.1× native) are the known next steps.
 //!
 //! # Coordinate conventions
 //!
