@@ -1,0 +1,128 @@
+//! GLSL ES 1.00 programs compiled at run time and run as tiler shaders.
+//!
+//! [`CompiledProgram::new`] parses a vertex and a fragment shader (with
+//! [glsl-lang](https://docs.rs/glsl-lang), preprocessor included; `GL_ES` is predefined),
+//! type-checks and lowers them into a lane-wide IR ([`ir`]), and links them: attributes get
+//! locations, varyings are matched by name and packed into tiler's varyings, uniforms get
+//! GL-style locations. [`shaders`] (or [`pipeline`]) turns the program, its uniform values,
+//! its texture units and the framebuffer height into a [`tiler::VertexShader`] and a
+//! [`tiler::FragmentShader`], which run the IR in the executor ([`exec`]).
+//!
+//! # Language
+//!
+//! GLSL ES 1.00: `attribute`/`varying`/`uniform`, precision qualifiers (parsed; all float
+//! math is f32), `float`/`int`/`bool` and their vectors, `mat2`–`mat4`, `sampler2D`, structs,
+//! arrays (constant sizes; dynamic indices allowed), `const`, user functions with
+//! `in`/`out`/`inout` parameters (inlined at each call), `if`/`else`, `for`/`while`/
+//! `do`-`while` with `break`/`continue`/`return`/`discard` in divergent control flow, and the
+//! ES 1.00 built-in functions: angle and trigonometry, exponentials, `abs` … `smoothstep`,
+//! the geometric functions, `matrixCompMult`, the vector relational functions, `texture2D`
+//! (with a bias), `texture2DProj`, `texture2DLod`/`texture2DProjLod`, and
+//! `OES_standard_derivatives`' `dFdx`/`dFdy`/`fwidth` (fine derivatives within each 2×2
+//! quad, y up as in GL). Built-in variables:
+//! `gl_Position`, `gl_PointSize` (accepted, unused), `gl_FragCoord`, `gl_FrontFacing`,
+//! `gl_FragColor`, `gl_FragData[n]`, `gl_PointCoord` (reads zero). From ES 3.00 where it is
+//! cheap: `in`/`out` (outputs with `layout(location)`), `texture`/`textureProj`/`textureLod`,
+//! `trunc`, `round`, `transpose`.
+//!
+//! Not supported (a compile error naming the shader and line): `samplerCube`/`textureCube`
+//! (tiler has no cube textures), `switch`, bit operations and `%`,
+//! interface blocks. Simplifications: the operands of `&&`, `||` and `?:` are all evaluated
+//! and then selected per lane (a side effect in the untaken one happens); ints mix with
+//! floats (promoted, as desktop GLSL allows); ints are held in f32 (exact to 2²⁴, beyond ES
+//! 1.00's required ±2¹⁶).
+//!
+//! Limits, each a compile error: [`compile::MAX_INSTRUCTIONS`] instructions and
+//! [`compile::MAX_REGISTERS`] registers per stage (inlining can grow code exponentially),
+//! [`compile::MAX_ARRAY_COMPONENTS`] per array, [`compile::MAX_CALL_DEPTH`] nested calls.
+//!
+//! # Linking and instances
+//!
+//! Attributes bound by the caller (`glBindAttribLocation`) or by `layout(location)` keep
+//! their locations; the others take the lowest free ones in declaration order (a `matN`
+//! takes N). Varyings the fragment shader reads must be declared by the vertex shader with
+//! the same type; they are packed in the fragment shader's order, as smooth floats
+//! ([`CompiledProgram::pipeline_varyings`]). Uniforms get locations in declaration order,
+//! the vertex shader's first, then the fragment shader's new ones; an array takes one per
+//! element, a struct is listed field by field (`light.color`), as GL's introspection lists
+//! them. A program's recorded locations (a trace's `glGetUniformLocation` results) map to
+//! these by name. Sampler uniforms hold texture units; each unit is a [`TextureBinding`]: a
+//! core texture sampled through `Fragments::sample` (counted in the texture-cache model) or
+//! the caller's [`TextureSource`]. A vertex shader reads a core texture's nearest texel of
+//! the requested level, uncounted; a bias applies per 4×2 group (its first lane's).
+//!
+//! # IR and executor
+//!
+//! Values are lists of component registers, each `W` lanes of f32 ([`ir`]); arithmetic is
+//! scalarised (a `vec4` add is four instructions; `dot`, matrix products, `normalize` expand
+//! into adds, multiplies and a square root in a fixed order, which the tests reproduce in
+//! Rust bit for bit). Control flow stays structured and runs under lane masks ([`exec`]).
+//! The executor is generic over the lane count: fragment shaders run 8 lanes (tiler's 4×2
+//! group, helper lanes included), vertex shaders 1 lane per `VertexShader::shade` call, so
+//! batching vertices, wider fragment batches or a JIT can replace the interpreter without
+//! touching the compiler. Results are deterministic: every register a call reads was
+//! written in that call, loops are capped at [`exec::MAX_ITERATIONS`], and the built-ins are
+//! std's f32 functions.
+//!
+//! Measured with `benches/executor.rs` (a Blinn-Phong fragment shader, 63 instructions per
+//! group after hoisting, over a 256×256 full-screen triangle through `Device`, one tile
+//! thread; the interpreter's AVX2 build): the GLSL pipeline takes 2.7–2.9× the time of the
+//! native Rust one (4.15–4.29 ms against 1.42–1.58 ms per frame, of which 0.25 ms is the
+//! pipeline itself, measured with a flat shader), so the shader alone costs ≈ 3–3.4× native
+//! (≈ 60 ns against ≈ 19 ns per fragment, `powf` per lane in both). Measured on a 2-core
+//! machine under a load average of 6–8, so absolute times are inflated and noisy (earlier
+//! runs under heavier load were 1.7× slower for both); the ratio is what to read. The
+//! interpreter dispatches twice per instruction (instruction, then operation) and reads
+//! operands through a bank check; flattening that and wider batches (the notes measured a
+//! register VM at 64 lanes ≈ 1.1× native) are the known next steps.
+//!
+//! # Coordinate conventions
+//!
+//! `gl_Position` is GL clip space; the vertex shader hands tiler `(x, −y, (z + w)/2, w)`, as
+//! tiler-gl's built-in programs do. `gl_FragCoord` is GL's window position: `x` and
+//! `height − y` from tiler's pixel centres (y down), window depth, and `1/w` (a hidden
+//! varying carries clip w when the fragment shader reads `gl_FragCoord`). Texture
+//! coordinates are GL's (t up): a core texture is sampled at `(s, 1 − t)`, as tiler stores
+//! rows top first. `gl_FrontFacing` is tiler's front-facing flag: with tiler-gl's mapping of
+//! `glFrontFace` (`GL_CCW` → `FrontFace::CounterClockwise`, the picture being upright in both
+//! windows) it is GL's (tested).
+
+pub mod compile;
+pub mod exec;
+mod hoist;
+pub mod ir;
+mod program;
+pub mod types;
+
+pub use program::{
+    AttributeInfo, CompiledProgram, GlslFragmentShader, GlslVertexShader, TextureBinding, TextureSource, UniformInfo,
+    UniformValues, VaryingInfo, pipeline, shaders,
+};
+pub use types::{SamplerKind, Scalar, StructType, Type};
+
+/// A shader stage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Stage {
+    Vertex,
+    Fragment,
+}
+
+impl std::fmt::Display for Stage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Stage::Vertex => "vertex shader",
+            Stage::Fragment => "fragment shader",
+        })
+    }
+}
+
+/// What compiling, linking or setting a uniform refused.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum Error {
+    #[error("{stage}, line {line}: {message}")]
+    Compile { stage: Stage, line: u32, message: String },
+    #[error("link: {0}")]
+    Link(String),
+    #[error("{0}")]
+    Uniform(String),
+}
