@@ -29,14 +29,19 @@ fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     out
 }
 
-/// Runs `tiler args` and checks: it fails within 20 s, stderr holds every `parts` and no
+/// Runs `tiler args` and checks: it fails without hanging, stderr holds every `parts` and no
 /// panic, and no file of `dir` changed (none written, none removed).
+///
+/// The time bound catches a command that waits forever (a FIFO opened for reading blocks until
+/// a writer comes); it is generous because a loaded 2-core machine running the whole test
+/// suite once stalled a refusal that takes milliseconds for 84 s. Where the time a case takes
+/// is the point (huge inputs), `run_measured` bounds the child's own CPU time instead.
 fn fails(dir: &Path, args: &[&str], parts: &[&str]) -> String {
     let before = snapshot(dir);
     let started = Instant::now();
     let out = tiler(args);
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(started.elapsed() < Duration::from_secs(20), "{args:?} took {:?}", started.elapsed());
+    assert!(started.elapsed() < Duration::from_secs(300), "{args:?} hung: {:?}", started.elapsed());
     assert!(!out.status.success(), "{args:?} succeeded:\n{}", String::from_utf8_lossy(&out.stdout));
     assert!(out.status.code() == Some(1), "{args:?} did not exit with an error: {:?}\n{stderr}", out.status);
     assert!(!stderr.contains("panicked"), "{args:?} panicked:\n{stderr}");
