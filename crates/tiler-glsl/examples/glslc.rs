@@ -20,6 +20,7 @@ fn main() -> ExitCode {
         });
         match result {
             Ok(p) => {
+                let (vertex_insts, fragment_insts) = p.instruction_counts();
                 let attributes: Vec<String> =
                     p.attributes().iter().map(|a| format!("{}@{}", a.name, a.location)).collect();
                 let uniforms: Vec<String> = p
@@ -28,12 +29,14 @@ fn main() -> ExitCode {
                     .map(|u| format!("{} {}[{}]@{}", u.ty, u.name, u.array_size, u.location))
                     .collect();
                 println!(
-                    "ok   {}: attributes {}; varyings {} floats; uniforms {}; discards {}",
+                    "ok   {}: attributes {}; varyings {} floats; uniforms {}; discards {}; instructions {}+{}",
                     pair[1],
                     attributes.join(" "),
                     p.varying_floats(),
                     uniforms.join(", "),
-                    p.fragment_properties().discards
+                    p.fragment_properties().discards,
+                    vertex_insts,
+                    fragment_insts
                 );
             }
             Err(e) => {

@@ -16,7 +16,7 @@ use std::sync::Arc;
 use glsl_lang::ast::{self, NodeSpan};
 use glsl_lang::parse::DefaultParse;
 
-use crate::ir::{BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
+use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
 use crate::types::{BOOL, FLOAT, INT, SamplerKind, Scalar, StructType, Type};
 use crate::{Error, Stage};
 
@@ -597,18 +597,13 @@ impl<'a> Compiler<'a> {
         if self.frag_data.is_none() {
             let regs = self.temps(4 * MAX_DRAW_BUFFERS);
             let zero = self.konst(0.0);
-            // Zeroed at the very start: insert into the final code's front when finishing
-            // would be later than uses, so zero here in a prologue-like position.
-            let zeroing: Vec<Inst> = regs.iter().map(|&r| Inst::Un(UnOp::Mov, r, zero)).collect();
-            self.prologue_front(zeroing);
+            // Zeroed before `main` runs, wherever the first use is.
+            let zeroing = regs.iter().map(|&r| Inst::Un(UnOp::Mov, r, zero));
+            self.pending_front.extend(zeroing);
             self.frag_data = Some(regs);
         }
         let regs = self.frag_data.clone().expect("declared");
         Symbol { ty: Type::Array(Box::new(Type::vec(4)), MAX_DRAW_BUFFERS), regs, writable: true, konst: None }
-    }
-
-    fn prologue_front(&mut self, code: Vec<Inst>) {
-        self.pending_front.extend(code);
     }
 
     fn declaration(&mut self, d: &ast::Declaration, global: bool) -> CResult<()> {
@@ -736,11 +731,25 @@ impl<'a> Compiler<'a> {
                             ast::InitializerData::Simple(e) if is_const => self.const_eval(e),
                             _ => None,
                         };
+                        let start = self.work;
                         let v = self.initializer(init, &ty)?;
-                        let regs = self.temps(ty.size());
-                        for (&d, &s) in regs.iter().zip(&v.regs) {
-                            self.emit(Inst::Un(UnOp::Mov, d, s));
-                        }
+                        // Registers the initializer just computed (each written in every
+                        // lane, read by nothing else) become the variable's; anything else
+                        // (another variable, a constant, a repeated register) is copied.
+                        let fresh = v
+                            .regs
+                            .iter()
+                            .enumerate()
+                            .all(|(i, &r)| r & BANK == 0 && r >= start && !v.regs[..i].contains(&r));
+                        let regs = if fresh && !ty.contains_sampler() {
+                            v.regs
+                        } else {
+                            let regs = self.temps(ty.size());
+                            for (&d, &s) in regs.iter().zip(&v.regs) {
+                                self.emit(Inst::Un(UnOp::Mov, d, s));
+                            }
+                            regs
+                        };
                         (regs, konst.filter(|k| k.len() == ty.size()))
                     }
                     None if is_const => return self.fail(format!("const '{name}' needs an initializer")),
@@ -1949,7 +1958,29 @@ impl<'a> Compiler<'a> {
             "textureCube" | "textureCubeLod" => {
                 self.fail(format!("{name}(): cube textures are not supported (tiler has no cube textures)"))
             }
-            "dFdx" | "dFdy" | "fwidth" => self.fail(format!("{name}() (OES_standard_derivatives) is not supported")),
+            "dFdx" | "dFdy" | "fwidth" => {
+                // OES_standard_derivatives.
+                arity(self, 1)?;
+                if self.stage != Stage::Fragment {
+                    return self.fail(format!("{name}() outside a fragment shader"));
+                }
+                self.componentwise(name, args, |c, r| {
+                    let derivative = |c: &mut Self, axis| {
+                        let dst = c.temp();
+                        c.emit(Inst::Derivative { dst, src: r[0], axis });
+                        dst
+                    };
+                    match name {
+                        "dFdx" => derivative(c, Axis::X),
+                        "dFdy" => derivative(c, Axis::Y),
+                        _ => {
+                            let (x, y) = (derivative(c, Axis::X), derivative(c, Axis::Y));
+                            let (x, y) = (c.un(UnOp::Abs, x), c.un(UnOp::Abs, y));
+                            c.bin(BinOp::Add, x, y)
+                        }
+                    }
+                })
+            }
             _ => self.fail(format!("no function '{name}'")),
         }
     }

@@ -13,7 +13,7 @@
 //! Loops stop after [`MAX_ITERATIONS`] iterations (lanes still looping leave as if by
 //! `break`), so a shader that never ends cannot hang a render.
 
-use crate::ir::{BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
+use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
 
 /// Iterations after which a loop is cut off.
 pub const MAX_ITERATIONS: u32 = 1 << 16;
@@ -23,6 +23,12 @@ pub trait Env<const W: usize> {
     /// Samples texture slot `slot` at `coord` in the lanes (all `W`; lanes not active have
     /// finite, deterministic coordinates).
     fn sample(&mut self, slot: usize, coord: [[f32; W]; 2], lod: LodValue<W>) -> [[f32; W]; 4];
+
+    /// The derivative of `v` along `axis` (zero where lanes are not pixels of quads).
+    fn derivative(&mut self, v: [f32; W], axis: Axis) -> [f32; W] {
+        let _ = (v, axis);
+        [0.0; W]
+    }
 }
 
 /// A level-of-detail argument with its lane values.
@@ -201,6 +207,11 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     self.block(body, m);
                     m.active |= m.returned;
                     m.returned = outer;
+                }
+                Inst::Derivative { dst, src, axis } => {
+                    let v = self.get(*src);
+                    let d = self.env.derivative(v, *axis);
+                    self.set(*dst, d);
                 }
                 Inst::Sample { slot, dst, coord, lod } => {
                     let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });

@@ -89,6 +89,13 @@ pub enum TriOp {
     Select,
 }
 
+/// A window axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    X,
+    Y,
+}
+
 /// How a texture lookup chooses its level of detail.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Lod {
@@ -128,6 +135,13 @@ pub enum Inst {
     Discard,
     /// An inlined function body: the scope of its `return`s.
     Call(Vec<Inst>),
+    /// The screen-space derivative of a register along x or y (GL's window axes), from the
+    /// lanes of each 2×2 quad (fragment shaders).
+    Derivative {
+        dst: Reg,
+        src: Reg,
+        axis: Axis,
+    },
     /// Samples texture slot `slot` at `(s, t)` into four registers.
     Sample {
         slot: u16,

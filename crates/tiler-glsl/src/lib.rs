@@ -17,14 +17,16 @@
 //! `do`-`while` with `break`/`continue`/`return`/`discard` in divergent control flow, and the
 //! ES 1.00 built-in functions: angle and trigonometry, exponentials, `abs` … `smoothstep`,
 //! the geometric functions, `matrixCompMult`, the vector relational functions, `texture2D`
-//! (with a bias), `texture2DProj`, `texture2DLod`/`texture2DProjLod`. Built-in variables:
+//! (with a bias), `texture2DProj`, `texture2DLod`/`texture2DProjLod`, and
+//! `OES_standard_derivatives`' `dFdx`/`dFdy`/`fwidth` (fine derivatives within each 2×2
+//! quad, y up as in GL). Built-in variables:
 //! `gl_Position`, `gl_PointSize` (accepted, unused), `gl_FragCoord`, `gl_FrontFacing`,
 //! `gl_FragColor`, `gl_FragData[n]`, `gl_PointCoord` (reads zero). From ES 3.00 where it is
 //! cheap: `in`/`out` (outputs with `layout(location)`), `texture`/`textureProj`/`textureLod`,
 //! `trunc`, `round`, `transpose`.
 //!
 //! Not supported (a compile error naming the shader and line): `samplerCube`/`textureCube`
-//! (tiler has no cube textures), derivatives (`dFdx`), `switch`, bit operations and `%`,
+//! (tiler has no cube textures), `switch`, bit operations and `%`,
 //! interface blocks. Simplifications: the operands of `&&`, `||` and `?:` are all evaluated
 //! and then selected per lane (a side effect in the untaken one happens); ints mix with
 //! floats (promoted, as desktop GLSL allows); ints are held in f32 (exact to 2²⁴, beyond ES

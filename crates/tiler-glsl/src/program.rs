@@ -13,7 +13,7 @@ use tiler::{
 
 use crate::compile::{StageCode, compile};
 use crate::exec::{Env, LodValue, run};
-use crate::ir::{BANK, Reg};
+use crate::ir::{Axis, BANK, Reg};
 use crate::types::Type;
 use crate::{Error, Stage};
 
@@ -123,6 +123,7 @@ impl CompiledProgram {
         })
     }
 
+    /// Attributes in declaration order, with their locations.
     pub fn attributes(&self) -> &[AttributeInfo] {
         &self.attributes
     }
@@ -148,6 +149,11 @@ impl CompiledProgram {
 
     pub fn attribute_location(&self, name: &str) -> Option<u32> {
         self.attributes.iter().find(|a| a.name == name).map(|a| a.location)
+    }
+
+    /// Instructions of the vertex and fragment code (inlined calls included).
+    pub fn instruction_counts(&self) -> (usize, usize) {
+        (crate::ir::count_insts(&self.vertex.code), crate::ir::count_insts(&self.fragment.code))
     }
 
     /// Floats of tiler varyings the program's pipeline declares.
@@ -209,37 +215,43 @@ impl CompiledProgram {
     }
 }
 
+/// Locations for the vertex shader's attributes, in its declaration order: bound ones first,
+/// then the others at the lowest free locations (a `matN` takes N in a row).
 fn link_attributes(vertex: &StageCode, bound: &[(&str, u32)]) -> Result<Vec<AttributeInfo>, Error> {
-    let max = tiler::MAX_VERTEX_ATTRIBUTES as u32;
-    let columns = |ty: &Type| if let Type::Matrix(n) = ty { *n as u32 } else { 1 };
-    let mut used = vec![false; max as usize];
-    let mut out = Vec::new();
-    let place = |name: &str, ty: &Type, loc: u32, used: &mut Vec<bool>| -> Result<AttributeInfo, Error> {
-        let n = columns(ty);
+    let max = tiler::MAX_VERTEX_ATTRIBUTES;
+    let columns = |ty: &Type| if let Type::Matrix(n) = ty { *n } else { 1 };
+    let mut used = vec![false; max];
+    let mut locations: Vec<Option<usize>> = vec![None; vertex.inputs.len()];
+    for (i, a) in vertex.inputs.iter().enumerate() {
+        let Some(loc) = bound.iter().find(|(n, _)| *n == a.name).map(|(_, l)| *l).or(a.location) else { continue };
+        let (loc, n) = (loc as usize, columns(&a.ty));
         if loc + n > max {
-            return Err(Error::Link(format!("attribute '{name}' at location {loc} exceeds {max} attributes")));
+            return Err(Error::Link(format!("attribute '{}' at location {loc} exceeds {max} attributes", a.name)));
         }
-        for l in loc..loc + n {
-            used[l as usize] = true;
-        }
-        Ok(AttributeInfo { name: name.to_string(), ty: ty.clone(), location: loc })
-    };
-    let mut pending = Vec::new();
-    for a in &vertex.inputs {
-        let loc = bound.iter().find(|(n, _)| *n == a.name).map(|(_, l)| *l).or(a.location);
-        match loc {
-            Some(loc) => out.push(place(&a.name, &a.ty, loc, &mut used)?),
-            None => pending.push(a),
-        }
+        used[loc..loc + n].fill(true);
+        locations[i] = Some(loc);
     }
-    for a in pending {
-        let n = columns(&a.ty) as usize;
-        let loc = (0..=max as usize - n.min(max as usize))
+    for (i, a) in vertex.inputs.iter().enumerate() {
+        if locations[i].is_some() {
+            continue;
+        }
+        let n = columns(&a.ty);
+        let loc = (0..=max - n)
             .find(|&l| used[l..l + n].iter().all(|u| !u))
             .ok_or_else(|| Error::Link(format!("no free location for attribute '{}'", a.name)))?;
-        out.push(place(&a.name, &a.ty, loc as u32, &mut used)?);
+        used[loc..loc + n].fill(true);
+        locations[i] = Some(loc);
     }
-    Ok(out)
+    Ok(vertex
+        .inputs
+        .iter()
+        .zip(locations)
+        .map(|(a, loc)| AttributeInfo {
+            name: a.name.clone(),
+            ty: a.ty.clone(),
+            location: loc.expect("assigned") as u32,
+        })
+        .collect())
 }
 
 fn link_varyings(vertex: &StageCode, fragment: &StageCode) -> Result<(Vec<VaryingInfo>, Option<usize>, usize), Error> {
@@ -507,6 +519,15 @@ struct FragmentEnv<'a, 'f> {
 }
 
 impl Env<8> for FragmentEnv<'_, '_> {
+    /// Fine derivatives within each 2×2 quad; tiler's y runs down, GL's up, so `dFdy` is the
+    /// top pixel minus the bottom one.
+    fn derivative(&mut self, v: [f32; 8], axis: Axis) -> [f32; 8] {
+        match axis {
+            Axis::X => F32x8(v).ddx().0,
+            Axis::Y => (F32x8::ZERO - F32x8(v).ddy()).0,
+        }
+    }
+
     fn sample(&mut self, slot: usize, coord: [[f32; 8]; 2], lod: LodValue<8>) -> [[f32; 8]; 4] {
         match (&self.slots[slot], lod) {
             (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit | LodValue::Bias(_)) => {
@@ -531,14 +552,13 @@ impl VertexShader for GlslVertexShader {
         let code = &self.program.vertex;
         VERTEX_WORK.with_borrow_mut(|regs| {
             regs.resize(code.work_regs, [0.0]);
+            // `attributes` is in the order of `code.inputs`.
             for (attr, var) in self.program.attributes.iter().zip(&code.inputs) {
-                let mut columns = 0;
                 for (k, &r) in var.regs.iter().enumerate() {
                     let (column, row) = match var.ty {
                         Type::Matrix(n) => (k / n, k % n),
                         _ => (0, k),
                     };
-                    columns = columns.max(column);
                     let loc = attr.location as usize + column;
                     regs[r as usize] = [input.attributes[loc][row]];
                 }

@@ -502,7 +502,8 @@ void main() { gl_FragColor = texture2D(tex, n.xy) + vec4(offsets[2], 1.0); }";
     let program = CompiledProgram::new(VS, FS, &[("position", 0)]).unwrap();
     let attributes: Vec<(&str, u32)> = program.attributes().iter().map(|a| (a.name.as_str(), a.location)).collect();
     // position is bound to 0; the others take the lowest free locations (mat2 takes two).
-    assert_eq!(attributes, vec![("position", 0), ("normal", 1), ("twist", 2)]);
+    assert_eq!(attributes, vec![("normal", 1), ("position", 0), ("twist", 2)]);
+    assert_eq!(program.attribute_location("twist"), Some(2));
     let uniforms: Vec<(String, String, usize, u32)> =
         program.uniforms().iter().map(|u| (u.name.clone(), u.ty.to_string(), u.array_size, u.location)).collect();
     assert_eq!(
@@ -554,4 +555,57 @@ void main() {
     let (b, _) = render(&pipeline);
     assert_eq!(a, b);
     assert!(distinct_pixels(&a) > 20);
+}
+
+#[test]
+fn attributes_are_read_from_their_locations() {
+    const VS: &str = "
+attribute vec2 second;
+attribute vec4 first;
+attribute mat2 m;
+varying vec4 r;
+varying vec2 c;
+void main() { gl_Position = first; r = vec4(second, first.zw); c = m * vec2(1.0, 10.0); }";
+    const FS: &str = "varying vec4 r; varying vec2 c; void main() { gl_FragColor = r + c.xyxy; }";
+    let program = Arc::new(CompiledProgram::new(VS, FS, &[("first", 0), ("second", 5)]).unwrap());
+    assert_eq!(program.attribute_location("m"), Some(1));
+    let (shader, _) = tiler_glsl::shaders(&program, &program.new_uniform_values(), &[], HEIGHT);
+    let mut input = VertexInput { attributes: [Vec4::ZERO; tiler::MAX_VERTEX_ATTRIBUTES], vertex_index: 0 };
+    input.attributes[0] = Vec4::new(1.0, 2.0, 3.0, 4.0);
+    input.attributes[1] = Vec4::new(0.5, 0.25, 0.0, 0.0); // column 0 of m
+    input.attributes[2] = Vec4::new(2.0, 3.0, 0.0, 0.0); // column 1 of m
+    input.attributes[5] = Vec4::new(7.0, 8.0, 0.0, 1.0);
+    let mut out = VertexOutput::default();
+    shader.shade(&input, &mut out);
+    assert_eq!(&out.varyings[..6], &[7.0, 8.0, 3.0, 4.0, 0.5 + 20.0, 0.25 + 30.0]);
+    // GL clip (1, 2, 3, 4) → tiler (x, −y, (z + w)/2, w).
+    assert_eq!(out.position, Vec4::new(1.0, -2.0, 3.5, 4.0));
+}
+
+#[test]
+fn derivatives_match_native_with_gl_y_up() {
+    const FS: &str = "
+#extension GL_OES_standard_derivatives : enable
+precision mediump float;
+varying vec2 uv;
+void main() {
+    gl_FragColor = vec4(dFdx(uv.x) * 20.0, dFdy(uv.y) * 12.0, fwidth(uv.x * uv.y) * 10.0, 1.0);
+}";
+    struct Native;
+    impl FragmentShader for Native {
+        fn shade(&self, frag: &mut Fragments<'_>) {
+            let [u, v] = frag.smooth_n::<2>(0);
+            let w = u * v;
+            let fw = w.ddx().abs() + (F32x8::ZERO - w.ddy()).abs();
+            let r = u.ddx() * F32x8::splat(20.0);
+            let g = (F32x8::ZERO - v.ddy()) * F32x8::splat(12.0);
+            frag.set_color(0, [r, g, fw * F32x8::splat(10.0), F32x8::ONE]);
+        }
+    }
+    let program = glsl(PASS_VS, FS);
+    let (a, _) = render(&glsl_pipeline(&program, &program.new_uniform_values(), &[]));
+    let (b, _) = render(&Pipeline::new(PassVs, Native, native_desc()).unwrap());
+    assert_same(&a, &b, 10);
+    // uv grows right and up (GL), half a unit per 20 and 12 pixels.
+    assert!((127..=128).contains(&a[0]) && (127..=128).contains(&a[1]), "{:?}", &a[..4]);
 }
