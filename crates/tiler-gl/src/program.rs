@@ -1,9 +1,10 @@
 //! The built-in program library: what a GL program is for tiler's Rust shaders.
 //!
-//! GL programs are GLSL; tiler's shaders are Rust types. A trace therefore names one of these
-//! programs ([`ProgramKind`]) and sets its uniforms by name; uniform values are snapshotted
-//! into each draw, as a driver snapshots state into its frame data. Adding a program means a
-//! `ProgramKind` variant, its [`ProgramInfo`] and its shaders here.
+//! tiler's own shaders are Rust types. A trace names one of these programs ([`ProgramKind`])
+//! and sets its uniforms by name — or brings GLSL, which `tiler-glsl` compiles (see
+//! `context::glsl`). Uniform values are snapshotted into each draw, as a driver snapshots state
+//! into its frame data. Adding a built-in means a `ProgramKind` variant, its [`ProgramInfo`]
+//! and its shaders here.
 //!
 //! | program | attributes | uniforms | varyings |
 //! |---|---|---|---|

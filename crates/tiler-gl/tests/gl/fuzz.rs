@@ -10,7 +10,7 @@ use serde_json::{Map, Value};
 use tiler_gl::{Limits, Trace};
 
 /// Small traces to start from.
-const SEEDS: [&str; 8] = [
+const SEEDS: [&str; 9] = [
     "clear-bad.json",
     "subpass-bad.json",
     "query-bad.json",
@@ -19,6 +19,7 @@ const SEEDS: [&str; 8] = [
     "masked-clear-bad.json",
     "readback-bad.json",
     "alpha-test-bad.json",
+    "glsl-alpha-test-bad.json",
 ];
 
 /// Names a mutation may put anywhere: calls, fields, enum values.

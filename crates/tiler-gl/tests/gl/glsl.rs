@@ -139,7 +139,8 @@ fn draw_scene(backend: Backend, kind: Kind, use_glsl: bool) -> Vec<u8> {
     let (mvp, model) = matrices();
     c(&mut gl, Call::CreateBuffer { id: 1, data: Bytes::from_slice(&positions) });
     c(&mut gl, Call::CreateBuffer { id: 2, data: Bytes::from_slice(&second) });
-    let texels: Vec<u8> = (0..8 * 8).flat_map(|i| [(i * 37 % 256) as u8, (i * 11) as u8, 200, (i * 29 % 256) as u8]).collect();
+    let texels: Vec<u8> =
+        (0..8 * 8).flat_map(|i| [(i * 37 % 256) as u8, (i * 11) as u8, 200, (i * 29 % 256) as u8]).collect();
     c(
         &mut gl,
         Call::CreateTexture {
@@ -586,4 +587,21 @@ void main() {
     assert_eq!(opaque[0].stats.fragments_shaded, 0, "HSR removed the hidden quad");
     assert_eq!(discard[0].stats.fragments_shaded, 32 * 32, "a discarding shader runs for every fragment");
     assert_eq!(opaque[1].stats.fragments_shaded, discard[1].stats.fragments_shaded);
+}
+
+/// The GLSL alpha-test pair draws what the built-in pair draws, and costs the same.
+#[test]
+fn the_glsl_example_pair_matches_the_built_in_one() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("traces");
+    for form in ["bad", "good"] {
+        let glsl = Trace::read(&dir.join(format!("glsl-alpha-test-{form}.json"))).unwrap().replay().unwrap();
+        let builtin = Trace::read(&dir.join(format!("alpha-test-{form}.json"))).unwrap().replay().unwrap();
+        assert_eq!(glsl.context.surface_rgba8(), builtin.context.surface_rgba8(), "{form}");
+        assert_eq!(glsl.report.totals.ledger, builtin.report.totals.ledger, "{form}");
+        assert_eq!(
+            glsl.report.totals.counters.fragments_shaded,
+            builtin.report.totals.counters.fragments_shaded,
+            "{form}"
+        );
+    }
 }
