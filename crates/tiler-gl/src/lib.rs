@@ -40,7 +40,8 @@
 //!   `GL_FRAMEBUFFER_UNSUPPORTED`; `depth24` and `stencil8` are packed images with a padding
 //!   half (see `context::targets`).
 //! - Textures: the `textured` program samples RGBA8 textures with the core's sampler and
-//!   texture cache (`texture_fetch` in the ledger), nearest or bilinear without mip maps;
+//!   texture cache (`texture_fetch` in the ledger), nearest or bilinear, with the mip chain of
+//!   `generate_mipmap` under a `*_mipmap_*` filter;
 //!   other formats (float, 565, depth) with a context-side sampler whose reads are not
 //!   counted. Blits and copies count their source reads by formula (see `program`).
 //! - Programs: five built-in programs written in Rust (`program`), or GLSL ES 1.00 programs

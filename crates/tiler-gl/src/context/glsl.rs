@@ -128,6 +128,8 @@ pub(crate) struct SampledTexture {
     pub unit: u32,
     pub image: ImageId,
     pub sampler: SamplerState,
+    /// It has a mip chain (`generate_mipmap`).
+    pub mipmaps: bool,
 }
 
 /// The program of a gathered draw, with its uniforms as they were at the draw.
@@ -195,9 +197,9 @@ impl Context {
                     let texture = self.state.textures[unit as usize];
                     if texture != 0 {
                         let t = self.texture(texture)?;
-                        let (image, sampler) = (t.image, t.sampler);
+                        let (image, sampler, mipmaps) = (t.image, t.sampler, t.mipmaps);
                         self.check_has_memory(image, &format!("program '{}' samples texture {texture}", kind.name()))?;
-                        textures.push(SampledTexture { unit: unit as u32, image, sampler });
+                        textures.push(SampledTexture { unit: unit as u32, image, sampler, mipmaps });
                     }
                 }
                 Ok(DrawProgram {
@@ -242,9 +244,9 @@ impl Context {
                         ));
                     }
                     let t = self.texture(texture)?;
-                    let (image, sampler) = (t.image, t.sampler);
+                    let (image, sampler, mipmaps) = (t.image, t.sampler, t.mipmaps);
                     self.check_has_memory(image, &format!("{label}: sampler '{name}' reads texture {texture}"))?;
-                    textures.push(SampledTexture { unit, image, sampler });
+                    textures.push(SampledTexture { unit, image, sampler, mipmaps });
                 }
                 Ok(DrawProgram {
                     label,
@@ -274,7 +276,7 @@ impl Context {
         match program {
             ProgramDraw::Builtin { kind, uniforms } => {
                 let texture = match textures.first() {
-                    Some(t) => Some(self.program_texture(snapshots, cores, t.image, t.sampler)?),
+                    Some(t) => Some(self.program_texture(snapshots, cores, t.image, t.sampler, t.mipmaps)?),
                     None => None,
                 };
                 Ok(program_pipeline(*kind, uniforms, texture, desc))
@@ -283,7 +285,7 @@ impl Context {
                 let mut units: Vec<Option<TextureBinding>> = vec![None; MAX_TEXTURE_UNITS as usize];
                 for t in textures {
                     units[t.unit as usize] =
-                        Some(match self.program_texture(snapshots, cores, t.image, t.sampler)? {
+                        Some(match self.program_texture(snapshots, cores, t.image, t.sampler, t.mipmaps)? {
                             ProgramTexture::Core(texture, sampler) => TextureBinding::Core(texture, sampler),
                             ProgramTexture::Snapshot(snapshot, state) => {
                                 TextureBinding::Custom(Arc::new(SnapshotSource { snapshot, state }))

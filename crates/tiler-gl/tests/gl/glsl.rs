@@ -599,9 +599,71 @@ fn the_glsl_example_pair_matches_the_built_in_one() {
         assert_eq!(glsl.context.surface_rgba8(), builtin.context.surface_rgba8(), "{form}");
         assert_eq!(glsl.report.totals.ledger, builtin.report.totals.ledger, "{form}");
         assert_eq!(
-            glsl.report.totals.counters.fragments_shaded,
-            builtin.report.totals.counters.fragments_shaded,
+            glsl.report.totals.counters.fragments_shaded, builtin.report.totals.counters.fragments_shaded,
             "{form}"
         );
+    }
+}
+
+/// A 64×64 one-texel checkerboard drawn over 16×16 pixels (a quarter size: LOD 2). With
+/// `generate_mipmap` and a mipmap filter, level 2 is read: every texel the box-filtered grey
+/// `(0 + 255 + 255 + 0 + 2) >> 2 = 128`. Without levels the filter reads level 0's nearest
+/// texel, black or white. Both for the GLSL program and the `textured` built-in.
+#[test]
+fn generated_mipmaps_are_sampled_with_a_mipmap_filter() {
+    let checker: Vec<u8> =
+        (0..64 * 64).flat_map(|i| if (i % 64 + i / 64) % 2 == 0 { [0, 0, 0, 255] } else { [255; 4] }).collect();
+    for glsl_program in [true, false] {
+        for generate in [true, false] {
+            let mut gl = screen();
+            c(
+                &mut gl,
+                Call::CreateTexture {
+                    id: 1,
+                    width: 64,
+                    height: 64,
+                    format: TextureFormat::Rgba8,
+                    data: Some(Bytes::from(checker.clone())),
+                    transient: false,
+                },
+            );
+            c(&mut gl, Call::TexParameters { id: 1, filter: Filter::NearestMipmapNearest, wrap: Wrap::Repeat });
+            if generate {
+                c(&mut gl, Call::GenerateMipmap { id: 1 });
+            }
+            c(&mut gl, Call::BindTexture { unit: 0, texture: 1 });
+            if glsl_program {
+                use_glsl(&mut gl, 1, SAMPLE_FS);
+            } else {
+                let texcoords: [[f32; 2]; 3] = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]];
+                c(&mut gl, Call::CreateBuffer { id: 2, data: Bytes::from_slice(&texcoords) });
+                c(&mut gl, Call::CreateProgram { id: 1, program: ProgramKind::Textured.into() });
+                c(&mut gl, Call::UseProgram { id: 1 });
+                c(
+                    &mut gl,
+                    Call::VertexAttribPointer {
+                        index: 1,
+                        buffer: 2,
+                        size: 2,
+                        component: ComponentType::Float,
+                        normalized: false,
+                        stride: 0,
+                        offset: 0,
+                    },
+                );
+                c(&mut gl, Call::EnableVertexAttrib { index: 1 });
+            }
+            draw(&mut gl, 3);
+            swap(&mut gl);
+            gl.end().unwrap();
+            let rgba = gl.surface_rgba8();
+            let values: std::collections::BTreeSet<u8> = rgba.chunks(4).map(|p| p[0]).collect();
+            let what = format!("glsl {glsl_program}, generate {generate}: {values:?}");
+            if generate {
+                assert_eq!(values.into_iter().collect::<Vec<_>>(), [128], "{what}");
+            } else {
+                assert!(values.iter().all(|v| *v == 0 || *v == 255), "{what}");
+            }
+        }
     }
 }
