@@ -48,8 +48,18 @@ impl GlslProgram {
         Ok(GlslProgram { source, bindings: Vec::new(), compiled: Arc::new(compiled), uniforms })
     }
 
-    /// Binds attribute `name` to `index` and relinks.
+    /// Binds attribute `name` to `index` and relinks, unless nothing would change: the same
+    /// binding again (a capture repeats them), or a name the program does not declare (GL
+    /// accepts it, for a later source).
     fn bind_attrib_location(&mut self, name: String, index: u32) -> Result<(), tiler_glsl::Error> {
+        if self.bindings.iter().any(|(n, l)| *n == name && *l == index) {
+            return Ok(());
+        }
+        if self.compiled.attribute_location(&name).is_none() {
+            self.bindings.retain(|(n, _)| *n != name);
+            self.bindings.push((name, index));
+            return Ok(());
+        }
         let mut bindings = self.bindings.clone();
         bindings.retain(|(n, _)| *n != name);
         bindings.push((name, index));

@@ -667,3 +667,21 @@ fn generated_mipmaps_are_sampled_with_a_mipmap_filter() {
         }
     }
 }
+
+/// `gl_FragCoord` is GL's window position: y up from the bottom row, pixel centres at .5.
+#[test]
+fn gl_frag_coord_counts_rows_from_the_bottom() {
+    let mut gl = screen();
+    use_glsl(
+        &mut gl,
+        1,
+        "precision mediump float;
+void main() { gl_FragColor = vec4(gl_FragCoord.x / 16.0, gl_FragCoord.y / 16.0, 0.0, 1.0); }",
+    );
+    draw(&mut gl, 3);
+    c(&mut gl, Call::Finish);
+    let rgba = gl.surface_rgba8();
+    // tiler's row 15 is GL's row 0: y = 0.5, 0.5 / 16 · 255 = 7.97.
+    assert_eq!(pixel(&rgba, 16, 0, 15), [8, 8, 0, 255]);
+    assert_eq!(pixel(&rgba, 16, 15, 0), [247, 247, 0, 255]);
+}
