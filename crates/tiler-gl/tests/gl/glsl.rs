@@ -685,3 +685,53 @@ void main() { gl_FragColor = vec4(gl_FragCoord.x / 16.0, gl_FragCoord.y / 16.0, 
     assert_eq!(pixel(&rgba, 16, 0, 15), [8, 8, 0, 255]);
     assert_eq!(pixel(&rgba, 16, 15, 0), [247, 247, 0, 255]);
 }
+
+/// Two samplers on two units: an RGBA8 texture (the core's sampler, counted) and an `rgba32f`
+/// one (the context-side sampler), added.
+#[test]
+fn samplers_read_their_own_units() {
+    let mut gl = screen();
+    let red: Vec<u8> = [200u8, 0, 0, 255].repeat(4);
+    c(
+        &mut gl,
+        Call::CreateTexture {
+            id: 1,
+            width: 2,
+            height: 2,
+            format: TextureFormat::Rgba8,
+            data: Some(Bytes::from(red)),
+            transient: false,
+        },
+    );
+    let blue: Vec<f32> = [0.0f32, 0.0, 0.5, 0.0].repeat(4);
+    c(
+        &mut gl,
+        Call::CreateTexture {
+            id: 2,
+            width: 2,
+            height: 2,
+            format: TextureFormat::Rgba32f,
+            data: Some(Bytes::from_slice(&blue)),
+            transient: false,
+        },
+    );
+    c(&mut gl, Call::BindTexture { unit: 0, texture: 1 });
+    c(&mut gl, Call::BindTexture { unit: 5, texture: 2 });
+    use_glsl(
+        &mut gl,
+        1,
+        "precision mediump float;
+uniform sampler2D a;
+uniform sampler2D b;
+varying vec2 uv;
+void main() { gl_FragColor = texture2D(a, uv) + texture2D(b, uv); }",
+    );
+    uniform(&mut gl, "b", UniformValue::Int(5));
+    draw(&mut gl, 3);
+    swap(&mut gl);
+    let report = gl.end().unwrap();
+    assert_eq!(pixel(&gl.surface_rgba8(), 16, 7, 7), [200, 0, 128, 255]);
+    let pass = passes(&report)[0];
+    assert!(pass.cost.ledger.get(tiler::Category::TextureFetch) > 0);
+    assert_eq!(pass.draws[0].sampled, gl.texture_image(1), "the first unit's texture is reported");
+}
