@@ -16,7 +16,7 @@
 //! let mut gl = Context::new(ContextConfig::new(64, 64)).unwrap();
 //! let triangle: [[f32; 2]; 3] = [[-1.0, -1.0], [3.0, -1.0], [-1.0, 3.0]];
 //! gl.call(Call::CreateBuffer { id: 1, data: Bytes::from_slice(&triangle) }).unwrap();
-//! gl.call(Call::CreateProgram { id: 1, program: ProgramKind::Solid }).unwrap();
+//! gl.call(Call::CreateProgram { id: 1, program: ProgramKind::Solid.into() }).unwrap();
 //! gl.call(Call::UseProgram { id: 1 }).unwrap();
 //! gl.call(Call::VertexAttribPointer {
 //!     index: 0, buffer: 1, size: 2, component: ComponentType::Float, normalized: false, stride: 0, offset: 0,
@@ -40,9 +40,15 @@
 //!   `GL_FRAMEBUFFER_UNSUPPORTED`; `depth24` and `stencil8` are packed images with a padding
 //!   half (see `context::targets`).
 //! - Textures: the `textured` program samples RGBA8 textures with the core's sampler and
-//!   texture cache (`texture_fetch` in the ledger), nearest or bilinear without mip maps;
+//!   texture cache (`texture_fetch` in the ledger), nearest or bilinear, with the mip chain of
+//!   `generate_mipmap` under a `*_mipmap_*` filter;
 //!   other formats (float, 565, depth) with a context-side sampler whose reads are not
 //!   counted. Blits and copies count their source reads by formula (see `program`).
+//! - Programs: five built-in programs written in Rust (`program`), or GLSL ES 1.00 programs
+//!   compiled at run time by `tiler-glsl` (`"program": {"glsl": …}`; `context::glsl` says how
+//!   attributes, uniforms and samplers meet the context's state). GLSL samplers read textures as
+//!   `textured` does; a `discard` in the fragment shader turns early depth tests and HSR off for
+//!   the draw, as on hardware.
 //! - Explicit render passes: a trace (or program) may begin a pass with subpasses and their
 //!   dependencies (`begin_pass`, `next_subpass`, `end_pass`; `context::explicit`), mapped to
 //!   [`tiler::RenderPass::with_subpasses`], with transient textures and renderbuffers (no
@@ -77,7 +83,8 @@ pub use advisor::{Finding, RuleId, Severity};
 pub use bytes::Bytes;
 pub use call::{
     AttachmentPoint, BufferSet, Call, Capability, ComponentType, DependencySpec, Face, Filter, FramebufferTarget,
-    IndexKind, Mode, Output, ProgramKind, SubpassSpec, SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
+    GlslSource, IndexKind, Mode, Output, ProgramKind, ProgramSource, SubpassSpec, SwapBehavior, TextureFormat,
+    UniformValue, Winding, Wrap,
 };
 pub use context::{Context, ContextConfig, Error};
 pub use report::{CallRef, FrameRecord, PassRecord, Report, Slot};

@@ -16,7 +16,7 @@ fn short_frames(frames: u32) -> Report {
     };
     let triangle: [[f32; 3]; 3] = [[-1.0, -1.0, 0.5], [3.0, -1.0, 0.5], [-1.0, 3.0, 0.5]];
     call(Call::CreateBuffer { id: 1, data: Bytes::from_slice(&triangle) });
-    call(Call::CreateProgram { id: 1, program: ProgramKind::Solid });
+    call(Call::CreateProgram { id: 1, program: ProgramKind::Solid.into() });
     call(Call::UseProgram { id: 1 });
     call(Call::VertexAttribPointer {
         index: 0,

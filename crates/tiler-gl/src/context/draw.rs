@@ -14,8 +14,8 @@ use tiler::{
 
 use super::pass::{Writes, push_draw};
 use super::{AttribSource, Context, Fallible};
-use crate::call::{ComponentType, Face, Filter, IndexKind, Mode, ProgramKind, Winding, Wrap};
-use crate::program::{SamplerState, Uniforms};
+use crate::call::{ComponentType, Face, Filter, IndexKind, Mode, Winding, Wrap};
+use crate::program::SamplerState;
 use crate::report::{CallRef, DrawKind, FlushCause, PartialClear};
 
 /// The largest viewport extent GL accepts here (`GL_MAX_VIEWPORT_DIMS`); offsets are clamped
@@ -26,9 +26,8 @@ const MAX_VIEWPORT: i64 = 16384;
 #[derive(Clone, Debug)]
 pub(crate) enum DrawSource {
     Program {
-        kind: ProgramKind,
-        uniforms: Uniforms,
-        texture: Option<(ImageId, SamplerState)>,
+        program: super::glsl::ProgramDraw,
+        textures: Vec<super::glsl::SampledTexture>,
     },
     Clear {
         color: [f32; 4],
@@ -123,9 +122,7 @@ impl Context {
             // A draw needs a complete framebuffer before anything else.
             self.targets(self.draw_framebuffer)?;
         }
-        let program = self.programs.get(&self.state.program).ok_or("no program is in use")?;
-        let (kind, uniforms) = (program.kind, program.uniforms);
-        let info = kind.info();
+        let program = self.draw_program()?;
 
         // Indices: bound, aligned, inside their buffer; the largest gives the vertex range.
         let mut index_binding = None;
@@ -172,13 +169,14 @@ impl Context {
             source: AttribSource,
         }
         let mut inputs = Vec::new();
-        for &(index, name) in info.attributes {
+        for (index, name) in &program.attributes {
+            let index = *index;
             let attrib = &self.state.attribs[index as usize];
             let Some((source, size, component, normalized, stride)) = attrib.source.clone().filter(|_| attrib.enabled)
             else {
                 return Err(format!(
                     "program '{}' reads attribute {index} ({name}), which is not enabled with a pointer",
-                    kind.name()
+                    program.label
                 ));
             };
             let format = vertex_format(size, component, normalized)?;
@@ -210,48 +208,33 @@ impl Context {
             inputs.push(Input { index, format, stride, offset, source });
         }
 
-        // A texture the program samples that is an attachment of the open pass: flush it.
-        let texture = if info.samples_texture {
-            let unit = uniforms.sampler;
-            if !(0..super::MAX_TEXTURE_UNITS as i32).contains(&unit) {
-                return Err(format!("uniform 'sampler' is {unit}, not a texture unit"));
-            }
-            match self.state.textures[unit as usize] {
-                0 => None,
-                id => {
-                    let t = self.texture(id)?;
-                    let (image, sampler) = (t.image, t.sampler);
-                    self.check_has_memory(image, &format!("program '{}' samples texture {id}", kind.name()))?;
-                    Some((image, sampler))
-                }
-            }
-        } else {
-            None
-        };
         // The subpass the draw goes to, and the input attachments the program reads.
         let subpass = self.explicit().map(|e| (e.current, e.subpass().clone()));
-        let input_count = kind.inputs();
+        let input_count = program.inputs;
         if input_count > 0 {
             match &subpass {
                 None => {
                     return Err(format!(
                         "program '{}' reads input attachment 0, which only a subpass of an explicit pass has \
                          (begin_pass with \"input\")",
-                        kind.name()
+                        program.label
                     ));
                 }
                 Some((s, d)) if d.input.len() < input_count => {
                     return Err(format!(
                         "program '{}' reads {input_count} input attachment(s), but subpass {s} has {}",
-                        kind.name(),
+                        program.label,
                         d.input.len()
                     ));
                 }
                 _ => {}
             }
         }
-        if let Some((image, _)) = texture
-            && self.pass.as_ref().is_some_and(|p| p.has_work() && p.targets.images().any(|i| i == image))
+        // A texture the program samples that is an attachment of the open pass: flush it.
+        if self
+            .pass
+            .as_ref()
+            .is_some_and(|p| p.has_work() && program.textures.iter().any(|t| p.targets.images().any(|i| i == t.image)))
         {
             self.flush_open_pass(FlushCause::SampleAttachment)?;
         }
@@ -386,11 +369,11 @@ impl Context {
             let id = self.state.index_buffer;
             self.buffers.get_mut(&id).expect("checked").last_use = Some(here.frame);
         }
-        if let Some((image, _)) = texture {
-            self.sampled(image, here.frame);
+        for t in &program.textures {
+            self.sampled(t.image, here.frame);
         }
 
-        let mut desc = PipelineDesc::new(kind.name(), vertex_input);
+        let mut desc = PipelineDesc::new(program.label, vertex_input);
         desc.topology = topology;
         desc.cull_mode = desc_cull;
         desc.front_face = front_face;
@@ -407,15 +390,13 @@ impl Context {
         let pass = self.pass.as_mut().expect("ensured above");
         pass.buffers_used.extend(used);
         pass.retired_buffers.extend(client);
-        if let Some((image, _)) = texture {
-            pass.images_sampled.insert(image);
-        }
+        pass.images_sampled.extend(program.textures.iter().map(|t| t.image));
         push_draw(
             pass,
             PendingDraw {
                 call: here,
                 kind: DrawKind::Draw,
-                source: DrawSource::Program { kind, uniforms, texture },
+                source: DrawSource::Program { program: program.source, textures: program.textures },
                 desc,
                 vertex_buffers,
                 index: index_binding.map(|b| b.1),

@@ -13,6 +13,7 @@
 mod draw;
 mod explicit;
 mod frames;
+mod glsl;
 mod pass;
 mod submit;
 mod targets;
@@ -24,7 +25,7 @@ use tiler::{Backend, BlendFactor, BlendOp, BufferId, CompareOp, Device, DeviceCo
 use crate::bytes::Bytes;
 use crate::call::{
     AttachmentPoint, BufferSet, Call, Capability, ComponentType, Face, Filter, FramebufferTarget, Output, ProgramKind,
-    SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
+    ProgramSource, SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
 };
 use crate::program::{SamplerState, Uniforms};
 use crate::report::{CallRef, FrameRecord, PassRecord, Report, StartCause};
@@ -171,6 +172,8 @@ pub(crate) struct TextureObject {
     pub image: ImageId,
     pub format: TextureFormat,
     pub sampler: SamplerState,
+    /// `generate_mipmap` was called since the storage was made.
+    pub mipmaps: bool,
 }
 
 pub(crate) struct RenderbufferObject {
@@ -214,9 +217,9 @@ pub(crate) struct FramebufferObject {
     pub stencil: Option<AttachmentRef>,
 }
 
-pub(crate) struct ProgramObject {
-    pub kind: ProgramKind,
-    pub uniforms: Uniforms,
+pub(crate) enum ProgramObject {
+    Builtin { kind: ProgramKind, uniforms: Uniforms },
+    Glsl(glsl::GlslProgram),
 }
 
 #[derive(Default)]
@@ -253,6 +256,8 @@ pub(crate) enum AttribSource {
 pub(crate) struct Attrib {
     pub enabled: bool,
     pub source: Option<(AttribSource, u32, ComponentType, bool, u32)>,
+    /// The current generic value (`glVertexAttrib4f`), read when disabled by GLSL programs.
+    pub generic: [f32; 4],
 }
 
 /// The fixed-function and binding state, as GL's context holds it.
@@ -312,7 +317,10 @@ impl GlState {
             clear_color: [0.0; 4],
             clear_depth: 1.0,
             clear_stencil: 0,
-            attribs: vec![Attrib { enabled: false, source: None }; MAX_VERTEX_ATTRIBS as usize],
+            attribs: vec![
+                Attrib { enabled: false, source: None, generic: [0.0, 0.0, 0.0, 1.0] };
+                MAX_VERTEX_ATTRIBS as usize
+            ],
             index_buffer: 0,
             textures: [0; MAX_TEXTURE_UNITS as usize],
             program: 0,
@@ -585,6 +593,11 @@ impl Context {
             TexParameters { id, filter, wrap } => {
                 self.texture_mut(id)?.sampler = SamplerState { filter, wrap };
             }
+            GenerateMipmap { id } => {
+                let image = self.texture(id)?.image;
+                self.check_has_memory(image, &format!("generate_mipmap of texture {id}"))?;
+                self.texture_mut(id)?.mipmaps = true;
+            }
             DeleteTexture { id } => self.delete_texture(id)?,
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
                 if id == 0 || self.renderbuffers.contains_key(&id) {
@@ -648,8 +661,15 @@ impl Context {
                 if id == 0 || self.programs.contains_key(&id) {
                     return Err(name_taken("program", id));
                 }
-                self.programs.insert(id, ProgramObject { kind: program, uniforms: Uniforms::default() });
+                let object = match program {
+                    ProgramSource::Builtin(kind) => ProgramObject::Builtin { kind, uniforms: Uniforms::default() },
+                    ProgramSource::Glsl(source) => {
+                        ProgramObject::Glsl(glsl::GlslProgram::new(source).map_err(|e| format!("program {id}: {e}"))?)
+                    }
+                };
+                self.programs.insert(id, object);
             }
+            BindAttribLocation { program, index, name } => self.bind_attrib_location(program, index, name)?,
             UseProgram { id } => {
                 if id != 0 && !self.programs.contains_key(&id) {
                     return Err(format!("program {id} does not exist"));
@@ -710,6 +730,10 @@ impl Context {
             EnableVertexAttrib { index } => {
                 self.attrib_index(index)?;
                 self.state.attribs[index as usize].enabled = true;
+            }
+            VertexAttrib { index, value } => {
+                self.attrib_index(index)?;
+                self.state.attribs[index as usize].generic = finite4(&format!("vertex attribute {index}"), value)?;
             }
             DisableVertexAttrib { index } => {
                 self.attrib_index(index)?;
@@ -800,8 +824,10 @@ impl Context {
 
     fn uniform(&mut self, name: &str, value: UniformValue) -> Fallible {
         let id = self.state.program;
-        let program = self.programs.get_mut(&id).ok_or("no program is in use")?;
-        program.uniforms.set(program.kind, name, value)
+        match self.programs.get_mut(&id).ok_or("no program is in use")? {
+            ProgramObject::Builtin { kind, uniforms } => uniforms.set(*kind, name, value),
+            ProgramObject::Glsl(program) => program.set_uniform(name, value).map_err(|e| format!("program {id}: {e}")),
+        }
     }
 
     pub(crate) fn texture(&self, id: u32) -> Fallible<&TextureObject> {
@@ -1006,7 +1032,7 @@ impl Context {
             self.upload(image, 0, 0, width, height, &data)?;
         }
         let sampler = SamplerState { filter: Filter::Nearest, wrap: Wrap::ClampToEdge };
-        let old = self.textures.insert(id, TextureObject { image, format, sampler });
+        let old = self.textures.insert(id, TextureObject { image, format, sampler, mipmaps: false });
         if let Some(old) = old {
             self.textures.get_mut(&id).expect("inserted").sampler = old.sampler;
             self.retire_image(old.image);

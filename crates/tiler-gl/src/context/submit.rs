@@ -13,8 +13,8 @@ use tiler::{ColorAttachment, DepthStencilAttachment, Draw, ImageId, LoadOp, Rend
 use super::draw::DrawSource;
 use super::pass::{OpenPass, PassAspect, defined_index};
 use super::{Context, Fallible};
-use crate::call::{ProgramKind, Wrap};
-use crate::program::{ProgramTexture, SamplerState, TextureSnapshot, blit_pipeline, clear_pipeline, program_pipeline};
+use crate::call::{Filter, Wrap};
+use crate::program::{ProgramTexture, SamplerState, TextureSnapshot, blit_pipeline, clear_pipeline};
 use crate::report::{AttachmentRecord, DrawRecord, EndCause, LoadKind, PassCost, PassRecord, Role, Slot, StoreKind};
 
 impl Context {
@@ -105,15 +105,14 @@ impl Context {
         let mut extra = tiler::Ledger::default();
         for d in &pass.draws {
             let pipeline = match &d.source {
-                DrawSource::Program { kind, uniforms, texture } => {
-                    let texture = match texture {
-                        Some((image, sampler)) => {
-                            Some(self.program_texture(&mut snapshots, &mut textures, *image, *sampler)?)
-                        }
-                        None => None,
-                    };
-                    program_pipeline(*kind, uniforms, texture, d.desc.clone())
-                }
+                DrawSource::Program { program, textures: sampled } => self.program_draw_pipeline(
+                    program,
+                    sampled,
+                    &mut snapshots,
+                    &mut textures,
+                    pass.targets.height,
+                    d.desc.clone(),
+                )?,
                 DrawSource::Clear { color, depth, targets } => clear_pipeline(*color, *depth, *targets, d.desc.clone()),
                 DrawSource::Rectangle { image, ndc, tex, sampler, read_bytes } => {
                     extra.add(tiler::Category::TextureFetch, *read_bytes);
@@ -240,7 +239,7 @@ impl Context {
                 call: d.call,
                 kind: d.kind,
                 program: match &d.source {
-                    DrawSource::Program { kind, .. } => Some(*kind),
+                    DrawSource::Program { program, .. } => program.kind(),
                     _ => None,
                 },
                 clip_rect: d.clip_rect,
@@ -248,9 +247,7 @@ impl Context {
                 depth_test: d.desc.depth_stencil.depth_test,
                 depth_write: d.desc.depth_stencil.depth_write,
                 discards: match &d.source {
-                    DrawSource::Program {
-                        kind: ProgramKind::VertexColor | ProgramKind::Textured, uniforms, ..
-                    } => uniforms.alpha_cutoff > 0.0,
+                    DrawSource::Program { program, .. } => program.discards(),
                     _ => false,
                 },
                 texture_bytes: match &d.source {
@@ -258,7 +255,7 @@ impl Context {
                     _ => 0,
                 },
                 sampled: match &d.source {
-                    DrawSource::Program { texture, .. } => texture.map(|t| t.0),
+                    DrawSource::Program { textures, .. } => textures.first().map(|t| t.image),
                     DrawSource::Rectangle { image, .. } => Some(*image),
                     DrawSource::Clear { .. } => None,
                 },
@@ -310,12 +307,13 @@ impl Context {
 
     /// What a textured draw samples: RGBA8 images through the core's sampler, others through
     /// a snapshot; each texture made once per submission.
-    fn program_texture(
+    pub(crate) fn program_texture(
         &self,
         snapshots: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
         textures: &mut HashMap<ImageId, Arc<tiler::Texture>>,
         image: ImageId,
         sampler: SamplerState,
+        mipmaps: bool,
     ) -> Fallible<ProgramTexture> {
         let d = self.images[&image].desc;
         let color_space = match d.format {
@@ -326,20 +324,27 @@ impl Context {
         if d.samples != 1 {
             return Ok(ProgramTexture::Snapshot(self.snapshot(snapshots, image)?, sampler));
         }
+        let mip_chain = if mipmaps { tiler::MipChain::Box } else { tiler::MipChain::BaseOnly };
         let texture = match textures.get(&image) {
             Some(t) => t.clone(),
             None => {
                 let data = self.device.image_data(image).map_err(|e| e.to_string())?;
-                let t = tiler::Texture::from_rgba8(d.width, d.height, data, color_space, tiler::MipChain::BaseOnly)
+                let t = tiler::Texture::from_rgba8(d.width, d.height, data, color_space, mip_chain)
                     .map_err(|e| e.to_string())?;
                 let t = Arc::new(t);
                 textures.insert(image, t.clone());
                 t
             }
         };
-        let filter = match sampler.filter {
-            crate::call::Filter::Nearest => tiler::Filter::Nearest,
-            crate::call::Filter::Linear => tiler::Filter::Linear,
+        let core_filter = |f: Filter| match f.base() {
+            Filter::Nearest => tiler::Filter::Nearest,
+            _ => tiler::Filter::Linear,
+        };
+        let filter = core_filter(sampler.filter);
+        let mipmap = match sampler.filter.mipmap().filter(|_| mipmaps) {
+            None => tiler::MipmapMode::None,
+            Some(Filter::Nearest) => tiler::MipmapMode::Nearest,
+            Some(_) => tiler::MipmapMode::Linear,
         };
         let wrap = match sampler.wrap {
             Wrap::ClampToEdge => tiler::Wrap::ClampToEdge,
@@ -349,7 +354,7 @@ impl Context {
         let core = tiler::Sampler {
             mag_filter: filter,
             min_filter: filter,
-            mipmap: tiler::MipmapMode::None,
+            mipmap,
             wrap_u: wrap,
             wrap_v: wrap,
             lod_bias: 0.0,
@@ -358,7 +363,7 @@ impl Context {
     }
 
     /// The decoded texels of an image, once per submission.
-    fn snapshot(
+    pub(crate) fn snapshot(
         &self,
         cache: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
         image: ImageId,
