@@ -24,15 +24,7 @@ fn triangle_gltf(dir: &Path) -> PathBuf {
     for c in [-1.0f32, -1.0, 0.0, 1.0, -1.0, 0.0, 0.0, 1.0, 0.0] {
         bin.extend(c.to_le_bytes());
     }
-    let b64: String = {
-        const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-        bin.chunks(3)
-            .flat_map(|c| {
-                let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
-                (0..4).map(move |i| if i <= c.len() { A[(n >> (18 - 6 * i) & 63) as usize] as char } else { '=' })
-            })
-            .collect()
-    };
+    let b64 = base64::Engine::encode(&base64::engine::general_purpose::STANDARD, &bin);
     let json = format!(
         r#"{{"asset": {{"version": "2.0"}}, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
         "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}],
