@@ -67,6 +67,7 @@
 pub mod advisor;
 pub mod bytes;
 pub mod call;
+pub mod capture;
 pub mod context;
 pub mod program;
 pub mod report;
