@@ -158,16 +158,26 @@ pub enum Call<D = Bytes> {
     EndPass,
 
     // --- programs and uniforms -------------------------------------------------------------
-    /// Creates program object `id` of a built-in program (see [`ProgramKind`]); its uniforms
-    /// start at their defaults.
+    /// Creates program object `id`: a built-in program (see [`ProgramKind`]; its uniforms
+    /// start at their defaults), or a GLSL ES program compiled and linked now (`glCreateShader`
+    /// … `glLinkProgram`; its uniforms start at zero, as in GL).
     CreateProgram {
         id: u32,
-        program: ProgramKind,
+        program: ProgramSource,
+    },
+    /// `glBindAttribLocation`: GLSL attribute `name` of program `program` reads attribute
+    /// `index`. Valid at any time; it applies to the program's later draws (GL applies it at
+    /// the next link; the context relinks at once).
+    BindAttribLocation {
+        program: u32,
+        index: u32,
+        name: String,
     },
     UseProgram {
         id: u32,
     },
-    /// Sets a uniform of the program in use (`glUniform*`).
+    /// Sets a uniform of the program in use (`glUniform*`). For a GLSL program `name` may
+    /// name an array element (`lights[2]`; `x` is `x[0]`) or a struct field (`light.color`).
     Uniform {
         name: String,
         value: UniformValue,
@@ -286,6 +296,12 @@ pub enum Call<D = Bytes> {
     },
     EnableVertexAttrib {
         index: u32,
+    },
+    /// `glVertexAttrib4f`: the value a disabled attribute reads in a GLSL program (initially
+    /// `(0, 0, 0, 1)`).
+    VertexAttrib {
+        index: u32,
+        value: [f32; 4],
     },
     DisableVertexAttrib {
         index: u32,
@@ -442,6 +458,7 @@ impl<D> Call<D> {
             NextSubpass => "next_subpass",
             EndPass => "end_pass",
             CreateProgram { .. } => "create_program",
+            BindAttribLocation { .. } => "bind_attrib_location",
             UseProgram { .. } => "use_program",
             Uniform { .. } => "uniform",
             Viewport { .. } => "viewport",
@@ -466,6 +483,7 @@ impl<D> Call<D> {
             VertexAttribPointer { .. } => "vertex_attrib_pointer",
             VertexAttribArray { .. } => "vertex_attrib_array",
             EnableVertexAttrib { .. } => "enable_vertex_attrib",
+            VertexAttrib { .. } => "vertex_attrib",
             DisableVertexAttrib { .. } => "disable_vertex_attrib",
             BindIndexBuffer { .. } => "bind_index_buffer",
             BindTexture { .. } => "bind_texture",
@@ -532,6 +550,7 @@ impl<D> Call<D> {
             NextSubpass => NextSubpass,
             EndPass => EndPass,
             CreateProgram { id, program } => CreateProgram { id, program },
+            BindAttribLocation { program, index, name } => BindAttribLocation { program, index, name },
             UseProgram { id } => UseProgram { id },
             Uniform { name, value } => Uniform { name, value },
             Viewport { x, y, width, height } => Viewport { x, y, width, height },
@@ -557,6 +576,7 @@ impl<D> Call<D> {
                 VertexAttribPointer { index, buffer, size, component, normalized, stride, offset }
             }
             EnableVertexAttrib { index } => EnableVertexAttrib { index },
+            VertexAttrib { index, value } => VertexAttrib { index, value },
             DisableVertexAttrib { index } => DisableVertexAttrib { index },
             BindIndexBuffer { buffer } => BindIndexBuffer { buffer },
             BindTexture { unit, texture } => BindTexture { unit, texture },
@@ -874,14 +894,91 @@ pub enum ProgramKind {
     Composite,
 }
 
+/// What a program object is made of: a built-in program by name (`"program": "solid"`) or
+/// GLSL ES source (`"program": {"glsl": {"vertex": "...", "fragment": "..."}}`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(from = "ProgramSourceRepr", into = "ProgramSourceRepr")]
+pub enum ProgramSource {
+    Builtin(ProgramKind),
+    Glsl(GlslSource),
+}
+
+impl From<ProgramKind> for ProgramSource {
+    fn from(kind: ProgramKind) -> ProgramSource {
+        ProgramSource::Builtin(kind)
+    }
+}
+
+/// The two shaders of a GLSL ES 1.00 program (see the `tiler-glsl` crate for the language).
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GlslSource {
+    pub vertex: String,
+    pub fragment: String,
+}
+
+/// `ProgramSource` as a trace spells it: the built-in names as strings (as version 1 always
+/// had them) and `{"glsl": ...}` beside them, serde's external tagging.
+#[derive(Clone, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum ProgramSourceRepr {
+    Solid,
+    VertexColor,
+    Lambert,
+    Textured,
+    Composite,
+    Glsl(GlslSource),
+}
+
+impl From<ProgramSourceRepr> for ProgramSource {
+    fn from(r: ProgramSourceRepr) -> ProgramSource {
+        match r {
+            ProgramSourceRepr::Solid => ProgramSource::Builtin(ProgramKind::Solid),
+            ProgramSourceRepr::VertexColor => ProgramSource::Builtin(ProgramKind::VertexColor),
+            ProgramSourceRepr::Lambert => ProgramSource::Builtin(ProgramKind::Lambert),
+            ProgramSourceRepr::Textured => ProgramSource::Builtin(ProgramKind::Textured),
+            ProgramSourceRepr::Composite => ProgramSource::Builtin(ProgramKind::Composite),
+            ProgramSourceRepr::Glsl(g) => ProgramSource::Glsl(g),
+        }
+    }
+}
+
+impl From<ProgramSource> for ProgramSourceRepr {
+    fn from(s: ProgramSource) -> ProgramSourceRepr {
+        match s {
+            ProgramSource::Builtin(ProgramKind::Solid) => ProgramSourceRepr::Solid,
+            ProgramSource::Builtin(ProgramKind::VertexColor) => ProgramSourceRepr::VertexColor,
+            ProgramSource::Builtin(ProgramKind::Lambert) => ProgramSourceRepr::Lambert,
+            ProgramSource::Builtin(ProgramKind::Textured) => ProgramSourceRepr::Textured,
+            ProgramSource::Builtin(ProgramKind::Composite) => ProgramSourceRepr::Composite,
+            ProgramSource::Glsl(g) => ProgramSourceRepr::Glsl(g),
+        }
+    }
+}
+
 /// A uniform value (`{"mat4": [16 floats, column-major]}`, `{"vec4": [...]}`, ...).
+///
+/// Built-in programs take exactly their uniforms' types. GLSL programs follow `glUniform*`'s
+/// rules: `float`/`vecN` set float and bool uniforms of that size, `int`/`ivecN` set int and
+/// bool uniforms of that size and `int` sets samplers (the texture unit), `matN` sets `matN`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum UniformValue {
     Float(f32),
     Int(i32),
+    Vec2([f32; 2]),
     Vec3([f32; 3]),
     Vec4([f32; 4]),
+    #[serde(rename = "ivec2")]
+    IVec2([i32; 2]),
+    #[serde(rename = "ivec3")]
+    IVec3([i32; 3]),
+    #[serde(rename = "ivec4")]
+    IVec4([i32; 4]),
+    /// Column-major, as `glUniformMatrix2fv` with `transpose = GL_FALSE`.
+    Mat2([f32; 4]),
+    /// Column-major.
+    Mat3([f32; 9]),
     /// Column-major, as `glUniformMatrix4fv` with `transpose = GL_FALSE`.
     Mat4([f32; 16]),
 }
@@ -891,19 +988,36 @@ impl UniformValue {
         match self {
             UniformValue::Float(_) => "float",
             UniformValue::Int(_) => "int",
+            UniformValue::Vec2(_) => "vec2",
             UniformValue::Vec3(_) => "vec3",
             UniformValue::Vec4(_) => "vec4",
+            UniformValue::IVec2(_) => "ivec2",
+            UniformValue::IVec3(_) => "ivec3",
+            UniformValue::IVec4(_) => "ivec4",
+            UniformValue::Mat2(_) => "mat2",
+            UniformValue::Mat3(_) => "mat3",
             UniformValue::Mat4(_) => "mat4",
         }
     }
 
-    pub fn is_finite(&self) -> bool {
+    /// Its components as floats (ints converted), in GL's order.
+    pub fn components(&self) -> Vec<f32> {
         match self {
-            UniformValue::Float(v) => v.is_finite(),
-            UniformValue::Int(_) => true,
-            UniformValue::Vec3(v) => v.iter().all(|c| c.is_finite()),
-            UniformValue::Vec4(v) => v.iter().all(|c| c.is_finite()),
-            UniformValue::Mat4(v) => v.iter().all(|c| c.is_finite()),
+            UniformValue::Float(v) => vec![*v],
+            UniformValue::Int(v) => vec![*v as f32],
+            UniformValue::Vec2(v) => v.to_vec(),
+            UniformValue::Vec3(v) => v.to_vec(),
+            UniformValue::Vec4(v) => v.to_vec(),
+            UniformValue::IVec2(v) => v.iter().map(|&c| c as f32).collect(),
+            UniformValue::IVec3(v) => v.iter().map(|&c| c as f32).collect(),
+            UniformValue::IVec4(v) => v.iter().map(|&c| c as f32).collect(),
+            UniformValue::Mat2(v) => v.to_vec(),
+            UniformValue::Mat3(v) => v.to_vec(),
+            UniformValue::Mat4(v) => v.to_vec(),
         }
+    }
+
+    pub fn is_finite(&self) -> bool {
+        self.components().iter().all(|c| c.is_finite())
     }
 }

@@ -16,7 +16,7 @@
 //! let mut gl = Context::new(ContextConfig::new(64, 64)).unwrap();
 //! let triangle: [[f32; 2]; 3] = [[-1.0, -1.0], [3.0, -1.0], [-1.0, 3.0]];
 //! gl.call(Call::CreateBuffer { id: 1, data: Bytes::from_slice(&triangle) }).unwrap();
-//! gl.call(Call::CreateProgram { id: 1, program: ProgramKind::Solid }).unwrap();
+//! gl.call(Call::CreateProgram { id: 1, program: ProgramKind::Solid.into() }).unwrap();
 //! gl.call(Call::UseProgram { id: 1 }).unwrap();
 //! gl.call(Call::VertexAttribPointer {
 //!     index: 0, buffer: 1, size: 2, component: ComponentType::Float, normalized: false, stride: 0, offset: 0,
@@ -78,7 +78,8 @@ pub use advisor::{Finding, Severity};
 pub use bytes::Bytes;
 pub use call::{
     AttachmentPoint, BufferSet, Call, Capability, ComponentType, DependencySpec, Face, Filter, FramebufferTarget,
-    IndexKind, Mode, Output, ProgramKind, SubpassSpec, SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
+    GlslSource, IndexKind, Mode, Output, ProgramKind, ProgramSource, SubpassSpec, SwapBehavior, TextureFormat,
+    UniformValue, Winding, Wrap,
 };
 pub use context::{Context, ContextConfig, Error};
 pub use report::{CallRef, FrameRecord, PassRecord, Report, Slot};

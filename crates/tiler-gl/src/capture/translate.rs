@@ -437,6 +437,10 @@ impl Translator {
                 }
             }
             C::VertexAttribDivisor { divisor: 0, .. } => {}
+            C::VertexAttrib { index, value } => {
+                attrib_slot(*index)?;
+                self.emit(Call::VertexAttrib { index: *index, value: *value })?;
+            }
 
             // ---- drawing --------------------------------------------------------------------
             C::DrawArrays { mode, first, count, instance_count } => {
@@ -1022,6 +1026,7 @@ impl Translator {
         }
         for index in 0..MAX_VERTEX_ATTRIBS {
             calls.push(Call::DisableVertexAttrib { index });
+            calls.push(Call::VertexAttrib { index, value: [0.0, 0.0, 0.0, 1.0] });
         }
         for call in calls {
             // The window's framebuffer is bound by the first call, so a pass in flight is
@@ -1469,45 +1474,57 @@ fn command_name(command: &Command) -> String {
 /// The GLSL side: programs from source, attribute bindings, uniform values.
 mod glsl {
     use super::{Fallible, GlUniform};
-    use crate::call::{Call, UniformValue};
+    use crate::call::{Call, GlslSource, ProgramSource, UniformValue};
 
-    pub(super) fn create_program(_id: u32, _vertex: String, _fragment: String) -> Fallible<Call> {
-        Err("GLSL programs are not supported by this build of the context yet".into())
+    pub(super) fn create_program(id: u32, vertex: String, fragment: String) -> Fallible<Call> {
+        Ok(Call::CreateProgram { id, program: ProgramSource::Glsl(GlslSource { vertex, fragment }) })
     }
 
-    pub(super) fn bind_attrib_location(_program: u32, _index: u32, _name: String) -> Fallible<Call> {
-        Err("GLSL programs are not supported by this build of the context yet".into())
+    pub(super) fn bind_attrib_location(program: u32, index: u32, name: String) -> Fallible<Call> {
+        Ok(Call::BindAttribLocation { program, index, name })
     }
 
     /// One value per array element.
     pub(super) fn uniform_values(value: &GlUniform) -> Fallible<Vec<UniformValue>> {
         let unsupported = || format!("uniform {value:?} is not of a type the context takes");
+        let per = |n: usize, len: usize| if n == 0 || len % n != 0 { Err(unsupported()) } else { Ok(n) };
         Ok(match value {
-            GlUniform::Float { components, values } => {
-                let n = usize::from(*components);
-                values
-                    .chunks_exact(n)
-                    .map(|v| match *v {
-                        [x] => Ok(UniformValue::Float(x)),
-                        [x, y, z] => Ok(UniformValue::Vec3([x, y, z])),
-                        [x, y, z, w] => Ok(UniformValue::Vec4([x, y, z, w])),
-                        _ => Err(unsupported()),
-                    })
-                    .collect::<Fallible<_>>()?
-            }
-            GlUniform::Int { components: 1, values } => values.iter().map(|&v| UniformValue::Int(v)).collect(),
-            GlUniform::Matrix { columns: 4, rows: 4, transpose, values } => values
-                .chunks_exact(16)
-                .map(|m| {
-                    let mut out = [0.0; 16];
-                    for c in 0..4 {
-                        for r in 0..4 {
-                            out[c * 4 + r] = if *transpose { m[r * 4 + c] } else { m[c * 4 + r] };
-                        }
-                    }
-                    UniformValue::Mat4(out)
+            GlUniform::Float { components, values } => values
+                .chunks_exact(per(usize::from(*components), values.len())?)
+                .map(|v| match *v {
+                    [x] => Ok(UniformValue::Float(x)),
+                    [x, y] => Ok(UniformValue::Vec2([x, y])),
+                    [x, y, z] => Ok(UniformValue::Vec3([x, y, z])),
+                    [x, y, z, w] => Ok(UniformValue::Vec4([x, y, z, w])),
+                    _ => Err(unsupported()),
                 })
-                .collect(),
+                .collect::<Fallible<_>>()?,
+            GlUniform::Int { components, values } => values
+                .chunks_exact(per(usize::from(*components), values.len())?)
+                .map(|v| match *v {
+                    [x] => Ok(UniformValue::Int(x)),
+                    [x, y] => Ok(UniformValue::IVec2([x, y])),
+                    [x, y, z] => Ok(UniformValue::IVec3([x, y, z])),
+                    [x, y, z, w] => Ok(UniformValue::IVec4([x, y, z, w])),
+                    _ => Err(unsupported()),
+                })
+                .collect::<Fallible<_>>()?,
+            GlUniform::Matrix { columns, rows, transpose, values } if columns == rows && (2..=4).contains(columns) => {
+                let n = usize::from(*columns);
+                values
+                    .chunks_exact(per(n * n, values.len())?)
+                    .map(|m| {
+                        // Column-major; a transposed matrix (GLES 3.0) is turned back.
+                        let at = |c: usize, r: usize| if *transpose { m[r * n + c] } else { m[c * n + r] };
+                        let column_major: Vec<f32> = (0..n).flat_map(|c| (0..n).map(move |r| at(c, r))).collect();
+                        match n {
+                            2 => UniformValue::Mat2(column_major.try_into().expect("4 values")),
+                            3 => UniformValue::Mat3(column_major.try_into().expect("9 values")),
+                            _ => UniformValue::Mat4(column_major.try_into().expect("16 values")),
+                        }
+                    })
+                    .collect()
+            }
             _ => return Err(unsupported()),
         })
     }

@@ -11,6 +11,7 @@
 
 mod explicit;
 mod frames;
+mod glsl;
 mod pass;
 mod targets;
 
@@ -21,7 +22,7 @@ use tiler::{Backend, BlendFactor, BlendOp, BufferId, CompareOp, Device, DeviceCo
 use crate::bytes::Bytes;
 use crate::call::{
     AttachmentPoint, BufferSet, Call, Capability, ComponentType, Face, Filter, FramebufferTarget, Output, ProgramKind,
-    SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
+    ProgramSource, SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
 };
 use crate::program::{SamplerState, Uniforms};
 use crate::report::{CallRef, FrameRecord, PassRecord, Report, StartCause};
@@ -211,9 +212,9 @@ pub(crate) struct FramebufferObject {
     pub stencil: Option<AttachmentRef>,
 }
 
-pub(crate) struct ProgramObject {
-    pub kind: ProgramKind,
-    pub uniforms: Uniforms,
+pub(crate) enum ProgramObject {
+    Builtin { kind: ProgramKind, uniforms: Uniforms },
+    Glsl(glsl::GlslProgram),
 }
 
 #[derive(Default)]
@@ -250,6 +251,8 @@ pub(crate) enum AttribSource {
 pub(crate) struct Attrib {
     pub enabled: bool,
     pub source: Option<(AttribSource, u32, ComponentType, bool, u32)>,
+    /// The current generic value (`glVertexAttrib4f`), read when disabled by GLSL programs.
+    pub generic: [f32; 4],
 }
 
 /// The fixed-function and binding state, as GL's context holds it.
@@ -309,7 +312,10 @@ impl GlState {
             clear_color: [0.0; 4],
             clear_depth: 1.0,
             clear_stencil: 0,
-            attribs: vec![Attrib { enabled: false, source: None }; MAX_VERTEX_ATTRIBS as usize],
+            attribs: vec![
+                Attrib { enabled: false, source: None, generic: [0.0, 0.0, 0.0, 1.0] };
+                MAX_VERTEX_ATTRIBS as usize
+            ],
             index_buffer: 0,
             textures: [0; MAX_TEXTURE_UNITS as usize],
             program: 0,
@@ -645,8 +651,15 @@ impl Context {
                 if id == 0 || self.programs.contains_key(&id) {
                     return Err(name_taken("program", id));
                 }
-                self.programs.insert(id, ProgramObject { kind: program, uniforms: Uniforms::default() });
+                let object = match program {
+                    ProgramSource::Builtin(kind) => ProgramObject::Builtin { kind, uniforms: Uniforms::default() },
+                    ProgramSource::Glsl(source) => {
+                        ProgramObject::Glsl(glsl::GlslProgram::new(source).map_err(|e| format!("program {id}: {e}"))?)
+                    }
+                };
+                self.programs.insert(id, object);
             }
+            BindAttribLocation { program, index, name } => self.bind_attrib_location(program, index, name)?,
             UseProgram { id } => {
                 if id != 0 && !self.programs.contains_key(&id) {
                     return Err(format!("program {id} does not exist"));
@@ -707,6 +720,10 @@ impl Context {
             EnableVertexAttrib { index } => {
                 self.attrib_index(index)?;
                 self.state.attribs[index as usize].enabled = true;
+            }
+            VertexAttrib { index, value } => {
+                self.attrib_index(index)?;
+                self.state.attribs[index as usize].generic = finite4(&format!("vertex attribute {index}"), value)?;
             }
             DisableVertexAttrib { index } => {
                 self.attrib_index(index)?;
@@ -797,8 +814,10 @@ impl Context {
 
     fn uniform(&mut self, name: &str, value: UniformValue) -> Fallible {
         let id = self.state.program;
-        let program = self.programs.get_mut(&id).ok_or("no program is in use")?;
-        program.uniforms.set(program.kind, name, value)
+        match self.programs.get_mut(&id).ok_or("no program is in use")? {
+            ProgramObject::Builtin { kind, uniforms } => uniforms.set(*kind, name, value),
+            ProgramObject::Glsl(program) => program.set_uniform(name, value).map_err(|e| format!("program {id}: {e}")),
+        }
     }
 
     pub(crate) fn texture(&self, id: u32) -> Fallible<&TextureObject> {

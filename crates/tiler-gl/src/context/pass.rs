@@ -54,10 +54,8 @@ use tiler::{
 
 use super::targets::Targets;
 use super::{AttribSource, Context, Fallible, Tiling};
-use crate::call::{BufferSet, ComponentType, Face, Filter, IndexKind, Mode, ProgramKind, Winding, Wrap};
-use crate::program::{
-    ProgramTexture, SamplerState, TextureSnapshot, Uniforms, blit_pipeline, clear_pipeline, program_pipeline,
-};
+use crate::call::{BufferSet, ComponentType, Face, Filter, IndexKind, Mode, Winding, Wrap};
+use crate::program::{ProgramTexture, SamplerState, TextureSnapshot, blit_pipeline, clear_pipeline};
 use crate::report::{
     AttachmentRecord, CallRef, DrawKind, DrawRecord, Dropped, EndCause, FlushCause, LoadKind, PartialClear, PassCost,
     PassRecord, Role, Slot, StartCause, StoreKind,
@@ -108,9 +106,8 @@ impl Writes {
 #[derive(Clone, Debug)]
 pub(crate) enum DrawSource {
     Program {
-        kind: ProgramKind,
-        uniforms: Uniforms,
-        texture: Option<(ImageId, SamplerState)>,
+        program: super::glsl::ProgramDraw,
+        textures: Vec<super::glsl::SampledTexture>,
     },
     Clear {
         color: [f32; 4],
@@ -589,9 +586,7 @@ impl Context {
             // A draw needs a complete framebuffer before anything else.
             self.targets(self.draw_framebuffer)?;
         }
-        let program = self.programs.get(&self.state.program).ok_or("no program is in use")?;
-        let (kind, uniforms) = (program.kind, program.uniforms);
-        let info = kind.info();
+        let program = self.draw_program()?;
 
         // Indices: bound, aligned, inside their buffer; the largest gives the vertex range.
         let mut index_binding = None;
@@ -638,13 +633,14 @@ impl Context {
             source: AttribSource,
         }
         let mut inputs = Vec::new();
-        for &(index, name) in info.attributes {
+        for (index, name) in &program.attributes {
+            let index = *index;
             let attrib = &self.state.attribs[index as usize];
             let Some((source, size, component, normalized, stride)) = attrib.source.clone().filter(|_| attrib.enabled)
             else {
                 return Err(format!(
                     "program '{}' reads attribute {index} ({name}), which is not enabled with a pointer",
-                    kind.name()
+                    program.label
                 ));
             };
             let format = vertex_format(size, component, normalized)?;
@@ -676,48 +672,33 @@ impl Context {
             inputs.push(Input { index, format, stride, offset, source });
         }
 
-        // A texture the program samples that is an attachment of the open pass: flush it.
-        let texture = if info.samples_texture {
-            let unit = uniforms.sampler;
-            if !(0..super::MAX_TEXTURE_UNITS as i32).contains(&unit) {
-                return Err(format!("uniform 'sampler' is {unit}, not a texture unit"));
-            }
-            match self.state.textures[unit as usize] {
-                0 => None,
-                id => {
-                    let t = self.texture(id)?;
-                    let (image, sampler) = (t.image, t.sampler);
-                    self.check_has_memory(image, &format!("program '{}' samples texture {id}", kind.name()))?;
-                    Some((image, sampler))
-                }
-            }
-        } else {
-            None
-        };
         // The subpass the draw goes to, and the input attachments the program reads.
         let subpass = self.explicit().map(|e| (e.current, e.subpass().clone()));
-        let input_count = kind.inputs();
+        let input_count = program.inputs;
         if input_count > 0 {
             match &subpass {
                 None => {
                     return Err(format!(
                         "program '{}' reads input attachment 0, which only a subpass of an explicit pass has \
                          (begin_pass with \"input\")",
-                        kind.name()
+                        program.label
                     ));
                 }
                 Some((s, d)) if d.input.len() < input_count => {
                     return Err(format!(
                         "program '{}' reads {input_count} input attachment(s), but subpass {s} has {}",
-                        kind.name(),
+                        program.label,
                         d.input.len()
                     ));
                 }
                 _ => {}
             }
         }
-        if let Some((image, _)) = texture
-            && self.pass.as_ref().is_some_and(|p| p.has_work() && p.targets.images().any(|i| i == image))
+        // A texture the program samples that is an attachment of the open pass: flush it.
+        if self
+            .pass
+            .as_ref()
+            .is_some_and(|p| p.has_work() && program.textures.iter().any(|t| p.targets.images().any(|i| i == t.image)))
         {
             self.flush_open_pass(FlushCause::SampleAttachment)?;
         }
@@ -852,11 +833,11 @@ impl Context {
             let id = self.state.index_buffer;
             self.buffers.get_mut(&id).expect("checked").last_use = Some(here.frame);
         }
-        if let Some((image, _)) = texture {
-            self.sampled(image, here.frame);
+        for t in &program.textures {
+            self.sampled(t.image, here.frame);
         }
 
-        let mut desc = PipelineDesc::new(kind.name(), vertex_input);
+        let mut desc = PipelineDesc::new(program.label, vertex_input);
         desc.topology = topology;
         desc.cull_mode = desc_cull;
         desc.front_face = front_face;
@@ -873,15 +854,13 @@ impl Context {
         let pass = self.pass.as_mut().expect("ensured above");
         pass.buffers_used.extend(used);
         pass.retired_buffers.extend(client);
-        if let Some((image, _)) = texture {
-            pass.images_sampled.insert(image);
-        }
+        pass.images_sampled.extend(program.textures.iter().map(|t| t.image));
         push_draw(
             pass,
             PendingDraw {
                 call: here,
                 kind: DrawKind::Draw,
-                source: DrawSource::Program { kind, uniforms, texture },
+                source: DrawSource::Program { program: program.source, textures: program.textures },
                 desc,
                 vertex_buffers,
                 index: index_binding.map(|b| b.1),
@@ -1052,15 +1031,14 @@ impl Context {
         let mut extra = tiler::Ledger::default();
         for d in &pass.draws {
             let pipeline = match &d.source {
-                DrawSource::Program { kind, uniforms, texture } => {
-                    let texture = match texture {
-                        Some((image, sampler)) => {
-                            Some(self.program_texture(&mut snapshots, &mut textures, *image, *sampler)?)
-                        }
-                        None => None,
-                    };
-                    program_pipeline(*kind, uniforms, texture, d.desc.clone())
-                }
+                DrawSource::Program { program, textures: sampled } => self.program_draw_pipeline(
+                    program,
+                    sampled,
+                    &mut snapshots,
+                    &mut textures,
+                    pass.targets.height,
+                    d.desc.clone(),
+                )?,
                 DrawSource::Clear { color, depth, targets } => clear_pipeline(*color, *depth, *targets, d.desc.clone()),
                 DrawSource::Rectangle { image, ndc, tex, sampler, read_bytes } => {
                     extra.add(tiler::Category::TextureFetch, *read_bytes);
@@ -1187,7 +1165,7 @@ impl Context {
                 call: d.call,
                 kind: d.kind,
                 program: match &d.source {
-                    DrawSource::Program { kind, .. } => Some(*kind),
+                    DrawSource::Program { program, .. } => program.kind(),
                     _ => None,
                 },
                 clip_rect: d.clip_rect,
@@ -1195,9 +1173,7 @@ impl Context {
                 depth_test: d.desc.depth_stencil.depth_test,
                 depth_write: d.desc.depth_stencil.depth_write,
                 discards: match &d.source {
-                    DrawSource::Program {
-                        kind: ProgramKind::VertexColor | ProgramKind::Textured, uniforms, ..
-                    } => uniforms.alpha_cutoff > 0.0,
+                    DrawSource::Program { program, .. } => program.discards(),
                     _ => false,
                 },
                 texture_bytes: match &d.source {
@@ -1205,7 +1181,7 @@ impl Context {
                     _ => 0,
                 },
                 sampled: match &d.source {
-                    DrawSource::Program { texture, .. } => texture.map(|t| t.0),
+                    DrawSource::Program { textures, .. } => textures.first().map(|t| t.image),
                     DrawSource::Rectangle { image, .. } => Some(*image),
                     DrawSource::Clear { .. } => None,
                 },
@@ -1257,7 +1233,7 @@ impl Context {
 
     /// What a textured draw samples: RGBA8 images through the core's sampler, others through
     /// a snapshot; each texture made once per submission.
-    fn program_texture(
+    pub(crate) fn program_texture(
         &self,
         snapshots: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
         textures: &mut HashMap<ImageId, Arc<tiler::Texture>>,
@@ -1305,7 +1281,7 @@ impl Context {
     }
 
     /// The decoded texels of an image, once per submission.
-    fn snapshot(
+    pub(crate) fn snapshot(
         &self,
         cache: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
         image: ImageId,

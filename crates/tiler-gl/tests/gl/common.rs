@@ -28,7 +28,7 @@ pub fn quad(x0: f32, y0: f32, x1: f32, y1: f32, z: f32) -> Vec<[f32; 3]> {
 /// at it.
 pub fn geometry(gl: &mut Context, id: u32, kind: ProgramKind, vertices: &[[f32; 3]]) {
     c(gl, Call::CreateBuffer { id, data: Bytes::from_slice(vertices) });
-    c(gl, Call::CreateProgram { id, program: kind });
+    c(gl, Call::CreateProgram { id, program: kind.into() });
     bind_geometry(gl, id);
 }
 

@@ -320,7 +320,7 @@ fn sampling_the_pass_texture_flushes() {
     draw(&mut gl, 6);
     let uv: Vec<[f32; 4]> = vec![[-1.0, -1.0, 0.0, 0.0], [1.0, -1.0, 1.0, 0.0], [1.0, 1.0, 1.0, 1.0]];
     c(&mut gl, Call::CreateBuffer { id: 5, data: Bytes::from_slice(&uv) });
-    c(&mut gl, Call::CreateProgram { id: 5, program: ProgramKind::Textured });
+    c(&mut gl, Call::CreateProgram { id: 5, program: ProgramKind::Textured.into() });
     c(&mut gl, Call::UseProgram { id: 5 });
     for (index, offset) in [(0, 0), (1, 8)] {
         c(

@@ -227,8 +227,8 @@ fn recorded_program() -> Context {
         },
     );
     c(&mut gl, Call::TexParameters { id: 3, filter: Filter::Linear, wrap: Wrap::Repeat });
-    c(&mut gl, Call::CreateProgram { id: 4, program: ProgramKind::Textured });
-    c(&mut gl, Call::CreateProgram { id: 5, program: ProgramKind::VertexColor });
+    c(&mut gl, Call::CreateProgram { id: 4, program: ProgramKind::Textured.into() });
+    c(&mut gl, Call::CreateProgram { id: 5, program: ProgramKind::VertexColor.into() });
     c(&mut gl, Call::CreateQuery { id: 1 });
     for frame in 0..3 {
         bind(&mut gl, 2);

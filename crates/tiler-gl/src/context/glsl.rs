@@ -1,0 +1,376 @@
+//! Programs in the context: GLSL ES program objects (compiled and linked by `tiler-glsl`),
+//! GL's uniform rules for them, and what a draw of any program reads and renders with.
+//!
+//! A GLSL program is compiled and linked at `create_program`; `bind_attrib_location` relinks
+//! it at once (GL waits for the next `glLinkProgram`, but a capture's recorded attribute
+//! locations are exactly those the application then used, so binding them any time is what a
+//! replay needs). Relinking keeps the uniform values: the uniforms' layout depends on the
+//! source only.
+//!
+//! A draw reads the program's attributes from the enabled arrays at their locations; a
+//! disabled attribute reads its current generic value (`vertex_attrib`, initially
+//! `(0, 0, 0, 1)`), as in GL. Each sampler uniform names a texture unit; the texture bound
+//! there is sampled as the `textured` built-in samples it (see `program`): RGBA8 through the
+//! core's sampler and texture cache (`texture_fetch` in the ledger), other formats (depth,
+//! float, 565) through a [`TextureSnapshot`]. A sampler whose unit has no texture is an error
+//! here (GL would read an incomplete texture as black, which is almost always a bug in a
+//! trace). The fragment shader's `discard` reaches tiler as [`tiler::ShaderProperties`], so
+//! early depth tests and HSR behave as they do on hardware for discarding shaders.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use glam::Vec4;
+use tiler::{ImageId, Pipeline, PipelineDesc, VertexInput, VertexOutput, VertexShader};
+use tiler_glsl::{CompiledProgram, GlslVertexShader, Scalar, TextureBinding, TextureSource, Type, UniformValues};
+
+use super::{Context, Fallible, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS, ProgramObject};
+use crate::call::{GlslSource, ProgramKind, UniformValue};
+use crate::program::{ProgramTexture, SamplerState, TextureSnapshot, Uniforms, program_pipeline};
+
+/// A GLSL program object.
+pub(crate) struct GlslProgram {
+    source: GlslSource,
+    /// `bind_attrib_location`s so far, in order (a name bound again moves).
+    bindings: Vec<(String, u32)>,
+    compiled: Arc<CompiledProgram>,
+    uniforms: UniformValues,
+}
+
+impl GlslProgram {
+    /// Compiles and links `source`; uniforms start at zero.
+    ///
+    /// # Errors
+    /// A compile error naming the shader and the line, or a link error.
+    pub fn new(source: GlslSource) -> Result<GlslProgram, tiler_glsl::Error> {
+        let compiled = CompiledProgram::new(&source.vertex, &source.fragment, &[])?;
+        let uniforms = compiled.new_uniform_values();
+        Ok(GlslProgram { source, bindings: Vec::new(), compiled: Arc::new(compiled), uniforms })
+    }
+
+    /// Binds attribute `name` to `index` and relinks.
+    fn bind_attrib_location(&mut self, name: String, index: u32) -> Result<(), tiler_glsl::Error> {
+        let mut bindings = self.bindings.clone();
+        bindings.retain(|(n, _)| *n != name);
+        bindings.push((name, index));
+        let pairs: Vec<(&str, u32)> = bindings.iter().map(|(n, l)| (n.as_str(), *l)).collect();
+        let compiled = CompiledProgram::new(&self.source.vertex, &self.source.fragment, &pairs)?;
+        self.compiled = Arc::new(compiled);
+        self.bindings = bindings;
+        Ok(())
+    }
+
+    /// `glUniform*` by name, with GL's type rules (see [`UniformValue`]).
+    ///
+    /// # Errors
+    /// An unknown uniform, a value of a type that cannot set it, a non-finite value, or a
+    /// texture unit out of range.
+    pub fn set_uniform(&mut self, name: &str, value: UniformValue) -> Fallible {
+        let program = &self.compiled;
+        let Some(location) = program.uniform_location(name) else {
+            return Err(format!("no active uniform '{name}' (it has: {})", uniform_names(program).join(", ")));
+        };
+        let info = program
+            .uniforms()
+            .iter()
+            .find(|u| (u.location..u.location + u.array_size as u32).contains(&location))
+            .expect("a uniform location belongs to a uniform");
+        let values = uniform_components(&info.ty, value).ok_or_else(|| {
+            format!("uniform '{name}' is a {}, which a {} value cannot set", info.ty, value.type_name())
+        })?;
+        if !value.is_finite() {
+            return Err(format!("uniform '{name}' has a non-finite value {value:?}"));
+        }
+        if let (Type::Sampler(_), UniformValue::Int(unit)) = (&info.ty, value)
+            && !(0..MAX_TEXTURE_UNITS as i32).contains(&unit)
+        {
+            return Err(format!("sampler '{name}' set to texture unit {unit}, outside 0 to {}", MAX_TEXTURE_UNITS - 1));
+        }
+        program.set_uniform(&mut self.uniforms, location, &values).map_err(|e| e.to_string())
+    }
+}
+
+/// Active uniform names as `glGetActiveUniform` lists them (an array as `name[0]`).
+fn uniform_names(program: &CompiledProgram) -> Vec<String> {
+    program
+        .uniforms()
+        .iter()
+        .map(|u| if u.array_size > 1 { format!("{}[0]", u.name) } else { u.name.clone() })
+        .collect()
+}
+
+/// The floats `value` stores into a uniform of type `ty` under `glUniform*`'s rules, or
+/// `None` when that call cannot set it: `glUniform{1,2,3,4}f` sets float and bool scalars
+/// and vectors of its size, `glUniform{1,2,3,4}i` int and bool ones and (`1i`) samplers,
+/// `glUniformMatrixNfv` `matN`. Bools store 1 or 0, as the compiler's `true` and `false`.
+fn uniform_components(ty: &Type, value: UniformValue) -> Option<Vec<f32>> {
+    use UniformValue as V;
+    let components = value.components();
+    let floats = matches!(value, V::Float(_) | V::Vec2(_) | V::Vec3(_) | V::Vec4(_));
+    let ints = matches!(value, V::Int(_) | V::IVec2(_) | V::IVec3(_) | V::IVec4(_));
+    let matrix = matches!(value, V::Mat2(_) | V::Mat3(_) | V::Mat4(_));
+    let same_size = ty.size() == components.len();
+    match ty {
+        Type::Scalar(Scalar::Float) | Type::Vector(Scalar::Float, _) if floats && same_size => Some(components),
+        Type::Scalar(Scalar::Int) | Type::Vector(Scalar::Int, _) if ints && same_size => Some(components),
+        Type::Scalar(Scalar::Bool) | Type::Vector(Scalar::Bool, _) if (floats || ints) && same_size => {
+            Some(components.into_iter().map(|c| if c != 0.0 { 1.0 } else { 0.0 }).collect())
+        }
+        Type::Matrix(_) if matrix && same_size => Some(components),
+        Type::Sampler(_) if matches!(value, V::Int(_)) => Some(components),
+        _ => None,
+    }
+}
+
+/// A texture a draw samples.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SampledTexture {
+    pub unit: u32,
+    pub image: ImageId,
+    pub sampler: SamplerState,
+}
+
+/// The program of a gathered draw, with its uniforms as they were at the draw.
+#[derive(Clone, Debug)]
+pub(crate) enum ProgramDraw {
+    Builtin {
+        kind: ProgramKind,
+        uniforms: Uniforms,
+    },
+    Glsl {
+        program: Arc<CompiledProgram>,
+        uniforms: UniformValues,
+        /// Disabled attribute locations the program reads, and their generic values.
+        generic: Vec<(u32, [f32; 4])>,
+    },
+}
+
+impl ProgramDraw {
+    /// The built-in program, if it is one.
+    pub fn kind(&self) -> Option<ProgramKind> {
+        match self {
+            ProgramDraw::Builtin { kind, .. } => Some(*kind),
+            ProgramDraw::Glsl { .. } => None,
+        }
+    }
+
+    /// Whether the fragment shader may discard.
+    pub fn discards(&self) -> bool {
+        match self {
+            ProgramDraw::Builtin { kind: ProgramKind::VertexColor | ProgramKind::Textured, uniforms } => {
+                uniforms.alpha_cutoff > 0.0
+            }
+            ProgramDraw::Builtin { .. } => false,
+            ProgramDraw::Glsl { program, .. } => program.fragment_properties().discards,
+        }
+    }
+}
+
+/// What a draw of the program in use reads, checked against the context's state.
+pub(crate) struct DrawProgram {
+    /// The program as errors and pipeline labels name it.
+    pub label: String,
+    /// Attribute locations read from arrays, and their names.
+    pub attributes: Vec<(u32, String)>,
+    pub textures: Vec<SampledTexture>,
+    /// Input attachments it reads.
+    pub inputs: usize,
+    pub source: ProgramDraw,
+}
+
+impl Context {
+    /// What a draw of the program in use reads: its attributes, its textures (each unit
+    /// once), its input attachments.
+    pub(crate) fn draw_program(&self) -> Fallible<DrawProgram> {
+        let id = self.state.program;
+        match self.programs.get(&id).ok_or("no program is in use")? {
+            ProgramObject::Builtin { kind, uniforms } => {
+                let info = kind.info();
+                let mut textures = Vec::new();
+                if info.samples_texture {
+                    let unit = uniforms.sampler;
+                    if !(0..MAX_TEXTURE_UNITS as i32).contains(&unit) {
+                        return Err(format!("uniform 'sampler' is {unit}, not a texture unit"));
+                    }
+                    let texture = self.state.textures[unit as usize];
+                    if texture != 0 {
+                        let t = self.texture(texture)?;
+                        let (image, sampler) = (t.image, t.sampler);
+                        self.check_has_memory(image, &format!("program '{}' samples texture {texture}", kind.name()))?;
+                        textures.push(SampledTexture { unit: unit as u32, image, sampler });
+                    }
+                }
+                Ok(DrawProgram {
+                    label: kind.name().to_string(),
+                    attributes: info.attributes.iter().map(|(i, n)| (*i, n.to_string())).collect(),
+                    textures,
+                    inputs: kind.inputs(),
+                    source: ProgramDraw::Builtin { kind: *kind, uniforms: *uniforms },
+                })
+            }
+            ProgramObject::Glsl(p) => {
+                let label = format!("GLSL program {id}");
+                let mut attributes = Vec::new();
+                let mut generic = Vec::new();
+                for a in p.compiled.attributes() {
+                    let columns = if let Type::Matrix(n) = a.ty { n as u32 } else { 1 };
+                    for location in a.location..a.location + columns {
+                        if location >= MAX_VERTEX_ATTRIBS {
+                            return Err(format!(
+                                "{label}: attribute '{}' is at location {location}, but the context has {} vertex \
+                                 attributes",
+                                a.name, MAX_VERTEX_ATTRIBS
+                            ));
+                        }
+                        let attrib = &self.state.attribs[location as usize];
+                        if attrib.enabled {
+                            attributes.push((location, a.name.clone()));
+                        } else {
+                            generic.push((location, attrib.generic));
+                        }
+                    }
+                }
+                let mut textures: Vec<SampledTexture> = Vec::new();
+                for (name, unit) in p.compiled.sampler_units(&p.uniforms) {
+                    if textures.iter().any(|t| t.unit == unit) {
+                        continue;
+                    }
+                    let texture = self.state.textures.get(unit as usize).copied().unwrap_or(0);
+                    if texture == 0 {
+                        return Err(format!(
+                            "{label}: sampler '{name}' reads texture unit {unit}, which has no texture"
+                        ));
+                    }
+                    let t = self.texture(texture)?;
+                    let (image, sampler) = (t.image, t.sampler);
+                    self.check_has_memory(image, &format!("{label}: sampler '{name}' reads texture {texture}"))?;
+                    textures.push(SampledTexture { unit, image, sampler });
+                }
+                Ok(DrawProgram {
+                    label,
+                    attributes,
+                    textures,
+                    inputs: 0,
+                    source: ProgramDraw::Glsl { program: p.compiled.clone(), uniforms: p.uniforms.clone(), generic },
+                })
+            }
+        }
+    }
+
+    /// The pipeline of a gathered draw of a program, its textures made once per submission
+    /// (`snapshots`, `cores`); `framebuffer_height` gives GLSL's `gl_FragCoord` its y up.
+    ///
+    /// # Errors
+    /// A texture that cannot be read (outer); what `Pipeline::new` refuses (inner).
+    pub(crate) fn program_draw_pipeline(
+        &self,
+        program: &ProgramDraw,
+        textures: &[SampledTexture],
+        snapshots: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
+        cores: &mut HashMap<ImageId, Arc<tiler::Texture>>,
+        framebuffer_height: u32,
+        mut desc: PipelineDesc,
+    ) -> Fallible<tiler::Result<Pipeline>> {
+        match program {
+            ProgramDraw::Builtin { kind, uniforms } => {
+                let texture = match textures.first() {
+                    Some(t) => Some(self.program_texture(snapshots, cores, t.image, t.sampler)?),
+                    None => None,
+                };
+                Ok(program_pipeline(*kind, uniforms, texture, desc))
+            }
+            ProgramDraw::Glsl { program, uniforms, generic } => {
+                let mut units: Vec<Option<TextureBinding>> = vec![None; MAX_TEXTURE_UNITS as usize];
+                for t in textures {
+                    units[t.unit as usize] =
+                        Some(match self.program_texture(snapshots, cores, t.image, t.sampler)? {
+                            ProgramTexture::Core(texture, sampler) => TextureBinding::Core(texture, sampler),
+                            ProgramTexture::Snapshot(snapshot, state) => {
+                                TextureBinding::Custom(Arc::new(SnapshotSource { snapshot, state }))
+                            }
+                        });
+                }
+                desc.varyings = program.pipeline_varyings();
+                let (vertex, fragment) = tiler_glsl::shaders(program, uniforms, &units, framebuffer_height);
+                let generic = generic.iter().map(|(l, v)| (*l as usize, Vec4::from_array(*v))).collect();
+                Ok(Pipeline::new(GenericAttributes { inner: vertex, generic }, fragment, desc))
+            }
+        }
+    }
+
+    /// `glBindAttribLocation`.
+    pub(crate) fn bind_attrib_location(&mut self, program: u32, index: u32, name: String) -> Fallible {
+        if index >= MAX_VERTEX_ATTRIBS {
+            return Err(format!("vertex attribute {index} is out of range (0 to {})", MAX_VERTEX_ATTRIBS - 1));
+        }
+        if name.starts_with("gl_") {
+            return Err(format!("attribute name '{name}' is reserved (it starts with gl_)"));
+        }
+        match self.programs.get_mut(&program).ok_or_else(|| format!("program {program} does not exist"))? {
+            ProgramObject::Builtin { kind, .. } => match kind.info().attributes.iter().find(|(_, n)| *n == name) {
+                Some((fixed, _)) if *fixed != index => Err(format!(
+                    "built-in program '{}' reads '{name}' from attribute {fixed}; its locations are fixed",
+                    kind.name()
+                )),
+                _ => Ok(()),
+            },
+            ProgramObject::Glsl(p) => p
+                .bind_attrib_location(name.clone(), index)
+                .map_err(|e| format!("program {program}, relinked with '{name}' at {index}: {e}")),
+        }
+    }
+
+    /// The uniforms of program `program` a `uniform` call can name, as `glGetActiveUniform`
+    /// lists them (arrays as `name[0]`, struct members as `light.color`); `None` if there is
+    /// no such program.
+    pub fn uniform_names(&self, program: u32) -> Option<Vec<String>> {
+        Some(match self.programs.get(&program)? {
+            ProgramObject::Builtin { kind, .. } => kind.info().uniforms.iter().map(|(n, _)| n.to_string()).collect(),
+            ProgramObject::Glsl(p) => uniform_names(&p.compiled),
+        })
+    }
+
+    /// The attribute locations of program `program` after linking, `(name, location)`;
+    /// `None` if there is no such program.
+    pub fn attribute_locations(&self, program: u32) -> Option<Vec<(String, u32)>> {
+        Some(match self.programs.get(&program)? {
+            ProgramObject::Builtin { kind, .. } => {
+                kind.info().attributes.iter().map(|(i, n)| (n.to_string(), *i)).collect()
+            }
+            ProgramObject::Glsl(p) => p.compiled.attributes().iter().map(|a| (a.name.clone(), a.location)).collect(),
+        })
+    }
+}
+
+/// A [`TextureSnapshot`] as a GLSL texture unit: no mip levels, so an explicit LOD reads the
+/// base level.
+#[derive(Debug)]
+struct SnapshotSource {
+    snapshot: Arc<TextureSnapshot>,
+    state: SamplerState,
+}
+
+impl TextureSource for SnapshotSource {
+    fn sample(&self, s: f32, t: f32, _lod: Option<f32>) -> [f32; 4] {
+        self.snapshot.sample(s, t, self.state)
+    }
+}
+
+/// A GLSL vertex shader whose disabled attributes read their generic values.
+struct GenericAttributes {
+    inner: GlslVertexShader,
+    generic: Vec<(usize, Vec4)>,
+}
+
+impl VertexShader for GenericAttributes {
+    fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+        if self.generic.is_empty() {
+            return self.inner.shade(input, out);
+        }
+        let mut input = *input;
+        for &(location, value) in &self.generic {
+            input.attributes[location] = value;
+        }
+        self.inner.shade(&input, out);
+    }
+}

@@ -1,0 +1,2032 @@
+//! From GLSL ES source to the lane-wide IR: parsing (glsl-lang, preprocessor included), type
+//! checking and lowering in one walk over the AST.
+//!
+//! User functions are inlined at each call (GLSL ES forbids recursion; a call chain deeper
+//! than [`MAX_CALL_DEPTH`] is an error), inside an [`Inst::Call`] that scopes their
+//! `return`s. Every declaration writes all lanes of its variable (its initializer, or zero),
+//! so no lane ever reads a register left over from another call.
+//!
+//! Simplifications, all documented in the crate docs: the operands of `&&`, `||` and `?:`
+//! are all evaluated (then selected per lane); integers may mix with floats (promoted, as in
+//! desktop GLSL); `switch`, bit operations and `%` are rejected.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use glsl_lang::ast::{self, NodeSpan};
+use glsl_lang::parse::DefaultParse;
+
+use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
+use crate::types::{BOOL, FLOAT, INT, SamplerKind, Scalar, StructType, Type};
+use crate::{Error, Stage};
+
+/// Lines of predefined macros inserted into the source.
+const PREDEFINED_LINES: usize = 2;
+
+/// How deep inlined calls may nest.
+pub const MAX_CALL_DEPTH: usize = 64;
+
+/// The length of `gl_FragData`.
+pub const MAX_DRAW_BUFFERS: usize = tiler::MAX_COLOR_ATTACHMENTS;
+
+/// A uniform, attribute, varying or output of a compiled stage.
+#[derive(Clone, Debug)]
+pub struct StageVar {
+    pub name: String,
+    pub ty: Type,
+    /// Component registers (for samplers: slot numbers).
+    pub regs: Vec<Reg>,
+    /// `layout(location = n)`, if given (ES 3.00).
+    pub location: Option<u32>,
+}
+
+/// One compiled shader stage.
+#[derive(Clone, Debug)]
+pub struct StageCode {
+    pub stage: Stage,
+    pub code: Vec<Inst>,
+    /// Registers of the work file.
+    pub work_regs: usize,
+    /// The bank's values: constants, and zeros where uniforms go.
+    pub bank: Vec<f32>,
+    pub uniforms: Vec<StageVar>,
+    /// Attributes (vertex) or varyings (fragment).
+    pub inputs: Vec<StageVar>,
+    /// Varyings (vertex) or colour outputs (fragment, ES 3.00 `out`).
+    pub outputs: Vec<StageVar>,
+    /// Sampler slot → (index in `uniforms`, component of that uniform).
+    pub samplers: Vec<(usize, usize)>,
+    pub position: Option<[Reg; 4]>,
+    pub frag_coord: Option<[Reg; 4]>,
+    pub front_facing: Option<Reg>,
+    /// `gl_FragColor` or `gl_FragData[i]` (colour attachment `i`).
+    pub colors: Vec<(usize, [Reg; 4])>,
+    pub discards: bool,
+}
+
+/// Compiles one stage's source.
+pub fn compile(stage: Stage, source: &str) -> Result<StageCode, Error> {
+    let (text, inserted_at) = with_gl_es_define(source);
+    let lines = LineMap::new(&text, inserted_at);
+    let unit = ast::TranslationUnit::parse(text.as_str()).map_err(|e| {
+        let offset = u32::from(e.pos().start()) as usize;
+        Error::Compile { stage, line: lines.line(offset), message: e.inner().to_string() }
+    })?;
+    let mut c = Compiler::new(stage, &lines);
+    c.unit(&unit).map_err(|(line, message)| Error::Compile { stage, line, message })?;
+    Ok(c.finish())
+}
+
+/// The macros an ES compiler predefines, as `#define`s after any `#version` line. The
+/// preprocessor refuses to define names starting `GL_`, so they are renamed in the source
+/// (whole words) to `TILER_…`. Returns the text and the byte offset of the inserted line.
+fn with_gl_es_define(source: &str) -> (String, usize) {
+    let source = &rename_words(
+        source,
+        &[("GL_ES", "TILER_GL_ES"), ("GL_FRAGMENT_PRECISION_HIGH", "TILER_GL_FRAGMENT_PRECISION_HIGH")],
+    );
+    let mut at = 0;
+    for line in source.split_inclusive('\n') {
+        let t = line.trim();
+        if t.starts_with("#version") {
+            at += line.len();
+            break;
+        }
+        if t.is_empty() || t.starts_with("//") {
+            at += line.len();
+            continue;
+        }
+        at = 0;
+        break;
+    }
+    let mut text = String::with_capacity(source.len() + 32);
+    text.push_str(&source[..at]);
+    if at > 0 && !text.ends_with('\n') {
+        text.push('\n');
+    }
+    let inserted = text.len();
+    text.push_str("#define TILER_GL_ES 1\n#define TILER_GL_FRAGMENT_PRECISION_HIGH 1\n");
+    text.push_str(&source[at..]);
+    (text, inserted)
+}
+
+/// `text` with each whole-word `from` replaced by its `to`.
+fn rename_words(text: &str, renames: &[(&str, &str)]) -> String {
+    let is_word = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(start) = rest.find(|c: char| is_word(c)) {
+        out.push_str(&rest[..start]);
+        let word_len = rest[start..].find(|c: char| !is_word(c)).unwrap_or(rest.len() - start);
+        let word = &rest[start..start + word_len];
+        out.push_str(renames.iter().find(|(from, _)| *from == word).map_or(word, |(_, to)| to));
+        rest = &rest[start + word_len..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Byte offset → line number of the original source (1-based).
+struct LineMap {
+    starts: Vec<usize>,
+    inserted_at: usize,
+}
+
+impl LineMap {
+    fn new(text: &str, inserted_at: usize) -> LineMap {
+        let mut starts = vec![0];
+        starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        LineMap { starts, inserted_at }
+    }
+
+    fn line(&self, offset: usize) -> u32 {
+        let line = self.starts.partition_point(|&s| s <= offset);
+        let inserted_line = self.starts.partition_point(|&s| s <= self.inserted_at);
+        (if line > inserted_line { line - PREDEFINED_LINES } else { line }) as u32
+    }
+}
+
+type CResult<T> = Result<T, (u32, String)>;
+
+/// A value: its type and component registers.
+#[derive(Clone, Debug)]
+struct Value {
+    ty: Type,
+    regs: Vec<Reg>,
+}
+
+/// An assignable place: alternatives selected per lane by a condition (dynamic indexing).
+#[derive(Clone, Debug)]
+struct Place {
+    ty: Type,
+    alts: Vec<(Option<Reg>, Vec<Reg>)>,
+}
+
+#[derive(Clone, Debug)]
+struct Symbol {
+    ty: Type,
+    regs: Vec<Reg>,
+    writable: bool,
+    /// The value of a `const` whose initializer is a constant expression.
+    konst: Option<Vec<f32>>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum ParamDir {
+    In,
+    Out,
+    InOut,
+}
+
+struct Compiler<'a> {
+    stage: Stage,
+    lines: &'a LineMap,
+    line: u32,
+    code: Vec<Inst>,
+    work: u32,
+    bank: Vec<f32>,
+    consts: HashMap<u32, Reg>,
+    scopes: Vec<HashMap<String, Symbol>>,
+    structs: Vec<HashMap<String, Arc<StructType>>>,
+    functions: HashMap<String, Vec<&'a ast::FunctionDefinition>>,
+    depth: usize,
+    /// Return-value registers of the functions being inlined.
+    returns: Vec<Option<Value>>,
+    loops: usize,
+    uniforms: Vec<StageVar>,
+    inputs: Vec<StageVar>,
+    outputs: Vec<StageVar>,
+    samplers: Vec<(usize, usize)>,
+    position: Option<[Reg; 4]>,
+    frag_coord: Option<[Reg; 4]>,
+    front_facing: Option<Reg>,
+    frag_color: Option<[Reg; 4]>,
+    frag_data: Option<Vec<Reg>>,
+    discards: bool,
+    /// Global initialisers, run at the start of `main`.
+    prologue: Vec<Inst>,
+    /// Zeroing of lazily declared built-ins, run before the prologue.
+    pending_front: Vec<Inst>,
+    next_slot: Reg,
+    /// Whether the code reads `gl_FragCoord` (which then needs a varying for `w`).
+    reads_frag_coord: bool,
+}
+
+fn err<T>(line: u32, message: impl Into<String>) -> CResult<T> {
+    Err((line, message.into()))
+}
+
+impl<'a> Compiler<'a> {
+    fn new(stage: Stage, lines: &'a LineMap) -> Compiler<'a> {
+        Compiler {
+            stage,
+            lines,
+            line: 1,
+            code: Vec::new(),
+            work: 0,
+            bank: Vec::new(),
+            consts: HashMap::new(),
+            scopes: vec![HashMap::new()],
+            structs: vec![HashMap::new()],
+            functions: HashMap::new(),
+            depth: 0,
+            returns: Vec::new(),
+            loops: 0,
+            uniforms: Vec::new(),
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            samplers: Vec::new(),
+            position: None,
+            frag_coord: None,
+            front_facing: None,
+            frag_color: None,
+            frag_data: None,
+            discards: false,
+            prologue: Vec::new(),
+            pending_front: Vec::new(),
+            next_slot: 0,
+            reads_frag_coord: false,
+        }
+    }
+
+    fn finish(self) -> StageCode {
+        let mut colors = Vec::new();
+        if let Some(c) = self.frag_color {
+            colors.push((0, c));
+        }
+        if let Some(d) = &self.frag_data {
+            for i in 0..MAX_DRAW_BUFFERS {
+                colors.push((i, [d[4 * i], d[4 * i + 1], d[4 * i + 2], d[4 * i + 3]]));
+            }
+        }
+        if self.stage == Stage::Fragment {
+            let mut next = 0;
+            for out in &self.outputs {
+                let first = out.location.map_or(next, |l| l as usize);
+                let n = out.regs.len() / 4;
+                for k in 0..n {
+                    let r = &out.regs[4 * k..4 * k + 4];
+                    colors.push((first + k, [r[0], r[1], r[2], r[3]]));
+                }
+                next = first + n;
+            }
+            colors.retain(|(i, _)| *i < MAX_DRAW_BUFFERS);
+        }
+        StageCode {
+            stage: self.stage,
+            code: self.code,
+            work_regs: self.work as usize,
+            bank: self.bank,
+            uniforms: self.uniforms,
+            inputs: self.inputs,
+            outputs: if self.stage == Stage::Vertex { self.outputs } else { Vec::new() },
+            samplers: self.samplers,
+            position: self.position,
+            frag_coord: self.frag_coord.filter(|_| self.reads_frag_coord),
+            front_facing: self.front_facing,
+            colors,
+            discards: self.discards,
+        }
+    }
+
+    fn at(&mut self, span: &Option<NodeSpan>) {
+        if let Some(span) = span {
+            self.line = self.lines.line(u32::from(span.start().offset) as usize);
+        }
+    }
+
+    fn fail<T>(&self, message: impl Into<String>) -> CResult<T> {
+        err(self.line, message)
+    }
+
+    // ---- registers ----
+
+    fn temp(&mut self) -> Reg {
+        let r = self.work;
+        self.work += 1;
+        r
+    }
+
+    fn temps(&mut self, n: usize) -> Vec<Reg> {
+        (0..n).map(|_| self.temp()).collect()
+    }
+
+    fn konst(&mut self, x: f32) -> Reg {
+        if let Some(&r) = self.consts.get(&x.to_bits()) {
+            return r;
+        }
+        let r = BANK | self.bank.len() as Reg;
+        self.bank.push(x);
+        self.consts.insert(x.to_bits(), r);
+        r
+    }
+
+    fn emit(&mut self, inst: Inst) {
+        self.code.push(inst);
+    }
+
+    fn un(&mut self, op: UnOp, a: Reg) -> Reg {
+        let d = self.temp();
+        self.emit(Inst::Un(op, d, a));
+        d
+    }
+
+    fn bin(&mut self, op: BinOp, a: Reg, b: Reg) -> Reg {
+        let d = self.temp();
+        self.emit(Inst::Bin(op, d, a, b));
+        d
+    }
+
+    fn tri(&mut self, op: TriOp, a: Reg, b: Reg, c: Reg) -> Reg {
+        let d = self.temp();
+        self.emit(Inst::Tri(op, d, a, b, c));
+        d
+    }
+
+    /// Runs `f` collecting what it emits into a separate block.
+    fn block<T>(&mut self, f: impl FnOnce(&mut Self) -> CResult<T>) -> CResult<(T, Vec<Inst>)> {
+        let saved = std::mem::take(&mut self.code);
+        let result = f(self);
+        let code = std::mem::replace(&mut self.code, saved);
+        Ok((result?, code))
+    }
+
+    // ---- scopes ----
+
+    fn lookup(&self, name: &str) -> Option<&Symbol> {
+        self.scopes.iter().rev().find_map(|s| s.get(name))
+    }
+
+    fn lookup_struct(&self, name: &str) -> Option<Arc<StructType>> {
+        self.structs.iter().rev().find_map(|s| s.get(name)).cloned()
+    }
+
+    fn declare(&mut self, name: &str, symbol: Symbol) -> CResult<()> {
+        if name.starts_with("gl_") {
+            return self.fail(format!("'{name}': the gl_ prefix is reserved"));
+        }
+        let scope = self.scopes.last_mut().expect("a scope");
+        if scope.contains_key(name) {
+            return err(self.line, format!("'{name}' is already declared in this scope"));
+        }
+        scope.insert(name.to_string(), symbol);
+        Ok(())
+    }
+
+    fn push_scope(&mut self) {
+        self.scopes.push(HashMap::new());
+        self.structs.push(HashMap::new());
+    }
+
+    fn pop_scope(&mut self) {
+        self.scopes.pop();
+        self.structs.pop();
+    }
+
+    // ---- types ----
+
+    fn type_of(&mut self, spec: &ast::TypeSpecifier) -> CResult<Type> {
+        use ast::TypeSpecifierNonArrayData as T;
+        self.at(&spec.span);
+        let base = match &spec.ty.content {
+            T::Void => Type::Void,
+            T::Bool => BOOL,
+            T::Int => INT,
+            T::Float => FLOAT,
+            T::Vec2 => Type::vec(2),
+            T::Vec3 => Type::vec(3),
+            T::Vec4 => Type::vec(4),
+            T::BVec2 => Type::Vector(Scalar::Bool, 2),
+            T::BVec3 => Type::Vector(Scalar::Bool, 3),
+            T::BVec4 => Type::Vector(Scalar::Bool, 4),
+            T::IVec2 => Type::Vector(Scalar::Int, 2),
+            T::IVec3 => Type::Vector(Scalar::Int, 3),
+            T::IVec4 => Type::Vector(Scalar::Int, 4),
+            T::Mat2 | T::Mat22 => Type::Matrix(2),
+            T::Mat3 | T::Mat33 => Type::Matrix(3),
+            T::Mat4 | T::Mat44 => Type::Matrix(4),
+            T::Sampler2D => Type::Sampler(SamplerKind::Sampler2D),
+            T::SamplerCube => Type::Sampler(SamplerKind::SamplerCube),
+            T::Struct(s) => Type::Struct(self.struct_type(s)?),
+            T::TypeName(name) => match self.lookup_struct(name.as_str()) {
+                Some(s) => Type::Struct(s),
+                None => return self.fail(format!("unknown type '{}'", name.as_str())),
+            },
+            other => return self.fail(format!("type '{other:?}' is not supported (GLSL ES 1.00 types only)")),
+        };
+        self.arrayed(base, spec.array_specifier.as_ref())
+    }
+
+    fn arrayed(&mut self, ty: Type, spec: Option<&ast::ArraySpecifier>) -> CResult<Type> {
+        let Some(spec) = spec else { return Ok(ty) };
+        let mut ty = ty;
+        for dim in spec.dimensions.iter().rev() {
+            match &dim.content {
+                ast::ArraySpecifierDimensionData::Unsized => return self.fail("arrays need a constant size"),
+                ast::ArraySpecifierDimensionData::ExplicitlySized(e) => {
+                    let n = self.const_int(e).ok_or_else(|| (self.line, "array size is not a constant".to_string()))?;
+                    if !(1..=4096).contains(&n) {
+                        return self.fail(format!("array size {n} out of range 1..=4096"));
+                    }
+                    ty = Type::Array(Box::new(ty), n as usize);
+                }
+            }
+        }
+        Ok(ty)
+    }
+
+    fn struct_type(&mut self, s: &ast::StructSpecifier) -> CResult<Arc<StructType>> {
+        let mut fields = Vec::new();
+        for f in &s.fields {
+            let ty = self.type_of(&f.ty)?;
+            for id in &f.identifiers {
+                let fty = self.arrayed(ty.clone(), id.array_spec.as_ref())?;
+                fields.push((id.ident.as_str().to_string(), fty));
+            }
+        }
+        let name = s.name.as_ref().map_or_else(|| "struct".to_string(), |n| n.as_str().to_string());
+        let st = Arc::new(StructType { name: name.clone(), fields });
+        if s.name.is_some() {
+            self.structs.last_mut().expect("a scope").insert(name, st.clone());
+        }
+        Ok(st)
+    }
+
+    /// A constant integer expression (array sizes, constant indices).
+    fn const_int(&self, e: &ast::Expr) -> Option<i64> {
+        let v = self.const_eval(e)?;
+        (v.len() == 1 && v[0].fract() == 0.0).then_some(v[0] as i64)
+    }
+
+    fn const_eval(&self, e: &ast::Expr) -> Option<Vec<f32>> {
+        use ast::ExprData as E;
+        match &e.content {
+            E::IntConst(i) => Some(vec![*i as f32]),
+            E::UIntConst(i) => Some(vec![*i as f32]),
+            E::FloatConst(f) => Some(vec![*f]),
+            E::BoolConst(b) => Some(vec![if *b { 1.0 } else { 0.0 }]),
+            E::Variable(id) => self.lookup(id.as_str())?.konst.clone(),
+            E::Unary(op, a) if matches!(op.content, ast::UnaryOpData::Minus) => {
+                Some(self.const_eval(a)?.iter().map(|x| -x).collect())
+            }
+            E::Binary(op, a, b) => {
+                let (a, b) = (self.const_eval(a)?, self.const_eval(b)?);
+                if a.len() != 1 || b.len() != 1 {
+                    return None;
+                }
+                let (x, y) = (a[0], b[0]);
+                let is_int = x.fract() == 0.0 && y.fract() == 0.0;
+                Some(vec![match op.content {
+                    ast::BinaryOpData::Add => x + y,
+                    ast::BinaryOpData::Sub => x - y,
+                    ast::BinaryOpData::Mult => x * y,
+                    ast::BinaryOpData::Div if is_int && y != 0.0 => (x / y).trunc(),
+                    ast::BinaryOpData::Div => x / y,
+                    _ => return None,
+                }])
+            }
+            _ => None,
+        }
+    }
+
+    // ---- declarations ----
+
+    fn unit(&mut self, unit: &'a ast::TranslationUnit) -> CResult<()> {
+        self.builtins();
+        for decl in &unit.0 {
+            if let ast::ExternalDeclarationData::FunctionDefinition(f) = &decl.content {
+                self.functions.entry(f.prototype.name.as_str().to_string()).or_default().push(f);
+            }
+        }
+        let mut main = None;
+        for decl in &unit.0 {
+            self.at(&decl.span);
+            match &decl.content {
+                ast::ExternalDeclarationData::Preprocessor(_) => {}
+                ast::ExternalDeclarationData::Declaration(d) => {
+                    let saved = std::mem::take(&mut self.code);
+                    self.declaration(d, true)?;
+                    let init = std::mem::replace(&mut self.code, saved);
+                    self.prologue.extend(init);
+                }
+                ast::ExternalDeclarationData::FunctionDefinition(f) => {
+                    if f.prototype.name.as_str() == "main" {
+                        let void = |p: &ast::FunctionParameterDeclaration| {
+                            matches!(&p.content, ast::FunctionParameterDeclarationData::Unnamed(_, t)
+                                if t.ty.content == ast::TypeSpecifierNonArrayData::Void)
+                        };
+                        if !f.prototype.parameters.iter().all(void) {
+                            return self.fail("main takes no parameters");
+                        }
+                        main = Some(f);
+                    }
+                }
+            }
+        }
+        let Some(main) = main else { return self.fail("no main function") };
+        self.code.clear();
+        self.at(&main.span);
+        self.returns.push(None);
+        self.push_scope();
+        let ((), body) = self.block(|c| c.statements(&main.statement.statement_list))?;
+        self.pop_scope();
+        self.returns.pop();
+        let mut code = std::mem::take(&mut self.pending_front);
+        code.append(&mut self.prologue);
+        code.extend(body);
+        self.code = code;
+        Ok(())
+    }
+
+    /// Declares the built-in variables of the stage (zeroed at the start of `main`).
+    fn builtins(&mut self) {
+        let var = |c: &mut Self, name: &str, ty: Type, writable: bool| -> Vec<Reg> {
+            let regs = c.temps(ty.size());
+            for &r in &regs {
+                let zero = c.konst(0.0);
+                c.prologue.push(Inst::Un(UnOp::Mov, r, zero));
+            }
+            c.scopes[0].insert(name.to_string(), Symbol { ty, regs: regs.clone(), writable, konst: None });
+            regs
+        };
+        let four = |r: Vec<Reg>| [r[0], r[1], r[2], r[3]];
+        match self.stage {
+            Stage::Vertex => {
+                self.position = Some(four(var(self, "gl_Position", Type::vec(4), true)));
+                var(self, "gl_PointSize", FLOAT, true);
+            }
+            Stage::Fragment => {
+                // Inputs are filled by the caller, so they are not zeroed: declare them
+                // directly.
+                let coord = self.temps(4);
+                self.scopes[0].insert(
+                    "gl_FragCoord".into(),
+                    Symbol { ty: Type::vec(4), regs: coord.clone(), writable: false, konst: None },
+                );
+                self.frag_coord = Some(four(coord));
+                let facing = self.temp();
+                self.scopes[0].insert(
+                    "gl_FrontFacing".into(),
+                    Symbol { ty: BOOL, regs: vec![facing], writable: false, konst: None },
+                );
+                self.front_facing = Some(facing);
+                var(self, "gl_PointCoord", Type::vec(2), false);
+                self.frag_color = Some(four(var(self, "gl_FragColor", Type::vec(4), true)));
+            }
+        }
+        let consts: [(&str, f32); 8] = [
+            ("gl_MaxVertexAttribs", tiler::MAX_VERTEX_ATTRIBUTES as f32),
+            ("gl_MaxVertexUniformVectors", 256.0),
+            ("gl_MaxVaryingVectors", (tiler::MAX_VARYINGS / 4) as f32),
+            ("gl_MaxVertexTextureImageUnits", 16.0),
+            ("gl_MaxCombinedTextureImageUnits", 32.0),
+            ("gl_MaxTextureImageUnits", 16.0),
+            ("gl_MaxFragmentUniformVectors", 256.0),
+            ("gl_MaxDrawBuffers", MAX_DRAW_BUFFERS as f32),
+        ];
+        for (name, v) in consts {
+            let r = self.konst(v);
+            self.scopes[0]
+                .insert(name.into(), Symbol { ty: INT, regs: vec![r], writable: false, konst: Some(vec![v]) });
+        }
+    }
+
+    /// `gl_FragData` is declared on first use, so that shaders writing `gl_FragColor` do not
+    /// write the other attachments.
+    fn frag_data(&mut self) -> Symbol {
+        if self.frag_data.is_none() {
+            let regs = self.temps(4 * MAX_DRAW_BUFFERS);
+            let zero = self.konst(0.0);
+            // Zeroed before `main` runs, wherever the first use is.
+            let zeroing = regs.iter().map(|&r| Inst::Un(UnOp::Mov, r, zero));
+            self.pending_front.extend(zeroing);
+            self.frag_data = Some(regs);
+        }
+        let regs = self.frag_data.clone().expect("declared");
+        Symbol { ty: Type::Array(Box::new(Type::vec(4)), MAX_DRAW_BUFFERS), regs, writable: true, konst: None }
+    }
+
+    fn declaration(&mut self, d: &ast::Declaration, global: bool) -> CResult<()> {
+        self.at(&d.span);
+        match &d.content {
+            ast::DeclarationData::FunctionPrototype(_) | ast::DeclarationData::Precision(..) => Ok(()),
+            ast::DeclarationData::Invariant(_) => Ok(()),
+            ast::DeclarationData::TypeOnly(_) => Ok(()),
+            ast::DeclarationData::Block(_) => self.fail("interface blocks are not supported (GLSL ES 1.00)"),
+            ast::DeclarationData::InitDeclaratorList(list) => {
+                let head = &list.head;
+                let base = self.type_of(&head.ty.ty)?;
+                let storage = match (storage_of(head.ty.qualifier.as_ref()), self.stage) {
+                    (Storage::In, Stage::Vertex) => Storage::Attribute,
+                    (Storage::In, Stage::Fragment) => Storage::Varying,
+                    (Storage::Out, Stage::Vertex) => Storage::Varying,
+                    (Storage::Out, Stage::Fragment) => Storage::FragOut,
+                    (s, _) => s,
+                };
+                let location = location_of(head.ty.qualifier.as_ref(), self);
+                if let Some(name) = &head.name {
+                    let ty = self.arrayed(base.clone(), head.array_specifier.as_ref())?;
+                    self.variable(name.as_str(), ty, storage, location, head.initializer.as_ref(), global)?;
+                }
+                for tail in &list.tail {
+                    self.at(&tail.span);
+                    let ty = self.arrayed(base.clone(), tail.ident.array_spec.as_ref())?;
+                    self.variable(tail.ident.ident.as_str(), ty, storage, None, tail.initializer.as_ref(), global)?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    fn variable(
+        &mut self,
+        name: &str,
+        ty: Type,
+        storage: Storage,
+        location: Option<u32>,
+        init: Option<&ast::Initializer>,
+        global: bool,
+    ) -> CResult<()> {
+        if ty == Type::Void {
+            return self.fail(format!("'{name}' declared void"));
+        }
+        if ty.contains_sampler() && storage != Storage::Uniform {
+            return self.fail(format!("sampler '{name}' must be a uniform"));
+        }
+        let stage = self.stage;
+        let interface = |c: &Self, what: &str| -> CResult<()> {
+            if !global {
+                return c.fail(format!("{what} '{name}' must be declared at global scope"));
+            }
+            if init.is_some() {
+                return c.fail(format!("{what} '{name}' cannot have an initializer"));
+            }
+            Ok(())
+        };
+        match storage {
+            Storage::Uniform => {
+                interface(self, "uniform")?;
+                let regs = self.uniform_regs(&ty);
+                let index = self.uniforms.len();
+                self.uniforms.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location });
+                for (k, &r) in regs.iter().enumerate() {
+                    if r & BANK == 0 {
+                        // A sampler component: its "register" is its slot.
+                        debug_assert_eq!(r as usize, self.samplers.len());
+                        self.samplers.push((index, k));
+                    }
+                }
+                self.declare(name, Symbol { ty, regs, writable: false, konst: None })
+            }
+            Storage::Attribute if stage == Stage::Vertex => {
+                interface(self, "attribute")?;
+                if !ty.is_float_based() || matches!(ty, Type::Array(..)) {
+                    return self.fail(format!("attribute '{name}' must be a float, vector or matrix"));
+                }
+                let regs = self.temps(ty.size());
+                self.inputs.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location });
+                self.declare(name, Symbol { ty, regs, writable: false, konst: None })
+            }
+            Storage::Attribute => self.fail(format!("attribute '{name}' in a fragment shader")),
+            Storage::Varying => {
+                interface(self, "varying")?;
+                if !ty.is_float_based() {
+                    return self.fail(format!("varying '{name}' must be float-based, not {ty}"));
+                }
+                let regs = self.temps(ty.size());
+                let var = StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location };
+                let writable = stage == Stage::Vertex;
+                if writable {
+                    let zero = self.konst(0.0);
+                    for &r in &regs {
+                        self.emit(Inst::Un(UnOp::Mov, r, zero));
+                    }
+                    self.outputs.push(var);
+                } else {
+                    self.inputs.push(var);
+                }
+                self.declare(name, Symbol { ty, regs, writable, konst: None })
+            }
+            Storage::FragOut => {
+                interface(self, "output")?;
+                if !matches!(&ty, Type::Vector(Scalar::Float, 4))
+                    && !matches!(&ty, Type::Array(t, _) if **t == Type::vec(4))
+                {
+                    return self.fail(format!("fragment output '{name}' must be a vec4 (or an array of them)"));
+                }
+                let regs = self.temps(ty.size());
+                let zero = self.konst(0.0);
+                for &r in &regs {
+                    self.emit(Inst::Un(UnOp::Mov, r, zero));
+                }
+                self.outputs.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location });
+                self.declare(name, Symbol { ty, regs, writable: true, konst: None })
+            }
+            Storage::In | Storage::Out => self.fail(format!("'{name}': in/out at global scope resolve per stage")),
+            Storage::Const | Storage::Local => {
+                let is_const = storage == Storage::Const;
+                let (regs, konst) = match init {
+                    Some(init) => {
+                        let konst = match &init.content {
+                            ast::InitializerData::Simple(e) if is_const => self.const_eval(e),
+                            _ => None,
+                        };
+                        let start = self.work;
+                        let v = self.initializer(init, &ty)?;
+                        // Registers the initializer just computed (each written in every
+                        // lane, read by nothing else) become the variable's; anything else
+                        // (another variable, a constant, a repeated register) is copied.
+                        let fresh = v
+                            .regs
+                            .iter()
+                            .enumerate()
+                            .all(|(i, &r)| r & BANK == 0 && r >= start && !v.regs[..i].contains(&r));
+                        let regs = if fresh && !ty.contains_sampler() {
+                            v.regs
+                        } else {
+                            let regs = self.temps(ty.size());
+                            for (&d, &s) in regs.iter().zip(&v.regs) {
+                                self.emit(Inst::Un(UnOp::Mov, d, s));
+                            }
+                            regs
+                        };
+                        (regs, konst.filter(|k| k.len() == ty.size()))
+                    }
+                    None if is_const => return self.fail(format!("const '{name}' needs an initializer")),
+                    None => {
+                        let regs = self.temps(ty.size());
+                        let zero = self.konst(0.0);
+                        for &r in &regs {
+                            self.emit(Inst::Un(UnOp::Mov, r, zero));
+                        }
+                        (regs, None)
+                    }
+                };
+                self.declare(name, Symbol { ty, regs, writable: !is_const, konst })
+            }
+        }
+    }
+
+    /// Bank registers for a uniform's components; sampler components get slots instead.
+    fn uniform_regs(&mut self, ty: &Type) -> Vec<Reg> {
+        match ty {
+            Type::Sampler(_) => {
+                let slot = self.next_slot;
+                self.next_slot += 1;
+                vec![slot]
+            }
+            Type::Array(t, n) => (0..*n).flat_map(|_| self.uniform_regs(t)).collect(),
+            Type::Struct(s) => s.fields.clone().iter().flat_map(|(_, t)| self.uniform_regs(t)).collect(),
+            _ => (0..ty.size())
+                .map(|_| {
+                    let r = BANK | self.bank.len() as Reg;
+                    self.bank.push(0.0);
+                    r
+                })
+                .collect(),
+        }
+    }
+
+    fn initializer(&mut self, init: &ast::Initializer, ty: &Type) -> CResult<Value> {
+        self.at(&init.span);
+        match &init.content {
+            ast::InitializerData::Simple(e) => {
+                let v = self.expr(e)?;
+                self.convert(v, ty)
+            }
+            ast::InitializerData::List(_) => self.fail("initializer lists are not GLSL ES"),
+        }
+    }
+
+    /// `v` as type `ty`: equal types, or an int promoted to float.
+    fn convert(&mut self, v: Value, ty: &Type) -> CResult<Value> {
+        if v.ty == *ty {
+            return Ok(v);
+        }
+        if v.ty.scalar() == Some(Scalar::Int) && ty.scalar() == Some(Scalar::Float) && v.ty.width() == ty.width() {
+            return Ok(Value { ty: ty.clone(), regs: v.regs });
+        }
+        self.fail(format!("cannot convert {} to {ty}", v.ty))
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Storage {
+    Local,
+    Const,
+    Uniform,
+    Attribute,
+    Varying,
+    FragOut,
+    In,
+    Out,
+}
+
+fn storage_of(q: Option<&ast::TypeQualifier>) -> Storage {
+    let Some(q) = q else { return Storage::Local };
+    let mut storage = Storage::Local;
+    for spec in &q.qualifiers {
+        if let ast::TypeQualifierSpecData::Storage(s) = &spec.content {
+            storage = match s.content {
+                ast::StorageQualifierData::Const => Storage::Const,
+                ast::StorageQualifierData::Uniform => Storage::Uniform,
+                ast::StorageQualifierData::Attribute => Storage::Attribute,
+                ast::StorageQualifierData::Varying => Storage::Varying,
+                // ES 3.00 `in`/`out`: resolved per stage by the caller.
+                ast::StorageQualifierData::In => Storage::In,
+                ast::StorageQualifierData::Out => Storage::Out,
+                _ => storage,
+            };
+        }
+    }
+    storage
+}
+
+fn location_of(q: Option<&ast::TypeQualifier>, c: &Compiler) -> Option<u32> {
+    let q = q?;
+    for spec in &q.qualifiers {
+        if let ast::TypeQualifierSpecData::Layout(l) = &spec.content {
+            for id in &l.ids {
+                if let ast::LayoutQualifierSpecData::Identifier(name, Some(e)) = &id.content
+                    && name.as_str() == "location"
+                {
+                    return c.const_int(e).and_then(|v| u32::try_from(v).ok());
+                }
+            }
+        }
+    }
+    None
+}
+
+// ---- statements ----
+
+impl<'a> Compiler<'a> {
+    fn statements(&mut self, list: &[ast::Statement]) -> CResult<()> {
+        list.iter().try_for_each(|s| self.statement(s))
+    }
+
+    fn scoped(&mut self, s: &ast::Statement) -> CResult<Vec<Inst>> {
+        self.push_scope();
+        let result = self.block(|c| c.statement(s));
+        self.pop_scope();
+        Ok(result?.1)
+    }
+
+    fn statement(&mut self, s: &ast::Statement) -> CResult<()> {
+        use ast::StatementData as S;
+        self.at(&s.span);
+        match &s.content {
+            S::Declaration(d) => self.declaration(d, false),
+            S::Expression(e) => {
+                if let Some(e) = &e.0 {
+                    self.expr(e)?;
+                }
+                Ok(())
+            }
+            S::Selection(sel) => {
+                let cond = self.bool_expr(&sel.cond)?;
+                let (then, els) = match &sel.rest.content {
+                    ast::SelectionRestStatementData::Statement(t) => (self.scoped(t)?, Vec::new()),
+                    ast::SelectionRestStatementData::Else(t, e) => (self.scoped(t)?, self.scoped(e)?),
+                };
+                self.emit(Inst::If(cond, then, els));
+                Ok(())
+            }
+            S::Switch(_) | S::CaseLabel(_) => self.fail("switch is not supported (GLSL ES 1.00 has none)"),
+            S::Iteration(it) => self.iteration(it),
+            S::Jump(j) => self.jump(j),
+            S::Compound(c) => {
+                self.push_scope();
+                let result = self.statements(&c.statement_list);
+                self.pop_scope();
+                result
+            }
+        }
+    }
+
+    fn condition(&mut self, cond: &ast::Condition) -> CResult<Reg> {
+        match &cond.content {
+            ast::ConditionData::Expr(e) => self.bool_expr(e),
+            ast::ConditionData::Assignment(..) => self.fail("declarations in loop conditions are not supported"),
+        }
+    }
+
+    fn loop_body(&mut self, body: &ast::Statement) -> CResult<Vec<Inst>> {
+        self.loops += 1;
+        let result = self.scoped(body);
+        self.loops -= 1;
+        result
+    }
+
+    fn iteration(&mut self, it: &ast::IterationStatement) -> CResult<()> {
+        use ast::IterationStatementData as I;
+        self.push_scope();
+        let result = (|| {
+            let inst = match &it.content {
+                I::While(cond, body) => {
+                    let (cond, cond_code) = self.block(|c| c.condition(cond))?;
+                    let body = self.loop_body(body)?;
+                    Inst::Loop { cond_code, cond: Some(cond), body, step: Vec::new(), test_first: true }
+                }
+                I::DoWhile(body, cond) => {
+                    let body = self.loop_body(body)?;
+                    let (cond, cond_code) = self.block(|c| c.bool_expr(cond))?;
+                    Inst::Loop { cond_code, cond: Some(cond), body, step: Vec::new(), test_first: false }
+                }
+                I::For(init, rest, body) => {
+                    match &init.content {
+                        ast::ForInitStatementData::Expression(Some(e)) => {
+                            self.expr(e)?;
+                        }
+                        ast::ForInitStatementData::Expression(None) => {}
+                        ast::ForInitStatementData::Declaration(d) => self.declaration(d, false)?,
+                    }
+                    let (cond, cond_code) = match &rest.condition {
+                        Some(cond) => {
+                            let (r, code) = self.block(|c| c.condition(cond))?;
+                            (Some(r), code)
+                        }
+                        None => (None, Vec::new()),
+                    };
+                    let body = self.loop_body(body)?;
+                    let ((), step) = self.block(|c| match &rest.post_expr {
+                        Some(e) => c.expr(e).map(|_| ()),
+                        None => Ok(()),
+                    })?;
+                    Inst::Loop { cond_code, cond, body, step, test_first: true }
+                }
+            };
+            self.emit(inst);
+            Ok(())
+        })();
+        self.pop_scope();
+        result
+    }
+
+    fn jump(&mut self, j: &ast::JumpStatement) -> CResult<()> {
+        match &j.content {
+            ast::JumpStatementData::Break | ast::JumpStatementData::Continue if self.loops == 0 => {
+                self.fail("break or continue outside a loop")
+            }
+            ast::JumpStatementData::Break => {
+                self.emit(Inst::Break);
+                Ok(())
+            }
+            ast::JumpStatementData::Continue => {
+                self.emit(Inst::Continue);
+                Ok(())
+            }
+            ast::JumpStatementData::Discard => {
+                if self.stage != Stage::Fragment {
+                    return self.fail("discard outside a fragment shader");
+                }
+                self.discards = true;
+                self.emit(Inst::Discard);
+                Ok(())
+            }
+            ast::JumpStatementData::Return(e) => {
+                let target = self.returns.last().cloned().flatten();
+                match (target, e) {
+                    (None, None) => {}
+                    (None, Some(_)) => return self.fail("a void function returns a value"),
+                    (Some(t), None) => {
+                        return self.fail(format!("return without a value in a function returning {}", t.ty));
+                    }
+                    (Some(t), Some(e)) => {
+                        let v = self.expr(e)?;
+                        let v = self.convert(v, &t.ty)?;
+                        for (&d, &s) in t.regs.iter().zip(&v.regs) {
+                            self.emit(Inst::Store(d, s));
+                        }
+                    }
+                }
+                self.emit(Inst::Return);
+                Ok(())
+            }
+        }
+    }
+
+    fn bool_expr(&mut self, e: &ast::Expr) -> CResult<Reg> {
+        let v = self.expr(e)?;
+        if v.ty != BOOL {
+            return self.fail(format!("condition must be a bool, not {}", v.ty));
+        }
+        Ok(v.regs[0])
+    }
+}
+
+// ---- expressions ----
+
+/// The component index of a swizzle letter.
+fn swizzle_index(ch: char) -> Option<usize> {
+    ["xyzw", "rgba", "stpq"].iter().find_map(|set| set.find(ch))
+}
+
+impl<'a> Compiler<'a> {
+    fn expr(&mut self, e: &ast::Expr) -> CResult<Value> {
+        use ast::ExprData as E;
+        self.at(&e.span);
+        match &e.content {
+            E::Variable(_) | E::Dot(..) | E::Bracket(..) => {
+                let (place, _) = self.place(e)?;
+                Ok(self.read(&place))
+            }
+            E::IntConst(i) => Ok(Value { ty: INT, regs: vec![self.konst(*i as f32)] }),
+            E::UIntConst(i) => Ok(Value { ty: INT, regs: vec![self.konst(*i as f32)] }),
+            E::BoolConst(b) => Ok(Value { ty: BOOL, regs: vec![self.konst(if *b { 1.0 } else { 0.0 })] }),
+            E::FloatConst(f) => Ok(Value { ty: FLOAT, regs: vec![self.konst(*f)] }),
+            E::DoubleConst(f) => Ok(Value { ty: FLOAT, regs: vec![self.konst(*f as f32)] }),
+            E::Unary(op, a) => self.unary(op, a),
+            E::Binary(op, a, b) => {
+                let (va, vb) = (self.expr(a)?, self.expr(b)?);
+                self.at(&e.span);
+                self.binary(&op.content, va, vb)
+            }
+            E::Ternary(c, a, b) => {
+                let c = self.bool_expr(c)?;
+                let (va, vb) = (self.expr(a)?, self.expr(b)?);
+                let (va, vb) = self.promote(va, vb);
+                if va.ty != vb.ty {
+                    return self.fail(format!("?: branches differ: {} and {}", va.ty, vb.ty));
+                }
+                let regs = va.regs.iter().zip(&vb.regs).map(|(&x, &y)| self.tri(TriOp::Select, c, x, y)).collect();
+                Ok(Value { ty: va.ty, regs })
+            }
+            E::Assignment(l, op, r) => {
+                let (place, writable) = self.place(l)?;
+                if !writable {
+                    return self.fail("assignment to a read-only value");
+                }
+                let mut v = self.expr(r)?;
+                self.at(&e.span);
+                if let Some(bop) = assign_op(&op.content) {
+                    let current = self.read(&place);
+                    v = self.binary(&bop, current, v)?;
+                }
+                let v = self.convert(v, &place.ty)?;
+                self.write(&place, &v);
+                Ok(v)
+            }
+            E::FunCall(f, args) => self.call(f, args),
+            E::PostInc(a) | E::PostDec(a) => {
+                let inc = matches!(e.content, E::PostInc(_));
+                let (place, writable) = self.place(a)?;
+                if !writable || !place.ty.is_numeric_scalar_or_vector() && !matches!(place.ty, Type::Matrix(_)) {
+                    return self.fail("++/-- needs a writable number");
+                }
+                let old = self.read(&place);
+                let copy: Vec<Reg> = old.regs.iter().map(|&r| self.un(UnOp::Mov, r)).collect();
+                let one = self.konst(1.0);
+                let op = if inc { BinOp::Add } else { BinOp::Sub };
+                let new: Vec<Reg> = copy.iter().map(|&r| self.bin(op, r, one)).collect();
+                self.write(&place, &Value { ty: old.ty.clone(), regs: new });
+                Ok(Value { ty: old.ty, regs: copy })
+            }
+            E::Comma(a, b) => {
+                self.expr(a)?;
+                self.expr(b)
+            }
+        }
+    }
+
+    fn unary(&mut self, op: &ast::UnaryOp, a: &ast::Expr) -> CResult<Value> {
+        use ast::UnaryOpData as U;
+        match op.content {
+            U::Inc | U::Dec => {
+                let (place, writable) = self.place(a)?;
+                if !writable || !place.ty.is_numeric_scalar_or_vector() && !matches!(place.ty, Type::Matrix(_)) {
+                    return self.fail("++/-- needs a writable number");
+                }
+                let old = self.read(&place);
+                let one = self.konst(1.0);
+                let op = if op.content == U::Inc { BinOp::Add } else { BinOp::Sub };
+                let new = Value { ty: old.ty.clone(), regs: old.regs.iter().map(|&r| self.bin(op, r, one)).collect() };
+                self.write(&place, &new);
+                Ok(new)
+            }
+            U::Add => {
+                let v = self.expr(a)?;
+                if !v.ty.is_numeric_scalar_or_vector() && !matches!(v.ty, Type::Matrix(_)) {
+                    return self.fail(format!("unary + on {}", v.ty));
+                }
+                Ok(v)
+            }
+            U::Minus => {
+                let v = self.expr(a)?;
+                if !v.ty.is_numeric_scalar_or_vector() && !matches!(v.ty, Type::Matrix(_)) {
+                    return self.fail(format!("unary - on {}", v.ty));
+                }
+                Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&r| self.un(UnOp::Neg, r)).collect() })
+            }
+            U::Not => {
+                let v = self.expr(a)?;
+                if v.ty != BOOL {
+                    return self.fail(format!("! on {}", v.ty));
+                }
+                Ok(Value { ty: BOOL, regs: vec![self.un(UnOp::Not, v.regs[0])] })
+            }
+            U::Complement => self.fail("~ is not supported (GLSL ES 1.00 has no bit operations)"),
+        }
+    }
+
+    /// Ints beside floats become floats (held the same way, so only the type changes).
+    fn promote(&self, a: Value, b: Value) -> (Value, Value) {
+        let float = |v: Value| Value { ty: v.ty.with_scalar(Scalar::Float), regs: v.regs };
+        match (a.ty.scalar(), b.ty.scalar()) {
+            (Some(Scalar::Int), Some(Scalar::Float)) if a.ty.width().is_some() => (float(a), b),
+            (Some(Scalar::Float), Some(Scalar::Int)) if b.ty.width().is_some() => (a, float(b)),
+            _ => (a, b),
+        }
+    }
+
+    fn binary(&mut self, op: &ast::BinaryOpData, a: Value, b: Value) -> CResult<Value> {
+        use ast::BinaryOpData as B;
+        let (a, b) = self.promote(a, b);
+        match op {
+            B::Or | B::Xor | B::And => {
+                if a.ty != BOOL || b.ty != BOOL {
+                    return self.fail(format!("logical operator on {} and {}", a.ty, b.ty));
+                }
+                let op = match op {
+                    B::Or => BinOp::Or,
+                    B::Xor => BinOp::Xor,
+                    _ => BinOp::And,
+                };
+                Ok(Value { ty: BOOL, regs: vec![self.bin(op, a.regs[0], b.regs[0])] })
+            }
+            B::Equal | B::NonEqual => {
+                if a.ty != b.ty || a.ty.contains_sampler() {
+                    return self.fail(format!("cannot compare {} with {}", a.ty, b.ty));
+                }
+                let eq = op == &B::Equal;
+                let cmp = if eq { BinOp::Eq } else { BinOp::Ne };
+                let join = if eq { BinOp::And } else { BinOp::Or };
+                let parts: Vec<Reg> = a.regs.iter().zip(&b.regs).map(|(&x, &y)| self.bin(cmp, x, y)).collect();
+                let r = parts[1..].iter().fold(parts[0], |acc, &p| self.bin(join, acc, p));
+                Ok(Value { ty: BOOL, regs: vec![r] })
+            }
+            B::Lt | B::Gt | B::Lte | B::Gte => {
+                if a.ty != b.ty || !matches!(a.ty, Type::Scalar(Scalar::Float | Scalar::Int)) {
+                    return self.fail(format!("relational operator on {} and {}", a.ty, b.ty));
+                }
+                let op = match op {
+                    B::Lt => BinOp::Lt,
+                    B::Gt => BinOp::Gt,
+                    B::Lte => BinOp::Le,
+                    _ => BinOp::Ge,
+                };
+                Ok(Value { ty: BOOL, regs: vec![self.bin(op, a.regs[0], b.regs[0])] })
+            }
+            B::Add | B::Sub | B::Mult | B::Div => self.arith(op, a, b),
+            B::Mod => self.fail("% is not supported (GLSL ES 1.00 reserves it; use mod())"),
+            _ => self.fail("bit operations are not supported (GLSL ES 1.00 has none)"),
+        }
+    }
+
+    fn arith(&mut self, op: &ast::BinaryOpData, a: Value, b: Value) -> CResult<Value> {
+        use ast::BinaryOpData as B;
+        let bad = |c: &Self| c.fail(format!("arithmetic on {} and {}", a.ty, b.ty));
+        if a.ty.scalar().is_none() || b.ty.scalar().is_none() || a.ty.scalar() != b.ty.scalar() {
+            return bad(self);
+        }
+        if a.ty.scalar() == Some(Scalar::Bool) {
+            return bad(self);
+        }
+        if *op == B::Mult {
+            match (&a.ty, &b.ty) {
+                (Type::Matrix(n), Type::Matrix(m)) if n == m => return Ok(self.mat_mul(*n, &a.regs, &b.regs)),
+                (Type::Matrix(n), Type::Vector(Scalar::Float, m)) if n == m => {
+                    return Ok(Value { ty: b.ty.clone(), regs: self.mat_vec(*n, &a.regs, &b.regs) });
+                }
+                (Type::Vector(Scalar::Float, m), Type::Matrix(n)) if n == m => {
+                    let regs = (0..*n).map(|c| self.dot(&a.regs, &b.regs[c * n..c * n + n])).collect();
+                    return Ok(Value { ty: a.ty.clone(), regs });
+                }
+                _ => {}
+            }
+        }
+        let int = a.ty.scalar() == Some(Scalar::Int);
+        let bop = match op {
+            B::Add => BinOp::Add,
+            B::Sub => BinOp::Sub,
+            B::Mult => BinOp::Mul,
+            _ if int => BinOp::IDiv,
+            _ => BinOp::Div,
+        };
+        let ty = match (&a.ty, &b.ty) {
+            (x, y) if x == y => x.clone(),
+            (Type::Scalar(_), y) => y.clone(),
+            (x, Type::Scalar(_)) => x.clone(),
+            _ => return bad(self),
+        };
+        let n = ty.size();
+        let at = |v: &Value, i: usize| if v.regs.len() == 1 { v.regs[0] } else { v.regs[i] };
+        let regs = (0..n).map(|i| self.bin(bop, at(&a, i), at(&b, i))).collect();
+        Ok(Value { ty, regs })
+    }
+
+    /// `a · b`, summed in component order.
+    fn dot(&mut self, a: &[Reg], b: &[Reg]) -> Reg {
+        let mut acc = self.bin(BinOp::Mul, a[0], b[0]);
+        for i in 1..a.len() {
+            let p = self.bin(BinOp::Mul, a[i], b[i]);
+            acc = self.bin(BinOp::Add, acc, p);
+        }
+        acc
+    }
+
+    /// `M · v` for an n×n column-major matrix: row r is `Σ_c m[c][r]·v[c]`, summed over c in
+    /// order.
+    fn mat_vec(&mut self, n: usize, m: &[Reg], v: &[Reg]) -> Vec<Reg> {
+        (0..n)
+            .map(|r| {
+                let mut acc = self.bin(BinOp::Mul, m[r], v[0]);
+                for c in 1..n {
+                    let p = self.bin(BinOp::Mul, m[c * n + r], v[c]);
+                    acc = self.bin(BinOp::Add, acc, p);
+                }
+                acc
+            })
+            .collect()
+    }
+
+    fn mat_mul(&mut self, n: usize, a: &[Reg], b: &[Reg]) -> Value {
+        let mut regs = Vec::with_capacity(n * n);
+        for c in 0..n {
+            regs.extend(self.mat_vec(n, a, &b[c * n..c * n + n]));
+        }
+        Value { ty: Type::Matrix(n), regs }
+    }
+
+    // ---- places ----
+
+    /// An lvalue-like view of an expression, and whether it may be written.
+    fn place(&mut self, e: &ast::Expr) -> CResult<(Place, bool)> {
+        use ast::ExprData as E;
+        self.at(&e.span);
+        match &e.content {
+            E::Variable(id) => {
+                let name = id.as_str();
+                self.reads_frag_coord |= name == "gl_FragCoord";
+                let symbol = if name == "gl_FragData" && self.stage == Stage::Fragment {
+                    self.frag_data()
+                } else {
+                    match self.lookup(name) {
+                        Some(s) => s.clone(),
+                        None => return self.fail(format!("'{name}' is not declared")),
+                    }
+                };
+                Ok((Place { ty: symbol.ty, alts: vec![(None, symbol.regs)] }, symbol.writable))
+            }
+            E::Dot(a, field) => {
+                let (place, writable) = self.place(a)?;
+                self.at(&e.span);
+                let field = field.as_str();
+                match &place.ty {
+                    Type::Struct(s) => {
+                        let mut offset = 0;
+                        for (name, ty) in &s.fields {
+                            if name == field {
+                                let n = ty.size();
+                                let alts =
+                                    place.alts.iter().map(|(c, r)| (*c, r[offset..offset + n].to_vec())).collect();
+                                return Ok((Place { ty: ty.clone(), alts }, writable));
+                            }
+                            offset += ty.size();
+                        }
+                        self.fail(format!("struct {} has no field '{field}'", s.name))
+                    }
+                    Type::Scalar(s) | Type::Vector(s, _) => {
+                        let width = place.ty.width().expect("vector");
+                        let idx: Option<Vec<usize>> = field.chars().map(swizzle_index).collect();
+                        let idx = match idx {
+                            Some(idx) if (1..=4).contains(&idx.len()) && idx.iter().all(|&i| i < width) => idx,
+                            _ => return self.fail(format!("bad swizzle '.{field}' on {}", place.ty)),
+                        };
+                        let repeats = (1..idx.len()).any(|i| idx[..i].contains(&idx[i]));
+                        let ty = Type::vector(*s, idx.len());
+                        let alts = place.alts.iter().map(|(c, r)| (*c, idx.iter().map(|&i| r[i]).collect())).collect();
+                        Ok((Place { ty, alts }, writable && !repeats))
+                    }
+                    other => self.fail(format!("'.{field}' on {other}")),
+                }
+            }
+            E::Bracket(a, index) => {
+                let (place, writable) = self.place(a)?;
+                self.at(&e.span);
+                let (elem, n) = match &place.ty {
+                    Type::Array(t, n) => ((**t).clone(), *n),
+                    Type::Vector(s, n) => (Type::Scalar(*s), *n),
+                    Type::Matrix(n) => (Type::vec(*n), *n),
+                    other => return self.fail(format!("indexing a {other}")),
+                };
+                let size = elem.size();
+                if let Some(k) = self.const_int(index) {
+                    if k < 0 || k as usize >= n {
+                        return self.fail(format!("index {k} out of range for {}", place.ty));
+                    }
+                    let k = k as usize;
+                    let alts = place.alts.iter().map(|(c, r)| (*c, r[k * size..(k + 1) * size].to_vec())).collect();
+                    return Ok((Place { ty: elem, alts }, writable));
+                }
+                if elem.contains_sampler() {
+                    return self.fail("samplers can only be indexed by constants");
+                }
+                let i = self.expr(index)?;
+                if i.ty != INT {
+                    return self.fail(format!("index must be an int, not {}", i.ty));
+                }
+                let mut alts = Vec::new();
+                for (c, r) in &place.alts {
+                    for k in 0..n {
+                        let kr = self.konst(k as f32);
+                        let eq = self.bin(BinOp::Eq, i.regs[0], kr);
+                        let cond = match c {
+                            Some(c) => self.bin(BinOp::And, *c, eq),
+                            None => eq,
+                        };
+                        alts.push((Some(cond), r[k * size..(k + 1) * size].to_vec()));
+                    }
+                }
+                Ok((Place { ty: elem, alts }, writable))
+            }
+            _ => {
+                let v = self.expr(e)?;
+                Ok((Place { ty: v.ty, alts: vec![(None, v.regs)] }, false))
+            }
+        }
+    }
+
+    fn read(&mut self, place: &Place) -> Value {
+        let (last_cond, last) = place.alts.last().expect("a place has an alternative");
+        if place.alts.len() == 1 && last_cond.is_none() {
+            return Value { ty: place.ty.clone(), regs: last.clone() };
+        }
+        if place.ty.contains_sampler() {
+            return Value { ty: place.ty.clone(), regs: last.clone() };
+        }
+        let mut regs = last.clone();
+        for (cond, alt) in place.alts[..place.alts.len() - 1].iter().rev() {
+            let cond = cond.expect("dynamic alternatives have conditions");
+            regs = alt.iter().zip(&regs).map(|(&a, &acc)| self.tri(TriOp::Select, cond, a, acc)).collect();
+        }
+        Value { ty: place.ty.clone(), regs }
+    }
+
+    fn write(&mut self, place: &Place, v: &Value) {
+        let aliased = place.alts.iter().any(|(_, r)| r.iter().any(|x| v.regs.contains(x)));
+        let src: Vec<Reg> =
+            if aliased { v.regs.iter().map(|&r| self.un(UnOp::Mov, r)).collect() } else { v.regs.clone() };
+        for (cond, regs) in &place.alts {
+            for (&d, &s) in regs.iter().zip(&src) {
+                self.emit(match cond {
+                    None => Inst::Store(d, s),
+                    Some(c) => Inst::StoreIf(d, s, *c),
+                });
+            }
+        }
+    }
+}
+
+fn assign_op(op: &ast::AssignmentOpData) -> Option<ast::BinaryOpData> {
+    use ast::AssignmentOpData as A;
+    use ast::BinaryOpData as B;
+    Some(match op {
+        A::Equal => return None,
+        A::Mult => B::Mult,
+        A::Div => B::Div,
+        A::Mod => B::Mod,
+        A::Add => B::Add,
+        A::Sub => B::Sub,
+        A::LShift => B::LShift,
+        A::RShift => B::RShift,
+        A::And => B::BitAnd,
+        A::Xor => B::BitXor,
+        A::Or => B::BitOr,
+    })
+}
+
+// ---- calls ----
+
+impl<'a> Compiler<'a> {
+    fn call(&mut self, f: &ast::FunIdentifier, args: &[ast::Expr]) -> CResult<Value> {
+        let line = self.line;
+        let name = match &f.content {
+            ast::FunIdentifierData::TypeSpecifier(spec) => {
+                if let ast::TypeSpecifierNonArrayData::TypeName(n) = &spec.ty.content
+                    && spec.array_specifier.is_none()
+                    && self.functions.contains_key(n.as_str())
+                {
+                    n.as_str().to_string()
+                } else {
+                    let ty = self.type_of(spec)?;
+                    let values = self.args(args)?;
+                    self.line = line;
+                    return self.construct(ty, values);
+                }
+            }
+            ast::FunIdentifierData::Expr(e) => match &e.content {
+                ast::ExprData::Variable(id) => id.as_str().to_string(),
+                _ => return self.fail("only named functions can be called"),
+            },
+        };
+        if let Some(s) = self.lookup_struct(&name) {
+            let values = self.args(args)?;
+            self.line = line;
+            return self.construct(Type::Struct(s), values);
+        }
+        if let Some(defs) = self.functions.get(&name).cloned() {
+            let mut places = Vec::new();
+            for a in args {
+                places.push(self.place(a)?);
+            }
+            self.line = line;
+            return self.inline(&name, &defs, places);
+        }
+        let values = self.args(args)?;
+        self.line = line;
+        self.builtin(&name, values)
+    }
+
+    fn args(&mut self, args: &[ast::Expr]) -> CResult<Vec<Value>> {
+        args.iter()
+            .filter(|a| !matches!(&a.content, ast::ExprData::Variable(id) if id.as_str() == "void"))
+            .map(|a| self.expr(a))
+            .collect()
+    }
+
+    fn inline(&mut self, name: &str, defs: &[&'a ast::FunctionDefinition], args: Vec<(Place, bool)>) -> CResult<Value> {
+        if self.depth >= MAX_CALL_DEPTH {
+            return self.fail(format!("calls nest deeper than {MAX_CALL_DEPTH} at '{name}' (recursion?)"));
+        }
+        // Functions see the globals only.
+        let saved_scopes = self.scopes.split_off(1);
+        let saved_structs = self.structs.split_off(1);
+        let saved_loops = std::mem::take(&mut self.loops);
+        let line = self.line;
+        self.depth += 1;
+        let result = self.inline_in_globals(name, defs, args);
+        self.depth -= 1;
+        self.line = line;
+        self.loops = saved_loops;
+        self.scopes.extend(saved_scopes);
+        self.structs.extend(saved_structs);
+        result
+    }
+
+    fn inline_in_globals(
+        &mut self,
+        name: &str,
+        defs: &[&'a ast::FunctionDefinition],
+        args: Vec<(Place, bool)>,
+    ) -> CResult<Value> {
+        let line = self.line;
+        // Resolve the overload: parameter types equal to the arguments' (ints may pass as
+        // floats).
+        let mut chosen = None;
+        for def in defs {
+            let mut params = Vec::new();
+            for p in &def.prototype.parameters {
+                let (q, spec, id) = match &p.content {
+                    ast::FunctionParameterDeclarationData::Named(q, d) => (q, &d.ty, Some(&d.ident)),
+                    ast::FunctionParameterDeclarationData::Unnamed(q, t) => (q, t, None),
+                };
+                let mut ty = self.type_of(spec)?;
+                if let Some(id) = id {
+                    ty = self.arrayed(ty, id.array_spec.as_ref())?;
+                }
+                if ty == Type::Void {
+                    continue;
+                }
+                let dir = match q.as_ref().map(storage_dir) {
+                    Some(d) => d,
+                    None => ParamDir::In,
+                };
+                params.push((id.map(|i| i.ident.as_str().to_string()), ty, dir));
+            }
+            let fits = params.len() == args.len()
+                && params.iter().zip(&args).all(|((_, ty, dir), (place, _))| {
+                    place.ty == *ty
+                        || *dir == ParamDir::In
+                            && place.ty.scalar() == Some(Scalar::Int)
+                            && ty.scalar() == Some(Scalar::Float)
+                            && place.ty.width() == ty.width()
+                });
+            if fits {
+                chosen = Some((*def, params));
+                break;
+            }
+        }
+        self.line = line;
+        let Some((def, params)) = chosen else {
+            let types: Vec<String> = args.iter().map(|(p, _)| p.ty.to_string()).collect();
+            return self.fail(format!("no function '{name}({})'", types.join(", ")));
+        };
+        let ret_ty = self.type_of(&def.prototype.ty.ty)?;
+        self.line = line;
+        self.push_scope();
+        let mut copy_out = Vec::new();
+        let zero = self.konst(0.0);
+        for ((pname, ty, dir), (place, writable)) in params.into_iter().zip(args) {
+            let regs = if ty.contains_sampler() {
+                let value = self.read(&place);
+                value.regs
+            } else {
+                let regs = self.temps(ty.size());
+                if dir == ParamDir::Out {
+                    for &r in &regs {
+                        self.emit(Inst::Un(UnOp::Mov, r, zero));
+                    }
+                } else {
+                    let value = self.read(&place);
+                    for (&d, &s) in regs.iter().zip(&value.regs) {
+                        self.emit(Inst::Un(UnOp::Mov, d, s));
+                    }
+                }
+                regs
+            };
+            if dir != ParamDir::In {
+                if !writable {
+                    return self.fail(format!("argument for out parameter of '{name}' is not writable"));
+                }
+                copy_out.push((place, Value { ty: ty.clone(), regs: regs.clone() }));
+            }
+            if let Some(pname) = pname {
+                self.scopes.last_mut().expect("scope").insert(pname, Symbol { ty, regs, writable: true, konst: None });
+            }
+        }
+        let ret = (ret_ty != Type::Void).then(|| {
+            let regs = self.temps(ret_ty.size());
+            for &r in &regs {
+                self.emit(Inst::Un(UnOp::Mov, r, zero));
+            }
+            Value { ty: ret_ty.clone(), regs }
+        });
+        self.returns.push(ret.clone());
+        let body = self.block(|c| c.statements(&def.statement.statement_list));
+        self.returns.pop();
+        self.pop_scope();
+        let ((), body) = body?;
+        self.emit(Inst::Call(body));
+        for (place, value) in copy_out {
+            self.write(&place, &value);
+        }
+        Ok(ret.unwrap_or(Value { ty: Type::Void, regs: Vec::new() }))
+    }
+
+    /// A component converted to scalar kind `to`.
+    fn convert_component(&mut self, r: Reg, from: Scalar, to: Scalar) -> Reg {
+        match (from, to) {
+            (Scalar::Float, Scalar::Int) => self.un(UnOp::Trunc, r),
+            (Scalar::Float | Scalar::Int, Scalar::Bool) => self.un(UnOp::ToBool, r),
+            _ => r,
+        }
+    }
+
+    fn construct(&mut self, ty: Type, args: Vec<Value>) -> CResult<Value> {
+        if args.is_empty() {
+            return self.fail(format!("{ty}() needs arguments"));
+        }
+        match &ty {
+            Type::Struct(s) => {
+                if args.len() != s.fields.len() {
+                    return self.fail(format!("{} has {} fields, {} given", s.name, s.fields.len(), args.len()));
+                }
+                let mut regs = Vec::new();
+                for (v, (_, fty)) in args.into_iter().zip(&s.fields) {
+                    regs.extend(self.convert(v, fty)?.regs);
+                }
+                Ok(Value { ty, regs })
+            }
+            Type::Scalar(to) | Type::Vector(to, _) => {
+                let to = *to;
+                let n = ty.size();
+                let mut comps = Vec::new();
+                for v in &args {
+                    let Some(from) = v.ty.scalar() else {
+                        return self.fail(format!("{ty} from {}", v.ty));
+                    };
+                    for &r in &v.regs {
+                        comps.push(self.convert_component(r, from, to));
+                    }
+                }
+                if args.len() == 1 && args[0].ty.width() == Some(1) {
+                    return Ok(Value { ty, regs: vec![comps[0]; n] });
+                }
+                if comps.len() < n {
+                    return self.fail(format!("too few components for {ty}"));
+                }
+                comps.truncate(n);
+                Ok(Value { ty, regs: comps })
+            }
+            Type::Matrix(n) => {
+                let n = *n;
+                let zero = self.konst(0.0);
+                let one = self.konst(1.0);
+                if args.len() == 1 {
+                    match &args[0].ty {
+                        Type::Scalar(from) => {
+                            let d = self.convert_component(args[0].regs[0], *from, Scalar::Float);
+                            let regs = (0..n * n).map(|i| if i % (n + 1) == 0 { d } else { zero }).collect();
+                            return Ok(Value { ty, regs });
+                        }
+                        Type::Matrix(m) => {
+                            let m = *m;
+                            let regs = (0..n * n)
+                                .map(|i| {
+                                    let (c, r) = (i / n, i % n);
+                                    if c < m && r < m {
+                                        args[0].regs[c * m + r]
+                                    } else if c == r {
+                                        one
+                                    } else {
+                                        zero
+                                    }
+                                })
+                                .collect();
+                            return Ok(Value { ty, regs });
+                        }
+                        _ => {}
+                    }
+                }
+                let mut comps = Vec::new();
+                for v in &args {
+                    match v.ty.scalar() {
+                        Some(from) if !matches!(v.ty, Type::Matrix(_)) => {
+                            for &r in &v.regs {
+                                comps.push(self.convert_component(r, from, Scalar::Float));
+                            }
+                        }
+                        _ => return self.fail(format!("{ty} from {}", v.ty)),
+                    }
+                }
+                if comps.len() < n * n {
+                    return self.fail(format!("too few components for {ty}"));
+                }
+                comps.truncate(n * n);
+                Ok(Value { ty, regs: comps })
+            }
+            _ => self.fail(format!("cannot construct a {ty}")),
+        }
+    }
+}
+
+fn storage_dir(q: &ast::TypeQualifier) -> ParamDir {
+    let mut dir = ParamDir::In;
+    for spec in &q.qualifiers {
+        if let ast::TypeQualifierSpecData::Storage(s) = &spec.content {
+            match s.content {
+                ast::StorageQualifierData::Out => dir = ParamDir::Out,
+                ast::StorageQualifierData::InOut => dir = ParamDir::InOut,
+                _ => {}
+            }
+        }
+    }
+    dir
+}
+
+// ---- built-in functions ----
+
+impl<'a> Compiler<'a> {
+    /// `v` as a float scalar or vector (ints promoted), or an error naming `name`.
+    fn float_gen(&self, name: &str, v: Value) -> CResult<Value> {
+        match v.ty {
+            Type::Scalar(Scalar::Float | Scalar::Int) | Type::Vector(Scalar::Float | Scalar::Int, _) => {
+                Ok(Value { ty: v.ty.with_scalar(Scalar::Float), regs: v.regs })
+            }
+            _ => self.fail(format!("{name}() takes floats or float vectors, not {}", v.ty)),
+        }
+    }
+
+    /// A component-wise built-in over float scalars/vectors; scalar arguments are broadcast
+    /// to the vectors' width.
+    fn componentwise(
+        &mut self,
+        name: &str,
+        args: Vec<Value>,
+        mut f: impl FnMut(&mut Self, &[Reg]) -> Reg,
+    ) -> CResult<Value> {
+        let args: Vec<Value> = args.into_iter().map(|a| self.float_gen(name, a)).collect::<CResult<_>>()?;
+        let ty = args.iter().map(|a| a.ty.clone()).find(|t| t.width() != Some(1)).unwrap_or(FLOAT);
+        let width = ty.width().expect("scalar or vector");
+        if args.iter().any(|a| a.ty.width() != Some(1) && a.ty != ty) {
+            let types: Vec<String> = args.iter().map(|a| a.ty.to_string()).collect();
+            return self.fail(format!("{name}({}): mismatched arguments", types.join(", ")));
+        }
+        let regs = (0..width)
+            .map(|i| {
+                let ops: Vec<Reg> =
+                    args.iter().map(|a| if a.regs.len() == 1 { a.regs[0] } else { a.regs[i] }).collect();
+                f(self, &ops)
+            })
+            .collect();
+        Ok(Value { ty, regs })
+    }
+
+    fn vector_arg(&self, name: &str, v: Value) -> CResult<Value> {
+        self.float_gen(name, v)
+    }
+
+    fn length(&mut self, v: &[Reg]) -> Reg {
+        let d = self.dot(v, v);
+        self.un(UnOp::Sqrt, d)
+    }
+
+    fn builtin(&mut self, name: &str, args: Vec<Value>) -> CResult<Value> {
+        let n = args.len();
+        let arity = |c: &Self, want: usize| -> CResult<()> {
+            if n == want { Ok(()) } else { c.fail(format!("{name}() takes {want} arguments, {n} given")) }
+        };
+        let unop = match name {
+            "radians" => Some(UnOp::Radians),
+            "degrees" => Some(UnOp::Degrees),
+            "sin" => Some(UnOp::Sin),
+            "cos" => Some(UnOp::Cos),
+            "tan" => Some(UnOp::Tan),
+            "asin" => Some(UnOp::Asin),
+            "acos" => Some(UnOp::Acos),
+            "atan" if n == 1 => Some(UnOp::Atan),
+            "exp" => Some(UnOp::Exp),
+            "log" => Some(UnOp::Log),
+            "exp2" => Some(UnOp::Exp2),
+            "log2" => Some(UnOp::Log2),
+            "sqrt" => Some(UnOp::Sqrt),
+            "inversesqrt" => Some(UnOp::InverseSqrt),
+            "abs" => Some(UnOp::Abs),
+            "sign" => Some(UnOp::Sign),
+            "floor" => Some(UnOp::Floor),
+            "ceil" => Some(UnOp::Ceil),
+            "fract" => Some(UnOp::Fract),
+            "trunc" => Some(UnOp::Trunc),
+            "round" => Some(UnOp::Round),
+            _ => None,
+        };
+        if let Some(op) = unop {
+            arity(self, 1)?;
+            return self.componentwise(name, args, |c, r| c.un(op, r[0]));
+        }
+        let binop = match name {
+            "atan" => Some(BinOp::Atan2),
+            "pow" => Some(BinOp::Pow),
+            "mod" => Some(BinOp::Mod),
+            "min" => Some(BinOp::Min),
+            "max" => Some(BinOp::Max),
+            "step" => Some(BinOp::Step),
+            _ => None,
+        };
+        if let Some(op) = binop {
+            arity(self, 2)?;
+            return self.componentwise(name, args, |c, r| c.bin(op, r[0], r[1]));
+        }
+        let triop = match name {
+            "clamp" => Some(TriOp::Clamp),
+            "mix" => Some(TriOp::Mix),
+            "smoothstep" => Some(TriOp::Smoothstep),
+            _ => None,
+        };
+        if let Some(op) = triop {
+            arity(self, 3)?;
+            return self.componentwise(name, args, |c, r| c.tri(op, r[0], r[1], r[2]));
+        }
+        match name {
+            "length" => {
+                arity(self, 1)?;
+                let v = self.vector_arg(name, args[0].clone())?;
+                Ok(Value { ty: FLOAT, regs: vec![self.length(&v.regs)] })
+            }
+            "distance" => {
+                arity(self, 2)?;
+                let d = self.componentwise(name, args, |c, r| c.bin(BinOp::Sub, r[0], r[1]))?;
+                Ok(Value { ty: FLOAT, regs: vec![self.length(&d.regs)] })
+            }
+            "dot" => {
+                arity(self, 2)?;
+                let (a, b) = (self.vector_arg(name, args[0].clone())?, self.vector_arg(name, args[1].clone())?);
+                if a.ty != b.ty {
+                    return self.fail(format!("dot({}, {})", a.ty, b.ty));
+                }
+                Ok(Value { ty: FLOAT, regs: vec![self.dot(&a.regs, &b.regs)] })
+            }
+            "cross" => {
+                arity(self, 2)?;
+                let (a, b) = (self.vector_arg(name, args[0].clone())?, self.vector_arg(name, args[1].clone())?);
+                if a.ty != Type::vec(3) || b.ty != Type::vec(3) {
+                    return self.fail("cross() takes two vec3");
+                }
+                let (a, b) = (a.regs, b.regs);
+                let regs = [(1, 2), (2, 0), (0, 1)]
+                    .iter()
+                    .map(|&(i, j)| {
+                        let p = self.bin(BinOp::Mul, a[i], b[j]);
+                        let q = self.bin(BinOp::Mul, b[i], a[j]);
+                        self.bin(BinOp::Sub, p, q)
+                    })
+                    .collect();
+                Ok(Value { ty: Type::vec(3), regs })
+            }
+            "normalize" => {
+                arity(self, 1)?;
+                let v = self.vector_arg(name, args[0].clone())?;
+                let len = self.length(&v.regs);
+                Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&r| self.bin(BinOp::Div, r, len)).collect() })
+            }
+            "faceforward" => {
+                arity(self, 3)?;
+                let v: Vec<Value> = args.into_iter().map(|a| self.vector_arg(name, a)).collect::<CResult<_>>()?;
+                if v[0].ty != v[1].ty || v[1].ty != v[2].ty {
+                    return self.fail("faceforward() arguments differ in type");
+                }
+                let d = self.dot(&v[2].regs, &v[1].regs);
+                let zero = self.konst(0.0);
+                let lt = self.bin(BinOp::Lt, d, zero);
+                let regs = v[0]
+                    .regs
+                    .iter()
+                    .map(|&r| {
+                        let neg = self.un(UnOp::Neg, r);
+                        self.tri(TriOp::Select, lt, r, neg)
+                    })
+                    .collect();
+                Ok(Value { ty: v[0].ty.clone(), regs })
+            }
+            "reflect" => {
+                // I − 2·dot(N, I)·N
+                arity(self, 2)?;
+                let (i, nn) = (self.vector_arg(name, args[0].clone())?, self.vector_arg(name, args[1].clone())?);
+                if i.ty != nn.ty {
+                    return self.fail("reflect() arguments differ in type");
+                }
+                let d = self.dot(&nn.regs, &i.regs);
+                let two = self.konst(2.0);
+                let d2 = self.bin(BinOp::Mul, two, d);
+                let regs = i
+                    .regs
+                    .iter()
+                    .zip(&nn.regs)
+                    .map(|(&i, &n)| {
+                        let p = self.bin(BinOp::Mul, d2, n);
+                        self.bin(BinOp::Sub, i, p)
+                    })
+                    .collect();
+                Ok(Value { ty: i.ty.clone(), regs })
+            }
+            "refract" => {
+                // k = 1 − η²·(1 − dot(N, I)²); k < 0 ? 0 : η·I − (η·dot(N, I) + √k)·N
+                arity(self, 3)?;
+                let (i, nn) = (self.vector_arg(name, args[0].clone())?, self.vector_arg(name, args[1].clone())?);
+                let eta = self.float_gen(name, args[2].clone())?;
+                if i.ty != nn.ty || eta.ty != FLOAT {
+                    return self.fail("refract(I, N, eta) needs I and N of one type and a float eta");
+                }
+                let eta = eta.regs[0];
+                let (one, zero) = (self.konst(1.0), self.konst(0.0));
+                let d = self.dot(&nn.regs, &i.regs);
+                let dd = self.bin(BinOp::Mul, d, d);
+                let t = self.bin(BinOp::Sub, one, dd);
+                let ee = self.bin(BinOp::Mul, eta, eta);
+                let et = self.bin(BinOp::Mul, ee, t);
+                let k = self.bin(BinOp::Sub, one, et);
+                let neg = self.bin(BinOp::Lt, k, zero);
+                let sk = self.un(UnOp::Sqrt, k);
+                let ed = self.bin(BinOp::Mul, eta, d);
+                let f = self.bin(BinOp::Add, ed, sk);
+                let regs = i
+                    .regs
+                    .iter()
+                    .zip(&nn.regs)
+                    .map(|(&i, &n)| {
+                        let a = self.bin(BinOp::Mul, eta, i);
+                        let b = self.bin(BinOp::Mul, f, n);
+                        let r = self.bin(BinOp::Sub, a, b);
+                        self.tri(TriOp::Select, neg, zero, r)
+                    })
+                    .collect();
+                Ok(Value { ty: i.ty.clone(), regs })
+            }
+            "matrixCompMult" => {
+                arity(self, 2)?;
+                if !matches!(args[0].ty, Type::Matrix(_)) || args[0].ty != args[1].ty {
+                    return self.fail("matrixCompMult() takes two matrices of one size");
+                }
+                let regs = args[0].regs.iter().zip(&args[1].regs).map(|(&a, &b)| self.bin(BinOp::Mul, a, b)).collect();
+                Ok(Value { ty: args[0].ty.clone(), regs })
+            }
+            "transpose" => {
+                arity(self, 1)?;
+                let Type::Matrix(m) = args[0].ty else { return self.fail("transpose() takes a matrix") };
+                let regs = (0..m * m).map(|i| args[0].regs[(i % m) * m + i / m]).collect();
+                Ok(Value { ty: args[0].ty.clone(), regs })
+            }
+            "lessThan" | "lessThanEqual" | "greaterThan" | "greaterThanEqual" | "equal" | "notEqual" => {
+                arity(self, 2)?;
+                let (a, b) = (&args[0], &args[1]);
+                let ok = matches!(a.ty, Type::Vector(..))
+                    && a.ty == b.ty
+                    && (a.ty.scalar() != Some(Scalar::Bool) || matches!(name, "equal" | "notEqual"));
+                if !ok {
+                    return self.fail(format!("{name}({}, {})", a.ty, b.ty));
+                }
+                let op = match name {
+                    "lessThan" => BinOp::Lt,
+                    "lessThanEqual" => BinOp::Le,
+                    "greaterThan" => BinOp::Gt,
+                    "greaterThanEqual" => BinOp::Ge,
+                    "equal" => BinOp::Eq,
+                    _ => BinOp::Ne,
+                };
+                let regs = a.regs.iter().zip(&b.regs).map(|(&x, &y)| self.bin(op, x, y)).collect();
+                Ok(Value { ty: a.ty.with_scalar(Scalar::Bool), regs })
+            }
+            "any" | "all" | "not" => {
+                arity(self, 1)?;
+                let v = &args[0];
+                if !matches!(v.ty, Type::Vector(Scalar::Bool, _)) {
+                    return self.fail(format!("{name}() takes a bvec, not {}", v.ty));
+                }
+                if name == "not" {
+                    return Ok(Value {
+                        ty: v.ty.clone(),
+                        regs: v.regs.iter().map(|&r| self.un(UnOp::Not, r)).collect(),
+                    });
+                }
+                let op = if name == "any" { BinOp::Or } else { BinOp::And };
+                let r = v.regs[1..].iter().fold(v.regs[0], |acc, &x| self.bin(op, acc, x));
+                Ok(Value { ty: BOOL, regs: vec![r] })
+            }
+            "texture2D" | "texture2DProj" | "texture2DLod" | "texture2DProjLod" | "texture" | "textureProj"
+            | "textureLod" => self.texture(name, args),
+            "textureCube" | "textureCubeLod" => {
+                self.fail(format!("{name}(): cube textures are not supported (tiler has no cube textures)"))
+            }
+            "dFdx" | "dFdy" | "fwidth" => {
+                // OES_standard_derivatives.
+                arity(self, 1)?;
+                if self.stage != Stage::Fragment {
+                    return self.fail(format!("{name}() outside a fragment shader"));
+                }
+                self.componentwise(name, args, |c, r| {
+                    let derivative = |c: &mut Self, axis| {
+                        let dst = c.temp();
+                        c.emit(Inst::Derivative { dst, src: r[0], axis });
+                        dst
+                    };
+                    match name {
+                        "dFdx" => derivative(c, Axis::X),
+                        "dFdy" => derivative(c, Axis::Y),
+                        _ => {
+                            let (x, y) = (derivative(c, Axis::X), derivative(c, Axis::Y));
+                            let (x, y) = (c.un(UnOp::Abs, x), c.un(UnOp::Abs, y));
+                            c.bin(BinOp::Add, x, y)
+                        }
+                    }
+                })
+            }
+            _ => self.fail(format!("no function '{name}'")),
+        }
+    }
+
+    fn texture(&mut self, name: &str, args: Vec<Value>) -> CResult<Value> {
+        let proj = name.contains("Proj");
+        let explicit = name.ends_with("Lod");
+        if args.len() < 2 || args.len() > 3 {
+            return self.fail(format!("{name}() takes 2 or 3 arguments"));
+        }
+        let slot = match args[0].ty {
+            Type::Sampler(SamplerKind::Sampler2D) => args[0].regs[0] as u16,
+            Type::Sampler(SamplerKind::SamplerCube) => {
+                return self.fail(format!("{name}() on a samplerCube: cube textures are not supported"));
+            }
+            _ => return self.fail(format!("{name}() needs a sampler2D, not {}", args[0].ty)),
+        };
+        let coord = self.float_gen(name, args[1].clone())?;
+        let want = if proj { [3, 4].contains(&coord.regs.len()) } else { coord.regs.len() == 2 };
+        if !want {
+            return self.fail(format!("{name}() coordinates cannot be a {}", coord.ty));
+        }
+        let (s, t) = if proj {
+            let q = *coord.regs.last().expect("3 or 4 components");
+            (self.bin(BinOp::Div, coord.regs[0], q), self.bin(BinOp::Div, coord.regs[1], q))
+        } else {
+            (coord.regs[0], coord.regs[1])
+        };
+        let extra = match args.get(2) {
+            Some(v) => Some(self.float_gen(name, v.clone())?),
+            None => None,
+        };
+        if extra.as_ref().is_some_and(|v| v.ty != FLOAT) {
+            return self.fail(format!("{name}(): bias or level must be a float"));
+        }
+        let extra = extra.map(|v| v.regs[0]);
+        let lod = match (explicit, extra, self.stage) {
+            (true, Some(l), _) => Lod::Explicit(l),
+            (true, None, _) => return self.fail(format!("{name}() needs a level")),
+            (false, None, Stage::Fragment) => Lod::Implicit,
+            (false, Some(b), Stage::Fragment) => Lod::Bias(b),
+            (false, None, Stage::Vertex) => Lod::Explicit(self.konst(0.0)),
+            (false, Some(_), Stage::Vertex) => return self.fail(format!("{name}() with a bias in a vertex shader")),
+        };
+        let dst = self.temps(4);
+        self.emit(Inst::Sample { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord: [s, t], lod });
+        Ok(Value { ty: Type::vec(4), regs: dst })
+    }
+}

@@ -1,0 +1,399 @@
+//! The shader executor: interprets the IR over `W` lanes at once.
+//!
+//! Every instruction processes all `W` lanes; the lane count is a const generic, so the
+//! fragment shader runs 8 lanes (tiler's 4×2 group), the vertex shader 1, and a wider batch
+//! or a JIT can replace [`run`] without touching the compiler. Dispatch (one `match` per
+//! instruction) is amortised over the lanes; see the crate docs for measured costs.
+//!
+//! Masks: `active` holds the lanes still executing; `break`/`continue` move lanes out of it
+//! into the innermost loop's exit or continue masks, `return` into the innermost call's
+//! return mask, `discard` into the discarded mask. After an `if`, the lanes that left neither
+//! branch carry on; after a loop, those that left it by its condition or by `break`.
+//!
+//! Loops stop after [`MAX_ITERATIONS`] iterations (lanes still looping leave as if by
+//! `break`), so a shader that never ends cannot hang a render.
+
+use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
+
+/// Iterations after which a loop is cut off.
+pub const MAX_ITERATIONS: u32 = 1 << 16;
+
+/// What the executor asks of its caller: texture lookups.
+pub trait Env<const W: usize> {
+    /// Samples texture slot `slot` at `coord` in the lanes (all `W`; lanes not active have
+    /// finite, deterministic coordinates).
+    fn sample(&mut self, slot: usize, coord: [[f32; W]; 2], lod: LodValue<W>) -> [[f32; W]; 4];
+
+    /// The derivative of `v` along `axis` (zero where lanes are not pixels of quads).
+    fn derivative(&mut self, v: [f32; W], axis: Axis) -> [f32; W] {
+        let _ = (v, axis);
+        [0.0; W]
+    }
+}
+
+/// A level-of-detail argument with its lane values.
+#[derive(Clone, Copy, Debug)]
+pub enum LodValue<const W: usize> {
+    Implicit,
+    Bias([f32; W]),
+    Explicit([f32; W]),
+}
+
+/// The lanes' masks while running.
+struct Masks {
+    active: u64,
+    /// Lanes that executed `return` in the innermost call.
+    returned: u64,
+    /// Lanes that left the innermost loop (by `break` or its condition).
+    exited: u64,
+    /// Lanes that executed `continue` in the innermost loop's current iteration.
+    continued: u64,
+    discarded: u64,
+}
+
+/// Runs `code` on the registers in `regs` (the work file) and `bank`, for the lanes in
+/// `active`. Returns the lanes discarded.
+pub fn run<const W: usize, E: Env<W>>(
+    code: &[Inst],
+    regs: &mut [[f32; W]],
+    bank: &[[f32; W]],
+    active: u64,
+    env: &mut E,
+) -> u64 {
+    let mut masks = Masks { active, returned: 0, exited: 0, continued: 0, discarded: 0 };
+    let mut machine = Machine { regs, bank, env };
+    machine.block(code, &mut masks);
+    masks.discarded
+}
+
+struct Machine<'a, const W: usize, E> {
+    regs: &'a mut [[f32; W]],
+    bank: &'a [[f32; W]],
+    env: &'a mut E,
+}
+
+const fn full<const W: usize>() -> u64 {
+    if W >= 64 { u64::MAX } else { (1u64 << W) - 1 }
+}
+
+impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
+    #[inline(always)]
+    fn get(&self, r: Reg) -> [f32; W] {
+        if r & BANK != 0 { self.bank[(r & !BANK) as usize] } else { self.regs[r as usize] }
+    }
+
+    #[inline(always)]
+    fn set(&mut self, r: Reg, value: [f32; W]) {
+        debug_assert!(r & BANK == 0, "a write to the bank");
+        self.regs[r as usize] = value;
+    }
+
+    /// The lanes where register `r` is true.
+    #[inline(always)]
+    fn truth(&self, r: Reg) -> u64 {
+        let v = self.get(r);
+        let mut mask = 0;
+        for (lane, &x) in v.iter().enumerate() {
+            if x != 0.0 {
+                mask |= 1 << lane;
+            }
+        }
+        mask
+    }
+
+    #[inline(always)]
+    fn store(&mut self, dst: Reg, src: [f32; W], mask: u64) {
+        if mask == full::<W>() {
+            self.set(dst, src);
+        } else if mask != 0 {
+            let mut v = self.get(dst);
+            for (lane, x) in v.iter_mut().enumerate() {
+                if mask >> lane & 1 != 0 {
+                    *x = src[lane];
+                }
+            }
+            self.set(dst, v);
+        }
+    }
+
+    fn block(&mut self, code: &[Inst], m: &mut Masks) {
+        for inst in code {
+            if m.active == 0 {
+                return;
+            }
+            match inst {
+                Inst::Un(op, d, a) => {
+                    let a = self.get(*a);
+                    self.set(*d, unary(*op, a));
+                }
+                Inst::Bin(op, d, a, b) => {
+                    let (a, b) = (self.get(*a), self.get(*b));
+                    self.set(*d, binary(*op, a, b));
+                }
+                Inst::Tri(op, d, a, b, c) => {
+                    let (a, b, c) = (self.get(*a), self.get(*b), self.get(*c));
+                    self.set(*d, ternary(*op, a, b, c));
+                }
+                Inst::Store(d, s) => {
+                    let s = self.get(*s);
+                    self.store(*d, s, m.active);
+                }
+                Inst::StoreIf(d, s, c) => {
+                    let s = self.get(*s);
+                    let mask = m.active & self.truth(*c);
+                    self.store(*d, s, mask);
+                }
+                Inst::If(c, then, els) => {
+                    let entry = m.active;
+                    let cond = self.truth(*c);
+                    m.active = entry & cond;
+                    if m.active != 0 {
+                        self.block(then, m);
+                    }
+                    let after_then = m.active;
+                    m.active = entry & !cond;
+                    if m.active != 0 {
+                        self.block(els, m);
+                    }
+                    m.active |= after_then;
+                }
+                Inst::Loop { cond_code, cond, body, step, test_first } => {
+                    let (outer_exited, outer_continued) = (m.exited, m.continued);
+                    m.exited = 0;
+                    let mut first = true;
+                    let mut iterations = 0;
+                    loop {
+                        if !first || *test_first {
+                            self.block(cond_code, m);
+                            if let Some(c) = cond {
+                                let t = self.truth(*c);
+                                m.exited |= m.active & !t;
+                                m.active &= t;
+                            }
+                        }
+                        first = false;
+                        iterations += 1;
+                        if m.active == 0 || iterations > MAX_ITERATIONS {
+                            break;
+                        }
+                        m.continued = 0;
+                        self.block(body, m);
+                        m.active |= m.continued;
+                        self.block(step, m);
+                    }
+                    m.active |= m.exited;
+                    m.exited = outer_exited;
+                    m.continued = outer_continued;
+                }
+                Inst::Break => {
+                    m.exited |= m.active;
+                    m.active = 0;
+                }
+                Inst::Continue => {
+                    m.continued |= m.active;
+                    m.active = 0;
+                }
+                Inst::Return => {
+                    m.returned |= m.active;
+                    m.active = 0;
+                }
+                Inst::Discard => {
+                    m.discarded |= m.active;
+                    m.active = 0;
+                }
+                Inst::Call(body) => {
+                    let outer = m.returned;
+                    m.returned = 0;
+                    self.block(body, m);
+                    m.active |= m.returned;
+                    m.returned = outer;
+                }
+                Inst::Derivative { dst, src, axis } => {
+                    let v = self.get(*src);
+                    let d = self.env.derivative(v, *axis);
+                    self.set(*dst, d);
+                }
+                Inst::Sample { slot, dst, coord, lod } => {
+                    let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
+                    let coord = [finite(self.get(coord[0])), finite(self.get(coord[1]))];
+                    let lod = match lod {
+                        Lod::Implicit => LodValue::Implicit,
+                        Lod::Bias(r) => LodValue::Bias(finite(self.get(*r))),
+                        Lod::Explicit(r) => LodValue::Explicit(finite(self.get(*r))),
+                    };
+                    let texel = self.env.sample(*slot as usize, coord, lod);
+                    for (c, &d) in dst.iter().enumerate() {
+                        self.set(d, texel[c]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[inline(always)]
+fn b(x: bool) -> f32 {
+    if x { 1.0 } else { 0.0 }
+}
+
+#[inline(always)]
+fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
+    let f: fn(f32) -> f32 = match op {
+        UnOp::Mov => return a,
+        UnOp::Neg => return a.map(|x| -x),
+        UnOp::Not => |x| b(x == 0.0),
+        UnOp::Abs => f32::abs,
+        UnOp::Sign => |x| {
+            if x > 0.0 {
+                1.0
+            } else if x < 0.0 {
+                -1.0
+            } else {
+                0.0
+            }
+        },
+        UnOp::Floor => return a.map(f32::floor),
+        UnOp::Ceil => f32::ceil,
+        UnOp::Fract => return a.map(|x| x - x.floor()),
+        UnOp::Trunc => f32::trunc,
+        UnOp::Round => f32::round,
+        UnOp::Sin => f32::sin,
+        UnOp::Cos => f32::cos,
+        UnOp::Tan => f32::tan,
+        UnOp::Asin => f32::asin,
+        UnOp::Acos => f32::acos,
+        UnOp::Atan => f32::atan,
+        UnOp::Exp => f32::exp,
+        UnOp::Log => f32::ln,
+        UnOp::Exp2 => f32::exp2,
+        UnOp::Log2 => f32::log2,
+        UnOp::Sqrt => return a.map(f32::sqrt),
+        UnOp::InverseSqrt => return a.map(|x| 1.0 / x.sqrt()),
+        UnOp::Radians => |x| x * (std::f32::consts::PI / 180.0),
+        UnOp::Degrees => |x| x * (180.0 / std::f32::consts::PI),
+        UnOp::ToBool => |x| b(x != 0.0),
+    };
+    a.map(f)
+}
+
+#[inline(always)]
+fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f32; W] {
+    let mut out = [0.0; W];
+    macro_rules! lanes {
+        ($f:expr) => {{
+            let f = $f;
+            for i in 0..W {
+                out[i] = f(a[i], c[i]);
+            }
+        }};
+    }
+    match op {
+        BinOp::Add => lanes!(|x: f32, y: f32| x + y),
+        BinOp::Sub => lanes!(|x: f32, y: f32| x - y),
+        BinOp::Mul => lanes!(|x: f32, y: f32| x * y),
+        BinOp::Div => lanes!(|x: f32, y: f32| x / y),
+        BinOp::IDiv => lanes!(|x: f32, y: f32| (x / y).trunc()),
+        BinOp::Mod => lanes!(|x: f32, y: f32| x - y * (x / y).floor()),
+        BinOp::Min => lanes!(|x: f32, y: f32| if y < x { y } else { x }),
+        BinOp::Max => lanes!(|x: f32, y: f32| if x < y { y } else { x }),
+        BinOp::Pow => lanes!(f32::powf),
+        BinOp::Atan2 => lanes!(f32::atan2),
+        BinOp::Step => lanes!(|edge: f32, x: f32| if x < edge { 0.0 } else { 1.0 }),
+        BinOp::Lt => lanes!(|x: f32, y: f32| b(x < y)),
+        BinOp::Le => lanes!(|x: f32, y: f32| b(x <= y)),
+        BinOp::Gt => lanes!(|x: f32, y: f32| b(x > y)),
+        BinOp::Ge => lanes!(|x: f32, y: f32| b(x >= y)),
+        BinOp::Eq => lanes!(|x: f32, y: f32| b(x == y)),
+        BinOp::Ne => lanes!(|x: f32, y: f32| b(x != y)),
+        BinOp::And => lanes!(|x: f32, y: f32| b(x != 0.0 && y != 0.0)),
+        BinOp::Or => lanes!(|x: f32, y: f32| b(x != 0.0 || y != 0.0)),
+        BinOp::Xor => lanes!(|x: f32, y: f32| b((x != 0.0) != (y != 0.0))),
+    }
+    out
+}
+
+#[inline(always)]
+fn ternary<const W: usize>(op: TriOp, a: [f32; W], b: [f32; W], c: [f32; W]) -> [f32; W] {
+    let mut out = [0.0; W];
+    for i in 0..W {
+        out[i] = match op {
+            TriOp::Clamp => clamp(a[i], b[i], c[i]),
+            TriOp::Mix => a[i] * (1.0 - c[i]) + b[i] * c[i],
+            TriOp::Smoothstep => smoothstep(a[i], b[i], c[i]),
+            TriOp::Select => {
+                if a[i] != 0.0 {
+                    b[i]
+                } else {
+                    c[i]
+                }
+            }
+        };
+    }
+    out
+}
+
+/// GLSL `clamp`: `min(max(x, lo), hi)` with GLSL's `min`/`max` (the second operand when
+/// the comparison fails, so NaN handling is fixed).
+#[inline(always)]
+pub fn clamp(x: f32, lo: f32, hi: f32) -> f32 {
+    let m = if x < lo { lo } else { x };
+    if hi < m { hi } else { m }
+}
+
+/// GLSL `smoothstep`.
+#[inline(always)]
+pub fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
+    let t = clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct NoTextures;
+    impl<const W: usize> Env<W> for NoTextures {
+        fn sample(&mut self, _: usize, _: [[f32; W]; 2], _: LodValue<W>) -> [[f32; W]; 4] {
+            [[0.0; W]; 4]
+        }
+    }
+
+    #[test]
+    fn divergent_loop_break_keeps_each_lanes_count() {
+        // r0 = lane limit (input), r1 = counter, r2 = cond, bank 0 = 1.0, bank 1 = 100.
+        // while (true) { if (r1 >= r0) break; r1 += 1; }
+        let code = vec![Inst::Loop {
+            cond_code: vec![],
+            cond: None,
+            body: vec![
+                Inst::Bin(BinOp::Ge, 2, 1, 0),
+                Inst::If(2, vec![Inst::Break], vec![]),
+                Inst::Bin(BinOp::Add, 3, 1, BANK),
+                Inst::Store(1, 3),
+            ],
+            step: vec![],
+            test_first: true,
+        }];
+        let mut regs = [[0.0f32; 4]; 4];
+        regs[0] = [0.0, 1.0, 5.0, 3.0];
+        let bank = [[1.0f32; 4]];
+        let discarded = run(&code, &mut regs, &bank, 0b1111, &mut NoTextures);
+        assert_eq!(discarded, 0);
+        assert_eq!(regs[1], [0.0, 1.0, 5.0, 3.0]);
+    }
+
+    #[test]
+    fn endless_loop_is_cut_off() {
+        let code = vec![Inst::Loop { cond_code: vec![], cond: None, body: vec![], step: vec![], test_first: true }];
+        let mut regs = [[0.0f32; 1]; 1];
+        run(&code, &mut regs, &[], 1, &mut NoTextures);
+    }
+
+    #[test]
+    fn masked_store_leaves_inactive_lanes() {
+        let code = vec![Inst::Store(0, BANK)];
+        let mut regs = [[5.0f32; 2]];
+        run(&code, &mut regs, &[[7.0, 7.0]], 0b10, &mut NoTextures);
+        assert_eq!(regs[0], [5.0, 7.0]);
+    }
+}

@@ -1,0 +1,166 @@
+//! The lane-wide IR: instructions over registers of `W` lanes of `f32`.
+//!
+//! Every value the compiler handles is a list of component registers: a `vec3` is three
+//! registers, a `mat4` sixteen (column after column), a struct its fields' registers in order,
+//! an array its elements'. Booleans are `0.0`/`1.0` and integers are held exactly in `f32`
+//! (GLSL ES 1.00 requires integers only up to ±2¹⁶, well inside f32's exact 2²⁴), so one
+//! register file serves every type and a later JIT needs only one vector type.
+//!
+//! Registers whose index has [`BANK`] set live in the program instance's read-only bank
+//! (uniforms and constants, splatted across the lanes once per instance); the others are
+//! the per-call work file.
+//!
+//! Control flow stays structured ([`Inst::If`], [`Inst::Loop`], [`Inst::Call`]) and runs
+//! under a lane mask: arithmetic writes temporaries in every lane, and only stores to
+//! variables ([`Inst::Store`]) are masked by the lanes still active.
+
+/// A register index; [`BANK`] set means the instance's bank.
+pub type Reg = u32;
+
+/// The bit of a [`Reg`] that selects the bank of uniforms and constants.
+pub const BANK: Reg = 1 << 31;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UnOp {
+    Mov,
+    Neg,
+    Not,
+    Abs,
+    Sign,
+    Floor,
+    Ceil,
+    Fract,
+    Trunc,
+    Round,
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Exp,
+    Log,
+    Exp2,
+    Log2,
+    Sqrt,
+    InverseSqrt,
+    Radians,
+    Degrees,
+    /// Float → bool (`x != 0`).
+    ToBool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BinOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    /// Integer division: the quotient truncated toward zero.
+    IDiv,
+    /// GLSL `mod`: `x − y·floor(x/y)`.
+    Mod,
+    Min,
+    Max,
+    Pow,
+    Atan2,
+    /// GLSL `step(edge, x)`: `x < edge ? 0 : 1`.
+    Step,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Eq,
+    Ne,
+    And,
+    Or,
+    Xor,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TriOp {
+    /// `clamp(x, lo, hi)` = `min(max(x, lo), hi)`.
+    Clamp,
+    /// `mix(x, y, a)` = `x·(1 − a) + y·a`.
+    Mix,
+    /// `smoothstep(e0, e1, x)`: `t = clamp((x − e0)/(e1 − e0), 0, 1)`, `t·t·(3 − 2t)`.
+    Smoothstep,
+    /// `c != 0 ? a : b` (operands `c, a, b`).
+    Select,
+}
+
+/// A window axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    X,
+    Y,
+}
+
+/// How a texture lookup chooses its level of detail.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lod {
+    /// From the quad's derivatives (fragment shaders).
+    Implicit,
+    /// From the derivatives plus a bias register.
+    Bias(Reg),
+    /// An explicit level register.
+    Explicit(Reg),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Inst {
+    Un(UnOp, Reg, Reg),
+    Bin(BinOp, Reg, Reg, Reg),
+    Tri(TriOp, Reg, Reg, Reg, Reg),
+    /// `dst = src` in the active lanes.
+    Store(Reg, Reg),
+    /// `dst = src` in the active lanes where `cond` is true (a write through a dynamic index).
+    StoreIf(Reg, Reg, Reg),
+    /// Runs `then` for the active lanes where the register is true, `else` for the others;
+    /// a branch no lane takes is skipped.
+    If(Reg, Vec<Inst>, Vec<Inst>),
+    /// A loop: `cond_code` computes `cond` (none: always true), then `body`, then `step`.
+    /// `test_first` is false for `do … while`.
+    Loop {
+        cond_code: Vec<Inst>,
+        cond: Option<Reg>,
+        body: Vec<Inst>,
+        step: Vec<Inst>,
+        test_first: bool,
+    },
+    Break,
+    Continue,
+    /// Leaves the innermost [`Inst::Call`] (or the shader) in the active lanes.
+    Return,
+    Discard,
+    /// An inlined function body: the scope of its `return`s.
+    Call(Vec<Inst>),
+    /// The screen-space derivative of a register along x or y (GL's window axes), from the
+    /// lanes of each 2×2 quad (fragment shaders).
+    Derivative {
+        dst: Reg,
+        src: Reg,
+        axis: Axis,
+    },
+    /// Samples texture slot `slot` at `(s, t)` into four registers.
+    Sample {
+        slot: u16,
+        dst: [Reg; 4],
+        coord: [Reg; 2],
+        lod: Lod,
+    },
+}
+
+/// Instructions in `code`, nested blocks included.
+pub fn count_insts(code: &[Inst]) -> usize {
+    code.iter()
+        .map(|inst| match inst {
+            Inst::If(_, a, b) => 1 + count_insts(a) + count_insts(b),
+            Inst::Loop { cond_code, body, step, .. } => {
+                1 + count_insts(cond_code) + count_insts(body) + count_insts(step)
+            }
+            Inst::Call(body) => 1 + count_insts(body),
+            _ => 1,
+        })
+        .sum()
+}

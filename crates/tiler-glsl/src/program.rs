@@ -1,0 +1,623 @@
+//! Linking (attributes, varyings, uniforms, samplers) and program instances: a compiled
+//! program with uniform values, textures and the framebuffer height, as tiler shaders.
+
+use std::cell::RefCell;
+use std::fmt;
+use std::sync::Arc;
+
+use glam::Vec4;
+use tiler::{
+    F32x8, FragmentShader, Fragments, Interpolation, LaneMask, Pipeline, PipelineDesc, Sampler, ShaderProperties,
+    Texture, VertexInput, VertexOutput, VertexShader, Wrap,
+};
+
+use crate::compile::{StageCode, compile};
+use crate::exec::{Env, LodValue, run};
+use crate::ir::{Axis, BANK, Reg};
+use crate::types::Type;
+use crate::{Error, Stage};
+
+/// A vertex attribute of a linked program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttributeInfo {
+    pub name: String,
+    /// `float`, `vecN` or `matN` (a `matN` takes N consecutive locations, one per column).
+    pub ty: Type,
+    pub location: u32,
+}
+
+/// A varying of a linked program: where its floats sit in tiler's varyings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VaryingInfo {
+    pub name: String,
+    pub ty: Type,
+    /// Its first float in [`VertexOutput::varyings`]; it takes `ty.size()` floats.
+    pub first: usize,
+}
+
+/// An active uniform as GL introspection lists it: arrays of basic types are one entry
+/// (`name` without `[0]`), structs are listed field by field (`light.color`,
+/// `lights[1].color`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct UniformInfo {
+    pub name: String,
+    /// The element type: a scalar, vector, matrix or `sampler2D`/`samplerCube`.
+    pub ty: Type,
+    /// 1 for a non-array.
+    pub array_size: usize,
+    /// The location of element 0; element `k` is at `location + k`.
+    pub location: u32,
+    /// Where its values start in [`UniformValues`] (floats; each element `ty.size()`).
+    offset: usize,
+}
+
+/// A compiled and linked GLSL ES program.
+#[derive(Debug)]
+pub struct CompiledProgram {
+    vertex: StageCode,
+    fragment: StageCode,
+    attributes: Vec<AttributeInfo>,
+    varyings: Vec<VaryingInfo>,
+    uniforms: Vec<UniformInfo>,
+    /// For each declared uniform of each stage, its offset in the values.
+    vertex_uniform_offsets: Vec<usize>,
+    fragment_uniform_offsets: Vec<usize>,
+    uniform_floats: usize,
+    /// Floats of tiler varyings the program uses (the varyings, then `w` if needed).
+    varying_floats: usize,
+    /// The hidden varying carrying clip-space w for `gl_FragCoord.w`.
+    w_varying: Option<usize>,
+}
+
+/// Uniform values by location, as `glUniform*` sets them (ints and samplers' texture units
+/// stored as floats; matrices column-major).
+#[derive(Clone, Debug, PartialEq)]
+pub struct UniformValues {
+    values: Vec<f32>,
+}
+
+/// A texture lookup the caller implements (formats the core sampler does not take: depth,
+/// float). Coordinates are GL's (t = 0 at the first row uploaded, the bottom); `lod` is the
+/// explicit level, or `None` for the base level.
+pub trait TextureSource: Send + Sync + fmt::Debug {
+    fn sample(&self, s: f32, t: f32, lod: Option<f32>) -> [f32; 4];
+}
+
+/// What a texture unit holds.
+#[derive(Clone, Debug)]
+pub enum TextureBinding {
+    /// A core texture: fragment shaders sample it through [`Fragments::sample`] (the LOD from
+    /// quad derivatives, reads counted in the texture-cache model), at `(s, 1 − t)` since the
+    /// core's v runs down the rows; vertex shaders and explicit levels read the nearest texel
+    /// of the level (not counted).
+    Core(Arc<Texture>, Sampler),
+    /// The caller's own sampler.
+    Custom(Arc<dyn TextureSource>),
+}
+
+impl CompiledProgram {
+    /// Compiles and links a vertex and a fragment shader. `attribute_locations` are the
+    /// `glBindAttribLocation` bindings; other attributes take the lowest free locations in
+    /// declaration order.
+    ///
+    /// # Errors
+    /// A compile error (naming the stage and the line) or a link error.
+    pub fn new(vertex: &str, fragment: &str, attribute_locations: &[(&str, u32)]) -> Result<CompiledProgram, Error> {
+        let vertex = compile(Stage::Vertex, vertex)?;
+        let fragment = compile(Stage::Fragment, fragment)?;
+        let attributes = link_attributes(&vertex, attribute_locations)?;
+        let (varyings, w_varying, varying_floats) = link_varyings(&vertex, &fragment)?;
+        let (uniforms, vertex_uniform_offsets, fragment_uniform_offsets, uniform_floats) =
+            link_uniforms(&vertex, &fragment)?;
+        Ok(CompiledProgram {
+            vertex,
+            fragment,
+            attributes,
+            varyings,
+            uniforms,
+            vertex_uniform_offsets,
+            fragment_uniform_offsets,
+            uniform_floats,
+            varying_floats,
+            w_varying,
+        })
+    }
+
+    /// Attributes in declaration order, with their locations.
+    pub fn attributes(&self) -> &[AttributeInfo] {
+        &self.attributes
+    }
+
+    pub fn varyings(&self) -> &[VaryingInfo] {
+        &self.varyings
+    }
+
+    /// Active uniforms in declaration order (vertex shader's first), locations ascending.
+    pub fn uniforms(&self) -> &[UniformInfo] {
+        &self.uniforms
+    }
+
+    /// What `glGetUniformLocation` returns: `name`, `name[0]` or `name[k]` for arrays.
+    pub fn uniform_location(&self, name: &str) -> Option<u32> {
+        let (base, index) = match name.strip_suffix(']').and_then(|n| n.rsplit_once('[')) {
+            Some((base, index)) => (base, index.parse::<usize>().ok()?),
+            None => (name, 0),
+        };
+        let u = self.uniforms.iter().find(|u| u.name == base)?;
+        (index < u.array_size).then_some(u.location + index as u32)
+    }
+
+    pub fn attribute_location(&self, name: &str) -> Option<u32> {
+        self.attributes.iter().find(|a| a.name == name).map(|a| a.location)
+    }
+
+    /// Instructions of the vertex and fragment code (inlined calls included).
+    pub fn instruction_counts(&self) -> (usize, usize) {
+        (crate::ir::count_insts(&self.vertex.code), crate::ir::count_insts(&self.fragment.code))
+    }
+
+    /// Floats of tiler varyings the program's pipeline declares.
+    pub fn varying_floats(&self) -> usize {
+        self.varying_floats
+    }
+
+    /// The fragment shader's properties: `discards` iff its code can discard.
+    pub fn fragment_properties(&self) -> ShaderProperties {
+        ShaderProperties { discards: self.fragment.discards, ..ShaderProperties::default() }
+    }
+
+    /// Uniform values all zero (GL's initial values).
+    pub fn new_uniform_values(&self) -> UniformValues {
+        UniformValues { values: vec![0.0; self.uniform_floats] }
+    }
+
+    /// Sets the uniform at `location` from `values` (its components, then the next array
+    /// elements', as `glUniform*v` with a count). Ints and texture units go as floats.
+    ///
+    /// # Errors
+    /// An unknown location, or more values than the uniform has from that element on.
+    pub fn set_uniform(&self, uniforms: &mut UniformValues, location: u32, values: &[f32]) -> Result<(), Error> {
+        let u = self
+            .uniforms
+            .iter()
+            .find(|u| (u.location..u.location + u.array_size as u32).contains(&location))
+            .ok_or_else(|| Error::Uniform(format!("no uniform at location {location}")))?;
+        let size = u.ty.size();
+        let element = (location - u.location) as usize;
+        let room = (u.array_size - element) * size;
+        if values.len() > room || !values.len().is_multiple_of(size) {
+            return Err(Error::Uniform(format!(
+                "uniform '{}' (location {location}): {} values for {} components of {}",
+                u.name,
+                values.len(),
+                room,
+                u.ty
+            )));
+        }
+        let start = u.offset + element * size;
+        uniforms.values[start..start + values.len()].copy_from_slice(values);
+        Ok(())
+    }
+
+    /// The texture units the program's samplers read, per uniform location (for checks).
+    pub fn sampler_units(&self, uniforms: &UniformValues) -> Vec<(String, u32)> {
+        self.uniforms
+            .iter()
+            .filter(|u| matches!(u.ty, Type::Sampler(_)))
+            .flat_map(|u| (0..u.array_size).map(move |k| (u, k)))
+            .map(|(u, k)| (u.name.clone(), uniforms.values[u.offset + k] as u32))
+            .collect()
+    }
+
+    /// The pipeline's varyings: one smooth varying per float.
+    pub fn pipeline_varyings(&self) -> Vec<Interpolation> {
+        vec![Interpolation::Perspective; self.varying_floats]
+    }
+}
+
+/// Locations for the vertex shader's attributes, in its declaration order: bound ones first,
+/// then the others at the lowest free locations (a `matN` takes N in a row).
+fn link_attributes(vertex: &StageCode, bound: &[(&str, u32)]) -> Result<Vec<AttributeInfo>, Error> {
+    let max = tiler::MAX_VERTEX_ATTRIBUTES;
+    let columns = |ty: &Type| if let Type::Matrix(n) = ty { *n } else { 1 };
+    let mut used = vec![false; max];
+    let mut locations: Vec<Option<usize>> = vec![None; vertex.inputs.len()];
+    for (i, a) in vertex.inputs.iter().enumerate() {
+        let Some(loc) = bound.iter().find(|(n, _)| *n == a.name).map(|(_, l)| *l).or(a.location) else { continue };
+        let (loc, n) = (loc as usize, columns(&a.ty));
+        if loc + n > max {
+            return Err(Error::Link(format!("attribute '{}' at location {loc} exceeds {max} attributes", a.name)));
+        }
+        used[loc..loc + n].fill(true);
+        locations[i] = Some(loc);
+    }
+    for (i, a) in vertex.inputs.iter().enumerate() {
+        if locations[i].is_some() {
+            continue;
+        }
+        let n = columns(&a.ty);
+        let loc = (0..=max - n)
+            .find(|&l| used[l..l + n].iter().all(|u| !u))
+            .ok_or_else(|| Error::Link(format!("no free location for attribute '{}'", a.name)))?;
+        used[loc..loc + n].fill(true);
+        locations[i] = Some(loc);
+    }
+    Ok(vertex
+        .inputs
+        .iter()
+        .zip(locations)
+        .map(|(a, loc)| AttributeInfo {
+            name: a.name.clone(),
+            ty: a.ty.clone(),
+            location: loc.expect("assigned") as u32,
+        })
+        .collect())
+}
+
+fn link_varyings(vertex: &StageCode, fragment: &StageCode) -> Result<(Vec<VaryingInfo>, Option<usize>, usize), Error> {
+    let mut out = Vec::new();
+    let mut next = 0;
+    for v in &fragment.inputs {
+        let Some(vs) = vertex.outputs.iter().find(|o| o.name == v.name) else {
+            return Err(Error::Link(format!(
+                "varying '{}' is read by the fragment shader but not declared by the vertex shader",
+                v.name
+            )));
+        };
+        if vs.ty != v.ty {
+            return Err(Error::Link(format!(
+                "varying '{}' is a {} in the vertex shader and a {} in the fragment shader",
+                v.name, vs.ty, v.ty
+            )));
+        }
+        out.push(VaryingInfo { name: v.name.clone(), ty: v.ty.clone(), first: next });
+        next += v.ty.size();
+    }
+    let w = fragment.frag_coord.is_some().then(|| {
+        next += 1;
+        next - 1
+    });
+    if next > tiler::MAX_VARYINGS {
+        return Err(Error::Link(format!("{next} varying floats, at most {}", tiler::MAX_VARYINGS)));
+    }
+    Ok((out, w, next))
+}
+
+type UniformLink = (Vec<UniformInfo>, Vec<usize>, Vec<usize>, usize);
+
+fn link_uniforms(vertex: &StageCode, fragment: &StageCode) -> Result<UniformLink, Error> {
+    // Declared uniforms, merged by name: (name, type, offset).
+    let mut declared: Vec<(String, Type, usize)> = Vec::new();
+    let mut floats = 0;
+    let mut offsets = [Vec::new(), Vec::new()];
+    for (s, stage) in [vertex, fragment].into_iter().enumerate() {
+        for u in &stage.uniforms {
+            match declared.iter().find(|(n, _, _)| *n == u.name) {
+                Some((_, ty, offset)) => {
+                    if *ty != u.ty {
+                        return Err(Error::Link(format!(
+                            "uniform '{}' is a {ty} in the vertex shader and a {} in the fragment shader",
+                            u.name, u.ty
+                        )));
+                    }
+                    offsets[s].push(*offset);
+                }
+                None => {
+                    declared.push((u.name.clone(), u.ty.clone(), floats));
+                    offsets[s].push(floats);
+                    floats += u.ty.size();
+                }
+            }
+        }
+    }
+    let mut infos = Vec::new();
+    let mut location = 0;
+    for (name, ty, offset) in &declared {
+        leaves(name, ty, *offset, &mut infos, &mut location);
+    }
+    let [v, f] = offsets;
+    Ok((infos, v, f, floats))
+}
+
+/// Lists the GL-visible leaves of a uniform of type `ty` at `offset`.
+fn leaves(name: &str, ty: &Type, offset: usize, out: &mut Vec<UniformInfo>, location: &mut u32) {
+    match ty {
+        Type::Struct(s) => {
+            let mut o = offset;
+            for (field, fty) in &s.fields {
+                leaves(&format!("{name}.{field}"), fty, o, out, location);
+                o += fty.size();
+            }
+        }
+        Type::Array(elem, n) if matches!(**elem, Type::Struct(_) | Type::Array(..)) => {
+            for k in 0..*n {
+                leaves(&format!("{name}[{k}]"), elem, offset + k * elem.size(), out, location);
+            }
+        }
+        Type::Array(elem, n) => {
+            out.push(UniformInfo {
+                name: name.into(),
+                ty: (**elem).clone(),
+                array_size: *n,
+                location: *location,
+                offset,
+            });
+            *location += *n as u32;
+        }
+        _ => {
+            out.push(UniformInfo { name: name.into(), ty: ty.clone(), array_size: 1, location: *location, offset });
+            *location += 1;
+        }
+    }
+}
+
+/// A stage's bank with the uniform values in place, and its sampler slots' bindings.
+fn stage_state<const W: usize>(
+    code: &StageCode,
+    offsets: &[usize],
+    uniforms: &UniformValues,
+    textures: &[Option<TextureBinding>],
+) -> (Vec<[f32; W]>, Vec<Option<TextureBinding>>) {
+    let mut bank: Vec<[f32; W]> = code.bank.iter().map(|&x| [x; W]).collect();
+    let mut slots = vec![None; code.samplers.len()];
+    for (u, var) in code.uniforms.iter().enumerate() {
+        let base = offsets[u];
+        for (k, &r) in var.regs.iter().enumerate() {
+            let value = uniforms.values[base + k];
+            if r & BANK != 0 {
+                bank[(r & !BANK) as usize] = [value; W];
+            } else if value >= 0.0 {
+                slots[r as usize] = textures.get(value as usize).cloned().flatten();
+            }
+        }
+    }
+    (bank, slots)
+}
+
+/// A program with its uniform values and textures: builds the vertex and fragment shaders.
+///
+/// `textures[unit]` is what texture unit `unit` holds (an unbound unit reads as opaque
+/// black, as an incomplete texture does in GL). `framebuffer_height` turns tiler's window y
+/// (down) into GL's `gl_FragCoord.y` (up).
+pub fn shaders(
+    program: &Arc<CompiledProgram>,
+    uniforms: &UniformValues,
+    textures: &[Option<TextureBinding>],
+    framebuffer_height: u32,
+) -> (GlslVertexShader, GlslFragmentShader) {
+    let (vbank, vslots) = stage_state::<1>(&program.vertex, &program.vertex_uniform_offsets, uniforms, textures);
+    let (fbank, fslots) = stage_state::<8>(&program.fragment, &program.fragment_uniform_offsets, uniforms, textures);
+    let outputs: Vec<(Vec<Reg>, usize)> = program
+        .varyings
+        .iter()
+        .map(|v| {
+            let vs = program.vertex.outputs.iter().find(|o| o.name == v.name).expect("linked");
+            (vs.regs.clone(), v.first)
+        })
+        .collect();
+    let inputs: Vec<(Vec<Reg>, usize)> =
+        program.fragment.inputs.iter().zip(&program.varyings).map(|(input, v)| (input.regs.clone(), v.first)).collect();
+    (
+        GlslVertexShader { program: program.clone(), bank: vbank, slots: vslots, outputs },
+        GlslFragmentShader {
+            program: program.clone(),
+            bank: fbank,
+            slots: fslots,
+            inputs,
+            height: framebuffer_height as f32,
+        },
+    )
+}
+
+/// [`shaders`] made into a pipeline: `desc.varyings` is set to the program's.
+///
+/// # Errors
+/// What [`Pipeline::new`] refuses.
+pub fn pipeline(
+    program: &Arc<CompiledProgram>,
+    uniforms: &UniformValues,
+    textures: &[Option<TextureBinding>],
+    framebuffer_height: u32,
+    mut desc: PipelineDesc,
+) -> tiler::Result<Pipeline> {
+    desc.varyings = program.pipeline_varyings();
+    let (vs, fs) = shaders(program, uniforms, textures, framebuffer_height);
+    Pipeline::new(vs, fs, desc)
+}
+
+/// A program's vertex shader: one vertex per call, run with one lane.
+pub struct GlslVertexShader {
+    program: Arc<CompiledProgram>,
+    bank: Vec<[f32; 1]>,
+    slots: Vec<Option<TextureBinding>>,
+    /// Each linked varying's vertex registers and first float.
+    outputs: Vec<(Vec<Reg>, usize)>,
+}
+
+/// A program's fragment shader: one 4×2 group per call, run with eight lanes.
+pub struct GlslFragmentShader {
+    program: Arc<CompiledProgram>,
+    bank: Vec<[f32; 8]>,
+    slots: Vec<Option<TextureBinding>>,
+    /// Each fragment varying's registers and first float.
+    inputs: Vec<(Vec<Reg>, usize)>,
+    height: f32,
+}
+
+thread_local! {
+    /// The work registers of the shader running on this thread: every register is written
+    /// before it is read within a call (see `compile`), so no state passes between calls.
+    static VERTEX_WORK: RefCell<Vec<[f32; 1]>> = const { RefCell::new(Vec::new()) };
+    static FRAGMENT_WORK: RefCell<Vec<[f32; 8]>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Unbound units read opaque black.
+const UNBOUND: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
+
+/// The nearest texel of a core texture's level `lod` (rounded, clamped) at GL `(s, t)`.
+fn core_texel(texture: &Texture, sampler: &Sampler, s: f32, t: f32, lod: f32) -> [f32; 4] {
+    let levels = texture.levels().len();
+    let level = if lod.is_finite() { (lod.round().max(0.0) as usize).min(levels - 1) } else { 0 };
+    let l = &texture.levels()[level];
+    let wrap = |x: f32, n: u32, wrap: Wrap| -> usize {
+        let i = (x * n as f32).floor();
+        let i = if i.is_finite() { i.clamp(-1e9, 1e9) as i64 } else { 0 };
+        let n = n as i64;
+        (match wrap {
+            Wrap::ClampToEdge => i.clamp(0, n - 1),
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::MirroredRepeat => {
+                let p = i.rem_euclid(2 * n);
+                if p < n { p } else { 2 * n - 1 - p }
+            }
+        }) as usize
+    };
+    let x = wrap(s, l.width, sampler.wrap_u);
+    let y = wrap(1.0 - t, l.height, sampler.wrap_v);
+    let texel = texture.level_texels(level)[y * l.width as usize + x];
+    texel.map(|c| c as f32 / 255.0)
+}
+
+fn lookup_lanes<const W: usize>(
+    binding: Option<&TextureBinding>,
+    coord: [[f32; W]; 2],
+    lod: Option<[f32; W]>,
+) -> [[f32; W]; 4] {
+    let mut out = [[0.0; W]; 4];
+    for lane in 0..W {
+        let (s, t) = (coord[0][lane], coord[1][lane]);
+        let l = lod.map(|l| l[lane]);
+        let texel = match binding {
+            None => UNBOUND,
+            Some(TextureBinding::Core(texture, sampler)) => core_texel(texture, sampler, s, t, l.unwrap_or(0.0)),
+            Some(TextureBinding::Custom(source)) => source.sample(s, t, l),
+        };
+        for c in 0..4 {
+            out[c][lane] = texel[c];
+        }
+    }
+    out
+}
+
+struct VertexEnv<'a> {
+    slots: &'a [Option<TextureBinding>],
+}
+
+impl Env<1> for VertexEnv<'_> {
+    fn sample(&mut self, slot: usize, coord: [[f32; 1]; 2], lod: LodValue<1>) -> [[f32; 1]; 4] {
+        let lod = match lod {
+            LodValue::Explicit(l) => Some(l),
+            _ => None,
+        };
+        lookup_lanes(self.slots[slot].as_ref(), coord, lod)
+    }
+}
+
+struct FragmentEnv<'a, 'f> {
+    slots: &'a [Option<TextureBinding>],
+    frag: &'a mut Fragments<'f>,
+}
+
+impl Env<8> for FragmentEnv<'_, '_> {
+    /// Fine derivatives within each 2×2 quad; tiler's y runs down, GL's up, so `dFdy` is the
+    /// top pixel minus the bottom one.
+    fn derivative(&mut self, v: [f32; 8], axis: Axis) -> [f32; 8] {
+        match axis {
+            Axis::X => F32x8(v).ddx().0,
+            Axis::Y => (F32x8::ZERO - F32x8(v).ddy()).0,
+        }
+    }
+
+    fn sample(&mut self, slot: usize, coord: [[f32; 8]; 2], lod: LodValue<8>) -> [[f32; 8]; 4] {
+        match (&self.slots[slot], lod) {
+            (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit | LodValue::Bias(_)) => {
+                let mut sampler = *sampler;
+                if let LodValue::Bias(b) = lod {
+                    // The core takes one bias per draw; the group's first lane's stands for
+                    // all (biases are uniform in practice).
+                    sampler.lod_bias += b[0];
+                }
+                let t = F32x8(coord[1].map(|t| 1.0 - t));
+                let texel = self.frag.sample(texture, &sampler, [F32x8(coord[0]), t]);
+                texel.map(|c| c.0)
+            }
+            (binding, LodValue::Explicit(l)) => lookup_lanes(binding.as_ref(), coord, Some(l)),
+            (binding, _) => lookup_lanes(binding.as_ref(), coord, None),
+        }
+    }
+}
+
+impl VertexShader for GlslVertexShader {
+    fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+        let code = &self.program.vertex;
+        VERTEX_WORK.with_borrow_mut(|regs| {
+            regs.resize(code.work_regs, [0.0]);
+            // `attributes` is in the order of `code.inputs`.
+            for (attr, var) in self.program.attributes.iter().zip(&code.inputs) {
+                for (k, &r) in var.regs.iter().enumerate() {
+                    let (column, row) = match var.ty {
+                        Type::Matrix(n) => (k / n, k % n),
+                        _ => (0, k),
+                    };
+                    let loc = attr.location as usize + column;
+                    regs[r as usize] = [input.attributes[loc][row]];
+                }
+            }
+            run(&code.code, regs, &self.bank, 1, &mut VertexEnv { slots: &self.slots });
+            let p = code.position.expect("vertex shaders have gl_Position").map(|r| regs[r as usize][0]);
+            // GL clip space → tiler's (Vulkan's): y down, depth [−w, w] → [0, w].
+            out.position = Vec4::new(p[0], -p[1], (p[2] + p[3]) * 0.5, p[3]);
+            for (vregs, first) in &self.outputs {
+                for (k, &r) in vregs.iter().enumerate() {
+                    out.varyings[first + k] = regs[r as usize][0];
+                }
+            }
+            if let Some(w) = self.program.w_varying {
+                out.varyings[w] = p[3];
+            }
+        });
+    }
+}
+
+impl FragmentShader for GlslFragmentShader {
+    fn properties(&self) -> ShaderProperties {
+        self.program.fragment_properties()
+    }
+
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        let code = &self.program.fragment;
+        FRAGMENT_WORK.with_borrow_mut(|regs| {
+            regs.resize(code.work_regs, [0.0; 8]);
+            for (vregs, first) in &self.inputs {
+                for (k, &r) in vregs.iter().enumerate() {
+                    regs[r as usize] = frag.smooth(first + k).0;
+                }
+            }
+            if let Some(fc) = code.frag_coord {
+                let (x, y) = frag.position();
+                regs[fc[0] as usize] = x.0;
+                regs[fc[1] as usize] = y.0.map(|y| self.height - y);
+                regs[fc[2] as usize] = frag.depth().0;
+                let w = self.program.w_varying.map_or(F32x8::ONE, |w| frag.smooth(w));
+                regs[fc[3] as usize] = w.0.map(|w| 1.0 / w);
+            }
+            if let Some(ff) = code.front_facing {
+                regs[ff as usize] = [if frag.front_facing() { 1.0 } else { 0.0 }; 8];
+            }
+            let discarded = run(&code.code, regs, &self.bank, 0xff, &mut FragmentEnv { slots: &self.slots, frag });
+            if discarded != 0 {
+                frag.discard(LaneMask(discarded as u8));
+            }
+            for (attachment, c) in &code.colors {
+                frag.set_color(*attachment, c.map(|r| F32x8(regs[r as usize])));
+            }
+        });
+    }
+}
+
+// Shaders are shared across tile threads.
+const _: () = {
+    const fn send_sync<T: Send + Sync>() {}
+    send_sync::<CompiledProgram>();
+    send_sync::<GlslFragmentShader>();
+};

@@ -1,0 +1,130 @@
+//! GLSL types as the compiler checks them, and how many component registers each takes.
+
+use std::fmt;
+use std::sync::Arc;
+
+/// A scalar kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Scalar {
+    Float,
+    Int,
+    Bool,
+}
+
+/// A sampler kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SamplerKind {
+    Sampler2D,
+    SamplerCube,
+}
+
+/// A GLSL type.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Type {
+    Void,
+    Scalar(Scalar),
+    /// `vecN`, `ivecN`, `bvecN` (N = 2, 3, 4).
+    Vector(Scalar, usize),
+    /// `matN` (N = 2, 3, 4), column-major.
+    Matrix(usize),
+    Sampler(SamplerKind),
+    Struct(Arc<StructType>),
+    Array(Box<Type>, usize),
+}
+
+/// A user-declared struct.
+#[derive(Debug, PartialEq)]
+pub struct StructType {
+    pub name: String,
+    pub fields: Vec<(String, Type)>,
+}
+
+pub const FLOAT: Type = Type::Scalar(Scalar::Float);
+pub const INT: Type = Type::Scalar(Scalar::Int);
+pub const BOOL: Type = Type::Scalar(Scalar::Bool);
+
+impl Type {
+    pub fn vec(n: usize) -> Type {
+        Type::vector(Scalar::Float, n)
+    }
+
+    /// A scalar (`n` = 1) or a vector of `n` components.
+    pub fn vector(s: Scalar, n: usize) -> Type {
+        if n == 1 { Type::Scalar(s) } else { Type::Vector(s, n) }
+    }
+
+    /// Component registers a value of this type takes (samplers: one slot number).
+    pub fn size(&self) -> usize {
+        match self {
+            Type::Void => 0,
+            Type::Scalar(_) | Type::Sampler(_) => 1,
+            Type::Vector(_, n) => *n,
+            Type::Matrix(n) => n * n,
+            Type::Struct(s) => s.fields.iter().map(|(_, t)| t.size()).sum(),
+            Type::Array(t, n) => t.size() * n,
+        }
+    }
+
+    /// The scalar kind of a scalar, vector or matrix.
+    pub fn scalar(&self) -> Option<Scalar> {
+        match self {
+            Type::Scalar(s) | Type::Vector(s, _) => Some(*s),
+            Type::Matrix(_) => Some(Scalar::Float),
+            _ => None,
+        }
+    }
+
+    /// Components of a scalar or vector (1 for scalars).
+    pub fn width(&self) -> Option<usize> {
+        match self {
+            Type::Scalar(_) => Some(1),
+            Type::Vector(_, n) => Some(*n),
+            _ => None,
+        }
+    }
+
+    pub fn is_numeric_scalar_or_vector(&self) -> bool {
+        matches!(self, Type::Scalar(Scalar::Float | Scalar::Int) | Type::Vector(Scalar::Float | Scalar::Int, _))
+    }
+
+    pub fn is_float_based(&self) -> bool {
+        match self {
+            Type::Scalar(Scalar::Float) | Type::Vector(Scalar::Float, _) | Type::Matrix(_) => true,
+            Type::Array(t, _) => t.is_float_based(),
+            _ => false,
+        }
+    }
+
+    pub fn contains_sampler(&self) -> bool {
+        match self {
+            Type::Sampler(_) => true,
+            Type::Array(t, _) => t.contains_sampler(),
+            Type::Struct(s) => s.fields.iter().any(|(_, t)| t.contains_sampler()),
+            _ => false,
+        }
+    }
+
+    /// The same shape with another scalar kind (a scalar or vector).
+    pub fn with_scalar(&self, s: Scalar) -> Type {
+        Type::vector(s, self.width().unwrap_or(1))
+    }
+}
+
+impl fmt::Display for Type {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Type::Void => write!(f, "void"),
+            Type::Scalar(Scalar::Float) => write!(f, "float"),
+            Type::Scalar(Scalar::Int) => write!(f, "int"),
+            Type::Scalar(Scalar::Bool) => write!(f, "bool"),
+            Type::Vector(Scalar::Float, n) => write!(f, "vec{n}"),
+            Type::Vector(Scalar::Int, n) => write!(f, "ivec{n}"),
+            Type::Vector(Scalar::Bool, n) => write!(f, "bvec{n}"),
+            Type::Matrix(n) => write!(f, "mat{n}"),
+            Type::Sampler(SamplerKind::Sampler2D) => write!(f, "sampler2D"),
+            Type::Sampler(SamplerKind::SamplerCube) => write!(f, "samplerCube"),
+            Type::Struct(s) => write!(f, "{}", s.name),
+            Type::Array(t, n) => write!(f, "{t}[{n}]"),
+        }
+    }
+}

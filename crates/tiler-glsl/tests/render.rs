@@ -1,0 +1,611 @@
+//! GLSL programs rendered through `tiler::Device`, compared bit for bit with Rust shaders doing
+//! the same arithmetic; vertex-stage math checked against Rust f32 directly; compile errors;
+//! introspection.
+
+// The native shaders loop over lanes by index, as the per-lane arithmetic reads best.
+#![allow(clippy::needless_range_loop)]
+
+use std::sync::Arc;
+
+use glam::Vec4;
+use tiler::{
+    ColorAttachment, ColorSpace, Device, DeviceConfig, Draw, F32x8, Format, FragmentShader, Fragments, ImageDesc,
+    Interpolation, LaneMask, MipChain, PassReport, Pipeline, PipelineDesc, RenderPass, RenderPassDesc, Sampler,
+    ShaderProperties, Texture, VertexFormat, VertexInput, VertexInputState, VertexOutput, VertexShader,
+};
+use tiler_glsl::{CompiledProgram, Error, Stage, TextureBinding, Type, UniformValues};
+
+const WIDTH: u32 = 40;
+const HEIGHT: u32 = 24;
+
+fn desc() -> PipelineDesc {
+    PipelineDesc::new("test", VertexInputState::interleaved(&[VertexFormat::Float32x4]))
+}
+
+/// Draws a full-screen triangle (GL clip space, attribute 0) with `pipeline`.
+fn render(pipeline: &Pipeline) -> (Vec<u8>, PassReport) {
+    let mut device = Device::new(DeviceConfig::default()).unwrap();
+    let color = device.create_image(ImageDesc::new(WIDTH, HEIGHT, Format::Rgba8Unorm)).unwrap();
+    let vertices: [[f32; 4]; 3] = [[-1.0, -1.0, 0.25, 1.0], [3.0, -1.0, 0.25, 1.0], [-1.0, 3.0, 0.25, 1.0]];
+    let buffer = device.create_buffer_from(&vertices).unwrap();
+    let mut pass = RenderPass::new(RenderPassDesc {
+        color: vec![ColorAttachment::clear_store(color, [0.1, 0.2, 0.3, 1.0])],
+        depth_stencil: None,
+        render_area: None,
+    });
+    pass.draw(Draw::new(pipeline, buffer, 0, 3));
+    let report = device.submit(&pass).unwrap();
+    (device.read_rgba8(color).unwrap(), report)
+}
+
+/// The GL → tiler clip conversion the GLSL vertex shader applies.
+fn gl_to_tiler(p: Vec4) -> Vec4 {
+    Vec4::new(p.x, -p.y, (p.z + p.w) * 0.5, p.w)
+}
+
+const PASS_VS: &str = "
+attribute vec4 position;
+varying vec2 uv;
+void main() {
+    gl_Position = position;
+    uv = position.xy * 0.5 + 0.5;
+}";
+
+/// The native twin of `PASS_VS`.
+struct PassVs;
+impl VertexShader for PassVs {
+    fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+        let p = input.attributes[0];
+        out.position = gl_to_tiler(p);
+        out.varyings[0] = p.x * 0.5 + 0.5;
+        out.varyings[1] = p.y * 0.5 + 0.5;
+    }
+}
+
+fn native_desc() -> PipelineDesc {
+    PipelineDesc { varyings: vec![Interpolation::Perspective; 2], ..desc() }
+}
+
+fn glsl(vs: &str, fs: &str) -> Arc<CompiledProgram> {
+    Arc::new(CompiledProgram::new(vs, fs, &[]).unwrap_or_else(|e| panic!("{e}")))
+}
+
+fn glsl_pipeline(
+    program: &Arc<CompiledProgram>,
+    uniforms: &UniformValues,
+    textures: &[Option<TextureBinding>],
+) -> Pipeline {
+    tiler_glsl::pipeline(program, uniforms, textures, HEIGHT, desc()).unwrap()
+}
+
+fn distinct_pixels(image: &[u8]) -> usize {
+    let mut pixels: Vec<&[u8]> = image.chunks(4).collect();
+    pixels.sort();
+    pixels.dedup();
+    pixels.len()
+}
+
+fn assert_same(glsl: &[u8], native: &[u8], min_distinct: usize) {
+    assert_eq!(glsl.len(), native.len());
+    let differing = glsl.chunks(4).zip(native.chunks(4)).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "{differing} pixels differ");
+    let distinct = distinct_pixels(native);
+    assert!(distinct >= min_distinct, "only {distinct} distinct colours: the test would not see a difference");
+}
+
+#[test]
+fn varying_gradient_matches_native() {
+    const FS: &str = "
+precision mediump float;
+varying vec2 uv;
+void main() {
+    gl_FragColor = vec4(uv, fract(uv.x * 37.0), 1.0);
+}";
+    struct Native;
+    impl FragmentShader for Native {
+        fn shade(&self, frag: &mut Fragments<'_>) {
+            let [u, v] = frag.smooth_n::<2>(0);
+            let f = F32x8(u.0.map(|x| {
+                let y = x * 37.0;
+                y - y.floor()
+            }));
+            frag.set_color(0, [u, v, f, F32x8::ONE]);
+        }
+    }
+    let program = glsl(PASS_VS, FS);
+    let (a, _) = render(&glsl_pipeline(&program, &program.new_uniform_values(), &[]));
+    let (b, _) = render(&Pipeline::new(PassVs, Native, native_desc()).unwrap());
+    assert_same(&a, &b, 200);
+}
+
+#[test]
+fn frag_coord_is_gl_window_coordinates() {
+    // Red: x / width; green: GL's y (up) / height; the bottom-left pixel is (0.5, 0.5).
+    const FS: &str = "
+void main() {
+    gl_FragColor = vec4(gl_FragCoord.x / 40.0, gl_FragCoord.y / 24.0, gl_FragCoord.z, gl_FragCoord.w);
+}";
+    let program = glsl(PASS_VS, FS);
+    let (a, _) = render(&glsl_pipeline(&program, &program.new_uniform_values(), &[]));
+    let pixel = |x: u32, y: u32| &a[((y * WIDTH + x) * 4) as usize..][..4];
+    let unorm = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+    // Top-left pixel (tiler row 0) is GL's top row: y = 24 − 0.5.
+    assert_eq!(pixel(0, 0)[0], unorm(0.5 / 40.0));
+    assert_eq!(pixel(0, 0)[1], unorm(23.5 / 24.0));
+    assert_eq!(pixel(0, HEIGHT - 1)[1], unorm(0.5 / 24.0));
+    assert_eq!(pixel(WIDTH - 1, 0)[0], unorm(39.5 / 40.0));
+    // z = 0.25 → window depth (0.25 + 1) / 2; w = 1.
+    assert_eq!(pixel(3, 3)[2], unorm(0.625));
+    assert_eq!(pixel(3, 3)[3], 255);
+}
+
+fn checker_texture() -> Arc<Texture> {
+    let (w, h) = (16u32, 8u32);
+    let mut rgba = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            rgba.extend_from_slice(&[(x * 16) as u8, (y * 32) as u8, if (x + y) % 2 == 0 { 255 } else { 0 }, 255]);
+        }
+    }
+    Arc::new(Texture::from_rgba8(w, h, &rgba, ColorSpace::Linear, MipChain::BaseOnly).unwrap())
+}
+
+#[test]
+fn texture_sample_matches_native_with_the_same_traffic() {
+    const FS: &str = "
+precision mediump float;
+uniform sampler2D tex;
+uniform vec4 tint;
+varying vec2 uv;
+void main() {
+    gl_FragColor = texture2D(tex, uv * 1.5) * tint;
+}";
+    let texture = checker_texture();
+    let sampler = Sampler::BILINEAR_CLAMP;
+    let tint = [0.9f32, 0.8, 1.0, 1.0];
+    struct Native {
+        texture: Arc<Texture>,
+        sampler: Sampler,
+        tint: [f32; 4],
+    }
+    impl FragmentShader for Native {
+        fn shade(&self, frag: &mut Fragments<'_>) {
+            let [u, v] = frag.smooth_n::<2>(0);
+            let (s, t) = (u * 1.5, v * 1.5);
+            let texel = frag.sample(&self.texture, &self.sampler, [s, F32x8::ONE - t]);
+            frag.set_color(0, std::array::from_fn(|c| texel[c] * self.tint[c]));
+        }
+    }
+    let program = glsl(PASS_VS, FS);
+    let mut uniforms = program.new_uniform_values();
+    program.set_uniform(&mut uniforms, program.uniform_location("tint").unwrap(), &tint).unwrap();
+    program.set_uniform(&mut uniforms, program.uniform_location("tex").unwrap(), &[2.0]).unwrap();
+    let textures = [None, None, Some(TextureBinding::Core(texture.clone(), sampler))];
+    let (a, ra) = render(&glsl_pipeline(&program, &uniforms, &textures));
+    let native = Native { texture, sampler, tint };
+    let (b, rb) = render(&Pipeline::new(PassVs, native, native_desc()).unwrap());
+    assert_same(&a, &b, 20);
+    assert_eq!(ra.ledger, rb.ledger, "texture traffic differs");
+
+    // Unit 0 is unbound: opaque black, times the tint.
+    program.set_uniform(&mut uniforms, program.uniform_location("tex").unwrap(), &[0.0]).unwrap();
+    let (c, _) = render(&glsl_pipeline(&program, &uniforms, &textures));
+    assert_eq!(&c[..4], &[0, 0, 0, 255]);
+}
+
+#[test]
+fn discard_on_a_checker_matches_native() {
+    const FS: &str = "
+void main() {
+    vec2 cell = floor(gl_FragCoord.xy / 4.0);
+    if (mod(cell.x + cell.y, 2.0) < 0.5) {
+        discard;
+    }
+    gl_FragColor = vec4(1.0, 0.5, 0.0, 1.0);
+}";
+    struct Native;
+    impl FragmentShader for Native {
+        fn properties(&self) -> ShaderProperties {
+            ShaderProperties { discards: true, ..ShaderProperties::default() }
+        }
+        fn shade(&self, frag: &mut Fragments<'_>) {
+            let (x, y) = frag.position();
+            let mut bits = 0u8;
+            for lane in 0..8 {
+                let gy = HEIGHT as f32 - y.lane(lane);
+                let (cx, cy) = ((x.lane(lane) / 4.0).floor(), (gy / 4.0).floor());
+                let s = cx + cy;
+                let m = s - 2.0 * (s / 2.0).floor();
+                if m < 0.5 {
+                    bits |= 1 << lane;
+                }
+            }
+            frag.discard(LaneMask(bits));
+            frag.set_color(0, [F32x8::ONE, F32x8::splat(0.5), F32x8::ZERO, F32x8::ONE]);
+        }
+    }
+    let program = glsl(PASS_VS, FS);
+    assert!(program.fragment_properties().discards);
+    let (a, _) = render(&glsl_pipeline(&program, &program.new_uniform_values(), &[]));
+    let (b, _) = render(&Pipeline::new(PassVs, Native, native_desc()).unwrap());
+    assert_same(&a, &b, 2);
+    // Half the pixels keep the clear colour.
+    let cleared = a.chunks(4).filter(|p| p[0] != 255).count();
+    assert_eq!(cleared, (WIDTH * HEIGHT / 2) as usize);
+}
+
+#[test]
+fn loop_with_divergent_break_and_continue_matches_native() {
+    const FS: &str = "
+varying vec2 uv;
+void main() {
+    float sum = 0.0;
+    int steps = 0;
+    for (int i = 0; i < 64; i++) {
+        if (float(i) > uv.x * 40.0) break;
+        steps++;
+        if (mod(float(i), 3.0) == 0.0) continue;
+        sum += uv.y * 0.01;
+    }
+    gl_FragColor = vec4(float(steps) / 64.0, sum, fract(sum * 100.0), 1.0);
+}";
+    struct Native;
+    impl FragmentShader for Native {
+        fn shade(&self, frag: &mut Fragments<'_>) {
+            let [u, v] = frag.smooth_n::<2>(0);
+            let mut out = [[0.0f32; 8]; 3];
+            for lane in 0..8 {
+                let (mut sum, mut steps) = (0.0f32, 0i32);
+                for i in 0..64 {
+                    if i as f32 > u.lane(lane) * 40.0 {
+                        break;
+                    }
+                    steps += 1;
+                    let f = i as f32;
+                    if f - 3.0 * (f / 3.0).floor() == 0.0 {
+                        continue;
+                    }
+                    sum += v.lane(lane) * 0.01;
+                }
+                let y = sum * 100.0;
+                out[0][lane] = steps as f32 / 64.0;
+                out[1][lane] = sum;
+                out[2][lane] = y - y.floor();
+            }
+            frag.set_color(0, [F32x8(out[0]), F32x8(out[1]), F32x8(out[2]), F32x8::ONE]);
+        }
+    }
+    let program = glsl(PASS_VS, FS);
+    let (a, _) = render(&glsl_pipeline(&program, &program.new_uniform_values(), &[]));
+    let (b, _) = render(&Pipeline::new(PassVs, Native, native_desc()).unwrap());
+    assert_same(&a, &b, 30);
+}
+
+#[test]
+fn functions_structs_and_matrices_match_native() {
+    const FS: &str = "
+precision highp float;
+struct Light { vec3 dir; vec3 color; };
+uniform Light light;
+uniform mat3 rot;
+varying vec2 uv;
+
+float lambert(vec3 n, Light l, out float facing) {
+    float d = dot(n, normalize(l.dir));
+    facing = d > 0.0 ? 1.0 : 0.0;
+    if (d < 0.0) return 0.0;
+    return d;
+}
+
+void main() {
+    vec3 n = rot * vec3(uv * 2.0 - 1.0, 1.0);
+    n = normalize(n);
+    float facing;
+    float k = lambert(n, light, facing);
+    gl_FragColor = vec4(light.color * k, facing);
+}";
+    let dir = [0.3f32, -0.5, 0.8];
+    let color = [1.0f32, 0.7, 0.4];
+    // Column-major rotation-ish matrix.
+    let rot = [0.9f32, 0.1, -0.2, -0.1, 0.95, 0.05, 0.2, 0.0, 0.97];
+    struct Native {
+        dir: [f32; 3],
+        color: [f32; 3],
+        rot: [f32; 9],
+    }
+    fn norm(v: [f32; 3]) -> [f32; 3] {
+        let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|c| c / len)
+    }
+    impl FragmentShader for Native {
+        fn shade(&self, frag: &mut Fragments<'_>) {
+            let [u, v] = frag.smooth_n::<2>(0);
+            let mut out = [[0.0f32; 8]; 4];
+            for lane in 0..8 {
+                let p = [u.lane(lane) * 2.0 - 1.0, v.lane(lane) * 2.0 - 1.0, 1.0];
+                let m = &self.rot;
+                let n: [f32; 3] = std::array::from_fn(|r| m[r] * p[0] + m[3 + r] * p[1] + m[6 + r] * p[2]);
+                let n = norm(n);
+                let l = norm(self.dir);
+                let d = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
+                let facing = if d > 0.0 { 1.0 } else { 0.0 };
+                let k = if d < 0.0 { 0.0 } else { d };
+                for c in 0..3 {
+                    out[c][lane] = self.color[c] * k;
+                }
+                out[3][lane] = facing;
+            }
+            frag.set_color(0, out.map(F32x8));
+        }
+    }
+    let program = glsl(PASS_VS, FS);
+    let mut uniforms = program.new_uniform_values();
+    program.set_uniform(&mut uniforms, program.uniform_location("light.dir").unwrap(), &dir).unwrap();
+    program.set_uniform(&mut uniforms, program.uniform_location("light.color").unwrap(), &color).unwrap();
+    program.set_uniform(&mut uniforms, program.uniform_location("rot").unwrap(), &rot).unwrap();
+    let (a, _) = render(&glsl_pipeline(&program, &uniforms, &[]));
+    let (b, _) = render(&Pipeline::new(PassVs, Native { dir, color, rot }, native_desc()).unwrap());
+    assert_same(&a, &b, 50);
+}
+
+/// Runs a vertex shader on one vertex and returns its varyings.
+fn run_vertex(
+    vs: &str,
+    fs: &str,
+    attribute: [f32; 4],
+    set: impl FnOnce(&CompiledProgram, &mut UniformValues),
+) -> Vec<f32> {
+    let program = glsl(vs, fs);
+    let mut uniforms = program.new_uniform_values();
+    set(&program, &mut uniforms);
+    let (shader, _) = tiler_glsl::shaders(&program, &uniforms, &[], HEIGHT);
+    let mut input = VertexInput { attributes: [Vec4::ZERO; tiler::MAX_VERTEX_ATTRIBUTES], vertex_index: 0 };
+    input.attributes[0] = Vec4::from_array(attribute);
+    let mut out = VertexOutput::default();
+    shader.shade(&input, &mut out);
+    out.varyings[..program.varying_floats()].to_vec()
+}
+
+#[test]
+fn vertex_built_ins_match_rust_bit_for_bit() {
+    const VS: &str = "
+attribute vec4 a;
+uniform mat4 m;
+uniform float values[3];
+varying vec4 r0;
+varying vec4 r1;
+varying vec4 r2;
+varying vec4 r3;
+void main() {
+    vec4 p = m * a;
+    vec3 c = cross(a.xyz, vec3(0.2, 0.7, -0.4));
+    vec3 refl = reflect(normalize(a.xyz), vec3(0.0, 1.0, 0.0));
+    int idx = int(a.w);
+    r0 = p;
+    r1 = vec4(c, length(a.xyz));
+    r2 = vec4(refl, smoothstep(0.0, 2.0, a.x));
+    r3 = vec4(mix(a.x, a.y, 0.3), clamp(a.z, -0.5, 0.5), pow(abs(a.y), 1.5), values[idx]);
+    gl_Position = p;
+}";
+    const FS: &str = "
+varying vec4 r0; varying vec4 r1; varying vec4 r2; varying vec4 r3;
+void main() { gl_FragColor = r0 + r1 + r2 + r3; }";
+    let a = [0.7f32, -1.3, 0.45, 2.0];
+    let m: [f32; 16] = std::array::from_fn(|i| (i as f32 * 0.37).sin());
+    let values = [3.5f32, -2.25, 9.0];
+    let got = run_vertex(VS, FS, a, |p, u| {
+        p.set_uniform(u, p.uniform_location("m").unwrap(), &m).unwrap();
+        p.set_uniform(u, p.uniform_location("values").unwrap(), &values).unwrap();
+    });
+    let mut want = Vec::new();
+    for r in 0..4 {
+        want.push(((m[r] * a[0] + m[4 + r] * a[1]) + m[8 + r] * a[2]) + m[12 + r] * a[3]);
+    }
+    let b = [0.2f32, 0.7, -0.4];
+    want.extend([a[1] * b[2] - b[1] * a[2], a[2] * b[0] - b[2] * a[0], a[0] * b[1] - b[0] * a[1]]);
+    let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    want.push(len);
+    let n = [a[0] / len, a[1] / len, a[2] / len];
+    let d = 0.0 * n[0] + 1.0 * n[1] + 0.0 * n[2];
+    let d2 = 2.0 * d;
+    want.extend([n[0] - d2 * 0.0, n[1] - d2 * 1.0, n[2] - d2 * 0.0]);
+    let t = ((a[0] - 0.0) / (2.0 - 0.0)).clamp(0.0, 1.0);
+    want.push(t * t * (3.0 - 2.0 * t));
+    want.push(a[0] * (1.0 - 0.3) + a[1] * 0.3);
+    want.push(a[2].clamp(-0.5, 0.5));
+    want.push(a[1].abs().powf(1.5));
+    want.push(values[2]);
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&got), bits(&want), "got {got:?}\nwant {want:?}");
+}
+
+#[test]
+fn dynamic_indices_and_inout_parameters() {
+    const VS: &str = "
+attribute vec4 a;
+varying vec4 r;
+void bump(inout float x, float by) { x += by; }
+void main() {
+    float arr[4];
+    for (int i = 0; i < 4; i++) { arr[i] = float(i * i); }
+    int k = int(a.x);
+    arr[k] = -1.0;
+    vec4 v = vec4(10.0, 20.0, 30.0, 40.0);
+    v[k] = 7.0;
+    float s = arr[0] + arr[1] + arr[2] + arr[3];
+    bump(s, 0.5);
+    int j = 0;
+    do { j += 2; } while (j < 5);
+    r = vec4(s, v[1] + v[2], float(j), a.y > 0.0 && !(a.z > 0.0) ? 1.0 : 2.0);
+    gl_Position = a;
+}";
+    const FS: &str = "varying vec4 r; void main() { gl_FragColor = r; }";
+    let got = run_vertex(VS, FS, [2.0, 1.0, -1.0, 1.0], |_, _| {});
+    // arr = 0, 1, -1, 9 → 9 + 0.5; v = 10, 20, 7, 40; j = 6.
+    assert_eq!(got, vec![9.5, 27.0, 6.0, 1.0]);
+    let got = run_vertex(VS, FS, [1.0, 1.0, 1.0, 1.0], |_, _| {});
+    assert_eq!(got, vec![0.0 + -1.0 + 4.0 + 9.0 + 0.5, 7.0 + 30.0, 6.0, 2.0]);
+}
+
+#[test]
+fn compile_errors_name_the_shader_and_line() {
+    let fs_ok = "void main() { gl_FragColor = vec4(1.0); }";
+    let vs_bad = "attribute vec4 p;\nvoid main() {\n  gl_Position = p;\n  float x = undeclared * 2.0;\n}";
+    match CompiledProgram::new(vs_bad, fs_ok, &[]) {
+        Err(Error::Compile { stage: Stage::Vertex, line: 4, message }) => assert!(message.contains("undeclared")),
+        other => panic!("{other:?}"),
+    }
+    let vs_ok = "attribute vec4 p; void main() { gl_Position = p; }";
+    let fs_bad = "precision mediump float;\n\nvoid main() {\n  vec3 c = vec2(1.0);\n  gl_FragColor = vec4(c, 1.0);\n}";
+    let e = CompiledProgram::new(vs_ok, fs_bad, &[]).unwrap_err();
+    assert!(matches!(e, Error::Compile { stage: Stage::Fragment, line: 4, .. }), "{e}");
+    assert!(e.to_string().starts_with("fragment shader, line 4:"), "{e}");
+    // A syntax error, with a #version line before it.
+    let fs_syntax = "#version 100\nvoid main() {\n  gl_FragColor = vec4(1.0) +;\n}";
+    let e = CompiledProgram::new(vs_ok, fs_syntax, &[]).unwrap_err();
+    assert!(matches!(e, Error::Compile { stage: Stage::Fragment, line: 3, .. }), "{e}");
+    // Cube textures are refused clearly.
+    let fs_cube = "uniform samplerCube env;\nvoid main() {\n  gl_FragColor = textureCube(env, vec3(1.0));\n}";
+    let e = CompiledProgram::new(vs_ok, fs_cube, &[]).unwrap_err();
+    assert!(
+        matches!(e, Error::Compile { stage: Stage::Fragment, line: 3, .. }) && e.to_string().contains("cube"),
+        "{e}"
+    );
+    // GL_ES is predefined.
+    let fs_es = "#ifdef GL_ES\nprecision mediump float;\n#else\n#error not ES\n#endif\nvoid main() { gl_FragColor = vec4(1.0); }";
+    CompiledProgram::new(vs_ok, fs_es, &[]).unwrap();
+    // Recursion cannot inline forever.
+    let fs_rec = "float f(float x) { return f(x); }\nvoid main() { gl_FragColor = vec4(f(1.0)); }";
+    let e = CompiledProgram::new(vs_ok, fs_rec, &[]).unwrap_err();
+    assert!(e.to_string().contains("recursion"), "{e}");
+}
+
+#[test]
+fn introspection_and_linking() {
+    const VS: &str = "
+attribute vec3 normal;
+attribute vec4 position;
+attribute mat2 twist;
+uniform mat4 mvp;
+uniform vec3 offsets[4];
+struct S { float a; vec2 b[2]; };
+uniform S s;
+varying vec3 n;
+varying float unused_by_fs;
+void main() { gl_Position = mvp * position; n = normal + offsets[1] + vec3(twist[0], s.a); unused_by_fs = 1.0; }";
+    const FS: &str = "
+precision mediump float;
+uniform sampler2D tex;
+uniform vec3 offsets[4];
+varying vec3 n;
+void main() { gl_FragColor = texture2D(tex, n.xy) + vec4(offsets[2], 1.0); }";
+    let program = CompiledProgram::new(VS, FS, &[("position", 0)]).unwrap();
+    let attributes: Vec<(&str, u32)> = program.attributes().iter().map(|a| (a.name.as_str(), a.location)).collect();
+    // position is bound to 0; the others take the lowest free locations (mat2 takes two).
+    assert_eq!(attributes, vec![("normal", 1), ("position", 0), ("twist", 2)]);
+    assert_eq!(program.attribute_location("twist"), Some(2));
+    let uniforms: Vec<(String, String, usize, u32)> =
+        program.uniforms().iter().map(|u| (u.name.clone(), u.ty.to_string(), u.array_size, u.location)).collect();
+    assert_eq!(
+        uniforms,
+        vec![
+            ("mvp".into(), "mat4".into(), 1, 0),
+            ("offsets".into(), "vec3".into(), 4, 1),
+            ("s.a".into(), "float".into(), 1, 5),
+            ("s.b".into(), "vec2".into(), 2, 6),
+            ("tex".into(), "sampler2D".into(), 1, 8),
+        ]
+    );
+    assert_eq!(program.uniform_location("offsets[3]"), Some(4));
+    assert_eq!(program.uniform_location("offsets[4]"), None);
+    assert_eq!(program.uniform_location("s.b[1]"), Some(7));
+    assert_eq!(program.uniforms()[4].ty, Type::Sampler(tiler_glsl::SamplerKind::Sampler2D));
+    // Only what the fragment shader reads is packed.
+    assert_eq!(program.varyings().len(), 1);
+    assert_eq!(program.varying_floats(), 3);
+    assert!(!program.fragment_properties().discards);
+    let mut values = program.new_uniform_values();
+    let e = program.set_uniform(&mut values, 1, &[0.0; 15]).unwrap_err();
+    assert!(e.to_string().contains("offsets"), "{e}");
+    program.set_uniform(&mut values, 8, &[3.0]).unwrap();
+    assert_eq!(program.sampler_units(&values), vec![("tex".to_string(), 3)]);
+
+    // Link errors.
+    let fs_missing = "varying vec2 nope; void main() { gl_FragColor = vec4(nope, 0.0, 1.0); }";
+    let e = CompiledProgram::new(VS, fs_missing, &[]).unwrap_err();
+    assert!(matches!(&e, Error::Link(m) if m.contains("nope")), "{e}");
+    let fs_type = "varying vec2 n; void main() { gl_FragColor = vec4(n, 0.0, 1.0); }";
+    assert!(matches!(CompiledProgram::new(VS, fs_type, &[]), Err(Error::Link(_))));
+}
+
+#[test]
+fn fragment_data_and_determinism() {
+    // gl_FragData[0] and a loop whose trip count varies per lane: two renders are identical.
+    const FS: &str = "
+varying vec2 uv;
+void main() {
+    vec4 acc = vec4(0.0);
+    float t = uv.x;
+    while (t < 1.0) { acc += vec4(t, t * t, 0.1, 0.0); t += 0.125 + uv.y * 0.1; }
+    gl_FragData[0] = vec4(fract(acc.xyz), 1.0);
+}";
+    let program = glsl(PASS_VS, FS);
+    let pipeline = glsl_pipeline(&program, &program.new_uniform_values(), &[]);
+    let (a, _) = render(&pipeline);
+    let (b, _) = render(&pipeline);
+    assert_eq!(a, b);
+    assert!(distinct_pixels(&a) > 20);
+}
+
+#[test]
+fn attributes_are_read_from_their_locations() {
+    const VS: &str = "
+attribute vec2 second;
+attribute vec4 first;
+attribute mat2 m;
+varying vec4 r;
+varying vec2 c;
+void main() { gl_Position = first; r = vec4(second, first.zw); c = m * vec2(1.0, 10.0); }";
+    const FS: &str = "varying vec4 r; varying vec2 c; void main() { gl_FragColor = r + c.xyxy; }";
+    let program = Arc::new(CompiledProgram::new(VS, FS, &[("first", 0), ("second", 5)]).unwrap());
+    assert_eq!(program.attribute_location("m"), Some(1));
+    let (shader, _) = tiler_glsl::shaders(&program, &program.new_uniform_values(), &[], HEIGHT);
+    let mut input = VertexInput { attributes: [Vec4::ZERO; tiler::MAX_VERTEX_ATTRIBUTES], vertex_index: 0 };
+    input.attributes[0] = Vec4::new(1.0, 2.0, 3.0, 4.0);
+    input.attributes[1] = Vec4::new(0.5, 0.25, 0.0, 0.0); // column 0 of m
+    input.attributes[2] = Vec4::new(2.0, 3.0, 0.0, 0.0); // column 1 of m
+    input.attributes[5] = Vec4::new(7.0, 8.0, 0.0, 1.0);
+    let mut out = VertexOutput::default();
+    shader.shade(&input, &mut out);
+    assert_eq!(&out.varyings[..6], &[7.0, 8.0, 3.0, 4.0, 0.5 + 20.0, 0.25 + 30.0]);
+    // GL clip (1, 2, 3, 4) → tiler (x, −y, (z + w)/2, w).
+    assert_eq!(out.position, Vec4::new(1.0, -2.0, 3.5, 4.0));
+}
+
+#[test]
+fn derivatives_match_native_with_gl_y_up() {
+    const FS: &str = "
+#extension GL_OES_standard_derivatives : enable
+precision mediump float;
+varying vec2 uv;
+void main() {
+    gl_FragColor = vec4(dFdx(uv.x) * 20.0, dFdy(uv.y) * 12.0, fwidth(uv.x * uv.y) * 10.0, 1.0);
+}";
+    struct Native;
+    impl FragmentShader for Native {
+        fn shade(&self, frag: &mut Fragments<'_>) {
+            let [u, v] = frag.smooth_n::<2>(0);
+            let w = u * v;
+            let fw = w.ddx().abs() + (F32x8::ZERO - w.ddy()).abs();
+            let r = u.ddx() * F32x8::splat(20.0);
+            let g = (F32x8::ZERO - v.ddy()) * F32x8::splat(12.0);
+            frag.set_color(0, [r, g, fw * F32x8::splat(10.0), F32x8::ONE]);
+        }
+    }
+    let program = glsl(PASS_VS, FS);
+    let (a, _) = render(&glsl_pipeline(&program, &program.new_uniform_values(), &[]));
+    let (b, _) = render(&Pipeline::new(PassVs, Native, native_desc()).unwrap());
+    assert_same(&a, &b, 10);
+    // uv grows right and up (GL), half a unit per 20 and 12 pixels.
+    assert!((127..=128).contains(&a[0]) && (127..=128).contains(&a[1]), "{:?}", &a[..4]);
+}
