@@ -62,7 +62,10 @@ fn is_capture(path: &Path) -> Result<bool> {
     Ok(capture::is_capture(&magic[..n]))
 }
 
-fn analyze_capture(args: &AnalyzeArgs) -> Result<(Report, (u32, u32, Vec<u8>))> {
+/// The window's last picture: width, height, RGBA8 rows top first.
+type Picture = (u32, u32, Vec<u8>);
+
+fn analyze_capture(args: &AnalyzeArgs) -> Result<(Report, Picture)> {
     if let Some(dir) = &args.frames {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }

@@ -165,7 +165,7 @@ pub fn replay_reader<R: Read>(
     options: &ReplayOptions,
     on_frame: &mut dyn FnMut(&PresentedFrame) -> Result<(), String>,
 ) -> Result<Replay, CaptureError> {
-    let reader = TraceReader::new(reader, options.limits.clone())?;
+    let reader = TraceReader::new(reader, options.limits)?;
     let mut decoder = Decoder::new();
     let mut translator = Translator::new(options.config.clone(), options.window);
     let mut calls = 0;

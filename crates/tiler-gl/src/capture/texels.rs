@@ -76,7 +76,7 @@ impl Upload {
                 data.len()
             ));
         }
-        let out_bytes = self.format.format().bytes_per_sample() as usize;
+        let out_bytes = self.format.format().bytes_per_sample();
         let mut out = Vec::with_capacity(width as usize * height as usize * out_bytes);
         for y in 0..height as usize {
             let src = &data[y * stride..y * stride + row];

@@ -1487,7 +1487,7 @@ mod glsl {
     /// One value per array element.
     pub(super) fn uniform_values(value: &GlUniform) -> Fallible<Vec<UniformValue>> {
         let unsupported = || format!("uniform {value:?} is not of a type the context takes");
-        let per = |n: usize, len: usize| if n == 0 || len % n != 0 { Err(unsupported()) } else { Ok(n) };
+        let per = |n: usize, len: usize| if n == 0 || !len.is_multiple_of(n) { Err(unsupported()) } else { Ok(n) };
         Ok(match value {
             GlUniform::Float { components, values } => values
                 .chunks_exact(per(usize::from(*components), values.len())?)
