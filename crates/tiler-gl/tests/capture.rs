@@ -326,3 +326,106 @@ fn glmark2_captures_replay_and_match_llvmpipe() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A program drawing a full-window triangle in the colour of `colors[2]`, set by one
+/// `glUniform4fv` of three elements at the location recorded for `colors`; then
+/// `extra` (calls after the draw) and a swap.
+fn uniform_array_capture(extra: impl FnOnce(&mut Writer)) -> (Writer, u64) {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    let triangle: Vec<u8> = [-1.0f32, -1.0, 3.0, -1.0, -1.0, 3.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+    w.call("glGenBuffers", &[("n", W::UInt(1)), ("buffers", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindBuffer", &[("target", e("GL_ARRAY_BUFFER", 0x8892)), ("buffer", W::UInt(1))], None, false);
+    w.call(
+        "glBufferData",
+        &[
+            ("target", e("GL_ARRAY_BUFFER", 0x8892)),
+            ("size", W::UInt(24)),
+            ("data", W::Blob(triangle)),
+            ("usage", e("GL_STATIC_DRAW", 0x88e4)),
+        ],
+        None,
+        false,
+    );
+    w.call("glCreateProgram", &[], Some(W::UInt(7)), false);
+    let shaders = [
+        (
+            0x8b31,
+            "GL_VERTEX_SHADER",
+            2,
+            "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n",
+        ),
+        (
+            0x8b30,
+            "GL_FRAGMENT_SHADER",
+            3,
+            "precision mediump float;\nuniform vec4 colors[3];\nvoid main() { gl_FragColor = colors[2]; }\n",
+        ),
+    ];
+    for (kind, kind_name, shader, source) in shaders {
+        w.call("glCreateShader", &[("type", e(kind_name, kind))], Some(W::UInt(shader)), false);
+        let strings = W::Array(vec![W::Str(source)]);
+        w.call(
+            "glShaderSource",
+            &[("shader", W::UInt(shader)), ("count", W::UInt(1)), ("string", strings), ("length", W::Null)],
+            None,
+            false,
+        );
+        w.call("glCompileShader", &[("shader", W::UInt(shader))], None, false);
+        w.call("glAttachShader", &[("program", W::UInt(7)), ("shader", W::UInt(shader))], None, false);
+    }
+    w.call("glLinkProgram", &[("program", W::UInt(7))], None, false);
+    w.call("glUseProgram", &[("program", W::UInt(7))], None, false);
+    w.call("glGetAttribLocation", &[("program", W::UInt(7)), ("name", W::Str("where"))], Some(W::UInt(5)), false);
+    w.call("glGetUniformLocation", &[("program", W::UInt(7)), ("name", W::Str("colors"))], Some(W::UInt(3)), false);
+    let values = [1.0f32, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.2, 0.4, 0.6, 1.0].map(W::Float).to_vec();
+    w.call(
+        "glUniform4fv",
+        &[("location", W::UInt(3)), ("count", W::UInt(3)), ("value", W::Array(values))],
+        None,
+        false,
+    );
+    w.call("glEnableVertexAttribArray", &[("index", W::UInt(5))], None, false);
+    w.call(
+        "glVertexAttribPointer",
+        &[
+            ("index", W::UInt(5)),
+            ("size", W::UInt(2)),
+            ("type", e("GL_FLOAT", 0x1406)),
+            ("normalized", W::Bool(false)),
+            ("stride", W::UInt(0)),
+            ("pointer", W::Null),
+        ],
+        None,
+        false,
+    );
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    extra(&mut w);
+    let swap = swap(&mut w);
+    (w, swap)
+}
+
+#[test]
+fn glsl_programs_link_from_the_capture_and_uniform_arrays_set_consecutive_elements() {
+    let (w, _) = uniform_array_capture(|_| {});
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    // colors[2] = (0.2, 0.4, 0.6, 1.0), through the attribute at the location the capture
+    // recorded (5).
+    assert_eq!(frames[0].4, solid(4, 4, [51, 102, 153, 255]));
+}
+
+#[test]
+fn a_uniform_location_never_returned_is_an_error_naming_the_call() {
+    let mut call = 0;
+    let (w, _) = uniform_array_capture(|w| {
+        call = w.call("glUniform1f", &[("location", W::UInt(9)), ("v0", W::Float(1.0))], None, false);
+    });
+    let (result, _) = replay(&w);
+    let error = result.err().expect("location 9 was never returned");
+    assert_eq!(error.call(), Some(call));
+    let message = error.to_string();
+    assert!(message.contains("`glUniform1f`") && message.contains("location 9"), "{message}");
+}
