@@ -86,6 +86,14 @@ pub enum Call<D = Bytes> {
         #[serde(default)]
         wrap: Wrap,
     },
+    /// `glGenerateMipmap`: texture `id` gets a mip chain, each level a 2×2 box filter of the
+    /// one above (the core's `MipChain::Box`), sampled with a `*_mipmap_*` filter. The levels
+    /// are made from level 0 as it is when a pass that samples it is rendered, so later
+    /// uploads and renders into level 0 reach them too (GL would need another
+    /// `glGenerateMipmap`). RGBA8 textures only; others sample level 0.
+    GenerateMipmap {
+        id: u32,
+    },
     DeleteTexture {
         id: u32,
     },
@@ -446,6 +454,7 @@ impl<D> Call<D> {
             TexImage { .. } => "tex_image",
             TexSubImage { .. } => "tex_sub_image",
             TexParameters { .. } => "tex_parameters",
+            GenerateMipmap { .. } => "generate_mipmap",
             DeleteTexture { .. } => "delete_texture",
             CreateRenderbuffer { .. } => "create_renderbuffer",
             DeleteRenderbuffer { .. } => "delete_renderbuffer",
@@ -532,6 +541,7 @@ impl<D> Call<D> {
             }
             DeleteBuffer { id } => DeleteBuffer { id },
             TexParameters { id, filter, wrap } => TexParameters { id, filter, wrap },
+            GenerateMipmap { id } => GenerateMipmap { id },
             DeleteTexture { id } => DeleteTexture { id },
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
                 CreateRenderbuffer { id, width, height, format, samples, transient }
@@ -847,12 +857,39 @@ pub enum IndexKind {
     UnsignedInt,
 }
 
+/// Texture filters, with GL's names. The `*_mipmap_*` ones are minification filters: in
+/// `tex_parameters` they sample the levels `generate_mipmap` made (the first word filters within
+/// a level, the last between levels), magnification using the first word alone; elsewhere (a
+/// blit, a texture without levels) they act as their first word.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Filter {
     #[default]
     Nearest,
     Linear,
+    NearestMipmapNearest,
+    LinearMipmapNearest,
+    NearestMipmapLinear,
+    LinearMipmapLinear,
+}
+
+impl Filter {
+    /// The filter within a level: `nearest` or `linear`.
+    pub fn base(self) -> Filter {
+        match self {
+            Filter::Nearest | Filter::NearestMipmapNearest | Filter::NearestMipmapLinear => Filter::Nearest,
+            Filter::Linear | Filter::LinearMipmapNearest | Filter::LinearMipmapLinear => Filter::Linear,
+        }
+    }
+
+    /// The filter between levels, if it is a mipmap filter.
+    pub fn mipmap(self) -> Option<Filter> {
+        match self {
+            Filter::Nearest | Filter::Linear => None,
+            Filter::NearestMipmapNearest | Filter::LinearMipmapNearest => Some(Filter::Nearest),
+            Filter::NearestMipmapLinear | Filter::LinearMipmapLinear => Some(Filter::Linear),
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]

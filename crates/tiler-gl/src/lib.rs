@@ -41,9 +41,15 @@
 //!   `GL_FRAMEBUFFER_UNSUPPORTED`; `depth24` and `stencil8` are packed images with a padding
 //!   half (see `context::targets`).
 //! - Textures: the `textured` program samples RGBA8 textures with the core's sampler and
-//!   texture cache (`texture_fetch` in the ledger), nearest or bilinear without mip maps;
+//!   texture cache (`texture_fetch` in the ledger), nearest or bilinear, with the mip chain of
+//!   `generate_mipmap` under a `*_mipmap_*` filter;
 //!   other formats (float, 565, depth) with a context-side sampler whose reads are not
 //!   counted. Blits and copies count their source reads by formula (see `program`).
+//! - Programs: five built-in programs written in Rust (`program`), or GLSL ES 1.00 programs
+//!   compiled at run time by `tiler-glsl` (`"program": {"glsl": …}`; `context::glsl` says how
+//!   attributes, uniforms and samplers meet the context's state). GLSL samplers read textures as
+//!   `textured` does; a `discard` in the fragment shader turns early depth tests and HSR off for
+//!   the draw, as on hardware.
 //! - Explicit render passes: a trace (or program) may begin a pass with subpasses and their
 //!   dependencies (`begin_pass`, `next_subpass`, `end_pass`; `context::explicit`), mapped to
 //!   [`tiler::RenderPass::with_subpasses`], with transient textures and renderbuffers (no

@@ -1,9 +1,10 @@
 //! The built-in program library: what a GL program is for tiler's Rust shaders.
 //!
-//! GL programs are GLSL; tiler's shaders are Rust types. A trace therefore names one of these
-//! programs ([`ProgramKind`]) and sets its uniforms by name; uniform values are snapshotted
-//! into each draw, as a driver snapshots state into its frame data. Adding a program means a
-//! `ProgramKind` variant, its [`ProgramInfo`] and its shaders here.
+//! tiler's own shaders are Rust types. A trace names one of these programs ([`ProgramKind`])
+//! and sets its uniforms by name — or brings GLSL, which `tiler-glsl` compiles (see
+//! `context::glsl`). Uniform values are snapshotted into each draw, as a driver snapshots state
+//! into its frame data. Adding a built-in means a `ProgramKind` variant, its [`ProgramInfo`]
+//! and its shaders here.
 //!
 //! | program | attributes | uniforms | varyings |
 //! |---|---|---|---|
@@ -23,7 +24,8 @@
 //! # Texture sampling
 //!
 //! `textured` samples RGBA8 textures (linear or sRGB) with the core's sampler
-//! ([`tiler::Texture`]): nearest or bilinear on level 0 (the API has no mip maps), wrapped as
+//! ([`tiler::Texture`]): nearest or bilinear, on level 0 or, after `generate_mipmap` and with a
+//! `*_mipmap_*` filter, on the core's box-filtered mip chain (`MipChain::Box`), wrapped as
 //! the texture says, through the core's texture-cache model, so its reads are `texture_fetch`
 //! in the pass's ledger. The texture is the image's contents when its render pass is submitted
 //! (render to texture included). Formats the core sampler does not take (float, 565, depth —
@@ -346,9 +348,9 @@ impl TextureSnapshot {
         let (s, t) = (s.clamp(-65536.0, 65536.0), t.clamp(-65536.0, 65536.0));
         let u = s * self.width as f32;
         let v = t * self.height as f32;
-        match state.filter {
+        match state.filter.base() {
             Filter::Nearest => self.texel(u.floor() as i64, v.floor() as i64, state.wrap),
-            Filter::Linear => {
+            _ => {
                 let (u, v) = (u - 0.5, v - 0.5);
                 let (x0, y0) = (u.floor(), v.floor());
                 let (fx, fy) = (u - x0, v - y0);

@@ -5,6 +5,8 @@
 mod common;
 #[path = "gl/fuzz.rs"]
 mod fuzz;
+#[path = "gl/glsl.rs"]
+mod glsl;
 #[path = "gl/inference.rs"]
 mod inference;
 #[path = "gl/smoke.rs"]

@@ -1,9 +1,51 @@
-//! Compiles and links GLSL ES programs and prints what linking found, or the error:
-//! `glslc VERTEX FRAGMENT [VERTEX FRAGMENT …]`.
+//! Compiles and links GLSL ES programs, prints what linking found (or the error), and renders
+//! each once as a smoke test: `glslc VERTEX FRAGMENT [VERTEX FRAGMENT …]`.
+//!
+//! The render draws a full-screen triangle into a 64×64 target with every attribute set to
+//! the vertex's position, `mat4` uniforms the identity, other uniforms zero and no textures,
+//! and prints how many pixels the fragment shader wrote (kept, not discarded).
 
 use std::process::ExitCode;
+use std::sync::Arc;
 
-use tiler_glsl::CompiledProgram;
+use tiler::{
+    ColorAttachment, Device, DeviceConfig, Draw, Format, ImageDesc, PipelineDesc, RenderPass, RenderPassDesc,
+    VertexFormat, VertexInputState,
+};
+use tiler_glsl::{CompiledProgram, Type};
+
+/// Renders `program` as described in the module docs; returns the pixels written.
+fn smoke_render(program: CompiledProgram) -> Result<usize, String> {
+    let program = Arc::new(program);
+    let mut uniforms = program.new_uniform_values();
+    let identity: Vec<f32> = (0..16).map(|i| if i % 5 == 0 { 1.0 } else { 0.0 }).collect();
+    for u in program.uniforms() {
+        if u.ty == Type::Matrix(4) {
+            for k in 0..u.array_size as u32 {
+                program.set_uniform(&mut uniforms, u.location + k, &identity).map_err(|e| e.to_string())?;
+            }
+        }
+    }
+    let columns = |ty: &Type| if let Type::Matrix(n) = ty { *n } else { 1 };
+    let locations = program.attributes().iter().map(|a| a.location as usize + columns(&a.ty)).max().unwrap_or(1);
+    let formats = vec![VertexFormat::Float32x4; locations];
+    let corners = [[-1.0f32, -1.0, 0.5, 1.0], [3.0, -1.0, 0.5, 1.0], [-1.0, 3.0, 0.5, 1.0]];
+    let vertices: Vec<[f32; 4]> = corners.iter().flat_map(|c| std::iter::repeat_n(*c, locations)).collect();
+    let desc = PipelineDesc::new("glslc", VertexInputState::interleaved(&formats));
+    let pipeline = tiler_glsl::pipeline(&program, &uniforms, &[], 64, desc).map_err(|e| e.to_string())?;
+    let mut device = Device::new(DeviceConfig::default()).map_err(|e| e.to_string())?;
+    let color = device.create_image(ImageDesc::new(64, 64, Format::Rgba8Unorm)).map_err(|e| e.to_string())?;
+    let buffer = device.create_buffer_from(&vertices).map_err(|e| e.to_string())?;
+    let mut pass = RenderPass::new(RenderPassDesc {
+        color: vec![ColorAttachment::clear_store(color, [0.0, 0.0, 0.0, 0.0])],
+        depth_stencil: None,
+        render_area: None,
+    });
+    pass.draw(Draw::new(&pipeline, buffer, 0, 3));
+    device.submit(&pass).map_err(|e| e.to_string())?;
+    let pixels = device.read_rgba8(color).map_err(|e| e.to_string())?;
+    Ok(pixels.chunks(4).filter(|p| *p != [0, 0, 0, 0]).count())
+}
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -38,6 +80,13 @@ fn main() -> ExitCode {
                     vertex_insts,
                     fragment_insts
                 );
+                match smoke_render(p) {
+                    Ok(written) => println!("     rendered: {written} of 4096 pixels written"),
+                    Err(e) => {
+                        failed += 1;
+                        println!("FAIL render: {e}");
+                    }
+                }
             }
             Err(e) => {
                 failed += 1;

@@ -23,6 +23,15 @@ use crate::{Error, Stage};
 /// Lines of predefined macros inserted into the source.
 const PREDEFINED_LINES: usize = 2;
 
+/// Instructions a stage may compile to, inlined calls included.
+pub const MAX_INSTRUCTIONS: usize = 1 << 20;
+
+/// Registers a stage may use (work file and bank each).
+pub const MAX_REGISTERS: usize = 1 << 20;
+
+/// Components an array may have.
+pub const MAX_ARRAY_COMPONENTS: usize = 1 << 16;
+
 /// How deep inlined calls may nest.
 pub const MAX_CALL_DEPTH: usize = 64;
 
@@ -210,6 +219,8 @@ struct Compiler<'a> {
     next_slot: Reg,
     /// Whether the code reads `gl_FragCoord` (which then needs a varying for `w`).
     reads_frag_coord: bool,
+    /// Instructions emitted so far.
+    emitted: usize,
 }
 
 fn err<T>(line: u32, message: impl Into<String>) -> CResult<T> {
@@ -246,6 +257,7 @@ impl<'a> Compiler<'a> {
             pending_front: Vec::new(),
             next_slot: 0,
             reads_frag_coord: false,
+            emitted: 0,
         }
     }
 
@@ -322,7 +334,21 @@ impl<'a> Compiler<'a> {
     }
 
     fn emit(&mut self, inst: Inst) {
+        self.emitted += 1;
         self.code.push(inst);
+    }
+
+    /// Fails once the program outgrows [`MAX_INSTRUCTIONS`] or [`MAX_REGISTERS`] (inlining
+    /// can grow code exponentially).
+    fn check_budget(&self) -> CResult<()> {
+        if self.emitted > MAX_INSTRUCTIONS || self.work as usize > MAX_REGISTERS || self.bank.len() > MAX_REGISTERS {
+            return self.fail(format!(
+                "the program is too large ({} instructions, {} registers; at most {MAX_INSTRUCTIONS} and {MAX_REGISTERS})",
+                self.emitted,
+                self.work as usize + self.bank.len()
+            ));
+        }
+        Ok(())
     }
 
     fn un(&mut self, op: UnOp, a: Reg) -> Reg {
@@ -429,6 +455,9 @@ impl<'a> Compiler<'a> {
                         return self.fail(format!("array size {n} out of range 1..=4096"));
                     }
                     ty = Type::Array(Box::new(ty), n as usize);
+                    if ty.size() > MAX_ARRAY_COMPONENTS {
+                        return self.fail(format!("array of {} components, at most {MAX_ARRAY_COMPONENTS}", ty.size()));
+                    }
                 }
             }
         }
@@ -875,6 +904,7 @@ impl<'a> Compiler<'a> {
     fn statement(&mut self, s: &ast::Statement) -> CResult<()> {
         use ast::StatementData as S;
         self.at(&s.span);
+        self.check_budget()?;
         match &s.content {
             S::Declaration(d) => self.declaration(d, false),
             S::Expression(e) => {
@@ -1046,7 +1076,7 @@ impl<'a> Compiler<'a> {
                 let c = self.bool_expr(c)?;
                 let (va, vb) = (self.expr(a)?, self.expr(b)?);
                 let (va, vb) = self.promote(va, vb);
-                if va.ty != vb.ty {
+                if va.ty != vb.ty || va.ty.contains_sampler() {
                     return self.fail(format!("?: branches differ: {} and {}", va.ty, vb.ty));
                 }
                 let regs = va.regs.iter().zip(&vb.regs).map(|(&x, &y)| self.tri(TriOp::Select, c, x, y)).collect();
@@ -1155,7 +1185,7 @@ impl<'a> Compiler<'a> {
                 Ok(Value { ty: BOOL, regs: vec![self.bin(op, a.regs[0], b.regs[0])] })
             }
             B::Equal | B::NonEqual => {
-                if a.ty != b.ty || a.ty.contains_sampler() {
+                if a.ty != b.ty || a.ty.contains_sampler() || a.ty.size() == 0 {
                     return self.fail(format!("cannot compare {} with {}", a.ty, b.ty));
                 }
                 let eq = op == &B::Equal;
@@ -1527,7 +1557,13 @@ impl<'a> Compiler<'a> {
         self.push_scope();
         let mut copy_out = Vec::new();
         let zero = self.konst(0.0);
+        if ret_ty.contains_sampler() {
+            return self.fail(format!("function '{name}' cannot return a sampler"));
+        }
         for ((pname, ty, dir), (place, writable)) in params.into_iter().zip(args) {
+            if ty.contains_sampler() && dir != ParamDir::In {
+                return self.fail(format!("a sampler parameter of '{name}' must be 'in'"));
+            }
             let regs = if ty.contains_sampler() {
                 let value = self.read(&place);
                 value.regs
@@ -1552,7 +1588,9 @@ impl<'a> Compiler<'a> {
                 copy_out.push((place, Value { ty: ty.clone(), regs: regs.clone() }));
             }
             if let Some(pname) = pname {
-                self.scopes.last_mut().expect("scope").insert(pname, Symbol { ty, regs, writable: true, konst: None });
+                // Sampler "registers" are slot numbers: never written.
+                let writable = !ty.contains_sampler();
+                self.scopes.last_mut().expect("scope").insert(pname, Symbol { ty, regs, writable, konst: None });
             }
         }
         let ret = (ret_ty != Type::Void).then(|| {

@@ -62,8 +62,44 @@ pub fn run<const W: usize, E: Env<W>>(
 ) -> u64 {
     let mut masks = Masks { active, returned: 0, exited: 0, continued: 0, discarded: 0 };
     let mut machine = Machine { regs, bank, env };
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (checked just above), the only feature
+        // `block_avx2` enables.
+        unsafe { machine.block_avx2(code, &mut masks) };
+        return masks.discarded;
+    }
     machine.block(code, &mut masks);
     masks.discarded
+}
+
+/// How a block runs its nested blocks: with the instruction set it was compiled for.
+trait Nested {
+    fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks);
+}
+
+/// The baseline instruction set.
+struct Baseline;
+
+impl Nested for Baseline {
+    fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks) {
+        machine.block(code, m);
+    }
+}
+
+/// AVX2: the lanes' arithmetic in 256-bit registers. The operations are the same IEEE
+/// operations (Rust never fuses a multiply and an add), so results are bit for bit those of
+/// the baseline.
+#[cfg(target_arch = "x86_64")]
+struct Avx2;
+
+#[cfg(target_arch = "x86_64")]
+impl Nested for Avx2 {
+    fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks) {
+        // SAFETY: `Avx2` blocks only run inside `block_avx2`, which `run` calls only when the
+        // processor has AVX2.
+        unsafe { machine.block_avx2(code, m) }
+    }
 }
 
 struct Machine<'a, const W: usize, E> {
@@ -117,6 +153,20 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
     }
 
     fn block(&mut self, code: &[Inst], m: &mut Masks) {
+        self.block_in::<Baseline>(code, m);
+    }
+
+    /// # Safety
+    /// The processor must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn block_avx2(&mut self, code: &[Inst], m: &mut Masks) {
+        self.block_in::<Avx2>(code, m);
+    }
+
+    /// Runs `code`; nested blocks run through `N` (the same instruction set).
+    #[inline(always)]
+    fn block_in<N: Nested>(&mut self, code: &[Inst], m: &mut Masks) {
         for inst in code {
             if m.active == 0 {
                 return;
@@ -148,12 +198,12 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     let cond = self.truth(*c);
                     m.active = entry & cond;
                     if m.active != 0 {
-                        self.block(then, m);
+                        N::block(self, then, m);
                     }
                     let after_then = m.active;
                     m.active = entry & !cond;
                     if m.active != 0 {
-                        self.block(els, m);
+                        N::block(self, els, m);
                     }
                     m.active |= after_then;
                 }
@@ -164,7 +214,7 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     let mut iterations = 0;
                     loop {
                         if !first || *test_first {
-                            self.block(cond_code, m);
+                            N::block(self, cond_code, m);
                             if let Some(c) = cond {
                                 let t = self.truth(*c);
                                 m.exited |= m.active & !t;
@@ -177,9 +227,9 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                             break;
                         }
                         m.continued = 0;
-                        self.block(body, m);
+                        N::block(self, body, m);
                         m.active |= m.continued;
-                        self.block(step, m);
+                        N::block(self, step, m);
                     }
                     m.active |= m.exited;
                     m.exited = outer_exited;
@@ -204,7 +254,7 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                 Inst::Call(body) => {
                     let outer = m.returned;
                     m.returned = 0;
-                    self.block(body, m);
+                    N::block(self, body, m);
                     m.active |= m.returned;
                     m.returned = outer;
                 }
@@ -380,6 +430,35 @@ mod tests {
         let discarded = run(&code, &mut regs, &bank, 0b1111, &mut NoTextures);
         assert_eq!(discarded, 0);
         assert_eq!(regs[1], [0.0, 1.0, 5.0, 3.0]);
+    }
+
+    /// The AVX2 and baseline interpreters give the same bits.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx2_matches_baseline() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let ops = [BinOp::Add, BinOp::Sub, BinOp::Mul, BinOp::Div, BinOp::Mod, BinOp::Min, BinOp::Pow];
+        let mut code = Vec::new();
+        for (i, &op) in ops.iter().enumerate() {
+            code.push(Inst::Bin(op, 2 + i as Reg, 0, 1));
+        }
+        code.push(Inst::Un(UnOp::Sqrt, 20, 4));
+        code.push(Inst::Un(UnOp::InverseSqrt, 21, 1));
+        code.push(Inst::Tri(TriOp::Smoothstep, 22, 0, 1, 4));
+        code.push(Inst::Tri(TriOp::Mix, 23, 0, 1, 3));
+        let mut inputs = [[0.0f32; 8]; 24];
+        inputs[0] = [0.1, -2.5, 3.3, 1e-8, 7.0, -0.0, 1e30, 0.3];
+        inputs[1] = [0.7, 1.9, -4.1, 3.0, 0.001, 2.0, 1e-30, 0.9];
+        let (mut a, mut b) = (inputs, inputs);
+        let masks = || Masks { active: 0xff, returned: 0, exited: 0, continued: 0, discarded: 0 };
+        Machine { regs: &mut a, bank: &[], env: &mut NoTextures }.block(&code, &mut masks());
+        // SAFETY: AVX2 was detected above.
+        unsafe { Machine { regs: &mut b, bank: &[], env: &mut NoTextures }.block_avx2(&code, &mut masks()) };
+        let bits = |r: &[[f32; 8]; 24]| r.map(|v| v.map(f32::to_bits));
+        assert_eq!(bits(&a), bits(&b));
+        assert_ne!(a[20], inputs[20], "the code ran");
     }
 
     #[test]

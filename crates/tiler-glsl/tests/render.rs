@@ -609,3 +609,92 @@ void main() {
     // uv grows right and up (GL), half a unit per 20 and 12 pixels.
     assert!((127..=128).contains(&a[0]) && (127..=128).contains(&a[1]), "{:?}", &a[..4]);
 }
+
+#[test]
+fn front_facing_follows_gl_winding_with_tiler_gl_front_face() {
+    // The full-screen triangle is counter-clockwise in GL's window; tiler-gl maps GL's
+    // `glFrontFace(GL_CCW)` to `FrontFace::CounterClockwise` (the picture is upright in both).
+    const FS: &str =
+        "void main() { gl_FragColor = gl_FrontFacing ? vec4(1.0, 0.0, 0.0, 1.0) : vec4(0.0, 1.0, 0.0, 1.0); }";
+    let program = glsl(PASS_VS, FS);
+    let uniforms = program.new_uniform_values();
+    for (front_face, expected) in
+        [(tiler::FrontFace::CounterClockwise, [255, 0, 0, 255]), (tiler::FrontFace::Clockwise, [0, 255, 0, 255])]
+    {
+        let desc = PipelineDesc { front_face, ..desc() };
+        let pipeline = tiler_glsl::pipeline(&program, &uniforms, &[], HEIGHT, desc).unwrap();
+        let (image, _) = render(&pipeline);
+        assert!(image.chunks(4).all(|p| p == expected), "{front_face:?}: {:?}", &image[..4]);
+    }
+}
+
+/// A caller's sampler that returns its coordinates and level: (s, t, lod or −1, 1).
+#[derive(Debug)]
+struct Probe;
+impl tiler_glsl::TextureSource for Probe {
+    fn sample(&self, s: f32, t: f32, lod: Option<f32>) -> [f32; 4] {
+        [s, t, lod.unwrap_or(-1.0), 1.0]
+    }
+}
+
+#[test]
+fn custom_texture_sources_get_gl_coordinates_and_levels() {
+    const VS: &str = "
+attribute vec4 position;
+uniform sampler2D probe;
+varying vec4 fetched;
+void main() {
+    fetched = texture2DLod(probe, vec2(0.25, 0.75), 2.0);
+    gl_Position = position;
+}";
+    const FS: &str = "
+precision mediump float;
+uniform sampler2D probe;
+varying vec4 fetched;
+void main() {
+    vec4 p = texture2DProj(probe, vec3(gl_FragCoord.xy, 2.0));
+    gl_FragColor = vec4(p.x / 40.0, p.y / 24.0, -p.z * 0.5, 1.0);
+}";
+    let program = glsl(VS, FS);
+    let mut uniforms = program.new_uniform_values();
+    program.set_uniform(&mut uniforms, program.uniform_location("probe").unwrap(), &[1.0]).unwrap();
+    let textures = [None, Some(TextureBinding::Custom(Arc::new(Probe)))];
+    let (vs, _) = tiler_glsl::shaders(&program, &uniforms, &textures, HEIGHT);
+    let input = VertexInput { attributes: [Vec4::ONE; tiler::MAX_VERTEX_ATTRIBUTES], vertex_index: 0 };
+    let mut out = VertexOutput::default();
+    vs.shade(&input, &mut out);
+    assert_eq!(&out.varyings[..4], &[0.25, 0.75, 2.0, 1.0]);
+    let (image, _) = render(&glsl_pipeline(&program, &uniforms, &textures));
+    // Bottom-left pixel: GL (0.5, 0.5) / 2; no level in a fragment shader (−1 → 0.5 blue).
+    let bottom_left = &image[((HEIGHT - 1) * WIDTH * 4) as usize..][..4];
+    let unorm = |x: f32| (x * 255.0).round() as u8;
+    assert_eq!(bottom_left, &[unorm(0.25 / 40.0), unorm(0.25 / 24.0), unorm(0.5), 255]);
+}
+
+#[test]
+fn hostile_programs_fail_cleanly() {
+    let vs = "attribute vec4 p; void main() { gl_Position = p; }";
+    let fail = |fs: &str, needle: &str| {
+        let e = CompiledProgram::new(vs, fs, &[]).unwrap_err();
+        assert!(matches!(e, Error::Compile { stage: Stage::Fragment, .. }), "{e}");
+        assert!(e.to_string().contains(needle), "{e}");
+    };
+    // Each level calls the one below four times: 4^12 inlined copies.
+    let mut fs = String::from("float f0(float x) { return x * 2.0 + 1.0; }\n");
+    for i in 1..=12 {
+        let p = i - 1;
+        fs += &format!("float f{i}(float x) {{ return f{p}(x) + f{p}(x + 1.0) + f{p}(x * 2.0) + f{p}(-x); }}\n");
+    }
+    fs += "void main() { gl_FragColor = vec4(f12(1.0)); }";
+    fail(&fs, "too large");
+    fail("void main() { float a[4096][4096]; gl_FragColor = vec4(a[0][0]); }", "at most");
+    fail("void g() {}\nvoid main() { bool b = g() == g(); }", "compare");
+    fail(
+        "uniform sampler2D a; uniform sampler2D b; uniform bool c;\nvoid main() { gl_FragColor = texture2D(c ? a : b, vec2(0.0)); }",
+        "?:",
+    );
+    fail(
+        "uniform sampler2D a;\nvec4 f(sampler2D s) { s = a; return vec4(0.0); }\nvoid main() { gl_FragColor = f(a); }",
+        "read-only",
+    );
+}

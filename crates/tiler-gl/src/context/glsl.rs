@@ -48,8 +48,18 @@ impl GlslProgram {
         Ok(GlslProgram { source, bindings: Vec::new(), compiled: Arc::new(compiled), uniforms })
     }
 
-    /// Binds attribute `name` to `index` and relinks.
+    /// Binds attribute `name` to `index` and relinks, unless nothing would change: the same
+    /// binding again (a capture repeats them), or a name the program does not declare (GL
+    /// accepts it, for a later source).
     fn bind_attrib_location(&mut self, name: String, index: u32) -> Result<(), tiler_glsl::Error> {
+        if self.bindings.iter().any(|(n, l)| *n == name && *l == index) {
+            return Ok(());
+        }
+        if self.compiled.attribute_location(&name).is_none() {
+            self.bindings.retain(|(n, _)| *n != name);
+            self.bindings.push((name, index));
+            return Ok(());
+        }
         let mut bindings = self.bindings.clone();
         bindings.retain(|(n, _)| *n != name);
         bindings.push((name, index));
@@ -128,6 +138,8 @@ pub(crate) struct SampledTexture {
     pub unit: u32,
     pub image: ImageId,
     pub sampler: SamplerState,
+    /// It has a mip chain (`generate_mipmap`).
+    pub mipmaps: bool,
 }
 
 /// The program of a gathered draw, with its uniforms as they were at the draw.
@@ -195,9 +207,9 @@ impl Context {
                     let texture = self.state.textures[unit as usize];
                     if texture != 0 {
                         let t = self.texture(texture)?;
-                        let (image, sampler) = (t.image, t.sampler);
+                        let (image, sampler, mipmaps) = (t.image, t.sampler, t.mipmaps);
                         self.check_has_memory(image, &format!("program '{}' samples texture {texture}", kind.name()))?;
-                        textures.push(SampledTexture { unit: unit as u32, image, sampler });
+                        textures.push(SampledTexture { unit: unit as u32, image, sampler, mipmaps });
                     }
                 }
                 Ok(DrawProgram {
@@ -242,9 +254,9 @@ impl Context {
                         ));
                     }
                     let t = self.texture(texture)?;
-                    let (image, sampler) = (t.image, t.sampler);
+                    let (image, sampler, mipmaps) = (t.image, t.sampler, t.mipmaps);
                     self.check_has_memory(image, &format!("{label}: sampler '{name}' reads texture {texture}"))?;
-                    textures.push(SampledTexture { unit, image, sampler });
+                    textures.push(SampledTexture { unit, image, sampler, mipmaps });
                 }
                 Ok(DrawProgram {
                     label,
@@ -274,7 +286,7 @@ impl Context {
         match program {
             ProgramDraw::Builtin { kind, uniforms } => {
                 let texture = match textures.first() {
-                    Some(t) => Some(self.program_texture(snapshots, cores, t.image, t.sampler)?),
+                    Some(t) => Some(self.program_texture(snapshots, cores, t.image, t.sampler, t.mipmaps)?),
                     None => None,
                 };
                 Ok(program_pipeline(*kind, uniforms, texture, desc))
@@ -283,7 +295,7 @@ impl Context {
                 let mut units: Vec<Option<TextureBinding>> = vec![None; MAX_TEXTURE_UNITS as usize];
                 for t in textures {
                     units[t.unit as usize] =
-                        Some(match self.program_texture(snapshots, cores, t.image, t.sampler)? {
+                        Some(match self.program_texture(snapshots, cores, t.image, t.sampler, t.mipmaps)? {
                             ProgramTexture::Core(texture, sampler) => TextureBinding::Core(texture, sampler),
                             ProgramTexture::Snapshot(snapshot, state) => {
                                 TextureBinding::Custom(Arc::new(SnapshotSource { snapshot, state }))

@@ -169,6 +169,8 @@ pub(crate) struct TextureObject {
     pub image: ImageId,
     pub format: TextureFormat,
     pub sampler: SamplerState,
+    /// `generate_mipmap` was called since the storage was made.
+    pub mipmaps: bool,
 }
 
 pub(crate) struct RenderbufferObject {
@@ -587,6 +589,11 @@ impl Context {
             TexSubImage { id, x, y, width, height, data } => self.tex_sub_image(id, x, y, width, height, data)?,
             TexParameters { id, filter, wrap } => {
                 self.texture_mut(id)?.sampler = SamplerState { filter, wrap };
+            }
+            GenerateMipmap { id } => {
+                let image = self.texture(id)?.image;
+                self.check_has_memory(image, &format!("generate_mipmap of texture {id}"))?;
+                self.texture_mut(id)?.mipmaps = true;
             }
             DeleteTexture { id } => self.delete_texture(id)?,
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
@@ -1022,7 +1029,7 @@ impl Context {
             self.upload(image, 0, 0, width, height, &data)?;
         }
         let sampler = SamplerState { filter: Filter::Nearest, wrap: Wrap::ClampToEdge };
-        let old = self.textures.insert(id, TextureObject { image, format, sampler });
+        let old = self.textures.insert(id, TextureObject { image, format, sampler, mipmaps: false });
         if let Some(old) = old {
             self.textures.get_mut(&id).expect("inserted").sampler = old.sampler;
             self.retire_image(old.image);

@@ -1239,6 +1239,7 @@ impl Context {
         textures: &mut HashMap<ImageId, Arc<tiler::Texture>>,
         image: ImageId,
         sampler: SamplerState,
+        mipmaps: bool,
     ) -> Fallible<ProgramTexture> {
         let d = self.images[&image].desc;
         let color_space = match d.format {
@@ -1249,20 +1250,27 @@ impl Context {
         if d.samples != 1 {
             return Ok(ProgramTexture::Snapshot(self.snapshot(snapshots, image)?, sampler));
         }
+        let mip_chain = if mipmaps { tiler::MipChain::Box } else { tiler::MipChain::BaseOnly };
         let texture = match textures.get(&image) {
             Some(t) => t.clone(),
             None => {
                 let data = self.device.image_data(image).map_err(|e| e.to_string())?;
-                let t = tiler::Texture::from_rgba8(d.width, d.height, data, color_space, tiler::MipChain::BaseOnly)
+                let t = tiler::Texture::from_rgba8(d.width, d.height, data, color_space, mip_chain)
                     .map_err(|e| e.to_string())?;
                 let t = Arc::new(t);
                 textures.insert(image, t.clone());
                 t
             }
         };
-        let filter = match sampler.filter {
-            crate::call::Filter::Nearest => tiler::Filter::Nearest,
-            crate::call::Filter::Linear => tiler::Filter::Linear,
+        let core_filter = |f: Filter| match f.base() {
+            Filter::Nearest => tiler::Filter::Nearest,
+            _ => tiler::Filter::Linear,
+        };
+        let filter = core_filter(sampler.filter);
+        let mipmap = match sampler.filter.mipmap().filter(|_| mipmaps) {
+            None => tiler::MipmapMode::None,
+            Some(Filter::Nearest) => tiler::MipmapMode::Nearest,
+            Some(_) => tiler::MipmapMode::Linear,
         };
         let wrap = match sampler.wrap {
             Wrap::ClampToEdge => tiler::Wrap::ClampToEdge,
@@ -1272,7 +1280,7 @@ impl Context {
         let core = tiler::Sampler {
             mag_filter: filter,
             min_filter: filter,
-            mipmap: tiler::MipmapMode::None,
+            mipmap,
             wrap_u: wrap,
             wrap_v: wrap,
             lod_bias: 0.0,

@@ -10,7 +10,7 @@ use serde_json::{Map, Value};
 use tiler_gl::{Limits, Trace};
 
 /// Small traces to start from.
-const SEEDS: [&str; 8] = [
+const SEEDS: [&str; 9] = [
     "clear-bad.json",
     "subpass-bad.json",
     "query-bad.json",
@@ -19,6 +19,7 @@ const SEEDS: [&str; 8] = [
     "masked-clear-bad.json",
     "readback-bad.json",
     "alpha-test-bad.json",
+    "glsl-alpha-test-bad.json",
 ];
 
 /// Names a mutation may put anywhere: calls, fields, enum values.
@@ -39,8 +40,24 @@ const WORDS: &[&str] = &[
     "framebuffer_renderbuffer",
     "bind_framebuffer",
     "create_program",
+    "bind_attrib_location",
     "use_program",
     "uniform",
+    "vertex_attrib",
+    "generate_mipmap",
+    "linear_mipmap_linear",
+    "nearest_mipmap_nearest",
+    "glsl",
+    "vertex",
+    "fragment",
+    "name",
+    "index",
+    "value",
+    "vec2",
+    "ivec2",
+    "ivec4",
+    "mat2",
+    "mat3",
     "viewport",
     "scissor",
     "enable",

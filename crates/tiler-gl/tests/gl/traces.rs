@@ -18,7 +18,7 @@ fn replay(name: &str) -> Replay {
 }
 
 /// Each pair, and the findings its bad form must have (and only those).
-const PAIRS: [(&str, &[&str]); 14] = [
+const PAIRS: [(&str, &[&str]); 15] = [
     ("clear", &["load-at-pass-start"]),
     ("rebind", &["framebuffer-rebound"]),
     ("invalidate", &["store-unread"]),
@@ -29,6 +29,7 @@ const PAIRS: [(&str, &[&str]); 14] = [
     ("copy-on-write", &["copy-on-write"]),
     ("packed-depth-stencil", &["packed-depth-stencil-half"]),
     ("alpha-test", &["early-z-disabled"]),
+    ("glsl-alpha-test", &["early-z-disabled"]),
     ("sort", &["unsorted-opaque"]),
     ("budget", &["micro-triangles", "incremental-render"]),
     ("msaa", &["msaa-stored"]),

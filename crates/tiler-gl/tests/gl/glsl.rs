@@ -1,0 +1,737 @@
+//! GLSL ES programs in the context: the built-in programs rewritten in GLSL draw the same
+//! pictures on every backend, traces carry GLSL, errors say where, textures (rendered, depth)
+//! are sampled, and a discarding shader changes HSR as on hardware.
+
+use glam::{Mat3, Mat4, Vec3};
+use tiler::Backend;
+use tiler_gl::*;
+
+use crate::common::*;
+
+const BACKENDS: [Backend; 3] = [Backend::Tbr, Backend::Tbdr, Backend::Imr];
+
+const SOLID_VS: &str = "attribute vec4 position;
+uniform mat4 mvp;
+void main() { gl_Position = mvp * position; }";
+const SOLID_FS: &str = "precision mediump float;
+uniform vec4 color;
+void main() { gl_FragColor = color; }";
+
+const VERTEX_COLOR_VS: &str = "attribute vec4 position;
+attribute vec4 color;
+uniform mat4 mvp;
+varying vec4 v_color;
+void main() { v_color = color; gl_Position = mvp * position; }";
+const VERTEX_COLOR_FS: &str = "precision mediump float;
+uniform float alpha_cutoff;
+varying vec4 v_color;
+void main() {
+    if (v_color.a < alpha_cutoff) discard;
+    gl_FragColor = v_color;
+}";
+
+/// GLSL ES 1.00 has no `inverse`, so the normal matrix (the built-in computes it from
+/// `model`) and the normalised light direction are uniforms.
+const LAMBERT_VS: &str = "attribute vec4 position;
+attribute vec3 normal;
+uniform mat4 mvp;
+uniform mat3 normal_matrix;
+varying vec3 v_normal;
+void main() { v_normal = normal_matrix * normal; gl_Position = mvp * position; }";
+const LAMBERT_FS: &str = "precision mediump float;
+uniform vec4 color;
+uniform vec3 light;
+varying vec3 v_normal;
+void main() {
+    vec3 n = normalize(v_normal);
+    float lit = 0.2 + max(dot(n, light), 0.0) * 0.8;
+    gl_FragColor = vec4(lit * color.r, lit * color.g, lit * color.b, color.a);
+}";
+
+const TEXTURED_VS: &str = "attribute vec4 position;
+attribute vec2 texcoord;
+uniform mat4 mvp;
+varying vec2 v_uv;
+void main() { v_uv = texcoord; gl_Position = mvp * position; }";
+const TEXTURED_FS: &str = "precision mediump float;
+uniform sampler2D tex;
+uniform vec4 color;
+uniform float alpha_cutoff;
+varying vec2 v_uv;
+void main() {
+    vec4 c = texture2D(tex, v_uv) * color;
+    if (c.a < alpha_cutoff) discard;
+    gl_FragColor = c;
+}";
+
+fn glsl(vertex: &str, fragment: &str) -> ProgramSource {
+    ProgramSource::Glsl(GlslSource { vertex: vertex.into(), fragment: fragment.into() })
+}
+
+fn uniform(gl: &mut Context, name: &str, value: UniformValue) {
+    c(gl, Call::Uniform { name: name.into(), value });
+}
+
+fn config_on(backend: Backend) -> ContextConfig {
+    ContextConfig { backend, tile_width: 16, tile_height: 16, ..config(48, 40) }
+}
+
+/// A perspective view of a rotated model: enough arithmetic that a different order of
+/// operations would show.
+fn matrices() -> (Mat4, Mat4) {
+    let model = Mat4::from_rotation_y(0.7) * Mat4::from_rotation_x(-0.4) * Mat4::from_scale(Vec3::new(1.2, 0.9, 1.1));
+    let view = Mat4::from_translation(Vec3::new(0.1, -0.05, -3.0));
+    // GL's perspective projection: 0.9 rad vertical field of view, near 0.5, far 10.
+    let (f, aspect, near, far) = (1.0 / (0.45f32).tan(), 48.0 / 40.0, 0.5, 10.0);
+    let projection = Mat4::from_cols_array(&[
+        f / aspect,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        f,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        (far + near) / (near - far),
+        -1.0,
+        0.0,
+        0.0,
+        2.0 * far * near / (near - far),
+        0.0,
+    ]);
+    (projection * view * model, model)
+}
+
+/// Six triangles of a cube-ish fan: positions (xyz) and a second attribute (4 floats:
+/// colour, normal + 0, or texture coordinates + 0, 0).
+fn mesh() -> (Vec<[f32; 3]>, Vec<[f32; 4]>) {
+    let mut positions = Vec::new();
+    let mut second = Vec::new();
+    let corners = [[-1.0f32, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+    for (face, z) in [(0, 1.0f32), (1, -1.0)] {
+        for tri in [[0, 1, 2], [0, 2, 3]] {
+            for &k in &tri {
+                let [x, y] = corners[k];
+                positions.push([x, y * 0.8, z * (0.6 + 0.3 * x)]);
+                let f = face as f32;
+                second.push([0.5 + 0.5 * x, 0.5 + 0.5 * y, 0.3 + 0.6 * f, if k == 1 { 0.2 } else { 0.9 }]);
+            }
+        }
+    }
+    (positions, second)
+}
+
+/// Which program a scene draws with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    Solid,
+    VertexColor,
+    Lambert,
+    Textured,
+}
+
+/// Draws the mesh with the built-in `kind` or its GLSL version, and returns the picture.
+fn draw_scene(backend: Backend, kind: Kind, use_glsl: bool) -> Vec<u8> {
+    let mut gl = Context::new(config_on(backend)).unwrap();
+    let (positions, second) = mesh();
+    let (mvp, model) = matrices();
+    c(&mut gl, Call::CreateBuffer { id: 1, data: Bytes::from_slice(&positions) });
+    c(&mut gl, Call::CreateBuffer { id: 2, data: Bytes::from_slice(&second) });
+    let texels: Vec<u8> =
+        (0..8 * 8).flat_map(|i| [(i * 37 % 256) as u8, (i * 11) as u8, 200, (i * 29 % 256) as u8]).collect();
+    c(
+        &mut gl,
+        Call::CreateTexture {
+            id: 1,
+            width: 8,
+            height: 8,
+            format: TextureFormat::Rgba8,
+            data: Some(Bytes::from(texels)),
+            transient: false,
+        },
+    );
+    c(&mut gl, Call::TexParameters { id: 1, filter: Filter::Linear, wrap: Wrap::Repeat });
+    c(&mut gl, Call::BindTexture { unit: 2, texture: 1 });
+    let (builtin, vs, fs, second_name) = match kind {
+        Kind::Solid => (ProgramKind::Solid, SOLID_VS, SOLID_FS, None),
+        Kind::VertexColor => (ProgramKind::VertexColor, VERTEX_COLOR_VS, VERTEX_COLOR_FS, Some("color")),
+        Kind::Lambert => (ProgramKind::Lambert, LAMBERT_VS, LAMBERT_FS, Some("normal")),
+        Kind::Textured => (ProgramKind::Textured, TEXTURED_VS, TEXTURED_FS, Some("texcoord")),
+    };
+    let program = if use_glsl { glsl(vs, fs) } else { builtin.into() };
+    c(&mut gl, Call::CreateProgram { id: 1, program });
+    if use_glsl {
+        // The built-ins read position at 0 and the second attribute at 1.
+        c(&mut gl, Call::BindAttribLocation { program: 1, index: 0, name: "position".into() });
+        if let Some(name) = second_name {
+            c(&mut gl, Call::BindAttribLocation { program: 1, index: 1, name: name.into() });
+        }
+    }
+    c(&mut gl, Call::UseProgram { id: 1 });
+    let attrib = |index, buffer, size| Call::VertexAttribPointer {
+        index,
+        buffer,
+        size,
+        component: ComponentType::Float,
+        normalized: false,
+        stride: if index == 0 { 12 } else { 16 },
+        offset: 0,
+    };
+    c(&mut gl, attrib(0, 1, 3));
+    c(&mut gl, Call::EnableVertexAttrib { index: 0 });
+    let second_size = match kind {
+        Kind::Lambert => 3,
+        Kind::Textured => 2,
+        _ => 4,
+    };
+    c(&mut gl, attrib(1, 2, second_size));
+    c(&mut gl, Call::EnableVertexAttrib { index: 1 });
+    uniform(&mut gl, "mvp", UniformValue::Mat4(mvp.to_cols_array()));
+    if kind != Kind::VertexColor {
+        uniform(&mut gl, "color", UniformValue::Vec4([0.9, 0.7, 0.5, 0.8]));
+    }
+    if matches!(kind, Kind::VertexColor | Kind::Textured) {
+        uniform(&mut gl, "alpha_cutoff", UniformValue::Float(0.5));
+    }
+    let light = [0.3f32, 0.5, 0.8];
+    match (kind, use_glsl) {
+        (Kind::Lambert, false) => {
+            uniform(&mut gl, "model", UniformValue::Mat4(model.to_cols_array()));
+            uniform(&mut gl, "light_dir", UniformValue::Vec3(light));
+        }
+        (Kind::Lambert, true) => {
+            // As the built-in computes them.
+            let normal_matrix = Mat3::from_mat4(model).inverse().transpose();
+            uniform(&mut gl, "normal_matrix", UniformValue::Mat3(normal_matrix.to_cols_array()));
+            uniform(&mut gl, "light", UniformValue::Vec3(Vec3::from_array(light).normalize().to_array()));
+        }
+        (Kind::Textured, false) => uniform(&mut gl, "sampler", UniformValue::Int(2)),
+        (Kind::Textured, true) => uniform(&mut gl, "tex", UniformValue::Int(2)),
+        _ => {}
+    }
+    c(&mut gl, Call::Enable { cap: Capability::DepthTest });
+    c(&mut gl, Call::ClearColor { rgba: [0.1, 0.2, 0.3, 1.0] });
+    clear_all(&mut gl);
+    draw(&mut gl, positions.len() as u32);
+    swap(&mut gl);
+    gl.end().unwrap();
+    gl.surface_rgba8()
+}
+
+/// The largest difference of any channel.
+fn max_difference(a: &[u8], b: &[u8]) -> u8 {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).map(|(x, y)| x.abs_diff(*y)).max().unwrap_or(0)
+}
+
+/// The GLSL versions do the same arithmetic in the same order as the built-ins (`mvp *
+/// position` and `normal_matrix * normal` expand as glam's column sums, `normalize` and `dot`
+/// as tiler's `normalize3` and `dot3`, the texture goes through the same core sampler), so
+/// the pictures are equal bit for bit on every backend. The `composite` built-in reads an
+/// input attachment, which GLSL ES 1.00 cannot express.
+#[test]
+fn builtin_programs_in_glsl_draw_the_same_pictures() {
+    for backend in BACKENDS {
+        for kind in [Kind::Solid, Kind::VertexColor, Kind::Lambert, Kind::Textured] {
+            let builtin = draw_scene(backend, kind, false);
+            let glsl = draw_scene(backend, kind, true);
+            let background = [25u8, 51, 76, 255];
+            let covered = builtin.chunks(4).filter(|p| *p != background).count();
+            assert!(covered > 200, "{backend:?} {kind:?}: the mesh covers {covered} pixels");
+            assert!(builtin == glsl, "{backend:?} {kind:?}: differ by up to {}", max_difference(&builtin, &glsl));
+        }
+    }
+}
+
+/// Every backend draws the same GLSL pictures.
+#[test]
+fn glsl_pictures_are_the_same_on_every_backend() {
+    for kind in [Kind::Lambert, Kind::Textured] {
+        let pictures: Vec<_> = BACKENDS.iter().map(|b| draw_scene(*b, kind, true)).collect();
+        assert!(pictures.windows(2).all(|w| w[0] == w[1]), "{kind:?}: the backends disagree");
+    }
+}
+
+const TRACE: &str = r#"{
+  "format": "tiler-gl-trace",
+  "version": 1,
+  "config": { "width": 16, "height": 16, "threads": 1 },
+  "frames": [ { "calls": [
+    { "call": "create_buffer", "id": 1, "data": { "f32": [-1, -1, 3, -1, -1, 3] } },
+    { "call": "create_program", "id": 1, "program": { "glsl": {
+        "vertex": "attribute vec2 p;\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); }",
+        "fragment": "precision mediump float;\nuniform vec2 rg;\nuniform ivec2 ba;\nvoid main() { gl_FragColor = vec4(rg, vec2(ba)); }" } } },
+    { "call": "create_program", "id": 2, "program": "solid" },
+    { "call": "bind_attrib_location", "program": 1, "index": 3, "name": "p" },
+    { "call": "use_program", "id": 1 },
+    { "call": "uniform", "name": "rg", "value": { "vec2": [1, 0.5] } },
+    { "call": "uniform", "name": "ba", "value": { "ivec2": [0, 1] } },
+    { "call": "vertex_attrib", "index": 0, "value": [0, 0, 0, 1] },
+    { "call": "vertex_attrib_pointer", "index": 3, "buffer": 1, "size": 2, "type": "float" },
+    { "call": "enable_vertex_attrib", "index": 3 },
+    { "call": "clear", "color": true },
+    { "call": "draw_arrays", "mode": "triangles", "first": 0, "count": 3 },
+    { "call": "swap_buffers" }
+  ] } ]
+}"#;
+
+#[test]
+fn a_trace_with_a_glsl_program_round_trips_and_replays() {
+    let trace = Trace::parse(TRACE, None).unwrap();
+    let Call::CreateProgram { program: ProgramSource::Glsl(source), .. } = &trace.frames[0].calls[1] else {
+        panic!("not a GLSL program: {:?}", trace.frames[0].calls[1]);
+    };
+    assert!(source.fragment.contains("uniform ivec2 ba;"));
+    assert_eq!(
+        trace.frames[0].calls[2],
+        Call::CreateProgram { id: 2, program: ProgramSource::Builtin(ProgramKind::Solid) }
+    );
+    let written = trace.to_json();
+    assert!(written.contains(r#""program":"solid""#), "{written}");
+    assert!(written.contains(r#""program":{"glsl":{"vertex":"#), "{written}");
+    assert_eq!(Trace::parse(&written, None).unwrap(), trace);
+    let replay = trace.replay().unwrap();
+    let rgba = replay.context.surface_rgba8();
+    assert_eq!(pixel(&rgba, 16, 5, 5), [255, 128, 0, 255]);
+}
+
+/// A context with a full-screen triangle in buffer 1 at attribute 0.
+fn screen() -> Context {
+    let mut gl = context(16, 16);
+    let triangle: [[f32; 2]; 3] = [[-1.0, -1.0], [3.0, -1.0], [-1.0, 3.0]];
+    c(&mut gl, Call::CreateBuffer { id: 1, data: Bytes::from_slice(&triangle) });
+    c(
+        &mut gl,
+        Call::VertexAttribPointer {
+            index: 0,
+            buffer: 1,
+            size: 2,
+            component: ComponentType::Float,
+            normalized: false,
+            stride: 0,
+            offset: 0,
+        },
+    );
+    c(&mut gl, Call::EnableVertexAttrib { index: 0 });
+    gl
+}
+
+const SCREEN_VS: &str = "attribute vec2 p;
+varying vec2 uv;
+void main() { uv = p * 0.5 + 0.5; gl_Position = vec4(p, 0.0, 1.0); }";
+
+fn use_glsl(gl: &mut Context, id: u32, fragment: &str) {
+    c(gl, Call::CreateProgram { id, program: glsl(SCREEN_VS, fragment) });
+    c(gl, Call::BindAttribLocation { program: id, index: 0, name: "p".into() });
+    c(gl, Call::UseProgram { id });
+}
+
+#[test]
+fn glsl_errors_name_the_call_the_shader_and_the_line() {
+    let mut gl = screen();
+    let bad = "precision mediump float;\nvoid main() {\n    gl_FragColor = vec4(undeclared);\n}";
+    let e = gl.call(Call::CreateProgram { id: 1, program: glsl(SCREEN_VS, bad) }).unwrap_err();
+    assert_eq!(e.name, "create_program");
+    let message = e.to_string();
+    assert!(message.contains("fragment shader, line 3"), "{message}");
+    assert!(message.contains("undeclared"), "{message}");
+    let e = gl.call(Call::CreateProgram { id: 1, program: glsl("void main() { gl_Position = 1; }", "") });
+    assert!(e.unwrap_err().to_string().contains("vertex shader, line 1"));
+
+    let fragment = "precision mediump float;
+uniform vec4 color;
+uniform int count;
+uniform bool flag;
+uniform float weights[3];
+uniform sampler2D tex;
+varying vec2 uv;
+void main() {
+    float w = flag ? weights[2] : float(count);
+    gl_FragColor = texture2D(tex, uv) * color * w;
+}";
+    use_glsl(&mut gl, 2, fragment);
+    // Wrong types: GL's rules, then the uniform named.
+    for (name, value) in [
+        ("color", UniformValue::Vec3([1.0; 3])),
+        ("color", UniformValue::IVec4([1; 4])),
+        ("count", UniformValue::Float(1.0)),
+        ("tex", UniformValue::Float(0.0)),
+        ("weights[1]", UniformValue::Int(1)),
+    ] {
+        let e = gl.call(Call::Uniform { name: name.into(), value }).unwrap_err().to_string();
+        let base = name.split('[').next().unwrap();
+        assert!(e.contains(&format!("uniform '{name}'")) && e.contains("cannot set"), "{name}: {e}");
+        assert!(!base.is_empty());
+    }
+    // What GL accepts: ints and floats set bools, an element of an array, "x" as "x[0]".
+    uniform(&mut gl, "flag", UniformValue::Float(2.0));
+    uniform(&mut gl, "flag", UniformValue::Int(1));
+    uniform(&mut gl, "weights[2]", UniformValue::Float(0.5));
+    uniform(&mut gl, "weights", UniformValue::Float(0.25));
+    uniform(&mut gl, "color", UniformValue::Vec4([1.0; 4]));
+    let e = gl.call(Call::Uniform { name: "weights[3]".into(), value: UniformValue::Float(1.0) });
+    assert!(e.unwrap_err().to_string().contains("no active uniform 'weights[3]'"));
+    let e = gl.call(Call::Uniform { name: "colour".into(), value: UniformValue::Vec4([1.0; 4]) }).unwrap_err();
+    let e = e.to_string();
+    assert!(e.contains("no active uniform 'colour'") && e.contains("color, count, flag, weights[0], tex"), "{e}");
+    let e = gl.call(Call::Uniform { name: "tex".into(), value: UniformValue::Int(8) }).unwrap_err().to_string();
+    assert!(e.contains("texture unit 8"), "{e}");
+    let e = gl.call(Call::Uniform { name: "color".into(), value: UniformValue::Vec4([f32::NAN; 4]) });
+    assert!(e.unwrap_err().to_string().contains("non-finite"));
+    assert_eq!(
+        gl.uniform_names(2).unwrap(),
+        ["color", "count", "flag", "weights[0]", "tex"].map(String::from).to_vec()
+    );
+    assert_eq!(gl.uniform_names(9), None);
+
+    // The sampler reads unit 1, which has no texture: the draw says so.
+    uniform(&mut gl, "tex", UniformValue::Int(1));
+    let e = gl.call(Call::DrawArrays { mode: Mode::Triangles, first: 0, count: 3 }).unwrap_err();
+    assert_eq!(e.name, "draw_arrays");
+    assert!(e.message.contains("sampler 'tex' reads texture unit 1, which has no texture"), "{e}");
+
+    // Attributes: locations beyond the context's, reserved names, fixed built-ins.
+    let e = gl.call(Call::BindAttribLocation { program: 2, index: 8, name: "p".into() }).unwrap_err();
+    assert!(e.message.contains("out of range"), "{e}");
+    let e = gl.call(Call::BindAttribLocation { program: 2, index: 1, name: "gl_Vertex".into() }).unwrap_err();
+    assert!(e.message.contains("reserved"), "{e}");
+    c(&mut gl, Call::CreateProgram { id: 3, program: ProgramKind::Solid.into() });
+    let e = gl.call(Call::BindAttribLocation { program: 3, index: 1, name: "position".into() }).unwrap_err();
+    assert!(e.message.contains("fixed"), "{e}");
+    c(&mut gl, Call::BindAttribLocation { program: 3, index: 0, name: "position".into() });
+}
+
+#[test]
+fn a_disabled_attribute_reads_its_generic_value() {
+    let mut gl = screen();
+    let vs = "attribute vec2 p;
+attribute vec4 tint;
+varying vec4 v_tint;
+void main() { v_tint = tint; gl_Position = vec4(p, 0.0, 1.0); }";
+    let fs = "precision mediump float;
+varying vec4 v_tint;
+void main() { gl_FragColor = v_tint; }";
+    c(&mut gl, Call::CreateProgram { id: 1, program: glsl(vs, fs) });
+    c(&mut gl, Call::BindAttribLocation { program: 1, index: 0, name: "p".into() });
+    assert_eq!(gl.attribute_locations(1).unwrap(), vec![("p".to_string(), 0), ("tint".to_string(), 1)]);
+    c(&mut gl, Call::UseProgram { id: 1 });
+    draw(&mut gl, 3);
+    c(&mut gl, Call::Finish);
+    assert_eq!(pixel(&gl.surface_rgba8(), 16, 8, 8), [0, 0, 0, 255], "(0, 0, 0, 1) at first");
+    c(&mut gl, Call::VertexAttrib { index: 1, value: [0.0, 1.0, 0.5, 1.0] });
+    draw(&mut gl, 3);
+    c(&mut gl, Call::Finish);
+    assert_eq!(pixel(&gl.surface_rgba8(), 16, 8, 8), [0, 255, 128, 255]);
+    let e = gl.call(Call::VertexAttrib { index: 1, value: [f32::INFINITY, 0.0, 0.0, 1.0] }).unwrap_err();
+    assert!(e.message.contains("not finite"), "{e}");
+}
+
+const SAMPLE_FS: &str = "precision mediump float;
+uniform sampler2D tex;
+varying vec2 uv;
+void main() { gl_FragColor = texture2D(tex, uv); }";
+
+/// Rendered into a texture, then sampled by a GLSL program: the render pass is flushed
+/// first, and the picture is upright (GL's t up, the lower half red).
+#[test]
+fn glsl_samples_a_texture_rendered_just_before() {
+    let mut gl = screen();
+    framebuffer(&mut gl, 2, 16, 16);
+    bind(&mut gl, 2);
+    c(&mut gl, Call::ClearColor { rgba: [0.0, 0.0, 1.0, 1.0] });
+    clear_all(&mut gl);
+    let lower_half = quad(-1.0, -1.0, 1.0, 0.0, 0.0);
+    c(&mut gl, Call::CreateBuffer { id: 3, data: Bytes::from_slice(&lower_half) });
+    c(&mut gl, Call::CreateProgram { id: 3, program: glsl(SOLID_VS, SOLID_FS) });
+    c(&mut gl, Call::UseProgram { id: 3 });
+    uniform(&mut gl, "mvp", UniformValue::Mat4(Mat4::IDENTITY.to_cols_array()));
+    uniform(&mut gl, "color", UniformValue::Vec4([1.0, 0.0, 0.0, 1.0]));
+    c(
+        &mut gl,
+        Call::VertexAttribPointer {
+            index: 0,
+            buffer: 3,
+            size: 3,
+            component: ComponentType::Float,
+            normalized: false,
+            stride: 0,
+            offset: 0,
+        },
+    );
+    draw(&mut gl, 6);
+    bind(&mut gl, 0);
+    c(
+        &mut gl,
+        Call::VertexAttribPointer {
+            index: 0,
+            buffer: 1,
+            size: 2,
+            component: ComponentType::Float,
+            normalized: false,
+            stride: 0,
+            offset: 0,
+        },
+    );
+    c(&mut gl, Call::BindTexture { unit: 0, texture: 2 });
+    use_glsl(&mut gl, 1, SAMPLE_FS);
+    draw(&mut gl, 3);
+    swap(&mut gl);
+    let report = gl.end().unwrap();
+    let rgba = gl.surface_rgba8();
+    assert_eq!(pixel(&rgba, 16, 4, 12), [255, 0, 0, 255], "the lower half (tiler's bottom rows)");
+    assert_eq!(pixel(&rgba, 16, 4, 3), [0, 0, 255, 255], "the upper half");
+    let p = passes(&report);
+    assert_eq!(p.len(), 2);
+    let texture_image = gl.texture_image(2).unwrap();
+    assert_eq!(p[1].draws[0].sampled, Some(texture_image));
+    assert!(p[1].cost.ledger.get(tiler::Category::TextureFetch) > 0, "RGBA8 goes through the core's sampler");
+}
+
+/// A depth texture (a shadow map) rendered into and sampled: depth reads as `(z, z, z, 1)`.
+#[test]
+fn glsl_samples_a_depth_texture() {
+    for format in [TextureFormat::Depth16, TextureFormat::Depth24, TextureFormat::Depth32f] {
+        let mut gl = screen();
+        c(&mut gl, Call::CreateTexture { id: 2, width: 16, height: 16, format, data: None, transient: false });
+        c(&mut gl, Call::CreateFramebuffer { id: 2 });
+        c(
+            &mut gl,
+            Call::FramebufferTexture { framebuffer: 2, attachment: AttachmentPoint::Depth, texture: 2, samples: 1 },
+        );
+        bind(&mut gl, 2);
+        c(&mut gl, Call::Enable { cap: Capability::DepthTest });
+        clear_all(&mut gl);
+        // The lower half at NDC z = 0.5: window depth 0.75.
+        let lower_half = quad(-1.0, -1.0, 1.0, 0.0, 0.5);
+        c(&mut gl, Call::CreateBuffer { id: 3, data: Bytes::from_slice(&lower_half) });
+        c(&mut gl, Call::CreateProgram { id: 3, program: glsl(SOLID_VS, SOLID_FS) });
+        c(&mut gl, Call::UseProgram { id: 3 });
+        uniform(&mut gl, "mvp", UniformValue::Mat4(Mat4::IDENTITY.to_cols_array()));
+        c(
+            &mut gl,
+            Call::VertexAttribPointer {
+                index: 0,
+                buffer: 3,
+                size: 3,
+                component: ComponentType::Float,
+                normalized: false,
+                stride: 0,
+                offset: 0,
+            },
+        );
+        draw(&mut gl, 6);
+        bind(&mut gl, 0);
+        c(&mut gl, Call::Disable { cap: Capability::DepthTest });
+        c(
+            &mut gl,
+            Call::VertexAttribPointer {
+                index: 0,
+                buffer: 1,
+                size: 2,
+                component: ComponentType::Float,
+                normalized: false,
+                stride: 0,
+                offset: 0,
+            },
+        );
+        c(&mut gl, Call::BindTexture { unit: 3, texture: 2 });
+        use_glsl(&mut gl, 1, SAMPLE_FS);
+        uniform(&mut gl, "tex", UniformValue::Int(3));
+        draw(&mut gl, 3);
+        swap(&mut gl);
+        gl.end().unwrap();
+        let rgba = gl.surface_rgba8();
+        let lower = pixel(&rgba, 16, 4, 12);
+        assert!(lower[0].abs_diff(191) <= 1 && lower[0] == lower[1] && lower[3] == 255, "{format:?}: {lower:?}");
+        assert_eq!(pixel(&rgba, 16, 4, 3), [255, 255, 255, 255], "{format:?}: cleared to 1");
+    }
+}
+
+/// A far quad, then a near one over it, depth-tested, on TBDR: with an opaque shader HSR
+/// shades only the near quad; a shader that may discard (it never does here) keeps the far
+/// one's fragments, as hardware must. The pictures are the same.
+#[test]
+fn a_discarding_glsl_shader_turns_hsr_off() {
+    let discarding = "precision mediump float;
+uniform vec4 color;
+void main() {
+    if (color.a < 0.0) discard;
+    gl_FragColor = color;
+}";
+    let run = |fragment: &str| {
+        let mut gl = Context::new(ContextConfig { backend: Backend::Tbdr, ..config(32, 32) }).unwrap();
+        let mut vertices = quad(-1.0, -1.0, 1.0, 1.0, 0.5);
+        vertices.extend(quad(-1.0, -1.0, 1.0, 1.0, -0.5));
+        c(&mut gl, Call::CreateBuffer { id: 1, data: Bytes::from_slice(&vertices) });
+        c(&mut gl, Call::CreateProgram { id: 1, program: glsl(SOLID_VS, fragment) });
+        bind_geometry(&mut gl, 1);
+        uniform(&mut gl, "mvp", UniformValue::Mat4(Mat4::IDENTITY.to_cols_array()));
+        c(&mut gl, Call::Enable { cap: Capability::DepthTest });
+        clear_all(&mut gl);
+        uniform(&mut gl, "color", UniformValue::Vec4([1.0, 0.0, 0.0, 1.0]));
+        c(&mut gl, Call::DrawArrays { mode: Mode::Triangles, first: 0, count: 6 });
+        uniform(&mut gl, "color", UniformValue::Vec4([0.0, 1.0, 0.0, 1.0]));
+        c(&mut gl, Call::DrawArrays { mode: Mode::Triangles, first: 6, count: 6 });
+        swap(&mut gl);
+        let report = gl.end().unwrap();
+        let draws = passes(&report)[0].draws.clone();
+        (draws, gl.surface_rgba8())
+    };
+    let (opaque, opaque_picture) = run(SOLID_FS);
+    let (discard, discard_picture) = run(discarding);
+    assert_eq!(opaque_picture, discard_picture);
+    assert_eq!(pixel(&opaque_picture, 32, 9, 9), [0, 255, 0, 255]);
+    assert!(!opaque[0].discards && discard[0].discards);
+    assert_eq!(opaque[0].stats.fragments_shaded, 0, "HSR removed the hidden quad");
+    assert_eq!(discard[0].stats.fragments_shaded, 32 * 32, "a discarding shader runs for every fragment");
+    assert_eq!(opaque[1].stats.fragments_shaded, discard[1].stats.fragments_shaded);
+}
+
+/// The GLSL alpha-test pair draws what the built-in pair draws, and costs the same.
+#[test]
+fn the_glsl_example_pair_matches_the_built_in_one() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("traces");
+    for form in ["bad", "good"] {
+        let glsl = Trace::read(&dir.join(format!("glsl-alpha-test-{form}.json"))).unwrap().replay().unwrap();
+        let builtin = Trace::read(&dir.join(format!("alpha-test-{form}.json"))).unwrap().replay().unwrap();
+        assert_eq!(glsl.context.surface_rgba8(), builtin.context.surface_rgba8(), "{form}");
+        assert_eq!(glsl.report.totals.ledger, builtin.report.totals.ledger, "{form}");
+        assert_eq!(
+            glsl.report.totals.counters.fragments_shaded, builtin.report.totals.counters.fragments_shaded,
+            "{form}"
+        );
+    }
+}
+
+/// A 64×64 one-texel checkerboard drawn over 16×16 pixels (a quarter size: LOD 2). With
+/// `generate_mipmap` and a mipmap filter, level 2 is read: every texel the box-filtered grey
+/// `(0 + 255 + 255 + 0 + 2) >> 2 = 128`. Without levels the filter reads level 0's nearest
+/// texel, black or white. Both for the GLSL program and the `textured` built-in.
+#[test]
+fn generated_mipmaps_are_sampled_with_a_mipmap_filter() {
+    let checker: Vec<u8> =
+        (0..64 * 64).flat_map(|i| if (i % 64 + i / 64) % 2 == 0 { [0, 0, 0, 255] } else { [255; 4] }).collect();
+    for glsl_program in [true, false] {
+        for generate in [true, false] {
+            let mut gl = screen();
+            c(
+                &mut gl,
+                Call::CreateTexture {
+                    id: 1,
+                    width: 64,
+                    height: 64,
+                    format: TextureFormat::Rgba8,
+                    data: Some(Bytes::from(checker.clone())),
+                    transient: false,
+                },
+            );
+            c(&mut gl, Call::TexParameters { id: 1, filter: Filter::NearestMipmapNearest, wrap: Wrap::Repeat });
+            if generate {
+                c(&mut gl, Call::GenerateMipmap { id: 1 });
+            }
+            c(&mut gl, Call::BindTexture { unit: 0, texture: 1 });
+            if glsl_program {
+                use_glsl(&mut gl, 1, SAMPLE_FS);
+            } else {
+                let texcoords: [[f32; 2]; 3] = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]];
+                c(&mut gl, Call::CreateBuffer { id: 2, data: Bytes::from_slice(&texcoords) });
+                c(&mut gl, Call::CreateProgram { id: 1, program: ProgramKind::Textured.into() });
+                c(&mut gl, Call::UseProgram { id: 1 });
+                c(
+                    &mut gl,
+                    Call::VertexAttribPointer {
+                        index: 1,
+                        buffer: 2,
+                        size: 2,
+                        component: ComponentType::Float,
+                        normalized: false,
+                        stride: 0,
+                        offset: 0,
+                    },
+                );
+                c(&mut gl, Call::EnableVertexAttrib { index: 1 });
+            }
+            draw(&mut gl, 3);
+            swap(&mut gl);
+            gl.end().unwrap();
+            let rgba = gl.surface_rgba8();
+            let values: std::collections::BTreeSet<u8> = rgba.chunks(4).map(|p| p[0]).collect();
+            let what = format!("glsl {glsl_program}, generate {generate}: {values:?}");
+            if generate {
+                assert_eq!(values.into_iter().collect::<Vec<_>>(), [128], "{what}");
+            } else {
+                assert!(values.iter().all(|v| *v == 0 || *v == 255), "{what}");
+            }
+        }
+    }
+}
+
+/// `gl_FragCoord` is GL's window position: y up from the bottom row, pixel centres at .5.
+#[test]
+fn gl_frag_coord_counts_rows_from_the_bottom() {
+    let mut gl = screen();
+    use_glsl(
+        &mut gl,
+        1,
+        "precision mediump float;
+void main() { gl_FragColor = vec4(gl_FragCoord.x / 16.0, gl_FragCoord.y / 16.0, 0.0, 1.0); }",
+    );
+    draw(&mut gl, 3);
+    c(&mut gl, Call::Finish);
+    let rgba = gl.surface_rgba8();
+    // tiler's row 15 is GL's row 0: y = 0.5, 0.5 / 16 · 255 = 7.97.
+    assert_eq!(pixel(&rgba, 16, 0, 15), [8, 8, 0, 255]);
+    assert_eq!(pixel(&rgba, 16, 15, 0), [247, 247, 0, 255]);
+}
+
+/// Two samplers on two units: an RGBA8 texture (the core's sampler, counted) and an `rgba32f`
+/// one (the context-side sampler), added.
+#[test]
+fn samplers_read_their_own_units() {
+    let mut gl = screen();
+    let red: Vec<u8> = [200u8, 0, 0, 255].repeat(4);
+    c(
+        &mut gl,
+        Call::CreateTexture {
+            id: 1,
+            width: 2,
+            height: 2,
+            format: TextureFormat::Rgba8,
+            data: Some(Bytes::from(red)),
+            transient: false,
+        },
+    );
+    let blue: Vec<f32> = [0.0f32, 0.0, 0.5, 0.0].repeat(4);
+    c(
+        &mut gl,
+        Call::CreateTexture {
+            id: 2,
+            width: 2,
+            height: 2,
+            format: TextureFormat::Rgba32f,
+            data: Some(Bytes::from_slice(&blue)),
+            transient: false,
+        },
+    );
+    c(&mut gl, Call::BindTexture { unit: 0, texture: 1 });
+    c(&mut gl, Call::BindTexture { unit: 5, texture: 2 });
+    use_glsl(
+        &mut gl,
+        1,
+        "precision mediump float;
+uniform sampler2D a;
+uniform sampler2D b;
+varying vec2 uv;
+void main() { gl_FragColor = texture2D(a, uv) + texture2D(b, uv); }",
+    );
+    uniform(&mut gl, "b", UniformValue::Int(5));
+    draw(&mut gl, 3);
+    swap(&mut gl);
+    let report = gl.end().unwrap();
+    assert_eq!(pixel(&gl.surface_rgba8(), 16, 7, 7), [200, 0, 128, 255]);
+    let pass = passes(&report)[0];
+    assert!(pass.cost.ledger.get(tiler::Category::TextureFetch) > 0);
+    assert_eq!(pass.draws[0].sampled, gl.texture_image(1), "the first unit's texture is reported");
+}
