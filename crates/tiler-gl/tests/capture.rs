@@ -330,7 +330,7 @@ fn glmark2_captures_replay_and_match_llvmpipe() {
 /// A program drawing a full-window triangle in the colour of `colors[2]`, set by one
 /// `glUniform4fv` of three elements at the location recorded for `colors`; then
 /// `extra` (calls after the draw) and a swap.
-fn uniform_array_capture(extra: impl FnOnce(&mut Writer)) -> (Writer, u64) {
+fn uniform_array_capture(before_draw: impl FnOnce(&mut Writer), extra: impl FnOnce(&mut Writer)) -> (Writer, u64) {
     let mut w = Writer::new(6);
     window_surface(&mut w);
     begin_context(&mut w, 100, 4, 4);
@@ -400,6 +400,7 @@ fn uniform_array_capture(extra: impl FnOnce(&mut Writer)) -> (Writer, u64) {
         None,
         false,
     );
+    before_draw(&mut w);
     let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
     w.call("glDrawArrays", &draw, None, false);
     extra(&mut w);
@@ -409,7 +410,7 @@ fn uniform_array_capture(extra: impl FnOnce(&mut Writer)) -> (Writer, u64) {
 
 #[test]
 fn glsl_programs_link_from_the_capture_and_uniform_arrays_set_consecutive_elements() {
-    let (w, _) = uniform_array_capture(|_| {});
+    let (w, _) = uniform_array_capture(|_| {}, |_| {});
     let (result, frames) = replay(&w);
     result.unwrap();
     // colors[2] = (0.2, 0.4, 0.6, 1.0), through the attribute at the location the capture
@@ -420,12 +421,48 @@ fn glsl_programs_link_from_the_capture_and_uniform_arrays_set_consecutive_elemen
 #[test]
 fn a_uniform_location_never_returned_is_an_error_naming_the_call() {
     let mut call = 0;
-    let (w, _) = uniform_array_capture(|w| {
-        call = w.call("glUniform1f", &[("location", W::UInt(9)), ("v0", W::Float(1.0))], None, false);
-    });
+    let (w, _) = uniform_array_capture(
+        |_| {},
+        |w| {
+            call = w.call("glUniform1f", &[("location", W::UInt(9)), ("v0", W::Float(1.0))], None, false);
+        },
+    );
     let (result, _) = replay(&w);
     let error = result.err().expect("location 9 was never returned");
     assert_eq!(error.call(), Some(call));
     let message = error.to_string();
     assert!(message.contains("`glUniform1f`") && message.contains("location 9"), "{message}");
+}
+
+fn tex_parameter(w: &mut Writer, pname: (&'static str, u32), value: (&'static str, u32)) {
+    w.call(
+        "glTexParameteri",
+        &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("pname", e(pname.0, pname.1)), ("param", e(value.0, value.1))],
+        None,
+        false,
+    );
+}
+
+#[test]
+fn a_mipmap_filter_draws_once_mipmaps_are_generated_and_fails_naming_the_draw_before() {
+    let trilinear = |w: &mut Writer| {
+        texture_rgb(w, 4, 4, 4, vec![200; 48]);
+        tex_parameter(w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_LINEAR_MIPMAP_LINEAR", 0x2703));
+        tex_parameter(w, ("GL_TEXTURE_MAG_FILTER", 0x2800), ("GL_LINEAR", 0x2601));
+    };
+    let (w, _) = uniform_array_capture(trilinear, |_| {});
+    let (result, _) = replay(&w);
+    let message = result.err().expect("no mip levels").to_string();
+    assert!(message.contains("`glDrawArrays`") && message.contains("mip levels"), "{message}");
+
+    let (w, _) = uniform_array_capture(
+        |w| {
+            trilinear(w);
+            w.call("glGenerateMipmap", &[("target", e("GL_TEXTURE_2D", 0x0de1))], None, false);
+        },
+        |_| {},
+    );
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [51, 102, 153, 255]));
 }

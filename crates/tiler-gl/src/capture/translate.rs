@@ -45,6 +45,8 @@ struct Texture {
     min: u32,
     mag: u32,
     wrap: [u32; 2],
+    /// `glGenerateMipmap` made levels (the context keeps them up to date with level 0).
+    mipmapped: bool,
 }
 
 impl Default for Texture {
@@ -56,24 +58,39 @@ impl Default for Texture {
             min: GL_NEAREST_MIPMAP_LINEAR,
             mag: GL_LINEAR,
             wrap: [GL_REPEAT; 2],
+            mipmapped: false,
         }
     }
 }
 
 impl Texture {
-    /// The context's sampling state, or why the GL state has none.
+    /// The context's sampling state, or why the GL state has none. The context takes one
+    /// filter: a `*_MIPMAP_*` one minifies through the levels `glGenerateMipmap` made and
+    /// magnifies with its first word, so GL's magnification filter must be that word.
     fn sampler(&self) -> Fallible<(Filter, Wrap)> {
-        let filter = |f| match f {
-            GL_NEAREST => Ok(Filter::Nearest),
-            GL_LINEAR => Ok(Filter::Linear),
-            _ => Err(format!(
-                "its minification filter {f:#06x} samples mip levels, which the context does not model \
-                 (set GL_NEAREST or GL_LINEAR)"
-            )),
+        let mag = match self.mag {
+            GL_NEAREST => Filter::Nearest,
+            GL_LINEAR => Filter::Linear,
+            f => return Err(format!("magnification filter {f:#06x} is not a GL one")),
         };
-        let (min, mag) = (filter(self.min)?, filter(self.mag)?);
-        if min != mag {
-            return Err("different minification and magnification filters are not modelled".into());
+        let (min, first_word) = match self.min {
+            GL_NEAREST => (Filter::Nearest, Filter::Nearest),
+            GL_LINEAR => (Filter::Linear, Filter::Linear),
+            0x2700 => (Filter::NearestMipmapNearest, Filter::Nearest),
+            0x2701 => (Filter::LinearMipmapNearest, Filter::Linear),
+            GL_NEAREST_MIPMAP_LINEAR => (Filter::NearestMipmapLinear, Filter::Nearest),
+            0x2703 => (Filter::LinearMipmapLinear, Filter::Linear),
+            f => return Err(format!("minification filter {f:#06x} is not a GL one")),
+        };
+        if first_word != mag {
+            return Err("minification and magnification filters of different kinds are not modelled".into());
+        }
+        if min != first_word && !self.mipmapped {
+            return Err(format!(
+                "its minification filter {:#06x} needs mip levels and it has none (GL samples an incomplete \
+                 texture as black; the context does not model that)",
+                self.min
+            ));
         }
         if self.wrap[0] != self.wrap[1] {
             return Err("different wraps in s and t are not modelled".into());
@@ -539,6 +556,8 @@ impl Translator {
                 let t = self.objects()?.textures.get_mut(&name).expect("inserted above");
                 t.id = Some(id);
                 t.upload = Some(upload);
+                // New storage of another size leaves the levels of the old one behind.
+                t.mipmapped &= t.size == (width, height);
                 t.size = (width, height);
                 self.update_sampler(name)?;
             }
@@ -598,6 +617,14 @@ impl Translator {
                     0x2803 => t.wrap[1] = value,
                     p => return Err(format!("texture parameter {p:#06x} is not supported")),
                 }
+                self.update_sampler(name)?;
+            }
+            C::GenerateMipmap { target } => {
+                check_2d_level0(*target, 0)?;
+                let name = self.bound_texture()?;
+                let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
+                self.emit(Call::GenerateMipmap { id })?;
+                self.objects()?.textures.get_mut(&name).expect("has storage").mipmapped = true;
                 self.update_sampler(name)?;
             }
             C::PixelStore { pname, param } => match (*pname, *param) {
