@@ -40,6 +40,9 @@
 //! - **Textures**: `RGBA`, `RGB`, `LUMINANCE`, `LUMINANCE_ALPHA`, `ALPHA` bytes and the 4444 /
 //!   5551 packings are expanded to RGBA8 (what sampling returns is the same); 565 is kept as
 //!   565; `DEPTH_COMPONENT` is a depth texture without data. Rows honour `GL_UNPACK_ALIGNMENT`.
+//!   Level 0 only; `glGenerateMipmap` gives the context's mip chain, and the `*_MIPMAP_*`
+//!   minification filters use it (with a magnification filter of the same first word; a mipmap
+//!   filter on a texture without levels — incomplete in GL — is refused where it is drawn).
 //! - **The window**: its size is the size of the first `glViewport` (apitrace records the
 //!   surface's size as a fake viewport when a context is first made current), unless
 //!   [`ReplayOptions::window`] says; RGBA8 with packed depth-stencil. `eglSwapBuffers` is
