@@ -182,3 +182,22 @@ fn bench_runs_each_simd_level_alike() {
     let out = tiler(&["bench", "--simd", "neon"]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown SIMD level 'neon'"));
 }
+
+#[test]
+fn analyze_a_capture_writes_every_presented_frame() {
+    let Some(traces) = tiler_test_support::traces_dir() else { return };
+    let dir = scratch("analyze-capture");
+    let frames = dir.join("frames");
+    let trace = traces.join("glmark2/pulsar.trace");
+    let out = tiler(&["analyze", trace.to_str().unwrap(), "--frames", frames.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("pass"), "the passes are printed: {stdout}");
+    let mut names: Vec<_> =
+        std::fs::read_dir(&frames).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    names.sort();
+    let expected: Vec<_> = (0..6).map(|i| format!("frame-{i:04}.png")).collect();
+    assert_eq!(names, expected);
+    let image = image::open(frames.join("frame-0005.png")).unwrap();
+    assert_eq!((image.width(), image.height()), (800, 600));
+}

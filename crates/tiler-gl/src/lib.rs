@@ -7,7 +7,8 @@
 //! their load and store ops and their flushes exactly as `DESIGN.md`'s table says (see
 //! `context::pass` for the rules and where each is implemented), renders them on a
 //! [`tiler::Device`], and models the frames in flight behind the CPU (`context::frames`).
-//! [`trace`] reads and writes sequences of frames of calls as JSON; [`advisor`] turns a run's
+//! [`trace`] reads and writes sequences of frames of calls as JSON; [`capture`] replays apitrace
+//! captures of real OpenGL ES 2.0 applications on the context; [`advisor`] turns a run's
 //! [`Report`] into findings that cite the seed documents and name the bytes at stake.
 //!
 //! ```
@@ -73,6 +74,7 @@
 pub mod advisor;
 pub mod bytes;
 pub mod call;
+pub mod capture;
 pub mod context;
 pub mod program;
 pub mod report;

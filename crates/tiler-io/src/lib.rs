@@ -112,7 +112,13 @@ fn kind(metadata: &std::fs::Metadata) -> &'static str {
 
 /// Opens a regular file for reading without blocking on FIFOs, and checks through the opened
 /// handle that it is a regular file (what `path` named may have changed since it was looked at).
-fn open_regular(path: &Path) -> Result<File, IoError> {
+/// Opens `path` for reading if it is a regular file: a directory, device, FIFO or socket is
+/// refused (a FIFO without blocking), checked by path and again on the opened handle. For
+/// readers that stream a file rather than read it whole; they must bound what they read.
+///
+/// # Errors
+/// A missing or unreadable file, or one that is not a regular file, naming it and the rule.
+pub fn open_regular(path: &Path) -> Result<File, IoError> {
     let not_regular = |m: &std::fs::Metadata| {
         IoError::new(path, format!("is {}, not a regular file; only regular files are read", kind(m)))
     };

@@ -1,0 +1,194 @@
+//! Replaying real captures: an apitrace capture of an OpenGL ES 2.0 / EGL application, read
+//! by `tiler-apitrace`, drives a [`Context`] with [`Call`](crate::Call)s, so a real
+//! application's frames get the same inferred passes, costs and findings as a JSON trace.
+//!
+//! ```no_run
+//! use tiler_gl::capture::{replay_file, ReplayOptions};
+//!
+//! let replay = replay_file("glmark2-texture.trace", &ReplayOptions::default(), &mut |frame| {
+//!     println!("frame {} presented at call {}", frame.index, frame.call);
+//!     Ok(())
+//! })
+//! .unwrap();
+//! print!("{}", tiler_gl::text_report(&replay.report));
+//! ```
+//!
+//! # How GL maps onto the context
+//!
+//! The translation (`translate.rs`) keeps the GL state the context does not: bindings (array
+//! buffer, active texture unit, renderbuffer, framebuffers), shader sources and attachments,
+//! uniform locations, texture parameters, pixel-store alignment.
+//!
+//! - **Names.** Each EGL context is a *generation*; its GL names are mapped to fresh context
+//!   ids, so a capture that destroys and recreates its context (every glmark2 scene does) can
+//!   reuse names. Destroying a context deletes its buffers, textures, renderbuffers,
+//!   framebuffers and queries; making a new context current resets the GL state to its
+//!   defaults. The window surface outlives contexts, as in EGL.
+//! - **Objects** are created in the context when GL gives them storage (`glBufferData`,
+//!   `glTexImage2D`, `glRenderbufferStorage`); bindings of names without storage are applied
+//!   when the storage arrives.
+//! - **Programs.** `glShaderSource` per shader, `glAttachShader`, `glBindAttribLocation`
+//!   before link; `glLinkProgram` creates the program from its GLSL with those bindings. Every
+//!   `glGetAttribLocation` return value ≥ 0 is bound too (the capture's indices are the ones the
+//!   application then uses). Uniform locations are mapped back to the names
+//!   `glGetUniformLocation` returned them for; `glUniform*v` with a count sets consecutive
+//!   array elements (`base[i + k]`). A location never returned is an error naming the call.
+//! - **Client-side vertex arrays** (apitrace records the bytes a draw reads in a fake
+//!   `glVertexAttribPointer` just before it) become client arrays the context copies at each
+//!   draw, as a driver must; client-side indices go through a scratch index buffer. Writes
+//!   through mapped buffers become `buffer_sub_data`.
+//! - **Textures**: `RGBA`, `RGB`, `LUMINANCE`, `LUMINANCE_ALPHA`, `ALPHA` bytes and the 4444 /
+//!   5551 packings are expanded to RGBA8 (what sampling returns is the same); 565 is kept as
+//!   565; `DEPTH_COMPONENT` is a depth texture without data. Rows honour `GL_UNPACK_ALIGNMENT`.
+//!   Level 0 only; `glGenerateMipmap` gives the context's mip chain, and the `*_MIPMAP_*`
+//!   minification filters use it (with a magnification filter of the same first word; a mipmap
+//!   filter on a texture without levels — incomplete in GL — is refused where it is drawn).
+//! - **The window**: its size is the size of the first `glViewport` (apitrace records the
+//!   surface's size as a fake viewport when a context is first made current), unless
+//!   [`ReplayOptions::window`] says; RGBA8 with packed depth-stencil. `eglSwapBuffers` is
+//!   `swap_buffers`, and each presented picture is handed to the caller.
+//!
+//! A call that draws or changes state and that the context cannot express is an error naming
+//! its call number and function; nothing is skipped silently. Calls on `tiler-apitrace`'s
+//! ignore list change nothing, and so do hints (`glHint`), `glLineWidth` (lines are refused
+//! where they are drawn), `GL_DITHER` (llvmpipe and tiler do not dither), and state that only
+//! matters under a capability the replay refuses to enable (`glPolygonOffset`,
+//! `glSampleCoverage`).
+
+mod texels;
+mod translate;
+
+use std::io::{BufReader, Read};
+use std::path::Path;
+
+use tiler_apitrace::{Decoder, Limits, TraceReader};
+
+use crate::context::{Context, ContextConfig};
+use crate::report::Report;
+
+pub use translate::Translator;
+
+/// How a capture is replayed.
+#[derive(Clone, Debug)]
+pub struct ReplayOptions {
+    /// The context's configuration; its `width` and `height` are replaced by the window's.
+    pub config: ContextConfig,
+    /// The window's size; `None`: the size of the capture's first `glViewport`.
+    pub window: Option<(u32, u32)>,
+    /// Limits on what the capture reader holds in memory.
+    pub limits: Limits,
+}
+
+impl Default for ReplayOptions {
+    fn default() -> ReplayOptions {
+        ReplayOptions { config: ContextConfig::new(1, 1), window: None, limits: Limits::default() }
+    }
+}
+
+/// One presented frame: the window's picture at an `eglSwapBuffers`.
+#[derive(Clone, Debug)]
+pub struct PresentedFrame<'a> {
+    /// Frames presented before this one.
+    pub index: u32,
+    /// The `eglSwapBuffers` call's number in the capture.
+    pub call: u64,
+    pub width: u32,
+    pub height: u32,
+    /// RGBA8, rows top to bottom (the first row is the top of the window).
+    pub rgba: &'a [u8],
+}
+
+/// What a replay did.
+pub struct Replay {
+    pub report: Report,
+    /// The context at the end, with the window's last picture.
+    pub context: Context,
+    /// Calls read from the capture.
+    pub calls: u64,
+    /// The `eglSwapBuffers` call numbers, one per presented frame.
+    pub swaps: Vec<u64>,
+}
+
+/// A replay that failed: the capture could not be read, or one of its calls could not be
+/// replayed.
+#[derive(Debug, thiserror::Error)]
+pub enum CaptureError {
+    #[error("{path}: {source}")]
+    Open { path: String, source: std::io::Error },
+    #[error("reading the capture: {0}")]
+    Read(#[from] tiler_apitrace::ReadError),
+    #[error("decoding the capture: {0}")]
+    Decode(#[from] tiler_apitrace::gles::DecodeError),
+    /// A call the replay cannot express, or one the context refused.
+    #[error("call {call} `{function}`: {message}")]
+    Call { call: u64, function: String, message: String },
+    /// The caller's frame handler failed.
+    #[error("frame {frame} (call {call}): {message}")]
+    Frame { frame: u32, call: u64, message: String },
+}
+
+impl CaptureError {
+    /// The capture's call number the error is about, if it is about one.
+    pub fn call(&self) -> Option<u64> {
+        match self {
+            CaptureError::Call { call, .. } | CaptureError::Frame { call, .. } => Some(*call),
+            CaptureError::Decode(e) => Some(e.call),
+            _ => None,
+        }
+    }
+}
+
+/// Whether `bytes` (a file's first bytes) start an apitrace capture: snappy's `at` or gzip's
+/// magic.
+pub fn is_capture(bytes: &[u8]) -> bool {
+    bytes.starts_with(b"at") || bytes.starts_with(&[0x1f, 0x8b])
+}
+
+/// Replays the capture at `path`; `on_frame` sees each presented frame.
+///
+/// # Errors
+/// See [`CaptureError`].
+pub fn replay_file(
+    path: impl AsRef<Path>,
+    options: &ReplayOptions,
+    on_frame: &mut dyn FnMut(&PresentedFrame) -> Result<(), String>,
+) -> Result<Replay, CaptureError> {
+    let path = path.as_ref();
+    // A regular file only: a FIFO would block, a device would stream forever (the reader's
+    // limits bound what is read from a regular file).
+    let file = tiler_io::open_regular(path).map_err(|e| CaptureError::Open {
+        path: path.display().to_string(),
+        source: std::io::Error::other(e.message),
+    })?;
+    replay_reader(BufReader::new(file), options, on_frame)
+}
+
+/// Replays a capture read from `reader`; `on_frame` sees each presented frame.
+///
+/// # Errors
+/// See [`CaptureError`].
+pub fn replay_reader<R: Read>(
+    reader: R,
+    options: &ReplayOptions,
+    on_frame: &mut dyn FnMut(&PresentedFrame) -> Result<(), String>,
+) -> Result<Replay, CaptureError> {
+    let reader = TraceReader::new(reader, options.limits)?;
+    let mut decoder = Decoder::new();
+    let mut translator = Translator::new(options.config.clone(), options.window);
+    let mut calls = 0;
+    for call in reader {
+        let call = call?;
+        let sig = call.sig.clone();
+        let call = decoder.decode(call)?;
+        calls += 1;
+        translator.apply(&call, &sig.name)?;
+        if let Some((index, number)) = translator.take_presented() {
+            let ctx = translator.context().expect("a swap needs the context");
+            let (width, height) = (ctx.config().width, ctx.config().height);
+            let rgba = ctx.surface_rgba8();
+            on_frame(&PresentedFrame { index, call: number, width, height, rgba: &rgba })
+                .map_err(|message| CaptureError::Frame { frame: index, call: number, message })?;
+        }
+    }
+    translator.finish(calls)
+}

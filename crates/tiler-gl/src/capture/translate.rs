@@ -1,0 +1,1558 @@
+//! GL ES 2.0 calls of a capture → [`Call`]s of a [`Context`]; see the module docs of
+//! [`crate::capture`] for the rules.
+
+use std::collections::HashMap;
+
+use tiler::{BlendFactor, BlendOp, CompareOp, StencilOp};
+use tiler_apitrace::GlesCall;
+use tiler_apitrace::gles::{Command, EglHandle, GlEnum, Memory, Params, UniformValue as GlUniform};
+
+use super::texels::{self, Upload};
+use super::{CaptureError, Replay};
+use crate::bytes::Bytes;
+use crate::call::{
+    AttachmentPoint, BufferSet, Call, Capability, ComponentType, Face, Filter, FramebufferTarget, IndexKind, Mode,
+    SwapBehavior, TextureFormat, Winding, Wrap,
+};
+use crate::context::{Context, ContextConfig, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS};
+
+type Fallible<T = ()> = Result<T, String>;
+
+const GL_NEAREST: u32 = 0x2600;
+const GL_LINEAR: u32 = 0x2601;
+const GL_NEAREST_MIPMAP_LINEAR: u32 = 0x2702;
+const GL_REPEAT: u32 = 0x2901;
+const GL_CLAMP_TO_EDGE: u32 = 0x812f;
+const GL_MIRRORED_REPEAT: u32 = 0x8370;
+const GL_TEXTURE_2D: u32 = 0x0de1;
+const GL_ARRAY_BUFFER: u32 = 0x8892;
+const GL_ELEMENT_ARRAY_BUFFER: u32 = 0x8893;
+const GL_FRAMEBUFFER: u32 = 0x8d40;
+const GL_READ_FRAMEBUFFER: u32 = 0x8ca8;
+const GL_DRAW_FRAMEBUFFER: u32 = 0x8ca9;
+const GL_VERTEX_SHADER: u32 = 0x8b31;
+const GL_FRAGMENT_SHADER: u32 = 0x8b30;
+const GL_FRONT_AND_BACK: u32 = 0x0408;
+const GL_TEXTURE0: u32 = 0x84c0;
+
+/// A texture's GL state.
+#[derive(Clone, Debug)]
+struct Texture {
+    /// The context's texture, once the texture has storage.
+    id: Option<u32>,
+    upload: Option<Upload>,
+    size: (u32, u32),
+    min: u32,
+    mag: u32,
+    wrap: [u32; 2],
+    /// `glGenerateMipmap` made levels (the context keeps them up to date with level 0).
+    mipmapped: bool,
+}
+
+impl Default for Texture {
+    fn default() -> Texture {
+        Texture {
+            id: None,
+            upload: None,
+            size: (0, 0),
+            min: GL_NEAREST_MIPMAP_LINEAR,
+            mag: GL_LINEAR,
+            wrap: [GL_REPEAT; 2],
+            mipmapped: false,
+        }
+    }
+}
+
+impl Texture {
+    /// The context's sampling state, or why the GL state has none. The context takes one
+    /// filter: a `*_MIPMAP_*` one minifies through the levels `glGenerateMipmap` made and
+    /// magnifies with its first word, so GL's magnification filter must be that word.
+    fn sampler(&self) -> Fallible<(Filter, Wrap)> {
+        let mag = match self.mag {
+            GL_NEAREST => Filter::Nearest,
+            GL_LINEAR => Filter::Linear,
+            f => return Err(format!("magnification filter {f:#06x} is not a GL one")),
+        };
+        let (min, first_word) = match self.min {
+            GL_NEAREST => (Filter::Nearest, Filter::Nearest),
+            GL_LINEAR => (Filter::Linear, Filter::Linear),
+            0x2700 => (Filter::NearestMipmapNearest, Filter::Nearest),
+            0x2701 => (Filter::LinearMipmapNearest, Filter::Linear),
+            GL_NEAREST_MIPMAP_LINEAR => (Filter::NearestMipmapLinear, Filter::Nearest),
+            0x2703 => (Filter::LinearMipmapLinear, Filter::Linear),
+            f => return Err(format!("minification filter {f:#06x} is not a GL one")),
+        };
+        if first_word != mag {
+            return Err("minification and magnification filters of different kinds are not modelled".into());
+        }
+        if min != first_word && !self.mipmapped {
+            return Err(format!(
+                "its minification filter {:#06x} needs mip levels and it has none (GL samples an incomplete \
+                 texture as black; the context does not model that)",
+                self.min
+            ));
+        }
+        if self.wrap[0] != self.wrap[1] {
+            return Err("different wraps in s and t are not modelled".into());
+        }
+        let wrap = match self.wrap[0] {
+            GL_REPEAT => Wrap::Repeat,
+            GL_CLAMP_TO_EDGE => Wrap::ClampToEdge,
+            GL_MIRRORED_REPEAT => Wrap::MirroredRepeat,
+            w => return Err(format!("wrap {w:#06x} is not a GLES wrap")),
+        };
+        Ok((min, wrap))
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+struct Program {
+    shaders: Vec<u32>,
+    /// `glBindAttribLocation` calls made so far (they take effect at link).
+    bindings: Vec<(u32, String)>,
+    /// The context's program from the last successful link.
+    id: Option<u32>,
+    /// Uniform location → name, from `glGetUniformLocation`'s return values.
+    uniforms: HashMap<i32, String>,
+}
+
+/// The objects of one EGL context (GL names → the context's ids).
+#[derive(Debug, Default)]
+struct Objects {
+    buffers: HashMap<u32, Option<u32>>,
+    textures: HashMap<u32, Texture>,
+    renderbuffers: HashMap<u32, Option<u32>>,
+    framebuffers: HashMap<u32, u32>,
+    shaders: HashMap<u32, (GlEnum, Option<String>)>,
+    programs: HashMap<u32, Program>,
+    queries: HashMap<u32, u32>,
+}
+
+/// GL state the context does not keep (or keeps in its own ids).
+#[derive(Debug)]
+struct Bindings {
+    active_unit: u32,
+    textures: [u32; MAX_TEXTURE_UNITS as usize],
+    array_buffer: u32,
+    element_buffer: u32,
+    renderbuffer: u32,
+    draw_framebuffer: u32,
+    read_framebuffer: u32,
+    program: u32,
+    unpack_alignment: u32,
+    enabled_attribs: [bool; MAX_VERTEX_ATTRIBS as usize],
+    /// Attributes pointing at client memory whose bytes the capture has not (yet) recorded.
+    unrecorded_client_attribs: [bool; MAX_VERTEX_ATTRIBS as usize],
+}
+
+impl Default for Bindings {
+    fn default() -> Bindings {
+        Bindings {
+            active_unit: 0,
+            textures: [0; MAX_TEXTURE_UNITS as usize],
+            array_buffer: 0,
+            element_buffer: 0,
+            renderbuffer: 0,
+            draw_framebuffer: 0,
+            read_framebuffer: 0,
+            program: 0,
+            unpack_alignment: 4,
+            enabled_attribs: [false; MAX_VERTEX_ATTRIBS as usize],
+            unrecorded_client_attribs: [false; MAX_VERTEX_ATTRIBS as usize],
+        }
+    }
+}
+
+/// Replays decoded calls on a [`Context`], keeping the GL state it does not.
+pub struct Translator {
+    config: ContextConfig,
+    window: Option<(u32, u32)>,
+    ctx: Option<Context>,
+    /// EGL context handle → generation.
+    generations: HashMap<EglHandle, u32>,
+    objects: HashMap<u32, Objects>,
+    /// The current generation, if a context is current.
+    current: Option<u32>,
+    /// Generations that have been current (their GL state lives in the context until another
+    /// one is made current).
+    last_current: Option<u32>,
+    next_generation: u32,
+    window_surface: Option<EglHandle>,
+    bindings: Bindings,
+    next_id: u32,
+    /// The scratch index buffer for client-side indices.
+    scratch_indices: Option<u32>,
+    presented: Option<(u32, u64)>,
+    frames: u32,
+    swaps: Vec<u64>,
+    /// The call being translated, for errors.
+    call: u64,
+    function: String,
+}
+
+impl Translator {
+    pub fn new(config: ContextConfig, window: Option<(u32, u32)>) -> Translator {
+        Translator {
+            config,
+            window,
+            ctx: None,
+            generations: HashMap::new(),
+            objects: HashMap::new(),
+            current: None,
+            last_current: None,
+            next_generation: 1,
+            window_surface: None,
+            bindings: Bindings::default(),
+            next_id: 1,
+            scratch_indices: None,
+            presented: None,
+            frames: 0,
+            swaps: Vec::new(),
+            call: 0,
+            function: String::new(),
+        }
+    }
+
+    /// The context, once the window exists.
+    pub fn context(&self) -> Option<&Context> {
+        self.ctx.as_ref()
+    }
+
+    /// The frame presented by the last call applied, if it was a swap: (frame index, call).
+    pub fn take_presented(&mut self) -> Option<(u32, u64)> {
+        self.presented.take()
+    }
+
+    /// Renders what is pending and returns the run.
+    pub fn finish(mut self, calls: u64) -> Result<Replay, CaptureError> {
+        let mut ctx = match self.ctx.take() {
+            Some(ctx) => ctx,
+            None => Context::new(self.window_config(1, 1)).map_err(|message| self.error(message))?,
+        };
+        self.function = "end of capture".into();
+        let report = ctx.end().map_err(|e| self.error(e.message))?;
+        Ok(Replay { report, context: ctx, calls, swaps: self.swaps })
+    }
+
+    fn error(&self, message: String) -> CaptureError {
+        CaptureError::Call { call: self.call, function: self.function.clone(), message }
+    }
+
+    fn window_config(&self, width: u32, height: u32) -> ContextConfig {
+        let (width, height) = self.window.unwrap_or((width, height));
+        ContextConfig { width, height, ..self.config.clone() }
+    }
+
+    /// Applies one decoded call; `function` is its name in the capture.
+    ///
+    /// # Errors
+    /// A call the context cannot express or refuses, naming the call.
+    pub fn apply(&mut self, call: &GlesCall, function: &str) -> Result<(), CaptureError> {
+        self.call = call.number;
+        if self.function != function {
+            self.function.clear();
+            self.function.push_str(function);
+        }
+        self.command(&call.command, call.fake).map_err(|m| self.error(m))
+    }
+
+    fn ctx(&mut self) -> Fallible<&mut Context> {
+        if self.ctx.is_none() {
+            let (w, h) = self.window.ok_or(
+                "the window's size is not known yet (no glViewport before this call; give the replay a window size)",
+            )?;
+            self.ctx = Some(Context::new(self.window_config(w, h))?);
+        }
+        Ok(self.ctx.as_mut().expect("made above"))
+    }
+
+    fn emit(&mut self, call: Call) -> Fallible<crate::call::Output> {
+        self.ctx()?.call(call).map_err(|e| e.message)
+    }
+
+    fn fresh_id(&mut self) -> u32 {
+        let id = self.next_id;
+        self.next_id += 1;
+        id
+    }
+
+    fn objects(&mut self) -> Fallible<&mut Objects> {
+        let generation = self.current.ok_or("no EGL context is current")?;
+        Ok(self.objects.entry(generation).or_default())
+    }
+
+    fn command(&mut self, command: &Command, fake: bool) -> Fallible {
+        use Command as C;
+        match command {
+            C::Ignored { .. } => {}
+
+            // ---- EGL ----------------------------------------------------------------------
+            C::CreateContext { share_context, context, .. } => {
+                if *share_context != 0 {
+                    return Err("contexts sharing objects are not supported".into());
+                }
+                let generation = self.next_generation;
+                self.next_generation += 1;
+                self.generations.insert(*context, generation);
+            }
+            C::MakeCurrent { draw, context, .. } => self.make_current(*draw, *context)?,
+            C::DestroyContext { context, .. } => {
+                let generation = self.generations.remove(context).ok_or("destroys a context never created")?;
+                self.destroy_objects(generation)?;
+                if self.current == Some(generation) {
+                    self.current = None;
+                }
+            }
+            C::CreateWindowSurface { surface, .. } => {
+                if self.window_surface.is_some_and(|s| s != *surface) {
+                    return Err("a second window surface is not supported".into());
+                }
+                self.window_surface = Some(*surface);
+            }
+            C::CreatePbufferSurface { .. } => return Err("pbuffer surfaces are not supported".into()),
+            C::DestroySurface { .. } => {}
+            C::SurfaceAttrib { attribute, value, .. } => {
+                const EGL_SWAP_BEHAVIOR: i64 = 0x3093;
+                let behavior = match (*attribute, *value) {
+                    (EGL_SWAP_BEHAVIOR, 0x3094) => SwapBehavior::Preserved,
+                    (EGL_SWAP_BEHAVIOR, 0x3095) => SwapBehavior::Destroyed,
+                    _ => return Err(format!("surface attribute {attribute:#x} = {value:#x} is not supported")),
+                };
+                self.emit(Call::SwapBehavior { behavior })?;
+            }
+            C::SwapBuffers { .. } => {
+                self.emit(Call::SwapBuffers)?;
+                self.presented = Some((self.frames, self.call));
+                self.swaps.push(self.call);
+                self.frames += 1;
+            }
+
+            // ---- buffers --------------------------------------------------------------------
+            C::GenBuffers { names } => {
+                let objects = self.objects()?;
+                for &name in names {
+                    objects.buffers.entry(name).or_insert(None);
+                }
+            }
+            C::DeleteBuffers { names } => {
+                for &name in names {
+                    if let Some(Some(id)) = self.objects()?.buffers.remove(&name) {
+                        self.emit(Call::DeleteBuffer { id })?;
+                    }
+                    let b = &mut self.bindings;
+                    for bound in [&mut b.array_buffer, &mut b.element_buffer] {
+                        if *bound == name {
+                            *bound = 0;
+                        }
+                    }
+                }
+            }
+            C::BindBuffer { target, buffer } => {
+                if *buffer != 0 {
+                    self.objects()?.buffers.entry(*buffer).or_insert(None);
+                }
+                match *target {
+                    GL_ARRAY_BUFFER => self.bindings.array_buffer = *buffer,
+                    GL_ELEMENT_ARRAY_BUFFER => {
+                        self.bindings.element_buffer = *buffer;
+                        let id = self.buffer_id(*buffer)?.unwrap_or(0);
+                        self.emit(Call::BindIndexBuffer { buffer: id })?;
+                    }
+                    t => return Err(format!("buffer target {t:#06x} is not supported")),
+                }
+            }
+            C::BufferData { target, size, data, .. } => {
+                let name = self.bound_buffer(*target)?;
+                let bytes = match data {
+                    Memory::Client(bytes) if bytes.len() as u64 == *size => Bytes::from(bytes.clone()),
+                    Memory::Client(bytes) => {
+                        return Err(format!("{} bytes recorded for a buffer of {size}", bytes.len()));
+                    }
+                    Memory::Null => {
+                        let size = usize::try_from(*size).map_err(|_| format!("buffer size {size} is too large"))?;
+                        if size as u64 > self.config.memory_limit {
+                            return Err(format!("buffer size {size} is above the memory limit"));
+                        }
+                        Bytes::from(vec![0u8; size])
+                    }
+                    Memory::Offset(_) => return Err("the buffer's data was not recorded".into()),
+                };
+                match self.buffer_id(name)? {
+                    Some(id) => {
+                        self.emit(Call::BufferData { id, data: bytes })?;
+                    }
+                    None => {
+                        let id = self.fresh_id();
+                        self.emit(Call::CreateBuffer { id, data: bytes })?;
+                        self.objects()?.buffers.insert(name, Some(id));
+                        if self.bindings.element_buffer == name {
+                            self.emit(Call::BindIndexBuffer { buffer: id })?;
+                        }
+                    }
+                }
+            }
+            C::BufferSubData { target, offset, data, .. } => {
+                let name = self.bound_buffer(*target)?;
+                let bytes = data.bytes().ok_or("the data was not recorded")?;
+                let id = self.buffer_id(name)?.ok_or_else(|| format!("buffer {name} has no storage"))?;
+                self.emit(Call::BufferSubData { id, offset: *offset, data: Bytes::from(bytes) })?;
+            }
+            C::MapBuffer { .. } | C::UnmapBuffer { .. } | C::FlushMappedBufferRange { .. } => {}
+            C::BufferWrite { buffer, offset, data } => {
+                let id = self.buffer_id(*buffer)?.ok_or_else(|| format!("buffer {buffer} has no storage"))?;
+                self.emit(Call::BufferSubData { id, offset: *offset, data: Bytes::from(data.as_slice()) })?;
+            }
+
+            // ---- vertex input ---------------------------------------------------------------
+            C::EnableVertexAttribArray { index } | C::DisableVertexAttribArray { index } => {
+                let enable = matches!(command, C::EnableVertexAttribArray { .. });
+                let slot = attrib_slot(*index)?;
+                self.bindings.enabled_attribs[slot] = enable;
+                let index = *index;
+                self.emit(if enable {
+                    Call::EnableVertexAttrib { index }
+                } else {
+                    Call::DisableVertexAttrib { index }
+                })?;
+            }
+            C::VertexAttribPointer { index, size, kind, normalized, stride, pointer, integer } => {
+                if *integer {
+                    return Err("integer vertex attributes are not supported".into());
+                }
+                let slot = attrib_slot(*index)?;
+                let component = component_type(*kind)?;
+                let size = u32::try_from(*size).map_err(|_| format!("size {size} is negative"))?;
+                let stride = u32::try_from(*stride).map_err(|_| format!("stride {stride} is negative"))?;
+                let (index, normalized) = (*index, *normalized);
+                self.bindings.unrecorded_client_attribs[slot] = false;
+                if self.bindings.array_buffer != 0 {
+                    let name = self.bindings.array_buffer;
+                    let buffer = self.buffer_id(name)?.ok_or_else(|| format!("buffer {name} has no storage"))?;
+                    let offset = match pointer {
+                        Memory::Null => 0,
+                        Memory::Offset(offset) => *offset,
+                        Memory::Client(_) => return Err("a buffer offset was expected".into()),
+                    };
+                    self.emit(Call::VertexAttribPointer {
+                        index,
+                        buffer,
+                        size,
+                        component,
+                        normalized,
+                        stride,
+                        offset,
+                    })?;
+                } else if let Memory::Client(bytes) = pointer {
+                    let data = Bytes::from(bytes.as_slice());
+                    self.emit(Call::VertexAttribArray { index, size, component, normalized, stride, data })?;
+                } else if fake {
+                    return Err("a client-side array without its bytes".into());
+                } else {
+                    // The application's own call into client memory: apitrace records the
+                    // bytes in a fake call before each draw that reads them.
+                    self.bindings.unrecorded_client_attribs[slot] = true;
+                }
+            }
+            C::VertexAttribDivisor { divisor: 0, .. } => {}
+            C::VertexAttrib { index, value } => {
+                attrib_slot(*index)?;
+                self.emit(Call::VertexAttrib { index: *index, value: *value })?;
+            }
+
+            // ---- drawing --------------------------------------------------------------------
+            C::DrawArrays { mode, first, count, instance_count } => {
+                self.check_draw(*instance_count)?;
+                let mode = draw_mode(*mode)?;
+                let first = u32::try_from(*first).map_err(|_| format!("first {first} is negative"))?;
+                let count = u32::try_from(*count).map_err(|_| format!("count {count} is negative"))?;
+                self.emit(Call::DrawArrays { mode, first, count })?;
+            }
+            C::DrawElements { mode, count, kind, indices, instance_count, .. } => {
+                self.check_draw(*instance_count)?;
+                let mode = draw_mode(*mode)?;
+                let count = u32::try_from(*count).map_err(|_| format!("count {count} is negative"))?;
+                self.draw_elements(mode, count, *kind, indices)?;
+            }
+            C::Clear { mask } => {
+                const KNOWN: u32 = 0x4000 | 0x0100 | 0x0400;
+                if mask & !KNOWN != 0 {
+                    return Err(format!("clear mask {mask:#x} has unknown bits"));
+                }
+                self.emit(Call::Clear {
+                    color: mask & 0x4000 != 0,
+                    depth: mask & 0x0100 != 0,
+                    stencil: mask & 0x0400 != 0,
+                })?;
+            }
+            C::Flush => {
+                self.emit(Call::Flush)?;
+            }
+            C::Finish => {
+                self.emit(Call::Finish)?;
+            }
+
+            // ---- textures -------------------------------------------------------------------
+            C::GenTextures { names } => {
+                let objects = self.objects()?;
+                for &name in names {
+                    objects.textures.entry(name).or_default();
+                }
+            }
+            C::DeleteTextures { names } => {
+                for &name in names {
+                    if let Some(Texture { id: Some(id), .. }) = self.objects()?.textures.remove(&name) {
+                        self.emit(Call::DeleteTexture { id })?;
+                    }
+                    for bound in &mut self.bindings.textures {
+                        if *bound == name {
+                            *bound = 0;
+                        }
+                    }
+                }
+            }
+            C::ActiveTexture { unit } => {
+                let unit = unit.wrapping_sub(GL_TEXTURE0);
+                if unit >= MAX_TEXTURE_UNITS {
+                    return Err(format!("texture unit {unit} is beyond the context's {MAX_TEXTURE_UNITS}"));
+                }
+                self.bindings.active_unit = unit;
+            }
+            C::BindTexture { target, texture } => {
+                if *target != GL_TEXTURE_2D {
+                    return Err(format!("texture target {target:#06x} is not supported (2D only)"));
+                }
+                let unit = self.bindings.active_unit;
+                self.bindings.textures[unit as usize] = *texture;
+                let id = if *texture == 0 {
+                    0
+                } else {
+                    self.objects()?.textures.entry(*texture).or_default().id.unwrap_or(0)
+                };
+                self.emit(Call::BindTexture { unit, texture: id })?;
+            }
+            C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels } => {
+                check_2d_level0(*target, *level)?;
+                if *border != 0 {
+                    return Err(format!("border {border} must be 0"));
+                }
+                let (width, height) = size2(*width, *height)?;
+                let upload = Upload::new(*internal_format, *format, *kind)?;
+                let data = self.texels(&upload, pixels, width, height)?;
+                let name = self.bound_texture()?;
+                let format = upload.format;
+                let texture = self.objects()?.textures.entry(name).or_default().clone();
+                let id = match texture.id {
+                    Some(id) => {
+                        self.emit(Call::TexImage { id, width, height, format, data })?;
+                        id
+                    }
+                    None => {
+                        let id = self.fresh_id();
+                        self.emit(Call::CreateTexture { id, width, height, format, data, transient: false })?;
+                        self.bind_new_texture(name, id)?;
+                        id
+                    }
+                };
+                let t = self.objects()?.textures.get_mut(&name).expect("inserted above");
+                t.id = Some(id);
+                t.upload = Some(upload);
+                // New storage of another size leaves the levels of the old one behind.
+                t.mipmapped &= t.size == (width, height);
+                t.size = (width, height);
+                self.update_sampler(name)?;
+            }
+            C::TexSubImage2D { target, level, x_offset, y_offset, width, height, format, kind, pixels } => {
+                check_2d_level0(*target, *level)?;
+                let name = self.bound_texture()?;
+                let texture = self.objects()?.textures.get(&name).cloned().unwrap_or_default();
+                let (Some(id), Some(stored)) = (texture.id, texture.upload) else {
+                    return Err(format!("texture {name} has no storage"));
+                };
+                let upload = Upload::new(*format, *format, *kind)?;
+                if upload.format != stored.format {
+                    return Err(format!(
+                        "texels of format {format:#06x} / type {kind:#06x} into a texture stored as {}",
+                        stored.format.name()
+                    ));
+                }
+                let (width, height) = size2(*width, *height)?;
+                let (x, y) = size2(*x_offset, *y_offset)?;
+                let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
+                self.emit(Call::TexSubImage { id, x, y, width, height, data })?;
+            }
+            C::TexStorage2D { target, levels, internal_format, width, height } => {
+                check_2d_level0(*target, 0)?;
+                if *levels != 1 {
+                    return Err(format!("{levels} mip levels: the context has no mip maps"));
+                }
+                let format = renderbuffer_format(*internal_format)?;
+                let (width, height) = size2(*width, *height)?;
+                let name = self.bound_texture()?;
+                if self.objects()?.textures.get(&name).is_some_and(|t| t.id.is_some()) {
+                    return Err(format!("texture {name} already has storage"));
+                }
+                let id = self.fresh_id();
+                self.emit(Call::CreateTexture { id, width, height, format, data: None, transient: false })?;
+                self.bind_new_texture(name, id)?;
+                let t = self.objects()?.textures.entry(name).or_default();
+                t.id = Some(id);
+                t.size = (width, height);
+                self.update_sampler(name)?;
+            }
+            C::TexParameter { target, pname, params } => {
+                if *target != GL_TEXTURE_2D {
+                    return Err(format!("texture target {target:#06x} is not supported (2D only)"));
+                }
+                let value = match params {
+                    Params::Int(v) if v.len() == 1 => v[0] as u32,
+                    Params::Float(v) if v.len() == 1 && v[0].fract() == 0.0 && v[0] >= 0.0 => v[0] as u32,
+                    _ => return Err(format!("parameter {pname:#06x}: {params:?} is not a single GL enum")),
+                };
+                let name = self.bound_texture()?;
+                let t = self.objects()?.textures.entry(name).or_default();
+                match *pname {
+                    0x2801 => t.min = value,
+                    0x2800 => t.mag = value,
+                    0x2802 => t.wrap[0] = value,
+                    0x2803 => t.wrap[1] = value,
+                    p => return Err(format!("texture parameter {p:#06x} is not supported")),
+                }
+                self.update_sampler(name)?;
+            }
+            C::GenerateMipmap { target } => {
+                check_2d_level0(*target, 0)?;
+                let name = self.bound_texture()?;
+                let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
+                self.emit(Call::GenerateMipmap { id })?;
+                self.objects()?.textures.get_mut(&name).expect("has storage").mipmapped = true;
+                self.update_sampler(name)?;
+            }
+            C::PixelStore { pname, param } => match (*pname, *param) {
+                (0x0cf5, a @ (1 | 2 | 4 | 8)) => self.bindings.unpack_alignment = a as u32,
+                // GL_PACK_ALIGNMENT: read-backs return RGBA8 rows, whose length is a multiple
+                // of every alignment.
+                (0x0d05, 1 | 2 | 4 | 8) => {}
+                (p, v) => return Err(format!("pixel store {p:#06x} = {v} is not supported")),
+            },
+            C::CopyTexSubImage2D { target, level, x_offset, y_offset, x, y, width, height } => {
+                check_2d_level0(*target, *level)?;
+                let name = self.bound_texture()?;
+                let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
+                let (x_offset, y_offset) = size2(*x_offset, *y_offset)?;
+                let (width, height) = size2(*width, *height)?;
+                self.emit(Call::CopyTexSubImage { texture: id, x_offset, y_offset, x: *x, y: *y, width, height })?;
+            }
+
+            // ---- framebuffers and renderbuffers ----------------------------------------------
+            C::GenFramebuffers { .. } | C::GenRenderbuffers { .. } => {}
+            C::BindFramebuffer { target, framebuffer } => {
+                let target = match *target {
+                    GL_FRAMEBUFFER => FramebufferTarget::Framebuffer,
+                    GL_DRAW_FRAMEBUFFER => FramebufferTarget::Draw,
+                    GL_READ_FRAMEBUFFER => FramebufferTarget::Read,
+                    t => return Err(format!("framebuffer target {t:#06x} is not a GL one")),
+                };
+                let id = self.framebuffer_id(*framebuffer)?;
+                if target != FramebufferTarget::Read {
+                    self.bindings.draw_framebuffer = *framebuffer;
+                }
+                if target != FramebufferTarget::Draw {
+                    self.bindings.read_framebuffer = *framebuffer;
+                }
+                self.emit(Call::BindFramebuffer { target, framebuffer: id })?;
+            }
+            C::DeleteFramebuffers { names } => {
+                for &name in names {
+                    if let Some(id) = self.objects()?.framebuffers.remove(&name) {
+                        self.emit(Call::DeleteFramebuffer { id })?;
+                    }
+                    let b = &mut self.bindings;
+                    for bound in [&mut b.draw_framebuffer, &mut b.read_framebuffer] {
+                        if *bound == name {
+                            *bound = 0;
+                        }
+                    }
+                }
+            }
+            C::FramebufferTexture2D { target, attachment, texture_target, texture, level, samples } => {
+                let framebuffer = self.attachment_target(*target)?;
+                let attachment = attachment_point(*attachment)?;
+                let texture = if *texture == 0 {
+                    0
+                } else {
+                    check_2d_level0(*texture_target, *level)?;
+                    self.texture_id(*texture)?.ok_or_else(|| format!("texture {texture} has no storage"))?
+                };
+                let samples = (*samples).max(1) as u32;
+                self.emit(Call::FramebufferTexture { framebuffer, attachment, texture, samples })?;
+            }
+            C::BindRenderbuffer { renderbuffer, .. } => {
+                self.bindings.renderbuffer = *renderbuffer;
+                if *renderbuffer != 0 {
+                    self.objects()?.renderbuffers.entry(*renderbuffer).or_insert(None);
+                }
+            }
+            C::RenderbufferStorage { samples, internal_format, width, height, .. } => {
+                let name = self.bindings.renderbuffer;
+                if name == 0 {
+                    return Err("no renderbuffer is bound".into());
+                }
+                if self.objects()?.renderbuffers.get(&name).is_some_and(Option::is_some) {
+                    return Err(format!("renderbuffer {name} already has storage: new storage is not supported"));
+                }
+                let format = renderbuffer_format(*internal_format)?;
+                let (width, height) = size2(*width, *height)?;
+                let id = self.fresh_id();
+                let samples = (*samples).max(1) as u32;
+                self.emit(Call::CreateRenderbuffer { id, width, height, format, samples, transient: false })?;
+                self.objects()?.renderbuffers.insert(name, Some(id));
+            }
+            C::FramebufferRenderbuffer { target, attachment, renderbuffer, .. } => {
+                let framebuffer = self.attachment_target(*target)?;
+                let attachment = attachment_point(*attachment)?;
+                let renderbuffer = if *renderbuffer == 0 {
+                    0
+                } else {
+                    self.objects()?
+                        .renderbuffers
+                        .get(renderbuffer)
+                        .copied()
+                        .flatten()
+                        .ok_or_else(|| format!("renderbuffer {renderbuffer} has no storage"))?
+                };
+                self.emit(Call::FramebufferRenderbuffer { framebuffer, attachment, renderbuffer })?;
+            }
+            C::DeleteRenderbuffers { names } => {
+                for &name in names {
+                    if let Some(Some(id)) = self.objects()?.renderbuffers.remove(&name) {
+                        self.emit(Call::DeleteRenderbuffer { id })?;
+                    }
+                    if self.bindings.renderbuffer == name {
+                        self.bindings.renderbuffer = 0;
+                    }
+                }
+            }
+            C::InvalidateFramebuffer { target, attachments, region } => {
+                if region.is_some() {
+                    return Err("invalidating part of a framebuffer is not supported".into());
+                }
+                if *target == GL_READ_FRAMEBUFFER {
+                    return Err("invalidating the read framebuffer is not supported".into());
+                }
+                let default = self.bindings.draw_framebuffer == 0;
+                let attachments =
+                    attachments.iter().map(|&a| invalidate_point(a, default)).collect::<Fallible<Vec<_>>>()?;
+                self.emit(Call::Invalidate { attachments })?;
+            }
+            C::BlitFramebuffer { src, dst, mask, filter } => {
+                if *mask != 0x4000 {
+                    return Err(format!("blit mask {mask:#x}: only colour blits are supported"));
+                }
+                let filter = match *filter {
+                    GL_NEAREST => Filter::Nearest,
+                    GL_LINEAR => Filter::Linear,
+                    f => return Err(format!("blit filter {f:#06x} is not a GL one")),
+                };
+                self.emit(Call::BlitFramebuffer { src: *src, dst: *dst, filter })?;
+            }
+            C::DrawBuffers { buffers } => {
+                let default = self.bindings.draw_framebuffer == 0;
+                if buffers.as_slice() != [if default { 0x0405 } else { 0x8ce0 }] {
+                    return Err(format!(
+                        "draw buffers {buffers:x?}: only the default (one colour buffer) is supported"
+                    ));
+                }
+            }
+            C::ReadBuffer { source } => {
+                let default = self.bindings.read_framebuffer == 0;
+                if *source != if default { 0x0405 } else { 0x8ce0 } {
+                    return Err(format!("read buffer {source:#06x}: only the default is supported"));
+                }
+            }
+            C::ReadPixels { x, y, width, height, format, kind, .. } => {
+                if (*format, *kind) != (texels::GL_RGBA, texels::GL_UNSIGNED_BYTE) {
+                    return Err(format!("reading format {format:#06x} / type {kind:#06x}: only RGBA bytes"));
+                }
+                let (width, height) = size2(*width, *height)?;
+                self.emit(Call::ReadPixels { x: *x, y: *y, width, height })?;
+            }
+
+            // ---- shaders and programs ----------------------------------------------------------
+            C::CreateShader { kind, shader } => {
+                if ![GL_VERTEX_SHADER, GL_FRAGMENT_SHADER].contains(kind) {
+                    return Err(format!("shader type {kind:#06x} is not a GLES 2.0 one"));
+                }
+                self.objects()?.shaders.insert(*shader, (*kind, None));
+            }
+            C::ShaderSource { shader, source } => {
+                let s =
+                    self.objects()?.shaders.get_mut(shader).ok_or_else(|| format!("shader {shader} does not exist"))?;
+                s.1 = Some(source.clone());
+            }
+            C::CompileShader { shader } => {
+                if !self.objects()?.shaders.contains_key(shader) {
+                    return Err(format!("shader {shader} does not exist"));
+                }
+            }
+            // A deleted shader lives on while attached; it is only looked up at link.
+            C::DeleteShader { .. } => {}
+            C::CreateProgram { program } => {
+                self.objects()?.programs.insert(*program, Program::default());
+            }
+            C::AttachShader { program, shader } => self.program(*program)?.shaders.push(*shader),
+            C::DetachShader { program, shader } => self.program(*program)?.shaders.retain(|s| s != shader),
+            C::BindAttribLocation { program, index, name } => {
+                attrib_slot(*index)?;
+                let p = self.program(*program)?;
+                p.bindings.retain(|(_, n)| n != name);
+                p.bindings.push((*index, name.clone()));
+            }
+            C::LinkProgram { program } => self.link(*program)?,
+            C::UseProgram { program } => {
+                let id = if *program == 0 {
+                    0
+                } else {
+                    self.program(*program)?.id.ok_or_else(|| format!("program {program} is not linked"))?
+                };
+                self.bindings.program = *program;
+                self.emit(Call::UseProgram { id })?;
+            }
+            C::DeleteProgram { program } => {
+                // The context keeps the program object (it has no delete); the name is free.
+                if self.bindings.program != *program {
+                    self.objects()?.programs.remove(program);
+                }
+            }
+            C::UniformLocation { program, name, location } => {
+                if *location >= 0 {
+                    self.program(*program)?.uniforms.insert(*location, name.clone());
+                }
+            }
+            C::AttribLocation { program, name, location } => {
+                if *location >= 0 {
+                    let index = *location as u32;
+                    attrib_slot(index)?;
+                    let id = self.program(*program)?.id.ok_or_else(|| format!("program {program} is not linked"))?;
+                    self.emit(glsl::bind_attrib_location(id, index, name.clone())?)?;
+                }
+            }
+            C::Uniform { location, value } => self.uniform(*location, value)?,
+
+            // ---- fixed-function state ------------------------------------------------------------
+            C::Enable { cap } | C::Disable { cap } => {
+                let on = matches!(command, C::Enable { .. });
+                let capability = match *cap {
+                    0x0b71 => Some(Capability::DepthTest),
+                    0x0b90 => Some(Capability::StencilTest),
+                    0x0be2 => Some(Capability::Blend),
+                    0x0b44 => Some(Capability::CullFace),
+                    0x0c11 => Some(Capability::ScissorTest),
+                    // Dithering may be a no-op in GL; neither llvmpipe nor tiler dithers.
+                    0x0bd0 => None,
+                    // Off by default; turning them off changes nothing.
+                    0x8037 | 0x809e | 0x80a0 if !on => None,
+                    c => return Err(format!("capability {c:#06x} is not supported")),
+                };
+                if let Some(cap) = capability {
+                    self.emit(if on { Call::Enable { cap } } else { Call::Disable { cap } })?;
+                }
+            }
+            C::Viewport { x, y, width, height } => {
+                let (w, h) = size2(*width, *height)?;
+                if self.ctx.is_none() && self.window.is_none() {
+                    self.window = Some((w, h));
+                }
+                self.emit(Call::Viewport { x: *x, y: *y, width: w, height: h })?;
+            }
+            C::Scissor { x, y, width, height } => {
+                let (width, height) = size2(*width, *height)?;
+                self.emit(Call::Scissor { x: *x, y: *y, width, height })?;
+            }
+            C::DepthFunc { func } => {
+                let func = compare_op(*func)?;
+                self.emit(Call::DepthFunc { func })?;
+            }
+            C::DepthMask { write } => {
+                self.emit(Call::DepthMask { write: *write })?;
+            }
+            C::DepthRange { near, far } => {
+                self.emit(Call::DepthRange { near: *near, far: *far })?;
+            }
+            C::CullFace { mode } => {
+                let face = match *mode {
+                    0x0404 => Face::Front,
+                    0x0405 => Face::Back,
+                    GL_FRONT_AND_BACK => Face::FrontAndBack,
+                    m => return Err(format!("cull face {m:#06x} is not a GL one")),
+                };
+                self.emit(Call::CullFace { face })?;
+            }
+            C::FrontFace { mode } => {
+                let winding = match *mode {
+                    0x0900 => Winding::Cw,
+                    0x0901 => Winding::Ccw,
+                    m => return Err(format!("front face {m:#06x} is not a GL one")),
+                };
+                self.emit(Call::FrontFace { winding })?;
+            }
+            C::ColorMask { mask } => {
+                let [red, green, blue, alpha] = *mask;
+                self.emit(Call::ColorMask { red, green, blue, alpha })?;
+            }
+            C::BlendFunc { src_rgb, dst_rgb, src_alpha, dst_alpha } => {
+                let (src, dst) = (blend_factor(*src_rgb)?, blend_factor(*dst_rgb)?);
+                let (src_alpha, dst_alpha) = (Some(blend_factor(*src_alpha)?), Some(blend_factor(*dst_alpha)?));
+                self.emit(Call::BlendFunc { src, dst, src_alpha, dst_alpha })?;
+            }
+            C::BlendEquation { rgb, alpha } => {
+                let (rgb, alpha) = (blend_op(*rgb)?, Some(blend_op(*alpha)?));
+                self.emit(Call::BlendEquation { rgb, alpha })?;
+            }
+            C::BlendColor { color } => {
+                self.emit(Call::BlendColor { rgba: *color })?;
+            }
+            C::StencilFunc { face, func, reference, mask } => {
+                both_faces(*face)?;
+                let func = compare_op(*func)?;
+                self.emit(Call::StencilFunc { func, reference: (*reference).clamp(0, 255) as u8, mask: *mask as u8 })?;
+            }
+            C::StencilOp { face, stencil_fail, depth_fail, pass } => {
+                both_faces(*face)?;
+                let (fail, depth_fail, pass) =
+                    (stencil_op(*stencil_fail)?, stencil_op(*depth_fail)?, stencil_op(*pass)?);
+                self.emit(Call::StencilOp { fail, depth_fail, pass })?;
+            }
+            C::StencilMask { face, mask } => {
+                both_faces(*face)?;
+                self.emit(Call::StencilMask { mask: *mask as u8 })?;
+            }
+            C::ClearColor { color } => {
+                self.emit(Call::ClearColor { rgba: *color })?;
+            }
+            C::ClearDepth { depth } => {
+                self.emit(Call::ClearDepth { depth: *depth })?;
+            }
+            C::ClearStencil { stencil } => {
+                self.emit(Call::ClearStencil { stencil: *stencil as u8 })?;
+            }
+            // Hints may be ignored by any GL; lines (the only users of the width) are refused
+            // where they are drawn; offsets and coverage matter only under capabilities the
+            // replay refuses to enable.
+            C::Hint { .. } | C::LineWidth { .. } | C::PolygonOffset { .. } | C::SampleCoverage { .. } => {}
+
+            // ---- queries and tiling ---------------------------------------------------------------
+            C::GenQueries { names } => {
+                for &name in names {
+                    let id = self.fresh_id();
+                    self.emit(Call::CreateQuery { id })?;
+                    self.objects()?.queries.insert(name, id);
+                }
+            }
+            C::DeleteQueries { names } => {
+                for &name in names {
+                    if let Some(id) = self.objects()?.queries.remove(&name) {
+                        self.emit(Call::DeleteQuery { id })?;
+                    }
+                }
+            }
+            C::BeginQuery { target, query } => {
+                if ![0x8c2f, 0x8d6a].contains(target) {
+                    return Err(format!("query target {target:#06x}: only GL_ANY_SAMPLES_PASSED is supported"));
+                }
+                let id = self.query_id(*query)?;
+                self.emit(Call::BeginQuery { id })?;
+            }
+            C::EndQuery { .. } => {
+                self.emit(Call::EndQuery)?;
+            }
+            C::GetQueryResult { query, pname } => {
+                let id = self.query_id(*query)?;
+                match *pname {
+                    0x8866 => self.emit(Call::QueryResult { id })?,
+                    0x8867 => self.emit(Call::QueryAvailable { id })?,
+                    p => return Err(format!("query parameter {p:#06x} is not supported")),
+                };
+            }
+            C::StartTiling { x, y, width, height, preserve_mask } => {
+                let x = i32::try_from(*x).map_err(|_| format!("x {x} is out of range"))?;
+                let y = i32::try_from(*y).map_err(|_| format!("y {y} is out of range"))?;
+                let preserve = qcom_buffers(*preserve_mask);
+                self.emit(Call::StartTiling { x, y, width: *width, height: *height, preserve })?;
+            }
+            C::EndTiling { preserve_mask } => {
+                self.emit(Call::EndTiling { store: qcom_buffers(*preserve_mask) })?;
+            }
+
+            other => return Err(format!("not supported by the context: {}", command_name(other))),
+        }
+        Ok(())
+    }
+
+    fn make_current(&mut self, draw: EglHandle, context: EglHandle) -> Fallible {
+        if context == 0 {
+            self.current = None;
+            return Ok(());
+        }
+        let generation = *self.generations.get(&context).ok_or("makes current a context never created")?;
+        if self.window_surface.is_some_and(|s| s != draw) {
+            return Err("drawing to a surface other than the window is not supported".into());
+        }
+        self.current = Some(generation);
+        match self.last_current {
+            Some(last) if last == generation => {}
+            Some(last) if self.generations.values().any(|&g| g == last) => {
+                return Err("switching between live contexts is not supported (each has its own GL state)".into());
+            }
+            Some(_) => {
+                self.reset_state()?;
+                self.last_current = Some(generation);
+            }
+            None => self.last_current = Some(generation),
+        }
+        Ok(())
+    }
+
+    /// A new context's GL state: the defaults, with the viewport and scissor of the window.
+    fn reset_state(&mut self) -> Fallible {
+        self.bindings = Bindings::default();
+        let Some(ctx) = self.ctx.as_ref() else { return Ok(()) };
+        let (width, height) = (ctx.config().width, ctx.config().height);
+        let mut calls = vec![
+            Call::BindFramebuffer { target: FramebufferTarget::Framebuffer, framebuffer: 0 },
+            Call::UseProgram { id: 0 },
+            Call::BindIndexBuffer { buffer: 0 },
+            Call::Viewport { x: 0, y: 0, width, height },
+            Call::Scissor { x: 0, y: 0, width, height },
+            Call::DepthRange { near: 0.0, far: 1.0 },
+            Call::ColorMask { red: true, green: true, blue: true, alpha: true },
+            Call::DepthMask { write: true },
+            Call::StencilMask { mask: 0xff },
+            Call::DepthFunc { func: CompareOp::Less },
+            Call::StencilFunc { func: CompareOp::Always, reference: 0, mask: 0xff },
+            Call::StencilOp { fail: StencilOp::Keep, depth_fail: StencilOp::Keep, pass: StencilOp::Keep },
+            Call::BlendFunc { src: BlendFactor::One, dst: BlendFactor::Zero, src_alpha: None, dst_alpha: None },
+            Call::BlendEquation { rgb: BlendOp::Add, alpha: None },
+            Call::BlendColor { rgba: [0.0; 4] },
+            Call::CullFace { face: Face::Back },
+            Call::FrontFace { winding: Winding::Ccw },
+            Call::ClearColor { rgba: [0.0; 4] },
+            Call::ClearDepth { depth: 1.0 },
+            Call::ClearStencil { stencil: 0 },
+        ];
+        for cap in [
+            Capability::DepthTest,
+            Capability::StencilTest,
+            Capability::Blend,
+            Capability::CullFace,
+            Capability::ScissorTest,
+        ] {
+            calls.push(Call::Disable { cap });
+        }
+        for unit in 0..MAX_TEXTURE_UNITS {
+            calls.push(Call::BindTexture { unit, texture: 0 });
+        }
+        for index in 0..MAX_VERTEX_ATTRIBS {
+            calls.push(Call::DisableVertexAttrib { index });
+            calls.push(Call::VertexAttrib { index, value: [0.0, 0.0, 0.0, 1.0] });
+        }
+        for call in calls {
+            // The window's framebuffer is bound by the first call, so a pass in flight is
+            // ended by it only if another framebuffer was bound.
+            self.emit(call)?;
+        }
+        Ok(())
+    }
+
+    fn destroy_objects(&mut self, generation: u32) -> Fallible {
+        // Unbind first, as a destroyed context's bindings go with it.
+        if self.last_current == Some(generation) {
+            self.reset_state()?;
+            self.last_current = None;
+        }
+        let Some(objects) = self.objects.remove(&generation) else { return Ok(()) };
+        if self.ctx.is_none() {
+            return Ok(());
+        }
+        let sorted = |ids: Vec<u32>| {
+            let mut ids = ids;
+            ids.sort_unstable();
+            ids
+        };
+        let mut calls = Vec::new();
+        calls.extend(
+            sorted(objects.framebuffers.values().copied().collect())
+                .into_iter()
+                .map(|id| Call::DeleteFramebuffer { id }),
+        );
+        calls.extend(
+            sorted(objects.renderbuffers.values().flatten().copied().collect())
+                .into_iter()
+                .map(|id| Call::DeleteRenderbuffer { id }),
+        );
+        calls.extend(
+            sorted(objects.textures.values().filter_map(|t| t.id).collect())
+                .into_iter()
+                .map(|id| Call::DeleteTexture { id }),
+        );
+        calls.extend(
+            sorted(objects.buffers.values().flatten().copied().collect())
+                .into_iter()
+                .map(|id| Call::DeleteBuffer { id }),
+        );
+        calls
+            .extend(sorted(objects.queries.values().copied().collect()).into_iter().map(|id| Call::DeleteQuery { id }));
+        for call in calls {
+            self.emit(call)?;
+        }
+        Ok(())
+    }
+
+    fn program(&mut self, program: u32) -> Fallible<&mut Program> {
+        self.objects()?.programs.get_mut(&program).ok_or_else(|| format!("program {program} does not exist"))
+    }
+
+    fn link(&mut self, program: u32) -> Fallible {
+        let p = self.program(program)?.clone();
+        let objects = self.objects()?;
+        let mut sources = [None, None];
+        for shader in &p.shaders {
+            let (kind, source) =
+                objects.shaders.get(shader).ok_or_else(|| format!("shader {shader} does not exist"))?;
+            let source = source.clone().ok_or_else(|| format!("shader {shader} has no source"))?;
+            sources[usize::from(*kind == GL_FRAGMENT_SHADER)] = Some(source);
+        }
+        let [Some(vertex), Some(fragment)] = sources else {
+            return Err(format!("program {program} needs a vertex and a fragment shader"));
+        };
+        let id = self.fresh_id();
+        self.emit(glsl::create_program(id, vertex, fragment)?)?;
+        for (index, name) in p.bindings {
+            self.emit(glsl::bind_attrib_location(id, index, name)?)?;
+        }
+        let p = self.program(program)?;
+        p.id = Some(id);
+        p.uniforms.clear();
+        if self.bindings.program == program {
+            self.emit(Call::UseProgram { id })?;
+        }
+        Ok(())
+    }
+
+    fn uniform(&mut self, location: i32, value: &GlUniform) -> Fallible {
+        if location == -1 {
+            return Ok(()); // GL ignores location -1.
+        }
+        let program = self.bindings.program;
+        if program == 0 {
+            return Err("no program is in use".into());
+        }
+        let name = self.program(program)?.uniforms.get(&location).cloned().ok_or_else(|| {
+            format!("location {location} was never returned by glGetUniformLocation for program {program}")
+        })?;
+        let values = glsl::uniform_values(value)?;
+        let count = values.len();
+        for (k, value) in values.into_iter().enumerate() {
+            let name = element_name(&name, k, count)?;
+            self.emit(Call::Uniform { name, value })?;
+        }
+        Ok(())
+    }
+
+    fn check_draw(&mut self, instance_count: i32) -> Fallible {
+        if instance_count != 1 {
+            return Err(format!("{instance_count} instances: instancing is not supported"));
+        }
+        for slot in 0..MAX_VERTEX_ATTRIBS as usize {
+            if self.bindings.enabled_attribs[slot] && self.bindings.unrecorded_client_attribs[slot] {
+                return Err(format!("attribute {slot} reads client memory the capture did not record"));
+            }
+        }
+        let textures = self.bindings.textures;
+        for (unit, name) in textures.iter().enumerate().filter(|(_, name)| **name != 0) {
+            if let Some(t) = self.objects()?.textures.get(name)
+                && t.id.is_some()
+            {
+                t.sampler().map_err(|e| format!("texture {name} on unit {unit}: {e}"))?;
+            }
+        }
+        Ok(())
+    }
+
+    fn draw_elements(&mut self, mode: Mode, count: u32, kind: GlEnum, indices: &Memory) -> Fallible {
+        let index_type = match kind {
+            texels::GL_UNSIGNED_SHORT => IndexKind::UnsignedShort,
+            texels::GL_UNSIGNED_INT => IndexKind::UnsignedInt,
+            texels::GL_UNSIGNED_BYTE => IndexKind::UnsignedShort,
+            k => return Err(format!("index type {k:#06x} is not a GL one")),
+        };
+        match indices {
+            Memory::Client(bytes) => {
+                // Client-side indices: through a scratch index buffer, bytes widened to shorts.
+                let data: Vec<u8> = if kind == texels::GL_UNSIGNED_BYTE {
+                    bytes.iter().flat_map(|&i| u16::from(i).to_le_bytes()).collect()
+                } else {
+                    bytes.clone()
+                };
+                let data = Bytes::from(data);
+                let scratch = match self.scratch_indices {
+                    Some(id) => {
+                        self.emit(Call::BufferData { id, data })?;
+                        id
+                    }
+                    None => {
+                        let id = self.fresh_id();
+                        self.emit(Call::CreateBuffer { id, data })?;
+                        self.scratch_indices = Some(id);
+                        id
+                    }
+                };
+                self.emit(Call::BindIndexBuffer { buffer: scratch })?;
+                let drawn = self.emit(Call::DrawElements { mode, count, index_type, offset: 0 });
+                let bound = self.buffer_id(self.bindings.element_buffer)?.unwrap_or(0);
+                self.emit(Call::BindIndexBuffer { buffer: bound })?;
+                drawn?;
+            }
+            _ if kind == texels::GL_UNSIGNED_BYTE => {
+                return Err(
+                    "byte indices in a buffer object are not supported (the context takes shorts and ints)".into()
+                );
+            }
+            Memory::Null => {
+                self.emit(Call::DrawElements { mode, count, index_type, offset: 0 })?;
+            }
+            Memory::Offset(offset) => {
+                self.emit(Call::DrawElements { mode, count, index_type, offset: *offset })?;
+            }
+        }
+        Ok(())
+    }
+
+    fn buffer_id(&mut self, name: u32) -> Fallible<Option<u32>> {
+        if name == 0 {
+            return Ok(None);
+        }
+        Ok(self.objects()?.buffers.get(&name).copied().flatten())
+    }
+
+    fn bound_buffer(&self, target: GlEnum) -> Fallible<u32> {
+        let name = match target {
+            GL_ARRAY_BUFFER => self.bindings.array_buffer,
+            GL_ELEMENT_ARRAY_BUFFER => self.bindings.element_buffer,
+            t => return Err(format!("buffer target {t:#06x} is not supported")),
+        };
+        if name == 0 {
+            return Err(format!("no buffer is bound to target {target:#06x}"));
+        }
+        Ok(name)
+    }
+
+    fn bound_texture(&self) -> Fallible<u32> {
+        match self.bindings.textures[self.bindings.active_unit as usize] {
+            0 => Err("the default texture (0) is not supported: bind a texture".into()),
+            name => Ok(name),
+        }
+    }
+
+    /// Binds a texture that just got storage on the units GL bound its name to.
+    fn bind_new_texture(&mut self, name: u32, id: u32) -> Fallible {
+        for unit in 0..MAX_TEXTURE_UNITS {
+            if self.bindings.textures[unit as usize] == name {
+                self.emit(Call::BindTexture { unit, texture: id })?;
+            }
+        }
+        Ok(())
+    }
+
+    fn texture_id(&mut self, name: u32) -> Fallible<Option<u32>> {
+        Ok(self.objects()?.textures.get(&name).and_then(|t| t.id))
+    }
+
+    fn update_sampler(&mut self, name: u32) -> Fallible {
+        let t = self.objects()?.textures.get(&name).cloned().unwrap_or_default();
+        // A GL state the context cannot sample is refused when it is drawn with.
+        if let (Some(id), Ok((filter, wrap))) = (t.id, t.sampler()) {
+            self.emit(Call::TexParameters { id, filter, wrap })?;
+        }
+        Ok(())
+    }
+
+    fn texels(&self, upload: &Upload, pixels: &Memory, width: u32, height: u32) -> Fallible<Option<Bytes>> {
+        match pixels {
+            Memory::Null => Ok(None),
+            Memory::Client(bytes) => {
+                Ok(Some(Bytes::from(upload.convert(bytes, width, height, self.bindings.unpack_alignment)?)))
+            }
+            Memory::Offset(_) => Err("texels from a pixel unpack buffer are not supported".into()),
+        }
+    }
+
+    fn framebuffer_id(&mut self, name: u32) -> Fallible<u32> {
+        if name == 0 {
+            return Ok(0);
+        }
+        if let Some(&id) = self.objects()?.framebuffers.get(&name) {
+            return Ok(id);
+        }
+        let id = self.fresh_id();
+        self.emit(Call::CreateFramebuffer { id })?;
+        self.objects()?.framebuffers.insert(name, id);
+        Ok(id)
+    }
+
+    /// The context's framebuffer a `glFramebuffer*` call attaches to.
+    fn attachment_target(&mut self, target: GlEnum) -> Fallible<u32> {
+        let name = match target {
+            GL_FRAMEBUFFER | GL_DRAW_FRAMEBUFFER => self.bindings.draw_framebuffer,
+            GL_READ_FRAMEBUFFER => self.bindings.read_framebuffer,
+            t => return Err(format!("framebuffer target {t:#06x} is not a GL one")),
+        };
+        if name == 0 {
+            return Err("the window's framebuffer takes no attachments".into());
+        }
+        self.framebuffer_id(name)
+    }
+
+    fn query_id(&mut self, name: u32) -> Fallible<u32> {
+        self.objects()?.queries.get(&name).copied().ok_or_else(|| format!("query {name} does not exist"))
+    }
+}
+
+/// The name `glUniform*v` sets for element `k` of `count` at a location named `name`.
+fn element_name(name: &str, k: usize, count: usize) -> Fallible<String> {
+    if count == 1 {
+        return Ok(name.to_string());
+    }
+    if let Some(open) = name.strip_suffix(']').and_then(|n| n.rfind('[').map(|i| (n, i))) {
+        let (base, i) = open;
+        let first: usize = base[i + 1..].parse().map_err(|_| format!("uniform name {name} has a bad index"))?;
+        return Ok(format!("{}[{}]", &base[..i], first + k));
+    }
+    Ok(format!("{name}[{k}]"))
+}
+
+fn attrib_slot(index: u32) -> Fallible<usize> {
+    if index >= MAX_VERTEX_ATTRIBS {
+        return Err(format!("vertex attribute {index} is beyond the context's {MAX_VERTEX_ATTRIBS}"));
+    }
+    Ok(index as usize)
+}
+
+fn size2(a: i32, b: i32) -> Fallible<(u32, u32)> {
+    match (u32::try_from(a), u32::try_from(b)) {
+        (Ok(a), Ok(b)) => Ok((a, b)),
+        _ => Err(format!("{a}, {b}: negative sizes or offsets are GL errors")),
+    }
+}
+
+fn check_2d_level0(target: GlEnum, level: i32) -> Fallible {
+    if target != GL_TEXTURE_2D {
+        return Err(format!("texture target {target:#06x} is not supported (2D only)"));
+    }
+    if level != 0 {
+        return Err(format!("mip level {level}: the context has no mip maps"));
+    }
+    Ok(())
+}
+
+fn both_faces(face: GlEnum) -> Fallible {
+    if face != GL_FRONT_AND_BACK {
+        return Err("separate front and back stencil state is not supported".into());
+    }
+    Ok(())
+}
+
+fn qcom_buffers(mask: u32) -> BufferSet {
+    // GL_COLOR_BUFFER_BIT0_QCOM etc.: colour bits 0x0000_00ff, depth 0x0000_ff00, stencil
+    // 0x00ff_0000.
+    BufferSet { color: mask & 0xff != 0, depth: mask & 0xff00 != 0, stencil: mask & 0xff_0000 != 0 }
+}
+
+fn draw_mode(mode: GlEnum) -> Fallible<Mode> {
+    match mode {
+        0x0004 => Ok(Mode::Triangles),
+        0x0005 => Ok(Mode::TriangleStrip),
+        0x0006 => Ok(Mode::TriangleFan),
+        m => Err(format!("primitive mode {m:#06x}: tiler rasterizes triangles only")),
+    }
+}
+
+fn component_type(kind: GlEnum) -> Fallible<ComponentType> {
+    Ok(match kind {
+        0x1406 => ComponentType::Float,
+        0x140b | 0x8d61 => ComponentType::HalfFloat,
+        0x1400 => ComponentType::Byte,
+        0x1401 => ComponentType::UnsignedByte,
+        0x1402 => ComponentType::Short,
+        0x1403 => ComponentType::UnsignedShort,
+        0x1405 => ComponentType::UnsignedInt,
+        k => return Err(format!("vertex component type {k:#06x} is not supported")),
+    })
+}
+
+fn compare_op(func: GlEnum) -> Fallible<CompareOp> {
+    Ok(match func {
+        0x0200 => CompareOp::Never,
+        0x0201 => CompareOp::Less,
+        0x0202 => CompareOp::Equal,
+        0x0203 => CompareOp::LessOrEqual,
+        0x0204 => CompareOp::Greater,
+        0x0205 => CompareOp::NotEqual,
+        0x0206 => CompareOp::GreaterOrEqual,
+        0x0207 => CompareOp::Always,
+        f => return Err(format!("comparison {f:#06x} is not a GL one")),
+    })
+}
+
+fn stencil_op(op: GlEnum) -> Fallible<StencilOp> {
+    Ok(match op {
+        0x1e00 => StencilOp::Keep,
+        0 => StencilOp::Zero,
+        0x1e01 => StencilOp::Replace,
+        0x1e02 => StencilOp::IncrementAndClamp,
+        0x1e03 => StencilOp::DecrementAndClamp,
+        0x150a => StencilOp::Invert,
+        0x8507 => StencilOp::IncrementAndWrap,
+        0x8508 => StencilOp::DecrementAndWrap,
+        o => return Err(format!("stencil operation {o:#06x} is not a GL one")),
+    })
+}
+
+fn blend_factor(f: GlEnum) -> Fallible<BlendFactor> {
+    Ok(match f {
+        0 => BlendFactor::Zero,
+        1 => BlendFactor::One,
+        0x0300 => BlendFactor::SrcColor,
+        0x0301 => BlendFactor::OneMinusSrcColor,
+        0x0302 => BlendFactor::SrcAlpha,
+        0x0303 => BlendFactor::OneMinusSrcAlpha,
+        0x0304 => BlendFactor::DstAlpha,
+        0x0305 => BlendFactor::OneMinusDstAlpha,
+        0x0306 => BlendFactor::DstColor,
+        0x0307 => BlendFactor::OneMinusDstColor,
+        0x0308 => BlendFactor::SrcAlphaSaturate,
+        0x8001 => BlendFactor::ConstantColor,
+        0x8002 => BlendFactor::OneMinusConstantColor,
+        0x8003 => BlendFactor::ConstantAlpha,
+        0x8004 => BlendFactor::OneMinusConstantAlpha,
+        f => return Err(format!("blend factor {f:#06x} is not a GL one")),
+    })
+}
+
+fn blend_op(op: GlEnum) -> Fallible<BlendOp> {
+    Ok(match op {
+        0x8006 => BlendOp::Add,
+        0x800a => BlendOp::Subtract,
+        0x800b => BlendOp::ReverseSubtract,
+        0x8007 => BlendOp::Min,
+        0x8008 => BlendOp::Max,
+        o => return Err(format!("blend equation {o:#06x} is not a GL one")),
+    })
+}
+
+fn attachment_point(a: GlEnum) -> Fallible<AttachmentPoint> {
+    Ok(match a {
+        0x8ce0 => AttachmentPoint::Color0,
+        0x8ce1 => AttachmentPoint::Color1,
+        0x8ce2 => AttachmentPoint::Color2,
+        0x8ce3 => AttachmentPoint::Color3,
+        0x8d00 => AttachmentPoint::Depth,
+        0x8d20 => AttachmentPoint::Stencil,
+        0x821a => AttachmentPoint::DepthStencil,
+        a => return Err(format!("attachment {a:#06x} is not supported")),
+    })
+}
+
+/// An attachment of `glInvalidateFramebuffer`; the window's framebuffer names its buffers
+/// `GL_COLOR`, `GL_DEPTH`, `GL_STENCIL` (`GL_COLOR_EXT` … for the discard extension).
+fn invalidate_point(a: GlEnum, default: bool) -> Fallible<AttachmentPoint> {
+    match (a, default) {
+        (0x1800, true) => Ok(AttachmentPoint::Color0),
+        (0x1801, true) => Ok(AttachmentPoint::Depth),
+        (0x1802, true) => Ok(AttachmentPoint::Stencil),
+        (a, false) => attachment_point(a),
+        (a, true) => Err(format!("attachment {a:#06x} is not one of the window's")),
+    }
+}
+
+fn renderbuffer_format(f: GlEnum) -> Fallible<TextureFormat> {
+    Ok(match f {
+        // RGBA4 and RGB5_A1 are kept at 8 bits per channel, as llvmpipe keeps them.
+        0x8058 | 0x8051 | 0x8056 | 0x8057 => TextureFormat::Rgba8,
+        0x8d62 => TextureFormat::Rgb565,
+        0x8c43 => TextureFormat::Srgb8Alpha8,
+        0x881a => TextureFormat::Rgba16f,
+        0x8814 => TextureFormat::Rgba32f,
+        0x822e => TextureFormat::R32f,
+        0x81a5 => TextureFormat::Depth16,
+        0x81a6 => TextureFormat::Depth24,
+        0x8cac => TextureFormat::Depth32f,
+        0x88f0 => TextureFormat::Depth24Stencil8,
+        0x8d48 => TextureFormat::Stencil8,
+        f => return Err(format!("internal format {f:#06x} is not supported")),
+    })
+}
+
+/// The function name of a command the replay refuses (for messages).
+fn command_name(command: &Command) -> String {
+    let debug = format!("{command:?}");
+    debug.split([' ', '{', '(']).next().unwrap_or("?").to_string()
+}
+
+/// The GLSL side: programs from source, attribute bindings, uniform values.
+mod glsl {
+    use super::{Fallible, GlUniform};
+    use crate::call::{Call, GlslSource, ProgramSource, UniformValue};
+
+    pub(super) fn create_program(id: u32, vertex: String, fragment: String) -> Fallible<Call> {
+        Ok(Call::CreateProgram { id, program: ProgramSource::Glsl(GlslSource { vertex, fragment }) })
+    }
+
+    pub(super) fn bind_attrib_location(program: u32, index: u32, name: String) -> Fallible<Call> {
+        Ok(Call::BindAttribLocation { program, index, name })
+    }
+
+    /// One value per array element.
+    pub(super) fn uniform_values(value: &GlUniform) -> Fallible<Vec<UniformValue>> {
+        let unsupported = || format!("uniform {value:?} is not of a type the context takes");
+        let per = |n: usize, len: usize| if n == 0 || !len.is_multiple_of(n) { Err(unsupported()) } else { Ok(n) };
+        Ok(match value {
+            GlUniform::Float { components, values } => values
+                .chunks_exact(per(usize::from(*components), values.len())?)
+                .map(|v| match *v {
+                    [x] => Ok(UniformValue::Float(x)),
+                    [x, y] => Ok(UniformValue::Vec2([x, y])),
+                    [x, y, z] => Ok(UniformValue::Vec3([x, y, z])),
+                    [x, y, z, w] => Ok(UniformValue::Vec4([x, y, z, w])),
+                    _ => Err(unsupported()),
+                })
+                .collect::<Fallible<_>>()?,
+            GlUniform::Int { components, values } => values
+                .chunks_exact(per(usize::from(*components), values.len())?)
+                .map(|v| match *v {
+                    [x] => Ok(UniformValue::Int(x)),
+                    [x, y] => Ok(UniformValue::IVec2([x, y])),
+                    [x, y, z] => Ok(UniformValue::IVec3([x, y, z])),
+                    [x, y, z, w] => Ok(UniformValue::IVec4([x, y, z, w])),
+                    _ => Err(unsupported()),
+                })
+                .collect::<Fallible<_>>()?,
+            GlUniform::Matrix { columns, rows, transpose, values } if columns == rows && (2..=4).contains(columns) => {
+                let n = usize::from(*columns);
+                values
+                    .chunks_exact(per(n * n, values.len())?)
+                    .map(|m| {
+                        // Column-major; a transposed matrix (GLES 3.0) is turned back.
+                        let at = |c: usize, r: usize| if *transpose { m[r * n + c] } else { m[c * n + r] };
+                        let column_major: Vec<f32> = (0..n).flat_map(|c| (0..n).map(move |r| at(c, r))).collect();
+                        match n {
+                            2 => UniformValue::Mat2(column_major.try_into().expect("4 values")),
+                            3 => UniformValue::Mat3(column_major.try_into().expect("9 values")),
+                            _ => UniformValue::Mat4(column_major.try_into().expect("16 values")),
+                        }
+                    })
+                    .collect()
+            }
+            _ => return Err(unsupported()),
+        })
+    }
+}

@@ -1,0 +1,468 @@
+//! Replaying apitrace captures on the context: generated captures (names per EGL context,
+//! state reset, texel uploads, errors naming the call) and the shared glmark2 captures against
+//! llvmpipe's frames.
+
+#[path = "../../tiler-apitrace/tests/apitrace/writer.rs"]
+#[allow(dead_code)]
+mod writer;
+
+use std::path::Path;
+use std::time::Instant;
+
+use tiler_gl::capture::{CaptureError, ReplayOptions, replay_reader};
+use tiler_scene::compare::{REFERENCE_MIN_FRACTION, REFERENCE_TOLERANCE, compare_rgba8, read_png, write_png};
+use writer::{W, Writer};
+
+fn e(name: &'static str, value: u32) -> W {
+    W::gl_enum(name, value as i64)
+}
+
+/// The EGL set-up glmark2 records: a window surface, a context made current, and apitrace's
+/// fake viewport with the window's size.
+fn begin_context(w: &mut Writer, context: u64, width: u64, height: u64) {
+    let attribs = W::Array(vec![W::UInt(0x3098), W::UInt(2), W::UInt(0x3038)]);
+    w.call(
+        "eglCreateContext",
+        &[("dpy", W::Pointer(1)), ("config", W::Pointer(2)), ("share_context", W::Null), ("attrib_list", attribs)],
+        Some(W::Pointer(context)),
+        false,
+    );
+    w.call(
+        "eglMakeCurrent",
+        &[("dpy", W::Pointer(1)), ("draw", W::Pointer(3)), ("read", W::Pointer(3)), ("ctx", W::Pointer(context))],
+        Some(W::Bool(true)),
+        false,
+    );
+    let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(width)), ("height", W::UInt(height))];
+    w.call("glViewport", &viewport, None, true);
+}
+
+fn window_surface(w: &mut Writer) {
+    w.call(
+        "eglCreateWindowSurface",
+        &[("dpy", W::Pointer(1)), ("config", W::Pointer(2)), ("win", W::UInt(9)), ("attrib_list", W::Array(vec![]))],
+        Some(W::Pointer(3)),
+        false,
+    );
+}
+
+fn clear(w: &mut Writer, rgba: [f32; 4]) {
+    let args = [
+        ("red", W::Float(rgba[0])),
+        ("green", W::Float(rgba[1])),
+        ("blue", W::Float(rgba[2])),
+        ("alpha", W::Float(rgba[3])),
+    ];
+    w.call("glClearColor", &args, None, false);
+    w.call("glClear", &[("mask", W::UInt(0x4100))], None, false);
+}
+
+fn swap(w: &mut Writer) -> u64 {
+    w.call("eglSwapBuffers", &[("dpy", W::Pointer(1)), ("surface", W::Pointer(3))], Some(W::Bool(true)), false)
+}
+
+fn texture_rgb(w: &mut Writer, name: u64, width: u64, height: u64, texels: Vec<u8>) {
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(name)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(name))], None, false);
+    w.call(
+        "glTexImage2D",
+        &[
+            ("target", e("GL_TEXTURE_2D", 0x0de1)),
+            ("level", W::UInt(0)),
+            ("internalformat", e("GL_RGB", 0x1907)),
+            ("width", W::UInt(width)),
+            ("height", W::UInt(height)),
+            ("border", W::UInt(0)),
+            ("format", e("GL_RGB", 0x1907)),
+            ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+            ("pixels", W::Blob(texels)),
+        ],
+        None,
+        false,
+    );
+}
+
+type Frames = Vec<(u32, u64, u32, u32, Vec<u8>)>;
+
+fn replay(w: &Writer) -> (Result<tiler_gl::capture::Replay, CaptureError>, Frames) {
+    let mut frames = Vec::new();
+    let result = replay_reader(&w.snappy(1 << 16)[..], &ReplayOptions::default(), &mut |f| {
+        frames.push((f.index, f.call, f.width, f.height, f.rgba.to_vec()));
+        Ok(())
+    });
+    (result, frames)
+}
+
+fn solid(width: u32, height: u32, rgba: [u8; 4]) -> Vec<u8> {
+    rgba.repeat((width * height) as usize)
+}
+
+#[test]
+fn a_new_context_restarts_names_and_state_and_frames_come_out_in_order() {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 8, 4);
+    // Context A: texture 1, a scissored clear.
+    texture_rgb(&mut w, 1, 2, 2, vec![0; 14]);
+    w.call("glEnable", &[("cap", e("GL_SCISSOR_TEST", 0x0c11))], None, false);
+    let scissor = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(1)), ("height", W::UInt(1))];
+    w.call("glScissor", &scissor, None, false);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    let first = swap(&mut w);
+    w.call("eglDestroyContext", &[("dpy", W::Pointer(1)), ("ctx", W::Pointer(100))], Some(W::Bool(true)), false);
+    // Context B: the same name again is a new texture; the scissor test is off again.
+    begin_context(&mut w, 200, 8, 4);
+    texture_rgb(&mut w, 1, 4, 4, vec![0; 48]);
+    clear(&mut w, [0.0, 1.0, 0.0, 1.0]);
+    let second = swap(&mut w);
+
+    let (result, frames) = replay(&w);
+    let replay = result.unwrap();
+    assert_eq!(replay.swaps, [first, second]);
+    assert_eq!(frames.len(), 2);
+    assert_eq!((frames[0].0, frames[0].1, frames[0].2, frames[0].3), (0, first, 8, 4));
+    assert_eq!((frames[1].0, frames[1].1), (1, second));
+    // Frame 0: only the bottom-left pixel (GL y up: the last row) was cleared to red.
+    assert_eq!(&frames[0].4[(3 * 8) * 4..(3 * 8) * 4 + 4], &[255, 0, 0, 255]);
+    // Frame 1: the whole window, scissor reset by the new context.
+    assert_eq!(frames[1].4, solid(8, 4, [0, 255, 0, 255]));
+    // Context A's texture was deleted with its context; B's is a different object.
+    let ctx = &replay.context;
+    assert!(ctx.texture_image(1).is_none(), "the destroyed context's texture is deleted");
+    assert!(ctx.texture_image(2).is_some());
+    assert_eq!(replay.report.frames.len(), 2);
+}
+
+#[test]
+fn rgb_texels_reach_the_window_upright_through_a_blit() {
+    // A 2×2 RGB texture (rows bottom first, aligned to 4 bytes), attached to a framebuffer
+    // and blitted onto the 2×2 window.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 2, 2);
+    let texels = vec![
+        10, 20, 30, 40, 50, 60, 0, 0, // bottom row + padding
+        70, 80, 90, 100, 110, 120, 0, 0, // top row + padding
+    ];
+    texture_rgb(&mut w, 5, 2, 2, texels);
+    w.call("glGenFramebuffers", &[("n", W::UInt(1)), ("framebuffers", W::Array(vec![W::UInt(3)]))], None, false);
+    w.call(
+        "glBindFramebuffer",
+        &[("target", e("GL_READ_FRAMEBUFFER", 0x8ca8)), ("framebuffer", W::UInt(3))],
+        None,
+        false,
+    );
+    w.call(
+        "glFramebufferTexture2D",
+        &[
+            ("target", e("GL_READ_FRAMEBUFFER", 0x8ca8)),
+            ("attachment", e("GL_COLOR_ATTACHMENT0", 0x8ce0)),
+            ("textarget", e("GL_TEXTURE_2D", 0x0de1)),
+            ("texture", W::UInt(5)),
+            ("level", W::UInt(0)),
+        ],
+        None,
+        false,
+    );
+    let rect = |a, b, c, d| [W::UInt(a), W::UInt(b), W::UInt(c), W::UInt(d)];
+    let [s0, s1, s2, s3] = rect(0, 0, 2, 2);
+    let [d0, d1, d2, d3] = rect(0, 0, 2, 2);
+    w.call(
+        "glBlitFramebuffer",
+        &[
+            ("srcX0", s0),
+            ("srcY0", s1),
+            ("srcX1", s2),
+            ("srcY1", s3),
+            ("dstX0", d0),
+            ("dstY0", d1),
+            ("dstX1", d2),
+            ("dstY1", d3),
+            ("mask", W::UInt(0x4000)),
+            ("filter", e("GL_NEAREST", 0x2600)),
+        ],
+        None,
+        false,
+    );
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    // Top row of the picture first.
+    assert_eq!(frames[0].4, [70, 80, 90, 255, 100, 110, 120, 255, 10, 20, 30, 255, 40, 50, 60, 255]);
+}
+
+#[test]
+fn an_unsupported_call_fails_with_its_number_and_function() {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 8, 4);
+    clear(&mut w, [0.0; 4]);
+    let call = w.call("glEnable", &[("cap", e("GL_POLYGON_OFFSET_FILL", 0x8037))], None, false);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    let error = result.err().expect("polygon offset is not supported");
+    assert_eq!(error.call(), Some(call));
+    let message = error.to_string();
+    assert!(message.contains(&format!("call {call}")) && message.contains("`glEnable`"), "{message}");
+    assert!(frames.is_empty());
+}
+
+#[test]
+fn a_call_neither_known_nor_ignored_fails_with_its_number_and_function() {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 8, 4);
+    let call = w.call("glTexImage3D", &[("target", W::UInt(0x806f))], None, false);
+    let (result, _) = replay(&w);
+    let message = result.err().expect("an unknown call").to_string();
+    assert!(message.contains(&format!("call {call}")) && message.contains("glTexImage3D"), "{message}");
+}
+
+#[test]
+fn ignored_calls_change_nothing_and_a_missing_window_size_is_an_error() {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    let attribs = W::Array(vec![W::UInt(0x3038)]);
+    w.call(
+        "eglCreateContext",
+        &[("dpy", W::Pointer(1)), ("config", W::Pointer(2)), ("share_context", W::Null), ("attrib_list", attribs)],
+        Some(W::Pointer(100)),
+        false,
+    );
+    w.call(
+        "eglMakeCurrent",
+        &[("dpy", W::Pointer(1)), ("draw", W::Pointer(3)), ("read", W::Pointer(3)), ("ctx", W::Pointer(100))],
+        Some(W::Bool(true)),
+        false,
+    );
+    w.call("glGetError", &[], Some(W::UInt(0)), false);
+    let call = w.call("glClear", &[("mask", W::UInt(0x4000))], None, false);
+    let (result, _) = replay(&w);
+    let error = result.err().expect("no window size");
+    assert_eq!(error.call(), Some(call));
+    assert!(error.to_string().contains("window"), "{error}");
+}
+
+// ---- the shared glmark2 captures -------------------------------------------------------
+
+const SCENES: [&str; 10] =
+    ["buffer", "build", "bump", "conditionals", "desktop", "effect2d", "pulsar", "shading", "shadow", "texture"];
+
+/// llvmpipe's frames of a scene, in presentation order: (swap call, path).
+fn references(dir: &Path, scene: &str) -> Vec<(u64, std::path::PathBuf)> {
+    let mut refs: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|entry| {
+            let path = entry.ok()?.path();
+            let stem = path.file_stem()?.to_str()?.to_string();
+            let (name, call) = stem.rsplit_once('-')?;
+            (name == scene && path.extension()? == "png").then(|| Some((call.parse().ok()?, path.clone())))?
+        })
+        .collect();
+    refs.sort();
+    refs
+}
+
+/// Replays a scene and compares every frame; the problems found, if any.
+fn check_scene(traces: &Path, reference: &Path, scene: &str) -> Result<(), String> {
+    let refs = references(reference, scene);
+    if refs.is_empty() {
+        return Err(format!("{scene}: no reference frames"));
+    }
+    let mut problems = Vec::new();
+    let started = Instant::now();
+    let result =
+        tiler_gl::capture::replay_file(traces.join(format!("{scene}.trace")), &ReplayOptions::default(), &mut |f| {
+            let Some((call, path)) = refs.get(f.index as usize) else {
+                return Err(format!("frame {} has no reference", f.index));
+            };
+            if *call != f.call {
+                problems.push(format!("frame {} presented at call {}, llvmpipe's at {call}", f.index, f.call));
+            }
+            let (w, h, expected) = read_png(path)?;
+            if (w, h) != (f.width, f.height) {
+                return Err(format!("frame {}: {}×{}, reference {w}×{h}", f.index, f.width, f.height));
+            }
+            // eglretrace's snapshots are RGB: the reference says nothing of alpha (buffer's
+            // triangles write 0.8 there), so only colour is compared.
+            let mut ours = f.rgba.to_vec();
+            ours.iter_mut().skip(3).step_by(4).for_each(|a| *a = 255);
+            let c = compare_rgba8(&ours, &expected, w, h, REFERENCE_TOLERANCE);
+            if !c.passes(REFERENCE_MIN_FRACTION) {
+                let out = tiler_test_support::output_dir().join(format!("capture-{scene}-{:04}", f.index));
+                write_png(&out.with_extension("diff.png"), w, h, &c.difference_image)?;
+                write_png(&out.with_extension("png"), w, h, f.rgba)?;
+                problems.push(format!(
+                    "frame {}: {:.2}% of pixels within {REFERENCE_TOLERANCE}/255 (max difference {}); see {}",
+                    f.index,
+                    c.fraction_within() * 100.0,
+                    c.max_difference,
+                    out.display()
+                ));
+            }
+            Ok(())
+        });
+    let replay = result.map_err(|e| format!("{scene}: {e}"))?;
+    eprintln!("{scene}: {} frames replayed in {:.2?}", replay.swaps.len(), started.elapsed());
+    if replay.swaps.len() != refs.len() {
+        problems.push(format!("{} frames presented, llvmpipe presented {}", replay.swaps.len(), refs.len()));
+    }
+    if problems.is_empty() { Ok(()) } else { Err(format!("{scene}: {}", problems.join("; "))) }
+}
+
+#[test]
+fn glmark2_captures_replay_and_match_llvmpipe() {
+    let (Some(traces), Some(reference)) = (tiler_test_support::traces_dir(), tiler_test_support::reference_dir())
+    else {
+        return;
+    };
+    let (traces, reference) = (traces.join("glmark2"), reference.join("glmark2"));
+    let mut failures = Vec::new();
+    for scene in SCENES {
+        match check_scene(&traces, &reference, scene) {
+            Ok(()) => eprintln!("{scene}: every frame matches llvmpipe"),
+            Err(problem) => failures.push(problem),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// A program drawing a full-window triangle in the colour of `colors[2]`, set by one
+/// `glUniform4fv` of three elements at the location recorded for `colors`; then
+/// `extra` (calls after the draw) and a swap.
+fn uniform_array_capture(before_draw: impl FnOnce(&mut Writer), extra: impl FnOnce(&mut Writer)) -> (Writer, u64) {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    let triangle: Vec<u8> = [-1.0f32, -1.0, 3.0, -1.0, -1.0, 3.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+    w.call("glGenBuffers", &[("n", W::UInt(1)), ("buffers", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindBuffer", &[("target", e("GL_ARRAY_BUFFER", 0x8892)), ("buffer", W::UInt(1))], None, false);
+    w.call(
+        "glBufferData",
+        &[
+            ("target", e("GL_ARRAY_BUFFER", 0x8892)),
+            ("size", W::UInt(24)),
+            ("data", W::Blob(triangle)),
+            ("usage", e("GL_STATIC_DRAW", 0x88e4)),
+        ],
+        None,
+        false,
+    );
+    w.call("glCreateProgram", &[], Some(W::UInt(7)), false);
+    let shaders = [
+        (
+            0x8b31,
+            "GL_VERTEX_SHADER",
+            2,
+            "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n",
+        ),
+        (
+            0x8b30,
+            "GL_FRAGMENT_SHADER",
+            3,
+            "precision mediump float;\nuniform vec4 colors[3];\nvoid main() { gl_FragColor = colors[2]; }\n",
+        ),
+    ];
+    for (kind, kind_name, shader, source) in shaders {
+        w.call("glCreateShader", &[("type", e(kind_name, kind))], Some(W::UInt(shader)), false);
+        let strings = W::Array(vec![W::Str(source)]);
+        w.call(
+            "glShaderSource",
+            &[("shader", W::UInt(shader)), ("count", W::UInt(1)), ("string", strings), ("length", W::Null)],
+            None,
+            false,
+        );
+        w.call("glCompileShader", &[("shader", W::UInt(shader))], None, false);
+        w.call("glAttachShader", &[("program", W::UInt(7)), ("shader", W::UInt(shader))], None, false);
+    }
+    w.call("glLinkProgram", &[("program", W::UInt(7))], None, false);
+    w.call("glUseProgram", &[("program", W::UInt(7))], None, false);
+    w.call("glGetAttribLocation", &[("program", W::UInt(7)), ("name", W::Str("where"))], Some(W::UInt(5)), false);
+    w.call("glGetUniformLocation", &[("program", W::UInt(7)), ("name", W::Str("colors"))], Some(W::UInt(3)), false);
+    let values = [1.0f32, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.2, 0.4, 0.6, 1.0].map(W::Float).to_vec();
+    w.call(
+        "glUniform4fv",
+        &[("location", W::UInt(3)), ("count", W::UInt(3)), ("value", W::Array(values))],
+        None,
+        false,
+    );
+    w.call("glEnableVertexAttribArray", &[("index", W::UInt(5))], None, false);
+    w.call(
+        "glVertexAttribPointer",
+        &[
+            ("index", W::UInt(5)),
+            ("size", W::UInt(2)),
+            ("type", e("GL_FLOAT", 0x1406)),
+            ("normalized", W::Bool(false)),
+            ("stride", W::UInt(0)),
+            ("pointer", W::Null),
+        ],
+        None,
+        false,
+    );
+    before_draw(&mut w);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    extra(&mut w);
+    let swap = swap(&mut w);
+    (w, swap)
+}
+
+#[test]
+fn glsl_programs_link_from_the_capture_and_uniform_arrays_set_consecutive_elements() {
+    let (w, _) = uniform_array_capture(|_| {}, |_| {});
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    // colors[2] = (0.2, 0.4, 0.6, 1.0), through the attribute at the location the capture
+    // recorded (5).
+    assert_eq!(frames[0].4, solid(4, 4, [51, 102, 153, 255]));
+}
+
+#[test]
+fn a_uniform_location_never_returned_is_an_error_naming_the_call() {
+    let mut call = 0;
+    let (w, _) = uniform_array_capture(
+        |_| {},
+        |w| {
+            call = w.call("glUniform1f", &[("location", W::UInt(9)), ("v0", W::Float(1.0))], None, false);
+        },
+    );
+    let (result, _) = replay(&w);
+    let error = result.err().expect("location 9 was never returned");
+    assert_eq!(error.call(), Some(call));
+    let message = error.to_string();
+    assert!(message.contains("`glUniform1f`") && message.contains("location 9"), "{message}");
+}
+
+fn tex_parameter(w: &mut Writer, pname: (&'static str, u32), value: (&'static str, u32)) {
+    w.call(
+        "glTexParameteri",
+        &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("pname", e(pname.0, pname.1)), ("param", e(value.0, value.1))],
+        None,
+        false,
+    );
+}
+
+#[test]
+fn a_mipmap_filter_draws_once_mipmaps_are_generated_and_fails_naming_the_draw_before() {
+    let trilinear = |w: &mut Writer| {
+        texture_rgb(w, 4, 4, 4, vec![200; 48]);
+        tex_parameter(w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_LINEAR_MIPMAP_LINEAR", 0x2703));
+        tex_parameter(w, ("GL_TEXTURE_MAG_FILTER", 0x2800), ("GL_LINEAR", 0x2601));
+    };
+    let (w, _) = uniform_array_capture(trilinear, |_| {});
+    let (result, _) = replay(&w);
+    let message = result.err().expect("no mip levels").to_string();
+    assert!(message.contains("`glDrawArrays`") && message.contains("mip levels"), "{message}");
+
+    let (w, _) = uniform_array_capture(
+        |w| {
+            trilinear(w);
+            w.call("glGenerateMipmap", &[("target", e("GL_TEXTURE_2D", 0x0de1))], None, false);
+        },
+        |_| {},
+    );
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [51, 102, 153, 255]));
+}
