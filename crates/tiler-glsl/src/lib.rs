@@ -89,6 +89,7 @@
 
 pub mod compile;
 pub mod exec;
+pub mod guard;
 mod hoist;
 pub mod ir;
 mod program;

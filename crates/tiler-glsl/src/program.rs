@@ -103,8 +103,13 @@ impl CompiledProgram {
     /// # Errors
     /// A compile error (naming the stage and the line) or a link error.
     pub fn new(vertex: &str, fragment: &str, attribute_locations: &[(&str, u32)]) -> Result<CompiledProgram, Error> {
-        let vertex = compile(Stage::Vertex, vertex)?;
-        let fragment = compile(Stage::Fragment, fragment)?;
+        crate::guard::check_source(Stage::Vertex, vertex)?;
+        crate::guard::check_source(Stage::Fragment, fragment)?;
+        let (vertex, fragment) = crate::guard::with_deep_stack(|| {
+            let vertex = compile(Stage::Vertex, vertex)?;
+            let fragment = compile(Stage::Fragment, fragment)?;
+            Ok((vertex, fragment))
+        })?;
         let attributes = link_attributes(&vertex, attribute_locations)?;
         let (varyings, w_varying, varying_floats) = link_varyings(&vertex, &fragment)?;
         let (uniforms, vertex_uniform_offsets, fragment_uniform_offsets, uniform_floats) =

@@ -716,3 +716,31 @@ void main() { gl_FragColor = vec4(normalize(u) * 0.5 + 0.5, 1.0); }";
     let want: Vec<u8> = u.iter().map(|c| unorm(c / len * 0.5 + 0.5)).chain([255]).collect();
     assert!(image.chunks(4).all(|p| p == want.as_slice()), "{:?} vs {want:?}", &image[..4]);
 }
+
+/// Nesting as deep as the source limit allows compiles (or fails cleanly) instead of
+/// overflowing the stack, which aborted the process; a macro chain that doubles at every step
+/// is refused before it expands, and so is a source past the size limit.
+#[test]
+fn deep_nesting_and_macro_bombs_do_not_abort() {
+    let vs = "attribute vec4 p; void main() { gl_Position = p; }";
+    let limit = tiler_glsl::guard::MAX_SOURCE_BYTES;
+    let chain = format!("void main() {{ gl_FragColor = vec4(1.0{}); }}", "+1.0".repeat((limit - 64) / 4));
+    assert!(chain.len() <= limit);
+    CompiledProgram::new(vs, &chain, &[]).unwrap();
+    let blocks =
+        format!("void main() {{ {}{} gl_FragColor = vec4(1.0); }}", "{".repeat(limit / 3), "}".repeat(limit / 3));
+    CompiledProgram::new(vs, &blocks, &[]).unwrap();
+    let negations = format!("void main() {{ gl_FragColor = vec4({}1.0); }}", "- ".repeat((limit - 64) / 2));
+    CompiledProgram::new(vs, &negations, &[]).unwrap();
+
+    let e = CompiledProgram::new(vs, &"//".repeat(limit), &[]).unwrap_err();
+    assert!(matches!(e, Error::Compile { stage: Stage::Fragment, .. }) && e.to_string().contains("bytes"), "{e}");
+    let mut bomb = String::from("#define A0 1.0\n");
+    for i in 1..=24 {
+        bomb += &format!("#define A{i} A{}+A{}\n", i - 1, i - 1);
+    }
+    bomb += "void main() { gl_FragColor = vec4(A24); }";
+    let e = CompiledProgram::new(vs, &bomb, &[]).unwrap_err();
+    // A0 is three tokens (`1`, `.`, `0`), so A19 is the first past 2^20.
+    assert!(e.to_string().contains("line 20: macro A19 expands to more than"), "{e}");
+}
