@@ -14,7 +14,6 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use glsl_lang::ast::{self, NodeSpan};
-use glsl_lang::parse::DefaultParse;
 
 use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
 use crate::types::{BOOL, FLOAT, INT, SamplerKind, Scalar, StructType, Type};
@@ -80,10 +79,16 @@ pub struct StageCode {
 pub fn compile(stage: Stage, source: &str) -> Result<StageCode, Error> {
     let (text, inserted_at) = with_gl_es_define(source);
     let lines = LineMap::new(&text, inserted_at);
-    let unit = ast::TranslationUnit::parse(text.as_str()).map_err(|e| {
-        let offset = u32::from(e.pos().start()) as usize;
-        Error::Compile { stage, line: lines.line(offset), message: e.inner().to_string() }
-    })?;
+    let unit = <ast::TranslationUnit as glsl_lang::parse::Parse>::parse::<crate::guard::CappedLexer>(text.as_str())
+        .map_err(|e| {
+            let offset = u32::from(e.pos().start()) as usize;
+            let message = if crate::guard::was_cut() {
+                format!("the preprocessed source is longer than {} tokens", crate::guard::MAX_TOKENS)
+            } else {
+                e.inner().to_string()
+            };
+            Error::Compile { stage, line: lines.line(offset), message }
+        })?;
     let mut c = Compiler::new(stage, &lines);
     c.unit(&unit).map_err(|(line, message)| Error::Compile { stage, line, message })?;
     Ok(c.finish())

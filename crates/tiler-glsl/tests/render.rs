@@ -744,3 +744,33 @@ fn deep_nesting_and_macro_bombs_do_not_abort() {
     // A0 is three tokens (`1`, `.`, `0`), so A19 is the first past 2^20.
     assert!(e.to_string().contains("line 20: macro A19 expands to more than"), "{e}");
 }
+
+/// Function-like macros defined each from the last twice over would expand to 2^30 copies:
+/// refused from the definitions, before the preprocessor runs.
+#[test]
+fn function_like_macro_bombs_are_refused() {
+    let vs = "attribute vec4 p; void main() { gl_Position = p; }";
+    let mut fs = String::from("#define B0(x) x\n");
+    for i in 1..=30 {
+        fs += &format!("#define B{i}(x) B{p}(x)+B{p}(x)\n", p = i - 1);
+    }
+    fs += "void main() { gl_FragColor = vec4(B30(1.0)); }";
+    let e = CompiledProgram::new(vs, &fs, &[]).unwrap_err();
+    assert!(e.to_string().contains("expands to more than"), "{e}");
+}
+
+/// Each macro within its limit (A17 is 2^18 − 1 tokens to the lexer), but used nine times: what the preprocessor emits is cut
+/// at the parser's token limit, with an error that says so.
+#[test]
+fn the_parser_reads_at_most_its_token_limit() {
+    let vs = "attribute vec4 p; void main() { gl_Position = p; }";
+    let mut fs = String::from("#define A0 1.0\n");
+    for i in 1..=17 {
+        fs += &format!("#define A{i} A{p}+A{p}\n", p = i - 1);
+    }
+    fs += &format!("void main() {{ gl_FragColor = vec4({}); }}", vec!["A17"; 9].join("+"));
+    match CompiledProgram::new(vs, &fs, &[]) {
+        Ok(_) => panic!("nine uses of a macro of 2^18 tokens compiled"),
+        Err(e) => assert!(e.to_string().contains("longer than"), "{e}"),
+    }
+}
