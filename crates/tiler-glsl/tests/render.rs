@@ -768,7 +768,7 @@ fn the_parser_reads_at_most_its_token_limit() {
     for i in 1..=17 {
         fs += &format!("#define A{i} A{p}+A{p}\n", p = i - 1);
     }
-    fs += &format!("void main() {{ gl_FragColor = vec4({}); }}", vec!["A17"; 9].join("+"));
+    fs += &format!("void main() {{ gl_FragColor = vec4({}); }}", ["A17"; 9].join("+"));
     match CompiledProgram::new(vs, &fs, &[]) {
         Ok(_) => panic!("nine uses of a macro of 2^18 tokens compiled"),
         Err(e) => assert!(e.to_string().contains("longer than"), "{e}"),
