@@ -14,7 +14,7 @@
 //! Otherwise the tests run after shading, on the coverage the shader left.
 
 use crate::api::format::ColorWrites;
-use crate::api::pipeline::{ColorTargetState, MAX_COLOR_ATTACHMENTS, PipelineDesc};
+use crate::api::pipeline::{ColorTargetState, DepthStencilState, MAX_COLOR_ATTACHMENTS, PipelineDesc};
 use crate::api::shader::ShaderProperties;
 use crate::depth;
 use crate::depth::hsr::Visibility;
@@ -501,21 +501,21 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
         list.into_iter().take(len)
     }
 
-    /// The early depth test of a whole block (see [`depth::test_block`]).
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    /// The early depth test of a whole block (see [`block_tests`]).
+    #[inline(always)]
     fn test_block(&self, x: i32, y: i32, masks: &mut [u64], target: &mut RenderTarget, tally: &mut FragmentTally) {
-        let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
-        let depths = BlockDepths { interpolator: &self.interpolator, locations: &self.locations, x };
-        depth::test_block(
-            surface,
-            x,
-            y,
-            masks,
-            &self.desc.depth_stencil,
-            &depths,
-            &mut tally.framebuffer,
-            &mut tally.ledger,
-        );
+        block_tests(&self.test_inputs(), x, y, masks, target, tally);
+    }
+
+    /// What the depth and stencil tests of this primitive read.
+    #[inline(always)]
+    fn test_inputs(&self) -> TestInputs<'_> {
+        TestInputs {
+            state: &self.desc.depth_stencil,
+            interpolator: &self.interpolator,
+            locations: &self.locations,
+            front_facing: self.primitive.front_facing,
+        }
     }
 
     /// The fragment pipeline for the covered samples of the 4×2 group at `(x, y)`.
@@ -744,9 +744,8 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
         out
     }
 
-    /// Depth and stencil tests of the covered samples; `shader_depth` replaces the
-    /// interpolated depth when the shader wrote one.
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    /// Depth and stencil tests of the covered samples (see [`group_tests`]).
+    #[inline(always)]
     fn test(
         &self,
         x: i32,
@@ -756,49 +755,206 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
         target: &mut RenderTarget,
         tally: &mut FragmentTally,
     ) -> Coverage {
-        let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
-        let multisampled = self.locations.count() > 1;
-        depth::test_group(
-            surface,
-            x,
-            y,
-            coverage,
-            &self.desc.depth_stencil,
-            self.primitive.front_facing,
-            |s| match shader_depth {
-                Some(z) => z,
-                None if multisampled => {
-                    let (px, py) = Interpolator::sample_positions(x, y, self.locations.offset(s));
-                    self.interpolator.depth(px, py)
-                }
-                None => {
-                    let (px, py) = Interpolator::positions(x, y, 0.5, 0.5);
-                    self.interpolator.depth(px, py)
-                }
-            },
-            &mut tally.framebuffer,
-            &mut tally.ledger,
-        )
+        group_tests(&self.test_inputs(), x, y, coverage, shader_depth, target, tally)
     }
 
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    /// Blends and writes the colour outputs (see [`write_colors`]).
+    #[inline(always)]
     fn write_colors(&self, x: i32, y: i32, coverage: Coverage, target: &mut RenderTarget, tally: &mut FragmentTally) {
-        let FragmentTally { outputs, framebuffer, ledger, simd, .. } = tally;
-        for (i, plan) in self.colors.iter().enumerate() {
-            let (Some(plan), Some(surface)) = (plan, target.color[i].as_mut()) else { continue };
-            write_color(
-                surface,
-                x,
-                y,
-                coverage,
-                &outputs[i],
-                plan,
-                self.desc.blend_constant,
-                framebuffer,
-                ledger,
-                *simd,
-            );
+        write_colors(&self.colors, self.desc.blend_constant, x, y, coverage, target, tally);
+    }
+}
+
+// The stages below do not depend on the fragment shader. Each is compiled once per SIMD level
+// (a dispatcher, never inlined, calls the AVX2 copy or the baseline copy of its body) instead of
+// being inlined into every shader's pipeline: the shaders' pipelines call them once per group or
+// block. That keeps the code monomorphised per shader type small, which is most of the release
+// build's time, at the cost of a call per group (measured: docs/benchmarking.md).
+
+/// What the depth and stencil tests of a primitive read.
+#[derive(Clone, Copy)]
+struct TestInputs<'a> {
+    state: &'a DepthStencilState,
+    interpolator: &'a Interpolator,
+    locations: &'a SampleLocations,
+    front_facing: bool,
+}
+
+/// Depth and stencil tests of the `coverage` of the group at `(x, y)`; `shader_depth` replaces
+/// the interpolated depth when the shader wrote one. Returns the samples that passed.
+#[inline(never)]
+fn group_tests(
+    inputs: &TestInputs,
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    shader_depth: Option<F32x8>,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) -> Coverage {
+    match tally.simd.level() {
+        #[cfg(target_arch = "x86_64")]
+        SimdLevel::Avx2 => {
+            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+            // every feature `group_tests_avx2` is compiled with (`SimdSupport::detect`).
+            unsafe { group_tests_avx2(inputs, x, y, coverage, shader_depth, target, tally) }
         }
+        _ => group_tests_body(inputs, x, y, coverage, shader_depth, target, tally),
+    }
+}
+
+/// [`group_tests_body`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+unsafe fn group_tests_avx2(
+    inputs: &TestInputs,
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    shader_depth: Option<F32x8>,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) -> Coverage {
+    group_tests_body(inputs, x, y, coverage, shader_depth, target, tally)
+}
+
+#[inline(always)]
+fn group_tests_body(
+    inputs: &TestInputs,
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    shader_depth: Option<F32x8>,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) -> Coverage {
+    let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
+    let multisampled = inputs.locations.count() > 1;
+    depth::test_group(
+        surface,
+        x,
+        y,
+        coverage,
+        inputs.state,
+        inputs.front_facing,
+        |s| match shader_depth {
+            Some(z) => z,
+            None if multisampled => {
+                let (px, py) = Interpolator::sample_positions(x, y, inputs.locations.offset(s));
+                inputs.interpolator.depth(px, py)
+            }
+            None => {
+                let (px, py) = Interpolator::positions(x, y, 0.5, 0.5);
+                inputs.interpolator.depth(px, py)
+            }
+        },
+        &mut tally.framebuffer,
+        &mut tally.ledger,
+    )
+}
+
+/// The early depth test of the 8×8 block at `(x, y)` (see [`depth::test_block`]): `masks[s]`
+/// keeps the pixels of sample `s` that pass.
+#[inline(never)]
+fn block_tests(
+    inputs: &TestInputs,
+    x: i32,
+    y: i32,
+    masks: &mut [u64],
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) {
+    match tally.simd.level() {
+        #[cfg(target_arch = "x86_64")]
+        SimdLevel::Avx2 => {
+            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+            // every feature `block_tests_avx2` is compiled with (`SimdSupport::detect`).
+            unsafe { block_tests_avx2(inputs, x, y, masks, target, tally) }
+        }
+        _ => block_tests_body(inputs, x, y, masks, target, tally),
+    }
+}
+
+/// [`block_tests_body`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+unsafe fn block_tests_avx2(
+    inputs: &TestInputs,
+    x: i32,
+    y: i32,
+    masks: &mut [u64],
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) {
+    block_tests_body(inputs, x, y, masks, target, tally)
+}
+
+#[inline(always)]
+fn block_tests_body(
+    inputs: &TestInputs,
+    x: i32,
+    y: i32,
+    masks: &mut [u64],
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) {
+    let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
+    let depths = BlockDepths { interpolator: inputs.interpolator, locations: inputs.locations, x };
+    depth::test_block(surface, x, y, masks, inputs.state, &depths, &mut tally.framebuffer, &mut tally.ledger);
+}
+
+/// Blends and writes the colour outputs of the group at `(x, y)` (in
+/// [`FragmentTally::outputs`]) to the covered samples of every attachment `colors` writes.
+#[inline(never)]
+fn write_colors(
+    colors: &[Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
+    constant: [f32; 4],
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) {
+    match tally.simd.level() {
+        #[cfg(target_arch = "x86_64")]
+        SimdLevel::Avx2 => {
+            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+            // every feature `write_colors_avx2` is compiled with (`SimdSupport::detect`).
+            unsafe { write_colors_avx2(colors, constant, x, y, coverage, target, tally) }
+        }
+        _ => write_colors_body(colors, constant, x, y, coverage, target, tally),
+    }
+}
+
+/// [`write_colors_body`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+unsafe fn write_colors_avx2(
+    colors: &[Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
+    constant: [f32; 4],
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) {
+    write_colors_body(colors, constant, x, y, coverage, target, tally)
+}
+
+#[inline(always)]
+fn write_colors_body(
+    colors: &[Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
+    constant: [f32; 4],
+    x: i32,
+    y: i32,
+    coverage: Coverage,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) {
+    let FragmentTally { outputs, framebuffer, ledger, simd, .. } = tally;
+    for (i, plan) in colors.iter().enumerate() {
+        let (Some(plan), Some(surface)) = (plan, target.color[i].as_mut()) else { continue };
+        write_color(surface, x, y, coverage, &outputs[i], plan, constant, framebuffer, ledger, *simd);
     }
 }
 
