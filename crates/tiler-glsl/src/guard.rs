@@ -6,19 +6,17 @@
 //! …, `A20`) expanded past what memory holds. So:
 //!
 //! - a stage's source is at most [`MAX_SOURCE_BYTES`], which bounds the nesting depth;
-//! - macros are expanded on paper first, each use counted as its body's tokens (a
-//!   function-like macro's parameters as one token each), and a shader whose macros would
-//!   expand past [`MAX_MACRO_TOKENS`] is refused;
+//! - macros, and the shader's text with them, are expanded on paper first, and a shader whose
+//!   macros would expand past [`MAX_MACRO_TOKENS`] is refused;
 //! - compiling runs on a thread of its own whose stack ([`COMPILE_STACK_BYTES`], reserved,
 //!   not committed) holds the deepest nesting that source size allows.
 //!
 //! - the preprocessed token stream the parser reads is cut at [`MAX_TOKENS`] ([`CappedLexer`]).
 //!
-//! Known gap: a function-like macro that expands its argument several times, applied to a
-//! macro that does the same, multiplies in the preprocessor before any token reaches the cap;
-//! the estimate counts such an argument once. (glsl-lang's preprocessor does not expand an
-//! invocation nested in another's arguments, `D(D(x))`, which limits how such chains can be
-//! written, and is itself a conformance gap.)
+//! The estimate counts what stands in a function-like macro's call as many times as the macro
+//! repeats a parameter, so `#define D(x) x+x+x+x` applied in a chain of definitions is
+//! refused too. (glsl-lang's preprocessor does not expand an invocation nested in another's
+//! arguments, `D(D(x))`: a conformance gap of its own.)
 
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -48,12 +46,24 @@ pub fn check_source(stage: Stage, source: &str) -> Result<(), Error> {
             message: format!("the source is {} bytes, more than the {MAX_SOURCE_BYTES} tiler compiles", source.len()),
         });
     }
-    // Expanded size of each object-like macro, in tokens, in definition order (a macro's body
-    // can only use what is defined before it is expanded; counting later definitions too
-    // would only overestimate).
-    let mut sizes: HashMap<&str, u64> = HashMap::new();
+    // Expanded size of each macro, in tokens, in definition order (a macro's body can only
+    // use what is defined before it is expanded; counting later definitions too would only
+    // overestimate), and how often a function-like macro repeats an argument.
+    let mut macros: HashMap<&str, Macro> = HashMap::new();
+    let mut text_size = 0u64;
     for (index, line) in source.lines().enumerate() {
-        let Some(rest) = line.trim_start().strip_prefix('#') else { continue };
+        let too_big = |what: String| Error::Compile {
+            stage,
+            line: index as u32 + 1,
+            message: format!("{what} expands to more than {MAX_MACRO_TOKENS} tokens"),
+        };
+        let Some(rest) = line.trim_start().strip_prefix('#') else {
+            text_size = text_size.saturating_add(expanded_size(line, &macros));
+            if text_size > MAX_MACRO_TOKENS {
+                return Err(too_big("the shader's text with its macros".into()));
+            }
+            continue;
+        };
         let Some(rest) = rest.trim_start().strip_prefix("define") else { continue };
         let rest = rest.trim_start();
         let name_len = rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(rest.len());
@@ -61,24 +71,71 @@ pub fn check_source(stage: Stage, source: &str) -> Result<(), Error> {
         if name.is_empty() {
             continue;
         }
-        // A function-like macro: its body after the parameter list, each parameter counted as
-        // one token (an argument expanded several times is what this misses; the token cap
-        // below the parser is the backstop for what it emits).
-        let body = match body.strip_prefix('(') {
-            Some(params) => params.split_once(')').map_or("", |(_, body)| body),
-            None => body,
+        // A function-like macro: its body after the parameter list, and the most times it
+        // repeats one parameter (an argument is counted that many times where it is used).
+        let (body, repeats) = match body.strip_prefix('(') {
+            Some(params) => {
+                let (params, body) = params.split_once(')').unwrap_or(("", ""));
+                let repeats = params
+                    .split(',')
+                    .map(|p| tokens(body).filter(|t| *t == p.trim()).count() as u64)
+                    .max()
+                    .unwrap_or(1)
+                    .max(1);
+                (body, repeats)
+            }
+            None => (body, 1),
         };
-        let size = tokens(body).map(|t| sizes.get(t).copied().unwrap_or(1)).fold(0u64, u64::saturating_add);
+        let size = expanded_size(body, &macros);
         if size > MAX_MACRO_TOKENS {
-            return Err(Error::Compile {
-                stage,
-                line: index as u32 + 1,
-                message: format!("macro {name} expands to more than {MAX_MACRO_TOKENS} tokens"),
-            });
+            return Err(too_big(format!("macro {name}")));
         }
-        sizes.insert(name, size.max(1));
+        let function_like = rest[name_len..].starts_with('(');
+        macros.insert(name, Macro { size: size.max(1), repeats, function_like });
     }
     Ok(())
+}
+
+/// What the paper expansion knows of a macro.
+struct Macro {
+    /// Tokens its body expands to, each argument counted once.
+    size: u64,
+    /// The most times the body uses one parameter (1 for object-like macros).
+    repeats: u64,
+    function_like: bool,
+}
+
+/// Tokens `text` expands to, at most: each macro use counted as its expansion, and what stands
+/// inside the parentheses of a function-like macro's call as many times as the macro repeats
+/// an argument (nested calls multiply). Iterative: a stack of multipliers, one per open
+/// parenthesis.
+fn expanded_size(text: &str, macros: &HashMap<&str, Macro>) -> u64 {
+    let mut total = 0u64;
+    let mut multipliers = vec![1u64];
+    let mut call_repeats = None;
+    for token in tokens(text) {
+        let current = *multipliers.last().expect("the outermost multiplier is never popped");
+        match token {
+            "(" => multipliers.push(current.saturating_mul(call_repeats.take().unwrap_or(1))),
+            ")" if multipliers.len() > 1 => {
+                multipliers.pop();
+            }
+            _ => {}
+        }
+        if token != "(" {
+            call_repeats = None;
+        }
+        let (size, repeats) = match macros.get(token) {
+            Some(m) if m.function_like => (m.size, Some(m.repeats)),
+            Some(m) => (m.size, None),
+            None => (1, None),
+        };
+        total = total.saturating_add(size.saturating_mul(current));
+        if repeats.is_some() {
+            call_repeats = repeats;
+        }
+    }
+    total
 }
 
 /// The identifiers and other tokens of a macro body, roughly: identifiers whole, every other

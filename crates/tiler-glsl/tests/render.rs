@@ -771,6 +771,20 @@ fn the_parser_reads_at_most_its_token_limit() {
     fs += &format!("void main() {{ gl_FragColor = vec4({}); }}", ["A17"; 9].join("+"));
     match CompiledProgram::new(vs, &fs, &[]) {
         Ok(_) => panic!("nine uses of a macro of 2^18 tokens compiled"),
-        Err(e) => assert!(e.to_string().contains("longer than"), "{e}"),
+        Err(e) => assert!(e.to_string().contains("the shader's text with its macros expands to more than"), "{e}"),
     }
+}
+
+/// A function-like macro that repeats its argument, applied in a chain of definitions
+/// (`C1 = D(C0)`, …), multiplies inside the preprocessor: refused on paper first.
+#[test]
+fn repeated_arguments_are_counted_as_often_as_they_repeat() {
+    let vs = "attribute vec4 p; void main() { gl_Position = p; }";
+    let mut fs = String::from("#define D(x) x+x+x+x\n#define C0 1.0\n");
+    for i in 1..=16 {
+        fs += &format!("#define C{i} D(C{})\n", i - 1);
+    }
+    fs += "void main() { gl_FragColor = vec4(C16); }";
+    let e = CompiledProgram::new(vs, &fs, &[]).map(|_| ()).unwrap_err();
+    assert!(e.to_string().contains("expands to more than"), "{e}");
 }
