@@ -772,6 +772,39 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
 // build's time, at the cost of a call per group (measured: docs/benchmarking.md).
 
 /// What the depth and stencil tests of a primitive read.
+/// Defines `$name`, a function that runs `$body` compiled for the SIMD level of `$simd` (a
+/// [`SimdSupport`]): `$avx2` is `$body` compiled with AVX2 and the features that come with it,
+/// and `$name` is never inlined, so each shader-independent stage exists once per level, not
+/// once per shader type. The one `unsafe` call of every such stage is here.
+macro_rules! per_simd_level {
+    (
+        $(#[$attr:meta])*
+        fn $name:ident / $avx2:ident => $body:ident, simd: $($simd:ident).+,
+        ($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?
+    ) => {
+        $(#[$attr])*
+        #[inline(never)]
+        fn $name($($arg: $ty),*) $(-> $ret)? {
+            match $($simd).+.level() {
+                #[cfg(target_arch = "x86_64")]
+                SimdLevel::Avx2 => {
+                    // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor
+                    // has every feature `$avx2` is compiled with (`SimdSupport::detect`).
+                    unsafe { $avx2($($arg),*) }
+                }
+                _ => $body($($arg),*),
+            }
+        }
+
+        #[doc = concat!("[`", stringify!($body), "`] compiled for AVX2.")]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+        unsafe fn $avx2($($arg: $ty),*) $(-> $ret)? {
+            $body($($arg),*)
+        }
+    };
+}
+
 #[derive(Clone, Copy)]
 struct TestInputs<'a> {
     state: &'a DepthStencilState,
@@ -780,42 +813,18 @@ struct TestInputs<'a> {
     front_facing: bool,
 }
 
-/// Depth and stencil tests of the `coverage` of the group at `(x, y)`; `shader_depth` replaces
-/// the interpolated depth when the shader wrote one. Returns the samples that passed.
-#[inline(never)]
-fn group_tests(
-    inputs: &TestInputs,
-    x: i32,
-    y: i32,
-    coverage: Coverage,
-    shader_depth: Option<F32x8>,
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-) -> Coverage {
-    match tally.simd.level() {
-        #[cfg(target_arch = "x86_64")]
-        SimdLevel::Avx2 => {
-            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
-            // every feature `group_tests_avx2` is compiled with (`SimdSupport::detect`).
-            unsafe { group_tests_avx2(inputs, x, y, coverage, shader_depth, target, tally) }
-        }
-        _ => group_tests_body(inputs, x, y, coverage, shader_depth, target, tally),
-    }
-}
-
-/// [`group_tests_body`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-unsafe fn group_tests_avx2(
-    inputs: &TestInputs,
-    x: i32,
-    y: i32,
-    coverage: Coverage,
-    shader_depth: Option<F32x8>,
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-) -> Coverage {
-    group_tests_body(inputs, x, y, coverage, shader_depth, target, tally)
+per_simd_level! {
+    /// Depth and stencil tests of the `coverage` of the group at `(x, y)`; `shader_depth` replaces
+    /// the interpolated depth when the shader wrote one. Returns the samples that passed.
+    fn group_tests / group_tests_avx2 => group_tests_body, simd: tally.simd, (
+        inputs: &TestInputs,
+        x: i32,
+        y: i32,
+        coverage: Coverage,
+        shader_depth: Option<F32x8>,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+    ) -> Coverage
 }
 
 #[inline(always)]
@@ -853,40 +862,17 @@ fn group_tests_body(
     )
 }
 
-/// The early depth test of the 8×8 block at `(x, y)` (see [`depth::test_block`]): `masks[s]`
-/// keeps the pixels of sample `s` that pass.
-#[inline(never)]
-fn block_tests(
-    inputs: &TestInputs,
-    x: i32,
-    y: i32,
-    masks: &mut [u64],
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-) {
-    match tally.simd.level() {
-        #[cfg(target_arch = "x86_64")]
-        SimdLevel::Avx2 => {
-            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
-            // every feature `block_tests_avx2` is compiled with (`SimdSupport::detect`).
-            unsafe { block_tests_avx2(inputs, x, y, masks, target, tally) }
-        }
-        _ => block_tests_body(inputs, x, y, masks, target, tally),
-    }
-}
-
-/// [`block_tests_body`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-unsafe fn block_tests_avx2(
-    inputs: &TestInputs,
-    x: i32,
-    y: i32,
-    masks: &mut [u64],
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-) {
-    block_tests_body(inputs, x, y, masks, target, tally)
+per_simd_level! {
+    /// The early depth test of the 8×8 block at `(x, y)` (see [`depth::test_block`]): `masks[s]`
+    /// keeps the pixels of sample `s` that pass.
+    fn block_tests / block_tests_avx2 => block_tests_body, simd: tally.simd, (
+        inputs: &TestInputs,
+        x: i32,
+        y: i32,
+        masks: &mut [u64],
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+    )
 }
 
 #[inline(always)]
@@ -903,42 +889,18 @@ fn block_tests_body(
     depth::test_block(surface, x, y, masks, inputs.state, &depths, &mut tally.framebuffer, &mut tally.ledger);
 }
 
-/// Blends and writes the colour outputs of the group at `(x, y)` (in
-/// [`FragmentTally::outputs`]) to the covered samples of every attachment `colors` writes.
-#[inline(never)]
-fn write_colors(
-    colors: &[Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
-    constant: [f32; 4],
-    x: i32,
-    y: i32,
-    coverage: Coverage,
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-) {
-    match tally.simd.level() {
-        #[cfg(target_arch = "x86_64")]
-        SimdLevel::Avx2 => {
-            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
-            // every feature `write_colors_avx2` is compiled with (`SimdSupport::detect`).
-            unsafe { write_colors_avx2(colors, constant, x, y, coverage, target, tally) }
-        }
-        _ => write_colors_body(colors, constant, x, y, coverage, target, tally),
-    }
-}
-
-/// [`write_colors_body`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-unsafe fn write_colors_avx2(
-    colors: &[Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
-    constant: [f32; 4],
-    x: i32,
-    y: i32,
-    coverage: Coverage,
-    target: &mut RenderTarget,
-    tally: &mut FragmentTally,
-) {
-    write_colors_body(colors, constant, x, y, coverage, target, tally)
+per_simd_level! {
+    /// Blends and writes the colour outputs of the group at `(x, y)` (in
+    /// [`FragmentTally::outputs`]) to the covered samples of every attachment `colors` writes.
+    fn write_colors / write_colors_avx2 => write_colors_body, simd: tally.simd, (
+        colors: &[Option<ColorPlan>; MAX_COLOR_ATTACHMENTS],
+        constant: [f32; 4],
+        x: i32,
+        y: i32,
+        coverage: Coverage,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+    )
 }
 
 #[inline(always)]
