@@ -318,6 +318,10 @@ pub struct PassRecord {
     /// Traffic the context counts itself for this pass (blit and copy source reads, as
     /// `texture_fetch`: `source pixels × samples × bytes per sample`).
     pub extra: Ledger,
+    /// The core's whole report of the pass (per-tile figures, overdraw map), when the
+    /// configuration asked to keep it ([`ContextConfig::keep_pass_reports`]).
+    #[serde(skip)]
+    pub core: Option<Box<PassReport>>,
 }
 
 impl PassRecord {

@@ -26,6 +26,14 @@
 //! | `subpass-split` | 002 "Optimizing for TBR", "Best Practices for TBR" | the split's stores and reloads |
 //! | `draws-discarded` (info) | 000 §23.10 | — |
 //!
+//! # Priced for the device
+//!
+//! The advisor prices a run on the device that rendered it (the context's backend): on an
+//! immediate-mode GPU the rules whose cost is tile loads and stores or work kept in the tile
+//! ([`RuleId::tiler_only`]) cost nothing and are not reported, and a clear-quad costs its
+//! shading but no kept loads. `tiler analyze --devices` replays a run on each device and
+//! lists each finding with what it costs on each.
+//!
 //! # Structure
 //!
 //! Each rule is one [`RuleId`] (its name, severity and seed section, in `rules.rs`) and one
@@ -141,6 +149,10 @@ fn advise_counting(config: &ContextConfig, frames: &[FrameRecord]) -> (Vec<Findi
     }
     for frame in frames {
         frame::check(frame, &index, &mut out);
+    }
+    // Priced for the device: what exists only on a tiler costs an immediate-mode GPU nothing.
+    if !config.backend.is_tiler() {
+        out.retain(|draft| !draft.rule.tiler_only());
     }
     out.sort_by_key(|f| (f.frame, f.pass, f.call, f.rule.name()));
     (out.into_iter().map(Draft::finding).collect(), index.handed_out.get())

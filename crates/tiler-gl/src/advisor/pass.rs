@@ -103,6 +103,9 @@ fn partial_clear(v: &PassView, out: &mut Vec<Draft>) {
     let (pass, fb) = (v.pass, &v.fb);
     for (d, kept) in pass.draws.iter().zip(v.loads_kept_by_partial_clears()) {
         let Some(pc) = &d.partial_clear else { continue };
+        // An immediate-mode GPU has no loads to keep (nor frame data): the quad's shading
+        // is what it costs there.
+        let kept = if v.config.backend.is_tiler() { kept } else { Vec::new() };
         let kept_bytes: u64 = kept.iter().filter_map(|s| pass.attachment(*s)).map(|a| a.load_bytes).sum();
         let cost = quad_frame_data_bytes(pass, d.clip_rect, d.stats.primitives) + kept_bytes;
         let loads = if kept.is_empty() {

@@ -79,6 +79,29 @@ impl RuleId {
         }
     }
 
+    /// Whether what the rule's findings cost exists only on a tiler: tile loads and stores,
+    /// work kept in the tile. An immediate-mode GPU reads and writes its framebuffers in
+    /// memory at every fragment whatever the passes look like, so these cost it nothing and
+    /// the advisor does not report them there: replayed on `imr`, the example pairs of these
+    /// rules cost no more in their bad form than in their good one (`tests/gl/traces.rs`;
+    /// clearing at the start and resolving in the tile even cost an IMR more). Stalls,
+    /// copies on write, shading order, the fragments of a clear-quad and the geometry of
+    /// micro-triangles cost every GPU.
+    pub const fn tiler_only(self) -> bool {
+        !matches!(
+            self,
+            RuleId::CopyOnWrite
+                | RuleId::ReadbackStall
+                | RuleId::QueryStall
+                | RuleId::FinishStall
+                | RuleId::EarlyZDisabled
+                | RuleId::UnsortedOpaque
+                | RuleId::DrawsDiscarded
+                | RuleId::PartialClear
+                | RuleId::MicroTriangles
+        )
+    }
+
     /// The rule as a finding cites it.
     pub fn rule(self) -> Rule {
         let info = self.info();

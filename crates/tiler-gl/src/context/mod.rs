@@ -86,6 +86,16 @@ pub struct ContextConfig {
     /// allocate more.
     #[serde(default = "default_memory_limit")]
     pub memory_limit: u64,
+    /// The device model beyond the fields above (tile memory, early-Z, vertex shading,
+    /// caches, energy, transaction elimination, overdraw map), from a device preset; `None`:
+    /// tiler's defaults. Set with [`ContextConfig::on_device`]; not part of a trace.
+    #[serde(skip)]
+    pub device: Option<DeviceConfig>,
+    /// Keep the core's whole report of each pass (per-tile figures, overdraw map) in its
+    /// [`PassRecord::core`](crate::report::PassRecord::core), for heat maps and the shared
+    /// report; off, a long run keeps only the totals. Not part of a trace.
+    #[serde(skip)]
+    pub keep_pass_reports: bool,
 }
 
 fn default_color_format() -> TextureFormat {
@@ -132,10 +142,29 @@ impl ContextConfig {
             backend: Backend::Tbr,
             threads: 0,
             memory_limit: default_memory_limit(),
+            device: None,
+            keep_pass_reports: false,
         }
     }
 
-    fn device_config(&self) -> DeviceConfig {
+    /// This configuration on another device: the window, swap behaviour and frames in flight
+    /// stay; the backend, tile size, frame-data budget, display model and the rest of the
+    /// device model are `device`'s (a device preset's, `tiler analyze --device`).
+    pub fn on_device(self, device: &DeviceConfig) -> ContextConfig {
+        ContextConfig {
+            backend: device.backend,
+            tile_width: device.tile_width,
+            tile_height: device.tile_height,
+            frame_data_budget: device.frame_data_budget,
+            display: device.display.scan_out,
+            composition: device.display.composition,
+            device: Some(device.clone()),
+            ..self
+        }
+    }
+
+    /// The core device this configuration renders on.
+    pub fn device_config(&self) -> DeviceConfig {
         DeviceConfig {
             backend: self.backend,
             tile_width: self.tile_width,
@@ -143,7 +172,7 @@ impl ContextConfig {
             threads: self.threads,
             frame_data_budget: self.frame_data_budget,
             display: tiler::DisplayModel { scan_out: self.display, composition: self.composition },
-            ..DeviceConfig::default()
+            ..self.device.clone().unwrap_or_default()
         }
     }
 }

@@ -289,6 +289,7 @@ impl Context {
             dropped: std::mem::take(&mut pass.dropped),
             cost: PassCost::from(&report),
             extra,
+            core: self.config.keep_pass_reports.then(|| Box::new(report)),
         };
         self.frame.passes.push(record);
         self.release(pass);

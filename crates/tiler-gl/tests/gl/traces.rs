@@ -72,6 +72,40 @@ fn each_example_pair_differs_by_what_the_advisor_reports() {
     }
 }
 
+/// On an immediate-mode GPU the pairs about loads, stores, flushes and frame data cost the
+/// same in both forms, and the advisor reports none of them there: what remains (stalls,
+/// copies, shading order) still differs by exactly what it reports.
+#[test]
+fn on_an_immediate_mode_gpu_only_what_costs_it_is_reported() {
+    let on_imr = |name: &str| {
+        let mut trace = Trace::read(&traces().join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        trace.config.backend = tiler::Backend::Imr;
+        trace.replay_with(Limits { threads: Some(1), ..Limits::default() }).unwrap_or_else(|e| panic!("{name}: {e}"))
+    };
+    let mut tiler_only_pairs = 0;
+    for (name, ids) in PAIRS {
+        let good = on_imr(&format!("{name}-good.json"));
+        let bad = on_imr(&format!("{name}-bad.json"));
+        for f in &bad.report.findings {
+            let rule = RuleId::from_name(&f.id).unwrap();
+            assert!(!rule.tiler_only(), "{name}-bad on imr: {} is tiler-only advice: {}", f.id, f.message);
+        }
+        assert_eq!(good.context.surface_rgba8(), bad.context.surface_rgba8(), "{name}: the pictures differ");
+        let bytes = |r: &Replay| r.report.totals.ledger.total();
+        let reported: u64 = bad.report.findings.iter().map(|f| f.cost_bytes.unwrap_or(0)).sum();
+        if ids.iter().all(|id| RuleId::from_name(id).unwrap().tiler_only()) {
+            // Nothing to report: and indeed the good form saves an IMR nothing.
+            assert!(bad.report.findings.is_empty(), "{name}-bad on imr: {:#?}", bad.report.findings);
+            assert!(bytes(&bad) <= bytes(&good), "{name} on imr: bad {} good {}", bytes(&bad), bytes(&good));
+            tiler_only_pairs += 1;
+        } else if name == "copy-on-write" {
+            assert_eq!(bytes(&bad) - bytes(&good), reported, "{name} on imr");
+        }
+    }
+    // clear, rebind, invalidate, tiled, packed-depth-stencil, msaa, subpass.
+    assert_eq!(tiler_only_pairs, 7, "pairs with only tiler advice");
+}
+
 /// `tiler analyze`'s text names the findings.
 #[test]
 fn the_text_report_names_the_findings() {
