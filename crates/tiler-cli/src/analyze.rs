@@ -1,16 +1,22 @@
 //! `tiler analyze`: replay a GL trace (JSON) or an apitrace capture, print its render passes,
-//! cost and the advisor's findings; optionally write the JSON report, the window's last image,
-//! and (captures) every presented frame.
+//! cost and the advisor's findings; replay it on one or several device presets (the same
+//! report as `tiler render` and `tiler compare`: devices side by side, HTML, heat maps, each
+//! finding priced on each device); optionally write the window's last image, (captures) every
+//! presented frame, and the driver's detailed record (`--gl-report`).
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use tiler::{DevicePreset, FrameCost, Ledger};
 use tiler_gl::capture::{self, ReplayOptions};
-use tiler_gl::{Limits, Report, Trace, text_report};
+use tiler_gl::report::{FrameRecord, PassRecord};
+use tiler_gl::{ContextConfig, Limits, Report as GlReport, Trace, text_report};
+use tiler_report::{AttachmentInfo, Column, FrameSpan, PassInfo, Report, Rgba8Image, SceneInfo};
 
 use crate::files;
+use crate::report_args::{self, ReportArgs};
 
 #[derive(Args, Debug)]
 pub struct AnalyzeArgs {
@@ -18,9 +24,25 @@ pub struct AnalyzeArgs {
     /// OpenGL ES 2.0 application (told apart by its first bytes).
     pub trace: PathBuf,
 
-    /// Also write the report as JSON (see crates/tiler-gl/docs/report-format.md).
+    /// Replay on this device preset: a built-in name (tbr, tbdr, tbr-per-tile-vertex, imr,
+    /// imr-no-cache) or a preset file (.toml or .json). It replaces the trace's backend, tile
+    /// size, frame-data budget and display model. Default: the trace's own configuration.
+    #[arg(long, value_name = "NAME|FILE", conflicts_with = "devices")]
+    pub device: Option<String>,
+
+    /// Replay on each of these device presets, comma-separated, and show them side by side
+    /// (each must present the same pictures; ratios are to the first); every finding is
+    /// priced on each device.
+    #[arg(long, value_delimiter = ',', value_name = "NAME|FILE,...")]
+    pub devices: Vec<String>,
+
+    #[command(flatten)]
+    pub report: ReportArgs,
+
+    /// Also write the driver's detailed record of the run as JSON (format tiler-gl-report,
+    /// crates/tiler-gl/docs/report-format.md), of the first device.
     #[arg(long, value_name = "OUT.json")]
-    pub report: Option<PathBuf>,
+    pub gl_report: Option<PathBuf>,
 
     /// Also write the window's image at the end as a PNG.
     #[arg(long, value_name = "OUT.png")]
@@ -34,12 +56,20 @@ pub struct AnalyzeArgs {
 /// The window's last picture: width, height, RGBA8 rows top first.
 type Picture = (u32, u32, Vec<u8>);
 
+/// One replay of the trace: on which device, what the driver recorded, the last picture.
+struct Replayed {
+    preset: DevicePreset,
+    report: GlReport,
+    picture: Picture,
+}
+
 pub fn run(args: &AnalyzeArgs) -> Result<()> {
     // Outputs are checked before any work, against the trace and then against every file it
-    // read (side files, glTF files): none may be overwritten.
+    // read (side files, glTF files, presets): none may be overwritten.
     let check = |inputs: &[PathBuf]| -> Result<()> {
-        if let Some(path) = &args.report {
-            files::check_output("--report", path, inputs)?;
+        args.report.check(inputs)?;
+        if let Some(path) = &args.gl_report {
+            files::check_output("--gl-report", path, inputs)?;
         }
         if let Some(path) = &args.png {
             files::check_png("--png", path, inputs)?;
@@ -47,31 +77,107 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
         Ok(())
     };
     check(std::slice::from_ref(&args.trace))?;
-    let (report, last) = if is_capture(&args.trace)? {
-        analyze_capture(args)?
+    let (presets, preset_files) = if !args.devices.is_empty() {
+        crate::compare::presets(&args.devices)?
+    } else if let Some(name) = &args.device {
+        let (preset, file) = files::load_preset(Some(name.trim())).with_context(|| format!("--device {name}"))?;
+        (vec![preset], file.into_iter().collect())
     } else {
-        if args.frames.is_some() {
-            bail!("--frames is for apitrace captures; {} is a JSON trace", args.trace.display());
-        }
-        let (trace, inputs) = Trace::read_listing_inputs(&args.trace, Limits::default())
-            .with_context(|| format!("reading {}", args.trace.display()))?;
-        check(&inputs)?;
-        let replay = trace.replay().with_context(|| format!("replaying {}", args.trace.display()))?;
-        let c = &trace.config;
-        let last = (c.width, c.height, replay.context.surface_rgba8());
-        (replay.report, last)
+        (Vec::new(), Vec::new())
     };
-    if let Some(path) = &args.report {
-        let json = serde_json::to_string_pretty(&report)?;
-        tiler_io::write_atomic(path, json.as_bytes()).context("writing the report")?;
+    let mut inputs = vec![args.trace.clone()];
+    inputs.extend(preset_files);
+    check(&inputs)?;
+    // The shared report needs the core's whole record of every pass.
+    let shared = !presets.is_empty() || !args.report.report.is_empty() || args.report.heatmaps.is_some();
+    let devices: Vec<Option<&DevicePreset>> =
+        if presets.is_empty() { vec![None] } else { presets.iter().map(Some).collect() };
+
+    let capture = is_capture(&args.trace)?;
+    if !capture && args.frames.is_some() {
+        bail!("--frames is for apitrace captures; {} is a JSON trace", args.trace.display());
+    }
+    let mut trace = if capture {
+        None
+    } else {
+        let (trace, trace_inputs) = Trace::read_listing_inputs(&args.trace, Limits::default())
+            .with_context(|| format!("reading {}", args.trace.display()))?;
+        inputs.extend(trace_inputs);
+        check(&inputs)?;
+        Some(trace)
+    };
+    let mut replays: Vec<Replayed> = Vec::with_capacity(devices.len());
+    for (i, device) in devices.iter().enumerate() {
+        let configure = |config: ContextConfig| -> ContextConfig {
+            let config = match device {
+                Some(preset) => config.on_device(&preset.device),
+                None => config,
+            };
+            ContextConfig { keep_pass_reports: shared, ..config }
+        };
+        let (report, picture, config) = match &mut trace {
+            Some(trace) => replay_trace(trace, configure, &args.trace)?,
+            None => replay_capture(args, configure, i == 0)?,
+        };
+        let preset = match device {
+            Some(preset) => (*preset).clone(),
+            None => DevicePreset {
+                name: config.backend.name().to_string(),
+                description: "the trace's own configuration".into(),
+                device: config.device_config(),
+            },
+        };
+        if let Some(first) = replays.first()
+            && first.picture != picture
+        {
+            bail!(
+                "'{}' presented a different picture from '{}': every device must give the same picture, bit for \
+                 bit; this is a tiler bug, please report it",
+                preset.name,
+                first.preset.name
+            );
+        }
+        replays.push(Replayed { preset, report, picture });
+    }
+
+    let first = &replays[0];
+    if let Some(path) = &args.gl_report {
+        let json = serde_json::to_string_pretty(&first.report)?;
+        tiler_io::write_atomic(path, json.as_bytes()).context("writing --gl-report")?;
     }
     if let Some(path) = &args.png {
-        let (width, height, rgba) = last;
-        files::write_png(path, width, height, &rgba)?;
+        let (width, height, rgba) = &first.picture;
+        files::write_png(path, *width, *height, rgba)?;
     }
-    // Files first, so output piped into `head` cannot lose them.
-    print!("{}", text_report(&report));
+    if !shared {
+        // Files first, so output piped into `head` cannot lose them.
+        print!("{}", text_report(&first.report));
+        return Ok(());
+    }
+    let report = shared_report(&args.trace, &replays, args.report.fps)?;
+    let lines = args.report.write(&report)?;
+    print!("{}", text_report(&first.report));
+    if replays.len() > 1 {
+        print!("{}", findings_per_device(&report));
+    }
+    report_args::print_table(&report, &lines);
     Ok(())
+}
+
+/// Replays a JSON trace with its configuration changed by `configure`.
+/// (The trace's own configuration is put back afterwards; its calls are not copied.)
+fn replay_trace(
+    trace: &mut Trace,
+    configure: impl Fn(ContextConfig) -> ContextConfig,
+    path: &Path,
+) -> Result<(GlReport, Picture, ContextConfig)> {
+    let own = trace.config.clone();
+    trace.config = configure(own.clone());
+    let replayed = trace.replay();
+    let config = std::mem::replace(&mut trace.config, own);
+    let replay = replayed.with_context(|| format!("replaying {}", path.display()))?;
+    let picture = (config.width, config.height, replay.context.surface_rgba8());
+    Ok((replay.report, picture, config))
 }
 
 /// Whether the file starts as an apitrace capture does (only a regular file is opened).
@@ -82,22 +188,174 @@ fn is_capture(path: &Path) -> Result<bool> {
     Ok(capture::is_capture(&magic[..n]))
 }
 
-fn analyze_capture(args: &AnalyzeArgs) -> Result<(Report, Picture)> {
+/// Replays a capture with the context's configuration changed by `configure`; writes the
+/// presented frames (`--frames`) when `write_frames`.
+fn replay_capture(
+    args: &AnalyzeArgs,
+    configure: impl Fn(ContextConfig) -> ContextConfig,
+    write_frames: bool,
+) -> Result<(GlReport, Picture, ContextConfig)> {
     let inputs = std::slice::from_ref(&args.trace);
-    if let Some(dir) = &args.frames {
+    let frames_dir = args.frames.as_ref().filter(|_| write_frames);
+    if let Some(dir) = frames_dir {
         files::check_dir("--frames", dir)?;
         std::fs::create_dir_all(dir).with_context(|| format!("--frames: creating {}", dir.display()))?;
     }
     let mut write_frame = |frame: &capture::PresentedFrame| -> std::result::Result<(), String> {
-        let Some(dir) = &args.frames else { return Ok(()) };
+        let Some(dir) = frames_dir else { return Ok(()) };
         let path = dir.join(format!("frame-{:04}.png", frame.index));
         files::check_png("--frames", &path, inputs)
             .and_then(|()| files::write_png(&path, frame.width, frame.height, frame.rgba))
             .map_err(|e| format!("{e:#}"))
     };
-    let replay = capture::replay_file(&args.trace, &ReplayOptions::default(), &mut write_frame)
+    let defaults = ReplayOptions::default();
+    let options = ReplayOptions { config: configure(defaults.config.clone()), ..defaults };
+    let replay = capture::replay_file(&args.trace, &options, &mut write_frame)
         .with_context(|| format!("replaying {}", args.trace.display()))?;
-    let c = replay.context.config();
-    let last = (c.width, c.height, replay.context.surface_rgba8());
-    Ok((replay.report, last))
+    let c = replay.context.config().clone();
+    let picture = (c.width, c.height, replay.context.surface_rgba8());
+    Ok((replay.report, picture, c))
+}
+
+/// The report every frame source shares: one column per replay, the passes as the driver
+/// inferred them, and each finding priced on each device.
+fn shared_report(path: &Path, replays: &[Replayed], fps: f64) -> Result<Report> {
+    let columns = replays.iter().map(column).collect::<Result<Vec<_>>>()?;
+    let first = &replays[0].report;
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let scene = SceneInfo {
+        name: name.clone(),
+        width: first.config.width,
+        height: first.config.height,
+        samples: first.config.samples,
+        draws: first.totals.counters.draws,
+        triangles: first.totals.counters.primitives,
+    };
+    let findings = if replays.len() == 1 {
+        first.findings.clone()
+    } else {
+        let per_device: Vec<(String, Vec<tiler_report::Finding>)> =
+            replays.iter().map(|r| (r.preset.name.clone(), r.report.findings.clone())).collect();
+        tiler_report::finding::merge_per_device(&per_device)
+    };
+    let frames = first.totals.frames;
+    let title = format!(
+        "{name}: {frames} frame{} on {} device{}",
+        if frames == 1 { "" } else { "s" },
+        replays.len(),
+        if replays.len() == 1 { "" } else { "s" }
+    );
+    Ok(Report { title, scene, fps, columns, findings, passes: first.passes().map(pass_info).collect() })
+}
+
+/// A replay as a report column: every pass of every frame (with the traffic the driver
+/// counts for it), and each frame's presenting and driver costs.
+fn column(replayed: &Replayed) -> Result<Column> {
+    let mut frame = FrameCost::default();
+    let mut frames = Vec::with_capacity(replayed.report.frames.len());
+    for record in &replayed.report.frames {
+        let first_pass = frame.passes.len();
+        for pass in &record.passes {
+            let Some(core) = &pass.core else {
+                bail!("pass {} has no record of its cost (an internal error)", pass.index);
+            };
+            let mut core = (**core).clone();
+            core.ledger.merge(&pass.extra);
+            frame.passes.push(core);
+        }
+        let (present, driver) = split_context_ledger(record);
+        frame.present.merge(&present);
+        frame.driver.merge(&driver);
+        frames.push(FrameSpan { index: record.index as u64, first_pass, passes: record.passes.len(), present, driver });
+    }
+    let (width, height, pixels) = replayed.picture.clone();
+    let image = Rgba8Image::new(width, height, pixels).map_err(anyhow::Error::msg)?;
+    Ok(Column {
+        label: replayed.preset.name.clone(),
+        preset: replayed.preset.clone(),
+        backend: replayed.report.config.backend,
+        frame,
+        image,
+        frames: if replayed.report.frames.len() > 1 { frames } else { Vec::new() },
+    })
+}
+
+/// A frame's traffic outside its passes: presenting it (display, composition), and the rest
+/// (the driver's copies on write).
+fn split_context_ledger(record: &FrameRecord) -> (Ledger, Ledger) {
+    let mut present = Ledger::default();
+    let mut driver = Ledger::default();
+    for (category, bytes) in record.context_ledger.iter() {
+        match category {
+            tiler::Category::Display | tiler::Category::Composition => present.add(category, bytes),
+            _ => driver.add(category, bytes),
+        }
+    }
+    (present, driver)
+}
+
+/// A pass as the driver inferred it.
+fn pass_info(pass: &PassRecord) -> PassInfo {
+    let name = |value: serde_json::Value| value.as_str().unwrap_or_default().to_string();
+    PassInfo {
+        frame: pass.frame as u64,
+        target: match (pass.copy_texture, pass.framebuffer) {
+            (Some(texture), _) => format!("texture {texture} (a copy)"),
+            (None, 0) => "the window".to_string(),
+            (None, fb) => format!("framebuffer {fb}"),
+        },
+        began: tiler_gl::pass_began(pass),
+        ended: tiler_gl::pass_ended(pass),
+        attachments: pass
+            .attachments
+            .iter()
+            .map(|a| AttachmentInfo {
+                slot: a.slot.to_string(),
+                format: a.gl_format.name().to_string(),
+                samples: a.samples,
+                load: name(serde_json::to_value(a.load).unwrap_or_default()),
+                load_reason: a.load_reason.clone(),
+                store: name(serde_json::to_value(a.store).unwrap_or_default()),
+                store_reason: a.store_reason.clone(),
+            })
+            .collect(),
+    }
+}
+
+/// Each finding with what it costs on each device, and where it costs nothing.
+fn findings_per_device(report: &Report) -> String {
+    if report.findings.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from("\nfindings per device:\n");
+    for finding in &report.findings {
+        let mut parts: Vec<String> = finding
+            .costs
+            .iter()
+            .map(|c| {
+                let mut what = Vec::new();
+                if let Some(bytes) = c.cost_bytes {
+                    what.push(format!("{bytes} B"));
+                }
+                if let Some(fragments) = c.cost_fragments {
+                    what.push(format!("{fragments} fragments"));
+                }
+                if let Some(frames) = c.cost_stall_frames {
+                    what.push(format!("{frames} frame(s) stalled"));
+                }
+                format!("{} {}", c.device, what.join(" + "))
+            })
+            .collect();
+        let free: Vec<&str> = report
+            .columns
+            .iter()
+            .map(|c| c.label.as_str())
+            .filter(|label| finding.costs.iter().all(|c| c.device != *label))
+            .collect();
+        if !free.is_empty() {
+            parts.push(format!("nothing on {}", free.join(", ")));
+        }
+        out.push_str(&format!("  {} ({}): {}\n", finding.id, finding.location.describe(), parts.join("; ")));
+    }
+    out
 }

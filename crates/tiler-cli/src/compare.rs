@@ -40,7 +40,7 @@ pub struct CompareArgs {
 }
 
 /// The presets named, or every built-in one, and the preset files read.
-fn presets(names: &[String]) -> Result<(Vec<DevicePreset>, Vec<PathBuf>)> {
+pub(crate) fn presets(names: &[String]) -> Result<(Vec<DevicePreset>, Vec<PathBuf>)> {
     if names.is_empty() {
         return Ok((DevicePreset::builtins(), Vec::new()));
     }
@@ -117,7 +117,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
             info.triangles,
         );
     }
-    let report = Report { title, scene, fps: args.report.fps, columns, findings: Vec::new() };
+    let report = Report { title, scene, fps: args.report.fps, columns, findings: Vec::new(), passes: Vec::new() };
     args.report.write_and_print(&report)
 }
 

@@ -84,7 +84,7 @@ pub fn render(
     let preset =
         DevicePreset { device: DeviceConfig { backend: preset.device.backend, ..effective }, ..preset.clone() };
     Ok(Rendered {
-        column: Column { label: label.to_string(), preset, backend, frame, image },
+        column: Column { label: label.to_string(), preset, backend, frame, image, frames: Vec::new() },
         scene: info,
         load_time,
         render_time,

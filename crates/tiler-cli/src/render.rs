@@ -139,6 +139,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         fps: args.report.fps,
         columns,
         findings: Vec::new(),
+        passes: Vec::new(),
     };
     args.report.write_and_print(&report)?;
     if let Some(reference) = &args.compare {

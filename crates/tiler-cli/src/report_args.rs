@@ -78,6 +78,17 @@ impl ReportArgs {
     /// # Errors
     /// A file or directory that cannot be written, naming it.
     pub fn write_and_print(&self, report: &Report) -> Result<()> {
+        let lines = self.write(report)?;
+        print_table(report, &lines);
+        Ok(())
+    }
+
+    /// Writes the reports and heat maps asked for (each file whole or not at all); returns
+    /// a line per file written, saying where it went.
+    ///
+    /// # Errors
+    /// A file or directory that cannot be written, naming it.
+    pub fn write(&self, report: &Report) -> Result<Vec<String>> {
         let mut lines = Vec::new();
         for path in &self.report {
             let text = match format_of(path)? {
@@ -91,12 +102,16 @@ impl ReportArgs {
             let written = tiler_report::write_heatmaps(report, dir).context("writing the heat maps")?;
             lines.push(format!("{} heat maps → {}", written.len(), dir.display()));
         }
-        let mut out = std::io::stdout().lock();
-        let _ = write!(out, "\n{}", tiler_report::text_table(report));
-        for line in lines {
-            let _ = writeln!(out, "{line}");
-        }
-        Ok(())
+        Ok(lines)
+    }
+}
+
+/// Prints the side-by-side table and `lines` (where files went); a closed pipe is not an error.
+pub fn print_table(report: &Report, lines: &[String]) {
+    let mut out = std::io::stdout().lock();
+    let _ = write!(out, "\n{}", tiler_report::text_table(report));
+    for line in lines {
+        let _ = writeln!(out, "{line}");
     }
 }
 

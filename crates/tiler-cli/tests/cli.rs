@@ -201,3 +201,87 @@ fn analyze_a_capture_writes_every_presented_frame() {
     let image = image::open(frames.join("frame-0005.png")).unwrap();
     assert_eq!((image.width(), image.height()), (800, 600));
 }
+
+fn example_trace(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../tiler-gl/traces").join(name)
+}
+
+/// `tiler analyze --devices` gives the report `render` and `compare` give: the devices side
+/// by side, the same picture on each, per-frame totals, every pass with its ops and why, and
+/// each finding priced per device — none of the tiler advice on the immediate-mode GPU.
+#[test]
+fn analyze_replays_a_trace_on_several_devices_into_the_shared_report() {
+    let dir = scratch("analyze-devices");
+    let (json, html, maps) = (dir.join("r.json"), dir.join("r.html"), dir.join("maps"));
+    let trace = example_trace("rebind-bad.json");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let out = tiler(&[
+        "analyze",
+        &s(&trace),
+        "--devices",
+        "tbr,tbdr,imr",
+        "--report",
+        &s(&json),
+        "--report",
+        &s(&html),
+        "--heatmaps",
+        &s(&maps),
+        "--fps",
+        "30",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("nothing on imr"), "{stdout}");
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(doc["schema"], "tiler-report/1");
+    assert_eq!(doc["fps"], 30.0);
+    assert_eq!(doc["image"]["identical_across_columns"], true);
+    let labels: Vec<&str> = doc["columns"].as_array().unwrap().iter().map(|c| c["label"].as_str().unwrap()).collect();
+    assert_eq!(labels, ["tbr", "tbdr", "imr"]);
+    assert_eq!(doc["frame_count"], 3);
+    // Per-frame totals add up to the run's.
+    for column in doc["columns"].as_array().unwrap() {
+        let frames = column["frames"].as_array().unwrap();
+        assert_eq!(frames.len(), 3);
+        let sum: u64 = frames.iter().map(|f| f["total_bytes"].as_u64().unwrap()).sum();
+        assert_eq!(sum, column["frame"]["total_bytes"].as_u64().unwrap(), "{}", column["label"]);
+        let passes: u64 = frames.iter().map(|f| f["passes"].as_u64().unwrap()).sum();
+        assert_eq!(passes as usize, column["passes"].as_array().unwrap().len());
+    }
+    // The driver's passes: the rebound window's pass loads what the first pass stored.
+    let passes = doc["passes"].as_array().unwrap();
+    assert_eq!(passes.len(), 9);
+    assert_eq!(passes[2]["target"], "the window");
+    assert_eq!(passes[2]["attachments"][0]["load"], "load");
+    // Priced per device: the rebind costs both tilers, not the immediate-mode GPU.
+    let findings = doc["findings"].as_array().unwrap();
+    assert!(!findings.is_empty());
+    for f in findings {
+        assert_eq!(f["id"], "framebuffer-rebound");
+        let devices: Vec<&str> = f["costs"].as_array().unwrap().iter().map(|c| c["device"].as_str().unwrap()).collect();
+        assert_eq!(devices, ["tbr", "tbdr"], "{f}");
+    }
+    let page = std::fs::read_to_string(&html).unwrap();
+    for text in ["costs nothing on imr", "Frames", "<details>", "load op", "MB/run"] {
+        assert!(page.contains(text), "the page shows '{text}'");
+    }
+    assert!(std::fs::read_dir(&maps).unwrap().count() > 0, "heat maps written");
+}
+
+/// A bad device or report name is an error naming it, and nothing is written.
+#[test]
+fn analyze_names_a_bad_option_and_writes_nothing() {
+    let dir = scratch("analyze-bad");
+    let trace = example_trace("clear-bad.json");
+    let json = dir.join("r.json");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let out = tiler(&["analyze", &s(&trace), "--devices", "tbr,no-such-gpu", "--report", &s(&json)]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("no-such-gpu"), "{stderr}");
+    let out = tiler(&["analyze", &s(&trace), "--report", &s(&dir.join("r.txt"))]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("r.txt"), "{stderr}");
+    let out = tiler(&["analyze", &s(&trace), "--device", "tbr", "--devices", "imr"]);
+    assert!(!out.status.success());
+    assert!(!json.exists());
+}

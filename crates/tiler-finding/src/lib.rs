@@ -112,6 +112,63 @@ pub struct Finding {
     pub message: String,
     /// What to change.
     pub advice: String,
+    /// What it costs on each device of a report that replayed the frame on several (the
+    /// `cost_*` fields above are the first such device's); a device on which it costs
+    /// nothing is not listed. Empty for a report of one device.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub costs: Vec<DeviceCost>,
+}
+
+/// What a finding costs on one device.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DeviceCost {
+    /// The device's label in the report (its column).
+    pub device: String,
+    #[serde(default)]
+    pub cost_bytes: Option<u64>,
+    #[serde(default)]
+    pub cost_fragments: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost_stall_frames: Option<u64>,
+}
+
+impl Finding {
+    /// The same finding: the same rule at the same place (its costs and text may differ
+    /// from device to device).
+    pub fn same_as(&self, other: &Finding) -> bool {
+        self.id == other.id && self.location == other.location
+    }
+
+    /// What it costs, as the device `device` prices it.
+    pub fn cost_on(&self, device: &str) -> DeviceCost {
+        DeviceCost {
+            device: device.to_string(),
+            cost_bytes: self.cost_bytes,
+            cost_fragments: self.cost_fragments,
+            cost_stall_frames: self.cost_stall_frames,
+        }
+    }
+}
+
+/// The findings of one frame replayed on several devices, one list per device (labelled):
+/// each finding once, in the order of first appearance, with what it costs on each device
+/// that reports it. A finding a device does not report costs nothing there.
+pub fn merge_per_device(per_device: &[(String, Vec<Finding>)]) -> Vec<Finding> {
+    let mut merged: Vec<Finding> = Vec::new();
+    for (device, findings) in per_device {
+        for finding in findings {
+            match merged.iter_mut().find(|m| m.same_as(finding)) {
+                Some(m) => m.costs.push(finding.cost_on(device)),
+                None => {
+                    let mut first = finding.clone();
+                    first.costs = vec![finding.cost_on(device)];
+                    merged.push(first);
+                }
+            }
+        }
+    }
+    merged
 }
 
 #[cfg(test)]
@@ -129,6 +186,7 @@ mod tests {
             cost_stall_frames: None,
             message: "loads".into(),
             advice: "clear".into(),
+            costs: Vec::new(),
         }
     }
 
@@ -158,6 +216,27 @@ mod tests {
         assert_eq!(json["location"]["call_at"]["call"], 12);
         assert_eq!(json["cost_stall_frames"], 2);
         assert_eq!(serde_json::from_value::<Finding>(json).unwrap(), full);
+    }
+
+    #[test]
+    fn findings_of_several_devices_merge_with_each_devices_cost() {
+        let mut cheaper = finding();
+        cheaper.cost_bytes = Some(1024);
+        let mut other = finding();
+        other.id = "store-unread".into();
+        let merged = merge_per_device(&[
+            ("tbr".into(), vec![finding(), other.clone()]),
+            ("tbdr".into(), vec![cheaper]),
+            ("imr".into(), Vec::new()),
+        ]);
+        assert_eq!(merged.len(), 2);
+        let devices: Vec<(&str, Option<u64>)> =
+            merged[0].costs.iter().map(|c| (c.device.as_str(), c.cost_bytes)).collect();
+        assert_eq!(devices, [("tbr", Some(4096)), ("tbdr", Some(1024))]);
+        assert_eq!(merged[1].costs.len(), 1);
+        let json = serde_json::to_value(&merged[0]).unwrap();
+        assert_eq!(json["costs"][1]["device"], "tbdr");
+        assert_eq!(serde_json::from_value::<Finding>(json).unwrap(), merged[0]);
     }
 
     #[test]

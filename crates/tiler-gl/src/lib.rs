@@ -90,5 +90,5 @@ pub use call::{
 };
 pub use context::{Context, ContextConfig, Error};
 pub use report::{CallRef, FrameRecord, PassRecord, Report, Slot};
-pub use text::text_report;
+pub use text::{pass_began, pass_ended, text_report};
 pub use trace::{Limits, Trace, TraceError};

@@ -29,7 +29,8 @@ fn categories(ledger: &Ledger) -> String {
     if parts.is_empty() { "nothing".to_string() } else { parts.join(", ") }
 }
 
-fn start(pass: &PassRecord) -> String {
+/// Why a pass began, and where: `bound at frame 0, call 12`.
+pub fn pass_began(pass: &PassRecord) -> String {
     match pass.start {
         StartCause::Bind => format!("bound at {}", pass.started_at),
         StartCause::NewFrame => format!("new frame at {}", pass.started_at),
@@ -40,7 +41,8 @@ fn start(pass: &PassRecord) -> String {
     }
 }
 
-fn end(pass: &PassRecord) -> String {
+/// Why a pass ended, and where: `swap at frame 0, call 40`.
+pub fn pass_ended(pass: &PassRecord) -> String {
     let what = match pass.end {
         EndCause::Bind => "unbound".to_string(),
         EndCause::Swap => "swap".to_string(),
@@ -97,8 +99,8 @@ pub fn text_report(report: &Report) -> String {
                 pass.height,
                 pass.samples,
                 pass.draws.len(),
-                start(pass),
-                end(pass)
+                pass_began(pass),
+                pass_ended(pass)
             );
             for a in &pass.attachments {
                 let _ = writeln!(

@@ -73,6 +73,11 @@ enum Unit {
     Number,
 }
 
+/// The units of a run's totals: `MB/run`, `mJ/run` where a single frame's say `MB/frame`.
+pub(crate) fn per_run(text: &str) -> String {
+    text.replace("MB/frame", "MB/run").replace("mJ/frame", "mJ/run")
+}
+
 /// A numeric `<td>` with its value and JSON path within column `col`.
 fn cell(col: usize, key: &str, value: f64, unit: Unit) -> String {
     let (text, unit_name) = match unit {
@@ -94,6 +99,7 @@ body { margin: 0; background: var(--page); color: var(--ink);
 main { max-width: 1200px; margin: 0 auto; padding: 24px 20px 40px; }
 header h1 { font-size: 26px; margin: 0 0 2px; letter-spacing: -0.01em; }
 header p { margin: 0; color: var(--muted); }
+details { margin-top: 10px; } summary { cursor: pointer; font-weight: 600; }
 section { background: var(--card); border: 1px solid var(--line); border-radius: 10px; padding: 18px 20px; margin-top: 18px; }
 h2 { font-size: 18px; margin: 0 0 4px; }
 h3 { font-size: 15px; margin: 16px 0 6px; }
@@ -186,11 +192,16 @@ pub fn to_html(report: &Report) -> String {
         bytes_table(&mut html, &document);
         energy(&mut html, &document);
         counters(&mut html, &document);
+        frames_table(&mut html, &document);
         passes(&mut html, &document);
         tile_maps(&mut html, &document, report);
         overdraw_maps(&mut html, &document, report);
     }
     formulas(&mut html, &document);
+    if document.frame_count > 1 {
+        // A run's columns hold the whole run: its totals are per run, not per frame.
+        html = per_run(&html);
+    }
     let _ = write!(
         html,
         "<footer>Written by {} · JSON schema <code>{}</code> · every figure is also in the JSON report</footer>\n</main>\n</body>\n</html>\n",
@@ -300,10 +311,14 @@ fn findings(html: &mut String, document: &Document) {
             meta.push(format!("at {}", escape(&location)));
         }
         if let Some(bytes) = finding.cost_bytes {
-            meta.push(format!("costs {} MB/frame", format::megabytes(bytes as f64)));
+            meta.push(format!("costs {} MB in its frame", format::megabytes(bytes as f64)));
         }
         if let Some(fragments) = finding.cost_fragments {
             meta.push(format!("costs {} fragments shaded", format::count(fragments)));
+        }
+        let per_device = device_costs(document, finding);
+        if !per_device.is_empty() {
+            meta.push(per_device);
         }
         let _ = write!(
             html,
@@ -315,6 +330,38 @@ fn findings(html: &mut String, document: &Document) {
         );
     }
     html.push_str("</section>\n");
+}
+
+/// What a finding costs on each device of the report, and on which it costs nothing:
+/// `on tbr: 0.197 MB · on tbdr: 0.197 MB · nothing on imr`; empty for a one-device report.
+fn device_costs(document: &Document, finding: &crate::Finding) -> String {
+    if finding.costs.is_empty() {
+        return String::new();
+    }
+    let mut parts = Vec::new();
+    for cost in &finding.costs {
+        let mut what = Vec::new();
+        if let Some(bytes) = cost.cost_bytes {
+            what.push(format!("{} MB", format::megabytes(bytes as f64)));
+        }
+        if let Some(fragments) = cost.cost_fragments {
+            what.push(format!("{} fragments", format::count(fragments)));
+        }
+        if let Some(frames) = cost.cost_stall_frames {
+            what.push(format!("{frames} frame(s) stalled"));
+        }
+        parts.push(format!("<b>on {}</b>: {}", escape(&cost.device), what.join(", ")));
+    }
+    let free: Vec<String> = document
+        .columns
+        .iter()
+        .filter(|c| finding.costs.iter().all(|cost| cost.device != c.label))
+        .map(|c| escape(&c.label))
+        .collect();
+    if !free.is_empty() {
+        parts.push(format!("costs nothing on {}", free.join(", ")));
+    }
+    parts.join(" · ")
 }
 
 /// The tile size of a column's first pass, with any shrink: `16×16 (shrunk from 32×32)`.
@@ -588,25 +635,134 @@ fn counters(html: &mut String, document: &Document) {
     html.push_str("</tr></tbody></table></section>\n");
 }
 
-fn passes(html: &mut String, document: &Document) {
-    let pass_count = document.columns.iter().map(|c| c.passes.len()).max().unwrap_or(0);
+/// A run's frames, each device's total per frame (nothing for a single frame).
+fn frames_table(html: &mut String, document: &Document) {
+    let Some(first) = document.columns.first().filter(|c| !c.frames.is_empty()) else { return };
     let _ = write!(
         html,
-        "<section id=\"passes\"><h2>Render passes</h2><p class=\"lead\">{pass_count} render pass{} per frame; presenting the frame (display, composition) is counted in the frame's totals, not here.</p>",
-        if pass_count == 1 { "" } else { "es" }
+        "<section id=\"frames\"><h2>Frames</h2><p class=\"lead\">{} frames; the figures above are the whole run's, per-second figures the average frame's at {} frames/s. Each frame's external-memory bytes, MB{}:</p><table><thead><tr><th>frame</th><th>passes</th>{}</tr></thead><tbody>",
+        document.frame_count,
+        document.fps,
+        if first.frames.len() > MAX_FRAMES_LISTED {
+            format!(" (the first {MAX_FRAMES_LISTED})")
+        } else {
+            String::new()
+        },
+        column_heads(document, 1)
     );
-    for p in 0..pass_count {
-        let pass_of = |c: &ColumnFigures| c.passes.get(p).cloned();
-        let first = document.columns.iter().find_map(pass_of);
-        let Some(first) = first else { continue };
+    for (f, frame) in first.frames.iter().enumerate().take(MAX_FRAMES_LISTED) {
+        let _ = write!(html, "<tr><th>{}</th><td class=\"num\">{}</td>", frame.index, frame.passes);
+        for (i, column) in document.columns.iter().enumerate() {
+            match column.frames.get(f) {
+                Some(totals) => html.push_str(&cell(
+                    i,
+                    &format!("frames.{f}.total_bytes"),
+                    totals.total_bytes as f64,
+                    Unit::Megabytes,
+                )),
+                None => html.push_str("<td></td>"),
+            }
+        }
+        html.push_str("</tr>");
+    }
+    html.push_str("</tbody></table></section>\n");
+}
+
+/// The most frames of a run whose passes the page lists (the JSON report has them all).
+const MAX_FRAMES_LISTED: usize = 64;
+
+fn passes(html: &mut String, document: &Document) {
+    let pass_count = document.columns.iter().map(|c| c.passes.len()).max().unwrap_or(0);
+    let frames = document.columns.first().map(|c| c.frames.as_slice()).unwrap_or_default();
+    if frames.is_empty() {
         let _ = write!(
             html,
-            "<h3>Pass {p} · {}×{} · {}</h3><table><thead><tr><th></th>{}</tr></thead><tbody>",
+            "<section id=\"passes\"><h2>Render passes</h2><p class=\"lead\">{pass_count} render pass{} per frame; presenting the frame (display, composition) is counted in the frame's totals, not here.</p>",
+            if pass_count == 1 { "" } else { "es" }
+        );
+        for p in 0..pass_count {
+            pass_table(html, document, p);
+        }
+        html.push_str("</section>\n");
+        return;
+    }
+    let _ = write!(
+        html,
+        "<section id=\"passes\"><h2>Render passes</h2><p class=\"lead\">{pass_count} render pass{} in {} frames; open a frame to see its passes{}. Presenting a frame (display, composition) is counted in its totals, not in its passes.</p>",
+        if pass_count == 1 { "" } else { "es" },
+        frames.len(),
+        if frames.len() > MAX_FRAMES_LISTED {
+            format!(" (the first {MAX_FRAMES_LISTED} are listed; the JSON report has every one)")
+        } else {
+            String::new()
+        }
+    );
+    for frame in frames.iter().take(MAX_FRAMES_LISTED) {
+        let totals: Vec<String> = document
+            .columns
+            .iter()
+            .filter_map(|c| c.frames.iter().find(|f| f.index == frame.index))
+            .map(|f| format!("{} MB", format::megabytes(f.total_bytes as f64)))
+            .collect();
+        let _ = write!(
+            html,
+            "<details><summary>Frame {} · {} pass{} · {}</summary>",
+            frame.index,
+            frame.passes,
+            if frame.passes == 1 { "" } else { "es" },
+            totals.join(" / ")
+        );
+        for p in frame.first_pass..frame.first_pass + frame.passes {
+            pass_table(html, document, p);
+        }
+        html.push_str("</details>");
+    }
+    html.push_str("</section>\n");
+}
+
+/// The driver's account of pass `p`: what it renders to, why it began and ended, and each
+/// attachment's load and store op and why.
+fn pass_ops(html: &mut String, document: &Document, p: usize) {
+    let Some(info) = document.passes.get(p) else { return };
+    let _ = write!(
+        html,
+        "<p class=\"note\">Renders to {}; began: {}; ended: {}.</p><table class=\"ops\"><thead><tr><th>attachment</th><th>format</th><th>load op</th><th>why</th><th>store op</th><th>why</th></tr></thead><tbody>",
+        escape(&info.target),
+        escape(&info.began),
+        escape(&info.ended)
+    );
+    for a in &info.attachments {
+        let _ = write!(
+            html,
+            "<tr><th>{}</th><td>{}{}</td><td><code>{}</code></td><td>{}</td><td><code>{}</code></td><td>{}</td></tr>",
+            escape(&a.slot),
+            escape(&a.format),
+            if a.samples > 1 { format!(" ×{}", a.samples) } else { String::new() },
+            escape(&a.load),
+            escape(&a.load_reason),
+            escape(&a.store),
+            escape(&a.store_reason)
+        );
+    }
+    html.push_str("</tbody></table>");
+}
+
+/// Pass `p` side by side on every device.
+fn pass_table(html: &mut String, document: &Document, p: usize) {
+    {
+        let pass_of = |c: &ColumnFigures| c.passes.get(p).cloned();
+        let first = document.columns.iter().find_map(pass_of);
+        let Some(first) = first else { return };
+        let frame = document.passes.get(p).map(|i| format!("frame {} · ", i.frame)).unwrap_or_default();
+        let _ = write!(
+            html,
+            "<h3>Pass {p} · {frame}{}×{} · {}</h3>",
             first.width,
             first.height,
-            samples_text(first.samples),
-            column_heads(document, 1)
+            samples_text(first.samples)
         );
+        pass_ops(html, document, p);
+        let _ = write!(html, "<table><thead><tr><th></th>{}</tr></thead><tbody>", column_heads(document, 1));
         let text_row = |html: &mut String, label: &str, text: &dyn Fn(&PassFigures) -> String| {
             let _ = write!(html, "<tr><th>{label}</th>");
             for column in &document.columns {
@@ -673,7 +829,6 @@ fn passes(html: &mut String, document: &Document) {
         }
         html.push_str("</tbody></table>");
     }
-    html.push_str("</section>\n");
 }
 
 /// A map: the dimmed picture (or black, for a pass of another size) under a colour layer

@@ -17,6 +17,7 @@
 pub mod format;
 pub mod heatmap;
 mod html;
+pub mod run;
 pub mod schema;
 mod svg;
 mod text;
@@ -25,12 +26,13 @@ use tiler::{Backend, DevicePreset, FrameCost};
 
 pub use heatmap::{TileMetric, write_heatmaps};
 pub use html::to_html;
+pub use run::{AttachmentInfo, FrameSpan, PassInfo};
 pub use schema::{Document, SCHEMA};
 pub use text::text_table;
 /// The findings a report shows, as `tiler_report::finding` (their own crate, shared with the
 /// advisors that produce them).
 pub use tiler_finding as finding;
-pub use tiler_finding::{CallAt, Finding, Location, Rule, Severity};
+pub use tiler_finding::{CallAt, DeviceCost, Finding, Location, Rule, Severity};
 
 /// One frame of a scene on one or more devices, and what the advisor found in it.
 #[derive(Clone, Debug)]
@@ -44,6 +46,9 @@ pub struct Report {
     pub columns: Vec<Column>,
     /// The advisor's findings, if any.
     pub findings: Vec<Finding>,
+    /// Per render pass of the run (every column's passes, in order), how the driver inferred
+    /// it; empty when the frame was described as render passes.
+    pub passes: Vec<PassInfo>,
 }
 
 /// The scene rendered.
@@ -70,9 +75,13 @@ pub struct Column {
     pub preset: DevicePreset,
     /// The backend the frame was rendered with.
     pub backend: Backend,
+    /// The frame's cost; for a run of several frames, every pass of every frame, and their
+    /// presenting and driver costs summed.
     pub frame: FrameCost,
-    /// The presented picture.
+    /// The presented picture (the last, for a run).
     pub image: Rgba8Image,
+    /// The frames of a run, in order; empty for a single frame.
+    pub frames: Vec<FrameSpan>,
 }
 
 /// A picture: 8-bit RGBA, rows top to bottom.

@@ -9,6 +9,7 @@ use serde::Serialize;
 use tiler::backend::FrameDataReport;
 use tiler::{Backend, Category, Counters, DevicePreset, DrawStats, Ledger, PassReport};
 
+use crate::run::{FrameSpan, PassInfo};
 use crate::{Finding, Report, SceneInfo};
 
 /// The schema this crate writes.
@@ -31,6 +32,13 @@ pub struct Document {
     pub categories: Vec<CategoryInfo>,
     pub columns: Vec<ColumnFigures>,
     pub findings: Vec<Finding>,
+    /// Frames in the report: 1, or a run's length. With more than one, each column's `frame`
+    /// is the run's totals and its per-second figures those of the average frame.
+    pub frame_count: u64,
+    /// Per render pass of the run, how the driver inferred it (its target, why it began and
+    /// ended, each attachment's ops and why); absent when the frame was given as passes.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub passes: Vec<PassInfo>,
 }
 
 /// The presented picture.
@@ -64,6 +72,23 @@ pub struct ColumnFigures {
     /// Bytes the driver adds outside render passes, also in `frame.bytes`.
     pub driver: Ledger,
     pub passes: Vec<PassFigures>,
+    /// Each frame's totals, for a run of several frames (absent for one).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub frames: Vec<FrameTotals>,
+}
+
+/// One frame of a run: its passes and totals.
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameTotals {
+    pub index: u64,
+    /// Its first pass, an index into the column's `passes`.
+    pub first_pass: usize,
+    pub passes: usize,
+    /// Its passes, presenting it and the driver's costs, by category.
+    pub bytes: Ledger,
+    pub total_bytes: u64,
+    /// `total_bytes × fps`.
+    pub bytes_per_second: f64,
 }
 
 /// The totals of a frame: its passes, presenting it and the driver's costs.
@@ -74,7 +99,7 @@ pub struct FrameFigures {
     pub total_bytes: u64,
     pub read_bytes: u64,
     pub written_bytes: u64,
-    /// `total_bytes × fps`.
+    /// `total_bytes × fps` (divided by `frame_count` for a run: the average frame's).
     pub bytes_per_second: f64,
     /// `total_bytes` over the first column's; `null` when that is zero.
     pub ratio_to_first: Option<f64>,
@@ -103,7 +128,7 @@ pub struct EnergyFigures {
     pub on_chip_millijoules: f64,
     /// Their sum, millijoules per frame.
     pub millijoules: f64,
-    /// `millijoules × fps`: average power, milliwatts.
+    /// `millijoules × fps` (over `frame_count` for a run): average power, milliwatts.
     pub milliwatts: f64,
 }
 
@@ -152,8 +177,9 @@ pub struct TileArrays {
 impl Document {
     pub fn new(report: &Report) -> Document {
         let first_total = report.columns.first().map(|c| c.frame.ledger().total()).unwrap_or(0);
+        let frame_count = report.columns.iter().map(|c| c.frames.len() as u64).max().unwrap_or(0).max(1);
         let columns: Vec<ColumnFigures> =
-            report.columns.iter().map(|column| column_figures(column, report.fps, first_total)).collect();
+            report.columns.iter().map(|column| column_figures(column, report.fps, first_total, frame_count)).collect();
         let (width, height) = report.columns.first().map(|c| (c.image.width, c.image.height)).unwrap_or((0, 0));
         let identical_across_columns = report.columns.windows(2).all(|pair| pair[0].image == pair[1].image);
         Document {
@@ -166,6 +192,8 @@ impl Document {
             categories: Category::ALL.iter().map(|c| CategoryInfo { name: c.name(), formula: c.formula() }).collect(),
             columns,
             findings: report.findings.clone(),
+            frame_count,
+            passes: report.passes.clone(),
         }
     }
 
@@ -175,7 +203,8 @@ impl Document {
     }
 }
 
-fn column_figures(column: &crate::Column, fps: f64, first_total: u64) -> ColumnFigures {
+/// A column's figures; with `frame_count` frames, per-second figures are the average frame's.
+fn column_figures(column: &crate::Column, fps: f64, first_total: u64, frame_count: u64) -> ColumnFigures {
     let frame = &column.frame;
     let ledger = frame.ledger();
     let counters = frame.counters();
@@ -193,7 +222,7 @@ fn column_figures(column: &crate::Column, fps: f64, first_total: u64) -> ColumnF
             total_bytes,
             read_bytes: ledger.read_bytes(),
             written_bytes: ledger.written_bytes(),
-            bytes_per_second: frame.bytes_per_second(fps),
+            bytes_per_second: frame.bytes_per_second(fps) / frame_count as f64,
             ratio_to_first: (first_total > 0).then(|| total_bytes as f64 / first_total as f64),
             on_chip_bytes: frame.on_chip_bytes(),
             transaction_elimination_saved_bytes: frame.passes.iter().map(|p| p.transaction_elimination_saved).sum(),
@@ -203,7 +232,7 @@ fn column_figures(column: &crate::Column, fps: f64, first_total: u64) -> ColumnF
                 external_millijoules: energy.external_joules * 1e3,
                 on_chip_millijoules: energy.on_chip_joules * 1e3,
                 millijoules: energy.total_joules() * 1e3,
-                milliwatts: energy.milliwatts(fps),
+                milliwatts: energy.milliwatts(fps) / frame_count as f64,
             },
             counters,
             pixels,
@@ -212,6 +241,23 @@ fn column_figures(column: &crate::Column, fps: f64, first_total: u64) -> ColumnF
         present: frame.present,
         driver: frame.driver,
         passes: frame.passes.iter().enumerate().map(|(index, pass)| pass_figures(index, pass, fps)).collect(),
+        frames: column.frames.iter().map(|span| frame_totals(span, &frame.passes, fps)).collect(),
+    }
+}
+
+fn frame_totals(span: &FrameSpan, passes: &[PassReport], fps: f64) -> FrameTotals {
+    let mut bytes = span.present;
+    bytes.merge(&span.driver);
+    for pass in passes.iter().skip(span.first_pass).take(span.passes) {
+        bytes.merge(&pass.ledger);
+    }
+    FrameTotals {
+        index: span.index,
+        first_pass: span.first_pass,
+        passes: span.passes,
+        bytes,
+        total_bytes: bytes.total(),
+        bytes_per_second: bytes.total() as f64 * fps,
     }
 }
 

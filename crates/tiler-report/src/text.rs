@@ -69,6 +69,14 @@ pub fn text_table(report: &Report) -> String {
             format::megabytes(c.frame.transaction_elimination_saved_bytes as f64)
         });
     }
+    if document.frame_count > 1 {
+        out = crate::html::per_run(&out);
+        let _ = writeln!(
+            out,
+            "(a run of {} frames: totals are the run's, per-second figures the average frame's)",
+            document.frame_count
+        );
+    }
     if !document.image.identical_across_columns {
         let differing: Vec<&str> =
             report.columns.iter().filter(|c| c.image != report.columns[0].image).map(|c| c.label.as_str()).collect();

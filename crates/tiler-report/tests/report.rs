@@ -30,7 +30,7 @@ fn column(preset_name: &str, samples: u32) -> (Column, SceneInfo) {
         triangles: scene.triangles,
     };
     let backend = preset.device.backend;
-    (Column { label: preset.name.clone(), preset, backend, frame, image }, info)
+    (Column { label: preset.name.clone(), preset, backend, frame, image, frames: Vec::new() }, info)
 }
 
 fn report(presets: &[&str], samples: u32) -> Report {
@@ -41,7 +41,7 @@ fn report(presets: &[&str], samples: u32) -> Report {
         columns.push(column);
         scene = info;
     }
-    Report { title: "test".into(), scene, fps: 60.0, columns, findings: Vec::new() }
+    Report { title: "test".into(), scene, fps: 60.0, columns, findings: Vec::new(), passes: Vec::new() }
 }
 
 fn json(report: &Report) -> Value {
@@ -295,6 +295,7 @@ fn finding() -> Finding {
         cost_stall_frames: None,
         message: "The pass loads colour it then overwrites entirely.".into(),
         advice: "Clear the attachment (`LoadOp::Clear`) or invalidate it.".into(),
+        costs: Vec::new(),
     }
 }
 
@@ -384,6 +385,7 @@ fn malformed_reports_do_not_panic() {
         fps: f64::NAN,
         columns: Vec::new(),
         findings: Vec::new(),
+        passes: Vec::new(),
     };
     assert!(tiler_report::to_html(&empty).contains("no devices"));
     assert_eq!(json(&empty)["fps"], Value::Null);

@@ -242,7 +242,7 @@ fn outputs_that_are_inputs_are_refused() {
     fails(&dir, &["analyze", s(&t), "--report", s(&spelled)], &["also an input"]);
     std::fs::write(dir.join("side.bin"), [0u8; 16]).unwrap();
     let t2 = trace(&dir, "t2.json", r#"{"file": "side.bin"}"#);
-    fails(&dir, &["analyze", s(&t2), "--report", s(&dir.join("side.bin"))], &["side.bin", "also an input"]);
+    fails(&dir, &["analyze", s(&t2), "--gl-report", s(&dir.join("side.bin"))], &["side.bin", "also an input"]);
 
     let a = dir.join("a.png");
     let reference = dir.join("ref.png");

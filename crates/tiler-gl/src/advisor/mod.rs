@@ -131,6 +131,7 @@ impl Draft {
             cost_stall_frames: nonzero(self.cost.stall_frames as u64),
             message: self.detail,
             advice: self.fix,
+            costs: Vec::new(),
         }
     }
 }
