@@ -67,6 +67,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     let setup = Setup { threads: args.threads, simd: None, tile: None, overdraw_map: args.report.wants_maps() };
     let mut columns: Vec<Column> = Vec::with_capacity(presets.len() * names.len());
     let mut scenes = Vec::with_capacity(names.len());
+    let mut findings = Vec::with_capacity(columns.capacity());
     for (name, source) in names.iter().zip(sources) {
         if let Some(line) = args.scene_args.describe(&source) {
             println!("{line}");
@@ -95,6 +96,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
             if columns.len() == first_of_scene {
                 scenes.push(rendered.scene.clone());
             }
+            findings.push((rendered.column.label.clone(), rendered.findings));
             columns.push(rendered.column);
         }
     }
@@ -117,7 +119,8 @@ pub fn run(args: &CompareArgs) -> Result<()> {
             info.triangles,
         );
     }
-    let report = Report { title, scene, fps: args.report.fps, columns, findings: Vec::new(), passes: Vec::new() };
+    let findings = tiler_report::finding::merge_per_device(&findings);
+    let report = Report { title, scene, fps: args.report.fps, columns, findings, passes: Vec::new() };
     args.report.write_and_print(&report)
 }
 

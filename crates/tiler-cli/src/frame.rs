@@ -17,6 +17,8 @@ pub struct Rendered {
     pub render_time: Duration,
     /// Worker threads the device used.
     pub threads: usize,
+    /// The advisor's findings about the frame, priced on this device.
+    pub findings: Vec<tiler_report::Finding>,
 }
 
 /// How a column's device is set up beyond its preset.
@@ -71,6 +73,9 @@ pub fn render(
     let mut frame = FrameCost::new(passes);
     frame.present = device.present(scene.color).context("presenting the frame")?;
     let pixels = device.read_rgba8(scene.color).context("reading the picture")?;
+    let as_ran = DevicePreset { device: effective.clone(), ..preset.clone() };
+    let findings =
+        tiler_gl::advisor::advise_passes(&as_ran, &scene.passes, &frame.passes, &|id| device.image_desc(id).ok());
     let image = Rgba8Image::new(scene.width, scene.height, pixels).map_err(anyhow::Error::msg)?;
     let info = SceneInfo {
         name: scene.name.clone(),
@@ -89,5 +94,6 @@ pub fn render(
         load_time,
         render_time,
         threads: device.threads(),
+        findings,
     })
 }

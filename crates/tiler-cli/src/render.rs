@@ -123,12 +123,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     );
 
     // The same frame on every other backend, for the cost table.
+    let mut findings = vec![(first.column.label.clone(), first.findings)];
     let mut columns = vec![first.column];
     for other in Backend::ALL.into_iter().filter(|b| *b != backend) {
         let rendered = frame::render(other.name(), &preset, other, &setup, &load)?;
         if rendered.column.image != columns[0].image {
             bail!("the {other} backend gave a different image: this is a tiler bug, please report it");
         }
+        findings.push((rendered.column.label.clone(), rendered.findings));
         columns.push(rendered.column);
     }
     let (width, height) = (scene.width, scene.height);
@@ -138,7 +140,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         scene,
         fps: args.report.fps,
         columns,
-        findings: Vec::new(),
+        findings: tiler_report::finding::merge_per_device(&findings),
         passes: Vec::new(),
     };
     args.report.write_and_print(&report)?;

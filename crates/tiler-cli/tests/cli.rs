@@ -285,3 +285,66 @@ fn analyze_names_a_bad_option_and_writes_nothing() {
     assert!(!out.status.success());
     assert!(!json.exists());
 }
+
+/// A flat grid of `columns × rows` quads (two triangles each) in a `.gltf`.
+fn grid_gltf(dir: &Path, columns: u32, rows: u32) -> PathBuf {
+    let mut bin = Vec::new();
+    let at = |i: u32, n: u32| -1.0 + 2.0 * i as f32 / n as f32;
+    for row in 0..rows {
+        for column in 0..columns {
+            let (x0, x1, y0, y1) = (at(column, columns), at(column + 1, columns), at(row, rows), at(row + 1, rows));
+            for [x, y] in [[x0, y0], [x1, y0], [x1, y1], [x0, y0], [x1, y1], [x0, y1]] {
+                for c in [x, y, 0.0f32] {
+                    bin.extend(c.to_le_bytes());
+                }
+            }
+        }
+    }
+    let count = columns * rows * 6;
+    let b64 = base64::Engine::encode(&base64::engine::general_purpose::STANDARD, &bin);
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
+        "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}],
+        "buffers": [{{"byteLength": {len}, "uri": "data:application/octet-stream;base64,{b64}"}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": {len}}}],
+        "accessors": [{{"bufferView": 0, "componentType": 5126, "count": {count}, "type": "VEC3",
+                        "min": [-1, -1, 0], "max": [1, 1, 0]}}]}}"#,
+        len = bin.len()
+    );
+    let path = dir.join("grid.gltf");
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+/// `tiler render` runs the advisor on a glTF frame: a mesh of sub-pixel triangles earns
+/// `micro-triangles`, priced on each backend (frame data on the tilers, only geometry on
+/// immediate mode); a coarse mesh earns nothing.
+#[test]
+fn render_reports_findings_the_scene_earns() {
+    let dir = scratch("render-findings");
+    let findings = |columns: u32, rows: u32| {
+        let gltf = grid_gltf(&dir, columns, rows);
+        let json = dir.join("r.json");
+        let png = dir.join("out.png");
+        let out = tiler(&[
+            "render",
+            gltf.to_str().unwrap(),
+            "--size",
+            "64x48",
+            "-o",
+            png.to_str().unwrap(),
+            "--report",
+            json.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        doc["findings"].as_array().unwrap().clone()
+    };
+    assert_eq!(findings(4, 3), Vec::<serde_json::Value>::new(), "a coarse grid earns nothing");
+    let fine = findings(64, 48);
+    assert_eq!(fine.len(), 1, "{fine:#?}");
+    assert_eq!(fine[0]["id"], "micro-triangles");
+    let costs = fine[0]["costs"].as_array().unwrap();
+    let cost = |device: &str| costs.iter().find(|c| c["device"] == device).unwrap()["cost_bytes"].as_u64().unwrap();
+    assert!(cost("tbr") > cost("imr") && cost("imr") > 0, "{costs:?}");
+}

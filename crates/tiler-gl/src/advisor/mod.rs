@@ -58,6 +58,7 @@
 
 mod frame;
 mod pass;
+mod passes;
 mod rules;
 
 use std::cell::Cell;
@@ -66,6 +67,7 @@ use std::collections::HashMap;
 use tiler::ImageId;
 pub use tiler_finding::{CallAt, Finding, Location, Severity};
 
+pub use self::passes::advise_passes;
 pub use self::rules::{RuleId, RuleInfo};
 use crate::context::ContextConfig;
 use crate::report::{CallRef, FrameRecord, PassRecord, StoreKind};

@@ -111,6 +111,12 @@ impl Pipeline {
     pub fn desc(&self) -> &PipelineDesc {
         &self.desc
     }
+
+    /// What its fragment shader may do (discard, write depth, …): what an advisor needs to
+    /// know of the shader.
+    pub fn properties(&self) -> ShaderProperties {
+        self.object.properties()
+    }
 }
 
 impl std::fmt::Debug for Pipeline {
