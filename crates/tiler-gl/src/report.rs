@@ -296,7 +296,9 @@ pub struct PassRecord {
     pub width: u32,
     pub height: u32,
     pub samples: u32,
-    /// The tiled-rendering region, tiler coordinates; `None` = the whole framebuffer.
+    /// The pixels the pass covered, tiler coordinates: the tiled-rendering region, or the
+    /// scissor box every draw and clear-quad of the pass lies inside (tiles outside it are
+    /// neither loaded nor stored); `None` = the whole framebuffer.
     pub render_area: Option<Rect>,
     pub start: StartCause,
     pub started_at: CallRef,

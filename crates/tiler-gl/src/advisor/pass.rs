@@ -126,11 +126,32 @@ fn partial_clear(v: &PassView, out: &mut Vec<Draft>) {
                 pc.reasons.join(" and "),
                 d.stats.fragments_shaded
             ),
-            "disable the scissor test and set every write mask before clearing, and clear colour, depth and stencil \
-             together at the start of the pass (Listing 23.1)"
-                .to_string(),
+            partial_clear_fix(pass, d.clip_rect, pc.reasons.iter().any(|r| r.contains("scissor"))),
         ));
     }
+}
+
+/// What to do about a clear-quad. A scissored clear usually means the application redraws
+/// only a region and keeps the rest (seed 001): a full clear would erase what lies outside,
+/// so the advice is to keep the scissor around the whole pass (tiler then covers only the
+/// box's tiles) or to use a tiled-rendering region that starts the region cleared without
+/// loading it; a full clear only if nothing outside must be kept.
+fn partial_clear_fix(pass: &PassRecord, region: Rect, scissored: bool) -> String {
+    let full_clear = "disable the scissor test and set every write mask before clearing, and clear colour, depth and \
+                      stencil together at the start of the pass (Listing 23.1)";
+    if !scissored {
+        return full_clear.to_string();
+    }
+    let gl_y = pass.height.saturating_sub(region.y + region.height);
+    let preserved = if pass.window_preserved { " (the window is preserved: a full clear would erase it)" } else { "" };
+    format!(
+        "to redraw only the {}×{} region at ({}, {gl_y}) and keep what lies outside it{preserved}, keep the scissor box \
+         around every draw of the pass (tiler then loads and stores only the tiles it touches), or better \
+         start_tiling({}, {gl_y}, {}, {}) with no preserve mask and end_tiling with the colour \
+         (QCOM_tiled_rendering), so the region starts cleared without loading; only if nothing outside must be \
+         kept, {full_clear}",
+        region.width, region.height, region.x, region.x, region.width, region.height
+    )
 }
 
 /// A flush cut the previous pass on this framebuffer short: it stored, this pass reloads.

@@ -174,10 +174,13 @@ impl Context {
                 q.last_frame = q.last_frame.max(frame);
             }
         }
-        let area = match pass.region {
+        // The pixels the core covered: the tiled-rendering region, or a scissor box every
+        // draw lies inside (tiles outside it were neither loaded nor stored).
+        let area = match report.render_area {
             Some(r) => r.area(),
             None => pass.targets.width as u64 * pass.targets.height as u64,
         };
+        let full_area = report.render_area.is_none();
         let samples = pass.targets.samples as u64;
         let mut attachments = Vec::new();
         for a in &pass.aspects {
@@ -272,7 +275,7 @@ impl Context {
             width: pass.targets.width,
             height: pass.targets.height,
             samples: pass.targets.samples,
-            render_area: pass.region,
+            render_area: report.render_area,
             start: pass.start,
             started_at: pass.started_at,
             end: cause,

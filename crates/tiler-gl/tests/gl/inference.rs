@@ -123,7 +123,9 @@ fn a_scissored_clear_is_a_clear_quad_and_loads_stay() {
     let report = gl.end().unwrap();
     let p = passes(&report)[1];
     assert_eq!(ops(p).iter().map(|o| o.1).collect::<Vec<_>>(), vec![Load, Load, Load]);
-    assert_eq!(load(p), COLOR + DEPTH + STENCIL);
+    // Every draw of the pass lies inside the scissor box: the pass covers only that quarter.
+    assert_eq!(p.render_area, Some(tiler::Rect::new(0, 32, 32, 32)));
+    assert_eq!(load(p), (COLOR + DEPTH + STENCIL) / 4);
     assert_eq!(p.draws.len(), 1);
     let quad = &p.draws[0];
     assert_eq!(quad.kind, report::DrawKind::ClearQuad);
@@ -135,7 +137,12 @@ fn a_scissored_clear_is_a_clear_quad_and_loads_stay() {
     let f: Vec<_> = report.findings_with("partial-clear").collect();
     assert_eq!(f.len(), 1);
     let frame_data = p.cost.ledger.get(Category::FrameDataWrite) + p.cost.ledger.get(Category::FrameDataRead);
-    assert_eq!(f[0].cost_bytes.unwrap_or(0), COLOR + DEPTH + STENCIL + frame_data);
+    assert_eq!(f[0].cost_bytes.unwrap_or(0), (COLOR + DEPTH + STENCIL) / 4 + frame_data);
+    assert!(
+        f[0].advice.contains("keep the scissor box") && f[0].advice.contains("start_tiling(0, 0, 32, 32)"),
+        "{}",
+        f[0].advice
+    );
     // Only the scissored bottom-left quarter was cleared.
     let image = gl.device().read_rgba8(gl.texture_image(2).unwrap()).unwrap();
     assert_eq!(pixel(&image, 64, 10, 50), [255, 255, 0, 255]);

@@ -196,6 +196,7 @@ pub fn render(
         width: resolved.width,
         height: resolved.height,
         samples: resolved.samples,
+        render_area: resolved.render_area_rect(),
         tile_width: 0,
         tile_height: 0,
         tile_shrunk_from: None,

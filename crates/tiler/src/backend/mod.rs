@@ -84,6 +84,10 @@ pub struct PassReport {
     pub width: u32,
     pub height: u32,
     pub samples: u32,
+    /// The pixels the pass covered when fewer than the framebuffer's: the render area it was
+    /// given, or the box its draws' scissors bound (`pass::resolved`); tiles outside it
+    /// were neither loaded nor stored. `None`: the whole framebuffer.
+    pub render_area: Option<crate::Rect>,
     pub tile_width: u32,
     pub tile_height: u32,
     /// The configured tile size, when the tile memory made the tile smaller.

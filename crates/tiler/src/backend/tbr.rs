@@ -168,6 +168,7 @@ pub fn render(
         width: resolved.width,
         height: resolved.height,
         samples: resolved.samples,
+        render_area: resolved.render_area_rect(),
         tile_width,
         tile_height,
         tile_shrunk_from: shrunk.then_some((config.tile_width, config.tile_height)),

@@ -365,7 +365,8 @@ fn validate_viewport(v: &Viewport) -> std::result::Result<PixelRect, String> {
     Ok(PixelRect::new(first(x0), first(y0), first(x1), first(y1)))
 }
 
-fn scissor_rect(r: &Rect) -> PixelRect {
+/// A scissor's pixels (coordinates past `i32::MAX` clamped).
+pub(crate) fn scissor_rect(r: &Rect) -> PixelRect {
     let clamp = |v: u64| v.min(i32::MAX as u64) as i32;
     PixelRect::new(clamp(r.x as u64), clamp(r.y as u64), clamp(r.right()), clamp(r.bottom()))
 }

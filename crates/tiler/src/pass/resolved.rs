@@ -47,6 +47,13 @@ impl ResolvedPass {
         PassFrame { width: self.width, height: self.height, render_area: self.render_area, buffers }
     }
 
+    /// The render area as a [`Rect`](crate::Rect), `None` when it is the whole framebuffer.
+    pub fn render_area_rect(&self) -> Option<crate::Rect> {
+        let a = self.render_area;
+        let whole = a == PixelRect::new(0, 0, self.width as i32, self.height as i32);
+        (!whole).then(|| crate::Rect::new(a.x0 as u32, a.y0 as u32, a.width() as u32, a.height() as u32))
+    }
+
     /// Tile-buffer bytes per pixel: every attachment, every sample.
     pub fn tile_bytes_per_pixel(&self) -> u64 {
         self.attachments.iter().map(|a| a.format.bytes_per_sample() as u64 * self.samples as u64).sum()
@@ -223,6 +230,7 @@ impl ResolvedPass {
                 PixelRect::from_rect(r)
             }
         };
+        let render_area = scissor_render_area(pass, render_area, &attachments, &resolves);
         let color_count = desc.color.len();
         let depth_index = desc.depth_stencil.is_some().then_some(color_count);
         let subpasses = resolve_subpasses(pass, &attachments, depth_index, &mut |what, id| {
@@ -291,6 +299,50 @@ impl ResolvedPass {
             subpasses,
         })
     }
+}
+
+/// The render area a pass needs when every draw lies inside a scissor box: the bounding box
+/// of the draws' scissors (within `area`), so the tiles outside it are neither loaded nor
+/// stored (seed 001 "How to optimize render passes": a scissor box limits a pass to a
+/// sub-region, as `QCOM_tiled_rendering` does). Otherwise `area`.
+///
+/// Narrowing keeps the picture only if nothing outside the box would have changed: every
+/// attachment that is stored must be loaded (a `Clear` or `DontCare` load would have
+/// replaced the outside with the clear value or zero), and nothing is resolved (a resolve
+/// writes the whole area). Attachments not stored may start any way: their outside is never
+/// seen. A pass without draws keeps its area (its loads and stores are its whole work).
+fn scissor_render_area(
+    pass: &RenderPass,
+    area: PixelRect,
+    attachments: &[ResolvedAttachment],
+    resolves: &[ResolveTarget],
+) -> PixelRect {
+    let stored_without_load = attachments.iter().any(|a| match a.ops {
+        AttachmentOps::Color { load, store } => store == StoreOp::Store && !load.is_load(),
+        AttachmentOps::DepthStencil { depth_load, depth_store, stencil_load, stencil_store } => {
+            (depth_store == StoreOp::Store && !depth_load.is_load())
+                || (stencil_store == StoreOp::Store && !stencil_load.is_load())
+        }
+    });
+    if pass.draws.is_empty() || stored_without_load || !resolves.is_empty() {
+        return area;
+    }
+    // The bounding box of the scissors (an empty one draws nothing and adds nothing).
+    let mut bounds: Option<PixelRect> = None;
+    for draw in &pass.draws {
+        let Some(scissor) = &draw.scissor else { return area };
+        let r = crate::geometry::scissor_rect(scissor);
+        if r.is_empty() {
+            continue;
+        }
+        bounds = Some(match bounds {
+            None => r,
+            Some(b) => PixelRect::new(b.x0.min(r.x0), b.y0.min(r.y0), b.x1.max(r.x1), b.y1.max(r.y1)),
+        });
+    }
+    let Some(bounds) = bounds else { return area };
+    let narrowed = area.intersect(&bounds);
+    if narrowed.is_empty() { area } else { narrowed }
 }
 
 /// Checks the pass's subpasses (or makes the implicit one) and its dependencies.

@@ -230,3 +230,78 @@ fn clear_fill_frame_costs_what_the_seed_says() {
         }
     }
 }
+
+/// Seed 001: a pass whose every draw lies inside one scissor box covers only that box —
+/// the tiles outside it are neither loaded nor stored — and draws the same picture, on every
+/// backend, tile size and thread count, as the same pass made to cover everything (by a
+/// draw without a scissor that draws nothing). A pass that clears keeps its whole area: the
+/// clear must reach every pixel.
+#[test]
+fn a_scissor_box_around_every_draw_is_the_render_area() {
+    let scissor = Rect::new(10, 6, 33, 21);
+    let render = |backend: Backend, tile: u32, threads: usize, narrowable: bool, clear: bool| {
+        let mut device = device(backend, tile, threads);
+        let color = device.create_image(ImageDesc::new(W, H, Format::Rgba8Unorm)).unwrap();
+        let ds = device.create_image(ImageDesc::new(W, H, Format::D24UnormS8Uint)).unwrap();
+        device.write_image(color, &[7u8, 8, 9, 10].repeat(PIXELS as usize)).unwrap();
+        let word = (Format::D24UnormS8Uint.depth_bits(0.25) | 9 << 24).to_le_bytes();
+        device.write_image(ds, &word.repeat(PIXELS as usize)).unwrap();
+        let color_attachment = if clear {
+            ColorAttachment::clear_store(color, [0.0, 0.0, 1.0, 1.0])
+        } else {
+            ColorAttachment::load_store(color)
+        };
+        let depth = DepthStencilAttachment {
+            image: ds,
+            depth_load: LoadOp::Load,
+            depth_store: StoreOp::Store,
+            stencil_load: LoadOp::Load,
+            stencil_store: StoreOp::Store,
+        };
+        let mut p = pass(color_attachment, Some(depth));
+        let full = device
+            .create_buffer_from(&[
+                v(-1.0, -1.0, 0.1, [1.0; 4]),
+                v(3.0, -1.0, 0.1, [1.0; 4]),
+                v(-1.0, 3.0, 0.1, [1.0; 4]),
+            ])
+            .unwrap();
+        let mut d = desc("full");
+        d.depth_stencil = DepthStencilState::LESS_WRITE;
+        let solid = pipeline(Solid([1.0, 1.0, 0.0, 1.0]), d);
+        p.draw(Draw::new(&solid, full, 0, 3).with_scissor(scissor));
+        p.draw(Draw::new(&solid, full, 0, 3).with_scissor(Rect::new(12, 8, 4, 4)));
+        if !narrowable {
+            let nothing = device.create_buffer_from(&[v(0.0, 0.0, 0.1, [1.0; 4]); 3]).unwrap();
+            p.draw(Draw::new(&solid, nothing, 0, 3));
+        }
+        let report = device.submit(&p).unwrap();
+        let pictures =
+            (device.read_rgba8(color).unwrap(), device.read_depth(ds).unwrap(), device.read_stencil(ds).unwrap());
+        (report, pictures)
+    };
+    let (_, reference) = render(Backend::Imr, 16, 1, false, false);
+    for backend in Backend::ALL {
+        for (tile, threads) in [(8, 1), (16, 2), (32, 3)] {
+            let (narrowed, picture) = render(backend, tile, threads, true, false);
+            assert_eq!(picture, reference, "{backend}, {tile}×{tile} tiles, {threads} threads: the picture");
+            assert_eq!(narrowed.render_area, Some(scissor), "{backend}");
+            let (whole, whole_picture) = render(backend, tile, threads, false, false);
+            assert_eq!(whole_picture, reference);
+            assert_eq!(whole.render_area, None);
+            if backend.is_tiler() {
+                // Colour (4 bytes) and depth-stencil (4 bytes), in the box only.
+                assert_eq!(narrowed.ledger.get(Category::TileLoad), scissor.area() * 8, "{backend} {tile}");
+                assert_eq!(narrowed.ledger.get(Category::TileStore), scissor.area() * 8, "{backend} {tile}");
+                assert_eq!(whole.ledger.get(Category::TileLoad), PIXELS * 8);
+                let untouched = narrowed.tiles.iter().filter(|t| t.bytes_loaded == 0 && t.bytes_stored == 0).count();
+                let (tx0, ty0) = (scissor.x / tile, scissor.y / tile);
+                let (tx1, ty1) = ((scissor.right() as u32 - 1) / tile, (scissor.bottom() as u32 - 1) / tile);
+                let touched = ((tx1 - tx0 + 1) * (ty1 - ty0 + 1)) as usize;
+                assert_eq!(untouched, narrowed.tiles.len() - touched, "{backend} {tile}: only the box's tiles");
+            }
+        }
+        let (cleared, _) = render(backend, 16, 1, true, true);
+        assert_eq!(cleared.render_area, None, "{backend}: a clear covers the whole framebuffer");
+    }
+}
