@@ -60,6 +60,7 @@ mod frame;
 mod pass;
 mod passes;
 mod rules;
+pub mod what_if;
 
 use std::cell::Cell;
 use std::collections::HashMap;

@@ -444,3 +444,33 @@ fn every_backend_draws_the_same_pictures() {
         assert!(images.windows(2).all(|w| w[0] == w[1]), "{name}: the backends disagree");
     }
 }
+
+/// `--what-if`: the bad form of each pair whose advice is an edit of the calls, with every
+/// fix applied, costs what the good form costs and draws the same picture; the measured
+/// saving of each fix alone is its finding's estimate.
+#[test]
+fn each_fix_applied_to_the_bad_form_costs_what_the_good_form_costs() {
+    use tiler_gl::advisor::what_if::Fixer;
+    for name in ["clear", "rebind", "invalidate", "readback"] {
+        let trace = Trace::read(&traces().join(format!("{name}-bad.json"))).unwrap();
+        let limits = Limits { threads: Some(1), ..Limits::default() };
+        let bad = trace.replay_with(limits).unwrap();
+        let good = replay(&format!("{name}-good.json"));
+        let total = |r: &Replay| r.report.totals.ledger.total();
+        let mut all = Fixer::new(&trace).unwrap();
+        let mut fixed_findings = 0;
+        for f in &bad.report.findings {
+            let mut one = Fixer::new(&trace).unwrap();
+            let Ok(what) = one.add(f, &bad.report) else { continue };
+            all.add(f, &bad.report).unwrap();
+            fixed_findings += 1;
+            let fixed = one.fixed(&trace).replay_with(limits).unwrap_or_else(|e| panic!("{name}: {what}: {e}"));
+            assert_eq!(fixed.context.surface_rgba8(), bad.context.surface_rgba8(), "{name}: {what}: the picture");
+            assert_eq!(total(&bad) - total(&fixed), f.cost_bytes.unwrap_or(0), "{name}: {what}: measured vs estimate");
+        }
+        assert!(fixed_findings > 0, "{name}: nothing fixed");
+        let fixed = all.fixed(&trace).replay_with(limits).unwrap();
+        assert_eq!(fixed.context.surface_rgba8(), good.context.surface_rgba8(), "{name}: the picture");
+        assert_eq!(total(&fixed), total(&good), "{name}: every fix applied costs what the good form costs");
+    }
+}

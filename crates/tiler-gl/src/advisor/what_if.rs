@@ -1,0 +1,241 @@
+//! The advisor's advice, proven by re-running: each finding's fix applied to the trace's
+//! calls, the trace replayed, and what it saved measured beside what the finding estimated,
+//! with a check that the picture is unchanged.
+//!
+//! A fix is an edit of the calls, not of the passes, so the replay goes through the same
+//! driver inference as the original: `store-unread` invalidates the attachment before the
+//! call that ends its pass; `load-at-pass-start` clears the loaded attachments right after
+//! the bind; `framebuffer-rebound` moves the other framebuffers' work (the calls between the
+//! two bindings) before the first binding; `flush-mid-pass` moves the flushing call (a read
+//! of pixels, a flush, a finish) to the end of the pass it cut short — before a swap, after
+//! invalidating the window's depth and stencil, which the swap would throw away anyway. The other rules change the content
+//! of the frame (geometry, shaders, draw order, formats) and have no automatic fix.
+
+use super::{Finding, RuleId};
+use crate::call::{AttachmentPoint, Call};
+use crate::report::{CallRef, PassRecord, Report, Slot};
+use crate::trace::{Trace, TraceFrame};
+
+/// The most calls (repeats expanded) a trace may have for fixes to be applied.
+pub const MAX_WHAT_IF_CALLS: usize = 1 << 20;
+
+/// Edits of one frame's calls, by the original call's index.
+#[derive(Clone, Debug, Default)]
+struct FrameEdits {
+    /// Calls to put before call `i`.
+    before: Vec<(usize, Vec<Call>)>,
+    /// Calls to put after call `i`.
+    after: Vec<(usize, Vec<Call>)>,
+    /// Calls taken away from where they were (they were put elsewhere).
+    moved: Vec<std::ops::Range<usize>>,
+}
+
+/// A trace's calls frame by frame (repeats expanded), and the edits to make.
+pub struct Fixer {
+    frames: Vec<Vec<Call>>,
+    edits: Vec<FrameEdits>,
+}
+
+impl Fixer {
+    /// The calls of `trace`, one list per frame as the report numbers them.
+    ///
+    /// # Errors
+    /// More than [`MAX_WHAT_IF_CALLS`] calls once repeats are expanded.
+    pub fn new(trace: &Trace) -> Result<Fixer, String> {
+        let total: u64 = trace.frames.iter().map(|f| f.repeat as u64 * f.calls.len() as u64).sum();
+        if total > MAX_WHAT_IF_CALLS as u64 {
+            return Err(format!(
+                "the trace has {total} calls once its repeats are expanded; fixes are applied to at most \
+                 {MAX_WHAT_IF_CALLS}"
+            ));
+        }
+        // Frames end at each swap_buffers, as the context numbers them.
+        let mut frames: Vec<Vec<Call>> = vec![Vec::new()];
+        for entry in &trace.frames {
+            for _ in 0..entry.repeat {
+                for call in &entry.calls {
+                    let swap = matches!(call, Call::SwapBuffers);
+                    frames.last_mut().expect("at least one frame").push(call.clone());
+                    if swap {
+                        frames.push(Vec::new());
+                    }
+                }
+            }
+        }
+        if frames.last().is_some_and(Vec::is_empty) && frames.len() > 1 {
+            frames.pop();
+        }
+        let edits = vec![FrameEdits::default(); frames.len()];
+        Ok(Fixer { frames, edits })
+    }
+
+    fn call(&self, at: CallRef) -> Option<&Call> {
+        self.frames.get(at.frame as usize)?.get(at.call as usize)
+    }
+
+    /// Records the fix of `finding`; `Err` says why it has none.
+    ///
+    /// # Errors
+    /// A rule without an automatic fix, or a finding whose calls cannot be found.
+    pub fn add(&mut self, finding: &Finding, report: &Report) -> Result<String, String> {
+        let rule = RuleId::from_name(&finding.id).ok_or_else(|| format!("unknown rule {}", finding.id))?;
+        let pass = finding.location.pass.and_then(|p| report.passes().find(|q| q.index as u64 == p));
+        let pass = pass.ok_or_else(|| "the finding names no pass".to_string());
+        match rule {
+            RuleId::StoreUnread => {
+                let pass = pass?;
+                let slot = slot_in(&finding.message, pass).ok_or("the finding names no attachment")?;
+                self.before(pass.ended_at, vec![Call::Invalidate { attachments: vec![attachment_point(slot)] }])?;
+                Ok(format!("invalidate {slot} before {}", pass.ended_at))
+            }
+            RuleId::LoadAtPassStart => {
+                let pass = pass?;
+                let loaded = |s: fn(&Slot) -> bool| {
+                    pass.attachments.iter().any(|a| a.load == crate::report::LoadKind::Load && s(&a.slot))
+                };
+                let clear = Call::Clear {
+                    color: loaded(|s| matches!(s, Slot::Color(_))),
+                    depth: loaded(|s| *s == Slot::Depth),
+                    stencil: loaded(|s| *s == Slot::Stencil),
+                };
+                self.after(pass.started_at, vec![clear])?;
+                Ok(format!("clear what was loaded right after {}", pass.started_at))
+            }
+            RuleId::FramebufferRebound => {
+                let pass = pass?;
+                let earlier = report
+                    .passes()
+                    .filter(|q| q.frame == pass.frame && q.framebuffer == pass.framebuffer && q.index < pass.index)
+                    .filter(|q| q.copy_texture.is_none())
+                    .last()
+                    .ok_or("no earlier pass on the framebuffer")?;
+                let (from, to) = (earlier.ended_at, pass.started_at);
+                if from.frame != to.frame || earlier.started_at.frame != from.frame || from.call >= to.call {
+                    return Err("the two bindings are not in one frame".into());
+                }
+                // Before the call that bound the framebuffer the first time (or, bound since an
+                // earlier frame, before the first pass's first call).
+                let frame = &self.frames[from.frame as usize];
+                let bind = (earlier.started_at.call..from.call).rev().find(|&i| {
+                    matches!(frame.get(i as usize), Some(Call::BindFramebuffer { target, framebuffer })
+                        if *framebuffer == earlier.framebuffer && *target != crate::call::FramebufferTarget::Read)
+                });
+                let to_first = CallRef { frame: from.frame, call: bind.unwrap_or(earlier.started_at.call) };
+                self.move_before(from.frame as usize, from.call as usize..to.call as usize, to_first)?;
+                Ok(format!("move calls {}–{} of frame {} before {to_first}", from.call, to.call - 1, from.frame))
+            }
+            RuleId::FlushMidPass => {
+                let at = finding.location.call_at.map(CallRef::from).ok_or("the finding names no call")?;
+                if !matches!(self.call(at), Some(Call::ReadPixels { .. } | Call::Flush | Call::Finish)) {
+                    return Err("only a read_pixels, flush or finish is moved".into());
+                }
+                // To the end of the pass it cut short: just before the call that ends the
+                // pass drawing went on in.
+                let flushed = pass?;
+                let rest = report
+                    .passes()
+                    .find(|p| {
+                        p.frame == flushed.frame && p.framebuffer == flushed.framebuffer && p.index > flushed.index
+                    })
+                    .ok_or("no pass after the flush")?;
+                let to = rest.ended_at;
+                if to.frame != at.frame || to.call <= at.call {
+                    return Err("the pass does not end later in the frame".into());
+                }
+                // Before a swap, the window's depth and stencil would be stored with its
+                // colour, though the swap would have thrown them away: invalidate them first.
+                let window =
+                    rest.framebuffer == 0 && !rest.window_preserved && matches!(self.call(to), Some(Call::SwapBuffers));
+                let discarded: Vec<AttachmentPoint> = rest
+                    .attachments
+                    .iter()
+                    .filter(|a| a.role == crate::report::Role::Attached && a.slot != Slot::Color(0))
+                    .map(|a| attachment_point(a.slot))
+                    .collect();
+                if window && !discarded.is_empty() {
+                    self.before(to, vec![Call::Invalidate { attachments: discarded }])?;
+                }
+                let call = at.call as usize;
+                self.move_before(at.frame as usize, call..call + 1, to)?;
+                let invalidated = if window { ", the window's depth and stencil invalidated first" } else { "" };
+                Ok(format!("move {at} to just before {to}, the end of the pass{invalidated}"))
+            }
+            _ => Err(format!("{} has no automatic fix: it changes the frame's content", finding.id)),
+        }
+    }
+
+    fn check(&self, at: CallRef) -> Result<(), String> {
+        let frame = self.frames.get(at.frame as usize).ok_or_else(|| format!("no frame {}", at.frame))?;
+        if at.call as usize > frame.len() {
+            return Err(format!("no call {at}"));
+        }
+        Ok(())
+    }
+
+    fn before(&mut self, at: CallRef, calls: Vec<Call>) -> Result<(), String> {
+        self.check(at)?;
+        self.edits[at.frame as usize].before.push((at.call as usize, calls));
+        Ok(())
+    }
+
+    fn after(&mut self, at: CallRef, calls: Vec<Call>) -> Result<(), String> {
+        self.check(at)?;
+        self.edits[at.frame as usize].after.push((at.call as usize, calls));
+        Ok(())
+    }
+
+    /// Moves calls `range` of `frame` to just before `to` (in the same frame; `to.call` may
+    /// be the frame's length: its end).
+    fn move_before(&mut self, frame: usize, range: std::ops::Range<usize>, to: CallRef) -> Result<(), String> {
+        self.check(to)?;
+        let edits = &mut self.edits[frame];
+        if edits.moved.iter().any(|m| m.start < range.end && range.start < m.end) || range.contains(&(to.call as usize))
+        {
+            return Err("the calls are already moved".into());
+        }
+        let calls = self.frames[frame][range.clone()].to_vec();
+        edits.moved.push(range);
+        edits.before.push((to.call as usize, calls));
+        Ok(())
+    }
+
+    /// The trace with every recorded fix applied (each frame once: repeats expanded).
+    pub fn fixed(&self, trace: &Trace) -> Trace {
+        let mut frames = Vec::with_capacity(self.frames.len());
+        for (calls, edits) in self.frames.iter().zip(&self.edits) {
+            let mut out = Vec::with_capacity(calls.len() + 4);
+            let at = |list: &Vec<(usize, Vec<Call>)>, i: usize, out: &mut Vec<Call>| {
+                for (_, calls) in list.iter().filter(|(j, _)| *j == i) {
+                    out.extend(calls.iter().cloned());
+                }
+            };
+            for (i, call) in calls.iter().enumerate() {
+                at(&edits.before, i, &mut out);
+                if !edits.moved.iter().any(|m| m.contains(&i)) {
+                    out.push(call.clone());
+                }
+                at(&edits.after, i, &mut out);
+            }
+            at(&edits.before, calls.len(), &mut out);
+            frames.push(TraceFrame { repeat: 1, calls: out });
+        }
+        Trace { description: trace.description.clone(), config: trace.config.clone(), frames }
+    }
+}
+
+/// The attachment a `store-unread` finding is about: the first of the pass's slots its
+/// message names (`stored the depth of …`).
+fn slot_in(message: &str, pass: &PassRecord) -> Option<Slot> {
+    pass.attachments.iter().map(|a| a.slot).find(|slot| message.contains(&format!("stored the {slot} of")))
+}
+
+fn attachment_point(slot: Slot) -> AttachmentPoint {
+    match slot {
+        Slot::Color(0) => AttachmentPoint::Color0,
+        Slot::Color(1) => AttachmentPoint::Color1,
+        Slot::Color(2) => AttachmentPoint::Color2,
+        Slot::Color(_) => AttachmentPoint::Color3,
+        Slot::Depth => AttachmentPoint::Depth,
+        Slot::Stencil => AttachmentPoint::Stencil,
+    }
+}
