@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use tiler::{DevicePreset, FrameCost, Ledger};
+use tiler_gl::advisor::what_if;
 use tiler_gl::capture::{self, ReplayOptions};
 use tiler_gl::report::{FrameRecord, PassRecord};
 use tiler_gl::{ContextConfig, Limits, Report as GlReport, Trace, text_report};
@@ -51,6 +52,13 @@ pub struct AnalyzeArgs {
     /// Write every presented frame of a capture as DIR/frame-NNNN.png (0-based).
     #[arg(long, value_name = "DIR")]
     pub frames: Option<PathBuf>,
+
+    /// Prove the advice: apply each finding's fix to the trace (invalidate before the unbind,
+    /// clear after the bind, bind each framebuffer once, read back at the end of the pass),
+    /// replay it on each device, and report the bytes it saved beside the estimate and
+    /// whether the picture is unchanged. JSON traces only.
+    #[arg(long)]
+    pub what_if: bool,
 }
 
 /// The window's last picture: width, height, RGBA8 rows top first.
@@ -61,6 +69,8 @@ struct Replayed {
     preset: DevicePreset,
     report: GlReport,
     picture: Picture,
+    /// The configuration it ran with.
+    config: ContextConfig,
 }
 
 pub fn run(args: &AnalyzeArgs) -> Result<()> {
@@ -96,6 +106,9 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
     let capture = is_capture(&args.trace)?;
     if !capture && args.frames.is_some() {
         bail!("--frames is for apitrace captures; {} is a JSON trace", args.trace.display());
+    }
+    if capture && args.what_if {
+        bail!("--what-if edits a JSON trace's calls; {} is an apitrace capture", args.trace.display());
     }
     let mut trace = if capture {
         None
@@ -137,7 +150,15 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
                 first.preset.name
             );
         }
-        replays.push(Replayed { preset, report, picture });
+        replays.push(Replayed { preset, report, picture, config });
+    }
+    if args.what_if {
+        let Some(trace) = &trace else {
+            bail!("--what-if edits a JSON trace's calls; {} is an apitrace capture", args.trace.display());
+        };
+        for replayed in &mut replays {
+            what_if(trace, replayed, &args.trace)?;
+        }
     }
 
     let first = &replays[0];
@@ -152,6 +173,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
     if !shared {
         // Files first, so output piped into `head` cannot lose them.
         print!("{}", text_report(&first.report));
+        print!("{}", what_if_text(&first.report.findings));
         return Ok(());
     }
     let report = shared_report(&args.trace, &replays, args.report.fps)?;
@@ -160,6 +182,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
     if replays.len() > 1 {
         print!("{}", findings_per_device(&report));
     }
+    print!("{}", what_if_text(&report.findings));
     report_args::print_table(&report, &lines);
     Ok(())
 }
@@ -178,6 +201,63 @@ fn replay_trace(
     let replay = replayed.with_context(|| format!("replaying {}", path.display()))?;
     let picture = (config.width, config.height, replay.context.surface_rgba8());
     Ok((replay.report, picture, config))
+}
+
+/// Applies each finding's fix alone to the trace, replays it as `replayed` ran, and records
+/// what it saved and whether the picture stayed the same in the finding.
+fn what_if(trace: &Trace, replayed: &mut Replayed, path: &Path) -> Result<()> {
+    let before = replayed.report.totals.ledger.total();
+    let mut results = Vec::with_capacity(replayed.report.findings.len());
+    for finding in &replayed.report.findings {
+        let mut fixer = what_if::Fixer::new(trace).map_err(anyhow::Error::msg).context("--what-if")?;
+        let mut result = tiler_report::WhatIf {
+            device: replayed.preset.name.clone(),
+            estimated_bytes: finding.cost_bytes,
+            ..Default::default()
+        };
+        match fixer.add(finding, &replayed.report) {
+            Ok(fix) => {
+                let mut fixed = fixer.fixed(trace);
+                fixed.config = replayed.config.clone();
+                let replay =
+                    fixed.replay().with_context(|| format!("--what-if: replaying {} with '{fix}'", path.display()))?;
+                let after = replay.report.totals.ledger.total();
+                result.fix = fix;
+                result.applied = true;
+                result.measured_bytes = Some(before as i64 - after as i64);
+                result.same_picture = Some(replay.context.surface_rgba8() == replayed.picture.2);
+            }
+            Err(why) => result.fix = why,
+        }
+        results.push(result);
+    }
+    for (finding, result) in replayed.report.findings.iter_mut().zip(results) {
+        finding.what_if.push(result);
+    }
+    Ok(())
+}
+
+/// Each fix tried: the bytes it saved beside the estimate, and whether the picture held.
+fn what_if_text(findings: &[tiler_report::Finding]) -> String {
+    let mut out = String::new();
+    for finding in findings {
+        for w in &finding.what_if {
+            if out.is_empty() {
+                out.push_str("\nwhat if (each fix applied alone and the frame replayed):\n");
+            }
+            let line = match (w.measured_bytes, w.same_picture) {
+                (Some(measured), Some(same)) => format!(
+                    "{}: measured {measured} B saved, estimated {} B; {} picture",
+                    w.fix,
+                    w.estimated_bytes.unwrap_or(0),
+                    if same { "same" } else { "a DIFFERENT" }
+                ),
+                _ => format!("not tried: {}", w.fix),
+            };
+            out.push_str(&format!("  {} ({}) on {}: {line}\n", finding.id, finding.location.describe(), w.device));
+        }
+    }
+    out
 }
 
 /// Whether the file starts as an apitrace capture does (only a regular file is opened).

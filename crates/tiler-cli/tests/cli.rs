@@ -348,3 +348,30 @@ fn render_reports_findings_the_scene_earns() {
     let cost = |device: &str| costs.iter().find(|c| c["device"] == device).unwrap()["cost_bytes"].as_u64().unwrap();
     assert!(cost("tbr") > cost("imr") && cost("imr") > 0, "{costs:?}");
 }
+
+/// `tiler analyze --what-if` replays each fix and writes what it saved beside the estimate,
+/// per device; on a device without transaction elimination the two agree.
+#[test]
+fn analyze_what_if_measures_each_fix() {
+    let dir = scratch("analyze-what-if");
+    let json = dir.join("r.json");
+    let trace = example_trace("rebind-bad.json");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let out = tiler(&["analyze", &s(&trace), "--devices", "tbdr,imr", "--what-if", "--report", &s(&json)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("what if"), "{stdout}");
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let findings = doc["findings"].as_array().unwrap();
+    assert_eq!(findings.len(), 3);
+    for f in findings {
+        let tried = f["what_if"].as_array().unwrap();
+        assert_eq!(tried.len(), 1, "tbdr only: imr has no rebind finding");
+        assert_eq!(tried[0]["device"], "tbdr");
+        assert_eq!(tried[0]["applied"], true);
+        assert_eq!(tried[0]["same_picture"], true);
+        assert_eq!(tried[0]["measured_bytes"].as_i64().unwrap(), f["cost_bytes"].as_i64().unwrap());
+    }
+    let out = tiler(&["analyze", &s(&trace), "--what-if", "--gl-report", &s(&trace)]);
+    assert!(!out.status.success(), "an input named as output is refused");
+}

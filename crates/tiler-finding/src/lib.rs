@@ -117,6 +117,29 @@ pub struct Finding {
     /// nothing is not listed. Empty for a report of one device.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub costs: Vec<DeviceCost>,
+    /// The fix tried (`tiler analyze --what-if`): applied to the frame and replayed on each
+    /// device, or why it could not be.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub what_if: Vec<WhatIf>,
+}
+
+/// A finding's fix applied to the frame and the frame replayed on one device.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WhatIf {
+    /// The device's label in the report.
+    pub device: String,
+    /// The edit made to the frame, or why there is none.
+    pub fix: String,
+    /// Whether the fix was applied and the frame replayed.
+    pub applied: bool,
+    /// External-memory bytes the replay with the fix moved fewer than the frame as it was
+    /// (negative: more); `null` when not applied.
+    pub measured_bytes: Option<i64>,
+    /// The finding's estimate on this device, bytes.
+    pub estimated_bytes: Option<u64>,
+    /// Whether the replay presented the same last picture, bit for bit.
+    pub same_picture: Option<bool>,
 }
 
 /// What a finding costs on one device.
@@ -134,10 +157,12 @@ pub struct DeviceCost {
 }
 
 impl Finding {
-    /// The same finding: the same rule at the same place (its costs and text may differ
-    /// from device to device).
+    /// The same finding: the same rule at the same place about the same thing — its message
+    /// equal but for its figures, which differ from device to device (two findings at one
+    /// place, e.g. the depth and the stencil stored unread, stay two).
     pub fn same_as(&self, other: &Finding) -> bool {
-        self.id == other.id && self.location == other.location
+        let words = |text: &str| text.chars().filter(|c| !c.is_ascii_digit() && *c != '.').collect::<String>();
+        self.id == other.id && self.location == other.location && words(&self.message) == words(&other.message)
     }
 
     /// What it costs, as the device `device` prices it.
@@ -159,7 +184,10 @@ pub fn merge_per_device(per_device: &[(String, Vec<Finding>)]) -> Vec<Finding> {
     for (device, findings) in per_device {
         for finding in findings {
             match merged.iter_mut().find(|m| m.same_as(finding)) {
-                Some(m) => m.costs.push(finding.cost_on(device)),
+                Some(m) => {
+                    m.costs.push(finding.cost_on(device));
+                    m.what_if.extend(finding.what_if.iter().cloned());
+                }
                 None => {
                     let mut first = finding.clone();
                     first.costs = vec![finding.cost_on(device)];
@@ -187,6 +215,7 @@ mod tests {
             message: "loads".into(),
             advice: "clear".into(),
             costs: Vec::new(),
+            what_if: Vec::new(),
         }
     }
 
@@ -223,7 +252,7 @@ mod tests {
         let mut cheaper = finding();
         cheaper.cost_bytes = Some(1024);
         let mut other = finding();
-        other.id = "store-unread".into();
+        other.message = "stencil loads".into();
         let merged = merge_per_device(&[
             ("tbr".into(), vec![finding(), other.clone()]),
             ("tbdr".into(), vec![cheaper]),

@@ -320,9 +320,10 @@ fn findings(html: &mut String, document: &Document) {
         if !per_device.is_empty() {
             meta.push(per_device);
         }
+        let tried = what_if_lines(finding);
         let _ = write!(
             html,
-            "<div class=\"finding\"><span class=\"badge {severity}\">{severity}</span><span class=\"id\">{}</span><p>{}</p><p><b>Advice:</b> {}</p><div class=\"meta\">{}</div></div>",
+            "<div class=\"finding\"><span class=\"badge {severity}\">{severity}</span><span class=\"id\">{}</span><p>{}</p><p><b>Advice:</b> {}</p>{tried}<div class=\"meta\">{}</div></div>",
             escape(&finding.id),
             with_code(&finding.message),
             with_code(&finding.advice),
@@ -330,6 +331,34 @@ fn findings(html: &mut String, document: &Document) {
         );
     }
     html.push_str("</section>\n");
+}
+
+/// The finding's fix, applied and replayed on each device (`tiler analyze --what-if`): the
+/// bytes it saved beside the estimate and whether the picture held; empty when not tried.
+fn what_if_lines(finding: &crate::Finding) -> String {
+    if finding.what_if.is_empty() {
+        return String::new();
+    }
+    let mut html = String::from("<p><b>What if</b> (the fix applied and the frame replayed):</p><ul>");
+    for w in &finding.what_if {
+        let result = match (w.applied, w.measured_bytes, w.same_picture) {
+            (true, Some(measured), Some(same)) => format!(
+                "{}: <b>{}</b> (estimated {} B saved), {}",
+                escape(&w.fix),
+                if measured >= 0 {
+                    format!("{} B saved", format::count(measured as u64))
+                } else {
+                    format!("{} B more", format::count(measured.unsigned_abs()))
+                },
+                format::count(w.estimated_bytes.unwrap_or(0)),
+                if same { "same picture" } else { "<b>the picture changed</b>" }
+            ),
+            _ => format!("not tried: {}", escape(&w.fix)),
+        };
+        let _ = write!(html, "<li>on <b>{}</b>: {result}</li>", escape(&w.device));
+    }
+    html.push_str("</ul>");
+    html
 }
 
 /// What a finding costs on each device of the report, and on which it costs nothing:

@@ -32,7 +32,7 @@ pub use text::text_table;
 /// The findings a report shows, as `tiler_report::finding` (their own crate, shared with the
 /// advisors that produce them).
 pub use tiler_finding as finding;
-pub use tiler_finding::{CallAt, DeviceCost, Finding, Location, Rule, Severity};
+pub use tiler_finding::{CallAt, DeviceCost, Finding, Location, Rule, Severity, WhatIf};
 
 /// One frame of a scene on one or more devices, and what the advisor found in it.
 #[derive(Clone, Debug)]

@@ -296,6 +296,7 @@ fn finding() -> Finding {
         message: "The pass loads colour it then overwrites entirely.".into(),
         advice: "Clear the attachment (`LoadOp::Clear`) or invalidate it.".into(),
         costs: Vec::new(),
+        what_if: Vec::new(),
     }
 }
 

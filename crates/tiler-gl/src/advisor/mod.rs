@@ -135,6 +135,7 @@ impl Draft {
             message: self.detail,
             advice: self.fix,
             costs: Vec::new(),
+            what_if: Vec::new(),
         }
     }
 }
