@@ -68,6 +68,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     let mut columns: Vec<Column> = Vec::with_capacity(presets.len() * names.len());
     let mut scenes = Vec::with_capacity(names.len());
     let mut findings = Vec::with_capacity(columns.capacity());
+    let mut passes = Vec::with_capacity(names.len());
     for (name, source) in names.iter().zip(sources) {
         if let Some(line) = args.scene_args.describe(&source) {
             println!("{line}");
@@ -95,6 +96,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
             );
             if columns.len() == first_of_scene {
                 scenes.push(rendered.scene.clone());
+                passes.push(rendered.passes);
             }
             findings.push((rendered.column.label.clone(), rendered.findings));
             columns.push(rendered.column);
@@ -120,7 +122,9 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         );
     }
     let findings = tiler_report::finding::merge_per_device(&findings);
-    let report = Report { title, scene, fps: args.report.fps, columns, findings, passes: Vec::new() };
+    // Scene variants have passes of their own: the ops are shown for a single scene.
+    let passes = if passes.len() == 1 { passes.remove(0) } else { Vec::new() };
+    let report = Report { title, scene, fps: args.report.fps, columns, findings, passes };
     args.report.write_and_print(&report)
 }
 

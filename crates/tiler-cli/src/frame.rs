@@ -5,8 +5,8 @@
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
-use tiler::{Backend, Device, DeviceConfig, DevicePreset, FrameCost};
-use tiler_report::{Column, Rgba8Image, SceneInfo};
+use tiler::{Backend, Device, DeviceConfig, DevicePreset, FrameCost, ImageId, LoadOp, RenderPass, StoreOp};
+use tiler_report::{AttachmentInfo, Column, PassInfo, Rgba8Image, SceneInfo};
 use tiler_scene::Scene;
 
 /// A rendered frame and what is known about its scene.
@@ -19,6 +19,8 @@ pub struct Rendered {
     pub threads: usize,
     /// The advisor's findings about the frame, priced on this device.
     pub findings: Vec<tiler_report::Finding>,
+    /// Each pass's attachments and their load and store ops, as the scene gave them.
+    pub passes: Vec<PassInfo>,
 }
 
 /// How a column's device is set up beyond its preset.
@@ -76,6 +78,7 @@ pub fn render(
     let as_ran = DevicePreset { device: effective.clone(), ..preset.clone() };
     let findings =
         tiler_gl::advisor::advise_passes(&as_ran, &scene.passes, &frame.passes, &|id| device.image_desc(id).ok());
+    let passes = scene.passes.iter().map(|pass| pass_info(pass, &device)).collect();
     let image = Rgba8Image::new(scene.width, scene.height, pixels).map_err(anyhow::Error::msg)?;
     let info = SceneInfo {
         name: scene.name.clone(),
@@ -95,5 +98,72 @@ pub fn render(
         render_time,
         threads: device.threads(),
         findings,
+        passes,
     })
+}
+
+/// A pass as the scene gave it: its attachments and their ops (the scene chose them).
+fn pass_info(pass: &RenderPass, device: &Device) -> PassInfo {
+    fn load<T>(op: &LoadOp<T>) -> &'static str {
+        match op {
+            LoadOp::Load => "load",
+            LoadOp::Clear(_) => "clear",
+            LoadOp::DontCare => "dont_care",
+        }
+    }
+    fn store(op: StoreOp) -> &'static str {
+        match op {
+            StoreOp::Store => "store",
+            StoreOp::DontCare => "dont_care",
+        }
+    }
+    let desc = &pass.desc;
+    let format =
+        |id: ImageId| device.image_desc(id).map(|d| (d.format.name().to_string(), d.samples)).unwrap_or_default();
+    let chosen = "the scene's render pass chose it".to_string();
+    let mut attachments = Vec::new();
+    for (i, c) in desc.color.iter().enumerate() {
+        let (format, samples) = format(c.image);
+        let resolve = if c.resolve.is_some() { "; resolved in the tile" } else { "" };
+        attachments.push(AttachmentInfo {
+            slot: format!("color{i}"),
+            format,
+            samples,
+            load: load(&c.load).into(),
+            load_reason: chosen.clone(),
+            store: store(c.store).into(),
+            store_reason: format!("{chosen}{resolve}"),
+        });
+    }
+    if let Some(ds) = &desc.depth_stencil {
+        let (format, samples) = format(ds.image);
+        let aspects =
+            device.image_desc(ds.image).map(|d| (d.format.has_depth(), d.format.has_stencil())).unwrap_or_default();
+        let depth = ("depth", aspects.0, load(&ds.depth_load), store(ds.depth_store));
+        let stencil = ("stencil", aspects.1, load(&ds.stencil_load), store(ds.stencil_store));
+        for (slot, _, l, s) in [depth, stencil].into_iter().filter(|aspect| aspect.1) {
+            attachments.push(AttachmentInfo {
+                slot: slot.into(),
+                format: format.clone(),
+                samples,
+                load: l.into(),
+                load_reason: chosen.clone(),
+                store: s.into(),
+                store_reason: chosen.clone(),
+            });
+        }
+    }
+    PassInfo {
+        frame: 0,
+        target: desc
+            .color
+            .first()
+            .map(|c| c.image)
+            .or(desc.depth_stencil.map(|d| d.image))
+            .map(|id| id.to_string())
+            .unwrap_or_default(),
+        began: "submitted by the scene".into(),
+        ended: "the scene's next pass or the end of the frame".into(),
+        attachments,
+    }
 }

@@ -123,6 +123,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     );
 
     // The same frame on every other backend, for the cost table.
+    let passes = first.passes;
     let mut findings = vec![(first.column.label.clone(), first.findings)];
     let mut columns = vec![first.column];
     for other in Backend::ALL.into_iter().filter(|b| *b != backend) {
@@ -141,7 +142,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         fps: args.report.fps,
         columns,
         findings: tiler_report::finding::merge_per_device(&findings),
-        passes: Vec::new(),
+        passes,
     };
     args.report.write_and_print(&report)?;
     if let Some(reference) = &args.compare {

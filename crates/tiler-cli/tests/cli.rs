@@ -338,6 +338,10 @@ fn render_reports_findings_the_scene_earns() {
         ]);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        // The pass as the scene gave it: colour cleared and stored, depth cleared, not stored.
+        let ops = &doc["passes"][0]["attachments"];
+        assert_eq!((&ops[0]["load"], &ops[0]["store"]), (&"clear".into(), &"store".into()), "{ops}");
+        assert_eq!(ops[1]["slot"], "depth");
         doc["findings"].as_array().unwrap().clone()
     };
     assert_eq!(findings(4, 3), Vec::<serde_json::Value>::new(), "a coarse grid earns nothing");

@@ -99,7 +99,7 @@ body { margin: 0; background: var(--page); color: var(--ink);
 main { max-width: 1200px; margin: 0 auto; padding: 24px 20px 40px; }
 header h1 { font-size: 26px; margin: 0 0 2px; letter-spacing: -0.01em; }
 header p { margin: 0; color: var(--muted); }
-details { margin-top: 10px; } summary { cursor: pointer; font-weight: 600; }
+details { margin-top: 10px; } summary { cursor: pointer; font-weight: 600; } table.ops { margin-bottom: 12px; }
 section { background: var(--card); border: 1px solid var(--line); border-radius: 10px; padding: 18px 20px; margin-top: 18px; }
 h2 { font-size: 18px; margin: 0 0 4px; }
 h3 { font-size: 15px; margin: 16px 0 6px; }

@@ -46,8 +46,9 @@ pub struct Report {
     pub columns: Vec<Column>,
     /// The advisor's findings, if any.
     pub findings: Vec<Finding>,
-    /// Per render pass of the run (every column's passes, in order), how the driver inferred
-    /// it; empty when the frame was described as render passes.
+    /// Per render pass of the run (every column's passes, in order): its target, why it began
+    /// and ended, its attachments' ops and why (as a GL driver inferred them, or as a scene
+    /// gave them); empty when unknown.
     pub passes: Vec<PassInfo>,
 }
 

@@ -35,8 +35,8 @@ pub struct Document {
     /// Frames in the report: 1, or a run's length. With more than one, each column's `frame`
     /// is the run's totals and its per-second figures those of the average frame.
     pub frame_count: u64,
-    /// Per render pass of the run, how the driver inferred it (its target, why it began and
-    /// ended, each attachment's ops and why); absent when the frame was given as passes.
+    /// Per render pass of the run: its target, why it began and ended, each attachment's ops
+    /// and why (as a GL driver inferred them or a scene gave them); absent when unknown.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub passes: Vec<PassInfo>,
 }
