@@ -200,6 +200,15 @@ fn analyze_a_capture_writes_every_presented_frame() {
     assert_eq!(names, expected);
     let image = image::open(frames.join("frame-0005.png")).unwrap();
     assert_eq!((image.width(), image.height()), (800, 600));
+
+    // The capture on two devices: the shared report, one picture, a column per device.
+    let json = dir.join("r.json");
+    let out = tiler(&["analyze", trace.to_str().unwrap(), "--devices", "tbr,imr", "--report", json.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(doc["frame_count"], 6);
+    assert_eq!(doc["image"]["identical_across_columns"], true);
+    assert_eq!(doc["columns"].as_array().unwrap().len(), 2);
 }
 
 fn example_trace(name: &str) -> PathBuf {
