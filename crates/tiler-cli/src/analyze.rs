@@ -213,6 +213,7 @@ fn what_if(trace: &Trace, replayed: &mut Replayed, path: &Path) -> Result<()> {
         let mut result = tiler_report::WhatIf {
             device: replayed.preset.name.clone(),
             estimated_bytes: finding.cost_bytes,
+            estimated_fragments: finding.cost_fragments,
             ..Default::default()
         };
         match fixer.add(finding, &replayed.report) {
@@ -225,6 +226,8 @@ fn what_if(trace: &Trace, replayed: &mut Replayed, path: &Path) -> Result<()> {
                 result.fix = fix;
                 result.applied = true;
                 result.measured_bytes = Some(before as i64 - after as i64);
+                let shaded = |r: &GlReport| r.totals.counters.fragments_shaded as i64;
+                result.measured_fragments = Some(shaded(&replayed.report) - shaded(&replay.report));
                 result.same_picture = Some(replay.context.surface_rgba8() == replayed.picture.2);
             }
             Err(why) => result.fix = why,
@@ -247,9 +250,11 @@ fn what_if_text(findings: &[tiler_report::Finding]) -> String {
             }
             let line = match (w.measured_bytes, w.same_picture) {
                 (Some(measured), Some(same)) => format!(
-                    "{}: measured {measured} B saved, estimated {} B; {} picture",
+                    "{}: measured {measured} B and {} fragments saved, estimated {} B and {}; {} picture",
                     w.fix,
+                    w.measured_fragments.unwrap_or(0),
                     w.estimated_bytes.unwrap_or(0),
+                    w.estimated_fragments.unwrap_or(0),
                     if same { "same" } else { "a DIFFERENT" }
                 ),
                 _ => format!("not tried: {}", w.fix),

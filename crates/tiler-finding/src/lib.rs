@@ -138,6 +138,13 @@ pub struct WhatIf {
     pub measured_bytes: Option<i64>,
     /// The finding's estimate on this device, bytes.
     pub estimated_bytes: Option<u64>,
+    /// Fragments the replay with the fix shaded fewer (negative: more); `null` when not
+    /// applied.
+    #[serde(default)]
+    pub measured_fragments: Option<i64>,
+    /// The finding's estimate on this device, fragments.
+    #[serde(default)]
+    pub estimated_fragments: Option<u64>,
     /// Whether the replay presented the same last picture, bit for bit.
     pub same_picture: Option<bool>,
 }

@@ -342,17 +342,33 @@ fn what_if_lines(finding: &crate::Finding) -> String {
     let mut html = String::from("<p><b>What if</b> (the fix applied and the frame replayed):</p><ul>");
     for w in &finding.what_if {
         let result = match (w.applied, w.measured_bytes, w.same_picture) {
-            (true, Some(measured), Some(same)) => format!(
-                "{}: <b>{}</b> (estimated {} B saved), {}",
-                escape(&w.fix),
-                if measured >= 0 {
-                    format!("{} B saved", format::count(measured as u64))
-                } else {
-                    format!("{} B more", format::count(measured.unsigned_abs()))
-                },
-                format::count(w.estimated_bytes.unwrap_or(0)),
-                if same { "same picture" } else { "<b>the picture changed</b>" }
-            ),
+            (true, Some(measured), Some(same)) => {
+                let saved = |n: i64, unit: &str| {
+                    if n >= 0 {
+                        format!("{} {unit} saved", format::count(n as u64))
+                    } else {
+                        format!("{} {unit} more", format::count(n.unsigned_abs()))
+                    }
+                };
+                let mut figures = vec![format!(
+                    "<b>{}</b> (estimated {})",
+                    saved(measured, "B"),
+                    format::count(w.estimated_bytes.unwrap_or(0))
+                )];
+                if w.estimated_fragments.is_some() || w.measured_fragments.is_some_and(|n| n != 0) {
+                    figures.push(format!(
+                        "<b>{}</b> (estimated {})",
+                        saved(w.measured_fragments.unwrap_or(0), "fragments"),
+                        format::count(w.estimated_fragments.unwrap_or(0))
+                    ));
+                }
+                format!(
+                    "{}: {}, {}",
+                    escape(&w.fix),
+                    figures.join(", "),
+                    if same { "same picture" } else { "<b>the picture changed</b>" }
+                )
+            }
             _ => format!("not tried: {}", escape(&w.fix)),
         };
         let _ = write!(html, "<li>on <b>{}</b>: {result}</li>", escape(&w.device));

@@ -8,7 +8,9 @@
 //! the bind; `framebuffer-rebound` moves the other framebuffers' work (the calls between the
 //! two bindings) before the first binding; `flush-mid-pass` moves the flushing call (a read
 //! of pixels, a flush, a finish) to the end of the pass it cut short — before a swap, after
-//! invalidating the window's depth and stencil, which the swap would throw away anyway. The other rules change the content
+//! invalidating the window's depth and stencil, which the swap would throw away anyway;
+//! `unsorted-opaque` reverses the order of the pass's opaque draws (each with the state calls
+//! before it), the usual back-to-front submission turned front to back. The other rules change the content
 //! of the frame (geometry, shaders, draw order, formats) and have no automatic fix.
 
 use super::{Finding, RuleId};
@@ -160,8 +162,70 @@ impl Fixer {
                 let invalidated = if window { ", the window's depth and stencil invalidated first" } else { "" };
                 Ok(format!("move {at} to just before {to}, the end of the pass{invalidated}"))
             }
+            RuleId::UnsortedOpaque => {
+                let pass = pass?;
+                self.reverse_opaque_draws(pass)?;
+                Ok(format!(
+                    "reverse the order of the {} opaque draws of pass {} (back to front becomes front to back)",
+                    pass.draws.len(),
+                    pass.index
+                ))
+            }
             _ => Err(format!("{} has no automatic fix: it changes the frame's content", finding.id)),
         }
+    }
+
+    /// Reverses the order of a pass's draws, each with the state calls just before it (the
+    /// calls since the draw before it, or since the pass's last clear or bind for the first).
+    /// Only for a pass whose draws are all opaque application draws in one frame, each
+    /// setting its own state: a draw relying on state an earlier draw set would change.
+    fn reverse_opaque_draws(&mut self, pass: &PassRecord) -> Result<(), String> {
+        use crate::report::DrawKind;
+        let opaque = |d: &crate::report::DrawRecord| {
+            d.kind == DrawKind::Draw && d.depth_test && d.depth_write && !d.blend && !d.discards
+        };
+        if pass.draws.len() < 2 || !pass.draws.iter().all(opaque) {
+            return Err("only a pass of opaque draws alone is reordered".into());
+        }
+        let frame = pass.draws[0].call.frame;
+        if pass.draws.iter().any(|d| d.call.frame != frame) || pass.started_at.frame != frame {
+            return Err("the pass spans frames".into());
+        }
+        let calls = &self.frames[frame as usize];
+        let first = pass.draws[0].call.call as usize;
+        let mut start = first;
+        while start > pass.started_at.call as usize + 1
+            && !matches!(
+                calls.get(start - 1),
+                Some(
+                    Call::Clear { .. }
+                        | Call::BindFramebuffer { .. }
+                        | Call::DrawArrays { .. }
+                        | Call::DrawElements { .. }
+                )
+            )
+        {
+            start -= 1;
+        }
+        let mut segments = Vec::with_capacity(pass.draws.len());
+        let mut from = start;
+        for d in &pass.draws {
+            let end = d.call.call as usize + 1;
+            segments.push(calls[from..end].to_vec());
+            from = end;
+        }
+        // Each draw must set what it draws with: its vertex data (its own attribute pointer).
+        if segments.iter().any(|s| !s.iter().any(|c| matches!(c, Call::VertexAttribPointer { .. }))) {
+            return Err("a draw relies on vertex state set by the one before it".into());
+        }
+        let reordered: Vec<Call> = segments.into_iter().rev().flatten().collect();
+        let edits = &mut self.edits[frame as usize];
+        if edits.moved.iter().any(|m| m.start < from && start < m.end) {
+            return Err("the calls are already moved".into());
+        }
+        edits.moved.push(start..from);
+        edits.before.push((start, reordered));
+        Ok(())
     }
 
     fn check(&self, at: CallRef) -> Result<(), String> {

@@ -451,7 +451,7 @@ fn every_backend_draws_the_same_pictures() {
 #[test]
 fn each_fix_applied_to_the_bad_form_costs_what_the_good_form_costs() {
     use tiler_gl::advisor::what_if::Fixer;
-    for name in ["clear", "rebind", "invalidate", "readback"] {
+    for name in ["clear", "rebind", "invalidate", "readback", "sort"] {
         let trace = Trace::read(&traces().join(format!("{name}-bad.json"))).unwrap();
         let limits = Limits { threads: Some(1), ..Limits::default() };
         let bad = trace.replay_with(limits).unwrap();
@@ -467,6 +467,8 @@ fn each_fix_applied_to_the_bad_form_costs_what_the_good_form_costs() {
             let fixed = one.fixed(&trace).replay_with(limits).unwrap_or_else(|e| panic!("{name}: {what}: {e}"));
             assert_eq!(fixed.context.surface_rgba8(), bad.context.surface_rgba8(), "{name}: {what}: the picture");
             assert_eq!(total(&bad) - total(&fixed), f.cost_bytes.unwrap_or(0), "{name}: {what}: measured vs estimate");
+            let shaded = |r: &Replay| r.report.totals.counters.fragments_shaded;
+            assert_eq!(shaded(&bad) - shaded(&fixed), f.cost_fragments.unwrap_or(0), "{name}: {what}: fragments");
         }
         assert!(fixed_findings > 0, "{name}: nothing fixed");
         let fixed = all.fixed(&trace).replay_with(limits).unwrap();
