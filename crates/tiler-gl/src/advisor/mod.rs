@@ -34,6 +34,14 @@
 //! shading but no kept loads. `tiler analyze --devices` replays a run on each device and
 //! lists each finding with what it costs on each.
 //!
+//! # Every frame source, and proof by re-running
+//!
+//! Frames given as render passes (glTF, built-in scenes, the Rust API) are judged by the same
+//! rules through [`advise_passes`]. [`what_if`] applies a finding's fix to a trace's calls so
+//! the run can be replayed with it: on the example pairs each fix saves exactly its estimate
+//! on a device without transaction elimination (with it, stores of unchanged tiles were
+//! already skipped and the measured saving is smaller).
+//!
 //! # Structure
 //!
 //! Each rule is one [`RuleId`] (its name, severity and seed section, in `rules.rs`) and one
