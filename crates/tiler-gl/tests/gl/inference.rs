@@ -845,3 +845,40 @@ fn a_multisampled_window_resolves_before_presenting() {
     assert!(image.chunks(4).any(|p| p[0] > 0 && p[0] < 255), "some pixels are partly covered");
     assert!(report.findings.is_empty(), "{:#?}", report.findings);
 }
+
+/// Seed 001 on a preserved window: the frame clears and redraws only a scissored region. The
+/// pass covers only the box (colour loaded and stored there alone), and the advice keeps
+/// the scissor or uses a tiled region — a full clear would erase the rest of the window.
+#[test]
+fn a_scissored_redraw_of_a_preserved_window_covers_only_the_box() {
+    let mut gl = window();
+    c(&mut gl, Call::SwapBehavior { behavior: SwapBehavior::Preserved });
+    clear_all(&mut gl);
+    draw(&mut gl, 6);
+    swap(&mut gl);
+    let before = gl.surface_rgba8();
+    // GL's bottom-left 16×16 pixels: tiler rows 48..64.
+    c(&mut gl, Call::Scissor { x: 0, y: 0, width: 16, height: 16 });
+    c(&mut gl, Call::Enable { cap: Capability::ScissorTest });
+    c(&mut gl, Call::ClearColor { rgba: [0.0, 1.0, 0.0, 1.0] });
+    clear_all(&mut gl);
+    draw(&mut gl, 6);
+    swap(&mut gl);
+    let after = gl.surface_rgba8();
+    let report = gl.end().unwrap();
+    let p = &report.frames[1].passes[0];
+    assert_eq!(p.render_area, Some(tiler::Rect::new(0, 48, 16, 16)));
+    assert_eq!(load(p), 16 * 16 * 4, "only the box's colour is loaded");
+    assert_eq!(store(p), 16 * 16 * 4, "and stored");
+    // Outside the box the window kept the first frame's picture.
+    for (i, (a, b)) in before.chunks(4).zip(after.chunks(4)).enumerate() {
+        let (x, y) = (i % 64, i / 64);
+        if x >= 16 || y < 48 {
+            assert_eq!(a, b, "({x}, {y})");
+        }
+    }
+    let f: Vec<_> = report.findings_with("partial-clear").collect();
+    assert_eq!(f.len(), 1);
+    assert!(f[0].advice.contains("the window is preserved"), "{}", f[0].advice);
+    assert!(f[0].advice.starts_with("to redraw only the 16×16 region at (0, 0)"), "{}", f[0].advice);
+}
