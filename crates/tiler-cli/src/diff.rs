@@ -28,6 +28,12 @@ pub struct DiffArgs {
     /// others red, brighter the larger the difference).
     #[arg(long)]
     pub out: Option<PathBuf>,
+
+    /// Compare colour only: alpha is taken as opaque in both pictures. For a replayed capture's
+    /// frames against `eglretrace` snapshots, which are RGB (the window's alpha is whatever the
+    /// application wrote, and no display shows it).
+    #[arg(long)]
+    pub color_only: bool,
 }
 
 /// Prints the comparison; fails (exit status 1) when too few pixels match.
@@ -38,8 +44,13 @@ pub fn run(args: &DiffArgs) -> Result<()> {
     if let Some(out) = &args.out {
         crate::files::check_png("--out", out, &[args.ours.clone(), args.reference.clone()])?;
     }
-    let (width, height, ours) = read_png(&args.ours).map_err(|e| anyhow!(e))?;
-    let (rw, rh, reference) = read_png(&args.reference).map_err(|e| anyhow!(e))?;
+    let (width, height, mut ours) = read_png(&args.ours).map_err(|e| anyhow!(e))?;
+    let (rw, rh, mut reference) = read_png(&args.reference).map_err(|e| anyhow!(e))?;
+    if args.color_only {
+        for picture in [&mut ours, &mut reference] {
+            picture.iter_mut().skip(3).step_by(4).for_each(|alpha| *alpha = 255);
+        }
+    }
     if (width, height) != (rw, rh) {
         bail!("{} is {width}×{height} but {} is {rw}×{rh}", args.ours.display(), args.reference.display());
     }

@@ -161,6 +161,12 @@ fn diff_holds_pictures_to_the_reference_tolerance() {
     let small = write("small.png", &[[0, 0, 0, 255]; 3]);
     let out = tiler(&["diff", &s(&small), &s(&reference)]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("is 3×1 but"));
+    // The same colours with another alpha differ, unless only colour is compared.
+    let translucent = write("translucent.png", &[[100, 100, 100, 0]; 100]);
+    assert!(!tiler(&["diff", &s(&translucent), &s(&reference)]).status.success());
+    let out = tiler(&["diff", &s(&translucent), &s(&reference), "--color-only"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("100.000% of pixels within 8/255"));
 }
 
 #[test]

@@ -334,6 +334,31 @@ fn uniform_array_capture(before_draw: impl FnOnce(&mut Writer), extra: impl FnOn
     let mut w = Writer::new(6);
     window_surface(&mut w);
     begin_context(&mut w, 100, 4, 4);
+    let fragment = "precision mediump float;\nuniform vec4 colors[3];\nvoid main() { gl_FragColor = colors[2]; }\n";
+    full_window_program(
+        &mut w,
+        "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n",
+        fragment,
+    );
+    w.call("glGetUniformLocation", &[("program", W::UInt(7)), ("name", W::Str("colors"))], Some(W::UInt(3)), false);
+    let values = [1.0f32, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.2, 0.4, 0.6, 1.0].map(W::Float).to_vec();
+    w.call(
+        "glUniform4fv",
+        &[("location", W::UInt(3)), ("count", W::UInt(3)), ("value", W::Array(values))],
+        None,
+        false,
+    );
+    before_draw(&mut w);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    extra(&mut w);
+    let swap = swap(&mut w);
+    (w, swap)
+}
+
+/// A full-window triangle in buffer 1, read by attribute `where` (recorded at location 5) of
+/// program 7, linked from `vertex` and `fragment` and in use.
+fn full_window_program(w: &mut Writer, vertex: &'static str, fragment: &'static str) {
     let triangle: Vec<u8> = [-1.0f32, -1.0, 3.0, -1.0, -1.0, 3.0].iter().flat_map(|v| v.to_le_bytes()).collect();
     w.call("glGenBuffers", &[("n", W::UInt(1)), ("buffers", W::Array(vec![W::UInt(1)]))], None, false);
     w.call("glBindBuffer", &[("target", e("GL_ARRAY_BUFFER", 0x8892)), ("buffer", W::UInt(1))], None, false);
@@ -349,20 +374,7 @@ fn uniform_array_capture(before_draw: impl FnOnce(&mut Writer), extra: impl FnOn
         false,
     );
     w.call("glCreateProgram", &[], Some(W::UInt(7)), false);
-    let shaders = [
-        (
-            0x8b31,
-            "GL_VERTEX_SHADER",
-            2,
-            "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n",
-        ),
-        (
-            0x8b30,
-            "GL_FRAGMENT_SHADER",
-            3,
-            "precision mediump float;\nuniform vec4 colors[3];\nvoid main() { gl_FragColor = colors[2]; }\n",
-        ),
-    ];
+    let shaders = [(0x8b31, "GL_VERTEX_SHADER", 2, vertex), (0x8b30, "GL_FRAGMENT_SHADER", 3, fragment)];
     for (kind, kind_name, shader, source) in shaders {
         w.call("glCreateShader", &[("type", e(kind_name, kind))], Some(W::UInt(shader)), false);
         let strings = W::Array(vec![W::Str(source)]);
@@ -378,14 +390,6 @@ fn uniform_array_capture(before_draw: impl FnOnce(&mut Writer), extra: impl FnOn
     w.call("glLinkProgram", &[("program", W::UInt(7))], None, false);
     w.call("glUseProgram", &[("program", W::UInt(7))], None, false);
     w.call("glGetAttribLocation", &[("program", W::UInt(7)), ("name", W::Str("where"))], Some(W::UInt(5)), false);
-    w.call("glGetUniformLocation", &[("program", W::UInt(7)), ("name", W::Str("colors"))], Some(W::UInt(3)), false);
-    let values = [1.0f32, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.2, 0.4, 0.6, 1.0].map(W::Float).to_vec();
-    w.call(
-        "glUniform4fv",
-        &[("location", W::UInt(3)), ("count", W::UInt(3)), ("value", W::Array(values))],
-        None,
-        false,
-    );
     w.call("glEnableVertexAttribArray", &[("index", W::UInt(5))], None, false);
     w.call(
         "glVertexAttribPointer",
@@ -400,12 +404,6 @@ fn uniform_array_capture(before_draw: impl FnOnce(&mut Writer), extra: impl FnOn
         None,
         false,
     );
-    before_draw(&mut w);
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
-    extra(&mut w);
-    let swap = swap(&mut w);
-    (w, swap)
 }
 
 #[test]
@@ -465,4 +463,31 @@ fn a_mipmap_filter_draws_once_mipmaps_are_generated_and_fails_naming_the_draw_be
     let (result, frames) = replay(&w);
     result.unwrap();
     assert_eq!(frames[0].4, solid(4, 4, [51, 102, 153, 255]));
+}
+
+#[test]
+fn vertex_shader_fetches_are_filtered_as_the_texture_says() {
+    // A height map read in the vertex shader, as glmark2's terrain reads one: a 2×1 texture
+    // (black, grey 200) fetched half way between its texels. GL samples at level of detail 0,
+    // so the magnification filter decides: linear blends the two, nearest takes the second.
+    let capture = |mag: (&'static str, u32)| {
+        let mut w = Writer::new(6);
+        window_surface(&mut w);
+        begin_context(&mut w, 100, 4, 4);
+        texture_rgb(&mut w, 4, 2, 1, vec![0, 0, 0, 200, 200, 200, 0, 0]);
+        tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), mag);
+        tex_parameter(&mut w, ("GL_TEXTURE_MAG_FILTER", 0x2800), mag);
+        let vertex = "attribute vec2 where;\nuniform sampler2D height;\nvarying vec4 fetched;\n\
+                      void main() { fetched = texture2D(height, vec2(0.5, 0.5)); gl_Position = vec4(where, 0.0, 1.0); }\n";
+        let fragment = "precision mediump float;\nvarying vec4 fetched;\nvoid main() { gl_FragColor = fetched; }\n";
+        full_window_program(&mut w, vertex, fragment);
+        let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+        w.call("glDrawArrays", &draw, None, false);
+        swap(&mut w);
+        let (result, frames) = replay(&w);
+        result.unwrap();
+        frames[0].4.clone()
+    };
+    assert_eq!(capture(("GL_LINEAR", 0x2601)), solid(4, 4, [100, 100, 100, 255]));
+    assert_eq!(capture(("GL_NEAREST", 0x2600)), solid(4, 4, [200, 200, 200, 255]));
 }

@@ -48,8 +48,10 @@
 //! them. A program's recorded locations (a trace's `glGetUniformLocation` results) map to
 //! these by name. Sampler uniforms hold texture units; each unit is a [`TextureBinding`]: a
 //! core texture sampled through `Fragments::sample` (counted in the texture-cache model) or
-//! the caller's [`TextureSource`]. A vertex shader reads a core texture's nearest texel of
-//! the requested level, uncounted; a bias applies per 4×2 group (its first lane's).
+//! the caller's [`TextureSource`]. A vertex shader reads a core texture filtered at level of
+//! detail 0 (GL's rule: the magnification filter on level 0) or at its explicit level, and an
+//! explicit level in a fragment shader reads the same way, all uncounted; a bias applies per
+//! 4×2 group (its first lane's).
 //!
 //! # IR and executor
 //!

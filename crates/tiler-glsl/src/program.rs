@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::Vec4;
 use tiler::{
     F32x8, FragmentShader, Fragments, Interpolation, LaneMask, Pipeline, PipelineDesc, Sampler, ShaderProperties,
-    Texture, VertexInput, VertexOutput, VertexShader, Wrap,
+    Texture, VertexInput, VertexOutput, VertexShader,
 };
 
 use crate::compile::{StageCode, compile};
@@ -88,8 +88,8 @@ pub trait TextureSource: Send + Sync + fmt::Debug {
 pub enum TextureBinding {
     /// A core texture: fragment shaders sample it through [`Fragments::sample`] (the LOD from
     /// quad derivatives, reads counted in the texture-cache model), at `(s, 1 − t)` since the
-    /// core's v runs down the rows; vertex shaders and explicit levels read the nearest texel
-    /// of the level (not counted).
+    /// core's v runs down the rows; vertex shaders (level of detail 0) and explicit levels
+    /// read through the same filters at that level (not counted).
     Core(Arc<Texture>, Sampler),
     /// The caller's own sampler.
     Custom(Arc<dyn TextureSource>),
@@ -460,28 +460,11 @@ thread_local! {
 /// Unbound units read opaque black.
 const UNBOUND: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
 
-/// The nearest texel of a core texture's level `lod` (rounded, clamped) at GL `(s, t)`.
+/// A core texture at GL `(s, t)` and level of detail `lod`, filtered as the sampler says
+/// (GL §8.14: a vertex shader's `λ` is 0, so the magnification filter on level 0; an explicit
+/// level is `λ`), through the core's own filter arithmetic. Not counted in the ledger.
 fn core_texel(texture: &Texture, sampler: &Sampler, s: f32, t: f32, lod: f32) -> [f32; 4] {
-    let levels = texture.levels().len();
-    let level = if lod.is_finite() { (lod.round().max(0.0) as usize).min(levels - 1) } else { 0 };
-    let l = &texture.levels()[level];
-    let wrap = |x: f32, n: u32, wrap: Wrap| -> usize {
-        let i = (x * n as f32).floor();
-        let i = if i.is_finite() { i.clamp(-1e9, 1e9) as i64 } else { 0 };
-        let n = n as i64;
-        (match wrap {
-            Wrap::ClampToEdge => i.clamp(0, n - 1),
-            Wrap::Repeat => i.rem_euclid(n),
-            Wrap::MirroredRepeat => {
-                let p = i.rem_euclid(2 * n);
-                if p < n { p } else { 2 * n - 1 - p }
-            }
-        }) as usize
-    };
-    let x = wrap(s, l.width, sampler.wrap_u);
-    let y = wrap(1.0 - t, l.height, sampler.wrap_v);
-    let texel = texture.level_texels(level)[y * l.width as usize + x];
-    texel.map(|c| c as f32 / 255.0)
+    texture.sample_lod(sampler, s, 1.0 - t, lod)
 }
 
 fn lookup_lanes<const W: usize>(

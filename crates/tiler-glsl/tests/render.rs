@@ -672,6 +672,46 @@ void main() {
 }
 
 #[test]
+fn vertex_shaders_fetch_core_textures_through_the_samplers_filter() {
+    // A displacement map read in the vertex shader, as glmark2's terrain does: GL samples at
+    // level of detail 0, so the magnification filter applies — bilinear here, between texels
+    // 2 (red 40) and 3 (red 60) of the first row, then level 1 with an explicit level.
+    const VS: &str = "
+attribute vec4 position;
+uniform sampler2D height;
+varying vec4 fetched;
+varying vec4 level1;
+void main() {
+    fetched = texture2D(height, vec2(3.0 / 8.0, 0.5 / 4.0));
+    level1 = texture2DLod(height, vec2(0.0, 0.0), 1.0);
+    gl_Position = position;
+}";
+    const FS: &str = "precision mediump float;\nvarying vec4 fetched;\nvarying vec4 level1;\n\
+                      void main() { gl_FragColor = fetched + level1; }";
+    let program = glsl(VS, FS);
+    let mut uniforms = program.new_uniform_values();
+    program.set_uniform(&mut uniforms, program.uniform_location("height").unwrap(), &[0.0]).unwrap();
+    // 8×4, red = 20 · x, rows stored top first (GL's t = 0.125 is the last row).
+    let texels: Vec<u8> = (0..4).flat_map(|_| (0..8u8).flat_map(|x| [20 * x, 0, 0, 255])).collect();
+    let texture = Arc::new(Texture::from_rgba8(8, 4, &texels, ColorSpace::Linear, MipChain::Box).unwrap());
+    let vs_output = |sampler: Sampler| {
+        let textures = [Some(TextureBinding::Core(texture.clone(), sampler))];
+        let (vs, _) = tiler_glsl::shaders(&program, &uniforms, &textures, HEIGHT);
+        let input = VertexInput { attributes: [Vec4::ONE; tiler::MAX_VERTEX_ATTRIBUTES], vertex_index: 0 };
+        let mut out = VertexOutput::default();
+        vs.shade(&input, &mut out);
+        (out.varyings[0] * 255.0, out.varyings[4] * 255.0)
+    };
+    let (bilinear, level1) = vs_output(Sampler::TRILINEAR_REPEAT.with_wrap(tiler::Wrap::ClampToEdge));
+    assert!((bilinear - 50.0).abs() < 1e-3, "{bilinear}");
+    // Level 1 texel (0, 0) averages level 0's x = 0, 1: (0 + 20 + 0 + 20 + 2) >> 2 = 10.
+    assert!((level1 - 10.0).abs() < 1e-3, "{level1}");
+    // With a nearest filter the same fetch reads texel 3.
+    let (nearest, _) = vs_output(Sampler::NEAREST_REPEAT);
+    assert_eq!(nearest, 60.0);
+}
+
+#[test]
 fn hostile_programs_fail_cleanly() {
     let vs = "attribute vec4 p; void main() { gl_Position = p; }";
     let fail = |fs: &str, needle: &str| {

@@ -358,6 +358,28 @@ impl Texture {
         out
     }
 
+    /// Samples one point `(u, v)` at the level of detail `lambda` given by the caller (bias
+    /// added), with the same rules and arithmetic as [`Texture::sample`] but no derivatives
+    /// and no cache model: what a vertex shader's fetch (GL: `λ = 0`, so the magnification
+    /// filter on level 0) or a fragment shader's explicit level (`texture2DLod`) reads.
+    /// Reads are not counted in the ledger.
+    pub fn sample_lod(&self, sampler: &Sampler, u: f32, v: f32, lambda: f32) -> [f32; 4] {
+        let u = reduce_quad([u; 4], sampler.wrap_u);
+        let v = reduce_quad([v; 4], sampler.wrap_v);
+        let decode = |c: u32| self.color_table[c as usize];
+        let rgba = match self.plan(sampler, lambda + sampler.lod_bias) {
+            LevelPlan::Single { level, filter } => {
+                self.filter(&self.footprint(level, filter, sampler, u, v, 0), &decode)
+            }
+            LevelPlan::Blend { level, filter, weight } => {
+                let a = self.filter(&self.footprint(level, filter, sampler, u, v, 0), &decode);
+                let b = self.filter(&self.footprint(level + 1, filter, sampler, u, v, 0), &decode);
+                std::array::from_fn(|c| [a[c][0] + weight * (b[c][0] - a[c][0]); 4])
+            }
+        };
+        rgba.map(|channel| channel[0])
+    }
+
     /// The levels and filter for a level of detail `lambda` (GL §8.14–8.15, see the module
     /// notes). A NaN level of detail magnifies.
     fn plan(&self, sampler: &Sampler, lambda: f32) -> LevelPlan {
@@ -1050,6 +1072,37 @@ mod tests {
         let lambda = 1.5f32.log2();
         let expected = 0.0 + lambda * (85.0 / 255.0 - 0.0);
         assert!((c[0].lane(0) - expected).abs() < 1e-5, "{} vs {expected}", c[0].lane(0));
+        // One point at the quad's level of detail reads what the quad's lane did, bit for bit.
+        let quad_lambda = quad_lods(u * 2.0, v * 2.0)[0];
+        let point = t.sample_lod(&Sampler::TRILINEAR_REPEAT, u.lane(0), v.lane(0), quad_lambda);
+        assert_eq!(point.map(f32::to_bits), [0, 1, 2, 3].map(|ch| c[ch].lane(0).to_bits()));
+    }
+
+    #[test]
+    fn a_point_at_a_given_level_of_detail_filters_as_a_quad_does() {
+        let t = ramp(8, 8, MipChain::Box);
+        let mut cache = TextureCache::default();
+        for sampler in [Sampler::TRILINEAR_REPEAT, Sampler::BILINEAR_CLAMP, Sampler::NEAREST_REPEAT] {
+            for (u, v) in [(0.3f32, 0.7f32), (0.0, 0.0), (1.4, -0.2), (0.51, 0.49)] {
+                // λ = 0 (a vertex shader's fetch): the magnification filter on level 0, as a
+                // quad without derivatives is sampled.
+                let quad = t.sample(&sampler, F32x8::splat(u), F32x8::splat(v), LaneMask::NONE, &mut cache);
+                let point = t.sample_lod(&sampler, u, v, 0.0);
+                assert_eq!(point.map(f32::to_bits), [0, 1, 2, 3].map(|c| quad[c].lane(0).to_bits()), "{u}, {v}");
+            }
+        }
+        // Bilinear on level 0 between texels 2 and 3 of a row: red 2.5 (the ramp's red is x).
+        let c = t.sample_lod(&Sampler::BILINEAR_CLAMP, 3.0 / 8.0, 0.5 / 8.0, 0.0);
+        assert!((c[0] * 255.0 - 2.5).abs() < 1e-4, "{c:?}");
+        // Level 1 exactly with a nearest-mipmap filter, and past the last level the last one.
+        let nearest_mip =
+            Sampler { mipmap: MipmapMode::Nearest, min_filter: Filter::Nearest, ..Sampler::NEAREST_REPEAT };
+        let level1 = t.level_texels(1)[0][0] as f32 / 255.0;
+        assert_eq!(t.sample_lod(&nearest_mip, 0.01, 0.01, 1.0)[0], level1);
+        let last = t.level_texels(t.levels().len() - 1)[0][0] as f32 / 255.0;
+        assert_eq!(t.sample_lod(&nearest_mip, 0.01, 0.01, 40.0)[0], last);
+        // No cache was touched: the lanes above were not counted, and points never are.
+        assert_eq!(cache.misses() + cache.hits(), 0);
     }
 
     #[test]
