@@ -23,7 +23,7 @@
 use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, data_bands};
-use super::{Backend, FrameDataReport, PassReport, PassTotals, Workers};
+use super::{Backend, FrameDataReport, PassReport, PassTotals, Workers, samples_blended};
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::image::TileSignatures;
@@ -34,7 +34,7 @@ use crate::binning::grid::TileGrid;
 use crate::config::DeviceConfig;
 use crate::depth::hsr::{HsrMode, Visibility};
 use crate::geometry::prepare_draw;
-use crate::ledger::{Category, TileStats};
+use crate::ledger::{Category, Counters, TileStats};
 use crate::pass::{Draw, RenderPass};
 use crate::raster::samples::SampleLocations;
 use crate::shade::texture_cache::TextureCacheConfig;
@@ -179,7 +179,7 @@ pub fn render(
         transaction_elimination_saved: run.transaction_elimination_saved,
         transient_bytes_saved,
         overdraw_map: run.totals.overdraw,
-        counters: run.totals.counters,
+        counters: Counters { samples_blended: samples_blended(pass, &run.totals.draws), ..run.totals.counters },
         frame_data: run.frame_data,
         tiles: run.tiles,
         draws: run.totals.draws,

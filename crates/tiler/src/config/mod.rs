@@ -10,6 +10,7 @@ use crate::geometry::VertexShading;
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::display::DisplayModel;
 use crate::ledger::energy::EnergyModel;
+use crate::ledger::time::TimeModel;
 use crate::shade::texture_cache::TextureCacheConfig;
 use crate::simd::SimdLevel;
 
@@ -57,6 +58,9 @@ pub struct DeviceConfig {
     pub texture_cache: TextureCacheConfig,
     /// Picojoules per byte, for the energy estimate.
     pub energy: EnergyModel,
+    /// Clock, cores, per-core throughput and bandwidth, for the time estimate
+    /// (`ledger::time`); the default is a Mali-G710 MC7's.
+    pub time: TimeModel,
     /// What presenting a frame costs.
     pub display: DisplayModel,
     /// Skip storing a tile whose content has not changed since the last frame (Arm's
@@ -82,6 +86,7 @@ impl Default for DeviceConfig {
             framebuffer_cache: CacheConfig::NONE,
             texture_cache: TextureCacheConfig::DEFAULT,
             energy: EnergyModel::default(),
+            time: TimeModel::default(),
             display: DisplayModel { scan_out: true, composition: false },
             transaction_elimination: false,
             overdraw_map: false,
@@ -124,6 +129,7 @@ impl DeviceConfig {
         self.framebuffer_cache.validate("framebuffer cache").or_else(fail)?;
         self.texture_cache.validate()?;
         self.energy.validate().or_else(fail)?;
+        self.time.validate().or_else(fail)?;
         Ok(())
     }
 }

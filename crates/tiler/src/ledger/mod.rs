@@ -10,6 +10,7 @@ pub mod display;
 pub mod energy;
 pub mod framebuffer;
 pub mod hsr;
+pub mod time;
 
 use serde::{Deserialize, Serialize};
 
@@ -251,6 +252,12 @@ pub struct Counters {
     pub fragments_hsr_killed: u64,
     /// Hidden-surface removal: fragments rendered in submission order instead, by reason.
     pub hsr_fallback: HsrFallbacks,
+    /// Texels the texture units read, each a lookup in the texture cache, hit or miss
+    /// (a bilinear sample reads 4, a trilinear one 8). For the time estimate.
+    pub texels_read: u64,
+    /// Samples written through blending: per draw, its samples that passed the depth and
+    /// stencil tests × its colour targets that blend. For the time estimate.
+    pub samples_blended: u64,
 }
 
 impl Counters {
@@ -277,6 +284,8 @@ impl Counters {
             fragments_passed,
             fragments_hsr_killed,
             hsr_fallback,
+            texels_read,
+            samples_blended,
         } = self;
         *draws += o.draws;
         *vertices_shaded += o.vertices_shaded;
@@ -299,6 +308,8 @@ impl Counters {
         *fragments_passed += o.fragments_passed;
         *fragments_hsr_killed += o.fragments_hsr_killed;
         hsr_fallback.merge(&o.hsr_fallback);
+        *texels_read += o.texels_read;
+        *samples_blended += o.samples_blended;
     }
 }
 

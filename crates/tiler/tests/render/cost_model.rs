@@ -231,3 +231,65 @@ fn present_costs_scan_out_and_composition() {
     let msaa = device.create_image(ImageDesc::new(100, 10, Format::Rgba8Unorm).with_samples(4)).unwrap();
     assert!(device.present(msaa).is_err());
 }
+
+/// Samples a texture bilinearly at the interpolated colour's red and green (as u, v).
+struct Textured(Texture);
+
+impl FragmentShader for Textured {
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        let c = frag.smooth_n::<4>(0);
+        let color = frag.sample(&self.0, &Sampler::BILINEAR_CLAMP, [c[0], c[1]]);
+        frag.set_color(0, color);
+    }
+}
+
+/// The time estimate through the public API: a 32×32 frame with a textured full-screen quad
+/// and a blended one over it, on a device of round figures, stage by stage by hand.
+#[test]
+fn the_time_estimate_by_hand() {
+    let texture = Texture::from_rgba8(8, 8, &[200; 8 * 8 * 4], ColorSpace::Linear, MipChain::BaseOnly).unwrap();
+    for backend in Backend::ALL {
+        let mut device = device_with(DeviceConfig { backend, ..preset("tbr") });
+        let color = device.create_image(ImageDesc::new(32, 32, Format::Rgba8Unorm)).unwrap();
+        let mut pass = color_pass(color, None);
+        let quad = device.create_buffer_from(&fullscreen(0.5)).unwrap();
+        pass.draw(Draw::new(&pipeline(Textured(texture.clone()), desc("textured")), quad, 0, 6));
+        let mut blended = desc("blended");
+        blended.color_targets = vec![ColorTargetState::ALPHA_BLEND];
+        pass.draw(Draw::new(&pipeline(Solid([1.0, 0.0, 0.0, 0.5]), blended), quad, 0, 6));
+        let frame = FrameCost::new(vec![device.submit(&pass).unwrap()]);
+        let c = frame.counters();
+        // 6 + 6 vertices; 1024 fragments per quad; the 16 quads on the diagonal are shaded by
+        // both triangles, 4 covered lanes and 4 helper lanes: 64 helpers per draw. Bilinear: 4
+        // texels per lane of the textured quad, helpers included: (1024 + 64) × 4. The blended
+        // quad's 1024 samples through its one blending target.
+        assert_eq!(
+            (c.vertices_shaded, c.fragments_shaded, c.helper_invocations, c.texels_read, c.samples_blended),
+            (12, 2048, 128, 4352, 1024),
+            "{backend}"
+        );
+        let model = TimeModel {
+            clock_mhz: 1.0,
+            cores: 2,
+            vertices_per_clock: 1.0,
+            pixels_per_clock: 4.0,
+            texels_per_clock: 2.0,
+            blended_samples_per_clock: 1.0,
+            bandwidth_gb_per_s: 0.001,
+            frames_in_flight: 3,
+        };
+        let t = frame.time(&model);
+        // 12 vertices / (1e6 Hz × 2 cores × 1) = 6 µs.
+        assert!((t.geometry_seconds - 6e-6).abs() < 1e-15, "{backend}");
+        // Shading 2176 / 8e6 = 272 µs; texturing 4352 / 4 / 4e6 = 272 µs; blending 1024 / 2e6
+        // = 512 µs: blending bounds the fragment stage.
+        assert!((t.fragment_seconds - 512e-6).abs() < 1e-15, "{backend}");
+        // The bytes of the frame / 1e6 B/s.
+        let bytes = frame.ledger().total();
+        assert!((t.memory_seconds - bytes as f64 / 1e6).abs() < 1e-15, "{backend}");
+        let (seconds, bound) =
+            if t.memory_seconds > 512e-6 { (t.memory_seconds, Stage::Memory) } else { (512e-6, Stage::Fragment) };
+        assert_eq!((t.seconds, t.bound), (seconds, bound), "{backend}");
+        assert!((model.bandwidth_share(bytes, 60.0) - bytes as f64 * 60.0 / 1e6).abs() < 1e-12);
+    }
+}
