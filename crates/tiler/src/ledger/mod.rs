@@ -52,11 +52,12 @@ pub enum Category {
     /// record of each primitive they name, and a state record at each change of state.
     FrameDataRead,
     /// Attachments read into the tile buffer by `LoadOp::Load`:
-    /// `pixels of the tile in the render area × samples × bytes of the loaded aspect`.
+    /// `pixels of the tile in the render area × samples × bytes of the loaded aspect` (a
+    /// packed D24S8 sample moves as one 4-byte word, whichever aspects are loaded).
     TileLoad,
     /// Attachments written from the tile buffer by `StoreOp::Store`:
-    /// `pixels of the tile in the render area × samples × bytes of the stored aspect`, less
-    /// the tiles transaction elimination skips.
+    /// `pixels of the tile in the render area × samples × bytes of the stored aspect` (a
+    /// packed D24S8 sample: one 4-byte word), less the tiles transaction elimination skips.
     TileStore,
     /// Multisampled colour averaged and written to a single-sample resolve image:
     /// `pixels × bytes per pixel of the resolve image` (tilers: at store, from the tile
@@ -78,7 +79,8 @@ pub enum Category {
     ImrColorRead,
     /// Immediate mode: colour written, per covered sample that passed every test.
     ImrColorWrite,
-    /// Immediate mode: depth read for the depth test, per sample tested.
+    /// Immediate mode: depth read for the depth test, per sample tested (packed D24S8: the
+    /// 4-byte word, or its 3 depth bytes when the stencil is read with it).
     ImrDepthRead,
     /// Immediate mode: depth written, per sample passing with depth writes on.
     ImrDepthWrite,

@@ -293,3 +293,45 @@ fn the_time_estimate_by_hand() {
         assert!((model.bandwidth_share(bytes, 60.0) - bytes as f64 * 60.0 / 1e6).abs() < 1e-12);
     }
 }
+
+/// Memory moves a packed D24S8 sample as one 32-bit word (issue 16): an access of depth alone
+/// or stencil alone costs 4 bytes; depth and stencil together share the word, 3 + 1. Immediate
+/// mode without a cache, one full-screen quad on 64×32 pixels, then with a framebuffer cache
+/// of 64-byte lines (16 words a line).
+#[test]
+fn packed_depth_stencil_moves_whole_words() {
+    let (w, h) = (64u32, 32u32);
+    let pixels = (w * h) as u64;
+    let replace = StencilFaceState { pass_op: StencilOp::Replace, reference: 5, ..StencilFaceState::KEEP };
+    let run = |state: DepthStencilState, cache: CacheConfig| {
+        let mut config = preset("imr-no-cache");
+        config.framebuffer_cache = cache;
+        let mut device = device_with(config);
+        let color = device.create_image(ImageDesc::new(w, h, Format::Rgba8Unorm)).unwrap();
+        let ds = device.create_image(ImageDesc::new(w, h, Format::D24UnormS8Uint)).unwrap();
+        let mut pass = color_pass(color, Some(DepthStencilAttachment::clear_discard(ds, 1.0)));
+        let mut d = desc("quad");
+        d.depth_stencil = state;
+        let vb = device.create_buffer_from(&fullscreen(0.5)).unwrap();
+        pass.draw(Draw::new(&pipeline(FlatColor, d), vb, 0, 6));
+        let ledger = device.submit(&pass).unwrap().ledger;
+        [Category::ImrDepthRead, Category::ImrDepthWrite, Category::ImrStencilRead, Category::ImrStencilWrite]
+            .map(|c| ledger.get(c) / pixels)
+    };
+    let none = CacheConfig::NONE;
+    // Depth alone: the whole word read and written.
+    assert_eq!(run(DepthStencilState::LESS_WRITE, none), [4, 4, 0, 0]);
+    // Stencil alone (no depth test): the whole word.
+    assert_eq!(run(DepthStencilState::DISABLED.with_stencil(replace), none), [0, 0, 4, 4]);
+    // Both tested and both written: one word, 3 + 1 each way.
+    assert_eq!(run(DepthStencilState::LESS_WRITE.with_stencil(replace), none), [3, 3, 1, 1]);
+    // Both tested, only depth written (the stencil op keeps): read 3 + 1, write the word.
+    assert_eq!(run(DepthStencilState::LESS_WRITE.with_stencil(StencilFaceState::KEEP), none), [3, 4, 1, 0]);
+    // Behind a 64 KiB cache of 64-byte lines the 8 KiB of depth-stencil words is filled once
+    // and written back once, whichever aspects are accessed: 2048 × 4 bytes = 128 lines each way.
+    let cache = CacheConfig { size_bytes: 64 << 10, line_bytes: 64, ways: 8 };
+    for state in [DepthStencilState::LESS_WRITE, DepthStencilState::LESS_WRITE.with_stencil(replace)] {
+        let [depth_read, depth_write, stencil_read, stencil_write] = run(state, cache);
+        assert_eq!((depth_read + stencil_read, depth_write + stencil_write), (4, 4), "{state:?}");
+    }
+}
