@@ -150,7 +150,13 @@ pub fn render(
     ledger.add(Category::ImrClear, cleared);
 
     for (draw_index, draw) in pass.draws.iter().enumerate() {
-        let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
+        let geometry = prepare_draw(
+            draw_index,
+            draw.geometry_input(),
+            &frame_info,
+            config.post_transform_cache,
+            config.vertex_cache,
+        )?;
         geometry.record(counters, ledger);
         let batches = geometry.setup(0..geometry.triangles, &samples, 0);
         for batch in &batches {

@@ -90,6 +90,7 @@ pub fn render(
         transaction_elimination: config.transaction_elimination,
         transaction_elimination_saved: 0,
         texture_cache: config.texture_cache,
+        vertex_cache: config.vertex_cache,
         simd: workers.simd,
         flushes: 0,
         scratch: resolved.attachments.iter().map(|_| None).collect(),
@@ -108,7 +109,13 @@ pub fn render(
             }
             subpass = draw_subpass;
         }
-        let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
+        let geometry = prepare_draw(
+            draw_index,
+            draw.geometry_input(),
+            &frame_info,
+            config.post_transform_cache,
+            config.vertex_cache,
+        )?;
         geometry.record(&mut run.totals.counters, &mut run.totals.ledger);
         let varying_count = geometry.vertices.varying_count;
         let state = StateRecord {
@@ -116,7 +123,7 @@ pub fn render(
             clip_rect: geometry.clip_rect,
             varying_count: varying_count as u32,
             hsr: HsrMode::of(draw.pipeline.desc(), draw.pipeline.object.properties(), resolved.color_count),
-            fetch_bytes_per_vertex: geometry.fetch_bytes_per_vertex,
+            fetch: geometry.fetch.clone(),
             subpass: pass.subpass_of(draw_index) as u32,
         };
         let mut state_index = None;
@@ -215,6 +222,7 @@ struct Run<'a> {
     transaction_elimination: bool,
     transaction_elimination_saved: u64,
     texture_cache: TextureCacheConfig,
+    vertex_cache: crate::ledger::cache::CacheConfig,
     simd: crate::simd::SimdSupport,
     flushes: u64,
     /// Spill memory for transient attachments, made at their first incremental render.
@@ -302,6 +310,7 @@ impl Run<'_> {
             vertex_shading: frame.vertex_shading(),
             overdraw: self.totals.overdraw.is_some(),
             texture_cache: self.texture_cache,
+            vertex_cache: self.vertex_cache,
             simd: self.simd,
         };
         let spec: Vec<_> = resolved.attachments.iter().map(|a| (a.format, resolved.samples)).collect();

@@ -51,6 +51,11 @@ pub struct DeviceConfig {
     /// re-fetching vertices shared by nearby triangles of an indexed draw; 0 = none. The
     /// default, 32, is the size commonly cited for mobile and desktop GPUs.
     pub post_transform_cache: u32,
+    /// The vertex cache attribute fetches go through: `VertexFetch` counts its line fills, so
+    /// attribute layouts cost the lines they touch. The default, 4 KiB of 64-byte lines in 4
+    /// ways, is an assumption (a small L1 of the fetch path; vendors do not publish it); a
+    /// size of 0 counts each attribute's exact bytes.
+    pub vertex_cache: CacheConfig,
     /// The framebuffer cache of an immediate-mode GPU (its ROP/L2 share for colour and
     /// depth); size 0 = every access goes to memory, as the seeds' arithmetic assumes.
     pub framebuffer_cache: CacheConfig,
@@ -83,6 +88,7 @@ impl Default for DeviceConfig {
             early_z: true,
             vertex_shading: VertexShading::Once,
             post_transform_cache: 32,
+            vertex_cache: CacheConfig { size_bytes: 4096, line_bytes: 64, ways: 4 },
             framebuffer_cache: CacheConfig::NONE,
             texture_cache: TextureCacheConfig::DEFAULT,
             energy: EnergyModel::default(),
@@ -126,6 +132,7 @@ impl DeviceConfig {
         if self.post_transform_cache > 4096 {
             return fail(format!("a post-transform cache of {} entries is more than 4096", self.post_transform_cache));
         }
+        self.vertex_cache.validate("vertex cache").or_else(fail)?;
         self.framebuffer_cache.validate("framebuffer cache").or_else(fail)?;
         self.texture_cache.validate()?;
         self.energy.validate().or_else(fail)?;

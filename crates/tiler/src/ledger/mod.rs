@@ -41,7 +41,9 @@ category_with_formulas! {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Category {
-    /// Vertex attributes read: `vertices shaded × Σ attribute sizes` (`geometry::vertex`).
+    /// Vertex attributes read: the vertex cache's line fills as the vertices shaded are
+    /// fetched, in shading order: `lines filled × line size` (`geometry::fetch`; without a
+    /// cache, `vertices shaded × Σ attribute sizes`).
     VertexFetch,
     /// Indices read: `indices × index size` (`geometry`).
     IndexFetch,
@@ -374,7 +376,9 @@ mod tests {
     fn each_formula_is_its_variants_doc_comment_on_one_line() {
         assert_eq!(
             Category::VertexFetch.formula(),
-            "Vertex attributes read: `vertices shaded × Σ attribute sizes` (`geometry::vertex`)."
+            "Vertex attributes read: the vertex cache's line fills as the vertices shaded are fetched, in shading \
+             order: `lines filled × line size` (`geometry::fetch`; without a cache, `vertices shaded × Σ attribute \
+             sizes`)."
         );
         assert!(Category::TileStore.formula().starts_with("Attachments written from the tile buffer by"));
         for category in Category::ALL {

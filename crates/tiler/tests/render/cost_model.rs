@@ -66,8 +66,9 @@ fn one_triangle_geometry_and_frame_data() {
     let mut pass = color_pass(color, None);
     pass.draw(Draw::indexed(&pipeline(Smooth, desc("one")), vb, ib, IndexType::U16, 0, 3));
     let r = device.submit(&pass).unwrap();
-    // Vertex fetch: 3 vertices × (16 + 16) attribute bytes; index fetch: 3 × 2.
-    assert_eq!(r.ledger.get(Category::VertexFetch), 3 * 32);
+    // Vertex fetch: 3 vertices × (16 + 16) attribute bytes = 96 bytes, read as the two
+    // 64-byte lines they lie in; index fetch: 3 × 2.
+    assert_eq!(r.ledger.get(Category::VertexFetch), 2 * 64);
     assert_eq!(r.ledger.get(Category::IndexFetch), 3 * 2);
     // The triangle covers 3 of the 4 tiles: one record (8 + 3 × (16 + 4 × 4 varyings)),
     // 3 list entries of 4 bytes, one 64-byte state record.
@@ -88,6 +89,11 @@ fn the_post_transform_cache_saves_shared_vertices() {
     let verts = [v(-1.0, -1.0, 0.5, c), v(1.0, -1.0, 0.5, c), v(-1.0, 1.0, 0.5, c), v(1.0, 1.0, 0.5, c)];
     for (cache, shaded) in [(32, 4), (0, 6), (2, 4), (1, 5)] {
         let mut device = device_with(DeviceConfig { post_transform_cache: cache, ..DeviceConfig::default() });
+        let mut exact = device_with(DeviceConfig {
+            post_transform_cache: cache,
+            vertex_cache: CacheConfig::NONE,
+            ..DeviceConfig::default()
+        });
         let color = device.create_image(ImageDesc::new(16, 16, Format::Rgba8Unorm)).unwrap();
         let vb = device.create_buffer_from(&verts).unwrap();
         let ib = device.create_buffer_from(&[0u32, 1, 2, 2, 1, 3]).unwrap();
@@ -95,7 +101,16 @@ fn the_post_transform_cache_saves_shared_vertices() {
         pass.draw(Draw::indexed(&pipeline(Smooth, desc("quad")), vb, ib, IndexType::U32, 0, 6));
         let r = device.submit(&pass).unwrap();
         assert_eq!(r.counters.vertices_shaded, shaded, "cache of {cache}");
-        assert_eq!(r.ledger.get(Category::VertexFetch), shaded * 32);
+        // The 4 vertices' 128 bytes are two 64-byte lines: the vertex cache reads each once,
+        // however often the post-transform cache misses.
+        assert_eq!(r.ledger.get(Category::VertexFetch), 2 * 64);
+        // Without a vertex cache every vertex shaded costs its exact 32 bytes.
+        let exact_vb = exact.create_buffer_from(&verts).unwrap();
+        let exact_ib = exact.create_buffer_from(&[0u32, 1, 2, 2, 1, 3]).unwrap();
+        let exact_color = exact.create_image(ImageDesc::new(16, 16, Format::Rgba8Unorm)).unwrap();
+        let mut pass = color_pass(exact_color, None);
+        pass.draw(Draw::indexed(&pipeline(Smooth, desc("quad")), exact_vb, exact_ib, IndexType::U32, 0, 6));
+        assert_eq!(exact.submit(&pass).unwrap().ledger.get(Category::VertexFetch), shaded * 32);
     }
 }
 
@@ -113,8 +128,9 @@ fn position_only_binning_shades_vertices_again_per_tile() {
     pass.draw(Draw::new(&pipeline(Smooth, desc("wide")), vb, 0, 3));
     let r = device.submit(&pass).unwrap();
     assert_eq!(r.counters.polygon_list_entries, 2);
-    // Binning fetches the 3 vertices once; each of the 2 tiles fetches them again.
-    assert_eq!(r.ledger.get(Category::VertexFetch), (3 + 2 * 3) * 32);
+    // Binning fetches the 3 vertices once; each of the 2 tiles fetches them again: each time
+    // their 96 bytes are two 64-byte lines.
+    assert_eq!(r.ledger.get(Category::VertexFetch), (1 + 2) * 2 * 64);
     assert_eq!(r.counters.vertices_shaded, 3 + 2 * 3);
     // The record holds positions only: 8 + 3 × 16.
     assert_eq!(r.ledger.get(Category::FrameDataWrite), (8 + 3 * 16) + 2 * 4 + 64);
@@ -334,4 +350,49 @@ fn packed_depth_stencil_moves_whole_words() {
         let [depth_read, depth_write, stencil_read, stencil_write] = run(state, cache);
         assert_eq!((depth_read + stencil_read, depth_write + stencil_write), (4, 4), "{state:?}");
     }
+}
+
+/// Seed 004 §24.5: vertex fetch reads whole lines, so layouts cost what they touch. Six
+/// vertices of a quad, position and colour (16 + 16 bytes): interleaved, 192 bytes in 3 lines;
+/// in two separate buffers, each stream's 96 bytes take 2 lines, 4 in all — the separate
+/// layout wastes the half line at the end of each stream, 64 bytes. A position-only pipeline
+/// over the interleaved buffer (a hot/cold mix: the colour is cold) reads every line anyway,
+/// where over a separate position buffer it reads only 2.
+#[test]
+fn vertex_fetch_reads_the_lines_each_layout_touches() {
+    let c = [1.0, 0.5, 0.25, 1.0];
+    let quad = fullscreen(0.5);
+    let positions: Vec<[f32; 4]> = quad.iter().map(|v| [v[0], v[1], v[2], v[3]]).collect();
+    let colors: Vec<[f32; 4]> = quad.iter().map(|_| c).collect();
+    let fetch = |input: VertexInputState, separate: bool| {
+        let mut device = device_with(preset("imr-no-cache"));
+        let color = device.create_image(ImageDesc::new(16, 16, Format::Rgba8Unorm)).unwrap();
+        let mut pass = color_pass(color, None);
+        let mut d = desc("layout");
+        d.vertex_input = input;
+        let buffers = if separate {
+            vec![device.create_buffer_from(&positions).unwrap(), device.create_buffer_from(&colors).unwrap()]
+        } else {
+            let interleaved: Vec<Vertex> =
+                quad.iter().map(|v| [v[0], v[1], v[2], v[3], c[0], c[1], c[2], c[3]]).collect();
+            vec![device.create_buffer_from(&interleaved).unwrap()]
+        };
+        let mut draw = Draw::new(&pipeline(FlatColor, d), buffers[0], 0, 6);
+        draw.vertex_buffers = buffers.iter().map(|b| VertexBufferBinding { buffer: *b, offset: 0 }).collect();
+        pass.draw(draw);
+        let r = device.submit(&pass).unwrap();
+        (r.ledger.get(Category::VertexFetch), device.read_rgba8(color).unwrap())
+    };
+    use VertexFormat::Float32x4;
+    let (interleaved, picture) = fetch(VertexInputState::interleaved(&[Float32x4, Float32x4]), false);
+    let (separate, same_picture) = fetch(VertexInputState::separate(&[Float32x4, Float32x4]), true);
+    assert_eq!(picture, same_picture);
+    assert_eq!((interleaved, separate), (3 * 64, 4 * 64));
+    assert_eq!(separate - interleaved, 64, "the two half lines the separate streams waste");
+    // Position only: over the interleaved buffer (stride 32) still 3 lines; over its own
+    // buffer (stride 16) 2 lines.
+    let mut position_only = VertexInputState::interleaved(&[Float32x4]);
+    position_only.bindings[0].stride = 32;
+    assert_eq!(fetch(position_only, false).0, 3 * 64);
+    assert_eq!(fetch(VertexInputState::interleaved(&[Float32x4]), true).0, 2 * 64);
 }
