@@ -168,6 +168,13 @@ impl Backend {
     pub const fn is_tiler(self) -> bool {
         matches!(self, Backend::Tbr | Backend::Tbdr)
     }
+
+    /// Frames a GPU of this kind works on at once behind the CPU (seed 000 §23.6): a tiler's
+    /// geometry and fragment stages each hold a frame besides the CPU's, 3; an immediate-mode
+    /// GPU has one stage, 2. Read-backs and query results wait that many frames.
+    pub const fn frames_in_flight(self) -> u32 {
+        if self.is_tiler() { 3 } else { 2 }
+    }
 }
 
 impl std::fmt::Display for Backend {
