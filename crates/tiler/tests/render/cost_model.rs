@@ -396,3 +396,37 @@ fn vertex_fetch_reads_the_lines_each_layout_touches() {
     assert_eq!(fetch(position_only, false).0, 3 * 64);
     assert_eq!(fetch(VertexInputState::interleaved(&[Float32x4]), true).0, 2 * 64);
 }
+
+/// Seed 002: blending combined with depth writes disables early-Z. A blended quad behind an
+/// opaque one (32×32 pixels) is rejected before shading when it does not write depth, and
+/// shaded then rejected when it does; the picture is the same either way.
+#[test]
+fn blending_with_depth_writes_disables_early_z() {
+    let pixels = 32 * 32;
+    for backend in Backend::ALL {
+        let run = |depth_write: bool| {
+            let mut device = device_with(DeviceConfig { backend, ..DeviceConfig::default() });
+            let color = device.create_image(ImageDesc::new(32, 32, Format::Rgba8Unorm)).unwrap();
+            let depth = device.create_image(ImageDesc::new(32, 32, Format::D24UnormS8Uint)).unwrap();
+            let mut pass = color_pass(color, Some(DepthStencilAttachment::clear_discard(depth, 1.0)));
+            let mut opaque = desc("opaque");
+            opaque.depth_stencil = DepthStencilState::LESS_WRITE;
+            let front = device.create_buffer_from(&fullscreen(0.5)).unwrap();
+            pass.draw(Draw::new(&pipeline(Solid([0.0, 1.0, 0.0, 1.0]), opaque), front, 0, 6));
+            let mut blended = desc("blended");
+            blended.color_targets = vec![ColorTargetState::ALPHA_BLEND];
+            blended.depth_stencil =
+                if depth_write { DepthStencilState::LESS_WRITE } else { DepthStencilState::LESS_NO_WRITE };
+            let behind = device.create_buffer_from(&fullscreen(0.8)).unwrap();
+            pass.draw(Draw::new(&pipeline(Solid([1.0, 0.0, 0.0, 0.5]), blended), behind, 0, 6));
+            let c = device.submit(&pass).unwrap().counters;
+            (c.fragments_shaded, c.fragments_early_z_killed, c.fragments_late_killed, device.read_rgba8(color).unwrap())
+        };
+        let (shaded, early, late, picture) = run(false);
+        assert_eq!((early, late), (pixels, 0), "{backend}: early-Z rejects the hidden blended quad");
+        let (shaded_with_write, early_with_write, late_with_write, same_picture) = run(true);
+        assert_eq!((early_with_write, late_with_write), (0, pixels), "{backend}: tested after shading");
+        assert_eq!(shaded_with_write, shaded + pixels, "{backend}");
+        assert_eq!(picture, same_picture, "{backend}");
+    }
+}
