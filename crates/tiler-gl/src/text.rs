@@ -70,7 +70,7 @@ pub fn text_report(report: &Report) -> String {
         c.backend,
         c.tile_width,
         c.tile_height,
-        c.frames_in_flight
+        c.frames_in_flight.unwrap_or(c.backend.frames_in_flight())
     );
     for frame in &report.frames {
         let _ = writeln!(

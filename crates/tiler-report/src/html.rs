@@ -191,6 +191,7 @@ pub fn to_html(report: &Report) -> String {
         bytes_chart(&mut html, &document);
         bytes_table(&mut html, &document);
         energy(&mut html, &document);
+        time(&mut html, &document);
         counters(&mut html, &document);
         frames_table(&mut html, &document);
         passes(&mut html, &document);
@@ -619,6 +620,43 @@ fn energy(html: &mut String, document: &Document) {
         html.push_str("</tr>");
     }
     html.push_str("</tbody></table></section>\n");
+}
+
+/// The time estimate of each device: its stages, the frame's time and bound, the share of its
+/// bandwidth used (`frame.time`; `tiler::ledger::time`).
+fn time(html: &mut String, document: &Document) {
+    let fps = document.fps;
+    let _ = write!(
+        html,
+        "<section id=\"time\"><h2>Time<span class=\"estimate\">estimate</span></h2><p class=\"lead\">Estimated from the counters and bytes with each preset's clock, cores, per-core rates and bandwidth (their sources are in the preset files), not measured: geometry = vertices shaded ÷ vertex rate; fragment = the largest of fragments shaded (helpers included) ÷ pixel rate, texels read ÷ 4 ÷ bilinear texel rate, and samples blended ÷ blend rate; memory = external bytes ÷ bandwidth. The stages overlap, so the frame takes as long as the slowest, which bounds it. Shader length, caches' latency and clocks that change are left out: a lower bound. Bandwidth used is bytes per frame × {fps} frames/s ÷ the device's bandwidth.</p><table><thead><tr><th></th>{}</tr></thead><tbody>",
+        column_heads(document, 1)
+    );
+    type TimeRow = (&'static str, &'static str, fn(&ColumnFigures) -> f64, Unit, bool);
+    #[rustfmt::skip]
+    let rows: [TimeRow; 5] = [
+        ("geometry, ms/frame", "frame.time.geometry_ms", |c| c.frame.time.geometry_ms, Unit::Number, false),
+        ("fragment, ms/frame", "frame.time.fragment_ms", |c| c.frame.time.fragment_ms, Unit::Number, false),
+        ("memory, ms/frame", "frame.time.memory_ms", |c| c.frame.time.memory_ms, Unit::Number, false),
+        ("frame, ms", "frame.time.ms", |c| c.frame.time.ms, Unit::Number, true),
+        ("share of the bandwidth used at the frame rate (1 = all)", "frame.time.bandwidth_share", |c| c.frame.time.bandwidth_share, Unit::Number, false),
+    ];
+    for (label, key, get, unit, total) in rows {
+        let class = if total { " class=\"total\"" } else { "" };
+        let _ = write!(html, "<tr{class}><th>{label}</th>");
+        for (i, column) in document.columns.iter().enumerate() {
+            html.push_str(&cell(i, key, get(column), unit));
+        }
+        html.push_str("</tr>");
+    }
+    html.push_str("<tr><th>bound by</th>");
+    for column in &document.columns {
+        let _ = write!(html, "<td class=\"num\">{}</td>", column.frame.time.bound.name());
+    }
+    html.push_str("</tr><tr><th>frames in flight</th>");
+    for column in &document.columns {
+        let _ = write!(html, "<td class=\"num\">{}</td>", column.frame.time.frames_in_flight);
+    }
+    html.push_str("</tr></tbody></table></section>\n");
 }
 
 /// HSR fallback reasons with their JSON field names.

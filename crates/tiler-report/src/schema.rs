@@ -7,7 +7,7 @@
 
 use serde::Serialize;
 use tiler::backend::FrameDataReport;
-use tiler::{Backend, Category, Counters, DevicePreset, DrawStats, Ledger, PassReport};
+use tiler::{Backend, Category, Counters, DevicePreset, DrawStats, Ledger, PassReport, Stage, TimeEstimate, TimeModel};
 
 use crate::run::{FrameSpan, PassInfo};
 use crate::{Finding, Report, SceneInfo};
@@ -108,6 +108,8 @@ pub struct FrameFigures {
     /// Tile stores transaction elimination skipped.
     pub transaction_elimination_saved_bytes: u64,
     pub energy: EnergyFigures,
+    /// The time estimate of the frame on the preset's device.
+    pub time: TimeFigures,
     pub counters: Counters,
     /// Pixels rendered: the sum of every pass's `width × height`.
     pub pixels: u64,
@@ -132,6 +134,57 @@ pub struct EnergyFigures {
     pub milliwatts: f64,
 }
 
+/// The time estimate of a frame or pass (see `tiler::ledger::time`, `docs/time-model.md`):
+/// a model with the preset's figures (`preset.device.time`), not a measurement.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct TimeFigures {
+    /// `vertices_shaded / (clock × cores × vertices_per_clock)`, milliseconds.
+    pub geometry_ms: f64,
+    /// The largest of shading `(fragments_shaded + helper_invocations) / (clock × cores ×
+    /// pixels_per_clock)`, texturing `texels_read / 4 / (clock × cores × texels_per_clock)`
+    /// and blending `samples_blended / (clock × cores × blended_samples_per_clock)`, ms.
+    pub fragment_ms: f64,
+    /// `total_bytes / bandwidth`, milliseconds.
+    pub memory_ms: f64,
+    /// `max(geometry_ms, fragment_ms, memory_ms)`: the stages overlap.
+    pub ms: f64,
+    /// The stage of `ms`: `geometry`, `fragment` or `memory`.
+    pub bound: Stage,
+    /// `1000 / ms`: the frame rate the device could reach (`null` for no work).
+    pub max_fps: Option<f64>,
+    /// `total_bytes × fps / bandwidth`: the share of the device's bandwidth used at the
+    /// report's frame rate (1 = all of it).
+    pub bandwidth_share: f64,
+    /// Frames in flight on the device (seed 000 §23.6): read-backs wait this many frames.
+    pub frames_in_flight: u32,
+}
+
+impl TimeFigures {
+    /// The figures of `frames` frames' work, `estimate` and `total_bytes`, as those of the
+    /// average frame: every stage's time scales with its counts, so the run's estimate divided
+    /// by the frames is the average frame's, bound by the same stage.
+    fn new(model: &TimeModel, estimate: TimeEstimate, total_bytes: u64, fps: f64, frames: u64) -> TimeFigures {
+        let per_frame = 1.0 / frames.max(1) as f64;
+        let estimate = TimeEstimate {
+            geometry_seconds: estimate.geometry_seconds * per_frame,
+            fragment_seconds: estimate.fragment_seconds * per_frame,
+            memory_seconds: estimate.memory_seconds * per_frame,
+            seconds: estimate.seconds * per_frame,
+            bound: estimate.bound,
+        };
+        TimeFigures {
+            geometry_ms: estimate.geometry_seconds * 1e3,
+            fragment_ms: estimate.fragment_seconds * 1e3,
+            memory_ms: estimate.memory_seconds * 1e3,
+            ms: estimate.seconds * 1e3,
+            bound: estimate.bound,
+            max_fps: (estimate.seconds > 0.0).then(|| 1.0 / estimate.seconds),
+            bandwidth_share: model.bandwidth_share(total_bytes, fps) * per_frame,
+            frames_in_flight: model.frames_in_flight,
+        }
+    }
+}
+
 /// One render pass.
 #[derive(Clone, Debug, Serialize)]
 pub struct PassFigures {
@@ -154,6 +207,8 @@ pub struct PassFigures {
     pub bytes_per_second: f64,
     pub on_chip_bytes: u64,
     pub transaction_elimination_saved_bytes: u64,
+    /// The time estimate of the pass alone (its bandwidth share at the report's frame rate).
+    pub time: TimeFigures,
     pub counters: Counters,
     pub overdraw: f64,
     pub frame_data: FrameDataReport,
@@ -211,6 +266,7 @@ fn column_figures(column: &crate::Column, fps: f64, first_total: u64, frame_coun
     let total_bytes = ledger.total();
     let model = column.preset.device.energy;
     let energy = frame.energy(&model);
+    let time_model = column.preset.device.time;
     let pixels: u64 = frame.passes.iter().map(|p| p.width as u64 * p.height as u64).sum();
     ColumnFigures {
         label: column.label.clone(),
@@ -234,13 +290,14 @@ fn column_figures(column: &crate::Column, fps: f64, first_total: u64, frame_coun
                 millijoules: energy.total_joules() * 1e3,
                 milliwatts: energy.milliwatts(fps) / frame_count as f64,
             },
+            time: TimeFigures::new(&time_model, frame.time(&time_model), total_bytes, fps, frame_count),
             counters,
             pixels,
             overdraw: per_pixel(counters.fragments_shaded, pixels),
         },
         present: frame.present,
         driver: frame.driver,
-        passes: frame.passes.iter().enumerate().map(|(index, pass)| pass_figures(index, pass, fps)).collect(),
+        passes: frame.passes.iter().enumerate().map(|(index, pass)| pass_figures(index, pass, fps, &time_model)).collect(),
         frames: column.frames.iter().map(|span| frame_totals(span, &frame.passes, fps)).collect(),
     }
 }
@@ -261,7 +318,7 @@ fn frame_totals(span: &FrameSpan, passes: &[PassReport], fps: f64) -> FrameTotal
     }
 }
 
-fn pass_figures(index: usize, pass: &PassReport, fps: f64) -> PassFigures {
+fn pass_figures(index: usize, pass: &PassReport, fps: f64, time_model: &TimeModel) -> PassFigures {
     let pixels = pass.width as u64 * pass.height as u64;
     PassFigures {
         index,
@@ -280,6 +337,7 @@ fn pass_figures(index: usize, pass: &PassReport, fps: f64) -> PassFigures {
         bytes_per_second: pass.ledger.total() as f64 * fps,
         on_chip_bytes: pass.on_chip_bytes,
         transaction_elimination_saved_bytes: pass.transaction_elimination_saved,
+        time: TimeFigures::new(time_model, time_model.estimate(&pass.counters, &pass.ledger), pass.ledger.total(), fps, 1),
         counters: pass.counters,
         overdraw: per_pixel(pass.counters.fragments_shaded, pixels),
         frame_data: pass.frame_data,

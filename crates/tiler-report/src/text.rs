@@ -30,6 +30,22 @@ pub(crate) const COUNTER_ROWS: [CounterRow; 12] = [
     ("killed after shading", "fragments_late_killed", |c| c.fragments_late_killed),
 ];
 
+/// Writes one row of the table: a label and one cell per column.
+type RowWriter<'a> = dyn Fn(&mut String, &str, &dyn Fn(&ColumnFigures) -> String) + 'a;
+
+/// The time estimate's rows: each stage, the frame, its bound and the bandwidth share.
+fn time_rows(out: &mut String, document: &Document, row: &RowWriter<'_>) {
+    row(out, "time, ms/frame (estimate)", &|c| format!("{:.3}", c.frame.time.ms));
+    row(out, "  geometry, ms", &|c| format!("{:.3}", c.frame.time.geometry_ms));
+    row(out, "  fragment, ms", &|c| format!("{:.3}", c.frame.time.fragment_ms));
+    row(out, "  memory, ms", &|c| format!("{:.3}", c.frame.time.memory_ms));
+    row(out, "  bound by", &|c| c.frame.time.bound.name().to_string());
+    row(out, &format!("bandwidth used at {} frames/s", document.fps), &|c| {
+        format!("{:.2}%", c.frame.time.bandwidth_share * 100.0)
+    });
+    row(out, "frames in flight", &|c| c.frame.time.frames_in_flight.to_string());
+}
+
 /// The table for a report.
 pub fn text_table(report: &Report) -> String {
     let document = Document::new(report);
@@ -59,6 +75,7 @@ pub fn text_table(report: &Report) -> String {
     row(&mut out, "  vs first column", &|c| c.frame.ratio_to_first.map(format::ratio).unwrap_or_else(|| "n/a".into()));
     row(&mut out, "energy, mJ/frame (estimate)", &|c| format::figure(c.frame.energy.millijoules));
     row(&mut out, &format!("power, mW at {} frames/s", document.fps), &|c| format::figure(c.frame.energy.milliwatts));
+    time_rows(&mut out, &document, &row);
     out.push('\n');
     for (label, _, get) in COUNTER_ROWS {
         row(&mut out, label, &|c| format::count(get(&c.frame.counters)));

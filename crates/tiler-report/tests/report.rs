@@ -396,3 +396,49 @@ fn malformed_reports_do_not_panic() {
     assert!(tiler_report::to_html(&broken).contains("could not be embedded"));
     assert!(tiler_report::write_heatmaps(&broken, &temp_dir("broken")).is_ok());
 }
+
+/// The time estimate in the JSON is the preset's figures applied to the frame's counters and
+/// bytes (docs/time-model.md), recomputed here from the JSON alone; the text table and the
+/// HTML show it.
+#[test]
+fn the_time_estimate_follows_its_formula() {
+    let report = report(&["mali-g710", "adreno-650", "powervr-gx6450", "desktop-imr"], 1);
+    let doc = json(&report);
+    for column in doc["columns"].as_array().unwrap() {
+        let t = &column["preset"]["device"]["time"];
+        let f = |v: &Value| v.as_f64().unwrap();
+        let rate = |per_clock: &str| f(&t["clock_mhz"]) * 1e6 * f(&t["cores"]) * f(&t[per_clock]);
+        let c = &column["frame"]["counters"];
+        let geometry = f(&c["vertices_shaded"]) / rate("vertices_per_clock") * 1e3;
+        let fragment = ((f(&c["fragments_shaded"]) + f(&c["helper_invocations"])) / rate("pixels_per_clock"))
+            .max(f(&c["texels_read"]) / 4.0 / rate("texels_per_clock"))
+            .max(f(&c["samples_blended"]) / rate("blended_samples_per_clock"))
+            * 1e3;
+        let bytes = f(&column["frame"]["total_bytes"]);
+        let memory = bytes / (f(&t["bandwidth_gb_per_s"]) * 1e9) * 1e3;
+        let time = &column["frame"]["time"];
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-9);
+        assert!(close(f(&time["geometry_ms"]), geometry), "{time}");
+        assert!(close(f(&time["fragment_ms"]), fragment), "{time}");
+        assert!(close(f(&time["memory_ms"]), memory), "{time}");
+        let (bound, ms) = [("geometry", geometry), ("fragment", fragment), ("memory", memory)]
+            .into_iter()
+            .fold(("geometry", geometry), |a, b| if b.1 > a.1 { b } else { a });
+        assert!(close(f(&time["ms"]), ms), "{time}");
+        assert_eq!(time["bound"], bound);
+        assert!(close(f(&time["bandwidth_share"]), bytes * 60.0 / (f(&t["bandwidth_gb_per_s"]) * 1e9)));
+        assert!(c["vertices_shaded"].as_u64().unwrap() > 0);
+    }
+    // Tilers keep a frame more in flight than the immediate-mode GPU.
+    let in_flight: Vec<u64> = doc["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["frame"]["time"]["frames_in_flight"].as_u64().unwrap())
+        .collect();
+    assert_eq!(in_flight, [3, 3, 3, 2]);
+    let text = tiler_report::text_table(&report);
+    assert!(text.contains("bound by") && text.contains("time, ms/frame"), "{text}");
+    let html = tiler_report::to_html(&report);
+    assert!(html.contains("id=\"time\"") && html.contains("data-key=\"frame.time.ms\""));
+}

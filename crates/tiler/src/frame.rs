@@ -1,10 +1,11 @@
 //! A frame: the render passes between two presents, what presenting it costs, and the totals
-//! a report shows — bytes, bytes per second, energy.
+//! a report shows — bytes, bytes per second, energy, time.
 
 use serde::Serialize;
 
 use crate::backend::PassReport;
 use crate::ledger::energy::{EnergyEstimate, EnergyModel};
+use crate::ledger::time::{TimeEstimate, TimeModel};
 use crate::ledger::{Counters, Ledger};
 
 /// What one frame cost.
@@ -53,5 +54,11 @@ impl FrameCost {
     /// The energy estimate of the frame under `model`.
     pub fn energy(&self, model: &EnergyModel) -> EnergyEstimate {
         model.estimate(self.ledger().total(), self.on_chip_bytes())
+    }
+
+    /// The time estimate of the frame under `model`: its passes' work and every byte of the
+    /// frame, presenting and the driver's copies included.
+    pub fn time(&self, model: &TimeModel) -> TimeEstimate {
+        model.estimate(&self.counters(), &self.ledger())
     }
 }

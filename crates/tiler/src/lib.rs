@@ -115,6 +115,7 @@ pub use geometry::VertexShading;
 pub use ledger::cache::CacheConfig;
 pub use ledger::display::DisplayModel;
 pub use ledger::energy::{EnergyEstimate, EnergyModel};
+pub use ledger::time::{Stage, TimeEstimate, TimeModel};
 pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
 pub use pass::{Draw, RenderPass};
 pub use pixel::Pipeline;

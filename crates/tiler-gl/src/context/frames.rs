@@ -8,7 +8,8 @@
 //! bins it, its fragment phase renders the tiles — and with balanced loads all three run at
 //! once on consecutive frames. tiler-gl models this in whole frames: work submitted during
 //! frame `N` completes while the CPU builds frame `N + L − 1` and its results are available
-//! from frame `N + L`, where `L = frames_in_flight` (3 by default, one per stage). So:
+//! from frame `N + L`, where `L = frames_in_flight` (by default the backend's: 3 on a tiler,
+//! one per stage, 2 in immediate mode — seed 000 §23.6). So:
 //!
 //! - an occlusion query ended in frame `N` reports available from frame `N + L`;
 //! - asking for a result (`read_pixels`, `query_result`, `finish`) of work from frame `N`
@@ -38,14 +39,20 @@ use crate::report::{
 const MAX_BLIT_COORDINATE: i32 = 16384;
 
 impl Context {
+    /// Frames in flight: the configured figure, which [`Context::new`] fills in from the
+    /// backend when the configuration leaves it out.
+    pub(crate) fn frames_in_flight(&self) -> u32 {
+        self.config.frames_in_flight.unwrap_or(self.config.backend.frames_in_flight())
+    }
+
     /// Whether work of `frame` may still be running on the GPU.
     pub(crate) fn in_flight(&self, frame: u32) -> bool {
-        self.here.frame < frame + self.config.frames_in_flight
+        self.here.frame < frame + self.frames_in_flight()
     }
 
     /// Records a stall waiting for the work of `frame`, if it is still in flight.
     fn stall_for(&mut self, frame: u32, cause: StallCause) {
-        let frames = (frame + self.config.frames_in_flight).saturating_sub(self.here.frame);
+        let frames = (frame + self.frames_in_flight()).saturating_sub(self.here.frame);
         if frames > 0 {
             self.frame.stalls.push(Stall { call: self.here, cause, waited_for_frame: frame, frames });
         }
@@ -148,7 +155,7 @@ impl Context {
     fn close_frame(&mut self) {
         let next = FrameRecord {
             index: self.here.frame + 1,
-            latency_frames: self.config.frames_in_flight,
+            latency_frames: self.frames_in_flight(),
             ..FrameRecord::default()
         };
         let mut done = std::mem::replace(&mut self.frame, next);
@@ -238,7 +245,7 @@ impl Context {
         if !q.ended {
             return Err(format!("query {id} has never been ended"));
         }
-        Ok(q.pending_draws == 0 && self.here.frame >= q.last_frame + self.config.frames_in_flight)
+        Ok(q.pending_draws == 0 && self.here.frame >= q.last_frame + self.frames_in_flight())
     }
 
     /// `GL_QUERY_RESULT`: flushes the pass holding the query's draws, waits if the result

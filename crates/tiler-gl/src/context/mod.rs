@@ -60,9 +60,11 @@ pub struct ContextConfig {
     #[serde(default)]
     pub swap_behavior: SwapBehavior,
     /// Frames between submission and results: 3 models seed 000 §23.6's CPU, geometry and
-    /// fragment stages; 1 is a GPU that finishes a frame before the next begins.
-    #[serde(default = "default_frames_in_flight")]
-    pub frames_in_flight: u32,
+    /// fragment stages of a tiler, 2 an immediate-mode GPU's CPU and GPU; 1 is a GPU that
+    /// finishes a frame before the next begins. Left out (`None`), it follows the backend
+    /// (`Backend::frames_in_flight`); [`Context::new`] fills it in.
+    #[serde(default)]
+    pub frames_in_flight: Option<u32>,
     #[serde(default = "default_tile")]
     pub tile_width: u32,
     #[serde(default = "default_tile")]
@@ -107,9 +109,6 @@ fn default_depth_stencil_format() -> Option<TextureFormat> {
 fn default_one() -> u32 {
     1
 }
-fn default_frames_in_flight() -> u32 {
-    3
-}
 fn default_tile() -> u32 {
     32
 }
@@ -133,7 +132,7 @@ impl ContextConfig {
             depth_stencil_format: default_depth_stencil_format(),
             samples: 1,
             swap_behavior: SwapBehavior::Destroyed,
-            frames_in_flight: default_frames_in_flight(),
+            frames_in_flight: None,
             tile_width: default_tile(),
             tile_height: default_tile(),
             frame_data_budget: default_budget(),
@@ -418,9 +417,11 @@ impl Context {
     /// A configuration the device refuses (tile size, budget, surface size or samples), a
     /// surface format of the wrong kind, or `frames_in_flight` outside `1..=16`.
     pub fn new(config: ContextConfig) -> Result<Context, String> {
-        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&config.frames_in_flight) {
-            return Err(format!("frames_in_flight {} must be 1 to {MAX_FRAMES_IN_FLIGHT}", config.frames_in_flight));
+        let frames_in_flight = config.frames_in_flight.unwrap_or(config.backend.frames_in_flight());
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&frames_in_flight) {
+            return Err(format!("frames_in_flight {frames_in_flight} must be 1 to {MAX_FRAMES_IN_FLIGHT}"));
         }
+        let config = ContextConfig { frames_in_flight: Some(frames_in_flight), ..config };
         if !config.color_format.is_color() {
             return Err(format!("color_format {} is not a colour format", config.color_format.name()));
         }
@@ -497,7 +498,7 @@ impl Context {
             swap_behavior: config.swap_behavior,
             surface_color,
             surface_depth_stencil,
-            frame: FrameRecord { latency_frames: config.frames_in_flight, ..FrameRecord::default() },
+            frame: FrameRecord { latency_frames: frames_in_flight, ..FrameRecord::default() },
             frames: Vec::new(),
             here: CallRef::default(),
             passes_rendered: 0,

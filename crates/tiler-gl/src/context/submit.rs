@@ -186,12 +186,25 @@ impl Context {
         for a in &pass.aspects {
             let info = &self.images[&a.image];
             let format = info.desc.format;
-            let aspect_bytes = match a.slot {
-                Slot::Color(_) => format.bytes_per_sample(),
-                Slot::Depth => format.depth_aspect_bytes(),
-                Slot::Stencil => format.stencil_aspect_bytes(),
-            } as u64;
-            let bytes = area * samples * aspect_bytes;
+            // A packed depth-stencil sample moves as one word: an aspect loaded (or stored)
+            // without the other costs the whole word (`Format::depth_access_bytes`).
+            let partner = |moves: &dyn Fn(&PassAspect) -> bool| {
+                let other = match a.slot {
+                    Slot::Depth => Slot::Stencil,
+                    Slot::Stencil => Slot::Depth,
+                    Slot::Color(_) => return false,
+                };
+                pass.aspects.iter().any(|b| b.image == a.image && b.slot == other && moves(b))
+            };
+            let aspect_bytes = |with_other: bool| {
+                (match a.slot {
+                    Slot::Color(_) => format.bytes_per_sample(),
+                    Slot::Depth => format.depth_access_bytes(with_other),
+                    Slot::Stencil => format.stencil_access_bytes(with_other),
+                }) as u64
+            };
+            let load_bytes = area * samples * aspect_bytes(partner(&|b| b.load == LoadKind::Load));
+            let bytes = area * samples * aspect_bytes(partner(&|b| b.store == StoreKind::Store));
             let gl_format = info.gl_format;
             if a.load == LoadKind::Load {
                 self.consume(a.image, a.slot);
@@ -228,7 +241,7 @@ impl Context {
                 load_reason: a.load_reason.clone(),
                 store: a.store,
                 store_reason: a.store_reason.clone(),
-                load_bytes: if a.load == LoadKind::Load { bytes } else { 0 },
+                load_bytes: if a.load == LoadKind::Load { load_bytes } else { 0 },
                 store_bytes: if a.store == StoreKind::Store { bytes } else { 0 },
                 resolve: a.resolve.filter(|_| !a.invalidated),
                 resolve_bytes,

@@ -10,6 +10,8 @@ use tiler_gl::*;
 const COLOR: u64 = 64 * 64 * 4;
 const DEPTH: u64 = 64 * 64 * 3;
 const STENCIL: u64 = 64 * 64;
+/// The stencil of packed D24S8 moved alone: memory moves the sample's whole 32-bit word.
+const STENCIL_WORD: u64 = 64 * 64 * 4;
 
 /// A window with program 1 (solid) drawing buffer 1, a quad over the bottom-left quarter.
 fn window() -> Context {
@@ -675,11 +677,11 @@ fn half_a_packed_depth_stencil_image_is_a_warning() {
     let stencil = p[1].attachment(Slot::Stencil).unwrap();
     assert_eq!(stencil.role, report::Role::Preserved);
     assert_eq!((stencil.load, stencil.store), (Load, StoreKind::Store));
-    assert_eq!(load(p[1]), STENCIL, "the unattached stencil is loaded");
-    assert_eq!(store(p[1]), COLOR + STENCIL);
+    assert_eq!(load(p[1]), STENCIL_WORD, "the unattached stencil is loaded, its whole word");
+    assert_eq!(store(p[1]), COLOR + STENCIL_WORD);
     let f: Vec<_> = report.findings_with("packed-depth-stencil-half").collect();
     assert_eq!(f.len(), 2);
-    assert_eq!(f[1].cost_bytes.unwrap_or(0), 2 * STENCIL);
+    assert_eq!(f[1].cost_bytes.unwrap_or(0), 2 * STENCIL_WORD);
 
     c(
         &mut gl,
@@ -715,7 +717,8 @@ fn half_a_packed_depth_stencil_image_is_a_warning() {
 #[test]
 fn query_results_wait_for_their_pass_and_the_frames_in_flight() {
     for frames_in_flight in [3, 1] {
-        let mut gl = Context::new(ContextConfig { frames_in_flight, ..config(64, 64) }).unwrap();
+        let mut gl =
+            Context::new(ContextConfig { frames_in_flight: Some(frames_in_flight), ..config(64, 64) }).unwrap();
         geometry(&mut gl, 1, ProgramKind::Solid, &quad(-1.0, -1.0, 0.0, 0.0, 0.0));
         c(&mut gl, Call::CreateQuery { id: 1 });
         clear_all(&mut gl);
@@ -763,6 +766,34 @@ fn readback_stalls_by_the_frames_still_in_flight() {
     let report = gl.end().unwrap();
     assert_eq!(report.frames[2].stalls.iter().map(|s| s.frames).collect::<Vec<_>>(), vec![1, 3]);
     assert!(gl.call(Call::ReadPixels { x: 60, y: 0, width: 8, height: 1 }).is_err(), "outside the framebuffer");
+}
+
+/// Seed 000 §23.6: frames in flight follow the device — a tiler holds one more frame (its
+/// geometry stage) than an immediate-mode GPU, so the same read-back stalls 3 frames on a
+/// tiler and 2 in immediate mode, and an occlusion query is ready a frame sooner there.
+#[test]
+fn frames_in_flight_follow_the_backend() {
+    for (backend, frames) in [(tiler::Backend::Tbr, 3), (tiler::Backend::Tbdr, 3), (tiler::Backend::Imr, 2)] {
+        let mut gl = Context::new(ContextConfig { backend, ..config(64, 64) }).unwrap();
+        assert_eq!(gl.config().frames_in_flight, Some(frames), "{backend}");
+        geometry(&mut gl, 1, ProgramKind::Solid, &quad(-1.0, -1.0, 0.0, 0.0, 0.0));
+        c(&mut gl, Call::CreateQuery { id: 1 });
+        clear_all(&mut gl);
+        c(&mut gl, Call::BeginQuery { id: 1 });
+        draw(&mut gl, 6);
+        c(&mut gl, Call::EndQuery);
+        c(&mut gl, Call::ReadPixels { x: 0, y: 0, width: 1, height: 1 });
+        swap(&mut gl);
+        let mut waited = 1;
+        while c(&mut gl, Call::QueryAvailable { id: 1 }) == Output::Available(false) {
+            swap(&mut gl);
+            waited += 1;
+        }
+        let report = gl.end().unwrap();
+        assert_eq!(report.frames[0].latency_frames, frames, "{backend}");
+        assert_eq!(report.frames[0].stalls.iter().map(|s| s.frames).collect::<Vec<_>>(), vec![frames], "{backend}");
+        assert_eq!(waited, frames, "{backend}: the query's result is ready {frames} frames on");
+    }
 }
 
 /// Multisampled render to texture: the samples are resolved into the texture in the tile and

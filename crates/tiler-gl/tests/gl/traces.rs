@@ -476,3 +476,41 @@ fn each_fix_applied_to_the_bad_form_costs_what_the_good_form_costs() {
         assert_eq!(total(&fixed), total(&good), "{name}: every fix applied costs what the good form costs");
     }
 }
+
+/// The depth-prepass pair (seed 000 §23.7): opaque layers back to front, without and with a
+/// depth-only prepass. On a tiler the prepass removes the overdraw the bad form's
+/// `unsorted-opaque` finding reports (the colour shader runs once per pixel) and costs no
+/// depth bandwidth — only its geometry again: vertex fetch and frame data exactly doubled. On
+/// an immediate-mode GPU it also costs depth traffic. Its own fragments are depth-only.
+#[test]
+fn a_depth_prepass_trades_geometry_for_shading() {
+    let good = replay("depth-prepass-good.json");
+    let bad = replay("depth-prepass-bad.json");
+    assert!(good.report.findings.is_empty(), "{:#?}", good.report.findings);
+    let overdraw: u64 = bad.report.findings_with("unsorted-opaque").map(|f| f.cost_fragments.unwrap_or(0)).sum();
+    let pixels = 128 * 96;
+    assert_eq!(overdraw, 3 * pixels, "three hidden layers shaded");
+    assert_eq!(good.context.surface_rgba8(), bad.context.surface_rgba8());
+    let (g, b) = (&good.report.totals, &bad.report.totals);
+    // The bad form's 4 layers; the good form's depth-only 4 layers and 1 layer in colour.
+    assert_eq!(b.counters.fragments_shaded, 4 * pixels);
+    assert_eq!(g.counters.fragments_shaded, 4 * pixels + (4 * pixels - overdraw));
+    for category in Category::ALL {
+        let (with, without) = (g.ledger.get(category), b.ledger.get(category));
+        match category {
+            Category::VertexFetch | Category::FrameDataWrite | Category::FrameDataRead => {
+                assert_eq!(with, 2 * without, "{category:?}: every draw's geometry again")
+            }
+            _ => assert_eq!(with, without, "{category:?}: no other traffic on a tiler"),
+        }
+    }
+    // Immediate mode: the prepass reads and writes depth for every layer again.
+    let imr = |name: &str| {
+        let mut trace = Trace::read(&traces().join(name)).unwrap();
+        trace.config.backend = tiler::Backend::Imr;
+        trace.replay_with(Limits { threads: Some(1), ..Limits::default() }).unwrap().report.totals.ledger
+    };
+    let (with, without) = (imr("depth-prepass-good.json"), imr("depth-prepass-bad.json"));
+    assert!(with.get(Category::ImrDepthRead) > without.get(Category::ImrDepthRead));
+    assert!(with.total() > without.total());
+}

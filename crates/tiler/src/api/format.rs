@@ -80,8 +80,9 @@ impl Format {
         matches!(self, Format::D24UnormS8Uint)
     }
 
-    /// Bytes of the depth aspect of one sample, as the ledger counts it: a packed
-    /// depth-stencil word is split 3 + 1 between its depth and stencil aspects.
+    /// Bytes of the depth aspect of one sample when both aspects move together: a packed
+    /// depth-stencil word is split 3 + 1 between its depth and stencil aspects. What one
+    /// access moves is [`Format::depth_access_bytes`].
     pub const fn depth_aspect_bytes(self) -> usize {
         match self {
             Format::D16Unorm => 2,
@@ -96,6 +97,27 @@ impl Format {
         match self {
             Format::D24UnormS8Uint => 1,
             _ => 0,
+        }
+    }
+
+    /// Bytes memory moves for the depth aspect of one sample, `with_stencil` when the stencil
+    /// aspect of the same sample moves in the same access. Memory moves a packed D24S8 sample
+    /// as one 32-bit word (issue 16): a depth-only access costs all 4 bytes; with the stencil
+    /// the word's 4 bytes are split 3 + 1 between the aspects, so the word is counted once.
+    pub const fn depth_access_bytes(self, with_stencil: bool) -> usize {
+        match self {
+            Format::D24UnormS8Uint if !with_stencil => 4,
+            _ => self.depth_aspect_bytes(),
+        }
+    }
+
+    /// Bytes memory moves for the stencil aspect of one sample, `with_depth` when the depth
+    /// aspect moves in the same access (see [`Format::depth_access_bytes`]): a stencil-only
+    /// access of packed D24S8 costs 4 bytes.
+    pub const fn stencil_access_bytes(self, with_depth: bool) -> usize {
+        match self {
+            Format::D24UnormS8Uint if !with_depth => 4,
+            _ => self.stencil_aspect_bytes(),
         }
     }
 

@@ -356,6 +356,18 @@ impl VertexInputState {
         VertexInputState { bindings: vec![VertexBinding { stride: offset }], attributes }
     }
 
+    /// One buffer per attribute: attribute `i` at location `i` from binding `i`, tightly packed.
+    pub fn separate(formats: &[VertexFormat]) -> VertexInputState {
+        VertexInputState {
+            bindings: formats.iter().map(|f| VertexBinding { stride: f.size_bytes() }).collect(),
+            attributes: formats
+                .iter()
+                .enumerate()
+                .map(|(i, &format)| VertexAttribute { location: i as u32, binding: i as u32, format, offset: 0 })
+                .collect(),
+        }
+    }
+
     /// Bytes of attribute data fetched per vertex.
     pub fn fetch_bytes_per_vertex(&self) -> u64 {
         self.attributes.iter().map(|a| a.format.size_bytes() as u64).sum()

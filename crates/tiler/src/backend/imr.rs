@@ -13,14 +13,14 @@
 use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, band_surface, image_bands};
-use super::{Backend, FrameDataReport, PassReport, PassTotals};
+use super::{Backend, FrameDataReport, PassReport, PassTotals, samples_blended};
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::config::DeviceConfig;
 use crate::geometry::prepare_draw;
-use crate::ledger::Category;
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::framebuffer::FramebufferTraffic;
+use crate::ledger::{Category, Counters};
 use crate::pass::RenderPass;
 use crate::pixel::primitive::{FragmentTally, Mode, OverdrawRows, PrimitiveRun};
 use crate::raster::PixelRect;
@@ -150,7 +150,13 @@ pub fn render(
     ledger.add(Category::ImrClear, cleared);
 
     for (draw_index, draw) in pass.draws.iter().enumerate() {
-        let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
+        let geometry = prepare_draw(
+            draw_index,
+            draw.geometry_input(),
+            &frame_info,
+            config.post_transform_cache,
+            config.vertex_cache,
+        )?;
         geometry.record(counters, ledger);
         let batches = geometry.setup(0..geometry.triangles, &samples, 0);
         for batch in &batches {
@@ -208,7 +214,7 @@ pub fn render(
         transaction_elimination_saved: 0,
         transient_bytes_saved: 0,
         overdraw_map: totals.overdraw,
-        counters: totals.counters,
+        counters: Counters { samples_blended: samples_blended(pass, &totals.draws), ..totals.counters },
         frame_data: FrameDataReport::default(),
         tiles: Vec::new(),
         draws: totals.draws,

@@ -52,10 +52,26 @@ impl PassTotals {
             rows.add_to(map);
         }
         self.counters.merge(&tally.counters);
+        // Every texel read is one lookup in the task's texture cache, hit or miss.
+        let cache = &tally.context.texture_cache;
+        self.counters.texels_read += cache.hits() + cache.misses();
         self.ledger.merge(&tally.ledger);
         merge_draw_stats(&mut self.draws, &tally.draws);
         self.on_chip_bytes += tally.framebuffer.on_chip_bytes;
     }
+}
+
+/// Samples written through blending in a pass: per draw, its samples that passed the depth
+/// and stencil tests × its colour targets that blend.
+pub fn samples_blended(pass: &crate::pass::RenderPass, draws: &[DrawStats]) -> u64 {
+    pass.draws
+        .iter()
+        .zip(draws)
+        .map(|(draw, stats)| {
+            let blending = draw.pipeline.desc.color_targets.iter().filter(|t| t.blend.is_some()).count() as u64;
+            stats.samples_passed * blending
+        })
+        .sum()
 }
 
 /// How a device runs a pass, beyond its configuration: not part of the model (every choice

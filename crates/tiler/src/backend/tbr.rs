@@ -23,7 +23,7 @@
 use rayon::prelude::*;
 
 use super::pass::{ResolvedPass, attachment_images, data_bands};
-use super::{Backend, FrameDataReport, PassReport, PassTotals, Workers};
+use super::{Backend, FrameDataReport, PassReport, PassTotals, Workers, samples_blended};
 use crate::api::error::Result;
 use crate::api::image::Image;
 use crate::api::image::TileSignatures;
@@ -34,7 +34,7 @@ use crate::binning::grid::TileGrid;
 use crate::config::DeviceConfig;
 use crate::depth::hsr::{HsrMode, Visibility};
 use crate::geometry::prepare_draw;
-use crate::ledger::{Category, TileStats};
+use crate::ledger::{Category, Counters, TileStats};
 use crate::pass::{Draw, RenderPass};
 use crate::raster::samples::SampleLocations;
 use crate::shade::texture_cache::TextureCacheConfig;
@@ -90,6 +90,7 @@ pub fn render(
         transaction_elimination: config.transaction_elimination,
         transaction_elimination_saved: 0,
         texture_cache: config.texture_cache,
+        vertex_cache: config.vertex_cache,
         simd: workers.simd,
         flushes: 0,
         scratch: resolved.attachments.iter().map(|_| None).collect(),
@@ -108,7 +109,13 @@ pub fn render(
             }
             subpass = draw_subpass;
         }
-        let geometry = prepare_draw(draw_index, draw.geometry_input(), &frame_info, config.post_transform_cache)?;
+        let geometry = prepare_draw(
+            draw_index,
+            draw.geometry_input(),
+            &frame_info,
+            config.post_transform_cache,
+            config.vertex_cache,
+        )?;
         geometry.record(&mut run.totals.counters, &mut run.totals.ledger);
         let varying_count = geometry.vertices.varying_count;
         let state = StateRecord {
@@ -116,7 +123,7 @@ pub fn render(
             clip_rect: geometry.clip_rect,
             varying_count: varying_count as u32,
             hsr: HsrMode::of(draw.pipeline.desc(), draw.pipeline.object.properties(), resolved.color_count),
-            fetch_bytes_per_vertex: geometry.fetch_bytes_per_vertex,
+            fetch: geometry.fetch.clone(),
             subpass: pass.subpass_of(draw_index) as u32,
         };
         let mut state_index = None;
@@ -180,7 +187,7 @@ pub fn render(
         transaction_elimination_saved: run.transaction_elimination_saved,
         transient_bytes_saved,
         overdraw_map: run.totals.overdraw,
-        counters: run.totals.counters,
+        counters: Counters { samples_blended: samples_blended(pass, &run.totals.draws), ..run.totals.counters },
         frame_data: run.frame_data,
         tiles: run.tiles,
         draws: run.totals.draws,
@@ -216,6 +223,7 @@ struct Run<'a> {
     transaction_elimination: bool,
     transaction_elimination_saved: u64,
     texture_cache: TextureCacheConfig,
+    vertex_cache: crate::ledger::cache::CacheConfig,
     simd: crate::simd::SimdSupport,
     flushes: u64,
     /// Spill memory for transient attachments, made at their first incremental render.
@@ -303,6 +311,7 @@ impl Run<'_> {
             vertex_shading: frame.vertex_shading(),
             overdraw: self.totals.overdraw.is_some(),
             texture_cache: self.texture_cache,
+            vertex_cache: self.vertex_cache,
             simd: self.simd,
         };
         let spec: Vec<_> = resolved.attachments.iter().map(|a| (a.format, resolved.samples)).collect();

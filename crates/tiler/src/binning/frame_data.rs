@@ -12,7 +12,7 @@
 //! | state record | 64 (shader and fixed-function state, viewport, scissor) | once per draw with primitives | by a tile each time its list changes state |
 //!
 //! With position-only binning a tile also fetches and shades again each vertex its primitives
-//! use (once per tile): `VertexFetch` grows by `vertices × attribute bytes` per tile.
+//! use (once per tile): `VertexFetch` grows by the vertex-cache lines each tile's vertices fill.
 //!
 //! The host keeps a richer record per primitive (the set-up edge functions and interpolation
 //! planes, see [`Primitive`]) so that tiles need not set triangles up again; its size is
@@ -59,8 +59,8 @@ pub struct StateRecord {
     pub varying_count: u32,
     /// Whether the draw can wait for hidden-surface removal (TBDR).
     pub hsr: HsrMode,
-    /// Bytes of attributes one of the draw's vertices fetches.
-    pub fetch_bytes_per_vertex: u64,
+    /// Where the draw's attributes are: a tile shading vertices again fetches them again.
+    pub fetch: std::sync::Arc<crate::geometry::fetch::FetchLayout>,
     /// The subpass the draw belongs to.
     pub subpass: u32,
 }
@@ -279,7 +279,7 @@ mod tests {
             clip_rect: PixelRect::new(0, 0, 64, 64),
             varying_count: 0,
             hsr: HsrMode::Deferred { claims: true },
-            fetch_bytes_per_vertex: 16,
+            fetch: Default::default(),
             subpass: 0,
         });
         let batch = [one_tile, four_tiles, one_tile];

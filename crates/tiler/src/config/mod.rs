@@ -10,6 +10,7 @@ use crate::geometry::VertexShading;
 use crate::ledger::cache::CacheConfig;
 use crate::ledger::display::DisplayModel;
 use crate::ledger::energy::EnergyModel;
+use crate::ledger::time::TimeModel;
 use crate::shade::texture_cache::TextureCacheConfig;
 use crate::simd::SimdLevel;
 
@@ -50,6 +51,11 @@ pub struct DeviceConfig {
     /// re-fetching vertices shared by nearby triangles of an indexed draw; 0 = none. The
     /// default, 32, is the size commonly cited for mobile and desktop GPUs.
     pub post_transform_cache: u32,
+    /// The vertex cache attribute fetches go through: `VertexFetch` counts its line fills, so
+    /// attribute layouts cost the lines they touch. The default, 4 KiB of 64-byte lines in 4
+    /// ways, is an assumption (a small L1 of the fetch path; vendors do not publish it); a
+    /// size of 0 counts each attribute's exact bytes.
+    pub vertex_cache: CacheConfig,
     /// The framebuffer cache of an immediate-mode GPU (its ROP/L2 share for colour and
     /// depth); size 0 = every access goes to memory, as the seeds' arithmetic assumes.
     pub framebuffer_cache: CacheConfig,
@@ -57,6 +63,9 @@ pub struct DeviceConfig {
     pub texture_cache: TextureCacheConfig,
     /// Picojoules per byte, for the energy estimate.
     pub energy: EnergyModel,
+    /// Clock, cores, per-core throughput and bandwidth, for the time estimate
+    /// (`ledger::time`); the default is a Mali-G710 MC7's.
+    pub time: TimeModel,
     /// What presenting a frame costs.
     pub display: DisplayModel,
     /// Skip storing a tile whose content has not changed since the last frame (Arm's
@@ -79,9 +88,11 @@ impl Default for DeviceConfig {
             early_z: true,
             vertex_shading: VertexShading::Once,
             post_transform_cache: 32,
+            vertex_cache: CacheConfig { size_bytes: 4096, line_bytes: 64, ways: 4 },
             framebuffer_cache: CacheConfig::NONE,
             texture_cache: TextureCacheConfig::DEFAULT,
             energy: EnergyModel::default(),
+            time: TimeModel::default(),
             display: DisplayModel { scan_out: true, composition: false },
             transaction_elimination: false,
             overdraw_map: false,
@@ -121,9 +132,11 @@ impl DeviceConfig {
         if self.post_transform_cache > 4096 {
             return fail(format!("a post-transform cache of {} entries is more than 4096", self.post_transform_cache));
         }
+        self.vertex_cache.validate("vertex cache").or_else(fail)?;
         self.framebuffer_cache.validate("framebuffer cache").or_else(fail)?;
         self.texture_cache.validate()?;
         self.energy.validate().or_else(fail)?;
+        self.time.validate().or_else(fail)?;
         Ok(())
     }
 }
@@ -154,6 +167,13 @@ impl Backend {
 
     pub const fn is_tiler(self) -> bool {
         matches!(self, Backend::Tbr | Backend::Tbdr)
+    }
+
+    /// Frames a GPU of this kind works on at once behind the CPU (seed 000 §23.6): a tiler's
+    /// geometry and fragment stages each hold a frame besides the CPU's, 3; an immediate-mode
+    /// GPU has one stage, 2. Read-backs and query results wait that many frames.
+    pub const fn frames_in_flight(self) -> u32 {
+        if self.is_tiler() { 3 } else { 2 }
     }
 }
 

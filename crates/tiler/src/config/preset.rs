@@ -11,6 +11,15 @@
 //! tile_height = 16
 //! [device.energy]
 //! external_pj_per_byte = 120.0
+//! [device.time]             # the time estimate's figures (ledger::time), each with its source
+//! clock_mhz = 848.0
+//! cores = 7
+//! vertices_per_clock = 2.0
+//! pixels_per_clock = 4.0
+//! texels_per_clock = 8.0
+//! blended_samples_per_clock = 4.0
+//! bandwidth_gb_per_s = 51.2
+//! frames_in_flight = 3
 //! ```
 //!
 //! Fields left out take [`DeviceConfig::default`]'s values; unknown fields are errors.
@@ -33,12 +42,16 @@ pub struct DevicePreset {
 }
 
 /// The built-in presets' files, in the order `tiler compare` shows them.
-const BUILTIN: [(&str, &str); 5] = [
+const BUILTIN: [(&str, &str); 9] = [
     ("tbr", include_str!("../../presets/tbr.toml")),
     ("tbdr", include_str!("../../presets/tbdr.toml")),
     ("tbr-per-tile-vertex", include_str!("../../presets/tbr-per-tile-vertex.toml")),
     ("imr", include_str!("../../presets/imr.toml")),
     ("imr-no-cache", include_str!("../../presets/imr-no-cache.toml")),
+    ("mali-g710", include_str!("../../presets/mali-g710.toml")),
+    ("adreno-650", include_str!("../../presets/adreno-650.toml")),
+    ("powervr-gx6450", include_str!("../../presets/powervr-gx6450.toml")),
+    ("desktop-imr", include_str!("../../presets/desktop-imr.toml")),
 ];
 
 impl DevicePreset {
@@ -127,6 +140,34 @@ mod tests {
             assert!(presets.iter().any(|p| p.device.backend == backend), "{backend}");
         }
         assert_eq!(DevicePreset::builtin("tbr").unwrap().device.tile_width, 16);
+    }
+
+    /// The real GPUs of each kind, and the generic presets' time figures are theirs (seed
+    /// 004 Table 24.1's desktop for immediate mode); tilers keep one frame more in flight.
+    #[test]
+    fn real_gpus_give_the_generic_presets_their_time_figures() {
+        let time = |name: &str| DevicePreset::builtin(name).unwrap().device.time;
+        assert_eq!(time("tbr"), time("mali-g710"));
+        assert_eq!(time("tbdr"), time("powervr-gx6450"));
+        assert_eq!(time("tbr-per-tile-vertex"), time("adreno-650"));
+        assert_eq!(time("imr"), time("imr-no-cache"));
+        assert_eq!(time("imr").bandwidth_gb_per_s, 25.7);
+        assert_eq!(DeviceConfig::default().time, time("mali-g710"));
+        for preset in DevicePreset::builtins() {
+            let expected = if preset.device.backend.is_tiler() { 3 } else { 2 };
+            assert_eq!(preset.device.time.frames_in_flight, expected, "{}", preset.name);
+        }
+        let time_table = "[device.time]\ncores = 1\nvertices_per_clock = 1.0\npixels_per_clock = 1.0\n\
+            texels_per_clock = 1.0\nblended_samples_per_clock = 1.0\nbandwidth_gb_per_s = 1.0\nframes_in_flight = 2\n";
+        let e = DevicePreset::parse_toml(&format!("name = \"x\"\ndescription = \"y\"\n{time_table}"), "gpu.toml")
+            .unwrap_err();
+        assert!(e.to_string().contains("gpu.toml") && e.to_string().contains("clock_mhz"), "{e}");
+        let e = DevicePreset::parse_toml(
+            &format!("name = \"x\"\ndescription = \"y\"\n{time_table}clock_mhz = -1.0\n"),
+            "gpu.toml",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("gpu.toml") && e.to_string().contains("clock_mhz"), "{e}");
     }
 
     #[test]

@@ -48,7 +48,8 @@ pub fn test_group(
             Format::D24UnormS8Uint => depth_only::<D24>(surface, x, y, coverage, compare, write, &depth),
             _ => depth_only::<D32>(surface, x, y, coverage, compare, write, &depth),
         };
-        let bytes = format.depth_aspect_bytes() as u32;
+        // Depth alone: a packed D24S8 sample moves as a whole word.
+        let bytes = format.depth_access_bytes(false) as u32;
         if state.depth_test {
             traffic.accesses(ledger, Aspect::Depth, bytes, tested, false);
         }
@@ -56,8 +57,10 @@ pub fn test_group(
         return passed;
     }
     let mut passed = coverage;
-    let depth_bytes = format.depth_aspect_bytes() as u32;
-    let stencil_bytes = format.stencil_aspect_bytes() as u32;
+    // A packed D24S8 sample moves as one word: the aspects an access reads or writes share
+    // its 4 bytes, an aspect alone costs all of them (`Format::depth_access_bytes`).
+    let depth_read_bytes = format.depth_access_bytes(stencil_test) as u32;
+    let stencil_read_bytes = format.stencil_access_bytes(state.depth_test) as u32;
     for s in 0..surface.samples() {
         let lanes = coverage.sample(s);
         if lanes.is_empty() {
@@ -72,10 +75,10 @@ pub fn test_group(
             let (px, py) = (x + LANE_DX[lane] as i32, y + LANE_DY[lane] as i32);
             let address = surface.address(s, px, py);
             if state.depth_test {
-                traffic.access(ledger, Aspect::Depth, address, depth_bytes, false);
+                traffic.access(ledger, Aspect::Depth, address, depth_read_bytes, false);
             }
             if stencil_test {
-                traffic.access(ledger, Aspect::Stencil, address, stencil_bytes, false);
+                traffic.access(ledger, Aspect::Stencil, address, stencil_read_bytes, false);
             }
             let offset = surface.offset(px, py);
             let bytes = &mut surface.plane_mut(s)[offset..offset + format.bytes_per_sample()];
@@ -88,6 +91,7 @@ pub fn test_group(
             let depth_pass = !state.depth_test || state.depth_compare.test(fragment_depth, stored_depth);
             let mut new_depth = stored_depth;
             let mut new_stencil = stored_stencil;
+            let mut stencil_written = false;
             if stencil_test {
                 let op = if !stencil_pass {
                     face.fail_op
@@ -98,16 +102,21 @@ pub fn test_group(
                 };
                 let value = op.apply(stored_stencil, face.reference);
                 new_stencil = (value & face.write_mask) | (stored_stencil & !face.write_mask);
-                if op != crate::api::pipeline::StencilOp::Keep && face.write_mask != 0 {
-                    traffic.access(ledger, Aspect::Stencil, address, stencil_bytes, true);
-                }
+                stencil_written = op != crate::api::pipeline::StencilOp::Keep && face.write_mask != 0;
             }
-            if stencil_pass && depth_pass {
+            let passes = stencil_pass && depth_pass;
+            let depth_written = passes && state.depth_test && state.depth_write;
+            if stencil_written {
+                let bytes = format.stencil_access_bytes(depth_written) as u32;
+                traffic.access(ledger, Aspect::Stencil, address, bytes, true);
+            }
+            if passes {
                 pass |= 1 << lane;
-                if state.depth_test && state.depth_write {
-                    new_depth = fragment_depth;
-                    traffic.access(ledger, Aspect::Depth, address, depth_bytes, true);
-                }
+            }
+            if depth_written {
+                new_depth = fragment_depth;
+                let bytes = format.depth_access_bytes(stencil_written) as u32;
+                traffic.access(ledger, Aspect::Depth, address, bytes, true);
             }
             if new_depth != stored_depth || new_stencil != stored_stencil {
                 pack(format, bytes, new_depth, new_stencil);
@@ -348,7 +357,8 @@ pub fn test_block(
         Format::D24UnormS8Uint => run!(D24),
         _ => run!(D32),
     };
-    let bytes = surface.format.depth_aspect_bytes() as u32;
+    // Depth alone: a packed D24S8 sample moves as a whole word.
+    let bytes = surface.format.depth_access_bytes(false) as u32;
     traffic.accesses(ledger, Aspect::Depth, bytes, tested, false);
     traffic.accesses(ledger, Aspect::Depth, bytes, written, true);
 }

@@ -4,7 +4,9 @@
 use glam::Vec4;
 
 use crate::api::pipeline::{MAX_VERTEX_ATTRIBUTES, VertexFormat, VertexInputState};
+use crate::api::render_pass::VertexBufferBinding;
 use crate::api::shader::VertexInput;
+use crate::ledger::cache::CacheModel;
 
 /// One attribute ready to fetch: where its bytes are.
 #[derive(Clone, Copy)]
@@ -50,6 +52,89 @@ impl<'a> VertexFetcher<'a> {
     }
 }
 
+/// Where a draw's attributes lie in external memory, to count what fetching them moves: the
+/// vertex cache reads whole lines (64 bytes in the default `DeviceConfig::vertex_cache`), so
+/// interleaved and separate layouts, hot/cold splits and strides cost the lines they touch
+/// (seed 004 §24.5), not the attributes' exact bytes. Without a cache (size 0) a vertex costs
+/// exactly its attributes' bytes.
+///
+/// Addresses: buffer `id`'s byte `b` is at `id × 2³² + b` (buffers are at most 2³⁰ bytes and
+/// start on a line), so two bindings of one buffer share its lines.
+#[derive(Clone, Debug, Default)]
+pub struct FetchLayout {
+    attributes: Vec<AttributeSpan>,
+    /// The draw's vertex of each vertex slot (the numbering of `geometry::VertexSet`).
+    slots: SlotVertices,
+}
+
+/// One attribute: the address of vertex 0's bytes, the binding's stride and the size.
+#[derive(Clone, Copy, Debug)]
+struct AttributeSpan {
+    base: u64,
+    stride: u64,
+    size: u64,
+}
+
+/// How vertex slots map to vertices.
+#[derive(Clone, Debug)]
+pub enum SlotVertices {
+    /// Slot `s` is vertex `first + s`.
+    From(u32),
+    /// Slot `s` is `vertices[s]`.
+    List(std::sync::Arc<[u32]>),
+}
+
+impl Default for SlotVertices {
+    fn default() -> SlotVertices {
+        SlotVertices::From(0)
+    }
+}
+
+impl FetchLayout {
+    /// The layout of `input` over the draw's `buffers`, its slots numbered by `slots`.
+    pub fn new(input: &VertexInputState, buffers: &[VertexBufferBinding], slots: SlotVertices) -> FetchLayout {
+        let attributes = input
+            .attributes
+            .iter()
+            .map(|a| {
+                let binding = &buffers[a.binding as usize];
+                AttributeSpan {
+                    base: ((binding.buffer.0 as u64) << 32) + binding.offset + a.offset as u64,
+                    stride: input.bindings[a.binding as usize].stride as u64,
+                    size: a.format.size_bytes() as u64,
+                }
+            })
+            .collect();
+        FetchLayout { attributes, slots }
+    }
+
+    /// The vertex of slot `slot`.
+    pub fn vertex_of_slot(&self, slot: u32) -> u32 {
+        match &self.slots {
+            SlotVertices::From(first) => first + slot,
+            SlotVertices::List(vertices) => vertices[slot as usize],
+        }
+    }
+
+    /// Reads `vertex`'s attributes through `cache`: returns the bytes read from external
+    /// memory — the lines filled (each attribute's bytes split at line boundaries), or the
+    /// attributes' own bytes without a cache.
+    pub fn fetch(&self, vertex: u32, cache: &mut CacheModel) -> u64 {
+        let line = cache.config().line_bytes as u64;
+        let mut read = 0;
+        for a in &self.attributes {
+            let mut address = a.base + vertex as u64 * a.stride;
+            let end = address + a.size;
+            while address < end {
+                let next = end.min((address / line + 1) * line);
+                read += cache.access(address, (next - address) as u32, false, 0).read;
+                address = next;
+            }
+        }
+        read
+    }
+}
+
 impl Default for VertexInput {
     fn default() -> VertexInput {
         VertexInput { attributes: [Vec4::new(0.0, 0.0, 0.0, 1.0); MAX_VERTEX_ATTRIBUTES], vertex_index: 0 }
@@ -88,6 +173,37 @@ fn decode(format: VertexFormat, b: &[u8]) -> Vec4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use crate::api::buffer::BufferId;
+    use crate::api::pipeline::VertexFormat::Float32x4;
+    use crate::ledger::cache::CacheConfig;
+
+    fn lines() -> CacheModel {
+        CacheModel::new(CacheConfig { size_bytes: 4096, line_bytes: 64, ways: 4 })
+    }
+
+    /// Six vertices of a 16-byte position and a 16-byte colour: interleaved they fill 3
+    /// lines; in two buffers each stream fills 1½ lines, so 4 lines are read — the half line
+    /// at the end of each stream is the separate layout's waste.
+    #[test]
+    fn lines_of_interleaved_and_separate_layouts() {
+        let interleaved = VertexInputState::interleaved(&[Float32x4, Float32x4]);
+        let buffer = |id| VertexBufferBinding { buffer: BufferId(id), offset: 0 };
+        let layout = FetchLayout::new(&interleaved, &[buffer(0)], SlotVertices::From(0));
+        let mut cache = lines();
+        assert_eq!((0..6).map(|v| layout.fetch(v, &mut cache)).sum::<u64>(), 3 * 64);
+        let separate = VertexInputState::separate(&[Float32x4, Float32x4]);
+        let layout = FetchLayout::new(&separate, &[buffer(0), buffer(1)], SlotVertices::From(0));
+        let mut cache = lines();
+        assert_eq!((0..6).map(|v| layout.fetch(v, &mut cache)).sum::<u64>(), 4 * 64);
+        // Without a cache: the exact bytes, 6 × 32.
+        let mut none = CacheModel::new(CacheConfig::NONE);
+        assert_eq!((0..6).map(|v| layout.fetch(v, &mut none)).sum::<u64>(), 6 * 32);
+        // An attribute across a line boundary reads both lines.
+        let offset = VertexBufferBinding { buffer: BufferId(0), offset: 56 };
+        let layout = FetchLayout::new(&interleaved, &[offset], SlotVertices::List(vec![0].into()));
+        assert_eq!(layout.fetch(layout.vertex_of_slot(0), &mut lines()), 2 * 64);
+    }
 
     #[test]
     fn decodes_normalised_integers() {

@@ -19,12 +19,13 @@ use crate::api::pipeline::MAX_VARYINGS;
 use crate::api::pipeline::PipelineDesc;
 use crate::api::render_pass::{IndexBufferBinding, IndexType, Rect, VertexBufferBinding, Viewport};
 use crate::geometry::primitive::Primitive;
+use crate::ledger::cache::{CacheConfig, CacheModel};
 use crate::ledger::{Category, Counters, Ledger};
 use crate::raster::PixelRect;
 use crate::raster::fixed::MAX_VIEWPORT_EXTENT_PX;
 use crate::raster::samples::SampleLocations;
 use clip::{ClipVertex, ClipVolume};
-use fetch::VertexFetcher;
+use fetch::{FetchLayout, SlotVertices, VertexFetcher};
 use setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
 use vertex::{ShadedVertices, VertexSet};
 
@@ -80,10 +81,10 @@ pub struct DrawGeometry<'a> {
     pub clip_rect: PixelRect,
     /// Vertices a GPU shades for this draw: misses of its post-transform vertex cache.
     pub vertices_shaded: u64,
-    /// Bytes of vertex attributes fetched for them.
+    /// Bytes of vertex attributes fetched for them: the vertex cache's line fills.
     pub vertex_fetch_bytes: u64,
-    /// Bytes of attributes one vertex fetches.
-    pub fetch_bytes_per_vertex: u64,
+    /// Where the draw's attributes are, for fetching its vertices again per tile.
+    pub fetch: std::sync::Arc<FetchLayout>,
     /// Bytes of indices fetched.
     pub index_fetch_bytes: u64,
 }
@@ -143,6 +144,7 @@ pub fn prepare_draw<'a>(
     draw: DrawInput<'a>,
     frame: &PassFrame<'a>,
     post_transform_cache: u32,
+    vertex_cache: CacheConfig,
 ) -> Result<DrawGeometry<'a>> {
     let desc = draw.desc;
     let fail = |reason: String| Error::draw(draw_index, reason);
@@ -290,15 +292,35 @@ pub fn prepare_draw<'a>(
         .shade_vertices(&fetcher, &set, desc.varyings.len())
         .map_err(|e| Error::NonFinitePosition { draw: draw_index, vertex: e.vertex, position: e.position })?;
     // The work a GPU does: without indices every vertex of the stream is shaded; with them,
-    // each index that misses the post-transform cache.
-    let vertices_shaded = match indices {
-        Some(source) if post_transform_cache > 0 => {
-            post_transform_misses((draw.first..draw.first + draw.count).map(|p| source.get(p)), post_transform_cache)
-        }
-        _ => draw.count as u64,
+    // each index that misses the post-transform cache. Each vertex shaded is fetched, in
+    // that order, through the vertex cache: `VertexFetch` is its line fills.
+    let slots = match &set {
+        VertexSet::Range { first, .. } => SlotVertices::From(*first),
+        VertexSet::Dense { min, .. } => SlotVertices::From(*min),
+        VertexSet::Sparse { vertices } => SlotVertices::List(vertices.as_slice().into()),
     };
-    let fetch_bytes_per_vertex = input.fetch_bytes_per_vertex();
-    let vertex_fetch_bytes = vertices_shaded * fetch_bytes_per_vertex;
+    let fetch = FetchLayout::new(input, draw.vertex_buffers, slots);
+    let mut cache = CacheModel::new(vertex_cache);
+    let mut vertex_fetch_bytes = 0;
+    let vertices_shaded = match indices {
+        Some(source) => {
+            let offset = draw.vertex_offset as i64;
+            let indices = (draw.first..draw.first + draw.count).map(|p| source.get(p));
+            let mut shade = |index: u32| vertex_fetch_bytes += fetch.fetch((index as i64 + offset) as u32, &mut cache);
+            if post_transform_cache > 0 {
+                post_transform_fetch(indices, post_transform_cache, shade)
+            } else {
+                indices.for_each(&mut shade);
+                draw.count as u64
+            }
+        }
+        None => {
+            for vertex in draw.first..draw.first + draw.count {
+                vertex_fetch_bytes += fetch.fetch(vertex, &mut cache);
+            }
+            draw.count as u64
+        }
+    };
     let triangles = assemble::triangle_count(desc.topology, draw.count);
     Ok(DrawGeometry {
         desc: draw.desc,
@@ -312,14 +334,15 @@ pub fn prepare_draw<'a>(
         clip_rect,
         vertices_shaded,
         vertex_fetch_bytes,
-        fetch_bytes_per_vertex,
+        fetch: std::sync::Arc::new(fetch),
         index_fetch_bytes,
     })
 }
 
 /// Misses of a FIFO post-transform vertex cache of `entries` over an index stream: the
-/// vertices a GPU with such a cache shades and fetches.
-pub fn post_transform_misses(indices: impl Iterator<Item = u32>, entries: u32) -> u64 {
+/// vertices a GPU with such a cache shades and fetches, `miss(index)` called for each in
+/// stream order.
+fn post_transform_fetch(indices: impl Iterator<Item = u32>, entries: u32, mut miss: impl FnMut(u32)) -> u64 {
     let entries = entries as usize;
     let mut fifo = std::collections::VecDeque::with_capacity(entries);
     let mut held = std::collections::HashSet::with_capacity(entries * 2);
@@ -329,6 +352,7 @@ pub fn post_transform_misses(indices: impl Iterator<Item = u32>, entries: u32) -
             continue;
         }
         misses += 1;
+        miss(index);
         if fifo.len() == entries {
             let oldest = fifo.pop_front().expect("full");
             held.remove(&oldest);
@@ -381,7 +405,8 @@ pub struct SetupBatch {
 
 impl DrawGeometry<'_> {
     /// Counts the draw and what its vertices cost before setup: vertices shaded, and the
-    /// ledger's `VertexFetch` (`vertices shaded × attribute bytes per vertex`) and `IndexFetch`
+    /// ledger's `VertexFetch` (the vertex cache's line fills fetching the vertices shaded, in
+    /// the order they are shaded; `geometry::fetch::FetchLayout`) and `IndexFetch`
     /// (`indices × index size`) of the geometry phase — the one call site for both backends.
     pub fn record(&self, counters: &mut Counters, ledger: &mut Ledger) {
         counters.draws += 1;

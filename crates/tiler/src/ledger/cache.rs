@@ -115,6 +115,10 @@ impl CacheModel {
         CacheModel { config, lines: vec![Line::default(); lines], clock: 0 }
     }
 
+    pub fn config(&self) -> &CacheConfig {
+        &self.config
+    }
+
     /// An access of `bytes` at `address` (any address space the caller chooses; accesses
     /// must not cross a line). `kind` labels the data, so a later write-back can be
     /// attributed to it.

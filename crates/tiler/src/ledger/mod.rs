@@ -10,6 +10,7 @@ pub mod display;
 pub mod energy;
 pub mod framebuffer;
 pub mod hsr;
+pub mod time;
 
 use serde::{Deserialize, Serialize};
 
@@ -40,7 +41,9 @@ category_with_formulas! {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Category {
-    /// Vertex attributes read: `vertices shaded × Σ attribute sizes` (`geometry::vertex`).
+    /// Vertex attributes read: the vertex cache's line fills as the vertices shaded are
+    /// fetched, in shading order: `lines filled × line size` (`geometry::fetch`; without a
+    /// cache, `vertices shaded × Σ attribute sizes`).
     VertexFetch,
     /// Indices read: `indices × index size` (`geometry`).
     IndexFetch,
@@ -51,11 +54,12 @@ pub enum Category {
     /// record of each primitive they name, and a state record at each change of state.
     FrameDataRead,
     /// Attachments read into the tile buffer by `LoadOp::Load`:
-    /// `pixels of the tile in the render area × samples × bytes of the loaded aspect`.
+    /// `pixels of the tile in the render area × samples × bytes of the loaded aspect` (a
+    /// packed D24S8 sample moves as one 4-byte word, whichever aspects are loaded).
     TileLoad,
     /// Attachments written from the tile buffer by `StoreOp::Store`:
-    /// `pixels of the tile in the render area × samples × bytes of the stored aspect`, less
-    /// the tiles transaction elimination skips.
+    /// `pixels of the tile in the render area × samples × bytes of the stored aspect` (a
+    /// packed D24S8 sample: one 4-byte word), less the tiles transaction elimination skips.
     TileStore,
     /// Multisampled colour averaged and written to a single-sample resolve image:
     /// `pixels × bytes per pixel of the resolve image` (tilers: at store, from the tile
@@ -77,7 +81,8 @@ pub enum Category {
     ImrColorRead,
     /// Immediate mode: colour written, per covered sample that passed every test.
     ImrColorWrite,
-    /// Immediate mode: depth read for the depth test, per sample tested.
+    /// Immediate mode: depth read for the depth test, per sample tested (packed D24S8: the
+    /// 4-byte word, or its 3 depth bytes when the stencil is read with it).
     ImrDepthRead,
     /// Immediate mode: depth written, per sample passing with depth writes on.
     ImrDepthWrite,
@@ -251,6 +256,12 @@ pub struct Counters {
     pub fragments_hsr_killed: u64,
     /// Hidden-surface removal: fragments rendered in submission order instead, by reason.
     pub hsr_fallback: HsrFallbacks,
+    /// Texels the texture units read, each a lookup in the texture cache, hit or miss
+    /// (a bilinear sample reads 4, a trilinear one 8). For the time estimate.
+    pub texels_read: u64,
+    /// Samples written through blending: per draw, its samples that passed the depth and
+    /// stencil tests × its colour targets that blend. For the time estimate.
+    pub samples_blended: u64,
 }
 
 impl Counters {
@@ -277,6 +288,8 @@ impl Counters {
             fragments_passed,
             fragments_hsr_killed,
             hsr_fallback,
+            texels_read,
+            samples_blended,
         } = self;
         *draws += o.draws;
         *vertices_shaded += o.vertices_shaded;
@@ -299,6 +312,8 @@ impl Counters {
         *fragments_passed += o.fragments_passed;
         *fragments_hsr_killed += o.fragments_hsr_killed;
         hsr_fallback.merge(&o.hsr_fallback);
+        *texels_read += o.texels_read;
+        *samples_blended += o.samples_blended;
     }
 }
 
@@ -361,7 +376,9 @@ mod tests {
     fn each_formula_is_its_variants_doc_comment_on_one_line() {
         assert_eq!(
             Category::VertexFetch.formula(),
-            "Vertex attributes read: `vertices shaded × Σ attribute sizes` (`geometry::vertex`)."
+            "Vertex attributes read: the vertex cache's line fills as the vertices shaded are fetched, in shading \
+             order: `lines filled × line size` (`geometry::fetch`; without a cache, `vertices shaded × Σ attribute \
+             sizes`)."
         );
         assert!(Category::TileStore.formula().starts_with("Attachments written from the tile buffer by"));
         for category in Category::ALL {

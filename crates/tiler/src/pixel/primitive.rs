@@ -247,8 +247,17 @@ impl<'a, F: FragmentShader> RasterPlan<'a, F> {
                 Some(surface) => depth::block_test_applies(surface, ds, &tally.framebuffer),
                 None => false,
             };
-        let early_tests =
-            tests && target.early_z && !(coverage_changes || properties.writes_depth || properties.side_effects);
+        // Seed 002 ("Avoid operations that disable early-Z") lists what moves the depth and
+        // stencil tests after shading: discard and sample-mask writes (coverage changes), depth
+        // written by the shader, storage writes (side effects), and blending combined with depth
+        // writes. (Depth bounds, the last case it lists, does not exist here.)
+        let blends_with_depth_write = ds.depth_test
+            && ds.depth_write
+            && target.depth_stencil.as_ref().is_some_and(|s| s.format.has_depth())
+            && colors.iter().flatten().any(|plan| plan.state.blend.is_some());
+        let early_tests = tests
+            && target.early_z
+            && !(coverage_changes || properties.writes_depth || properties.side_effects || blends_with_depth_write);
         let simple_colors = colors.iter().zip(&target.color).all(|(plan, surface)| match (plan, surface) {
             (Some(plan), Some(surface)) => {
                 plan.state.blend.is_none()

@@ -2,7 +2,9 @@
 //!
 //! These two functions are the only places attachment bytes move between external memory and
 //! the tile buffer, so the ledger's `TileLoad` and `TileStore` formulas live here:
-//! bytes = pixels of the tile inside the render area × samples × bytes of each aspect moved.
+//! bytes = pixels of the tile inside the render area × samples × bytes of each aspect moved,
+//! where a packed D24S8 sample moves as one 32-bit word: 4 bytes whether one aspect or both
+//! move (`Format::depth_access_bytes`).
 //! The same load function initialises an image in place for immediate mode, where a clear is
 //! a write to external memory (`ImrClear`).
 
@@ -37,20 +39,18 @@ pub fn load_bytes(
             _ => {}
         },
         AttachmentOps::DepthStencil { depth_load, stencil_load, .. } => {
+            // A packed depth-stencil sample moves as one word: an aspect alone costs all of
+            // it, both share it (`Format::depth_access_bytes`).
             let stencil_load = if format.has_stencil() { stencil_load } else { LoadOp::DontCare };
-            let depth_aspect = format.depth_aspect_bytes() as u64;
-            let stencil_aspect = format.stencil_aspect_bytes() as u64;
-            for (op, aspect) in [(depth_load.is_load(), depth_aspect), (stencil_load.is_load(), stencil_aspect)] {
-                if op && has_source {
-                    bytes.loaded += pixels * aspect;
-                }
+            let (depth_loads, stencil_loads) = (depth_load.is_load(), stencil_load.is_load());
+            if has_source {
+                bytes.loaded += depth_loads as u64 * pixels * format.depth_access_bytes(stencil_loads) as u64;
+                bytes.loaded += stencil_loads as u64 * pixels * format.stencil_access_bytes(depth_loads) as u64;
             }
-            if let LoadOp::Clear(_) = depth_load {
-                bytes.cleared += pixels * depth_aspect;
-            }
-            if let LoadOp::Clear(_) = stencil_load {
-                bytes.cleared += pixels * stencil_aspect;
-            }
+            let depth_clears = matches!(depth_load, LoadOp::Clear(_));
+            let stencil_clears = matches!(stencil_load, LoadOp::Clear(_));
+            bytes.cleared += depth_clears as u64 * pixels * format.depth_access_bytes(stencil_clears) as u64;
+            bytes.cleared += stencil_clears as u64 * pixels * format.stencil_access_bytes(depth_clears) as u64;
         }
     }
     bytes
@@ -191,9 +191,11 @@ pub fn store_bytes_of(format: Format, samples: usize, rect: &PixelRect, ops: &At
     let per_sample = match *ops {
         AttachmentOps::Color { store, .. } => (store == StoreOp::Store) as u64 * format.bytes_per_sample() as u64,
         AttachmentOps::DepthStencil { depth_store, stencil_store, .. } => {
-            (depth_store == StoreOp::Store) as u64 * format.depth_aspect_bytes() as u64
-                + (stencil_store == StoreOp::Store && format.has_stencil()) as u64
-                    * format.stencil_aspect_bytes() as u64
+            // A packed depth-stencil sample moves as one word (`Format::depth_access_bytes`).
+            let depth = depth_store == StoreOp::Store;
+            let stencil = stencil_store == StoreOp::Store && format.has_stencil();
+            depth as u64 * format.depth_access_bytes(stencil) as u64
+                + stencil as u64 * format.stencil_access_bytes(depth) as u64
         }
     };
     rect.area() * samples as u64 * per_sample

@@ -55,6 +55,8 @@ pub(crate) struct FlushPlan<'a> {
     pub(crate) vertex_shading: VertexShading,
     pub(crate) overdraw: bool,
     pub(crate) texture_cache: TextureCacheConfig,
+    /// The vertex cache a tile re-fetches its vertices through (`VertexShading::PerTile`).
+    pub(crate) vertex_cache: crate::ledger::cache::CacheConfig,
     pub(crate) simd: crate::simd::SimdSupport,
 }
 
@@ -266,15 +268,17 @@ fn render_tile(
     }
     let frame_data_read = frame.bytes_read_by(list);
     if plan.vertex_shading == VertexShading::PerTile {
-        // Position-only binning: the tile fetches and shades each vertex it uses again.
+        // Position-only binning: the tile fetches and shades each vertex it uses again, in
+        // the order its primitives name them, through a vertex cache of its own.
         worker.tile_vertices.clear();
+        let mut cache = crate::ledger::cache::CacheModel::new(plan.vertex_cache);
         let mut bytes = 0;
         for &entry in list {
             let primitive = &frame.primitives()[entry as usize];
             let state = &frame.states()[primitive.state as usize];
             for id in primitive.vertex_ids {
                 if worker.tile_vertices.insert((state.draw, id)) {
-                    bytes += state.fetch_bytes_per_vertex;
+                    bytes += state.fetch.fetch(state.fetch.vertex_of_slot(id), &mut cache);
                 }
             }
         }

@@ -66,8 +66,9 @@ fn one_triangle_geometry_and_frame_data() {
     let mut pass = color_pass(color, None);
     pass.draw(Draw::indexed(&pipeline(Smooth, desc("one")), vb, ib, IndexType::U16, 0, 3));
     let r = device.submit(&pass).unwrap();
-    // Vertex fetch: 3 vertices × (16 + 16) attribute bytes; index fetch: 3 × 2.
-    assert_eq!(r.ledger.get(Category::VertexFetch), 3 * 32);
+    // Vertex fetch: 3 vertices × (16 + 16) attribute bytes = 96 bytes, read as the two
+    // 64-byte lines they lie in; index fetch: 3 × 2.
+    assert_eq!(r.ledger.get(Category::VertexFetch), 2 * 64);
     assert_eq!(r.ledger.get(Category::IndexFetch), 3 * 2);
     // The triangle covers 3 of the 4 tiles: one record (8 + 3 × (16 + 4 × 4 varyings)),
     // 3 list entries of 4 bytes, one 64-byte state record.
@@ -88,6 +89,11 @@ fn the_post_transform_cache_saves_shared_vertices() {
     let verts = [v(-1.0, -1.0, 0.5, c), v(1.0, -1.0, 0.5, c), v(-1.0, 1.0, 0.5, c), v(1.0, 1.0, 0.5, c)];
     for (cache, shaded) in [(32, 4), (0, 6), (2, 4), (1, 5)] {
         let mut device = device_with(DeviceConfig { post_transform_cache: cache, ..DeviceConfig::default() });
+        let mut exact = device_with(DeviceConfig {
+            post_transform_cache: cache,
+            vertex_cache: CacheConfig::NONE,
+            ..DeviceConfig::default()
+        });
         let color = device.create_image(ImageDesc::new(16, 16, Format::Rgba8Unorm)).unwrap();
         let vb = device.create_buffer_from(&verts).unwrap();
         let ib = device.create_buffer_from(&[0u32, 1, 2, 2, 1, 3]).unwrap();
@@ -95,7 +101,16 @@ fn the_post_transform_cache_saves_shared_vertices() {
         pass.draw(Draw::indexed(&pipeline(Smooth, desc("quad")), vb, ib, IndexType::U32, 0, 6));
         let r = device.submit(&pass).unwrap();
         assert_eq!(r.counters.vertices_shaded, shaded, "cache of {cache}");
-        assert_eq!(r.ledger.get(Category::VertexFetch), shaded * 32);
+        // The 4 vertices' 128 bytes are two 64-byte lines: the vertex cache reads each once,
+        // however often the post-transform cache misses.
+        assert_eq!(r.ledger.get(Category::VertexFetch), 2 * 64);
+        // Without a vertex cache every vertex shaded costs its exact 32 bytes.
+        let exact_vb = exact.create_buffer_from(&verts).unwrap();
+        let exact_ib = exact.create_buffer_from(&[0u32, 1, 2, 2, 1, 3]).unwrap();
+        let exact_color = exact.create_image(ImageDesc::new(16, 16, Format::Rgba8Unorm)).unwrap();
+        let mut pass = color_pass(exact_color, None);
+        pass.draw(Draw::indexed(&pipeline(Smooth, desc("quad")), exact_vb, exact_ib, IndexType::U32, 0, 6));
+        assert_eq!(exact.submit(&pass).unwrap().ledger.get(Category::VertexFetch), shaded * 32);
     }
 }
 
@@ -113,8 +128,9 @@ fn position_only_binning_shades_vertices_again_per_tile() {
     pass.draw(Draw::new(&pipeline(Smooth, desc("wide")), vb, 0, 3));
     let r = device.submit(&pass).unwrap();
     assert_eq!(r.counters.polygon_list_entries, 2);
-    // Binning fetches the 3 vertices once; each of the 2 tiles fetches them again.
-    assert_eq!(r.ledger.get(Category::VertexFetch), (3 + 2 * 3) * 32);
+    // Binning fetches the 3 vertices once; each of the 2 tiles fetches them again: each time
+    // their 96 bytes are two 64-byte lines.
+    assert_eq!(r.ledger.get(Category::VertexFetch), (1 + 2) * 2 * 64);
     assert_eq!(r.counters.vertices_shaded, 3 + 2 * 3);
     // The record holds positions only: 8 + 3 × 16.
     assert_eq!(r.ledger.get(Category::FrameDataWrite), (8 + 3 * 16) + 2 * 4 + 64);
@@ -230,4 +246,187 @@ fn present_costs_scan_out_and_composition() {
     assert_eq!(ledger.get(Category::Composition), 8000);
     let msaa = device.create_image(ImageDesc::new(100, 10, Format::Rgba8Unorm).with_samples(4)).unwrap();
     assert!(device.present(msaa).is_err());
+}
+
+/// Samples a texture bilinearly at the interpolated colour's red and green (as u, v).
+struct Textured(Texture);
+
+impl FragmentShader for Textured {
+    fn shade(&self, frag: &mut Fragments<'_>) {
+        let c = frag.smooth_n::<4>(0);
+        let color = frag.sample(&self.0, &Sampler::BILINEAR_CLAMP, [c[0], c[1]]);
+        frag.set_color(0, color);
+    }
+}
+
+/// The time estimate through the public API: a 32×32 frame with a textured full-screen quad
+/// and a blended one over it, on a device of round figures, stage by stage by hand.
+#[test]
+fn the_time_estimate_by_hand() {
+    let texture = Texture::from_rgba8(8, 8, &[200; 8 * 8 * 4], ColorSpace::Linear, MipChain::BaseOnly).unwrap();
+    for backend in Backend::ALL {
+        let mut device = device_with(DeviceConfig { backend, ..preset("tbr") });
+        let color = device.create_image(ImageDesc::new(32, 32, Format::Rgba8Unorm)).unwrap();
+        let mut pass = color_pass(color, None);
+        let quad = device.create_buffer_from(&fullscreen(0.5)).unwrap();
+        pass.draw(Draw::new(&pipeline(Textured(texture.clone()), desc("textured")), quad, 0, 6));
+        let mut blended = desc("blended");
+        blended.color_targets = vec![ColorTargetState::ALPHA_BLEND];
+        pass.draw(Draw::new(&pipeline(Solid([1.0, 0.0, 0.0, 0.5]), blended), quad, 0, 6));
+        let frame = FrameCost::new(vec![device.submit(&pass).unwrap()]);
+        let c = frame.counters();
+        // 6 + 6 vertices; 1024 fragments per quad; the 16 quads on the diagonal are shaded by
+        // both triangles, 4 covered lanes and 4 helper lanes: 64 helpers per draw. Bilinear: 4
+        // texels per lane of the textured quad, helpers included: (1024 + 64) × 4. The blended
+        // quad's 1024 samples through its one blending target.
+        assert_eq!(
+            (c.vertices_shaded, c.fragments_shaded, c.helper_invocations, c.texels_read, c.samples_blended),
+            (12, 2048, 128, 4352, 1024),
+            "{backend}"
+        );
+        let model = TimeModel {
+            clock_mhz: 1.0,
+            cores: 2,
+            vertices_per_clock: 1.0,
+            pixels_per_clock: 4.0,
+            texels_per_clock: 2.0,
+            blended_samples_per_clock: 1.0,
+            bandwidth_gb_per_s: 0.001,
+            frames_in_flight: 3,
+        };
+        let t = frame.time(&model);
+        // 12 vertices / (1e6 Hz × 2 cores × 1) = 6 µs.
+        assert!((t.geometry_seconds - 6e-6).abs() < 1e-15, "{backend}");
+        // Shading 2176 / 8e6 = 272 µs; texturing 4352 / 4 / 4e6 = 272 µs; blending 1024 / 2e6
+        // = 512 µs: blending bounds the fragment stage.
+        assert!((t.fragment_seconds - 512e-6).abs() < 1e-15, "{backend}");
+        // The bytes of the frame / 1e6 B/s.
+        let bytes = frame.ledger().total();
+        assert!((t.memory_seconds - bytes as f64 / 1e6).abs() < 1e-15, "{backend}");
+        let (seconds, bound) =
+            if t.memory_seconds > 512e-6 { (t.memory_seconds, Stage::Memory) } else { (512e-6, Stage::Fragment) };
+        assert_eq!((t.seconds, t.bound), (seconds, bound), "{backend}");
+        assert!((model.bandwidth_share(bytes, 60.0) - bytes as f64 * 60.0 / 1e6).abs() < 1e-12);
+    }
+}
+
+/// Memory moves a packed D24S8 sample as one 32-bit word (issue 16): an access of depth alone
+/// or stencil alone costs 4 bytes; depth and stencil together share the word, 3 + 1. Immediate
+/// mode without a cache, one full-screen quad on 64×32 pixels, then with a framebuffer cache
+/// of 64-byte lines (16 words a line).
+#[test]
+fn packed_depth_stencil_moves_whole_words() {
+    let (w, h) = (64u32, 32u32);
+    let pixels = (w * h) as u64;
+    let replace = StencilFaceState { pass_op: StencilOp::Replace, reference: 5, ..StencilFaceState::KEEP };
+    let run = |state: DepthStencilState, cache: CacheConfig| {
+        let mut config = preset("imr-no-cache");
+        config.framebuffer_cache = cache;
+        let mut device = device_with(config);
+        let color = device.create_image(ImageDesc::new(w, h, Format::Rgba8Unorm)).unwrap();
+        let ds = device.create_image(ImageDesc::new(w, h, Format::D24UnormS8Uint)).unwrap();
+        let mut pass = color_pass(color, Some(DepthStencilAttachment::clear_discard(ds, 1.0)));
+        let mut d = desc("quad");
+        d.depth_stencil = state;
+        let vb = device.create_buffer_from(&fullscreen(0.5)).unwrap();
+        pass.draw(Draw::new(&pipeline(FlatColor, d), vb, 0, 6));
+        let ledger = device.submit(&pass).unwrap().ledger;
+        [Category::ImrDepthRead, Category::ImrDepthWrite, Category::ImrStencilRead, Category::ImrStencilWrite]
+            .map(|c| ledger.get(c) / pixels)
+    };
+    let none = CacheConfig::NONE;
+    // Depth alone: the whole word read and written.
+    assert_eq!(run(DepthStencilState::LESS_WRITE, none), [4, 4, 0, 0]);
+    // Stencil alone (no depth test): the whole word.
+    assert_eq!(run(DepthStencilState::DISABLED.with_stencil(replace), none), [0, 0, 4, 4]);
+    // Both tested and both written: one word, 3 + 1 each way.
+    assert_eq!(run(DepthStencilState::LESS_WRITE.with_stencil(replace), none), [3, 3, 1, 1]);
+    // Both tested, only depth written (the stencil op keeps): read 3 + 1, write the word.
+    assert_eq!(run(DepthStencilState::LESS_WRITE.with_stencil(StencilFaceState::KEEP), none), [3, 4, 1, 0]);
+    // Behind a 64 KiB cache of 64-byte lines the 8 KiB of depth-stencil words is filled once
+    // and written back once, whichever aspects are accessed: 2048 × 4 bytes = 128 lines each way.
+    let cache = CacheConfig { size_bytes: 64 << 10, line_bytes: 64, ways: 8 };
+    for state in [DepthStencilState::LESS_WRITE, DepthStencilState::LESS_WRITE.with_stencil(replace)] {
+        let [depth_read, depth_write, stencil_read, stencil_write] = run(state, cache);
+        assert_eq!((depth_read + stencil_read, depth_write + stencil_write), (4, 4), "{state:?}");
+    }
+}
+
+/// Seed 004 §24.5: vertex fetch reads whole lines, so layouts cost what they touch. Six
+/// vertices of a quad, position and colour (16 + 16 bytes): interleaved, 192 bytes in 3 lines;
+/// in two separate buffers, each stream's 96 bytes take 2 lines, 4 in all — the separate
+/// layout wastes the half line at the end of each stream, 64 bytes. A position-only pipeline
+/// over the interleaved buffer (a hot/cold mix: the colour is cold) reads every line anyway,
+/// where over a separate position buffer it reads only 2.
+#[test]
+fn vertex_fetch_reads_the_lines_each_layout_touches() {
+    let c = [1.0, 0.5, 0.25, 1.0];
+    let quad = fullscreen(0.5);
+    let positions: Vec<[f32; 4]> = quad.iter().map(|v| [v[0], v[1], v[2], v[3]]).collect();
+    let colors: Vec<[f32; 4]> = quad.iter().map(|_| c).collect();
+    let fetch = |input: VertexInputState, separate: bool| {
+        let mut device = device_with(preset("imr-no-cache"));
+        let color = device.create_image(ImageDesc::new(16, 16, Format::Rgba8Unorm)).unwrap();
+        let mut pass = color_pass(color, None);
+        let mut d = desc("layout");
+        d.vertex_input = input;
+        let buffers = if separate {
+            vec![device.create_buffer_from(&positions).unwrap(), device.create_buffer_from(&colors).unwrap()]
+        } else {
+            let interleaved: Vec<Vertex> =
+                quad.iter().map(|v| [v[0], v[1], v[2], v[3], c[0], c[1], c[2], c[3]]).collect();
+            vec![device.create_buffer_from(&interleaved).unwrap()]
+        };
+        let mut draw = Draw::new(&pipeline(FlatColor, d), buffers[0], 0, 6);
+        draw.vertex_buffers = buffers.iter().map(|b| VertexBufferBinding { buffer: *b, offset: 0 }).collect();
+        pass.draw(draw);
+        let r = device.submit(&pass).unwrap();
+        (r.ledger.get(Category::VertexFetch), device.read_rgba8(color).unwrap())
+    };
+    use VertexFormat::Float32x4;
+    let (interleaved, picture) = fetch(VertexInputState::interleaved(&[Float32x4, Float32x4]), false);
+    let (separate, same_picture) = fetch(VertexInputState::separate(&[Float32x4, Float32x4]), true);
+    assert_eq!(picture, same_picture);
+    assert_eq!((interleaved, separate), (3 * 64, 4 * 64));
+    assert_eq!(separate - interleaved, 64, "the two half lines the separate streams waste");
+    // Position only: over the interleaved buffer (stride 32) still 3 lines; over its own
+    // buffer (stride 16) 2 lines.
+    let mut position_only = VertexInputState::interleaved(&[Float32x4]);
+    position_only.bindings[0].stride = 32;
+    assert_eq!(fetch(position_only, false).0, 3 * 64);
+    assert_eq!(fetch(VertexInputState::interleaved(&[Float32x4]), true).0, 2 * 64);
+}
+
+/// Seed 002: blending combined with depth writes disables early-Z. A blended quad behind an
+/// opaque one (32×32 pixels) is rejected before shading when it does not write depth, and
+/// shaded then rejected when it does; the picture is the same either way.
+#[test]
+fn blending_with_depth_writes_disables_early_z() {
+    let pixels = 32 * 32;
+    for backend in Backend::ALL {
+        let run = |depth_write: bool| {
+            let mut device = device_with(DeviceConfig { backend, ..DeviceConfig::default() });
+            let color = device.create_image(ImageDesc::new(32, 32, Format::Rgba8Unorm)).unwrap();
+            let depth = device.create_image(ImageDesc::new(32, 32, Format::D24UnormS8Uint)).unwrap();
+            let mut pass = color_pass(color, Some(DepthStencilAttachment::clear_discard(depth, 1.0)));
+            let mut opaque = desc("opaque");
+            opaque.depth_stencil = DepthStencilState::LESS_WRITE;
+            let front = device.create_buffer_from(&fullscreen(0.5)).unwrap();
+            pass.draw(Draw::new(&pipeline(Solid([0.0, 1.0, 0.0, 1.0]), opaque), front, 0, 6));
+            let mut blended = desc("blended");
+            blended.color_targets = vec![ColorTargetState::ALPHA_BLEND];
+            blended.depth_stencil =
+                if depth_write { DepthStencilState::LESS_WRITE } else { DepthStencilState::LESS_NO_WRITE };
+            let behind = device.create_buffer_from(&fullscreen(0.8)).unwrap();
+            pass.draw(Draw::new(&pipeline(Solid([1.0, 0.0, 0.0, 0.5]), blended), behind, 0, 6));
+            let c = device.submit(&pass).unwrap().counters;
+            (c.fragments_shaded, c.fragments_early_z_killed, c.fragments_late_killed, device.read_rgba8(color).unwrap())
+        };
+        let (shaded, early, late, picture) = run(false);
+        assert_eq!((early, late), (pixels, 0), "{backend}: early-Z rejects the hidden blended quad");
+        let (shaded_with_write, early_with_write, late_with_write, same_picture) = run(true);
+        assert_eq!((early_with_write, late_with_write), (0, pixels), "{backend}: tested after shading");
+        assert_eq!(shaded_with_write, shaded + pixels, "{backend}");
+        assert_eq!(picture, same_picture, "{backend}");
+    }
 }

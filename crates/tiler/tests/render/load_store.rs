@@ -119,12 +119,13 @@ fn depth_discarded_at_the_end_costs_nothing() {
             assert_eq!(report.ledger.get(Category::TileStore), PIXELS * 4);
             assert_eq!(report.ledger.get(Category::TileLoad), 0);
         } else {
-            // Immediate mode clears depth (3 bytes) and stencil (1 byte) in memory, and tests
-            // and writes depth per fragment.
+            // Immediate mode clears depth and stencil in memory (the packed word's 3 + 1
+            // bytes), and tests and writes depth per fragment: with no stencil test, depth
+            // alone, and memory moves a D24S8 sample as one 32-bit word, so 4 bytes each.
             assert_eq!(report.ledger.get(Category::ImrClear), PIXELS * (4 + 3 + 1));
             let fragments = report.counters.fragments_rasterized;
-            assert_eq!(report.ledger.get(Category::ImrDepthRead), fragments * 3);
-            assert_eq!(report.ledger.get(Category::ImrDepthWrite), fragments * 3);
+            assert_eq!(report.ledger.get(Category::ImrDepthRead), fragments * 4);
+            assert_eq!(report.ledger.get(Category::ImrDepthWrite), fragments * 4);
         }
     }
 }
@@ -144,10 +145,12 @@ fn depth_and_stencil_aspects_load_separately() {
         assert!(device.read_depth(ds).unwrap().iter().all(|d| *d == 1.0), "{backend}: depth cleared");
         assert!(device.read_stencil(ds).unwrap().iter().all(|s| *s == 9), "{backend}: stencil kept");
         if backend.is_tiler() {
-            assert_eq!(report.ledger.get(Category::TileLoad), PIXELS, "only the stencil byte is loaded");
+            // Only the stencil is loaded, but memory moves a D24S8 sample as one 32-bit word.
+            assert_eq!(report.ledger.get(Category::TileLoad), PIXELS * 4, "the stencil's whole word is loaded");
             assert_eq!(report.ledger.get(Category::TileStore), PIXELS * (4 + 4));
         } else {
-            assert_eq!(report.ledger.get(Category::ImrClear), PIXELS * (4 + 3));
+            // Colour, and depth alone: its whole word.
+            assert_eq!(report.ledger.get(Category::ImrClear), PIXELS * (4 + 4));
         }
     }
 }
