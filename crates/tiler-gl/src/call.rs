@@ -78,13 +78,19 @@ pub enum Call<D = Bytes> {
         height: u32,
         data: D,
     },
-    /// Sampling state of a texture (`glTexParameteri` for the filters and wraps).
+    /// Sampling state of a texture (`glTexParameteri` for the filters and wraps): `filter`
+    /// minifies and `wrap` wraps s; `mag_filter` (default: `filter`'s first word) magnifies and
+    /// `wrap_t` (default: `wrap`) wraps t.
     TexParameters {
         id: u32,
         #[serde(default)]
         filter: Filter,
         #[serde(default)]
         wrap: Wrap,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        mag_filter: Option<Filter>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        wrap_t: Option<Wrap>,
     },
     /// `glGenerateMipmap`: texture `id` gets a mip chain, each level a 2×2 box filter of the
     /// one above (the core's `MipChain::Box`), sampled with a `*_mipmap_*` filter. The levels
@@ -223,21 +229,31 @@ pub enum Call<D = Bytes> {
     DepthMask {
         write: bool,
     },
+    /// `glStencilMaskSeparate`; `face` defaults to both (`glStencilMask`). Clears use the
+    /// front mask, as in GL.
     StencilMask {
         mask: u8,
+        #[serde(default = "both_faces", skip_serializing_if = "is_both_faces")]
+        face: Face,
     },
     DepthFunc {
         func: CompareOp,
     },
+    /// `glStencilFuncSeparate`; `face` defaults to both (`glStencilFunc`).
     StencilFunc {
         func: CompareOp,
         reference: u8,
         mask: u8,
+        #[serde(default = "both_faces", skip_serializing_if = "is_both_faces")]
+        face: Face,
     },
+    /// `glStencilOpSeparate`; `face` defaults to both (`glStencilOp`).
     StencilOp {
         fail: tiler::StencilOp,
         depth_fail: tiler::StencilOp,
         pass: tiler::StencilOp,
+        #[serde(default = "both_faces", skip_serializing_if = "is_both_faces")]
+        face: Face,
     },
     /// `glBlendFuncSeparate`; with only `src` and `dst`, alpha uses the same factors.
     BlendFunc {
@@ -441,6 +457,14 @@ fn none<T>() -> Option<T> {
     None
 }
 
+fn both_faces() -> Face {
+    Face::FrontAndBack
+}
+
+fn is_both_faces(face: &Face) -> bool {
+    *face == Face::FrontAndBack
+}
+
 impl<D> Call<D> {
     /// The call's name as a trace spells it.
     pub fn name(&self) -> &'static str {
@@ -540,7 +564,9 @@ impl<D> Call<D> {
                 VertexAttribArray { index, size, component, normalized, stride, data: f(data)? }
             }
             DeleteBuffer { id } => DeleteBuffer { id },
-            TexParameters { id, filter, wrap } => TexParameters { id, filter, wrap },
+            TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
+                TexParameters { id, filter, wrap, mag_filter, wrap_t }
+            }
             GenerateMipmap { id } => GenerateMipmap { id },
             DeleteTexture { id } => DeleteTexture { id },
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
@@ -570,10 +596,10 @@ impl<D> Call<D> {
             Disable { cap } => Disable { cap },
             ColorMask { red, green, blue, alpha } => ColorMask { red, green, blue, alpha },
             DepthMask { write } => DepthMask { write },
-            StencilMask { mask } => StencilMask { mask },
+            StencilMask { mask, face } => StencilMask { mask, face },
             DepthFunc { func } => DepthFunc { func },
-            StencilFunc { func, reference, mask } => StencilFunc { func, reference, mask },
-            StencilOp { fail, depth_fail, pass } => StencilOp { fail, depth_fail, pass },
+            StencilFunc { func, reference, mask, face } => StencilFunc { func, reference, mask, face },
+            StencilOp { fail, depth_fail, pass, face } => StencilOp { fail, depth_fail, pass, face },
             BlendFunc { src, dst, src_alpha, dst_alpha } => BlendFunc { src, dst, src_alpha, dst_alpha },
             BlendEquation { rgb, alpha } => BlendEquation { rgb, alpha },
             BlendColor { rgba } => BlendColor { rgba },
@@ -859,8 +885,8 @@ pub enum IndexKind {
 
 /// Texture filters, with GL's names. The `*_mipmap_*` ones are minification filters: in
 /// `tex_parameters` they sample the levels `generate_mipmap` made (the first word filters within
-/// a level, the last between levels), magnification using the first word alone; elsewhere (a
-/// blit, a texture without levels) they act as their first word.
+/// a level, the last between levels); a texture without levels is then incomplete and samples
+/// as (0, 0, 0, 1), as GL ES 2.0 §3.8.2 says. In a blit they act as their first word.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Filter {
@@ -875,7 +901,7 @@ pub enum Filter {
 
 impl Filter {
     /// The filter within a level: `nearest` or `linear`.
-    pub fn base(self) -> Filter {
+    pub const fn base(self) -> Filter {
         match self {
             Filter::Nearest | Filter::NearestMipmapNearest | Filter::NearestMipmapLinear => Filter::Nearest,
             Filter::Linear | Filter::LinearMipmapNearest | Filter::LinearMipmapLinear => Filter::Linear,

@@ -45,8 +45,6 @@ struct Texture {
     min: u32,
     mag: u32,
     wrap: [u32; 2],
-    /// `glGenerateMipmap` made levels (the context keeps them up to date with level 0).
-    mipmapped: bool,
 }
 
 impl Default for Texture {
@@ -58,50 +56,45 @@ impl Default for Texture {
             min: GL_NEAREST_MIPMAP_LINEAR,
             mag: GL_LINEAR,
             wrap: [GL_REPEAT; 2],
-            mipmapped: false,
         }
     }
 }
 
+/// A texture's sampling state as the context takes it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct SamplerParameters {
+    min: Filter,
+    mag: Filter,
+    wrap_s: Wrap,
+    wrap_t: Wrap,
+}
+
 impl Texture {
-    /// The context's sampling state, or why the GL state has none. The context takes one
-    /// filter: a `*_MIPMAP_*` one minifies through the levels `glGenerateMipmap` made and
-    /// magnifies with its first word, so GL's magnification filter must be that word.
-    fn sampler(&self) -> Fallible<(Filter, Wrap)> {
+    /// The context's sampling state, or why the GL state has none. A mipmap filter on a
+    /// texture without levels is GL's incomplete texture, which the context samples as
+    /// (0, 0, 0, 1).
+    fn sampler(&self) -> Fallible<SamplerParameters> {
         let mag = match self.mag {
             GL_NEAREST => Filter::Nearest,
             GL_LINEAR => Filter::Linear,
             f => return Err(format!("magnification filter {f:#06x} is not a GL one")),
         };
-        let (min, first_word) = match self.min {
-            GL_NEAREST => (Filter::Nearest, Filter::Nearest),
-            GL_LINEAR => (Filter::Linear, Filter::Linear),
-            0x2700 => (Filter::NearestMipmapNearest, Filter::Nearest),
-            0x2701 => (Filter::LinearMipmapNearest, Filter::Linear),
-            GL_NEAREST_MIPMAP_LINEAR => (Filter::NearestMipmapLinear, Filter::Nearest),
-            0x2703 => (Filter::LinearMipmapLinear, Filter::Linear),
+        let min = match self.min {
+            GL_NEAREST => Filter::Nearest,
+            GL_LINEAR => Filter::Linear,
+            0x2700 => Filter::NearestMipmapNearest,
+            0x2701 => Filter::LinearMipmapNearest,
+            GL_NEAREST_MIPMAP_LINEAR => Filter::NearestMipmapLinear,
+            0x2703 => Filter::LinearMipmapLinear,
             f => return Err(format!("minification filter {f:#06x} is not a GL one")),
         };
-        if first_word != mag {
-            return Err("minification and magnification filters of different kinds are not modelled".into());
-        }
-        if min != first_word && !self.mipmapped {
-            return Err(format!(
-                "its minification filter {:#06x} needs mip levels and it has none (GL samples an incomplete \
-                 texture as black; the context does not model that)",
-                self.min
-            ));
-        }
-        if self.wrap[0] != self.wrap[1] {
-            return Err("different wraps in s and t are not modelled".into());
-        }
-        let wrap = match self.wrap[0] {
-            GL_REPEAT => Wrap::Repeat,
-            GL_CLAMP_TO_EDGE => Wrap::ClampToEdge,
-            GL_MIRRORED_REPEAT => Wrap::MirroredRepeat,
-            w => return Err(format!("wrap {w:#06x} is not a GLES wrap")),
+        let wrap = |w: u32| match w {
+            GL_REPEAT => Ok(Wrap::Repeat),
+            GL_CLAMP_TO_EDGE => Ok(Wrap::ClampToEdge),
+            GL_MIRRORED_REPEAT => Ok(Wrap::MirroredRepeat),
+            w => Err(format!("wrap {w:#06x} is not a GLES wrap")),
         };
-        Ok((min, wrap))
+        Ok(SamplerParameters { min, mag, wrap_s: wrap(self.wrap[0])?, wrap_t: wrap(self.wrap[1])? })
     }
 }
 
@@ -556,8 +549,6 @@ impl Translator {
                 let t = self.objects()?.textures.get_mut(&name).expect("inserted above");
                 t.id = Some(id);
                 t.upload = Some(upload);
-                // New storage of another size leaves the levels of the old one behind.
-                t.mipmapped &= t.size == (width, height);
                 t.size = (width, height);
                 self.update_sampler(name)?;
             }
@@ -624,8 +615,6 @@ impl Translator {
                 let name = self.bound_texture()?;
                 let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
                 self.emit(Call::GenerateMipmap { id })?;
-                self.objects()?.textures.get_mut(&name).expect("has storage").mipmapped = true;
-                self.update_sampler(name)?;
             }
             C::PixelStore { pname, param } => match (*pname, *param) {
                 (0x0cf5, a @ (1 | 2 | 4 | 8)) => self.bindings.unpack_alignment = a as u32,
@@ -912,19 +901,20 @@ impl Translator {
                 self.emit(Call::BlendColor { rgba: *color })?;
             }
             C::StencilFunc { face, func, reference, mask } => {
-                both_faces(*face)?;
+                let face = stencil_face(*face)?;
                 let func = compare_op(*func)?;
-                self.emit(Call::StencilFunc { func, reference: (*reference).clamp(0, 255) as u8, mask: *mask as u8 })?;
+                let (reference, mask) = ((*reference).clamp(0, 255) as u8, *mask as u8);
+                self.emit(Call::StencilFunc { func, reference, mask, face })?;
             }
             C::StencilOp { face, stencil_fail, depth_fail, pass } => {
-                both_faces(*face)?;
+                let face = stencil_face(*face)?;
                 let (fail, depth_fail, pass) =
                     (stencil_op(*stencil_fail)?, stencil_op(*depth_fail)?, stencil_op(*pass)?);
-                self.emit(Call::StencilOp { fail, depth_fail, pass })?;
+                self.emit(Call::StencilOp { fail, depth_fail, pass, face })?;
             }
             C::StencilMask { face, mask } => {
-                both_faces(*face)?;
-                self.emit(Call::StencilMask { mask: *mask as u8 })?;
+                let face = stencil_face(*face)?;
+                self.emit(Call::StencilMask { mask: *mask as u8, face })?;
             }
             C::ClearColor { color } => {
                 self.emit(Call::ClearColor { rgba: *color })?;
@@ -1026,10 +1016,15 @@ impl Translator {
             Call::DepthRange { near: 0.0, far: 1.0 },
             Call::ColorMask { red: true, green: true, blue: true, alpha: true },
             Call::DepthMask { write: true },
-            Call::StencilMask { mask: 0xff },
+            Call::StencilMask { mask: 0xff, face: Face::FrontAndBack },
             Call::DepthFunc { func: CompareOp::Less },
-            Call::StencilFunc { func: CompareOp::Always, reference: 0, mask: 0xff },
-            Call::StencilOp { fail: StencilOp::Keep, depth_fail: StencilOp::Keep, pass: StencilOp::Keep },
+            Call::StencilFunc { func: CompareOp::Always, reference: 0, mask: 0xff, face: Face::FrontAndBack },
+            Call::StencilOp {
+                fail: StencilOp::Keep,
+                depth_fail: StencilOp::Keep,
+                pass: StencilOp::Keep,
+                face: Face::FrontAndBack,
+            },
             Call::BlendFunc { src: BlendFactor::One, dst: BlendFactor::Zero, src_alpha: None, dst_alpha: None },
             Call::BlendEquation { rgb: BlendOp::Add, alpha: None },
             Call::BlendColor { rgba: [0.0; 4] },
@@ -1270,8 +1265,14 @@ impl Translator {
     fn update_sampler(&mut self, name: u32) -> Fallible {
         let t = self.objects()?.textures.get(&name).cloned().unwrap_or_default();
         // A GL state the context cannot sample is refused when it is drawn with.
-        if let (Some(id), Ok((filter, wrap))) = (t.id, t.sampler()) {
-            self.emit(Call::TexParameters { id, filter, wrap })?;
+        if let (Some(id), Ok(p)) = (t.id, t.sampler()) {
+            self.emit(Call::TexParameters {
+                id,
+                filter: p.min,
+                wrap: p.wrap_s,
+                mag_filter: Some(p.mag),
+                wrap_t: Some(p.wrap_t),
+            })?;
         }
         Ok(())
     }
@@ -1354,11 +1355,14 @@ fn check_2d_level0(target: GlEnum, level: i32) -> Fallible {
     Ok(())
 }
 
-fn both_faces(face: GlEnum) -> Fallible {
-    if face != GL_FRONT_AND_BACK {
-        return Err("separate front and back stencil state is not supported".into());
+/// The face of a `glStencil*Separate` call (`GL_FRONT_AND_BACK` for the others).
+fn stencil_face(face: GlEnum) -> Fallible<Face> {
+    match face {
+        0x0404 => Ok(Face::Front),
+        0x0405 => Ok(Face::Back),
+        GL_FRONT_AND_BACK => Ok(Face::FrontAndBack),
+        f => Err(format!("stencil face {f:#06x} is not a GL one")),
     }
-    Ok(())
 }
 
 fn qcom_buffers(mask: u32) -> BufferSet {

@@ -8,8 +8,8 @@
 
 use tiler::{
     BlendComponent, BlendState, BufferId, ColorTargetState, ColorWrites, CullMode, DepthStencilState, FrontFace,
-    ImageId, IndexBufferBinding, IndexType, PipelineDesc, Rect, StencilFaceState, Topology, VertexAttribute,
-    VertexBinding, VertexBufferBinding, VertexFormat, VertexInputState, Viewport,
+    ImageId, IndexBufferBinding, IndexType, PipelineDesc, Rect, Topology, VertexAttribute, VertexBinding,
+    VertexBufferBinding, VertexFormat, VertexInputState, Viewport,
 };
 
 use super::pass::{Writes, push_draw};
@@ -276,23 +276,14 @@ impl Context {
         let subpass_color = subpass.as_ref().is_none_or(|(_, d)| !d.color.is_empty());
         let depth_test = s.depth_test && targets.has_depth() && subpass_depth;
         let stencil_test = s.stencil_test && targets.has_stencil() && subpass_depth;
-        let (func, reference, compare_mask) = s.stencil_func;
-        let face = StencilFaceState {
-            compare: func,
-            fail_op: s.stencil_ops.0,
-            depth_fail_op: s.stencil_ops.1,
-            pass_op: s.stencil_ops.2,
-            compare_mask,
-            write_mask: s.stencil_write_mask,
-            reference,
-        };
+        let [front, back] = s.stencil;
         let depth_stencil = DepthStencilState {
             depth_test,
             depth_write: depth_test && s.depth_mask,
             depth_compare: s.depth_func,
             stencil_test,
-            front: face,
-            back: face,
+            front,
+            back,
         };
         let blend = s.blend.then(|| BlendState {
             color: BlendComponent { src: s.blend_func[0], dst: s.blend_func[1], op: s.blend_equation[0] },
@@ -302,7 +293,7 @@ impl Context {
         let writes = Writes {
             color: !targets.color.is_empty() && subpass_color && write_mask != ColorWrites::NONE,
             depth: depth_stencil.depth_write,
-            stencil: stencil_test && (face.writes()),
+            stencil: stencil_test && (front.writes() || back.writes()),
         };
         let mut vertex_input = VertexInputState::default();
         let mut desc_cull = CullMode::None;
@@ -439,7 +430,7 @@ impl Context {
                     image,
                     ndc,
                     tex,
-                    sampler: SamplerState { filter, wrap: Wrap::ClampToEdge },
+                    sampler: SamplerState::new(filter, Wrap::ClampToEdge),
                     read_bytes,
                 },
                 desc,

@@ -20,7 +20,9 @@ mod targets;
 
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
-use tiler::{Backend, BlendFactor, BlendOp, BufferId, CompareOp, Device, DeviceConfig, ImageDesc, ImageId, StencilOp};
+use tiler::{
+    Backend, BlendFactor, BlendOp, BufferId, CompareOp, Device, DeviceConfig, ImageDesc, ImageId, StencilFaceState,
+};
 
 use crate::bytes::Bytes;
 use crate::call::{
@@ -273,10 +275,9 @@ pub(crate) struct GlState {
     pub cull_face: bool,
     pub color_mask: [bool; 4],
     pub depth_mask: bool,
-    pub stencil_write_mask: u8,
     pub depth_func: CompareOp,
-    pub stencil_func: (CompareOp, u8, u8),
-    pub stencil_ops: (StencilOp, StencilOp, StencilOp),
+    /// Stencil function, operations and write mask of front- and back-facing primitives.
+    pub stencil: [StencilFaceState; 2],
     pub blend_func: [BlendFactor; 4],
     pub blend_equation: [BlendOp; 2],
     pub blend_color: [f32; 4],
@@ -305,10 +306,8 @@ impl GlState {
             cull_face: false,
             color_mask: [true; 4],
             depth_mask: true,
-            stencil_write_mask: 0xff,
             depth_func: CompareOp::Less,
-            stencil_func: (CompareOp::Always, 0, 0xff),
-            stencil_ops: (StencilOp::Keep, StencilOp::Keep, StencilOp::Keep),
+            stencil: [StencilFaceState::KEEP; 2],
             blend_func: [BlendFactor::One, BlendFactor::Zero, BlendFactor::One, BlendFactor::Zero],
             blend_equation: [BlendOp::Add, BlendOp::Add],
             blend_color: [0.0; 4],
@@ -590,8 +589,14 @@ impl Context {
                 self.texture_storage(id, width, height, format, data, false)?;
             }
             TexSubImage { id, x, y, width, height, data } => self.tex_sub_image(id, x, y, width, height, data)?,
-            TexParameters { id, filter, wrap } => {
-                self.texture_mut(id)?.sampler = SamplerState { filter, wrap };
+            TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
+                if mag_filter.is_some_and(|f| f.mipmap().is_some()) {
+                    return Err(format!("magnification filter {mag_filter:?} is not nearest or linear"));
+                }
+                let mut sampler = SamplerState::new(filter, wrap);
+                sampler.mag_filter = mag_filter.unwrap_or(sampler.mag_filter);
+                sampler.wrap_t = wrap_t.unwrap_or(wrap);
+                self.texture_mut(id)?.sampler = sampler;
             }
             GenerateMipmap { id } => {
                 let image = self.texture(id)?.image;
@@ -693,10 +698,14 @@ impl Context {
             Disable { cap } => self.set_capability(cap, false),
             ColorMask { red, green, blue, alpha } => self.state.color_mask = [red, green, blue, alpha],
             DepthMask { write } => self.state.depth_mask = write,
-            StencilMask { mask } => self.state.stencil_write_mask = mask,
+            StencilMask { mask, face } => self.stencil_faces(face).for_each(|f| f.write_mask = mask),
             DepthFunc { func } => self.state.depth_func = func,
-            StencilFunc { func, reference, mask } => self.state.stencil_func = (func, reference, mask),
-            StencilOp { fail, depth_fail, pass } => self.state.stencil_ops = (fail, depth_fail, pass),
+            StencilFunc { func, reference, mask, face } => self.stencil_faces(face).for_each(|f| {
+                (f.compare, f.reference, f.compare_mask) = (func, reference, mask);
+            }),
+            StencilOp { fail, depth_fail, pass, face } => self.stencil_faces(face).for_each(|f| {
+                (f.fail_op, f.depth_fail_op, f.pass_op) = (fail, depth_fail, pass);
+            }),
             BlendFunc { src, dst, src_alpha, dst_alpha } => {
                 self.state.blend_func = [src, dst, src_alpha.unwrap_or(src), dst_alpha.unwrap_or(dst)];
             }
@@ -832,6 +841,17 @@ impl Context {
 
     pub(crate) fn texture(&self, id: u32) -> Fallible<&TextureObject> {
         self.textures.get(&id).ok_or_else(|| format!("texture {id} does not exist"))
+    }
+
+    /// The stencil states a `*_separate` call sets: `[front, back]`, or one of them.
+    fn stencil_faces(&mut self, face: Face) -> impl Iterator<Item = &mut StencilFaceState> {
+        let [front, back] = &mut self.state.stencil;
+        let (f, b) = match face {
+            Face::Front => (Some(front), None),
+            Face::Back => (None, Some(back)),
+            Face::FrontAndBack => (Some(front), Some(back)),
+        };
+        f.into_iter().chain(b)
     }
 
     fn texture_mut(&mut self, id: u32) -> Fallible<&mut TextureObject> {
@@ -1031,10 +1051,16 @@ impl Context {
         if let Some(data) = data {
             self.upload(image, 0, 0, width, height, &data)?;
         }
-        let sampler = SamplerState { filter: Filter::Nearest, wrap: Wrap::ClampToEdge };
+        let sampler = SamplerState::new(Filter::Nearest, Wrap::ClampToEdge);
         let old = self.textures.insert(id, TextureObject { image, format, sampler, mipmaps: false });
         if let Some(old) = old {
-            self.textures.get_mut(&id).expect("inserted").sampler = old.sampler;
+            // GL keeps the other levels of a texture whose level 0 is replaced by one of the same
+            // size and format, so it stays complete.
+            let d = self.images[&old.image].desc;
+            let same = (d.width, d.height) == (width, height) && old.format == format;
+            let t = self.textures.get_mut(&id).expect("inserted");
+            t.sampler = old.sampler;
+            t.mipmaps = old.mipmaps && same;
             self.retire_image(old.image);
         }
         Ok(())
