@@ -190,6 +190,11 @@ pub enum Call<D = Bytes> {
     UseProgram {
         id: u32,
     },
+    /// `glDeleteProgram`: a program in use stays until another is used, as in GL; draws
+    /// already made keep theirs.
+    DeleteProgram {
+        id: u32,
+    },
     /// Sets a uniform of the program in use (`glUniform*`). For a GLSL program `name` may
     /// name an array element (`lights[2]`; `x` is `x[0]`) or a struct field (`light.color`).
     Uniform {
@@ -493,6 +498,7 @@ impl<D> Call<D> {
             CreateProgram { .. } => "create_program",
             BindAttribLocation { .. } => "bind_attrib_location",
             UseProgram { .. } => "use_program",
+            DeleteProgram { .. } => "delete_program",
             Uniform { .. } => "uniform",
             Viewport { .. } => "viewport",
             DepthRange { .. } => "depth_range",
@@ -588,6 +594,7 @@ impl<D> Call<D> {
             CreateProgram { id, program } => CreateProgram { id, program },
             BindAttribLocation { program, index, name } => BindAttribLocation { program, index, name },
             UseProgram { id } => UseProgram { id },
+            DeleteProgram { id } => DeleteProgram { id },
             Uniform { name, value } => Uniform { name, value },
             Viewport { x, y, width, height } => Viewport { x, y, width, height },
             DepthRange { near, far } => DepthRange { near, far },
@@ -875,10 +882,11 @@ pub enum ComponentType {
     UnsignedInt,
 }
 
-/// Index types.
+/// Index types. tiler fetches shorts and ints; bytes are widened to shorts at each draw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum IndexKind {
+    UnsignedByte,
     UnsignedShort,
     UnsignedInt,
 }

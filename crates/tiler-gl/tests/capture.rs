@@ -531,3 +531,8 @@ fn probe_incomplete_textures_match_llvmpipe() {
 fn probe_separate_front_and_back_stencil_matches_llvmpipe() {
     check_probe("stencil");
 }
+
+#[test]
+fn probe_byte_indices_in_a_buffer_and_a_deleted_program_in_use_match_llvmpipe() {
+    check_probe("indices");
+}

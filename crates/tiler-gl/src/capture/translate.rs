@@ -107,6 +107,8 @@ struct Program {
     id: Option<u32>,
     /// Uniform location → name, from `glGetUniformLocation`'s return values.
     uniforms: HashMap<i32, String>,
+    /// `glDeleteProgram` while in use: it goes when another program is used.
+    deleted: bool,
 }
 
 /// The objects of one EGL context (GL names → the context's ids).
@@ -117,8 +119,30 @@ struct Objects {
     renderbuffers: HashMap<u32, Option<u32>>,
     framebuffers: HashMap<u32, u32>,
     shaders: HashMap<u32, (GlEnum, Option<String>)>,
+    /// Shaders `glDeleteShader` deleted while attached: they go when detached from every program.
+    deleted_shaders: Vec<u32>,
     programs: HashMap<u32, Program>,
     queries: HashMap<u32, u32>,
+}
+
+impl Objects {
+    /// Forgets a deleted program, and the deleted shaders only it had attached.
+    fn remove_program(&mut self, program: u32) {
+        self.programs.remove(&program);
+        self.collect_shaders();
+    }
+
+    /// Forgets the deleted shaders no program has attached (GL ES 2.0 §2.10.3).
+    fn collect_shaders(&mut self) {
+        let (programs, shaders) = (&self.programs, &mut self.shaders);
+        self.deleted_shaders.retain(|shader| {
+            let attached = programs.values().any(|p| p.shaders.contains(shader));
+            if !attached {
+                shaders.remove(shader);
+            }
+            attached
+        });
+    }
 }
 
 /// GL state the context does not keep (or keeps in its own ids).
@@ -783,13 +807,21 @@ impl Translator {
                     return Err(format!("shader {shader} does not exist"));
                 }
             }
-            // A deleted shader lives on while attached; it is only looked up at link.
-            C::DeleteShader { .. } => {}
+            C::DeleteShader { shader } => {
+                let objects = self.objects()?;
+                if *shader != 0 && objects.shaders.contains_key(shader) {
+                    objects.deleted_shaders.push(*shader);
+                    objects.collect_shaders();
+                }
+            }
             C::CreateProgram { program } => {
                 self.objects()?.programs.insert(*program, Program::default());
             }
             C::AttachShader { program, shader } => self.program(*program)?.shaders.push(*shader),
-            C::DetachShader { program, shader } => self.program(*program)?.shaders.retain(|s| s != shader),
+            C::DetachShader { program, shader } => {
+                self.program(*program)?.shaders.retain(|s| s != shader);
+                self.objects()?.collect_shaders();
+            }
             C::BindAttribLocation { program, index, name } => {
                 attrib_slot(*index)?;
                 let p = self.program(*program)?;
@@ -803,13 +835,24 @@ impl Translator {
                 } else {
                     self.program(*program)?.id.ok_or_else(|| format!("program {program} is not linked"))?
                 };
-                self.bindings.program = *program;
+                let previous = std::mem::replace(&mut self.bindings.program, *program);
                 self.emit(Call::UseProgram { id })?;
+                if previous != *program && self.objects()?.programs.get(&previous).is_some_and(|p| p.deleted) {
+                    self.objects()?.remove_program(previous);
+                }
             }
             C::DeleteProgram { program } => {
-                // The context keeps the program object (it has no delete); the name is free.
-                if self.bindings.program != *program {
-                    self.objects()?.programs.remove(program);
+                // GL: a program in use is deleted once another is used; the context does the same
+                // with its program.
+                if *program != 0 {
+                    let p = self.program(*program)?;
+                    p.deleted = true;
+                    if let Some(id) = p.id {
+                        self.emit(Call::DeleteProgram { id })?;
+                    }
+                    if self.bindings.program != *program {
+                        self.objects()?.remove_program(*program);
+                    }
                 }
             }
             C::UniformLocation { program, name, location } => {
@@ -1096,6 +1139,9 @@ impl Translator {
         );
         calls
             .extend(sorted(objects.queries.values().copied().collect()).into_iter().map(|id| Call::DeleteQuery { id }));
+        // Deleted programs were deleted in the context when GL deleted them.
+        let programs = objects.programs.values().filter(|p| !p.deleted).filter_map(|p| p.id).collect();
+        calls.extend(sorted(programs).into_iter().map(|id| Call::DeleteProgram { id }));
         for call in calls {
             self.emit(call)?;
         }
@@ -1125,10 +1171,15 @@ impl Translator {
             self.emit(glsl::bind_attrib_location(id, index, name)?)?;
         }
         let p = self.program(program)?;
-        p.id = Some(id);
+        let old = p.id.replace(id);
+        let deleted = p.deleted;
         p.uniforms.clear();
         if self.bindings.program == program {
             self.emit(Call::UseProgram { id })?;
+        }
+        // The previous link's program is no one's now (a deleted one the context has let go).
+        if let Some(old) = old.filter(|_| !deleted) {
+            self.emit(Call::DeleteProgram { id: old })?;
         }
         Ok(())
     }
@@ -1177,7 +1228,10 @@ impl Translator {
         let index_type = match kind {
             texels::GL_UNSIGNED_SHORT => IndexKind::UnsignedShort,
             texels::GL_UNSIGNED_INT => IndexKind::UnsignedInt,
-            texels::GL_UNSIGNED_BYTE => IndexKind::UnsignedShort,
+            // Client-side bytes are widened here, into the scratch buffer; in a buffer object
+            // the context widens them at the draw.
+            texels::GL_UNSIGNED_BYTE if matches!(indices, Memory::Client(_)) => IndexKind::UnsignedShort,
+            texels::GL_UNSIGNED_BYTE => IndexKind::UnsignedByte,
             k => return Err(format!("index type {k:#06x} is not a GL one")),
         };
         match indices {
@@ -1206,11 +1260,6 @@ impl Translator {
                 let bound = self.buffer_id(self.bindings.element_buffer)?.unwrap_or(0);
                 self.emit(Call::BindIndexBuffer { buffer: bound })?;
                 drawn?;
-            }
-            _ if kind == texels::GL_UNSIGNED_BYTE => {
-                return Err(
-                    "byte indices in a buffer object are not supported (the context takes shorts and ints)".into()
-                );
             }
             Memory::Null => {
                 self.emit(Call::DrawElements { mode, count, index_type, offset: 0 })?;

@@ -126,12 +126,15 @@ impl Context {
 
         // Indices: bound, aligned, inside their buffer; the largest gives the vertex range.
         let mut index_binding = None;
+        // Byte indices widened to shorts, copied into a buffer the pass owns once the draw is sure.
+        let mut widened = None;
         let max_vertex: Option<u64> = match indexed {
             None => (count > 0).then(|| first as u64 + count as u64 - 1),
             Some((index_kind, offset)) => {
                 let id = self.state.index_buffer;
                 let buffer = self.buffers.get(&id).ok_or("draw_elements with no index buffer bound")?;
                 let (index_type, size) = match index_kind {
+                    IndexKind::UnsignedByte => (IndexType::U16, 1u64),
                     IndexKind::UnsignedShort => (IndexType::U16, 2u64),
                     IndexKind::UnsignedInt => (IndexType::U32, 4u64),
                 };
@@ -145,16 +148,24 @@ impl Context {
                         buffer.size
                     ));
                 }
+                let storage = buffer.storage;
                 let bytes =
-                    &self.device.buffer_data(buffer.storage).map_err(|e| e.to_string())?[offset as usize..end as usize];
-                let max = match index_type {
-                    IndexType::U16 => bytes.chunks_exact(2).map(|b| u16::from_le_bytes([b[0], b[1]]) as u64).max(),
-                    IndexType::U32 => {
+                    &self.device.buffer_data(storage).map_err(|e| e.to_string())?[offset as usize..end as usize];
+                let max = match index_kind {
+                    IndexKind::UnsignedByte => bytes.iter().map(|&b| b as u64).max(),
+                    IndexKind::UnsignedShort => {
+                        bytes.chunks_exact(2).map(|b| u16::from_le_bytes([b[0], b[1]]) as u64).max()
+                    }
+                    IndexKind::UnsignedInt => {
                         bytes.chunks_exact(4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as u64).max()
                     }
                 };
-                index_binding =
-                    Some((buffer.storage, IndexBufferBinding { buffer: buffer.storage, offset, index_type }));
+                index_binding = Some((storage, IndexBufferBinding { buffer: storage, offset, index_type }));
+                if index_kind == IndexKind::UnsignedByte {
+                    // tiler fetches shorts and ints: the driver widens byte indices per draw, as
+                    // it copies client arrays (the ledger counts the copy's 2 bytes per index).
+                    widened = Some(bytes.iter().flat_map(|&i| u16::from(i).to_le_bytes()).collect::<Vec<u8>>());
+                }
                 max
             }
         };
@@ -354,6 +365,11 @@ impl Context {
                 format: input.format,
                 offset: (input.offset - base) as u32,
             });
+        }
+        if let (Some(shorts), Some((_, binding))) = (widened, &mut index_binding) {
+            let copy = self.alloc_buffer(&shorts)?;
+            client.push((copy, shorts.len() as u64));
+            (binding.buffer, binding.offset) = (copy, 0);
         }
         if let Some((storage, _)) = index_binding {
             used.push(storage);

@@ -355,6 +355,8 @@ pub struct Context {
     pub(crate) renderbuffers: BTreeMap<u32, RenderbufferObject>,
     pub(crate) framebuffers: BTreeMap<u32, FramebufferObject>,
     pub(crate) programs: BTreeMap<u32, ProgramObject>,
+    /// The program in use, deleted: it goes when another is used.
+    deleted_program: Option<u32>,
     pub(crate) queries: BTreeMap<u32, QueryObject>,
     pub(crate) images: HashMap<ImageId, ImageInfo>,
     buffer_pool: HashMap<u64, Vec<BufferId>>,
@@ -452,6 +454,7 @@ impl Context {
             renderbuffers: BTreeMap::new(),
             framebuffers,
             programs: BTreeMap::new(),
+            deleted_program: None,
             queries: BTreeMap::new(),
             images,
             buffer_pool: HashMap::new(),
@@ -679,7 +682,20 @@ impl Context {
                 if id != 0 && !self.programs.contains_key(&id) {
                     return Err(format!("program {id} does not exist"));
                 }
+                if let Some(doomed) = self.deleted_program.take_if(|d| *d != id) {
+                    self.programs.remove(&doomed);
+                }
                 self.state.program = id;
+            }
+            DeleteProgram { id } => {
+                if !self.programs.contains_key(&id) {
+                    return Err(format!("program {id} does not exist"));
+                }
+                if self.state.program == id {
+                    self.deleted_program = Some(id);
+                } else {
+                    self.programs.remove(&id);
+                }
             }
             Uniform { name, value } => self.uniform(&name, value)?,
             Viewport { x, y, width, height } => {
