@@ -280,10 +280,41 @@ static void scene_offset(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* glCopyTexImage2D / glCopyTexSubImage2D: four coloured quarters are drawn, copied into a
+ * texture (the bottom-left 32x32 pixels, then the top-right 16x16 over its corner), the window
+ * cleared, and the texture drawn over the whole window. */
+static void scene_copy(void) {
+    GLuint p = program(solid_vs, solid_fs);
+    glUseProgram(p);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    const float colors[4][4] = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 0, 1}};
+    const float corners[4][2] = {{-1, -1}, {0, -1}, {-1, 0}, {0, 0}};
+    for (int i = 0; i < 4; i++) {
+        solid(p, 0, colors[i]);
+        float x = corners[i][0], y = corners[i][1];
+        /* Smaller than a quarter, so the copy catches edges. */
+        quad(x + 0.125f, y + 0.125f, x + 1, y + 1, 0, 0, 0, 0);
+    }
+    GLuint t;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glCopyTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 0, 0, 32, 32, 0);
+    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 16, 16, 40, 40, 16, 16);
+    params(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+    glClearColor(0.3f, 0.3f, 0.3f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    GLuint q = program(textured_vs, textured_fs);
+    glUseProgram(q);
+    glUniform1i(glGetUniformLocation(q, "tex"), 0);
+    quad(-1, -1, 1, 1, 0, 0, 1, 1);
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"sampler", scene_sampler}, {"incomplete", scene_incomplete}, {"stencil", scene_stencil},
-        {"indices", scene_indices}, {"offset", scene_offset}};
+        {"indices", scene_indices}, {"offset", scene_offset}, {"copy", scene_copy}};
     if (argc != 2) die("usage: probe SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

@@ -213,6 +213,13 @@ pub enum Call<D = Bytes> {
         near: f32,
         far: f32,
     },
+    /// `glPolygonOffset`: with `polygon_offset_fill` enabled, each triangle's depth moves by
+    /// `factor × its largest depth slope + units × r` (`r` the depth format's resolvable
+    /// difference; see `tiler::DepthBias`).
+    PolygonOffset {
+        factor: f32,
+        units: f32,
+    },
     Scissor {
         x: i32,
         y: i32,
@@ -502,6 +509,7 @@ impl<D> Call<D> {
             Uniform { .. } => "uniform",
             Viewport { .. } => "viewport",
             DepthRange { .. } => "depth_range",
+            PolygonOffset { .. } => "polygon_offset",
             Scissor { .. } => "scissor",
             Enable { .. } => "enable",
             Disable { .. } => "disable",
@@ -598,6 +606,7 @@ impl<D> Call<D> {
             Uniform { name, value } => Uniform { name, value },
             Viewport { x, y, width, height } => Viewport { x, y, width, height },
             DepthRange { near, far } => DepthRange { near, far },
+            PolygonOffset { factor, units } => PolygonOffset { factor, units },
             Scissor { x, y, width, height } => Scissor { x, y, width, height },
             Enable { cap } => Enable { cap },
             Disable { cap } => Disable { cap },
@@ -842,6 +851,7 @@ pub enum Capability {
     Blend,
     CullFace,
     ScissorTest,
+    PolygonOffsetFill,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

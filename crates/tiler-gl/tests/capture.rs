@@ -197,10 +197,10 @@ fn an_unsupported_call_fails_with_its_number_and_function() {
     window_surface(&mut w);
     begin_context(&mut w, 100, 8, 4);
     clear(&mut w, [0.0; 4]);
-    let call = w.call("glEnable", &[("cap", e("GL_POLYGON_OFFSET_FILL", 0x8037))], None, false);
+    let call = w.call("glEnable", &[("cap", e("GL_SAMPLE_ALPHA_TO_COVERAGE", 0x809e))], None, false);
     swap(&mut w);
     let (result, frames) = replay(&w);
-    let error = result.err().expect("polygon offset is not supported");
+    let error = result.err().expect("alpha to coverage is not supported");
     assert_eq!(error.call(), Some(call));
     let message = error.to_string();
     assert!(message.contains(&format!("call {call}")) && message.contains("`glEnable`"), "{message}");
@@ -535,4 +535,14 @@ fn probe_separate_front_and_back_stencil_matches_llvmpipe() {
 #[test]
 fn probe_byte_indices_in_a_buffer_and_a_deleted_program_in_use_match_llvmpipe() {
     check_probe("indices");
+}
+
+#[test]
+fn probe_polygon_offset_matches_llvmpipe() {
+    check_probe("offset");
+}
+
+#[test]
+fn probe_copy_tex_image_matches_llvmpipe() {
+    check_probe("copy");
 }

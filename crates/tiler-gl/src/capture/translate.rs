@@ -647,6 +647,42 @@ impl Translator {
                 (0x0d05, 1 | 2 | 4 | 8) => {}
                 (p, v) => return Err(format!("pixel store {p:#06x} = {v} is not supported")),
             },
+            C::CopyTexImage2D { target, level, internal_format, x, y, width, height, border } => {
+                check_2d_level0(*target, *level)?;
+                if *border != 0 {
+                    return Err(format!("border {border} must be 0"));
+                }
+                if *internal_format != texels::GL_RGBA {
+                    // GL_RGB would need the copy's alpha forced to 1, which the context's copy
+                    // does not do.
+                    return Err(format!("copying into internal format {internal_format:#06x}: only GL_RGBA"));
+                }
+                let (width, height) = size2(*width, *height)?;
+                let upload = Upload::new(texels::GL_RGBA, texels::GL_RGBA, texels::GL_UNSIGNED_BYTE)?;
+                let format = upload.format;
+                let name = self.bound_texture()?;
+                // New storage, then a copy from the read framebuffer into all of it: the copy
+                // ends the pass that renders the source, as a read-back does.
+                let id = match self.texture_id(name)? {
+                    Some(id) => {
+                        self.emit(Call::TexImage { id, width, height, format, data: None })?;
+                        id
+                    }
+                    None => {
+                        let id = self.fresh_id();
+                        self.emit(Call::CreateTexture { id, width, height, format, data: None, transient: false })?;
+                        self.bind_new_texture(name, id)?;
+                        id
+                    }
+                };
+                let t = self.objects()?.textures.entry(name).or_default();
+                t.id = Some(id);
+                t.upload = Some(upload);
+                t.size = (width, height);
+                self.update_sampler(name)?;
+                let (x, y) = (*x, *y);
+                self.emit(Call::CopyTexSubImage { texture: id, x_offset: 0, y_offset: 0, x, y, width, height })?;
+            }
             C::CopyTexSubImage2D { target, level, x_offset, y_offset, x, y, width, height } => {
                 check_2d_level0(*target, *level)?;
                 let name = self.bound_texture()?;
@@ -879,10 +915,11 @@ impl Translator {
                     0x0be2 => Some(Capability::Blend),
                     0x0b44 => Some(Capability::CullFace),
                     0x0c11 => Some(Capability::ScissorTest),
+                    0x8037 => Some(Capability::PolygonOffsetFill),
                     // Dithering may be a no-op in GL; neither llvmpipe nor tiler dithers.
                     0x0bd0 => None,
                     // Off by default; turning them off changes nothing.
-                    0x8037 | 0x809e | 0x80a0 if !on => None,
+                    0x809e | 0x80a0 if !on => None,
                     c => return Err(format!("capability {c:#06x} is not supported")),
                 };
                 if let Some(cap) = capability {
@@ -968,10 +1005,13 @@ impl Translator {
             C::ClearStencil { stencil } => {
                 self.emit(Call::ClearStencil { stencil: *stencil as u8 })?;
             }
+            C::PolygonOffset { factor, units } => {
+                self.emit(Call::PolygonOffset { factor: *factor, units: *units })?;
+            }
             // Hints may be ignored by any GL; lines (the only users of the width) are refused
-            // where they are drawn; offsets and coverage matter only under capabilities the
-            // replay refuses to enable.
-            C::Hint { .. } | C::LineWidth { .. } | C::PolygonOffset { .. } | C::SampleCoverage { .. } => {}
+            // where they are drawn; coverage matters only under capabilities the replay
+            // refuses to enable.
+            C::Hint { .. } | C::LineWidth { .. } | C::SampleCoverage { .. } => {}
 
             // ---- queries and tiling ---------------------------------------------------------------
             C::GenQueries { names } => {
@@ -1057,6 +1097,7 @@ impl Translator {
             Call::Viewport { x: 0, y: 0, width, height },
             Call::Scissor { x: 0, y: 0, width, height },
             Call::DepthRange { near: 0.0, far: 1.0 },
+            Call::PolygonOffset { factor: 0.0, units: 0.0 },
             Call::ColorMask { red: true, green: true, blue: true, alpha: true },
             Call::DepthMask { write: true },
             Call::StencilMask { mask: 0xff, face: Face::FrontAndBack },
@@ -1083,6 +1124,7 @@ impl Translator {
             Capability::Blend,
             Capability::CullFace,
             Capability::ScissorTest,
+            Capability::PolygonOffsetFill,
         ] {
             calls.push(Call::Disable { cap });
         }

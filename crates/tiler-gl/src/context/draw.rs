@@ -7,8 +7,8 @@
 //! store ops, are `pass.rs`'s.
 
 use tiler::{
-    BlendComponent, BlendState, BufferId, ColorTargetState, ColorWrites, CullMode, DepthStencilState, FrontFace,
-    ImageId, IndexBufferBinding, IndexType, PipelineDesc, Rect, Topology, VertexAttribute, VertexBinding,
+    BlendComponent, BlendState, BufferId, ColorTargetState, ColorWrites, CullMode, DepthBias, DepthStencilState,
+    FrontFace, ImageId, IndexBufferBinding, IndexType, PipelineDesc, Rect, Topology, VertexAttribute, VertexBinding,
     VertexBufferBinding, VertexFormat, VertexInputState, Viewport,
 };
 
@@ -385,6 +385,10 @@ impl Context {
         desc.cull_mode = desc_cull;
         desc.front_face = front_face;
         desc.depth_stencil = depth_stencil;
+        if self.state.polygon_offset_fill {
+            let (slope_factor, constant_factor) = self.state.polygon_offset;
+            desc.depth_bias = DepthBias { constant_factor, slope_factor };
+        }
         desc.color_targets = if targets.color.is_empty() || !subpass_color {
             Vec::new()
         } else {

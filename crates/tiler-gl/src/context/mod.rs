@@ -276,6 +276,9 @@ pub(crate) struct GlState {
     pub color_mask: [bool; 4],
     pub depth_mask: bool,
     pub depth_func: CompareOp,
+    pub polygon_offset_fill: bool,
+    /// `glPolygonOffset`'s `(factor, units)`.
+    pub polygon_offset: (f32, f32),
     /// Stencil function, operations and write mask of front- and back-facing primitives.
     pub stencil: [StencilFaceState; 2],
     pub blend_func: [BlendFactor; 4],
@@ -307,6 +310,8 @@ impl GlState {
             color_mask: [true; 4],
             depth_mask: true,
             depth_func: CompareOp::Less,
+            polygon_offset_fill: false,
+            polygon_offset: (0.0, 0.0),
             stencil: [StencilFaceState::KEEP; 2],
             blend_func: [BlendFactor::One, BlendFactor::Zero, BlendFactor::One, BlendFactor::Zero],
             blend_equation: [BlendOp::Add, BlendOp::Add],
@@ -714,6 +719,12 @@ impl Context {
             Disable { cap } => self.set_capability(cap, false),
             ColorMask { red, green, blue, alpha } => self.state.color_mask = [red, green, blue, alpha],
             DepthMask { write } => self.state.depth_mask = write,
+            PolygonOffset { factor, units } => {
+                if !factor.is_finite() || !units.is_finite() {
+                    return Err(format!("polygon offset ({factor}, {units}) is not finite"));
+                }
+                self.state.polygon_offset = (factor, units);
+            }
             StencilMask { mask, face } => self.stencil_faces(face).for_each(|f| f.write_mask = mask),
             DepthFunc { func } => self.state.depth_func = func,
             StencilFunc { func, reference, mask, face } => self.stencil_faces(face).for_each(|f| {
@@ -844,6 +855,7 @@ impl Context {
             Capability::Blend => s.blend = on,
             Capability::CullFace => s.cull_face = on,
             Capability::ScissorTest => s.scissor_test = on,
+            Capability::PolygonOffsetFill => s.polygon_offset_fill = on,
         }
     }
 

@@ -402,6 +402,33 @@ pub struct PipelineDesc {
     pub color_targets: Vec<ColorTargetState>,
     pub blend_constant: [f32; 4],
     pub multisample: MultisampleState,
+    /// Polygon offset of every triangle's depth (GL's `glPolygonOffset` with
+    /// `GL_POLYGON_OFFSET_FILL`, Vulkan's depth bias).
+    pub depth_bias: DepthBias,
+}
+
+/// A depth offset per triangle, computed in setup (GL ES 2.0 §3.5.2):
+/// `slope_factor × m + constant_factor × r`, where `m = max(|∂z/∂x|, |∂z/∂y|)` is the largest
+/// window-space depth slope of the triangle (the approximation the spec allows, and llvmpipe's)
+/// and `r` the depth format's minimum resolvable difference: `1 / (2^b − 1)` for a `b`-bit
+/// UNORM format (D16, D24, as llvmpipe), `2^(e − 23)` for D32F with `e` the exponent of the
+/// triangle's largest `|z|` (the GL 4.6 / Vulkan rule). The offset is added before the depth is
+/// stored, which clamps it to `[0, 1]`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DepthBias {
+    /// GL's `units`.
+    pub constant_factor: f32,
+    /// GL's `factor`.
+    pub slope_factor: f32,
+}
+
+impl DepthBias {
+    /// No offset.
+    pub const NONE: DepthBias = DepthBias { constant_factor: 0.0, slope_factor: 0.0 };
+
+    pub fn is_none(&self) -> bool {
+        self.constant_factor == 0.0 && self.slope_factor == 0.0
+    }
 }
 
 impl PipelineDesc {
@@ -419,11 +446,16 @@ impl PipelineDesc {
             color_targets: vec![ColorTargetState::REPLACE],
             blend_constant: [0.0; 4],
             multisample: MultisampleState::DEFAULT,
+            depth_bias: DepthBias::NONE,
         }
     }
 
     pub(crate) fn validate(&self) -> Result<()> {
         let what = || format!("pipeline '{}'", self.label);
+        let bias = self.depth_bias;
+        if !bias.constant_factor.is_finite() || !bias.slope_factor.is_finite() {
+            return Err(Error::invalid(what(), format!("depth bias {bias:?} is not finite")));
+        }
         if self.varyings.len() > MAX_VARYINGS {
             return Err(Error::invalid(what(), format!("{} varyings, at most {MAX_VARYINGS}", self.varyings.len())));
         }

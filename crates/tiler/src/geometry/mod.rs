@@ -25,7 +25,7 @@ use crate::raster::fixed::MAX_VIEWPORT_EXTENT_PX;
 use crate::raster::samples::SampleLocations;
 use clip::{ClipVertex, ClipVolume};
 use fetch::VertexFetcher;
-use setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
+use setup::{DepthOffset, SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
 use vertex::{ShadedVertices, VertexSet};
 
 /// Where vertex shading happens on a tiler (seed 004 §24.5).
@@ -78,6 +78,7 @@ pub struct DrawGeometry<'a> {
     pub triangles: u32,
     pub viewport: Viewport,
     pub clip_rect: PixelRect,
+    depth_format: Option<crate::Format>,
     /// Vertices a GPU shades for this draw: misses of its post-transform vertex cache.
     pub vertices_shaded: u64,
     /// Bytes of vertex attributes fetched for them.
@@ -95,6 +96,9 @@ pub struct PassFrame<'a> {
     pub render_area: PixelRect,
     /// The device's buffers, by id.
     pub buffers: &'a [Vec<u8>],
+    /// The depth-stencil attachment's format, if the pass has one (it sets polygon offset's
+    /// resolvable difference).
+    pub depth_format: Option<crate::Format>,
 }
 
 impl<'a> PassFrame<'a> {
@@ -310,6 +314,7 @@ pub fn prepare_draw<'a>(
         triangles,
         viewport,
         clip_rect,
+        depth_format: frame.depth_format,
         vertices_shaded,
         vertex_fetch_bytes,
         fetch_bytes_per_vertex,
@@ -416,6 +421,7 @@ impl DrawGeometry<'_> {
             front_face: desc.front_face,
             samples: *samples,
             state,
+            depth_bias: DepthOffset::new(desc.depth_bias, self.depth_format),
         };
         if self.clip_rect.is_empty() {
             let mut batch = SetupBatch::default();
