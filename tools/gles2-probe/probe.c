@@ -311,10 +311,45 @@ static void scene_copy(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* Lines: GL_LINES of widths 1, 3 and 6 (x-major, y-major, diagonal), a GL_LINE_STRIP and a
+ * GL_LINE_LOOP, colours interpolated along them. */
+static void scene_lines(void) {
+    GLuint p = program(
+        "attribute vec2 position;\nattribute vec2 uv;\nvarying vec2 v_uv;\n"
+        "void main() { v_uv = uv; gl_Position = vec4(position, 0.0, 1.0); }\n",
+        "precision mediump float;\nvarying vec2 v_uv;\n"
+        "void main() { gl_FragColor = vec4(v_uv, 1.0 - v_uv.x, 1.0); }\n");
+    glUseProgram(p);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnableVertexAttribArray(0);
+    glEnableVertexAttribArray(1);
+    const float widths[3] = {1, 3, 6};
+    const float lines[3][4] = {{-0.9f, 0.83f, 0.87f, 0.61f}, {-0.71f, -0.9f, -0.52f, 0.53f}, {-0.3f, -0.8f, 0.6f, 0.1f}};
+    for (int i = 0; i < 3; i++) {
+        float uv[] = {0, 0, 1, 1};
+        glLineWidth(widths[i]);
+        glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, lines[i]);
+        glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, uv);
+        glDrawArrays(GL_LINES, 0, 2);
+    }
+    glLineWidth(2);
+    float strip[] = {0.1f, -0.93f, 0.33f, -0.41f, 0.91f, -0.62f, 0.72f, -0.95f};
+    float strip_uv[] = {0, 1, 0.3f, 0.2f, 0.7f, 0.9f, 1, 0};
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, strip);
+    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, strip_uv);
+    glDrawArrays(GL_LINE_STRIP, 0, 4);
+    glLineWidth(1);
+    float loop[] = {0.2f, 0.21f, 0.52f, 0.27f, 0.41f, 0.47f};
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, loop);
+    glDrawArrays(GL_LINE_LOOP, 0, 3);
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"sampler", scene_sampler}, {"incomplete", scene_incomplete}, {"stencil", scene_stencil},
-        {"indices", scene_indices}, {"offset", scene_offset}, {"copy", scene_copy}};
+        {"indices", scene_indices}, {"offset", scene_offset}, {"copy", scene_copy}, {"lines", scene_lines}};
     if (argc != 2) die("usage: probe SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

@@ -213,6 +213,10 @@ pub enum Call<D = Bytes> {
         near: f32,
         far: f32,
     },
+    /// `glLineWidth`: the width in pixels of lines drawn after it.
+    LineWidth {
+        width: f32,
+    },
     /// `glPolygonOffset`: with `polygon_offset_fill` enabled, each triangle's depth moves by
     /// `factor × its largest depth slope + units × r` (`r` the depth format's resolvable
     /// difference; see `tiler::DepthBias`).
@@ -510,6 +514,7 @@ impl<D> Call<D> {
             Viewport { .. } => "viewport",
             DepthRange { .. } => "depth_range",
             PolygonOffset { .. } => "polygon_offset",
+            LineWidth { .. } => "line_width",
             Scissor { .. } => "scissor",
             Enable { .. } => "enable",
             Disable { .. } => "disable",
@@ -607,6 +612,7 @@ impl<D> Call<D> {
             Viewport { x, y, width, height } => Viewport { x, y, width, height },
             DepthRange { near, far } => DepthRange { near, far },
             PolygonOffset { factor, units } => PolygonOffset { factor, units },
+            LineWidth { width } => LineWidth { width },
             Scissor { x, y, width, height } => Scissor { x, y, width, height },
             Enable { cap } => Enable { cap },
             Disable { cap } => Disable { cap },
@@ -870,13 +876,17 @@ pub enum Winding {
     Cw,
 }
 
-/// Primitive modes. tiler rasterizes triangles only.
+/// Primitive modes. Lines are drawn `line_width` pixels wide, as parallelograms of two
+/// triangles (GL ES 2.0 §3.4.2; see `tiler::geometry::line`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Mode {
     Triangles,
     TriangleStrip,
     TriangleFan,
+    Lines,
+    LineStrip,
+    LineLoop,
 }
 
 /// Vertex attribute component types.

@@ -496,6 +496,7 @@ fn check_probe(scene: &str) {
     let mut ours = rgba.clone();
     ours.iter_mut().skip(3).step_by(4).for_each(|a| *a = 255);
     let c = compare_rgba8(&ours, &expected, *w, *h, REFERENCE_TOLERANCE);
+    eprintln!("{scene}: {:.3}% within, max {}", c.fraction_within() * 100.0, c.max_difference);
     if !c.passes(REFERENCE_MIN_FRACTION) {
         let out = tiler_test_support::output_dir().join(format!("probe-{scene}"));
         write_png(&out.with_extension("diff.png"), *w, *h, &c.difference_image).unwrap();
@@ -545,4 +546,9 @@ fn probe_polygon_offset_matches_llvmpipe() {
 #[test]
 fn probe_copy_tex_image_matches_llvmpipe() {
     check_probe("copy");
+}
+
+#[test]
+fn probe_lines_match_llvmpipe() {
+    check_probe("lines");
 }

@@ -102,6 +102,7 @@ fn setup_params(width: u32, height: u32, samples: u32) -> SetupParams {
         samples: SampleLocations::standard(samples),
         state: 0,
         depth_bias: DepthOffset::None,
+        always_front: false,
     }
 }
 

@@ -1008,10 +1008,12 @@ impl Translator {
             C::PolygonOffset { factor, units } => {
                 self.emit(Call::PolygonOffset { factor: *factor, units: *units })?;
             }
-            // Hints may be ignored by any GL; lines (the only users of the width) are refused
-            // where they are drawn; coverage matters only under capabilities the replay
-            // refuses to enable.
-            C::Hint { .. } | C::LineWidth { .. } | C::SampleCoverage { .. } => {}
+            C::LineWidth { width } => {
+                self.emit(Call::LineWidth { width: *width })?;
+            }
+            // Hints may be ignored by any GL; coverage matters only under capabilities the
+            // replay refuses to enable.
+            C::Hint { .. } | C::SampleCoverage { .. } => {}
 
             // ---- queries and tiling ---------------------------------------------------------------
             C::GenQueries { names } => {
@@ -1098,6 +1100,7 @@ impl Translator {
             Call::Scissor { x: 0, y: 0, width, height },
             Call::DepthRange { near: 0.0, far: 1.0 },
             Call::PolygonOffset { factor: 0.0, units: 0.0 },
+            Call::LineWidth { width: 1.0 },
             Call::ColorMask { red: true, green: true, blue: true, alpha: true },
             Call::DepthMask { write: true },
             Call::StencilMask { mask: 0xff, face: Face::FrontAndBack },
@@ -1464,10 +1467,13 @@ fn qcom_buffers(mask: u32) -> BufferSet {
 
 fn draw_mode(mode: GlEnum) -> Fallible<Mode> {
     match mode {
+        0x0001 => Ok(Mode::Lines),
+        0x0002 => Ok(Mode::LineLoop),
+        0x0003 => Ok(Mode::LineStrip),
         0x0004 => Ok(Mode::Triangles),
         0x0005 => Ok(Mode::TriangleStrip),
         0x0006 => Ok(Mode::TriangleFan),
-        m => Err(format!("primitive mode {m:#06x}: tiler rasterizes triangles only")),
+        m => Err(format!("primitive mode {m:#06x}: tiler draws triangles and lines (points are not supported)")),
     }
 }
 

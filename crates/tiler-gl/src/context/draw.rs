@@ -251,7 +251,8 @@ impl Context {
         }
 
         let targets = self.ensure_pass()?.targets.clone();
-        if max_vertex.is_none() || count < 3 {
+        let fewest = if matches!(mode, Mode::Lines | Mode::LineStrip | Mode::LineLoop) { 2 } else { 3 };
+        if max_vertex.is_none() || count < fewest {
             return Ok(());
         }
         let (width, height) = (targets.width, targets.height);
@@ -325,6 +326,9 @@ impl Context {
             Mode::Triangles => Topology::TriangleList,
             Mode::TriangleStrip => Topology::TriangleStrip,
             Mode::TriangleFan => Topology::TriangleFan,
+            Mode::Lines => Topology::LineList,
+            Mode::LineStrip => Topology::LineStrip,
+            Mode::LineLoop => Topology::LineLoop,
         };
         let blend_constant = s.blend_color;
         let query = self.active_query;
@@ -385,7 +389,9 @@ impl Context {
         desc.cull_mode = desc_cull;
         desc.front_face = front_face;
         desc.depth_stencil = depth_stencil;
-        if self.state.polygon_offset_fill {
+        desc.line_width = self.state.line_width;
+        // GL's polygon offset applies to polygons only.
+        if self.state.polygon_offset_fill && !topology.is_line() {
             let (slope_factor, constant_factor) = self.state.polygon_offset;
             desc.depth_bias = DepthBias { constant_factor, slope_factor };
         }

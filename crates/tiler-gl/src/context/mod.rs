@@ -279,6 +279,7 @@ pub(crate) struct GlState {
     pub polygon_offset_fill: bool,
     /// `glPolygonOffset`'s `(factor, units)`.
     pub polygon_offset: (f32, f32),
+    pub line_width: f32,
     /// Stencil function, operations and write mask of front- and back-facing primitives.
     pub stencil: [StencilFaceState; 2],
     pub blend_func: [BlendFactor; 4],
@@ -312,6 +313,7 @@ impl GlState {
             depth_func: CompareOp::Less,
             polygon_offset_fill: false,
             polygon_offset: (0.0, 0.0),
+            line_width: 1.0,
             stencil: [StencilFaceState::KEEP; 2],
             blend_func: [BlendFactor::One, BlendFactor::Zero, BlendFactor::One, BlendFactor::Zero],
             blend_equation: [BlendOp::Add, BlendOp::Add],
@@ -719,6 +721,13 @@ impl Context {
             Disable { cap } => self.set_capability(cap, false),
             ColorMask { red, green, blue, alpha } => self.state.color_mask = [red, green, blue, alpha],
             DepthMask { write } => self.state.depth_mask = write,
+            LineWidth { width } => {
+                // GL: a width not above 0 is an error; llvmpipe's widest line is 255 pixels.
+                if !(width.is_finite() && width > 0.0) {
+                    return Err(format!("line width {width} is not positive"));
+                }
+                self.state.line_width = width.min(255.0);
+            }
             PolygonOffset { factor, units } => {
                 if !factor.is_finite() || !units.is_finite() {
                     return Err(format!("polygon offset ({factor}, {units}) is not finite"));

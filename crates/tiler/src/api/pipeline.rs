@@ -267,6 +267,20 @@ pub enum Topology {
     TriangleStrip,
     /// Vertices (i+1, i+2, 0).
     TriangleFan,
+    /// Segments (2i, 2i+1), each drawn as a parallelogram of two triangles (see
+    /// `geometry::line`).
+    LineList,
+    /// Segments (i, i+1).
+    LineStrip,
+    /// Segments (i, i+1) and (n−1, 0).
+    LineLoop,
+}
+
+impl Topology {
+    /// Whether it draws lines (segments widened to `PipelineDesc::line_width` pixels).
+    pub fn is_line(self) -> bool {
+        matches!(self, Topology::LineList | Topology::LineStrip | Topology::LineLoop)
+    }
 }
 
 /// How a varying is interpolated across a triangle.
@@ -405,6 +419,8 @@ pub struct PipelineDesc {
     /// Polygon offset of every triangle's depth (GL's `glPolygonOffset` with
     /// `GL_POLYGON_OFFSET_FILL`, Vulkan's depth bias).
     pub depth_bias: DepthBias,
+    /// Width in pixels of line topologies' segments (GL's `glLineWidth`).
+    pub line_width: f32,
 }
 
 /// A depth offset per triangle, computed in setup (GL ES 2.0 §3.5.2):
@@ -447,11 +463,15 @@ impl PipelineDesc {
             blend_constant: [0.0; 4],
             multisample: MultisampleState::DEFAULT,
             depth_bias: DepthBias::NONE,
+            line_width: 1.0,
         }
     }
 
     pub(crate) fn validate(&self) -> Result<()> {
         let what = || format!("pipeline '{}'", self.label);
+        if !(self.line_width.is_finite() && self.line_width > 0.0) {
+            return Err(Error::invalid(what(), format!("line width {} is not positive", self.line_width)));
+        }
         let bias = self.depth_bias;
         if !bias.constant_factor.is_finite() || !bias.slope_factor.is_finite() {
             return Err(Error::invalid(what(), format!("depth bias {bias:?} is not finite")));

@@ -47,6 +47,8 @@ pub struct SetupParams {
     pub samples: SampleLocations,
     pub state: u32,
     pub depth_bias: DepthOffset,
+    /// Every triangle is front-facing whatever its winding (a line's, GL ES 2.0 §3.4).
+    pub always_front: bool,
 }
 
 /// A pipeline's depth bias with its depth format's resolvable difference (see [`DepthBias`]).
@@ -134,10 +136,11 @@ pub fn setup_triangle(
     // Vulkan's signed area is a = −area2 / 2 in framebuffer coordinates (y down); a > 0 is
     // counter-clockwise.
     let counter_clockwise = area2 < 0;
-    let front_facing = match params.front_face {
-        FrontFace::CounterClockwise => counter_clockwise,
-        FrontFace::Clockwise => !counter_clockwise,
-    };
+    let front_facing = params.always_front
+        || match params.front_face {
+            FrontFace::CounterClockwise => counter_clockwise,
+            FrontFace::Clockwise => !counter_clockwise,
+        };
     let culled = match params.cull_mode {
         CullMode::None => false,
         CullMode::Front => front_facing,
@@ -219,6 +222,7 @@ mod tests {
             samples: SampleLocations::standard(1),
             state: 0,
             depth_bias: DepthOffset::None,
+            always_front: false,
         }
     }
 
