@@ -1112,3 +1112,48 @@ impl UniformValue {
         self.components().iter().all(|c| c.is_finite())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    type Parsed = Call<serde_json::Value>;
+
+    fn parse(json: &str) -> Parsed {
+        serde_json::from_str(json).unwrap()
+    }
+
+    #[test]
+    fn calls_of_older_traces_take_the_new_fields_defaults_and_write_back_unchanged() {
+        let old = [
+            r#"{"call":"tex_parameters","id":1,"filter":"linear","wrap":"repeat"}"#,
+            r#"{"call":"stencil_func","func":"equal","reference":3,"mask":255}"#,
+            r#"{"call":"stencil_op","fail":"keep","depth_fail":"keep","pass":"replace"}"#,
+            r#"{"call":"stencil_mask","mask":15}"#,
+        ];
+        for json in old {
+            let call = parse(json);
+            assert_eq!(serde_json::to_string(&call).unwrap(), json);
+        }
+        assert_eq!(
+            parse(old[0]),
+            Parsed::TexParameters { id: 1, filter: Filter::Linear, wrap: Wrap::Repeat, mag_filter: None, wrap_t: None }
+        );
+        assert_eq!(parse(old[3]), Parsed::StencilMask { mask: 15, face: Face::FrontAndBack });
+        let separate = parse(r#"{"call":"stencil_mask","mask":15,"face":"back"}"#);
+        assert_eq!(separate, Parsed::StencilMask { mask: 15, face: Face::Back });
+        let sampler = parse(
+            r#"{"call":"tex_parameters","id":1,"filter":"nearest_mipmap_linear","wrap":"repeat","mag_filter":"linear","wrap_t":"clamp_to_edge"}"#,
+        );
+        assert_eq!(
+            sampler,
+            Parsed::TexParameters {
+                id: 1,
+                filter: Filter::NearestMipmapLinear,
+                wrap: Wrap::Repeat,
+                mag_filter: Some(Filter::Linear),
+                wrap_t: Some(Wrap::ClampToEdge)
+            }
+        );
+    }
+}

@@ -552,3 +552,28 @@ fn probe_copy_tex_image_matches_llvmpipe() {
 fn probe_lines_match_llvmpipe() {
     check_probe("lines");
 }
+
+#[test]
+fn deleted_shaders_and_a_deleted_program_live_while_attached_and_in_use_then_go() {
+    let deletes = |w: &mut Writer| {
+        for shader in [2, 3] {
+            w.call("glDeleteShader", &[("shader", W::UInt(shader))], None, false);
+        }
+        w.call("glDeleteProgram", &[("program", W::UInt(7))], None, false);
+    };
+    // Still in use at the draw: it draws.
+    let (w, _) = uniform_array_capture(deletes, |_| {});
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [51, 102, 153, 255]));
+    // Once another program is used, the program and its deleted shaders are gone.
+    let mut gone = 0;
+    let (w, _) = uniform_array_capture(deletes, |w| {
+        w.call("glUseProgram", &[("program", W::UInt(0))], None, false);
+        gone = w.call("glCompileShader", &[("shader", W::UInt(2))], None, false);
+    });
+    let (result, _) = replay(&w);
+    let error = result.err().expect("shader 2 was deleted");
+    assert_eq!(error.call(), Some(gone));
+    assert!(error.to_string().contains("shader 2 does not exist"), "{error}");
+}
