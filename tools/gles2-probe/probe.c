@@ -346,10 +346,38 @@ static void scene_lines(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* Points: GL_POINTS sized by gl_PointSize, coloured by gl_PointCoord. Odd sizes sit on pixel
+ * centres and even ones on pixel corners, so no square edge passes through a pixel centre. */
+static void scene_points(void) {
+    GLuint p = program(
+        "attribute vec2 position;\nattribute vec2 uv;\n"
+        "void main() { gl_PointSize = uv.x; gl_Position = vec4(position, 0.0, 1.0); }\n",
+        "precision mediump float;\n"
+        "void main() { gl_FragColor = vec4(gl_PointCoord, 1.0 - gl_PointCoord.x, 1.0); }\n");
+    glUseProgram(p);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    /* Pixel (x, y) centre at NDC ((x + 0.5) / 32 - 1, ...); corner at x / 32 - 1. */
+    float pos[5 * 2], size[5 * 2];
+    const float where[5][3] = {{10.5f, 10.5f, 1}, {30.5f, 12.5f, 5}, {50, 14, 8}, {14, 44, 16}, {44.5f, 44.5f, 21}};
+    for (int i = 0; i < 5; i++) {
+        pos[2 * i] = where[i][0] / 32 - 1;
+        pos[2 * i + 1] = where[i][1] / 32 - 1;
+        size[2 * i] = where[i][2];
+        size[2 * i + 1] = 0;
+    }
+    glEnableVertexAttribArray(0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, pos);
+    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 0, size);
+    glDrawArrays(GL_POINTS, 0, 5);
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"sampler", scene_sampler}, {"incomplete", scene_incomplete}, {"stencil", scene_stencil},
-        {"indices", scene_indices}, {"offset", scene_offset}, {"copy", scene_copy}, {"lines", scene_lines}};
+        {"indices", scene_indices}, {"offset", scene_offset}, {"copy", scene_copy}, {"lines", scene_lines}, {"points", scene_points}};
     if (argc != 2) die("usage: probe SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

@@ -877,7 +877,8 @@ pub enum Winding {
 }
 
 /// Primitive modes. Lines are drawn `line_width` pixels wide, as parallelograms of two
-/// triangles (GL ES 2.0 §3.4.2; see `tiler::geometry::line`).
+/// triangles (GL ES 2.0 §3.4.2), points as squares `gl_PointSize` pixels wide (1 for built-in
+/// programs; §3.3), with `gl_PointCoord` (see `tiler::geometry::line`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Mode {
@@ -887,6 +888,7 @@ pub enum Mode {
     Lines,
     LineStrip,
     LineLoop,
+    Points,
 }
 
 /// Vertex attribute component types.

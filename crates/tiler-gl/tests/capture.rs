@@ -577,3 +577,8 @@ fn deleted_shaders_and_a_deleted_program_live_while_attached_and_in_use_then_go(
     assert_eq!(error.call(), Some(gone));
     assert!(error.to_string().contains("shader 2 does not exist"), "{error}");
 }
+
+#[test]
+fn probe_points_match_llvmpipe() {
+    check_probe("points");
+}

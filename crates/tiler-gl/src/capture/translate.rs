@@ -1467,13 +1467,14 @@ fn qcom_buffers(mask: u32) -> BufferSet {
 
 fn draw_mode(mode: GlEnum) -> Fallible<Mode> {
     match mode {
+        0x0000 => Ok(Mode::Points),
         0x0001 => Ok(Mode::Lines),
         0x0002 => Ok(Mode::LineLoop),
         0x0003 => Ok(Mode::LineStrip),
         0x0004 => Ok(Mode::Triangles),
         0x0005 => Ok(Mode::TriangleStrip),
         0x0006 => Ok(Mode::TriangleFan),
-        m => Err(format!("primitive mode {m:#06x}: tiler draws triangles and lines (points are not supported)")),
+        m => Err(format!("primitive mode {m:#06x} is not a GLES one")),
     }
 }
 

@@ -251,7 +251,11 @@ impl Context {
         }
 
         let targets = self.ensure_pass()?.targets.clone();
-        let fewest = if matches!(mode, Mode::Lines | Mode::LineStrip | Mode::LineLoop) { 2 } else { 3 };
+        let fewest = match mode {
+            Mode::Points => 1,
+            Mode::Lines | Mode::LineStrip | Mode::LineLoop => 2,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => 3,
+        };
         if max_vertex.is_none() || count < fewest {
             return Ok(());
         }
@@ -329,6 +333,7 @@ impl Context {
             Mode::Lines => Topology::LineList,
             Mode::LineStrip => Topology::LineStrip,
             Mode::LineLoop => Topology::LineLoop,
+            Mode::Points => Topology::PointList,
         };
         let blend_constant = s.blend_color;
         let query = self.active_query;
@@ -391,7 +396,7 @@ impl Context {
         desc.depth_stencil = depth_stencil;
         desc.line_width = self.state.line_width;
         // GL's polygon offset applies to polygons only.
-        if self.state.polygon_offset_fill && !topology.is_line() {
+        if self.state.polygon_offset_fill && !topology.is_line() && topology != Topology::PointList {
             let (slope_factor, constant_factor) = self.state.polygon_offset;
             desc.depth_bias = DepthBias { constant_factor, slope_factor };
         }

@@ -274,6 +274,9 @@ pub enum Topology {
     LineStrip,
     /// Segments (i, i+1) and (n−1, 0).
     LineLoop,
+    /// Each vertex a square `PipelineDesc::point_size_varying` pixels wide (see
+    /// `geometry::line::point_square`).
+    PointList,
 }
 
 impl Topology {
@@ -421,6 +424,11 @@ pub struct PipelineDesc {
     pub depth_bias: DepthBias,
     /// Width in pixels of line topologies' segments (GL's `glLineWidth`).
     pub line_width: f32,
+    /// The varying holding each point's size in pixels (GL's `gl_PointSize`); 1 without one.
+    pub point_size_varying: Option<usize>,
+    /// The first of two varyings a point's corners set to GL's `gl_PointCoord`: (0, 0) at its
+    /// top-left, (1, 1) at its bottom-right.
+    pub point_coord_varying: Option<usize>,
 }
 
 /// A depth offset per triangle, computed in setup (GL ES 2.0 §3.5.2):
@@ -464,6 +472,8 @@ impl PipelineDesc {
             multisample: MultisampleState::DEFAULT,
             depth_bias: DepthBias::NONE,
             line_width: 1.0,
+            point_size_varying: None,
+            point_coord_varying: None,
         }
     }
 
@@ -471,6 +481,10 @@ impl PipelineDesc {
         let what = || format!("pipeline '{}'", self.label);
         if !(self.line_width.is_finite() && self.line_width > 0.0) {
             return Err(Error::invalid(what(), format!("line width {} is not positive", self.line_width)));
+        }
+        let n = self.varyings.len();
+        if self.point_size_varying.is_some_and(|v| v >= n) || self.point_coord_varying.is_some_and(|v| v + 2 > n) {
+            return Err(Error::invalid(what(), format!("a point varying is beyond its {n} varyings")));
         }
         let bias = self.depth_bias;
         if !bias.constant_factor.is_finite() || !bias.slope_factor.is_finite() {

@@ -9,6 +9,7 @@ pub fn triangle_count(topology: Topology, count: u32) -> u32 {
         Topology::TriangleList => count / 3,
         Topology::TriangleStrip | Topology::TriangleFan => count.saturating_sub(2),
         Topology::LineList | Topology::LineStrip | Topology::LineLoop => 2 * segment_count(topology, count),
+        Topology::PointList => 2 * count,
     }
 }
 
@@ -42,7 +43,9 @@ pub fn triangle(topology: Topology, t: u32) -> [u32; 3] {
         Topology::TriangleStrip if t.is_multiple_of(2) => [t, t + 1, t + 2],
         Topology::TriangleStrip => [t, t + 2, t + 1],
         Topology::TriangleFan => [t + 1, t + 2, 0],
-        Topology::LineList | Topology::LineStrip | Topology::LineLoop => unreachable!("lines are segments"),
+        Topology::LineList | Topology::LineStrip | Topology::LineLoop | Topology::PointList => {
+            unreachable!("lines and points are expanded")
+        }
     }
 }
 

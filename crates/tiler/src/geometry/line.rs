@@ -1,4 +1,4 @@
-//! Lines as triangles: each segment of a line topology becomes a parallelogram of two
+//! Lines and points as triangles: each segment of a line topology becomes a parallelogram of two
 //! triangles in clip space, which then take the triangles' path (clip, setup, rasterize).
 //!
 //! GL ES 2.0 §3.4.2 rasterizes a non-antialiased line of width `w` as a parallelogram: an
@@ -52,6 +52,28 @@ pub fn parallelogram(
     Some([moved(&a, -1.0), moved(&b, -1.0), moved(&b, 1.0), moved(&a, 1.0)])
 }
 
+/// The square of point `p`, `size` pixels wide, as corners `[top-left, top-right,
+/// bottom-right, bottom-left]` (tiler's window y runs down), or `None` when its centre is outside
+/// the depth range (GL ES 2.0 §2.13: a point is clipped by its position). `coord` is the
+/// varying the corners set to `gl_PointCoord` (§3.3: s right, t down, 0 to 1 across the square).
+/// Triangles `(0, 1, 2)` and `(0, 2, 3)`.
+pub fn point_square(p: ClipVertex, size: f32, half: [f32; 2], coord: Option<usize>) -> Option<[ClipVertex; 4]> {
+    let c = p.position;
+    if c.z < 0.0 || c.z > c.w || c.w < W_MIN {
+        return None;
+    }
+    let (ox, oy) = (size / 2.0 / half[0] * c.w, size / 2.0 / half[1] * c.w);
+    let mut corners = [p; 4];
+    for (v, (sx, sy)) in corners.iter_mut().zip([(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]) {
+        v.position = c + Vec4::new(sx * ox, sy * oy, 0.0, 0.0);
+        if let Some(k) = coord {
+            v.varyings[k] = (sx + 1.0) / 2.0;
+            v.varyings[k + 1] = (sy + 1.0) / 2.0;
+        }
+    }
+    Some(corners)
+}
+
 fn lerp(from: &ClipVertex, to: &ClipVertex, t: f32, varyings: usize) -> ClipVertex {
     let mut v = [0.0; MAX_VARYINGS];
     for (out, (f, to)) in v.iter_mut().zip(from.varyings.iter().zip(&to.varyings)).take(varyings) {
@@ -75,6 +97,19 @@ mod tests {
         assert!((q[1].position.y - (0.1 - 0.04)).abs() < 1e-6);
         assert_eq!(q[0].position.x, -0.5);
         assert_eq!((q[0].varyings[0], q[2].varyings[0]), (1.0, 2.0));
+    }
+
+    #[test]
+    fn a_point_is_a_square_of_its_size_with_point_coords_at_the_corners() {
+        let p = ClipVertex::new(Vec4::new(0.2, -0.4, 0.5, 2.0), &[7.0, 0.0, 0.0]);
+        let q = point_square(p, 5.0, [50.0, 25.0], Some(1)).unwrap();
+        // 2.5 pixels each side: 0.05 in NDC x, 0.1 in y, times w = 2.
+        assert!((q[0].position.x - (0.2 - 0.1)).abs() < 1e-6 && (q[0].position.y - (-0.4 - 0.2)).abs() < 1e-6);
+        assert!((q[2].position.x - (0.2 + 0.1)).abs() < 1e-6 && (q[2].position.y - (-0.4 + 0.2)).abs() < 1e-6);
+        assert_eq!(q.map(|v| [v.varyings[1], v.varyings[2]]), [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+        assert!(q.iter().all(|v| v.varyings[0] == 7.0 && v.position.z == 0.5 && v.position.w == 2.0));
+        let behind = ClipVertex { position: Vec4::new(0.0, 0.0, -0.1, 1.0), ..p };
+        assert!(point_square(behind, 5.0, [50.0, 25.0], None).is_none());
     }
 
     #[test]

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 use crate::api::buffer::BufferId;
 use crate::api::error::{Error, Result};
 use crate::api::pipeline::PipelineDesc;
-use crate::api::pipeline::{CullMode, MAX_VARYINGS};
+use crate::api::pipeline::{CullMode, MAX_VARYINGS, Topology};
 use crate::api::render_pass::{IndexBufferBinding, IndexType, Rect, VertexBufferBinding, Viewport};
 use crate::geometry::primitive::Primitive;
 use crate::ledger::{Category, Counters, Ledger};
@@ -460,7 +460,7 @@ impl DrawGeometry<'_> {
     }
 
     fn setup_one(&self, t: u32, params: &SetupParams, volume: &ClipVolume, batch: &mut SetupBatch) {
-        if self.desc.topology.is_line() {
+        if self.desc.topology.is_line() || self.desc.topology == Topology::PointList {
             return self.setup_line_half(t, params, volume, batch);
         }
         let counters = &mut batch.counters;
@@ -484,19 +484,29 @@ impl DrawGeometry<'_> {
         self.clip_and_set_up(triangle, planes, ids, params, volume, batch);
     }
 
-    /// Triangle `t % 2` of the parallelogram of segment `t / 2` (see [`line`]): never culled,
-    /// always front-facing.
+    /// Triangle `t % 2` of the parallelogram of segment `t / 2`, or of the square of point
+    /// `t / 2` (see [`line`]): never culled, always front-facing.
     fn setup_line_half(&self, t: u32, params: &SetupParams, volume: &ClipVolume, batch: &mut SetupBatch) {
         batch.counters.triangles_in += 1;
-        let slots = assemble::segment(self.desc.topology, t / 2, self.count).map(|p| self.slot(p));
-        let [a, b] = slots.map(|s| ClipVertex::new(self.vertices.positions[s], self.vertices.varyings_of(s)));
         let half = [self.viewport.width.abs() / 2.0, self.viewport.height.abs() / 2.0];
         let n = self.vertices.varying_count;
-        let Some(corners) = line::parallelogram(a, b, self.desc.line_width, half, n) else {
+        let vertex = |s: usize| ClipVertex::new(self.vertices.positions[s], self.vertices.varyings_of(s));
+        let (corners, corner_ids) = if self.desc.topology == Topology::PointList {
+            let slot = self.slot(t / 2);
+            let p = vertex(slot);
+            // GL clamps the size to the supported range: llvmpipe's is [1, 255].
+            let size = self.desc.point_size_varying.map_or(1.0, |v| p.varyings[v]);
+            let size = if size.is_nan() { 1.0 } else { size.clamp(1.0, 255.0) };
+            (line::point_square(p, size, half, self.desc.point_coord_varying), [slot as u32; 4])
+        } else {
+            let slots = assemble::segment(self.desc.topology, t / 2, self.count).map(|p| self.slot(p));
+            let [a, b] = slots.map(vertex);
+            (line::parallelogram(a, b, self.desc.line_width, half, n), [0, 1, 1, 0].map(|i| slots[i] as u32))
+        };
+        let Some(corners) = corners else {
             batch.counters.triangles_clip_rejected += 1;
             return;
         };
-        let corner_ids = [0, 1, 1, 0].map(|i| slots[i] as u32);
         let pick = if t.is_multiple_of(2) { [0, 1, 2] } else { [0, 2, 3] };
         let triangle = pick.map(|i| corners[i]);
         let ids = pick.map(|i| corner_ids[i]);
