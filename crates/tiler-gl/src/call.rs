@@ -78,13 +78,19 @@ pub enum Call<D = Bytes> {
         height: u32,
         data: D,
     },
-    /// Sampling state of a texture (`glTexParameteri` for the filters and wraps).
+    /// Sampling state of a texture (`glTexParameteri` for the filters and wraps): `filter`
+    /// minifies and `wrap` wraps s; `mag_filter` (default: `filter`'s first word) magnifies and
+    /// `wrap_t` (default: `wrap`) wraps t.
     TexParameters {
         id: u32,
         #[serde(default)]
         filter: Filter,
         #[serde(default)]
         wrap: Wrap,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        mag_filter: Option<Filter>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        wrap_t: Option<Wrap>,
     },
     /// `glGenerateMipmap`: texture `id` gets a mip chain, each level a 2×2 box filter of the
     /// one above (the core's `MipChain::Box`), sampled with a `*_mipmap_*` filter. The levels
@@ -184,6 +190,11 @@ pub enum Call<D = Bytes> {
     UseProgram {
         id: u32,
     },
+    /// `glDeleteProgram`: a program in use stays until another is used, as in GL; draws
+    /// already made keep theirs.
+    DeleteProgram {
+        id: u32,
+    },
     /// Sets a uniform of the program in use (`glUniform*`). For a GLSL program `name` may
     /// name an array element (`lights[2]`; `x` is `x[0]`) or a struct field (`light.color`).
     Uniform {
@@ -201,6 +212,17 @@ pub enum Call<D = Bytes> {
     DepthRange {
         near: f32,
         far: f32,
+    },
+    /// `glLineWidth`: the width in pixels of lines drawn after it.
+    LineWidth {
+        width: f32,
+    },
+    /// `glPolygonOffset`: with `polygon_offset_fill` enabled, each triangle's depth moves by
+    /// `factor × its largest depth slope + units × r` (`r` the depth format's resolvable
+    /// difference; see `tiler::DepthBias`).
+    PolygonOffset {
+        factor: f32,
+        units: f32,
     },
     Scissor {
         x: i32,
@@ -223,21 +245,31 @@ pub enum Call<D = Bytes> {
     DepthMask {
         write: bool,
     },
+    /// `glStencilMaskSeparate`; `face` defaults to both (`glStencilMask`). Clears use the
+    /// front mask, as in GL.
     StencilMask {
         mask: u8,
+        #[serde(default = "both_faces", skip_serializing_if = "is_both_faces")]
+        face: Face,
     },
     DepthFunc {
         func: CompareOp,
     },
+    /// `glStencilFuncSeparate`; `face` defaults to both (`glStencilFunc`).
     StencilFunc {
         func: CompareOp,
         reference: u8,
         mask: u8,
+        #[serde(default = "both_faces", skip_serializing_if = "is_both_faces")]
+        face: Face,
     },
+    /// `glStencilOpSeparate`; `face` defaults to both (`glStencilOp`).
     StencilOp {
         fail: tiler::StencilOp,
         depth_fail: tiler::StencilOp,
         pass: tiler::StencilOp,
+        #[serde(default = "both_faces", skip_serializing_if = "is_both_faces")]
+        face: Face,
     },
     /// `glBlendFuncSeparate`; with only `src` and `dst`, alpha uses the same factors.
     BlendFunc {
@@ -441,6 +473,14 @@ fn none<T>() -> Option<T> {
     None
 }
 
+fn both_faces() -> Face {
+    Face::FrontAndBack
+}
+
+fn is_both_faces(face: &Face) -> bool {
+    *face == Face::FrontAndBack
+}
+
 impl<D> Call<D> {
     /// The call's name as a trace spells it.
     pub fn name(&self) -> &'static str {
@@ -469,9 +509,12 @@ impl<D> Call<D> {
             CreateProgram { .. } => "create_program",
             BindAttribLocation { .. } => "bind_attrib_location",
             UseProgram { .. } => "use_program",
+            DeleteProgram { .. } => "delete_program",
             Uniform { .. } => "uniform",
             Viewport { .. } => "viewport",
             DepthRange { .. } => "depth_range",
+            PolygonOffset { .. } => "polygon_offset",
+            LineWidth { .. } => "line_width",
             Scissor { .. } => "scissor",
             Enable { .. } => "enable",
             Disable { .. } => "disable",
@@ -540,7 +583,9 @@ impl<D> Call<D> {
                 VertexAttribArray { index, size, component, normalized, stride, data: f(data)? }
             }
             DeleteBuffer { id } => DeleteBuffer { id },
-            TexParameters { id, filter, wrap } => TexParameters { id, filter, wrap },
+            TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
+                TexParameters { id, filter, wrap, mag_filter, wrap_t }
+            }
             GenerateMipmap { id } => GenerateMipmap { id },
             DeleteTexture { id } => DeleteTexture { id },
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
@@ -562,18 +607,21 @@ impl<D> Call<D> {
             CreateProgram { id, program } => CreateProgram { id, program },
             BindAttribLocation { program, index, name } => BindAttribLocation { program, index, name },
             UseProgram { id } => UseProgram { id },
+            DeleteProgram { id } => DeleteProgram { id },
             Uniform { name, value } => Uniform { name, value },
             Viewport { x, y, width, height } => Viewport { x, y, width, height },
             DepthRange { near, far } => DepthRange { near, far },
+            PolygonOffset { factor, units } => PolygonOffset { factor, units },
+            LineWidth { width } => LineWidth { width },
             Scissor { x, y, width, height } => Scissor { x, y, width, height },
             Enable { cap } => Enable { cap },
             Disable { cap } => Disable { cap },
             ColorMask { red, green, blue, alpha } => ColorMask { red, green, blue, alpha },
             DepthMask { write } => DepthMask { write },
-            StencilMask { mask } => StencilMask { mask },
+            StencilMask { mask, face } => StencilMask { mask, face },
             DepthFunc { func } => DepthFunc { func },
-            StencilFunc { func, reference, mask } => StencilFunc { func, reference, mask },
-            StencilOp { fail, depth_fail, pass } => StencilOp { fail, depth_fail, pass },
+            StencilFunc { func, reference, mask, face } => StencilFunc { func, reference, mask, face },
+            StencilOp { fail, depth_fail, pass, face } => StencilOp { fail, depth_fail, pass, face },
             BlendFunc { src, dst, src_alpha, dst_alpha } => BlendFunc { src, dst, src_alpha, dst_alpha },
             BlendEquation { rgb, alpha } => BlendEquation { rgb, alpha },
             BlendColor { rgba } => BlendColor { rgba },
@@ -809,6 +857,7 @@ pub enum Capability {
     Blend,
     CullFace,
     ScissorTest,
+    PolygonOffsetFill,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -827,13 +876,19 @@ pub enum Winding {
     Cw,
 }
 
-/// Primitive modes. tiler rasterizes triangles only.
+/// Primitive modes. Lines are drawn `line_width` pixels wide, as parallelograms of two
+/// triangles (GL ES 2.0 §3.4.2), points as squares `gl_PointSize` pixels wide (1 for built-in
+/// programs; §3.3), with `gl_PointCoord` (see `tiler::geometry::line`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Mode {
     Triangles,
     TriangleStrip,
     TriangleFan,
+    Lines,
+    LineStrip,
+    LineLoop,
+    Points,
 }
 
 /// Vertex attribute component types.
@@ -849,18 +904,19 @@ pub enum ComponentType {
     UnsignedInt,
 }
 
-/// Index types.
+/// Index types. tiler fetches shorts and ints; bytes are widened to shorts at each draw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum IndexKind {
+    UnsignedByte,
     UnsignedShort,
     UnsignedInt,
 }
 
 /// Texture filters, with GL's names. The `*_mipmap_*` ones are minification filters: in
 /// `tex_parameters` they sample the levels `generate_mipmap` made (the first word filters within
-/// a level, the last between levels), magnification using the first word alone; elsewhere (a
-/// blit, a texture without levels) they act as their first word.
+/// a level, the last between levels); a texture without levels is then incomplete and samples
+/// as (0, 0, 0, 1), as GL ES 2.0 §3.8.2 says. In a blit they act as their first word.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Filter {
@@ -875,7 +931,7 @@ pub enum Filter {
 
 impl Filter {
     /// The filter within a level: `nearest` or `linear`.
-    pub fn base(self) -> Filter {
+    pub const fn base(self) -> Filter {
         match self {
             Filter::Nearest | Filter::NearestMipmapNearest | Filter::NearestMipmapLinear => Filter::Nearest,
             Filter::Linear | Filter::LinearMipmapNearest | Filter::LinearMipmapLinear => Filter::Linear,
@@ -1056,5 +1112,50 @@ impl UniformValue {
 
     pub fn is_finite(&self) -> bool {
         self.components().iter().all(|c| c.is_finite())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    type Parsed = Call<serde_json::Value>;
+
+    fn parse(json: &str) -> Parsed {
+        serde_json::from_str(json).unwrap()
+    }
+
+    #[test]
+    fn calls_of_older_traces_take_the_new_fields_defaults_and_write_back_unchanged() {
+        let old = [
+            r#"{"call":"tex_parameters","id":1,"filter":"linear","wrap":"repeat"}"#,
+            r#"{"call":"stencil_func","func":"equal","reference":3,"mask":255}"#,
+            r#"{"call":"stencil_op","fail":"keep","depth_fail":"keep","pass":"replace"}"#,
+            r#"{"call":"stencil_mask","mask":15}"#,
+        ];
+        for json in old {
+            let call = parse(json);
+            assert_eq!(serde_json::to_string(&call).unwrap(), json);
+        }
+        assert_eq!(
+            parse(old[0]),
+            Parsed::TexParameters { id: 1, filter: Filter::Linear, wrap: Wrap::Repeat, mag_filter: None, wrap_t: None }
+        );
+        assert_eq!(parse(old[3]), Parsed::StencilMask { mask: 15, face: Face::FrontAndBack });
+        let separate = parse(r#"{"call":"stencil_mask","mask":15,"face":"back"}"#);
+        assert_eq!(separate, Parsed::StencilMask { mask: 15, face: Face::Back });
+        let sampler = parse(
+            r#"{"call":"tex_parameters","id":1,"filter":"nearest_mipmap_linear","wrap":"repeat","mag_filter":"linear","wrap_t":"clamp_to_edge"}"#,
+        );
+        assert_eq!(
+            sampler,
+            Parsed::TexParameters {
+                id: 1,
+                filter: Filter::NearestMipmapLinear,
+                wrap: Wrap::Repeat,
+                mag_filter: Some(Filter::Linear),
+                wrap_t: Some(Wrap::ClampToEdge)
+            }
+        );
     }
 }

@@ -292,8 +292,28 @@ enum Texels {
 /// Filtering and wrapping of one sampler binding.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SamplerState {
-    pub filter: Filter,
-    pub wrap: Wrap,
+    /// Minification; a `*_mipmap_*` filter reads the mip chain.
+    pub min_filter: Filter,
+    /// Magnification: `nearest` or `linear`.
+    pub mag_filter: Filter,
+    pub wrap_s: Wrap,
+    pub wrap_t: Wrap,
+}
+
+impl SamplerState {
+    /// One filter (magnifying with its first word) and one wrap for both coordinates.
+    pub const fn new(filter: Filter, wrap: Wrap) -> SamplerState {
+        SamplerState { min_filter: filter, mag_filter: filter.base(), wrap_s: wrap, wrap_t: wrap }
+    }
+
+    /// Whether GL's rules make a texture sampled this way incomplete (it then reads as
+    /// (0, 0, 0, 1), GL ES 2.0 §3.8.2): a mipmap minification filter on a texture without levels.
+    ///
+    /// Non-power-of-two textures that repeat or have a mipmap filter are complete here, as
+    /// under `OES_texture_npot`, which llvmpipe (the reference) and most GLES 2 drivers expose.
+    pub fn incomplete(&self, mipmaps: bool) -> bool {
+        self.min_filter.mipmap().is_some() && !mipmaps
+    }
 }
 
 impl TextureSnapshot {
@@ -313,9 +333,9 @@ impl TextureSnapshot {
         TextureSnapshot { width: 1, height: 1, texels: Texels::Constant(rgba) }
     }
 
-    fn texel(&self, x: i64, y_from_bottom: i64, wrap: Wrap) -> [f32; 4] {
-        let x = wrap_coord(x, self.width as i64, wrap);
-        let y = wrap_coord(y_from_bottom, self.height as i64, wrap);
+    fn texel(&self, x: i64, y_from_bottom: i64, state: SamplerState) -> [f32; 4] {
+        let x = wrap_coord(x, self.width as i64, state.wrap_s);
+        let y = wrap_coord(y_from_bottom, self.height as i64, state.wrap_t);
         let row = self.height as i64 - 1 - y;
         let index = (row * self.width as i64 + x) as usize;
         match &self.texels {
@@ -341,24 +361,26 @@ impl TextureSnapshot {
     }
 
     /// Samples at GL texture coordinates `(s, t)`: nearest takes the texel containing the
-    /// point; linear blends the four around it, texel centres at half-integers.
+    /// point; linear blends the four around it, texel centres at half-integers. A snapshot has
+    /// one level and no derivatives, so it filters as GL magnifies (a level of detail of 0,
+    /// what a render target read back at its own size has).
     pub fn sample(&self, s: f32, t: f32, state: SamplerState) -> [f32; 4] {
         let (s, t) = if s.is_finite() && t.is_finite() { (s, t) } else { (0.0, 0.0) };
         // Keep coordinates in a range where the conversions below are exact enough.
         let (s, t) = (s.clamp(-65536.0, 65536.0), t.clamp(-65536.0, 65536.0));
         let u = s * self.width as f32;
         let v = t * self.height as f32;
-        match state.filter.base() {
-            Filter::Nearest => self.texel(u.floor() as i64, v.floor() as i64, state.wrap),
+        match state.mag_filter.base() {
+            Filter::Nearest => self.texel(u.floor() as i64, v.floor() as i64, state),
             _ => {
                 let (u, v) = (u - 0.5, v - 0.5);
                 let (x0, y0) = (u.floor(), v.floor());
                 let (fx, fy) = (u - x0, v - y0);
                 let (x0, y0) = (x0 as i64, y0 as i64);
-                let a = self.texel(x0, y0, state.wrap);
-                let b = self.texel(x0 + 1, y0, state.wrap);
-                let c = self.texel(x0, y0 + 1, state.wrap);
-                let d = self.texel(x0 + 1, y0 + 1, state.wrap);
+                let a = self.texel(x0, y0, state);
+                let b = self.texel(x0 + 1, y0, state);
+                let c = self.texel(x0, y0 + 1, state);
+                let d = self.texel(x0 + 1, y0 + 1, state);
                 std::array::from_fn(|i| {
                     let top = a[i] + (b[i] - a[i]) * fx;
                     let bottom = c[i] + (d[i] - c[i]) * fx;
@@ -455,7 +477,7 @@ pub fn program_pipeline(
                 // An unbound unit samples as opaque black, as in GL.
                 ProgramTexture::Snapshot(
                     Arc::new(TextureSnapshot::constant([0.0, 0.0, 0.0, 1.0])),
-                    SamplerState { filter: Filter::Nearest, wrap: Wrap::ClampToEdge },
+                    SamplerState::new(Filter::Nearest, Wrap::ClampToEdge),
                 )
             });
             Pipeline::new(

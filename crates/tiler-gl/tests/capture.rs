@@ -197,10 +197,10 @@ fn an_unsupported_call_fails_with_its_number_and_function() {
     window_surface(&mut w);
     begin_context(&mut w, 100, 8, 4);
     clear(&mut w, [0.0; 4]);
-    let call = w.call("glEnable", &[("cap", e("GL_POLYGON_OFFSET_FILL", 0x8037))], None, false);
+    let call = w.call("glEnable", &[("cap", e("GL_SAMPLE_ALPHA_TO_COVERAGE", 0x809e))], None, false);
     swap(&mut w);
     let (result, frames) = replay(&w);
-    let error = result.err().expect("polygon offset is not supported");
+    let error = result.err().expect("alpha to coverage is not supported");
     assert_eq!(error.call(), Some(call));
     let message = error.to_string();
     assert!(message.contains(&format!("call {call}")) && message.contains("`glEnable`"), "{message}");
@@ -442,16 +442,17 @@ fn tex_parameter(w: &mut Writer, pname: (&'static str, u32), value: (&'static st
 }
 
 #[test]
-fn a_mipmap_filter_draws_once_mipmaps_are_generated_and_fails_naming_the_draw_before() {
+fn a_mipmap_filter_without_levels_is_an_incomplete_texture_not_an_error() {
     let trilinear = |w: &mut Writer| {
         texture_rgb(w, 4, 4, 4, vec![200; 48]);
         tex_parameter(w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_LINEAR_MIPMAP_LINEAR", 0x2703));
         tex_parameter(w, ("GL_TEXTURE_MAG_FILTER", 0x2800), ("GL_LINEAR", 0x2601));
     };
+    // Bound but not sampled by the program: GL draws, and so does the replay.
     let (w, _) = uniform_array_capture(trilinear, |_| {});
-    let (result, _) = replay(&w);
-    let message = result.err().expect("no mip levels").to_string();
-    assert!(message.contains("`glDrawArrays`") && message.contains("mip levels"), "{message}");
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [51, 102, 153, 255]));
 
     let (w, _) = uniform_array_capture(
         |w| {
@@ -490,4 +491,119 @@ fn vertex_shader_fetches_are_filtered_as_the_texture_says() {
     };
     assert_eq!(capture(("GL_LINEAR", 0x2601)), solid(4, 4, [100, 100, 100, 255]));
     assert_eq!(capture(("GL_NEAREST", 0x2600)), solid(4, 4, [200, 200, 200, 255]));
+}
+
+// ---- our own GLES2 probe's captures (tests/data/gles2-probe, see its README) ---------------
+
+/// The frames of one probe capture replayed with `config`.
+fn replay_probe(scene: &str, config: tiler_gl::ContextConfig) -> Result<Frames, String> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles2-probe").join(format!("{scene}.trace"));
+    let mut frames = Vec::new();
+    let options = ReplayOptions { config, ..ReplayOptions::default() };
+    tiler_gl::capture::replay_file(path, &options, &mut |f| {
+        frames.push((f.index, f.call, f.width, f.height, f.rgba.to_vec()));
+        Ok(())
+    })
+    .map_err(|e| format!("{scene}: {e}"))?;
+    Ok(frames)
+}
+
+/// Replays a probe capture, compares its one frame with llvmpipe's and checks that every
+/// backend, two tile sizes and two thread counts give the same bytes.
+fn check_probe(scene: &str) {
+    let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles2-probe").join(format!("{scene}.png"));
+    let base = ReplayOptions::default().config;
+    let frames = replay_probe(scene, base.clone()).unwrap();
+    assert_eq!(frames.len(), 1, "{scene}: one frame");
+    let (_, _, w, h, rgba) = &frames[0];
+    let (rw, rh, expected) = read_png(&reference).unwrap();
+    assert_eq!((rw, rh), (*w, *h), "{scene}: size");
+    let mut ours = rgba.clone();
+    ours.iter_mut().skip(3).step_by(4).for_each(|a| *a = 255);
+    let c = compare_rgba8(&ours, &expected, *w, *h, REFERENCE_TOLERANCE);
+    eprintln!("{scene}: {:.3}% within, max {}", c.fraction_within() * 100.0, c.max_difference);
+    if !c.passes(REFERENCE_MIN_FRACTION) {
+        let out = tiler_test_support::output_dir().join(format!("probe-{scene}"));
+        write_png(&out.with_extension("diff.png"), *w, *h, &c.difference_image).unwrap();
+        write_png(&out.with_extension("png"), *w, *h, rgba).unwrap();
+        panic!(
+            "{scene}: {:.2}% of pixels within {REFERENCE_TOLERANCE}/255 of llvmpipe (max difference {}); see {}",
+            c.fraction_within() * 100.0,
+            c.max_difference,
+            out.display()
+        );
+    }
+    for backend in [tiler::Backend::Tbr, tiler::Backend::Tbdr, tiler::Backend::Imr] {
+        for (tile, threads) in [(16, 1), (32, 2)] {
+            let config =
+                tiler_gl::ContextConfig { backend, tile_width: tile, tile_height: tile, threads, ..base.clone() };
+            let other = replay_probe(scene, config).unwrap();
+            assert!(other[0].4 == *rgba, "{scene}: {backend:?} with {tile}×{tile} tiles differs");
+        }
+    }
+}
+
+#[test]
+fn probe_separate_filters_and_wraps_match_llvmpipe() {
+    check_probe("sampler");
+}
+
+#[test]
+fn probe_incomplete_textures_match_llvmpipe() {
+    check_probe("incomplete");
+}
+
+#[test]
+fn probe_separate_front_and_back_stencil_matches_llvmpipe() {
+    check_probe("stencil");
+}
+
+#[test]
+fn probe_byte_indices_in_a_buffer_and_a_deleted_program_in_use_match_llvmpipe() {
+    check_probe("indices");
+}
+
+#[test]
+fn probe_polygon_offset_matches_llvmpipe() {
+    check_probe("offset");
+}
+
+#[test]
+fn probe_copy_tex_image_matches_llvmpipe() {
+    check_probe("copy");
+}
+
+#[test]
+fn probe_lines_match_llvmpipe() {
+    check_probe("lines");
+}
+
+#[test]
+fn deleted_shaders_and_a_deleted_program_live_while_attached_and_in_use_then_go() {
+    let deletes = |w: &mut Writer| {
+        for shader in [2, 3] {
+            w.call("glDeleteShader", &[("shader", W::UInt(shader))], None, false);
+        }
+        w.call("glDeleteProgram", &[("program", W::UInt(7))], None, false);
+    };
+    // Still in use at the draw: it draws.
+    let (w, _) = uniform_array_capture(deletes, |_| {});
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [51, 102, 153, 255]));
+    // Once another program is used, the program and its deleted shaders are gone.
+    let mut gone = 0;
+    let (w, _) = uniform_array_capture(deletes, |w| {
+        w.call("glUseProgram", &[("program", W::UInt(0))], None, false);
+        gone = w.call("glCompileShader", &[("shader", W::UInt(2))], None, false);
+    });
+    let (result, _) = replay(&w);
+    let error = result.err().expect("shader 2 was deleted");
+    assert_eq!(error.call(), Some(gone));
+    assert!(error.to_string().contains("shader 2 does not exist"), "{error}");
+}
+
+#[test]
+fn probe_points_match_llvmpipe() {
+    check_probe("points");
 }

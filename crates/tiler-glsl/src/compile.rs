@@ -69,6 +69,10 @@ pub struct StageCode {
     pub samplers: Vec<(usize, usize)>,
     pub position: Option<[Reg; 4]>,
     pub frag_coord: Option<[Reg; 4]>,
+    /// `gl_PointSize`, when the vertex shader names it (points then take their size from it).
+    pub point_size: Option<Reg>,
+    /// `gl_PointCoord`, when the fragment shader reads it.
+    pub point_coord: Option<[Reg; 2]>,
     pub front_facing: Option<Reg>,
     /// `gl_FragColor` or `gl_FragData[i]` (colour attachment `i`).
     pub colors: Vec<(usize, [Reg; 4])>,
@@ -216,6 +220,8 @@ struct Compiler<'a> {
     samplers: Vec<(usize, usize)>,
     position: Option<[Reg; 4]>,
     frag_coord: Option<[Reg; 4]>,
+    point_size: Option<Reg>,
+    point_coord: Option<[Reg; 2]>,
     front_facing: Option<Reg>,
     frag_color: Option<[Reg; 4]>,
     frag_data: Option<Vec<Reg>>,
@@ -227,6 +233,9 @@ struct Compiler<'a> {
     next_slot: Reg,
     /// Whether the code reads `gl_FragCoord` (which then needs a varying for `w`).
     reads_frag_coord: bool,
+    /// Whether the code names `gl_PointSize` (vertex) or `gl_PointCoord` (fragment), which
+    /// then need hidden varyings.
+    names_point: bool,
     /// Instructions emitted so far.
     emitted: usize,
 }
@@ -257,6 +266,8 @@ impl<'a> Compiler<'a> {
             samplers: Vec::new(),
             position: None,
             frag_coord: None,
+            point_size: None,
+            point_coord: None,
             front_facing: None,
             frag_color: None,
             frag_data: None,
@@ -265,6 +276,7 @@ impl<'a> Compiler<'a> {
             pending_front: Vec::new(),
             next_slot: 0,
             reads_frag_coord: false,
+            names_point: false,
             emitted: 0,
         }
     }
@@ -300,6 +312,8 @@ impl<'a> Compiler<'a> {
         }
         pinned.extend(self.position.iter().flatten());
         pinned.extend(self.frag_coord.iter().flatten());
+        pinned.extend(self.point_size.filter(|_| self.names_point));
+        pinned.extend(self.point_coord.iter().flatten());
         pinned.extend(self.front_facing);
         for (_, c) in &colors {
             pinned.extend(c);
@@ -319,6 +333,8 @@ impl<'a> Compiler<'a> {
             samplers: self.samplers,
             position: self.position,
             frag_coord: self.frag_coord.filter(|_| self.reads_frag_coord),
+            point_size: self.point_size.filter(|_| self.names_point),
+            point_coord: self.point_coord.filter(|_| self.names_point),
             front_facing: self.front_facing,
             colors,
             discards: self.discards,
@@ -606,7 +622,7 @@ impl<'a> Compiler<'a> {
         match self.stage {
             Stage::Vertex => {
                 self.position = Some(four(var(self, "gl_Position", Type::vec(4), true)));
-                var(self, "gl_PointSize", FLOAT, true);
+                self.point_size = Some(var(self, "gl_PointSize", FLOAT, true)[0]);
             }
             Stage::Fragment => {
                 // Inputs are filled by the caller, so they are not zeroed: declare them
@@ -623,7 +639,13 @@ impl<'a> Compiler<'a> {
                     Symbol { ty: BOOL, regs: vec![facing], writable: false, konst: None },
                 );
                 self.front_facing = Some(facing);
-                var(self, "gl_PointCoord", Type::vec(2), false);
+                // Filled by the caller from hidden varyings when read (see `names_point`).
+                let coord = self.temps(2);
+                self.scopes[0].insert(
+                    "gl_PointCoord".into(),
+                    Symbol { ty: Type::vec(2), regs: coord.clone(), writable: false, konst: None },
+                );
+                self.point_coord = Some([coord[0], coord[1]]);
                 self.frag_color = Some(four(var(self, "gl_FragColor", Type::vec(4), true)));
             }
         }
@@ -1322,6 +1344,7 @@ impl<'a> Compiler<'a> {
             E::Variable(id) => {
                 let name = id.as_str();
                 self.reads_frag_coord |= name == "gl_FragCoord";
+                self.names_point |= name == "gl_PointSize" || name == "gl_PointCoord";
                 let symbol = if name == "gl_FragData" && self.stage == Stage::Fragment {
                     self.frag_data()
                 } else {

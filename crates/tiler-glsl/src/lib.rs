@@ -20,8 +20,10 @@
 //! (with a bias), `texture2DProj`, `texture2DLod`/`texture2DProjLod`, and
 //! `OES_standard_derivatives`' `dFdx`/`dFdy`/`fwidth` (fine derivatives within each 2×2
 //! quad, y up as in GL). Built-in variables:
-//! `gl_Position`, `gl_PointSize` (accepted, unused), `gl_FragCoord`, `gl_FrontFacing`,
-//! `gl_FragColor`, `gl_FragData[n]`, `gl_PointCoord` (reads zero). From ES 3.00 where it is
+//! `gl_Position`, `gl_PointSize` and `gl_PointCoord` (each a hidden varying when named: the
+//! core sizes points from the first and fills the second at their corners; see
+//! `CompiledProgram::point_size_varying`), `gl_FragCoord`, `gl_FrontFacing`, `gl_FragColor`,
+//! `gl_FragData[n]`. From ES 3.00 where it is
 //! cheap: `in`/`out` (outputs with `layout(location)`), `texture`/`textureProj`/`textureLod`,
 //! `trunc`, `round`, `transpose`.
 //!

@@ -67,6 +67,10 @@ pub struct CompiledProgram {
     varying_floats: usize,
     /// The hidden varying carrying clip-space w for `gl_FragCoord.w`.
     w_varying: Option<usize>,
+    /// The hidden varying carrying `gl_PointSize`, when the vertex shader names it.
+    point_size_varying: Option<usize>,
+    /// The hidden pair of varyings the core fills with `gl_PointCoord` at a point's corners.
+    point_coord_varying: Option<usize>,
 }
 
 /// Uniform values by location, as `glUniform*` sets them (ints and samplers' texture units
@@ -111,7 +115,7 @@ impl CompiledProgram {
             Ok((vertex, fragment))
         })?;
         let attributes = link_attributes(&vertex, attribute_locations)?;
-        let (varyings, w_varying, varying_floats) = link_varyings(&vertex, &fragment)?;
+        let (varyings, hidden, varying_floats) = link_varyings(&vertex, &fragment)?;
         let (uniforms, vertex_uniform_offsets, fragment_uniform_offsets, uniform_floats) =
             link_uniforms(&vertex, &fragment)?;
         Ok(CompiledProgram {
@@ -124,7 +128,9 @@ impl CompiledProgram {
             fragment_uniform_offsets,
             uniform_floats,
             varying_floats,
-            w_varying,
+            w_varying: hidden.w,
+            point_size_varying: hidden.point_size,
+            point_coord_varying: hidden.point_coord,
         })
     }
 
@@ -218,6 +224,17 @@ impl CompiledProgram {
     pub fn pipeline_varyings(&self) -> Vec<Interpolation> {
         vec![Interpolation::Perspective; self.varying_floats]
     }
+
+    /// The varying holding each vertex's `gl_PointSize`, if the vertex shader names it.
+    pub fn point_size_varying(&self) -> Option<usize> {
+        self.point_size_varying
+    }
+
+    /// The first of the two varyings a point's corners give `gl_PointCoord`, if the fragment
+    /// shader reads it.
+    pub fn point_coord_varying(&self) -> Option<usize> {
+        self.point_coord_varying
+    }
 }
 
 /// Locations for the vertex shader's attributes, in its declaration order: bound ones first,
@@ -259,7 +276,14 @@ fn link_attributes(vertex: &StageCode, bound: &[(&str, u32)]) -> Result<Vec<Attr
         .collect())
 }
 
-fn link_varyings(vertex: &StageCode, fragment: &StageCode) -> Result<(Vec<VaryingInfo>, Option<usize>, usize), Error> {
+/// The hidden varyings after the declared ones: each the index of its first float.
+struct HiddenVaryings {
+    w: Option<usize>,
+    point_size: Option<usize>,
+    point_coord: Option<usize>,
+}
+
+fn link_varyings(vertex: &StageCode, fragment: &StageCode) -> Result<(Vec<VaryingInfo>, HiddenVaryings, usize), Error> {
     let mut out = Vec::new();
     let mut next = 0;
     for v in &fragment.inputs {
@@ -278,14 +302,19 @@ fn link_varyings(vertex: &StageCode, fragment: &StageCode) -> Result<(Vec<Varyin
         out.push(VaryingInfo { name: v.name.clone(), ty: v.ty.clone(), first: next });
         next += v.ty.size();
     }
-    let w = fragment.frag_coord.is_some().then(|| {
-        next += 1;
-        next - 1
-    });
+    let mut hidden = |needed: bool, floats: usize| {
+        needed.then(|| {
+            next += floats;
+            next - floats
+        })
+    };
+    let w = hidden(fragment.frag_coord.is_some(), 1);
+    let point_size = hidden(vertex.point_size.is_some(), 1);
+    let point_coord = hidden(fragment.point_coord.is_some(), 2);
     if next > tiler::MAX_VARYINGS {
         return Err(Error::Link(format!("{next} varying floats, at most {}", tiler::MAX_VARYINGS)));
     }
-    Ok((out, w, next))
+    Ok((out, HiddenVaryings { w, point_size, point_coord }, next))
 }
 
 type UniformLink = (Vec<UniformInfo>, Vec<usize>, Vec<usize>, usize);
@@ -564,6 +593,9 @@ impl VertexShader for GlslVertexShader {
             if let Some(w) = self.program.w_varying {
                 out.varyings[w] = p[3];
             }
+            if let (Some(v), Some(r)) = (self.program.point_size_varying, code.point_size) {
+                out.varyings[v] = regs[r as usize][0];
+            }
         });
     }
 }
@@ -589,6 +621,10 @@ impl FragmentShader for GlslFragmentShader {
                 regs[fc[2] as usize] = frag.depth().0;
                 let w = self.program.w_varying.map_or(F32x8::ONE, |w| frag.smooth(w));
                 regs[fc[3] as usize] = w.0.map(|w| 1.0 / w);
+            }
+            if let (Some(pc), Some(v)) = (code.point_coord, self.program.point_coord_varying) {
+                regs[pc[0] as usize] = frag.smooth(v).0;
+                regs[pc[1] as usize] = frag.smooth(v + 1).0;
             }
             if let Some(ff) = code.front_facing {
                 regs[ff as usize] = [if frag.front_facing() { 1.0 } else { 0.0 }; 8];

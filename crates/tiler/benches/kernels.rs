@@ -34,9 +34,9 @@ use criterion::{
 };
 use glam::Vec4;
 use tiler::__bench::{
-    AttachmentOps, BLOCK_SIZE, BlockCoverage, FragmentTally, Mode, PixelRect, Primitive, PrimitiveCoverage,
-    PrimitiveRun, RenderTarget, SampleLocations, SetupOutcome, SetupParams, Surface, TileBuffer, TileGrid,
-    ViewportTransform, apply_load, apply_resolve, apply_store, block_rect_mask, rasterize, setup_triangle,
+    AttachmentOps, BLOCK_SIZE, BlockCoverage, DepthOffset, FragmentTally, Mode, PixelRect, Primitive,
+    PrimitiveCoverage, PrimitiveRun, RenderTarget, SampleLocations, SetupOutcome, SetupParams, Surface, TileBuffer,
+    TileGrid, ViewportTransform, apply_load, apply_resolve, apply_store, block_rect_mask, rasterize, setup_triangle,
 };
 use tiler::{
     ColorAttachment, CullMode, DepthStencilAttachment, DepthStencilState, Device, DeviceConfig, Draw, F32x8, Format,
@@ -101,6 +101,8 @@ fn setup_params(width: u32, height: u32, samples: u32) -> SetupParams {
         front_face: FrontFace::CounterClockwise,
         samples: SampleLocations::standard(samples),
         state: 0,
+        depth_bias: DepthOffset::None,
+        always_front: false,
     }
 }
 

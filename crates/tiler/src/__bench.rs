@@ -3,7 +3,7 @@
 //! `FragmentTally` is a detected `SimdSupport`.
 
 pub use crate::geometry::primitive::Primitive;
-pub use crate::geometry::setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
+pub use crate::geometry::setup::{DepthOffset, SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
 pub use crate::pixel::primitive::{FragmentTally, Mode, PrimitiveRun, rasterize};
 pub use crate::raster::PixelRect;
 pub use crate::raster::coverage::{BLOCK_SIZE, BlockCoverage, PrimitiveCoverage, block_rect_mask};

@@ -96,9 +96,10 @@ pub use api::error::{Error, Result};
 pub use api::format::{ColorWrites, Format};
 pub use api::image::{ImageDesc, ImageId, MAX_IMAGE_BYTES, MAX_IMAGE_DIMENSION};
 pub use api::pipeline::{
-    BlendComponent, BlendFactor, BlendOp, BlendState, ColorTargetState, CompareOp, CullMode, DepthStencilState,
-    FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES, PipelineDesc,
-    StencilFaceState, StencilOp, Topology, VertexAttribute, VertexBinding, VertexFormat, VertexInputState,
+    BlendComponent, BlendFactor, BlendOp, BlendState, ColorTargetState, CompareOp, CullMode, DepthBias,
+    DepthStencilState, FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES,
+    PipelineDesc, StencilFaceState, StencilOp, Topology, VertexAttribute, VertexBinding, VertexFormat,
+    VertexInputState,
 };
 pub use api::render_pass::{
     AttachmentRef, ColorAttachment, DepthStencilAttachment, IndexBufferBinding, IndexType, LoadOp,

@@ -45,8 +45,6 @@ struct Texture {
     min: u32,
     mag: u32,
     wrap: [u32; 2],
-    /// `glGenerateMipmap` made levels (the context keeps them up to date with level 0).
-    mipmapped: bool,
 }
 
 impl Default for Texture {
@@ -58,50 +56,45 @@ impl Default for Texture {
             min: GL_NEAREST_MIPMAP_LINEAR,
             mag: GL_LINEAR,
             wrap: [GL_REPEAT; 2],
-            mipmapped: false,
         }
     }
 }
 
+/// A texture's sampling state as the context takes it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct SamplerParameters {
+    min: Filter,
+    mag: Filter,
+    wrap_s: Wrap,
+    wrap_t: Wrap,
+}
+
 impl Texture {
-    /// The context's sampling state, or why the GL state has none. The context takes one
-    /// filter: a `*_MIPMAP_*` one minifies through the levels `glGenerateMipmap` made and
-    /// magnifies with its first word, so GL's magnification filter must be that word.
-    fn sampler(&self) -> Fallible<(Filter, Wrap)> {
+    /// The context's sampling state, or why the GL state has none. A mipmap filter on a
+    /// texture without levels is GL's incomplete texture, which the context samples as
+    /// (0, 0, 0, 1).
+    fn sampler(&self) -> Fallible<SamplerParameters> {
         let mag = match self.mag {
             GL_NEAREST => Filter::Nearest,
             GL_LINEAR => Filter::Linear,
             f => return Err(format!("magnification filter {f:#06x} is not a GL one")),
         };
-        let (min, first_word) = match self.min {
-            GL_NEAREST => (Filter::Nearest, Filter::Nearest),
-            GL_LINEAR => (Filter::Linear, Filter::Linear),
-            0x2700 => (Filter::NearestMipmapNearest, Filter::Nearest),
-            0x2701 => (Filter::LinearMipmapNearest, Filter::Linear),
-            GL_NEAREST_MIPMAP_LINEAR => (Filter::NearestMipmapLinear, Filter::Nearest),
-            0x2703 => (Filter::LinearMipmapLinear, Filter::Linear),
+        let min = match self.min {
+            GL_NEAREST => Filter::Nearest,
+            GL_LINEAR => Filter::Linear,
+            0x2700 => Filter::NearestMipmapNearest,
+            0x2701 => Filter::LinearMipmapNearest,
+            GL_NEAREST_MIPMAP_LINEAR => Filter::NearestMipmapLinear,
+            0x2703 => Filter::LinearMipmapLinear,
             f => return Err(format!("minification filter {f:#06x} is not a GL one")),
         };
-        if first_word != mag {
-            return Err("minification and magnification filters of different kinds are not modelled".into());
-        }
-        if min != first_word && !self.mipmapped {
-            return Err(format!(
-                "its minification filter {:#06x} needs mip levels and it has none (GL samples an incomplete \
-                 texture as black; the context does not model that)",
-                self.min
-            ));
-        }
-        if self.wrap[0] != self.wrap[1] {
-            return Err("different wraps in s and t are not modelled".into());
-        }
-        let wrap = match self.wrap[0] {
-            GL_REPEAT => Wrap::Repeat,
-            GL_CLAMP_TO_EDGE => Wrap::ClampToEdge,
-            GL_MIRRORED_REPEAT => Wrap::MirroredRepeat,
-            w => return Err(format!("wrap {w:#06x} is not a GLES wrap")),
+        let wrap = |w: u32| match w {
+            GL_REPEAT => Ok(Wrap::Repeat),
+            GL_CLAMP_TO_EDGE => Ok(Wrap::ClampToEdge),
+            GL_MIRRORED_REPEAT => Ok(Wrap::MirroredRepeat),
+            w => Err(format!("wrap {w:#06x} is not a GLES wrap")),
         };
-        Ok((min, wrap))
+        Ok(SamplerParameters { min, mag, wrap_s: wrap(self.wrap[0])?, wrap_t: wrap(self.wrap[1])? })
     }
 }
 
@@ -114,6 +107,8 @@ struct Program {
     id: Option<u32>,
     /// Uniform location → name, from `glGetUniformLocation`'s return values.
     uniforms: HashMap<i32, String>,
+    /// `glDeleteProgram` while in use: it goes when another program is used.
+    deleted: bool,
 }
 
 /// The objects of one EGL context (GL names → the context's ids).
@@ -124,8 +119,30 @@ struct Objects {
     renderbuffers: HashMap<u32, Option<u32>>,
     framebuffers: HashMap<u32, u32>,
     shaders: HashMap<u32, (GlEnum, Option<String>)>,
+    /// Shaders `glDeleteShader` deleted while attached: they go when detached from every program.
+    deleted_shaders: Vec<u32>,
     programs: HashMap<u32, Program>,
     queries: HashMap<u32, u32>,
+}
+
+impl Objects {
+    /// Forgets a deleted program, and the deleted shaders only it had attached.
+    fn remove_program(&mut self, program: u32) {
+        self.programs.remove(&program);
+        self.collect_shaders();
+    }
+
+    /// Forgets the deleted shaders no program has attached (GL ES 2.0 §2.10.3).
+    fn collect_shaders(&mut self) {
+        let (programs, shaders) = (&self.programs, &mut self.shaders);
+        self.deleted_shaders.retain(|shader| {
+            let attached = programs.values().any(|p| p.shaders.contains(shader));
+            if !attached {
+                shaders.remove(shader);
+            }
+            attached
+        });
+    }
 }
 
 /// GL state the context does not keep (or keeps in its own ids).
@@ -556,8 +573,6 @@ impl Translator {
                 let t = self.objects()?.textures.get_mut(&name).expect("inserted above");
                 t.id = Some(id);
                 t.upload = Some(upload);
-                // New storage of another size leaves the levels of the old one behind.
-                t.mipmapped &= t.size == (width, height);
                 t.size = (width, height);
                 self.update_sampler(name)?;
             }
@@ -624,8 +639,6 @@ impl Translator {
                 let name = self.bound_texture()?;
                 let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
                 self.emit(Call::GenerateMipmap { id })?;
-                self.objects()?.textures.get_mut(&name).expect("has storage").mipmapped = true;
-                self.update_sampler(name)?;
             }
             C::PixelStore { pname, param } => match (*pname, *param) {
                 (0x0cf5, a @ (1 | 2 | 4 | 8)) => self.bindings.unpack_alignment = a as u32,
@@ -634,6 +647,42 @@ impl Translator {
                 (0x0d05, 1 | 2 | 4 | 8) => {}
                 (p, v) => return Err(format!("pixel store {p:#06x} = {v} is not supported")),
             },
+            C::CopyTexImage2D { target, level, internal_format, x, y, width, height, border } => {
+                check_2d_level0(*target, *level)?;
+                if *border != 0 {
+                    return Err(format!("border {border} must be 0"));
+                }
+                if *internal_format != texels::GL_RGBA {
+                    // GL_RGB would need the copy's alpha forced to 1, which the context's copy
+                    // does not do.
+                    return Err(format!("copying into internal format {internal_format:#06x}: only GL_RGBA"));
+                }
+                let (width, height) = size2(*width, *height)?;
+                let upload = Upload::new(texels::GL_RGBA, texels::GL_RGBA, texels::GL_UNSIGNED_BYTE)?;
+                let format = upload.format;
+                let name = self.bound_texture()?;
+                // New storage, then a copy from the read framebuffer into all of it: the copy
+                // ends the pass that renders the source, as a read-back does.
+                let id = match self.texture_id(name)? {
+                    Some(id) => {
+                        self.emit(Call::TexImage { id, width, height, format, data: None })?;
+                        id
+                    }
+                    None => {
+                        let id = self.fresh_id();
+                        self.emit(Call::CreateTexture { id, width, height, format, data: None, transient: false })?;
+                        self.bind_new_texture(name, id)?;
+                        id
+                    }
+                };
+                let t = self.objects()?.textures.entry(name).or_default();
+                t.id = Some(id);
+                t.upload = Some(upload);
+                t.size = (width, height);
+                self.update_sampler(name)?;
+                let (x, y) = (*x, *y);
+                self.emit(Call::CopyTexSubImage { texture: id, x_offset: 0, y_offset: 0, x, y, width, height })?;
+            }
             C::CopyTexSubImage2D { target, level, x_offset, y_offset, x, y, width, height } => {
                 check_2d_level0(*target, *level)?;
                 let name = self.bound_texture()?;
@@ -794,13 +843,21 @@ impl Translator {
                     return Err(format!("shader {shader} does not exist"));
                 }
             }
-            // A deleted shader lives on while attached; it is only looked up at link.
-            C::DeleteShader { .. } => {}
+            C::DeleteShader { shader } => {
+                let objects = self.objects()?;
+                if *shader != 0 && objects.shaders.contains_key(shader) {
+                    objects.deleted_shaders.push(*shader);
+                    objects.collect_shaders();
+                }
+            }
             C::CreateProgram { program } => {
                 self.objects()?.programs.insert(*program, Program::default());
             }
             C::AttachShader { program, shader } => self.program(*program)?.shaders.push(*shader),
-            C::DetachShader { program, shader } => self.program(*program)?.shaders.retain(|s| s != shader),
+            C::DetachShader { program, shader } => {
+                self.program(*program)?.shaders.retain(|s| s != shader);
+                self.objects()?.collect_shaders();
+            }
             C::BindAttribLocation { program, index, name } => {
                 attrib_slot(*index)?;
                 let p = self.program(*program)?;
@@ -814,13 +871,24 @@ impl Translator {
                 } else {
                     self.program(*program)?.id.ok_or_else(|| format!("program {program} is not linked"))?
                 };
-                self.bindings.program = *program;
+                let previous = std::mem::replace(&mut self.bindings.program, *program);
                 self.emit(Call::UseProgram { id })?;
+                if previous != *program && self.objects()?.programs.get(&previous).is_some_and(|p| p.deleted) {
+                    self.objects()?.remove_program(previous);
+                }
             }
             C::DeleteProgram { program } => {
-                // The context keeps the program object (it has no delete); the name is free.
-                if self.bindings.program != *program {
-                    self.objects()?.programs.remove(program);
+                // GL: a program in use is deleted once another is used; the context does the same
+                // with its program.
+                if *program != 0 {
+                    let p = self.program(*program)?;
+                    p.deleted = true;
+                    if let Some(id) = p.id {
+                        self.emit(Call::DeleteProgram { id })?;
+                    }
+                    if self.bindings.program != *program {
+                        self.objects()?.remove_program(*program);
+                    }
                 }
             }
             C::UniformLocation { program, name, location } => {
@@ -847,10 +915,11 @@ impl Translator {
                     0x0be2 => Some(Capability::Blend),
                     0x0b44 => Some(Capability::CullFace),
                     0x0c11 => Some(Capability::ScissorTest),
+                    0x8037 => Some(Capability::PolygonOffsetFill),
                     // Dithering may be a no-op in GL; neither llvmpipe nor tiler dithers.
                     0x0bd0 => None,
                     // Off by default; turning them off changes nothing.
-                    0x8037 | 0x809e | 0x80a0 if !on => None,
+                    0x809e | 0x80a0 if !on => None,
                     c => return Err(format!("capability {c:#06x} is not supported")),
                 };
                 if let Some(cap) = capability {
@@ -912,19 +981,20 @@ impl Translator {
                 self.emit(Call::BlendColor { rgba: *color })?;
             }
             C::StencilFunc { face, func, reference, mask } => {
-                both_faces(*face)?;
+                let face = stencil_face(*face)?;
                 let func = compare_op(*func)?;
-                self.emit(Call::StencilFunc { func, reference: (*reference).clamp(0, 255) as u8, mask: *mask as u8 })?;
+                let (reference, mask) = ((*reference).clamp(0, 255) as u8, *mask as u8);
+                self.emit(Call::StencilFunc { func, reference, mask, face })?;
             }
             C::StencilOp { face, stencil_fail, depth_fail, pass } => {
-                both_faces(*face)?;
+                let face = stencil_face(*face)?;
                 let (fail, depth_fail, pass) =
                     (stencil_op(*stencil_fail)?, stencil_op(*depth_fail)?, stencil_op(*pass)?);
-                self.emit(Call::StencilOp { fail, depth_fail, pass })?;
+                self.emit(Call::StencilOp { fail, depth_fail, pass, face })?;
             }
             C::StencilMask { face, mask } => {
-                both_faces(*face)?;
-                self.emit(Call::StencilMask { mask: *mask as u8 })?;
+                let face = stencil_face(*face)?;
+                self.emit(Call::StencilMask { mask: *mask as u8, face })?;
             }
             C::ClearColor { color } => {
                 self.emit(Call::ClearColor { rgba: *color })?;
@@ -935,10 +1005,15 @@ impl Translator {
             C::ClearStencil { stencil } => {
                 self.emit(Call::ClearStencil { stencil: *stencil as u8 })?;
             }
-            // Hints may be ignored by any GL; lines (the only users of the width) are refused
-            // where they are drawn; offsets and coverage matter only under capabilities the
+            C::PolygonOffset { factor, units } => {
+                self.emit(Call::PolygonOffset { factor: *factor, units: *units })?;
+            }
+            C::LineWidth { width } => {
+                self.emit(Call::LineWidth { width: *width })?;
+            }
+            // Hints may be ignored by any GL; coverage matters only under capabilities the
             // replay refuses to enable.
-            C::Hint { .. } | C::LineWidth { .. } | C::PolygonOffset { .. } | C::SampleCoverage { .. } => {}
+            C::Hint { .. } | C::SampleCoverage { .. } => {}
 
             // ---- queries and tiling ---------------------------------------------------------------
             C::GenQueries { names } => {
@@ -1024,12 +1099,19 @@ impl Translator {
             Call::Viewport { x: 0, y: 0, width, height },
             Call::Scissor { x: 0, y: 0, width, height },
             Call::DepthRange { near: 0.0, far: 1.0 },
+            Call::PolygonOffset { factor: 0.0, units: 0.0 },
+            Call::LineWidth { width: 1.0 },
             Call::ColorMask { red: true, green: true, blue: true, alpha: true },
             Call::DepthMask { write: true },
-            Call::StencilMask { mask: 0xff },
+            Call::StencilMask { mask: 0xff, face: Face::FrontAndBack },
             Call::DepthFunc { func: CompareOp::Less },
-            Call::StencilFunc { func: CompareOp::Always, reference: 0, mask: 0xff },
-            Call::StencilOp { fail: StencilOp::Keep, depth_fail: StencilOp::Keep, pass: StencilOp::Keep },
+            Call::StencilFunc { func: CompareOp::Always, reference: 0, mask: 0xff, face: Face::FrontAndBack },
+            Call::StencilOp {
+                fail: StencilOp::Keep,
+                depth_fail: StencilOp::Keep,
+                pass: StencilOp::Keep,
+                face: Face::FrontAndBack,
+            },
             Call::BlendFunc { src: BlendFactor::One, dst: BlendFactor::Zero, src_alpha: None, dst_alpha: None },
             Call::BlendEquation { rgb: BlendOp::Add, alpha: None },
             Call::BlendColor { rgba: [0.0; 4] },
@@ -1045,6 +1127,7 @@ impl Translator {
             Capability::Blend,
             Capability::CullFace,
             Capability::ScissorTest,
+            Capability::PolygonOffsetFill,
         ] {
             calls.push(Call::Disable { cap });
         }
@@ -1101,6 +1184,9 @@ impl Translator {
         );
         calls
             .extend(sorted(objects.queries.values().copied().collect()).into_iter().map(|id| Call::DeleteQuery { id }));
+        // Deleted programs were deleted in the context when GL deleted them.
+        let programs = objects.programs.values().filter(|p| !p.deleted).filter_map(|p| p.id).collect();
+        calls.extend(sorted(programs).into_iter().map(|id| Call::DeleteProgram { id }));
         for call in calls {
             self.emit(call)?;
         }
@@ -1130,10 +1216,15 @@ impl Translator {
             self.emit(glsl::bind_attrib_location(id, index, name)?)?;
         }
         let p = self.program(program)?;
-        p.id = Some(id);
+        let old = p.id.replace(id);
+        let deleted = p.deleted;
         p.uniforms.clear();
         if self.bindings.program == program {
             self.emit(Call::UseProgram { id })?;
+        }
+        // The previous link's program is no one's now (a deleted one the context has let go).
+        if let Some(old) = old.filter(|_| !deleted) {
+            self.emit(Call::DeleteProgram { id: old })?;
         }
         Ok(())
     }
@@ -1182,7 +1273,10 @@ impl Translator {
         let index_type = match kind {
             texels::GL_UNSIGNED_SHORT => IndexKind::UnsignedShort,
             texels::GL_UNSIGNED_INT => IndexKind::UnsignedInt,
-            texels::GL_UNSIGNED_BYTE => IndexKind::UnsignedShort,
+            // Client-side bytes are widened here, into the scratch buffer; in a buffer object
+            // the context widens them at the draw.
+            texels::GL_UNSIGNED_BYTE if matches!(indices, Memory::Client(_)) => IndexKind::UnsignedShort,
+            texels::GL_UNSIGNED_BYTE => IndexKind::UnsignedByte,
             k => return Err(format!("index type {k:#06x} is not a GL one")),
         };
         match indices {
@@ -1211,11 +1305,6 @@ impl Translator {
                 let bound = self.buffer_id(self.bindings.element_buffer)?.unwrap_or(0);
                 self.emit(Call::BindIndexBuffer { buffer: bound })?;
                 drawn?;
-            }
-            _ if kind == texels::GL_UNSIGNED_BYTE => {
-                return Err(
-                    "byte indices in a buffer object are not supported (the context takes shorts and ints)".into()
-                );
             }
             Memory::Null => {
                 self.emit(Call::DrawElements { mode, count, index_type, offset: 0 })?;
@@ -1270,8 +1359,14 @@ impl Translator {
     fn update_sampler(&mut self, name: u32) -> Fallible {
         let t = self.objects()?.textures.get(&name).cloned().unwrap_or_default();
         // A GL state the context cannot sample is refused when it is drawn with.
-        if let (Some(id), Ok((filter, wrap))) = (t.id, t.sampler()) {
-            self.emit(Call::TexParameters { id, filter, wrap })?;
+        if let (Some(id), Ok(p)) = (t.id, t.sampler()) {
+            self.emit(Call::TexParameters {
+                id,
+                filter: p.min,
+                wrap: p.wrap_s,
+                mag_filter: Some(p.mag),
+                wrap_t: Some(p.wrap_t),
+            })?;
         }
         Ok(())
     }
@@ -1354,11 +1449,14 @@ fn check_2d_level0(target: GlEnum, level: i32) -> Fallible {
     Ok(())
 }
 
-fn both_faces(face: GlEnum) -> Fallible {
-    if face != GL_FRONT_AND_BACK {
-        return Err("separate front and back stencil state is not supported".into());
+/// The face of a `glStencil*Separate` call (`GL_FRONT_AND_BACK` for the others).
+fn stencil_face(face: GlEnum) -> Fallible<Face> {
+    match face {
+        0x0404 => Ok(Face::Front),
+        0x0405 => Ok(Face::Back),
+        GL_FRONT_AND_BACK => Ok(Face::FrontAndBack),
+        f => Err(format!("stencil face {f:#06x} is not a GL one")),
     }
-    Ok(())
 }
 
 fn qcom_buffers(mask: u32) -> BufferSet {
@@ -1369,10 +1467,14 @@ fn qcom_buffers(mask: u32) -> BufferSet {
 
 fn draw_mode(mode: GlEnum) -> Fallible<Mode> {
     match mode {
+        0x0000 => Ok(Mode::Points),
+        0x0001 => Ok(Mode::Lines),
+        0x0002 => Ok(Mode::LineLoop),
+        0x0003 => Ok(Mode::LineStrip),
         0x0004 => Ok(Mode::Triangles),
         0x0005 => Ok(Mode::TriangleStrip),
         0x0006 => Ok(Mode::TriangleFan),
-        m => Err(format!("primitive mode {m:#06x}: tiler rasterizes triangles only")),
+        m => Err(format!("primitive mode {m:#06x} is not a GLES one")),
     }
 }
 

@@ -7,9 +7,9 @@
 //! store ops, are `pass.rs`'s.
 
 use tiler::{
-    BlendComponent, BlendState, BufferId, ColorTargetState, ColorWrites, CullMode, DepthStencilState, FrontFace,
-    ImageId, IndexBufferBinding, IndexType, PipelineDesc, Rect, StencilFaceState, Topology, VertexAttribute,
-    VertexBinding, VertexBufferBinding, VertexFormat, VertexInputState, Viewport,
+    BlendComponent, BlendState, BufferId, ColorTargetState, ColorWrites, CullMode, DepthBias, DepthStencilState,
+    FrontFace, ImageId, IndexBufferBinding, IndexType, PipelineDesc, Rect, Topology, VertexAttribute, VertexBinding,
+    VertexBufferBinding, VertexFormat, VertexInputState, Viewport,
 };
 
 use super::pass::{Writes, push_draw};
@@ -126,12 +126,15 @@ impl Context {
 
         // Indices: bound, aligned, inside their buffer; the largest gives the vertex range.
         let mut index_binding = None;
+        // Byte indices widened to shorts, copied into a buffer the pass owns once the draw is sure.
+        let mut widened = None;
         let max_vertex: Option<u64> = match indexed {
             None => (count > 0).then(|| first as u64 + count as u64 - 1),
             Some((index_kind, offset)) => {
                 let id = self.state.index_buffer;
                 let buffer = self.buffers.get(&id).ok_or("draw_elements with no index buffer bound")?;
                 let (index_type, size) = match index_kind {
+                    IndexKind::UnsignedByte => (IndexType::U16, 1u64),
                     IndexKind::UnsignedShort => (IndexType::U16, 2u64),
                     IndexKind::UnsignedInt => (IndexType::U32, 4u64),
                 };
@@ -145,16 +148,24 @@ impl Context {
                         buffer.size
                     ));
                 }
+                let storage = buffer.storage;
                 let bytes =
-                    &self.device.buffer_data(buffer.storage).map_err(|e| e.to_string())?[offset as usize..end as usize];
-                let max = match index_type {
-                    IndexType::U16 => bytes.chunks_exact(2).map(|b| u16::from_le_bytes([b[0], b[1]]) as u64).max(),
-                    IndexType::U32 => {
+                    &self.device.buffer_data(storage).map_err(|e| e.to_string())?[offset as usize..end as usize];
+                let max = match index_kind {
+                    IndexKind::UnsignedByte => bytes.iter().map(|&b| b as u64).max(),
+                    IndexKind::UnsignedShort => {
+                        bytes.chunks_exact(2).map(|b| u16::from_le_bytes([b[0], b[1]]) as u64).max()
+                    }
+                    IndexKind::UnsignedInt => {
                         bytes.chunks_exact(4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as u64).max()
                     }
                 };
-                index_binding =
-                    Some((buffer.storage, IndexBufferBinding { buffer: buffer.storage, offset, index_type }));
+                index_binding = Some((storage, IndexBufferBinding { buffer: storage, offset, index_type }));
+                if index_kind == IndexKind::UnsignedByte {
+                    // tiler fetches shorts and ints: the driver widens byte indices per draw, as
+                    // it copies client arrays (the ledger counts the copy's 2 bytes per index).
+                    widened = Some(bytes.iter().flat_map(|&i| u16::from(i).to_le_bytes()).collect::<Vec<u8>>());
+                }
                 max
             }
         };
@@ -240,7 +251,12 @@ impl Context {
         }
 
         let targets = self.ensure_pass()?.targets.clone();
-        if max_vertex.is_none() || count < 3 {
+        let fewest = match mode {
+            Mode::Points => 1,
+            Mode::Lines | Mode::LineStrip | Mode::LineLoop => 2,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => 3,
+        };
+        if max_vertex.is_none() || count < fewest {
             return Ok(());
         }
         let (width, height) = (targets.width, targets.height);
@@ -276,23 +292,14 @@ impl Context {
         let subpass_color = subpass.as_ref().is_none_or(|(_, d)| !d.color.is_empty());
         let depth_test = s.depth_test && targets.has_depth() && subpass_depth;
         let stencil_test = s.stencil_test && targets.has_stencil() && subpass_depth;
-        let (func, reference, compare_mask) = s.stencil_func;
-        let face = StencilFaceState {
-            compare: func,
-            fail_op: s.stencil_ops.0,
-            depth_fail_op: s.stencil_ops.1,
-            pass_op: s.stencil_ops.2,
-            compare_mask,
-            write_mask: s.stencil_write_mask,
-            reference,
-        };
+        let [front, back] = s.stencil;
         let depth_stencil = DepthStencilState {
             depth_test,
             depth_write: depth_test && s.depth_mask,
             depth_compare: s.depth_func,
             stencil_test,
-            front: face,
-            back: face,
+            front,
+            back,
         };
         let blend = s.blend.then(|| BlendState {
             color: BlendComponent { src: s.blend_func[0], dst: s.blend_func[1], op: s.blend_equation[0] },
@@ -302,7 +309,7 @@ impl Context {
         let writes = Writes {
             color: !targets.color.is_empty() && subpass_color && write_mask != ColorWrites::NONE,
             depth: depth_stencil.depth_write,
-            stencil: stencil_test && (face.writes()),
+            stencil: stencil_test && (front.writes() || back.writes()),
         };
         let mut vertex_input = VertexInputState::default();
         let mut desc_cull = CullMode::None;
@@ -323,6 +330,10 @@ impl Context {
             Mode::Triangles => Topology::TriangleList,
             Mode::TriangleStrip => Topology::TriangleStrip,
             Mode::TriangleFan => Topology::TriangleFan,
+            Mode::Lines => Topology::LineList,
+            Mode::LineStrip => Topology::LineStrip,
+            Mode::LineLoop => Topology::LineLoop,
+            Mode::Points => Topology::PointList,
         };
         let blend_constant = s.blend_color;
         let query = self.active_query;
@@ -364,6 +375,11 @@ impl Context {
                 offset: (input.offset - base) as u32,
             });
         }
+        if let (Some(shorts), Some((_, binding))) = (widened, &mut index_binding) {
+            let copy = self.alloc_buffer(&shorts)?;
+            client.push((copy, shorts.len() as u64));
+            (binding.buffer, binding.offset) = (copy, 0);
+        }
         if let Some((storage, _)) = index_binding {
             used.push(storage);
             let id = self.state.index_buffer;
@@ -378,6 +394,12 @@ impl Context {
         desc.cull_mode = desc_cull;
         desc.front_face = front_face;
         desc.depth_stencil = depth_stencil;
+        desc.line_width = self.state.line_width;
+        // GL's polygon offset applies to polygons only.
+        if self.state.polygon_offset_fill && !topology.is_line() && topology != Topology::PointList {
+            let (slope_factor, constant_factor) = self.state.polygon_offset;
+            desc.depth_bias = DepthBias { constant_factor, slope_factor };
+        }
         desc.color_targets = if targets.color.is_empty() || !subpass_color {
             Vec::new()
         } else {
@@ -439,7 +461,7 @@ impl Context {
                     image,
                     ndc,
                     tex,
-                    sampler: SamplerState { filter, wrap: Wrap::ClampToEdge },
+                    sampler: SamplerState::new(filter, Wrap::ClampToEdge),
                     read_bytes,
                 },
                 desc,

@@ -303,6 +303,10 @@ impl Context {
                         });
                 }
                 desc.varyings = program.pipeline_varyings();
+                if desc.topology == tiler::Topology::PointList {
+                    desc.point_size_varying = program.point_size_varying();
+                    desc.point_coord_varying = program.point_coord_varying();
+                }
                 let (vertex, fragment) = tiler_glsl::shaders(program, uniforms, &units, framebuffer_height);
                 let generic = generic.iter().map(|(l, v)| (*l as usize, Vec4::from_array(*v))).collect();
                 Ok(Pipeline::new(GenericAttributes { inner: vertex, generic }, fragment, desc))

@@ -20,7 +20,9 @@ mod targets;
 
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
-use tiler::{Backend, BlendFactor, BlendOp, BufferId, CompareOp, Device, DeviceConfig, ImageDesc, ImageId, StencilOp};
+use tiler::{
+    Backend, BlendFactor, BlendOp, BufferId, CompareOp, Device, DeviceConfig, ImageDesc, ImageId, StencilFaceState,
+};
 
 use crate::bytes::Bytes;
 use crate::call::{
@@ -301,10 +303,13 @@ pub(crate) struct GlState {
     pub cull_face: bool,
     pub color_mask: [bool; 4],
     pub depth_mask: bool,
-    pub stencil_write_mask: u8,
     pub depth_func: CompareOp,
-    pub stencil_func: (CompareOp, u8, u8),
-    pub stencil_ops: (StencilOp, StencilOp, StencilOp),
+    pub polygon_offset_fill: bool,
+    /// `glPolygonOffset`'s `(factor, units)`.
+    pub polygon_offset: (f32, f32),
+    pub line_width: f32,
+    /// Stencil function, operations and write mask of front- and back-facing primitives.
+    pub stencil: [StencilFaceState; 2],
     pub blend_func: [BlendFactor; 4],
     pub blend_equation: [BlendOp; 2],
     pub blend_color: [f32; 4],
@@ -333,10 +338,11 @@ impl GlState {
             cull_face: false,
             color_mask: [true; 4],
             depth_mask: true,
-            stencil_write_mask: 0xff,
             depth_func: CompareOp::Less,
-            stencil_func: (CompareOp::Always, 0, 0xff),
-            stencil_ops: (StencilOp::Keep, StencilOp::Keep, StencilOp::Keep),
+            polygon_offset_fill: false,
+            polygon_offset: (0.0, 0.0),
+            line_width: 1.0,
+            stencil: [StencilFaceState::KEEP; 2],
             blend_func: [BlendFactor::One, BlendFactor::Zero, BlendFactor::One, BlendFactor::Zero],
             blend_equation: [BlendOp::Add, BlendOp::Add],
             blend_color: [0.0; 4],
@@ -384,6 +390,8 @@ pub struct Context {
     pub(crate) renderbuffers: BTreeMap<u32, RenderbufferObject>,
     pub(crate) framebuffers: BTreeMap<u32, FramebufferObject>,
     pub(crate) programs: BTreeMap<u32, ProgramObject>,
+    /// The program in use, deleted: it goes when another is used.
+    deleted_program: Option<u32>,
     pub(crate) queries: BTreeMap<u32, QueryObject>,
     pub(crate) images: HashMap<ImageId, ImageInfo>,
     buffer_pool: HashMap<u64, Vec<BufferId>>,
@@ -483,6 +491,7 @@ impl Context {
             renderbuffers: BTreeMap::new(),
             framebuffers,
             programs: BTreeMap::new(),
+            deleted_program: None,
             queries: BTreeMap::new(),
             images,
             buffer_pool: HashMap::new(),
@@ -620,8 +629,14 @@ impl Context {
                 self.texture_storage(id, width, height, format, data, false)?;
             }
             TexSubImage { id, x, y, width, height, data } => self.tex_sub_image(id, x, y, width, height, data)?,
-            TexParameters { id, filter, wrap } => {
-                self.texture_mut(id)?.sampler = SamplerState { filter, wrap };
+            TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
+                if mag_filter.is_some_and(|f| f.mipmap().is_some()) {
+                    return Err(format!("magnification filter {mag_filter:?} is not nearest or linear"));
+                }
+                let mut sampler = SamplerState::new(filter, wrap);
+                sampler.mag_filter = mag_filter.unwrap_or(sampler.mag_filter);
+                sampler.wrap_t = wrap_t.unwrap_or(wrap);
+                self.texture_mut(id)?.sampler = sampler;
             }
             GenerateMipmap { id } => {
                 let image = self.texture(id)?.image;
@@ -704,7 +719,20 @@ impl Context {
                 if id != 0 && !self.programs.contains_key(&id) {
                     return Err(format!("program {id} does not exist"));
                 }
+                if let Some(doomed) = self.deleted_program.take_if(|d| *d != id) {
+                    self.programs.remove(&doomed);
+                }
                 self.state.program = id;
+            }
+            DeleteProgram { id } => {
+                if !self.programs.contains_key(&id) {
+                    return Err(format!("program {id} does not exist"));
+                }
+                if self.state.program == id {
+                    self.deleted_program = Some(id);
+                } else {
+                    self.programs.remove(&id);
+                }
             }
             Uniform { name, value } => self.uniform(&name, value)?,
             Viewport { x, y, width, height } => {
@@ -723,10 +751,27 @@ impl Context {
             Disable { cap } => self.set_capability(cap, false),
             ColorMask { red, green, blue, alpha } => self.state.color_mask = [red, green, blue, alpha],
             DepthMask { write } => self.state.depth_mask = write,
-            StencilMask { mask } => self.state.stencil_write_mask = mask,
+            LineWidth { width } => {
+                // GL: a width not above 0 is an error; llvmpipe's widest line is 255 pixels.
+                if !(width.is_finite() && width > 0.0) {
+                    return Err(format!("line width {width} is not positive"));
+                }
+                self.state.line_width = width.min(255.0);
+            }
+            PolygonOffset { factor, units } => {
+                if !factor.is_finite() || !units.is_finite() {
+                    return Err(format!("polygon offset ({factor}, {units}) is not finite"));
+                }
+                self.state.polygon_offset = (factor, units);
+            }
+            StencilMask { mask, face } => self.stencil_faces(face).for_each(|f| f.write_mask = mask),
             DepthFunc { func } => self.state.depth_func = func,
-            StencilFunc { func, reference, mask } => self.state.stencil_func = (func, reference, mask),
-            StencilOp { fail, depth_fail, pass } => self.state.stencil_ops = (fail, depth_fail, pass),
+            StencilFunc { func, reference, mask, face } => self.stencil_faces(face).for_each(|f| {
+                (f.compare, f.reference, f.compare_mask) = (func, reference, mask);
+            }),
+            StencilOp { fail, depth_fail, pass, face } => self.stencil_faces(face).for_each(|f| {
+                (f.fail_op, f.depth_fail_op, f.pass_op) = (fail, depth_fail, pass);
+            }),
             BlendFunc { src, dst, src_alpha, dst_alpha } => {
                 self.state.blend_func = [src, dst, src_alpha.unwrap_or(src), dst_alpha.unwrap_or(dst)];
             }
@@ -849,6 +894,7 @@ impl Context {
             Capability::Blend => s.blend = on,
             Capability::CullFace => s.cull_face = on,
             Capability::ScissorTest => s.scissor_test = on,
+            Capability::PolygonOffsetFill => s.polygon_offset_fill = on,
         }
     }
 
@@ -862,6 +908,17 @@ impl Context {
 
     pub(crate) fn texture(&self, id: u32) -> Fallible<&TextureObject> {
         self.textures.get(&id).ok_or_else(|| format!("texture {id} does not exist"))
+    }
+
+    /// The stencil states a `*_separate` call sets: `[front, back]`, or one of them.
+    fn stencil_faces(&mut self, face: Face) -> impl Iterator<Item = &mut StencilFaceState> {
+        let [front, back] = &mut self.state.stencil;
+        let (f, b) = match face {
+            Face::Front => (Some(front), None),
+            Face::Back => (None, Some(back)),
+            Face::FrontAndBack => (Some(front), Some(back)),
+        };
+        f.into_iter().chain(b)
     }
 
     fn texture_mut(&mut self, id: u32) -> Fallible<&mut TextureObject> {
@@ -1061,10 +1118,16 @@ impl Context {
         if let Some(data) = data {
             self.upload(image, 0, 0, width, height, &data)?;
         }
-        let sampler = SamplerState { filter: Filter::Nearest, wrap: Wrap::ClampToEdge };
+        let sampler = SamplerState::new(Filter::Nearest, Wrap::ClampToEdge);
         let old = self.textures.insert(id, TextureObject { image, format, sampler, mipmaps: false });
         if let Some(old) = old {
-            self.textures.get_mut(&id).expect("inserted").sampler = old.sampler;
+            // GL keeps the other levels of a texture whose level 0 is replaced by one of the same
+            // size and format, so it stays complete.
+            let d = self.images[&old.image].desc;
+            let same = (d.width, d.height) == (width, height) && old.format == format;
+            let t = self.textures.get_mut(&id).expect("inserted");
+            t.sampler = old.sampler;
+            t.mipmaps = old.mipmaps && same;
             self.retire_image(old.image);
         }
         Ok(())

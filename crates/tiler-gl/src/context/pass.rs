@@ -282,7 +282,7 @@ impl Context {
         let here = self.here;
         let s = &self.state;
         let (scissor_test, scissor, color_mask, depth_mask, stencil_mask) =
-            (s.scissor_test, s.scissor, s.color_mask, s.depth_mask, s.stencil_write_mask);
+            (s.scissor_test, s.scissor, s.color_mask, s.depth_mask, s.stencil[0].write_mask);
         let (clear_color, clear_depth, clear_stencil) = (s.clear_color, s.clear_depth, s.clear_stencil);
         let mut queries = std::mem::take(&mut self.queries);
         let result = (|| {

@@ -323,7 +323,8 @@ impl Context {
     }
 
     /// What a textured draw samples: RGBA8 images through the core's sampler, others through
-    /// a snapshot; each texture made once per submission.
+    /// a snapshot; each texture made once per submission. An incomplete texture reads
+    /// (0, 0, 0, 1) and no memory.
     pub(crate) fn program_texture(
         &self,
         snapshots: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
@@ -332,6 +333,9 @@ impl Context {
         sampler: SamplerState,
         mipmaps: bool,
     ) -> Fallible<ProgramTexture> {
+        if sampler.incomplete(mipmaps) {
+            return Ok(ProgramTexture::Snapshot(Arc::new(TextureSnapshot::constant([0.0, 0.0, 0.0, 1.0])), sampler));
+        }
         let d = self.images[&image].desc;
         let color_space = match d.format {
             tiler::Format::Rgba8Unorm => tiler::ColorSpace::Linear,
@@ -357,23 +361,22 @@ impl Context {
             Filter::Nearest => tiler::Filter::Nearest,
             _ => tiler::Filter::Linear,
         };
-        let filter = core_filter(sampler.filter);
-        let mipmap = match sampler.filter.mipmap().filter(|_| mipmaps) {
+        let mipmap = match sampler.min_filter.mipmap().filter(|_| mipmaps) {
             None => tiler::MipmapMode::None,
             Some(Filter::Nearest) => tiler::MipmapMode::Nearest,
             Some(_) => tiler::MipmapMode::Linear,
         };
-        let wrap = match sampler.wrap {
+        let core_wrap = |w: Wrap| match w {
             Wrap::ClampToEdge => tiler::Wrap::ClampToEdge,
             Wrap::Repeat => tiler::Wrap::Repeat,
             Wrap::MirroredRepeat => tiler::Wrap::MirroredRepeat,
         };
         let core = tiler::Sampler {
-            mag_filter: filter,
-            min_filter: filter,
+            mag_filter: core_filter(sampler.mag_filter),
+            min_filter: core_filter(sampler.min_filter),
             mipmap,
-            wrap_u: wrap,
-            wrap_v: wrap,
+            wrap_u: core_wrap(sampler.wrap_s),
+            wrap_v: core_wrap(sampler.wrap_t),
             lod_bias: 0.0,
         };
         Ok(ProgramTexture::Core(texture, core))

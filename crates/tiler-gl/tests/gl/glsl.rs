@@ -152,7 +152,10 @@ fn draw_scene(backend: Backend, kind: Kind, use_glsl: bool) -> Vec<u8> {
             transient: false,
         },
     );
-    c(&mut gl, Call::TexParameters { id: 1, filter: Filter::Linear, wrap: Wrap::Repeat });
+    c(
+        &mut gl,
+        Call::TexParameters { id: 1, filter: Filter::Linear, wrap: Wrap::Repeat, mag_filter: None, wrap_t: None },
+    );
     c(&mut gl, Call::BindTexture { unit: 2, texture: 1 });
     let (builtin, vs, fs, second_name) = match kind {
         Kind::Solid => (ProgramKind::Solid, SOLID_VS, SOLID_FS, None),
@@ -627,7 +630,16 @@ fn generated_mipmaps_are_sampled_with_a_mipmap_filter() {
                     transient: false,
                 },
             );
-            c(&mut gl, Call::TexParameters { id: 1, filter: Filter::NearestMipmapNearest, wrap: Wrap::Repeat });
+            c(
+                &mut gl,
+                Call::TexParameters {
+                    id: 1,
+                    filter: Filter::NearestMipmapNearest,
+                    wrap: Wrap::Repeat,
+                    mag_filter: None,
+                    wrap_t: None,
+                },
+            );
             if generate {
                 c(&mut gl, Call::GenerateMipmap { id: 1 });
             }

@@ -72,3 +72,52 @@ fn gl_coordinates_and_front_faces() {
         assert_eq!(pixel(&image, 64, 30, 30)[0] == 255, drawn, "{winding:?} {face:?}");
     }
 }
+
+#[test]
+fn a_program_deleted_in_use_draws_until_another_is_used() {
+    let mut gl = context(8, 8);
+    geometry(&mut gl, 1, ProgramKind::Solid, &quad(-1.0, -1.0, 1.0, 1.0, 0.0));
+    c(&mut gl, Call::CreateProgram { id: 2, program: ProgramKind::Solid.into() });
+    c(&mut gl, Call::DeleteProgram { id: 1 });
+    set_color(&mut gl, [0.0, 1.0, 0.0, 1.0]);
+    clear_all(&mut gl);
+    draw(&mut gl, 6);
+    swap(&mut gl);
+    assert_eq!(pixel(&gl.surface_rgba8(), 8, 4, 4), [0, 255, 0, 255]);
+    // Using it again is fine until another program is used; then it is gone.
+    c(&mut gl, Call::UseProgram { id: 1 });
+    c(&mut gl, Call::UseProgram { id: 2 });
+    let error = gl.call(Call::UseProgram { id: 1 }).unwrap_err();
+    assert!(error.message.contains("program 1 does not exist"), "{}", error.message);
+    // A program not in use goes at once.
+    c(&mut gl, Call::DeleteProgram { id: 2 });
+    c(&mut gl, Call::UseProgram { id: 0 });
+    assert!(gl.call(Call::UseProgram { id: 2 }).is_err());
+}
+
+#[test]
+fn byte_indices_in_a_buffer_draw_as_shorts_would() {
+    let vertices = quad(-1.0, -1.0, 1.0, 1.0, 0.0);
+    let mut images = Vec::new();
+    for (kind, indices) in [
+        (IndexKind::UnsignedByte, vec![0u8, 1, 2, 3, 4, 5]),
+        (IndexKind::UnsignedShort, [0u16, 1, 2, 3, 4, 5].iter().flat_map(|i| i.to_le_bytes()).collect()),
+    ] {
+        let mut gl = context(8, 8);
+        geometry(&mut gl, 1, ProgramKind::Solid, &vertices);
+        // One index of padding, so byte indices start at an odd offset.
+        let size = indices.len() / 6;
+        let mut data = vec![9u8; size];
+        data.extend(&indices);
+        c(&mut gl, Call::CreateBuffer { id: 2, data: Bytes::from(data) });
+        c(&mut gl, Call::BindIndexBuffer { buffer: 2 });
+        set_color(&mut gl, [1.0, 0.5, 0.0, 1.0]);
+        clear_all(&mut gl);
+        let size = size as u64;
+        c(&mut gl, Call::DrawElements { mode: Mode::Triangles, count: 6, index_type: kind, offset: size });
+        swap(&mut gl);
+        images.push(gl.surface_rgba8());
+    }
+    assert_eq!(pixel(&images[0], 8, 4, 4), [255, 128, 0, 255]);
+    assert_eq!(images[0], images[1]);
+}

@@ -261,7 +261,10 @@ fn recorded_program() -> Context {
             transient: false,
         },
     );
-    c(&mut gl, Call::TexParameters { id: 3, filter: Filter::Linear, wrap: Wrap::Repeat });
+    c(
+        &mut gl,
+        Call::TexParameters { id: 3, filter: Filter::Linear, wrap: Wrap::Repeat, mag_filter: None, wrap_t: None },
+    );
     c(&mut gl, Call::CreateProgram { id: 4, program: ProgramKind::Textured.into() });
     c(&mut gl, Call::CreateProgram { id: 5, program: ProgramKind::VertexColor.into() });
     c(&mut gl, Call::CreateQuery { id: 1 });

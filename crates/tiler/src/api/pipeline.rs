@@ -267,6 +267,23 @@ pub enum Topology {
     TriangleStrip,
     /// Vertices (i+1, i+2, 0).
     TriangleFan,
+    /// Segments (2i, 2i+1), each drawn as a parallelogram of two triangles (see
+    /// `geometry::line`).
+    LineList,
+    /// Segments (i, i+1).
+    LineStrip,
+    /// Segments (i, i+1) and (n−1, 0).
+    LineLoop,
+    /// Each vertex a square `PipelineDesc::point_size_varying` pixels wide (see
+    /// `geometry::line::point_square`).
+    PointList,
+}
+
+impl Topology {
+    /// Whether it draws lines (segments widened to `PipelineDesc::line_width` pixels).
+    pub fn is_line(self) -> bool {
+        matches!(self, Topology::LineList | Topology::LineStrip | Topology::LineLoop)
+    }
 }
 
 /// How a varying is interpolated across a triangle.
@@ -414,6 +431,40 @@ pub struct PipelineDesc {
     pub color_targets: Vec<ColorTargetState>,
     pub blend_constant: [f32; 4],
     pub multisample: MultisampleState,
+    /// Polygon offset of every triangle's depth (GL's `glPolygonOffset` with
+    /// `GL_POLYGON_OFFSET_FILL`, Vulkan's depth bias).
+    pub depth_bias: DepthBias,
+    /// Width in pixels of line topologies' segments (GL's `glLineWidth`).
+    pub line_width: f32,
+    /// The varying holding each point's size in pixels (GL's `gl_PointSize`); 1 without one.
+    pub point_size_varying: Option<usize>,
+    /// The first of two varyings a point's corners set to GL's `gl_PointCoord`: (0, 0) at its
+    /// top-left, (1, 1) at its bottom-right.
+    pub point_coord_varying: Option<usize>,
+}
+
+/// A depth offset per triangle, computed in setup (GL ES 2.0 §3.5.2):
+/// `slope_factor × m + constant_factor × r`, where `m = max(|∂z/∂x|, |∂z/∂y|)` is the largest
+/// window-space depth slope of the triangle (the approximation the spec allows, and llvmpipe's)
+/// and `r` the depth format's minimum resolvable difference: `1 / (2^b − 1)` for a `b`-bit
+/// UNORM format (D16, D24, as llvmpipe), `2^(e − 23)` for D32F with `e` the exponent of the
+/// triangle's largest `|z|` (the GL 4.6 / Vulkan rule). The offset is added before the depth is
+/// stored, which clamps it to `[0, 1]`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DepthBias {
+    /// GL's `units`.
+    pub constant_factor: f32,
+    /// GL's `factor`.
+    pub slope_factor: f32,
+}
+
+impl DepthBias {
+    /// No offset.
+    pub const NONE: DepthBias = DepthBias { constant_factor: 0.0, slope_factor: 0.0 };
+
+    pub fn is_none(&self) -> bool {
+        self.constant_factor == 0.0 && self.slope_factor == 0.0
+    }
 }
 
 impl PipelineDesc {
@@ -431,11 +482,26 @@ impl PipelineDesc {
             color_targets: vec![ColorTargetState::REPLACE],
             blend_constant: [0.0; 4],
             multisample: MultisampleState::DEFAULT,
+            depth_bias: DepthBias::NONE,
+            line_width: 1.0,
+            point_size_varying: None,
+            point_coord_varying: None,
         }
     }
 
     pub(crate) fn validate(&self) -> Result<()> {
         let what = || format!("pipeline '{}'", self.label);
+        if !(self.line_width.is_finite() && self.line_width > 0.0) {
+            return Err(Error::invalid(what(), format!("line width {} is not positive", self.line_width)));
+        }
+        let n = self.varyings.len();
+        if self.point_size_varying.is_some_and(|v| v >= n) || self.point_coord_varying.is_some_and(|v| v + 2 > n) {
+            return Err(Error::invalid(what(), format!("a point varying is beyond its {n} varyings")));
+        }
+        let bias = self.depth_bias;
+        if !bias.constant_factor.is_finite() || !bias.slope_factor.is_finite() {
+            return Err(Error::invalid(what(), format!("depth bias {bias:?} is not finite")));
+        }
         if self.varyings.len() > MAX_VARYINGS {
             return Err(Error::invalid(what(), format!("{} varyings, at most {MAX_VARYINGS}", self.varyings.len())));
         }

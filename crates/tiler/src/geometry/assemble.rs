@@ -1,4 +1,5 @@
-//! Primitive assembly: which positions of the vertex (or index) stream form each triangle.
+//! Primitive assembly: which positions of the vertex (or index) stream form each triangle or
+//! line segment. A segment is drawn as two triangles, so line topologies count two per segment.
 
 use crate::api::pipeline::Topology;
 
@@ -7,6 +8,28 @@ pub fn triangle_count(topology: Topology, count: u32) -> u32 {
     match topology {
         Topology::TriangleList => count / 3,
         Topology::TriangleStrip | Topology::TriangleFan => count.saturating_sub(2),
+        Topology::LineList | Topology::LineStrip | Topology::LineLoop => 2 * segment_count(topology, count),
+        Topology::PointList => 2 * count,
+    }
+}
+
+/// Line segments formed by `count` vertices.
+pub fn segment_count(topology: Topology, count: u32) -> u32 {
+    match topology {
+        Topology::LineList => count / 2,
+        Topology::LineStrip => count.saturating_sub(1),
+        Topology::LineLoop if count >= 2 => count,
+        _ => 0,
+    }
+}
+
+/// Stream positions of segment `s` of a line topology drawn with `count` vertices.
+#[inline]
+pub fn segment(topology: Topology, s: u32, count: u32) -> [u32; 2] {
+    match topology {
+        Topology::LineList => [2 * s, 2 * s + 1],
+        Topology::LineLoop if s + 1 == count => [s, 0],
+        _ => [s, s + 1],
     }
 }
 
@@ -20,6 +43,9 @@ pub fn triangle(topology: Topology, t: u32) -> [u32; 3] {
         Topology::TriangleStrip if t.is_multiple_of(2) => [t, t + 1, t + 2],
         Topology::TriangleStrip => [t, t + 2, t + 1],
         Topology::TriangleFan => [t + 1, t + 2, 0],
+        Topology::LineList | Topology::LineStrip | Topology::LineLoop | Topology::PointList => {
+            unreachable!("lines and points are expanded")
+        }
     }
 }
 
@@ -34,5 +60,16 @@ mod tests {
         assert_eq!(triangle_count(Topology::TriangleStrip, 5), 3);
         assert_eq!(triangle_count(Topology::TriangleList, 7), 2);
         assert_eq!(triangle(Topology::TriangleFan, 2), [3, 4, 0]);
+    }
+
+    #[test]
+    fn line_topologies_count_two_triangles_per_segment() {
+        assert_eq!(triangle_count(Topology::LineList, 5), 4);
+        assert_eq!(triangle_count(Topology::LineStrip, 4), 6);
+        assert_eq!(triangle_count(Topology::LineLoop, 4), 8);
+        assert_eq!(triangle_count(Topology::LineLoop, 1), 0);
+        assert_eq!(segment(Topology::LineLoop, 3, 4), [3, 0]);
+        assert_eq!(segment(Topology::LineStrip, 2, 4), [2, 3]);
+        assert_eq!(segment(Topology::LineList, 1, 4), [2, 3]);
     }
 }

@@ -6,6 +6,7 @@
 pub mod assemble;
 pub mod clip;
 pub mod fetch;
+pub mod line;
 pub mod primitive;
 pub mod setup;
 pub mod vertex;
@@ -15,8 +16,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::api::buffer::BufferId;
 use crate::api::error::{Error, Result};
-use crate::api::pipeline::MAX_VARYINGS;
 use crate::api::pipeline::PipelineDesc;
+use crate::api::pipeline::{CullMode, MAX_VARYINGS, Topology};
 use crate::api::render_pass::{IndexBufferBinding, IndexType, Rect, VertexBufferBinding, Viewport};
 use crate::geometry::primitive::Primitive;
 use crate::ledger::cache::{CacheConfig, CacheModel};
@@ -26,7 +27,7 @@ use crate::raster::fixed::MAX_VIEWPORT_EXTENT_PX;
 use crate::raster::samples::SampleLocations;
 use clip::{ClipVertex, ClipVolume};
 use fetch::{FetchLayout, SlotVertices, VertexFetcher};
-use setup::{SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
+use setup::{DepthOffset, SetupOutcome, SetupParams, ViewportTransform, setup_triangle};
 use vertex::{ShadedVertices, VertexSet};
 
 /// Where vertex shading happens on a tiler (seed 004 §24.5).
@@ -73,12 +74,15 @@ pub struct DrawGeometry<'a> {
     pub desc: &'a PipelineDesc,
     indices: Option<IndexSource<'a>>,
     first: u32,
+    /// Vertices the draw reads (a line loop's last segment closes on the first).
+    count: u32,
     vertex_offset: i64,
     set: VertexSet,
     pub vertices: ShadedVertices,
     pub triangles: u32,
     pub viewport: Viewport,
     pub clip_rect: PixelRect,
+    depth_format: Option<crate::Format>,
     /// Vertices a GPU shades for this draw: misses of its post-transform vertex cache.
     pub vertices_shaded: u64,
     /// Bytes of vertex attributes fetched for them: the vertex cache's line fills.
@@ -96,6 +100,9 @@ pub struct PassFrame<'a> {
     pub render_area: PixelRect,
     /// The device's buffers, by id.
     pub buffers: &'a [Vec<u8>],
+    /// The depth-stencil attachment's format, if the pass has one (it sets polygon offset's
+    /// resolvable difference).
+    pub depth_format: Option<crate::Format>,
 }
 
 impl<'a> PassFrame<'a> {
@@ -326,12 +333,14 @@ pub fn prepare_draw<'a>(
         desc: draw.desc,
         indices,
         first: draw.first,
+        count: draw.count,
         vertex_offset: draw.vertex_offset as i64,
         set,
         vertices,
         triangles,
         viewport,
         clip_rect,
+        depth_format: frame.depth_format,
         vertices_shaded,
         vertex_fetch_bytes,
         fetch: std::sync::Arc::new(fetch),
@@ -418,17 +427,22 @@ impl DrawGeometry<'_> {
     /// The vertex slots of triangle `t`, provoking vertex first.
     #[inline]
     fn triangle_slots(&self, t: u32) -> [usize; 3] {
-        let positions = assemble::triangle(self.desc.topology, t);
+        assemble::triangle(self.desc.topology, t).map(|p| self.slot(p))
+    }
+
+    /// The vertex slot of stream position `p` (relative to the draw's first).
+    #[inline]
+    fn slot(&self, p: u32) -> usize {
         match self.indices {
-            None => positions.map(|p| p as usize),
-            Some(source) => positions.map(|p| {
+            None => p as usize,
+            Some(source) => {
                 let vertex = (source.get(self.first + p) as i64 + self.vertex_offset) as u32;
                 match &self.set {
                     VertexSet::Dense { min, .. } => (vertex - min) as usize,
                     VertexSet::Sparse { vertices } => vertices.binary_search(&vertex).expect("referenced vertex"),
                     VertexSet::Range { .. } => unreachable!("indexed draws use dense or sparse sets"),
                 }
-            }),
+            }
         }
     }
 
@@ -442,6 +456,8 @@ impl DrawGeometry<'_> {
             front_face: desc.front_face,
             samples: *samples,
             state,
+            depth_bias: DepthOffset::new(desc.depth_bias, self.depth_format),
+            always_front: false,
         };
         if self.clip_rect.is_empty() {
             let mut batch = SetupBatch::default();
@@ -470,6 +486,9 @@ impl DrawGeometry<'_> {
     }
 
     fn setup_one(&self, t: u32, params: &SetupParams, volume: &ClipVolume, batch: &mut SetupBatch) {
+        if self.desc.topology.is_line() || self.desc.topology == Topology::PointList {
+            return self.setup_line_half(t, params, volume, batch);
+        }
         let counters = &mut batch.counters;
         counters.triangles_in += 1;
         let slots = self.triangle_slots(t);
@@ -487,9 +506,70 @@ impl DrawGeometry<'_> {
             count_outcome(&mut batch.counters, outcome);
             return;
         }
+        let triangle = [0, 1, 2].map(|i| ClipVertex::new(positions[i], self.vertices.varyings_of(slots[i])));
+        self.clip_and_set_up(triangle, planes, ids, params, volume, batch);
+    }
+
+    /// Triangle `t % 2` of the parallelogram of segment `t / 2`, or of the square of point
+    /// `t / 2` (see [`line`]): never culled, always front-facing.
+    fn setup_line_half(&self, t: u32, params: &SetupParams, volume: &ClipVolume, batch: &mut SetupBatch) {
+        batch.counters.triangles_in += 1;
+        let half = [self.viewport.width.abs() / 2.0, self.viewport.height.abs() / 2.0];
+        let n = self.vertices.varying_count;
+        let vertex = |s: usize| ClipVertex::new(self.vertices.positions[s], self.vertices.varyings_of(s));
+        let (corners, corner_ids) = if self.desc.topology == Topology::PointList {
+            let slot = self.slot(t / 2);
+            let p = vertex(slot);
+            // GL clamps the size to the supported range: llvmpipe's is [1, 255].
+            let size = self.desc.point_size_varying.map_or(1.0, |v| p.varyings[v]);
+            let size = if size.is_nan() { 1.0 } else { size.clamp(1.0, 255.0) };
+            (line::point_square(p, size, half, self.desc.point_coord_varying), [slot as u32; 4])
+        } else {
+            let slots = assemble::segment(self.desc.topology, t / 2, self.count).map(|p| self.slot(p));
+            let [a, b] = slots.map(vertex);
+            (line::parallelogram(a, b, self.desc.line_width, half, n), [0, 1, 1, 0].map(|i| slots[i] as u32))
+        };
+        let Some(corners) = corners else {
+            batch.counters.triangles_clip_rejected += 1;
+            return;
+        };
+        let pick = if t.is_multiple_of(2) { [0, 1, 2] } else { [0, 2, 3] };
+        let triangle = pick.map(|i| corners[i]);
+        let ids = pick.map(|i| corner_ids[i]);
+        let codes = triangle.map(|v| volume.outcode(v.position));
+        if codes[0] & codes[1] & codes[2] != 0 {
+            batch.counters.triangles_clip_rejected += 1;
+            return;
+        }
+        let params = SetupParams { cull_mode: CullMode::None, always_front: true, ..*params };
+        let planes = codes[0] | codes[1] | codes[2];
+        if planes == 0 {
+            let outcome = setup_triangle(
+                &params,
+                triangle.map(|v| v.position),
+                [0, 1, 2].map(|i| &triangle[i].varyings[..n]),
+                ids,
+                &mut batch.primitives,
+                &mut batch.varyings,
+            );
+            count_outcome(&mut batch.counters, outcome);
+            return;
+        }
+        self.clip_and_set_up(triangle, planes, ids, &params, volume, batch);
+    }
+
+    /// Clips a triangle that crosses `planes` and sets up the pieces.
+    fn clip_and_set_up(
+        &self,
+        triangle: [ClipVertex; 3],
+        planes: u8,
+        ids: [u32; 3],
+        params: &SetupParams,
+        volume: &ClipVolume,
+        batch: &mut SetupBatch,
+    ) {
         let n = self.vertices.varying_count;
         debug_assert!(n <= MAX_VARYINGS);
-        let triangle = [0, 1, 2].map(|i| ClipVertex::new(positions[i], self.vertices.varyings_of(slots[i])));
         let clipped = clip::clip_triangle(volume, triangle, planes, &self.desc.varyings);
         batch.counters.triangles_clipped += 1;
         let Some(poly) = clipped else {

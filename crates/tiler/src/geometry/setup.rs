@@ -4,7 +4,8 @@
 
 use glam::Vec4;
 
-use crate::api::pipeline::{CullMode, FrontFace};
+use crate::api::format::Format;
+use crate::api::pipeline::{CullMode, DepthBias, FrontFace};
 use crate::api::render_pass::Viewport;
 use crate::geometry::primitive::Primitive;
 use crate::raster::PixelRect;
@@ -45,6 +46,52 @@ pub struct SetupParams {
     pub front_face: FrontFace,
     pub samples: SampleLocations,
     pub state: u32,
+    pub depth_bias: DepthOffset,
+    /// Every triangle is front-facing whatever its winding (a line's, GL ES 2.0 §3.4).
+    pub always_front: bool,
+}
+
+/// A pipeline's depth bias with its depth format's resolvable difference (see [`DepthBias`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DepthOffset {
+    /// No bias, or no depth attachment.
+    None,
+    /// A UNORM format: `r = 1 / (2^b − 1)`.
+    Unorm { bias: DepthBias, r: f64 },
+    /// D32F: `r = 2^(e − 23)`, `e` from the triangle's depths.
+    Float { bias: DepthBias },
+}
+
+impl DepthOffset {
+    pub fn new(bias: DepthBias, format: Option<Format>) -> DepthOffset {
+        if bias.is_none() {
+            return DepthOffset::None;
+        }
+        let unorm = |bits: i32| DepthOffset::Unorm { bias, r: 1.0 / (2f64.powi(bits) - 1.0) };
+        match format {
+            Some(Format::D16Unorm) => unorm(16),
+            Some(Format::D24UnormS8Uint) => unorm(24),
+            Some(Format::D32Float) => DepthOffset::Float { bias },
+            _ => DepthOffset::None,
+        }
+    }
+
+    /// The offset of a triangle with window depths `z` and depth slopes `dz_dx`, `dz_dy`
+    /// (per pixel), in f64 so that every backend and tile adds the same value.
+    fn offset(&self, z: [f64; 3], dz_dx: f64, dz_dy: f64) -> f64 {
+        let (bias, r) = match *self {
+            DepthOffset::None => return 0.0,
+            DepthOffset::Unorm { bias, r } => (bias, r),
+            DepthOffset::Float { bias } => {
+                let largest = z.iter().fold(0.0f64, |m, z| m.max(z.abs())) as f32;
+                // The exponent of a normal float; zero and denormals take the smallest one.
+                let e = ((largest.to_bits() >> 23) & 0xff).max(1) as i32 - 127;
+                (bias, 2f64.powi(e - 23))
+            }
+        };
+        let m = dz_dx.abs().max(dz_dy.abs());
+        bias.slope_factor as f64 * m + bias.constant_factor as f64 * r
+    }
 }
 
 /// What became of a triangle.
@@ -89,10 +136,11 @@ pub fn setup_triangle(
     // Vulkan's signed area is a = −area2 / 2 in framebuffer coordinates (y down); a > 0 is
     // counter-clockwise.
     let counter_clockwise = area2 < 0;
-    let front_facing = match params.front_face {
-        FrontFace::CounterClockwise => counter_clockwise,
-        FrontFace::Clockwise => !counter_clockwise,
-    };
+    let front_facing = params.always_front
+        || match params.front_face {
+            FrontFace::CounterClockwise => counter_clockwise,
+            FrontFace::Clockwise => !counter_clockwise,
+        };
     let culled = match params.cull_mode {
         CullMode::None => false,
         CullMode::Front => front_facing,
@@ -119,6 +167,10 @@ pub fn setup_triangle(
     let e1 = ((p[1].0.raw() - p[0].0.raw()) as f64 / scale, (p[1].1.raw() - p[0].1.raw()) as f64 / scale);
     let e2 = ((p[2].0.raw() - p[0].0.raw()) as f64 / scale, (p[2].1.raw() - p[0].1.raw()) as f64 / scale);
     let [o0, o1, o2] = order;
+    // Depth is z0 + λ1·(z1 − z0) + λ2·(z2 − z0); its slopes follow from the λ planes.
+    let (dz1, dz2) = (z[o1] - z[o0], z[o2] - z[o0]);
+    let (dz_dx, dz_dy) = ((e2.1 * dz1 - e1.1 * dz2) / area, (e1.0 * dz2 - e2.0 * dz1) / area);
+    let z0 = z[o0] + params.depth_bias.offset(z, dz_dx, dz_dy);
     let varying_offset = out_varyings.len() as u32;
     for &i in &order {
         out_varyings.extend_from_slice(varyings[i]);
@@ -129,7 +181,7 @@ pub fn setup_triangle(
         origin: [p[0].0.to_pixels() as f32, p[0].1.to_pixels() as f32],
         l1: [(e2.1 / area) as f32, (-e2.0 / area) as f32],
         l2: [(-e1.1 / area) as f32, (e1.0 / area) as f32],
-        z: [z[o0] as f32, (z[o1] - z[o0]) as f32, (z[o2] - z[o0]) as f32],
+        z: [z0 as f32, dz1 as f32, dz2 as f32],
         q: [q[o0] as f32, q[o1] as f32, q[o2] as f32],
         state: params.state,
         varyings: varying_offset,
@@ -169,6 +221,8 @@ mod tests {
             front_face: FrontFace::CounterClockwise,
             samples: SampleLocations::standard(1),
             state: 0,
+            depth_bias: DepthOffset::None,
+            always_front: false,
         }
     }
 
@@ -194,6 +248,31 @@ mod tests {
             SetupOutcome::Primitive
         );
         assert!(!prims[1].front_facing);
+    }
+
+    #[test]
+    fn depth_bias_adds_slope_and_resolvable_units() {
+        // Depth rises 0.5 across the 100-pixel viewport in x: a slope of 0.005 per pixel.
+        let tri = [Vec4::new(-1.0, -1.0, 0.0, 1.0), Vec4::new(1.0, -1.0, 0.5, 1.0), Vec4::new(-1.0, 1.0, 0.0, 1.0)];
+        let none: [&[f32]; 3] = [&[], &[], &[]];
+        let bias = DepthBias { constant_factor: 3.0, slope_factor: 2.0 };
+        let z0 = |depth_bias: DepthOffset| {
+            let (mut prims, mut vars) = (Vec::new(), Vec::new());
+            let p = SetupParams { depth_bias, ..params(CullMode::None) };
+            setup_triangle(&p, tri, none, [0, 1, 2], &mut prims, &mut vars);
+            prims[0].z[0] as f64
+        };
+        let plain = z0(DepthOffset::None);
+        assert_eq!(plain, 0.0);
+        let d24 = z0(DepthOffset::new(bias, Some(Format::D24UnormS8Uint)));
+        let expected = 2.0 * 0.005 + 3.0 / 16777215.0;
+        assert!((d24 - expected).abs() < 1e-7, "{d24} vs {expected}");
+        // D32F: the largest depth is 0.5, exponent −1, so r = 2^−24.
+        let d32 = z0(DepthOffset::new(bias, Some(Format::D32Float)));
+        let expected = 2.0 * 0.005 + 3.0 * 2f64.powi(-24);
+        assert!((d32 - expected).abs() < 1e-7, "{d32} vs {expected}");
+        assert_eq!(DepthOffset::new(bias, None), DepthOffset::None);
+        assert_eq!(DepthOffset::new(DepthBias::NONE, Some(Format::D16Unorm)), DepthOffset::None);
     }
 
     #[test]

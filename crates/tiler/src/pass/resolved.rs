@@ -44,7 +44,8 @@ pub struct ResolvedPass {
 impl ResolvedPass {
     /// What the geometry phase needs of the pass around its draws.
     pub(crate) fn frame<'a>(&self, buffers: &'a [Vec<u8>]) -> PassFrame<'a> {
-        PassFrame { width: self.width, height: self.height, render_area: self.render_area, buffers }
+        let depth_format = self.has_depth_stencil.then(|| self.attachments[self.color_count].format);
+        PassFrame { width: self.width, height: self.height, render_area: self.render_area, buffers, depth_format }
     }
 
     /// The render area as a [`Rect`](crate::Rect), `None` when it is the whole framebuffer.
