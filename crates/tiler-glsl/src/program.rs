@@ -480,7 +480,7 @@ fn core_texel(texture: &Texture, sampler: &Sampler, s: f32, t: f32, lod: f32) ->
     };
     let x = wrap(s, l.width, sampler.wrap_u);
     let y = wrap(1.0 - t, l.height, sampler.wrap_v);
-    let texel = texture.level_texels(level)[y * l.width as usize + x];
+    let texel = texture.texel(level, x as u32, y as u32);
     texel.map(|c| c as f32 / 255.0)
 }
 
