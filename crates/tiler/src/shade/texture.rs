@@ -272,9 +272,13 @@ impl Texture {
         let last = levels.last().expect("level 0 is there");
         let mut texels = vec![[0u8; 4]; ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize];
         for (level, &start) in levels.iter().zip(&starts) {
-            for y in 0..level.height {
-                for x in 0..level.width {
-                    texels[level.texel_index(x, y)] = rows[start + (y * level.width + x) as usize];
+            let row_texels = level.width as usize;
+            for (y, row) in rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels).enumerate()
+            {
+                // Each block's row of (up to) four texels is contiguous in both layouts.
+                for (block_x, texels_in_block) in row.chunks(BLOCK_TEXELS as usize).enumerate() {
+                    let at = level.texel_index(block_x as u32 * BLOCK_TEXELS, y as u32);
+                    texels[at..at + texels_in_block.len()].copy_from_slice(texels_in_block);
                 }
             }
         }
@@ -379,24 +383,17 @@ impl Texture {
             let rgba = match self.plan(sampler, lods[quad] + sampler.lod_bias) {
                 LevelPlan::Single { level, filter } => {
                     let near = self.footprint(level, filter, sampler, u, v, line_shift);
-                    let mut reads = LineReads::default();
-                    for lane in (0..4).filter(|&lane| counted[lane]) {
-                        near.push_lines(lane, &mut reads);
-                        reads.end_lane();
-                    }
-                    reads.read(first_line, cache);
+                    cache.access_quad(first_line, near.rows(), counted);
                     self.filter(&near, &decode)
                 }
                 LevelPlan::Blend { level, filter, weight } => {
                     let near = self.footprint(level, filter, sampler, u, v, line_shift);
                     let far = self.footprint(level + 1, filter, sampler, u, v, line_shift);
-                    let mut reads = LineReads::default();
-                    for lane in (0..4).filter(|&lane| counted[lane]) {
-                        near.push_lines(lane, &mut reads);
-                        far.push_lines(lane, &mut reads);
-                        reads.end_lane();
-                    }
-                    reads.read(first_line, cache);
+                    let (near_rows, far_rows) = (near.rows(), far.rows());
+                    let mut rows = [[0; 4]; MAX_LANE_LINES];
+                    rows[..near_rows.len()].copy_from_slice(near_rows);
+                    rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
+                    cache.access_quad(first_line, &rows[..near_rows.len() + far_rows.len()], counted);
                     let (a, b) = (self.filter(&near, &decode), self.filter(&far, &decode));
                     let blend = |c: usize| self::lanes(|i| lerp(a[c][i], b[c][i], weight));
                     [blend(0), blend(1), blend(2), blend(3)]
@@ -607,50 +604,13 @@ struct Footprint {
 }
 
 impl Footprint {
-    /// Appends lane `lane`'s lines to `reads`, in the order of its texels.
+    /// The lines each lane reads, `[texel][lane]` in the order of its texels.
     #[inline(always)]
-    fn push_lines(&self, lane: usize, reads: &mut LineReads) {
-        let l = &self.lines;
+    fn rows(&self) -> &[Quad<u32>] {
         match self.filter {
-            Filter::Nearest => reads.push(l[0][lane]),
-            Filter::Linear => {
-                for corner in l {
-                    reads.push(corner[lane]);
-                }
-            }
+            Filter::Nearest => &self.lines[..1],
+            Filter::Linear => &self.lines,
         }
-    }
-}
-
-/// The cache lines a quad's counted lanes read, lane by lane, in order (relative to the
-/// texture's first line): at most two levels × four texels per lane. Every lane reads as many.
-#[derive(Default)]
-struct LineReads {
-    /// Unused entries stay 0, so that lanes compare as whole arrays.
-    lines: [[u32; MAX_LANE_LINES]; 4],
-    /// Lines pushed for the lane being pushed, and for each lane before it.
-    pushed: usize,
-    per_lane: usize,
-    lanes: usize,
-}
-
-impl LineReads {
-    #[inline(always)]
-    fn push(&mut self, line: u32) {
-        self.lines[self.lanes][self.pushed] = line;
-        self.pushed += 1;
-    }
-
-    /// Ends the lane being pushed: the next lines are the next lane's.
-    #[inline(always)]
-    fn end_lane(&mut self) {
-        (self.per_lane, self.pushed, self.lanes) = (self.pushed, 0, self.lanes + 1);
-    }
-
-    /// Reads each lane's lines through `cache` (`first_line`: the texture's).
-    #[inline(always)]
-    fn read(&self, first_line: u64, cache: &mut TextureCache) {
-        cache.access_quad(first_line, &self.lines[..self.lanes], self.per_lane);
     }
 }
 
@@ -1259,6 +1219,22 @@ mod tests {
             &mut cache,
         );
         assert_eq!(cache.misses() + cache.hits(), 16);
+    }
+
+    #[test]
+    fn texels_come_back_as_given_from_their_blocks() {
+        for (width, height) in [(1, 1), (3, 5), (4, 4), (7, 9), (37, 21)] {
+            let rgba: Vec<u8> = (0..width * height * 4).map(|i| (i * 7 % 251) as u8).collect();
+            let t = Texture::from_rgba8(width, height, &rgba, ColorSpace::Linear, MipChain::Box).unwrap();
+            let given: Vec<[u8; 4]> = rgba.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
+            assert_eq!(t.level_texels(0), given, "{width}×{height}");
+            for (x, y) in [(0, 0), (width - 1, 0), (0, height - 1), (width - 1, height - 1), (width / 2, height / 2)] {
+                assert_eq!(t.texel(0, x, y), given[(y * width + x) as usize], "{width}×{height} ({x}, {y})");
+                // Stored where its modelled address says.
+                let index = ((t.texel_address(0, x, y) - t.texel_address(0, 0, 0)) / TEXEL_BYTES) as usize;
+                assert_eq!(t.texels[index], given[(y * width + x) as usize]);
+            }
+        }
     }
 
     #[test]

@@ -27,7 +27,8 @@
 
 use crate::api::error::{Error, Result};
 
-/// The most lines one lane of a quad reads: four texels on each of two levels.
+/// The most lines one lane of a quad reads ([`TextureCache::access_quad`]): four texels on
+/// each of two levels.
 pub const MAX_LANE_LINES: usize = 8;
 
 /// The shape of the texture cache.
@@ -191,9 +192,11 @@ impl TextureCache {
         misses
     }
 
-    /// Reads the lines of a quad's lanes, the first `per_lane` of `lanes[k]` those of lane
-    /// `k`'s texels, all in order: the same as [`TextureCache::access_lines`] of each lane's
-    /// lines in turn, with one comparison for a lane that reads what the lane before it read.
+    /// Reads the lines of a quad's `counted` lanes, lane after lane, each lane `k` reading
+    /// `rows[0][k]`, `rows[1][k]`, … in order (a row per texel a lane reads: the corners of its
+    /// footprint on a level, level after level): the same as [`TextureCache::access_lines`] of
+    /// each lane's lines in turn, with one comparison for a lane that reads what the lane
+    /// before it read.
     ///
     /// Why that is exact: once a run of lines has been read, each of its lines is among the
     /// run's lines at the front of its set, in the order of their last reads — as long as no
@@ -202,25 +205,36 @@ impl TextureCache {
     /// read the same texels' lines: most lanes cost a comparison instead of a tag check per
     /// texel.
     #[inline]
-    pub fn access_quad(&mut self, first_line: u64, lanes: &[[u32; MAX_LANE_LINES]], per_lane: usize) {
-        // Whether the lines of the lane before fit in their sets, once asked.
-        let mut previous: Option<(&[u32; MAX_LANE_LINES], Option<bool>)> = None;
-        let mut misses = 0;
-        for lines in lanes {
+    pub fn access_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
+        debug_assert!(rows.len() <= MAX_LANE_LINES);
+        let lane_lines = |lane: usize| {
+            let mut lines = [0u32; MAX_LANE_LINES];
+            for (line, row) in lines.iter_mut().zip(rows) {
+                *line = row[lane];
+            }
+            lines
+        };
+        // The lane read before, and whether its lines fit in their sets, once asked.
+        let mut previous: Option<(usize, Option<bool>)> = None;
+        let (mut reads, mut misses) = (0, 0);
+        for lane in (0..4).filter(|&lane| counted[lane]) {
+            reads += rows.len() as u64;
             if let Some((before, fits)) = &mut previous
-                && *before == lines
-                && *fits.get_or_insert_with(|| self.fits_in_its_sets(first_line, &lines[..per_lane]))
+                && rows.iter().all(|row| row[lane] == row[*before])
+                && *fits.get_or_insert_with(|| self.fits_in_its_sets(first_line, &lane_lines(lane)[..rows.len()]))
             {
                 continue;
             }
-            misses += self.read_lines(first_line, &lines[..per_lane]);
-            previous = Some((lines, None));
+            misses += self.read_lines(first_line, &lane_lines(lane)[..rows.len()]);
+            previous = Some((lane, None));
         }
-        self.count((lanes.len() * per_lane) as u64, misses);
+        self.count(reads, misses);
         #[cfg(feature = "texture-cache-reference")]
         if let Some(reference) = &mut self.reference {
-            for &line in lanes.iter().flat_map(|lines| &lines[..per_lane]) {
-                reference.access((first_line + line as u64) << reference.line_shift);
+            for lane in (0..4).filter(|&lane| counted[lane]) {
+                for row in rows {
+                    reference.access((first_line + row[lane] as u64) << reference.line_shift);
+                }
             }
             assert_eq!(
                 (self.hits, self.misses, &self.lines),
@@ -394,7 +408,7 @@ mod tests {
 
         /// A quad's lanes read with one comparison for a lane that repeats the one before
         /// count and leave the cache exactly as the reads of an address in each line, one by
-        /// one: lanes repeated or not, more lines of a set than it has ways.
+        /// one: lanes repeated or not, counted or not, more lines of a set than it has ways.
         #[test]
         fn access_quad_is_access_of_each(
             shape in prop::sample::select(vec![(256u32, 64u32, 1u32), (1024, 64, 4), (512, 16, 2), (256, 4, 64), (16384, 64, 4)]),
@@ -404,26 +418,27 @@ mod tests {
                     prop::sample::select(vec![1usize, 2, 4, 8]),
                     prop::collection::vec(prop_oneof![3 => 0u32..6, 1 => 0u32..200], 8),
                     prop::collection::vec(any::<bool>(), 4),
+                    prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 4),
                 ),
                 1..40,
             ),
         ) {
             let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
             let (mut together, mut one_by_one) = (TextureCache::new(config), TextureCache::new(config));
-            for (texture, per_lane, lines, repeats) in quads {
+            for (texture, per_lane, lines, repeats, counted) in quads {
                 let first_line = texture << 30;
                 // Lane k repeats lane k − 1 when `repeats[k]`, else takes lines of its own.
                 let mut lanes = [[0u32; MAX_LANE_LINES]; 4];
                 for (k, &repeat) in repeats.iter().enumerate() {
-                    lanes[k] = if repeat && k > 0 {
-                        lanes[k - 1]
-                    } else {
-                        std::array::from_fn(|i| if i < per_lane { lines[(i + k) % 8] } else { 0 })
-                    };
+                    lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + k) % 8]) };
                 }
-                together.access_quad(first_line, &lanes, per_lane);
-                for &line in lanes.iter().flat_map(|lines| &lines[..per_lane]) {
-                    one_by_one.access((first_line + line as u64) << one_by_one.line_shift());
+                let rows: Vec<[u32; 4]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
+                let counted: [bool; 4] = std::array::from_fn(|k| counted[k]);
+                together.access_quad(first_line, &rows, counted);
+                for k in (0..4).filter(|&k| counted[k]) {
+                    for &line in &lanes[k][..per_lane] {
+                        one_by_one.access((first_line + line as u64) << one_by_one.line_shift());
+                    }
                 }
                 prop_assert_eq!((together.hits(), together.misses()), (one_by_one.hits(), one_by_one.misses()));
                 prop_assert_eq!(&together.lines, &one_by_one.lines);
