@@ -207,26 +207,21 @@ impl TextureCache {
     #[inline]
     pub fn access_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
         debug_assert!(rows.len() <= MAX_LANE_LINES);
-        let lane_lines = |lane: usize| {
-            let mut lines = [0u32; MAX_LANE_LINES];
-            for (line, row) in lines.iter_mut().zip(rows) {
-                *line = row[lane];
-            }
-            lines
-        };
-        // The lane read before, and whether its lines fit in their sets, once asked.
-        let mut previous: Option<(usize, Option<bool>)> = None;
+        // The lane read before, and whether its lines fit in their sets: it read no more runs
+        // of a line than the sets have ways (so no more distinct lines either). When they may
+        // not, the next lane is read line by line, repeated or not.
+        let mut previous: Option<(usize, bool)> = None;
         let (mut reads, mut misses) = (0, 0);
         for lane in (0..4).filter(|&lane| counted[lane]) {
             reads += rows.len() as u64;
-            if let Some((before, fits)) = &mut previous
-                && rows.iter().all(|row| row[lane] == row[*before])
-                && *fits.get_or_insert_with(|| self.fits_in_its_sets(first_line, &lane_lines(lane)[..rows.len()]))
+            if let Some((before, true)) = previous
+                && rows.iter().all(|row| row[lane] == row[before])
             {
                 continue;
             }
-            misses += self.read_lines(first_line, &lane_lines(lane)[..rows.len()]);
-            previous = Some((lane, None));
+            let (lane_misses, runs) = self.read_lane(first_line, rows, lane);
+            misses += lane_misses;
+            previous = Some((lane, runs <= self.config.ways as usize));
         }
         self.count(reads, misses);
         #[cfg(feature = "texture-cache-reference")]
@@ -244,24 +239,20 @@ impl TextureCache {
         }
     }
 
-    /// Whether no set holds more distinct lines of `lines` (relative to `first_line`) than
-    /// it has ways. Runs of a line count once; as many runs as ways always fit.
-    #[inline]
-    fn fits_in_its_sets(&self, first_line: u64, lines: &[u32]) -> bool {
-        let ways = self.config.ways as usize;
-        let runs = 1 + lines.windows(2).filter(|pair| pair[0] != pair[1]).count();
-        runs <= ways || self.distinct_lines_fit(first_line, lines)
-    }
-
-    /// [`Self::fits_in_its_sets`] line by line.
-    #[cold]
-    fn distinct_lines_fit(&self, first_line: u64, lines: &[u32]) -> bool {
-        let set = |line: u32| (first_line + line as u64) & self.set_mask;
-        lines.iter().all(|&a| {
-            let first_reads_in_set =
-                lines.iter().enumerate().filter(|&(k, &b)| set(b) == set(a) && !lines[..k].contains(&b));
-            first_reads_in_set.count() <= self.config.ways as usize
-        })
+    /// [`Self::read_lines`] of lane `lane` of `rows` (see [`Self::access_quad`]): returns the
+    /// misses and the runs of a line read.
+    #[inline(always)]
+    fn read_lane(&mut self, first_line: u64, rows: &[[u32; 4]], lane: usize) -> (u64, usize) {
+        let (mut previous, mut misses, mut runs) = (None, 0, 0);
+        for row in rows {
+            let line = row[lane];
+            if previous != Some(line) {
+                misses += !self.access_line(first_line + line as u64) as u64;
+                runs += 1;
+                previous = Some(line);
+            }
+        }
+        (misses, runs)
     }
 
     /// Reads line `line`; returns whether it hit (uncounted: the callers count). The hit on
