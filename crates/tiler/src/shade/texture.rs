@@ -47,7 +47,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use super::texture_cache::{MAX_LANE_LINES, TextureCache};
 use crate::api::error::{Error, Result};
 use crate::api::format::{linear_to_srgb, srgb8_to_linear, unorm8};
-use crate::simd::{F32x8, LaneMask, SimdSupport, Vec4x8, per_simd_level};
+use crate::simd::{F32x8, LANE_DX, LANE_DY, LaneMask, SimdSupport, Vec4x8, per_simd_level};
 
 /// The largest width or height of a texture.
 pub const MAX_TEXTURE_DIMENSION: u32 = 16384;
@@ -375,7 +375,8 @@ impl Texture {
         // (`MAX_MODELLED_BYTES`), so its line is the texture's first line plus the offset's:
         // the low 40 bits of `id · 2^40` are zero, and lines are at most 2^12 bytes.
         let first_line = (self.id << 40) >> line_shift;
-        let mut out = [F32x8::ZERO; 4];
+        // Each quad's channels, `[quad][channel][lane of the quad]`.
+        let mut quads = [[[0u32; 4]; 4]; 2];
         for (quad, lanes) in QUAD_LANES.iter().enumerate() {
             let u = reduce_quad(self::lanes(|i| u.lane(lanes[i])), sampler.wrap_u);
             let v = reduce_quad(self::lanes(|i| v.lane(lanes[i])), sampler.wrap_v);
@@ -399,13 +400,18 @@ impl Texture {
                     [blend(0), blend(1), blend(2), blend(3)]
                 }
             };
-            for (rgba, out) in rgba.iter().zip(&mut out) {
-                for (&value, &lane) in rgba.iter().zip(lanes) {
-                    out.0[lane] = unorm16_to_f32(value);
-                }
-            }
+            quads[quad] = rgba;
         }
-        out
+        // Back to the group's lanes with constant indices (so shuffles, not a store per lane),
+        // converted eight lanes at a time.
+        let [left, right] = quads;
+        std::array::from_fn(|c| {
+            let group = std::array::from_fn(|lane| {
+                let quad = if LANE_DX[lane] < 2 { &left } else { &right };
+                quad[c][(LANE_DX[lane] % 2 + 2 * LANE_DY[lane]) as usize]
+            });
+            F32x8(group.map(unorm16_to_f32))
+        })
     }
 
     /// The levels and filter for a level of detail `lambda` (GL §8.14–8.15, see the module
