@@ -1,5 +1,5 @@
-//! Texture sampling of one 4×2 group (`Texture::sample`), bilinear and trilinear, through the
-//! texture cache model: the kernel that dominates textured scenes (SCENES.md §4.2 samples every
+//! Texture sampling of one 4×2 group (`Texture::sample`), bilinear and trilinear, at every SIMD
+//! level this processor runs, through the texture cache model: the kernel that dominates textured scenes (SCENES.md §4.2 samples every
 //! texture trilinear). `cargo bench -p tiler --bench texture`.
 //!
 //! Each iteration samples a row of 64 groups marching across a 512×512 RGBA8 texture, one
@@ -8,7 +8,7 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use tiler::__bench::TextureCache;
-use tiler::simd::{LANE_DX, LANE_DY};
+use tiler::simd::{LANE_DX, LANE_DY, SimdLevel, SimdSupport};
 use tiler::{ColorSpace, F32x8, LaneMask, MipChain, Sampler, Texture};
 
 const SIZE: u32 = 512;
@@ -51,20 +51,23 @@ fn sample(c: &mut Criterion) {
         ("trilinear", Sampler::TRILINEAR_REPEAT, 1.8, ColorSpace::Linear),
         ("trilinear_srgb", Sampler::TRILINEAR_REPEAT, 1.8, ColorSpace::Srgb),
     ];
-    for (name, sampler, texels_per_pixel, color_space) in cases {
-        let texture = texture(color_space);
-        let groups = groups(texels_per_pixel);
-        let mut cache = TextureCache::default();
-        group.bench_function(name, |b| {
-            b.iter(|| {
-                let mut sum = F32x8::ZERO;
-                for &(u, v) in &groups {
-                    let rgba = texture.sample(&sampler, u, v, LaneMask::ALL, &mut cache);
-                    sum += rgba[0] + rgba[3];
-                }
-                sum
-            })
-        });
+    let levels = [SimdLevel::Baseline, SimdLevel::Avx2].into_iter().filter_map(SimdSupport::detect);
+    for simd in levels {
+        for (name, sampler, texels_per_pixel, color_space) in cases {
+            let texture = texture(color_space);
+            let groups = groups(texels_per_pixel);
+            let mut cache = TextureCache::default();
+            group.bench_function(format!("{name}/{}", simd.level()), |b| {
+                b.iter(|| {
+                    let mut sum = F32x8::ZERO;
+                    for &(u, v) in &groups {
+                        let rgba = texture.sample(simd, &sampler, u, v, LaneMask::ALL, &mut cache);
+                        sum += rgba[0] + rgba[3];
+                    }
+                    sum
+                })
+            });
+        }
     }
     group.finish();
 }

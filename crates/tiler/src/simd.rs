@@ -105,6 +105,42 @@ impl SimdSupport {
     }
 }
 
+/// Defines `$name`, a function that runs `$body` compiled for the SIMD level of `$simd` (a
+/// [`SimdSupport`]): `$avx2` is `$body` compiled with AVX2 and the features that come with it,
+/// and `$name` is never inlined, so each shader-independent stage exists once per level, not
+/// once per shader type (the pixel stages) or per caller (texture sampling). The one `unsafe`
+/// call of every such stage is here.
+macro_rules! per_simd_level {
+    (
+        $(#[$attr:meta])*
+        fn $name:ident / $avx2:ident => $body:ident, simd: $($simd:ident).+,
+        ($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?
+    ) => {
+        $(#[$attr])*
+        #[inline(never)]
+        fn $name($($arg: $ty),*) $(-> $ret)? {
+            match $($simd).+.level() {
+                #[cfg(target_arch = "x86_64")]
+                $crate::simd::SimdLevel::Avx2 => {
+                    // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor
+                    // has every feature `$avx2` is compiled with (`SimdSupport::detect`).
+                    unsafe { $avx2($($arg),*) }
+                }
+                _ => $body($($arg),*),
+            }
+        }
+
+        #[doc = concat!("[`", stringify!($body), "`] compiled for AVX2.")]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+        unsafe fn $avx2($($arg: $ty),*) $(-> $ret)? {
+            $body($($arg),*)
+        }
+    };
+}
+
+pub(crate) use per_simd_level;
+
 /// Whether this processor has a feature of [`AVX2_FEATURES`] (`false` for any other name).
 fn processor_has(feature: &str) -> bool {
     #[cfg(target_arch = "x86_64")]

@@ -29,7 +29,7 @@ use crate::raster::target::{RenderTarget, Surface};
 use crate::shade::ShadeContext;
 use crate::shade::fragments::{FragmentShader, Fragments};
 use crate::shade::interpolate::Interpolator;
-use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, SimdSupport, Vec4x8};
+use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, SimdSupport, Vec4x8, per_simd_level};
 
 /// What the fragment work of one task did and moved.
 #[derive(Debug, Default)]
@@ -729,6 +729,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
             input_bytes: 0,
             local_bytes: 0,
             context: &mut tally.context,
+            simd: tally.simd,
         };
         self.shader.shade(&mut frag);
         let (input_bytes, local_bytes) = (frag.input_bytes, frag.local_bytes);
@@ -781,39 +782,6 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
 // build's time, at the cost of a call per group (measured: docs/benchmarking.md).
 
 /// What the depth and stencil tests of a primitive read.
-/// Defines `$name`, a function that runs `$body` compiled for the SIMD level of `$simd` (a
-/// [`SimdSupport`]): `$avx2` is `$body` compiled with AVX2 and the features that come with it,
-/// and `$name` is never inlined, so each shader-independent stage exists once per level, not
-/// once per shader type. The one `unsafe` call of every such stage is here.
-macro_rules! per_simd_level {
-    (
-        $(#[$attr:meta])*
-        fn $name:ident / $avx2:ident => $body:ident, simd: $($simd:ident).+,
-        ($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?
-    ) => {
-        $(#[$attr])*
-        #[inline(never)]
-        fn $name($($arg: $ty),*) $(-> $ret)? {
-            match $($simd).+.level() {
-                #[cfg(target_arch = "x86_64")]
-                SimdLevel::Avx2 => {
-                    // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor
-                    // has every feature `$avx2` is compiled with (`SimdSupport::detect`).
-                    unsafe { $avx2($($arg),*) }
-                }
-                _ => $body($($arg),*),
-            }
-        }
-
-        #[doc = concat!("[`", stringify!($body), "`] compiled for AVX2.")]
-        #[cfg(target_arch = "x86_64")]
-        #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-        unsafe fn $avx2($($arg: $ty),*) $(-> $ret)? {
-            $body($($arg),*)
-        }
-    };
-}
-
 #[derive(Clone, Copy)]
 struct TestInputs<'a> {
     state: &'a DepthStencilState,

@@ -8,7 +8,7 @@ use crate::api::shader::ShaderProperties;
 use crate::raster::target::Surface;
 use crate::shade::ShadeContext;
 use crate::shade::texture::{Sampler, Texture};
-use crate::simd::{F32x8, LaneMask, Vec4x8};
+use crate::simd::{F32x8, LaneMask, SimdSupport, Vec4x8};
 use crate::simd::{LANE_DX, LANE_DY, LANES};
 
 /// A fragment shader.
@@ -62,6 +62,8 @@ pub struct Fragments<'a> {
     pub(crate) input_bytes: u64,
     pub(crate) local_bytes: u64,
     pub(crate) context: &'a mut ShadeContext,
+    /// The instruction set the pipeline runs with: texture sampling runs with it too.
+    pub(crate) simd: SimdSupport,
 }
 
 impl<'a> Fragments<'a> {
@@ -174,7 +176,7 @@ impl<'a> Fragments<'a> {
     /// helper lanes included, go through the task's texture cache and so into the ledger.
     #[inline]
     pub fn sample(&mut self, texture: &Texture, sampler: &Sampler, uv: [F32x8; 2]) -> Vec4x8 {
-        texture.sample(sampler, uv[0], uv[1], self.covered.quads(), &mut self.context.texture_cache)
+        texture.sample(self.simd, sampler, uv[0], uv[1], self.covered.quads(), &mut self.context.texture_cache)
     }
 
     /// Per-tile state shaders may use (texture caches and their counters).

@@ -27,6 +27,10 @@
 
 use crate::api::error::{Error, Result};
 
+/// The most lines one lane of a quad reads ([`TextureCache::access_quad`]): four texels on
+/// each of two levels.
+pub const MAX_LANE_LINES: usize = 8;
+
 /// The shape of the texture cache.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub struct TextureCacheConfig {
@@ -97,6 +101,10 @@ pub struct TextureCache {
     misses: u64,
     /// Misses already handed to the ledger.
     misses_reported: u64,
+    /// With the `texture-cache-reference` feature (for tests): the same cache read one line
+    /// at a time, as the model was first written, held equal after every quad.
+    #[cfg(feature = "texture-cache-reference")]
+    reference: Option<Box<TextureCache>>,
 }
 
 impl Default for TextureCache {
@@ -114,7 +122,8 @@ impl TextureCache {
     /// If `config` is invalid (check it with [`TextureCacheConfig::validate`] first).
     pub fn new(config: TextureCacheConfig) -> TextureCache {
         assert!(config.validate().is_ok(), "invalid texture cache configuration {config:?}");
-        TextureCache {
+        #[allow(unused_mut)] // Changed with the `texture-cache-reference` feature only.
+        let mut cache = TextureCache {
             config,
             line_shift: config.line_bytes.trailing_zeros(),
             ways_shift: config.ways.trailing_zeros(),
@@ -123,7 +132,14 @@ impl TextureCache {
             hits: 0,
             misses: 0,
             misses_reported: 0,
+            #[cfg(feature = "texture-cache-reference")]
+            reference: None,
+        };
+        #[cfg(feature = "texture-cache-reference")]
+        {
+            cache.reference = Some(Box::new(cache.clone()));
         }
+        cache
     }
 
     pub fn config(&self) -> &TextureCacheConfig {
@@ -133,7 +149,16 @@ impl TextureCache {
     /// Reads the byte at modelled address `address`; returns whether it hit.
     #[inline]
     pub fn access(&mut self, address: u64) -> bool {
-        self.access_line(address >> self.line_shift)
+        let hit = self.access_line(address >> self.line_shift);
+        self.count(1, !hit as u64);
+        hit
+    }
+
+    /// Counts `reads` reads of which `misses` missed.
+    #[inline(always)]
+    fn count(&mut self, reads: u64, misses: u64) {
+        self.hits += reads - misses;
+        self.misses += misses;
     }
 
     /// `log2` of the line size: the line of modelled address `a` is `a >> line_shift()`.
@@ -149,25 +174,95 @@ impl TextureCache {
     /// usually share a line.
     #[inline]
     pub fn access_lines(&mut self, first_line: u64, lines: &[u32]) {
-        let mut previous = None;
+        let misses = self.read_lines(first_line, lines);
+        self.count(lines.len() as u64, misses);
+    }
+
+    /// [`Self::access_lines`] without counting: returns the misses. (Counts kept in registers
+    /// by the callers, not incremented in memory read after read.)
+    #[inline(always)]
+    fn read_lines(&mut self, first_line: u64, lines: &[u32]) -> u64 {
+        let (mut previous, mut misses) = (None, 0);
         for &line in lines {
-            if previous == Some(line) {
-                self.hits += 1;
-            } else {
-                self.access_line(first_line + line as u64);
+            if previous != Some(line) {
+                misses += !self.access_line(first_line + line as u64) as u64;
                 previous = Some(line);
             }
         }
+        misses
     }
 
-    /// Reads line `line`; returns whether it hit. The hit on the set's most recently used line
-    /// changes no state and is the common case, inline; the rest is [`Self::access_slow`].
+    /// Reads the lines of a quad's `counted` lanes, lane after lane, each lane `k` reading
+    /// `rows[0][k]`, `rows[1][k]`, … in order (a row per texel a lane reads: the corners of its
+    /// footprint on a level, level after level): the same as [`TextureCache::access_lines`] of
+    /// each lane's lines in turn, with one comparison for a lane that reads what the lane
+    /// before it read.
+    ///
+    /// Why that is exact: once a run of lines has been read, each of its lines is among the
+    /// run's lines at the front of its set, in the order of their last reads — as long as no
+    /// set holds more of the run's lines than it has ways, none falls out. Reading the same run
+    /// again then hits every time and leaves every set as it was. Neighbouring pixels usually
+    /// read the same texels' lines: most lanes cost a comparison instead of a tag check per
+    /// texel.
+    #[inline]
+    pub fn access_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
+        debug_assert!(rows.len() <= MAX_LANE_LINES);
+        // The lane read before, and whether its lines fit in their sets: it read no more runs
+        // of a line than the sets have ways (so no more distinct lines either). When they may
+        // not, the next lane is read line by line, repeated or not.
+        let mut previous: Option<(usize, bool)> = None;
+        let (mut reads, mut misses) = (0, 0);
+        for lane in (0..4).filter(|&lane| counted[lane]) {
+            reads += rows.len() as u64;
+            if let Some((before, true)) = previous
+                && rows.iter().all(|row| row[lane] == row[before])
+            {
+                continue;
+            }
+            let (lane_misses, runs) = self.read_lane(first_line, rows, lane);
+            misses += lane_misses;
+            previous = Some((lane, runs <= self.config.ways as usize));
+        }
+        self.count(reads, misses);
+        #[cfg(feature = "texture-cache-reference")]
+        if let Some(reference) = &mut self.reference {
+            for lane in (0..4).filter(|&lane| counted[lane]) {
+                for row in rows {
+                    reference.access((first_line + row[lane] as u64) << reference.line_shift);
+                }
+            }
+            assert_eq!(
+                (self.hits, self.misses, &self.lines),
+                (reference.hits, reference.misses, &reference.lines),
+                "the texture cache model disagrees with its line-by-line reference"
+            );
+        }
+    }
+
+    /// [`Self::read_lines`] of lane `lane` of `rows` (see [`Self::access_quad`]): returns the
+    /// misses and the runs of a line read.
+    #[inline(always)]
+    fn read_lane(&mut self, first_line: u64, rows: &[[u32; 4]], lane: usize) -> (u64, usize) {
+        let (mut previous, mut misses, mut runs) = (None, 0, 0);
+        for row in rows {
+            let line = row[lane];
+            if previous != Some(line) {
+                misses += !self.access_line(first_line + line as u64) as u64;
+                runs += 1;
+                previous = Some(line);
+            }
+        }
+        (misses, runs)
+    }
+
+    /// Reads line `line`; returns whether it hit (uncounted: the callers count). The hit on
+    /// the set's most recently used line changes no state and is the common case, inline; the
+    /// rest is [`Self::access_slow`].
     #[inline(always)]
     fn access_line(&mut self, line: u64) -> bool {
         let first = ((line & self.set_mask) as usize) << self.ways_shift;
         // An empty `lines` (a cold cache not yet allocated) takes the slow path too.
         if self.lines.get(first) == Some(&line) {
-            self.hits += 1;
             return true;
         }
         self.access_slow(first, line)
@@ -186,12 +281,10 @@ impl TextureCache {
         for entry in &mut self.lines[first..first + ways] {
             let was = std::mem::replace(entry, moving);
             if was == line {
-                self.hits += 1;
                 return true;
             }
             moving = was;
         }
-        self.misses += 1;
         false
     }
 
@@ -298,6 +391,45 @@ mod tests {
                 together.access_lines(first_line, &lines);
                 for &line in &lines {
                     one_by_one.access((first_line + line as u64) << one_by_one.line_shift() | 3);
+                }
+                prop_assert_eq!((together.hits(), together.misses()), (one_by_one.hits(), one_by_one.misses()));
+                prop_assert_eq!(&together.lines, &one_by_one.lines);
+            }
+        }
+
+        /// A quad's lanes read with one comparison for a lane that repeats the one before
+        /// count and leave the cache exactly as the reads of an address in each line, one by
+        /// one: lanes repeated or not, counted or not, more lines of a set than it has ways.
+        #[test]
+        fn access_quad_is_access_of_each(
+            shape in prop::sample::select(vec![(256u32, 64u32, 1u32), (1024, 64, 4), (512, 16, 2), (256, 4, 64), (16384, 64, 4)]),
+            quads in prop::collection::vec(
+                (
+                    0u64..3,
+                    prop::sample::select(vec![1usize, 2, 4, 8]),
+                    prop::collection::vec(prop_oneof![3 => 0u32..6, 1 => 0u32..200], 8),
+                    prop::collection::vec(any::<bool>(), 4),
+                    prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 4),
+                ),
+                1..40,
+            ),
+        ) {
+            let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
+            let (mut together, mut one_by_one) = (TextureCache::new(config), TextureCache::new(config));
+            for (texture, per_lane, lines, repeats, counted) in quads {
+                let first_line = texture << 30;
+                // Lane k repeats lane k − 1 when `repeats[k]`, else takes lines of its own.
+                let mut lanes = [[0u32; MAX_LANE_LINES]; 4];
+                for (k, &repeat) in repeats.iter().enumerate() {
+                    lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + k) % 8]) };
+                }
+                let rows: Vec<[u32; 4]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
+                let counted: [bool; 4] = std::array::from_fn(|k| counted[k]);
+                together.access_quad(first_line, &rows, counted);
+                for k in (0..4).filter(|&k| counted[k]) {
+                    for &line in &lanes[k][..per_lane] {
+                        one_by_one.access((first_line + line as u64) << one_by_one.line_shift());
+                    }
                 }
                 prop_assert_eq!((together.hits(), together.misses()), (one_by_one.hits(), one_by_one.misses()));
                 prop_assert_eq!(&together.lines, &one_by_one.lines);
