@@ -297,7 +297,12 @@ fn column_figures(column: &crate::Column, fps: f64, first_total: u64, frame_coun
         },
         present: frame.present,
         driver: frame.driver,
-        passes: frame.passes.iter().enumerate().map(|(index, pass)| pass_figures(index, pass, fps, &time_model)).collect(),
+        passes: frame
+            .passes
+            .iter()
+            .enumerate()
+            .map(|(index, pass)| pass_figures(index, pass, fps, &time_model))
+            .collect(),
         frames: column.frames.iter().map(|span| frame_totals(span, &frame.passes, fps)).collect(),
     }
 }
@@ -337,7 +342,13 @@ fn pass_figures(index: usize, pass: &PassReport, fps: f64, time_model: &TimeMode
         bytes_per_second: pass.ledger.total() as f64 * fps,
         on_chip_bytes: pass.on_chip_bytes,
         transaction_elimination_saved_bytes: pass.transaction_elimination_saved,
-        time: TimeFigures::new(time_model, time_model.estimate(&pass.counters, &pass.ledger), pass.ledger.total(), fps, 1),
+        time: TimeFigures::new(
+            time_model,
+            time_model.estimate(&pass.counters, &pass.ledger),
+            pass.ledger.total(),
+            fps,
+            1,
+        ),
         counters: pass.counters,
         overdraw: per_pixel(pass.counters.fragments_shaded, pixels),
         frame_data: pass.frame_data,

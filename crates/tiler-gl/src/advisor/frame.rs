@@ -2,7 +2,7 @@
 //! waiting for the GPU, and stores nothing read.
 
 use super::{Cost, Draft, PassIndex, RuleId, bytes, framebuffer_name};
-use crate::report::{CallRef, FrameRecord, Role, StallCause};
+use crate::report::{CallRef, FrameRecord, Role, Slot, StallCause, StoreKind};
 
 /// Runs every frame rule over `frame`.
 pub(super) fn check(frame: &FrameRecord, index: &PassIndex, out: &mut Vec<Draft>) {
@@ -76,29 +76,52 @@ fn stalls(frame: &FrameRecord, out: &mut Vec<Draft>) {
     }
 }
 
-/// Stores nothing read before they were overwritten or became undefined.
+/// Stores nothing read before they were overwritten or became undefined. The two halves of a
+/// packed depth-stencil word move together (a store of either half writes the whole word):
+/// both dead, they are one finding, invalidated together; one dead while the other is stored,
+/// invalidating it would save nothing, so it is not reported.
 fn store_unread(frame: &FrameRecord, index: &PassIndex, out: &mut Vec<Draft>) {
     for dead in &frame.dead_stores {
         let Some(pass) = index.numbered(dead.pass) else { continue };
-        if pass.attachment(dead.slot).is_some_and(|a| a.role == Role::Preserved) {
+        let Some(attachment) = pass.attachment(dead.slot) else { continue };
+        if attachment.role == Role::Preserved {
             continue; // counted by packed-depth-stencil-half
+        }
+        let mut slots = dead.slot.to_string();
+        let mut cost = dead.bytes;
+        let half = match dead.slot {
+            Slot::Depth => Some(Slot::Stencil),
+            Slot::Stencil => Some(Slot::Depth),
+            Slot::Color(_) => None,
+        };
+        if let Some(other) = half.filter(|_| attachment.format.has_depth() && attachment.format.has_stencil()) {
+            let other_dead =
+                frame.dead_stores.iter().find(|d| d.pass == dead.pass && d.image == dead.image && d.slot == other);
+            match other_dead {
+                // Reported once, with the depth half.
+                Some(_) if dead.slot == Slot::Stencil => continue,
+                Some(other_dead) => {
+                    slots = "depth and stencil".to_string();
+                    cost += other_dead.bytes;
+                }
+                None if pass.attachment(other).is_some_and(|a| a.store == StoreKind::Store) => continue,
+                None => {}
+            }
         }
         let fb = framebuffer_name(pass);
         let mut draft = Draft::about(
             RuleId::StoreUnread,
             pass,
             Some(pass.ended_at),
-            Cost { bytes: dead.bytes, ..Cost::default() },
+            Cost { bytes: cost, ..Cost::default() },
             format!(
-                "pass {} stored the {} of {fb} ({}) and nothing read it before it was {}",
+                "pass {} stored the {slots} of {fb} ({}) and nothing read it before it was {}",
                 pass.index,
-                dead.slot,
-                bytes(dead.bytes),
+                bytes(cost),
                 dead.fate
             ),
             format!(
-                "invalidate {} before unbinding {fb} (invalidate / glInvalidateFramebuffer), so it is never written out",
-                dead.slot
+                "invalidate {slots} before unbinding {fb} (invalidate / glInvalidateFramebuffer), so it is never written out"
             ),
         );
         draft.frame = dead.frame;

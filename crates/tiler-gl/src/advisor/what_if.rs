@@ -86,9 +86,14 @@ impl Fixer {
         match rule {
             RuleId::StoreUnread => {
                 let pass = pass?;
-                let slot = slot_in(&finding.message, pass).ok_or("the finding names no attachment")?;
-                self.before(pass.ended_at, vec![Call::Invalidate { attachments: vec![attachment_point(slot)] }])?;
-                Ok(format!("invalidate {slot} before {}", pass.ended_at))
+                let slots = slots_in(&finding.message, pass);
+                if slots.is_empty() {
+                    return Err("the finding names no attachment".into());
+                }
+                let attachments = slots.iter().map(|&slot| attachment_point(slot)).collect();
+                self.before(pass.ended_at, vec![Call::Invalidate { attachments }])?;
+                let names: Vec<String> = slots.iter().map(Slot::to_string).collect();
+                Ok(format!("invalidate {} before {}", names.join(" and "), pass.ended_at))
             }
             RuleId::LoadAtPassStart => {
                 let pass = pass?;
@@ -289,8 +294,12 @@ impl Fixer {
 
 /// The attachment a `store-unread` finding is about: the first of the pass's slots its
 /// message names (`stored the depth of …`).
-fn slot_in(message: &str, pass: &PassRecord) -> Option<Slot> {
-    pass.attachments.iter().map(|a| a.slot).find(|slot| message.contains(&format!("stored the {slot} of")))
+/// The attachments a `store-unread` finding names (both halves of a packed depth-stencil).
+fn slots_in(message: &str, pass: &PassRecord) -> Vec<Slot> {
+    if message.contains("stored the depth and stencil of") {
+        return vec![Slot::Depth, Slot::Stencil];
+    }
+    pass.attachments.iter().map(|a| a.slot).filter(|slot| message.contains(&format!("stored the {slot} of"))).collect()
 }
 
 fn attachment_point(slot: Slot) -> AttachmentPoint {

@@ -517,3 +517,17 @@ fn a_depth_prepass_trades_geometry_for_shading() {
     assert!(with.get(Category::ImrDepthRead) > without.get(Category::ImrDepthRead));
     assert!(with.total() > without.total());
 }
+
+/// The window's packed D24S8 depth and stencil, stored and never read: one word per sample is
+/// written whichever half is kept, so the advice names both halves in one finding, priced at
+/// the whole word (4 B per sample), and never one half alone (which would save nothing).
+#[test]
+fn dead_packed_depth_and_stencil_are_one_finding_for_the_whole_word() {
+    let bad = replay("invalidate-bad.json");
+    let dead: Vec<_> = bad.report.findings_with("store-unread").collect();
+    assert!(!dead.is_empty());
+    for finding in dead {
+        assert!(finding.message.contains("stored the depth and stencil of"), "{}", finding.message);
+        assert_eq!(finding.cost_bytes, Some(128 * 96 * 4), "{}", finding.message);
+    }
+}

@@ -424,7 +424,9 @@ impl Texture {
         let v = reduce_quad([v; 4], sampler.wrap_v);
         let decode = |c: u32| self.color_table[c as usize] as u32;
         let rgba = match self.plan(sampler, lambda + sampler.lod_bias) {
-            LevelPlan::Single { level, filter } => self.filter(&self.footprint(level, filter, sampler, u, v, 0), &decode),
+            LevelPlan::Single { level, filter } => {
+                self.filter(&self.footprint(level, filter, sampler, u, v, 0), &decode)
+            }
             LevelPlan::Blend { level, filter, weight } => {
                 let a = self.filter(&self.footprint(level, filter, sampler, u, v, 0), &decode);
                 let b = self.filter(&self.footprint(level + 1, filter, sampler, u, v, 0), &decode);
