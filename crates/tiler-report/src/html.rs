@@ -600,9 +600,8 @@ fn energy(html: &mut String, document: &Document) {
         "<section id=\"energy\"><h2>Energy<span class=\"estimate\">estimate</span></h2><p class=\"lead\">Estimated from bytes moved, not measured: energy per frame = external bytes × the preset's picojoules per byte of external memory (DRAM) + on-chip bytes (tile buffer, framebuffer cache) × its picojoules per byte of on-chip SRAM; power = energy per frame × {fps} frames/s. Computation, caches other than those modelled, and static power are left out, so the figures compare devices' memory traffic rather than predict a phone's battery drain.</p><table><thead><tr><th></th>{}</tr></thead><tbody>",
         column_heads(document, 1)
     );
-    type EnergyRow = (&'static str, &'static str, fn(&ColumnFigures) -> f64, Unit, bool);
     #[rustfmt::skip]
-    let rows: [EnergyRow; 7] = [
+    let rows: [FigureRow; 7] = [
         ("external memory, pJ/byte (assumed)", "frame.energy.external_pj_per_byte", |c| c.frame.energy.external_pj_per_byte, Unit::Number, false),
         ("on-chip memory, pJ/byte (assumed)", "frame.energy.on_chip_pj_per_byte", |c| c.frame.energy.on_chip_pj_per_byte, Unit::Number, false),
         ("on-chip bytes, MB/frame", "frame.on_chip_bytes", |c| c.frame.on_chip_bytes as f64, Unit::Megabytes, false),
@@ -611,7 +610,17 @@ fn energy(html: &mut String, document: &Document) {
         ("total, mJ/frame", "frame.energy.millijoules", |c| c.frame.energy.millijoules, Unit::Number, true),
         ("power at the frame rate, mW", "frame.energy.milliwatts", |c| c.frame.energy.milliwatts, Unit::Number, true),
     ];
-    for (label, key, get, unit, total) in rows {
+    figure_rows(html, document, &rows);
+    html.push_str("</tbody></table></section>\n");
+}
+
+/// A row of figures, one cell per device: its label, its key in the JSON, how to read it, its
+/// unit, and whether it is a total (drawn in bold).
+type FigureRow = (&'static str, &'static str, fn(&ColumnFigures) -> f64, Unit, bool);
+
+/// One table row per figure, one cell per device.
+fn figure_rows(html: &mut String, document: &Document, rows: &[FigureRow]) {
+    for &(label, key, get, unit, total) in rows {
         let class = if total { " class=\"total\"" } else { "" };
         let _ = write!(html, "<tr{class}><th>{label}</th>");
         for (i, column) in document.columns.iter().enumerate() {
@@ -619,7 +628,6 @@ fn energy(html: &mut String, document: &Document) {
         }
         html.push_str("</tr>");
     }
-    html.push_str("</tbody></table></section>\n");
 }
 
 /// The time estimate of each device: its stages, the frame's time and bound, the share of its
@@ -631,23 +639,15 @@ fn time(html: &mut String, document: &Document) {
         "<section id=\"time\"><h2>Time<span class=\"estimate\">estimate</span></h2><p class=\"lead\">Estimated from the counters and bytes with each preset's clock, cores, per-core rates and bandwidth (their sources are in the preset files), not measured: geometry = vertices shaded ÷ vertex rate; fragment = the largest of fragments shaded (helpers included) ÷ pixel rate, texels read ÷ 4 ÷ bilinear texel rate, and samples blended ÷ blend rate; memory = external bytes ÷ bandwidth. The stages overlap, so the frame takes as long as the slowest, which bounds it. Shader length, caches' latency and clocks that change are left out: a lower bound. Bandwidth used is bytes per frame × {fps} frames/s ÷ the device's bandwidth.</p><table><thead><tr><th></th>{}</tr></thead><tbody>",
         column_heads(document, 1)
     );
-    type TimeRow = (&'static str, &'static str, fn(&ColumnFigures) -> f64, Unit, bool);
     #[rustfmt::skip]
-    let rows: [TimeRow; 5] = [
+    let rows: [FigureRow; 5] = [
         ("geometry, ms/frame", "frame.time.geometry_ms", |c| c.frame.time.geometry_ms, Unit::Number, false),
         ("fragment, ms/frame", "frame.time.fragment_ms", |c| c.frame.time.fragment_ms, Unit::Number, false),
         ("memory, ms/frame", "frame.time.memory_ms", |c| c.frame.time.memory_ms, Unit::Number, false),
         ("frame, ms", "frame.time.ms", |c| c.frame.time.ms, Unit::Number, true),
         ("share of the bandwidth used at the frame rate (1 = all)", "frame.time.bandwidth_share", |c| c.frame.time.bandwidth_share, Unit::Number, false),
     ];
-    for (label, key, get, unit, total) in rows {
-        let class = if total { " class=\"total\"" } else { "" };
-        let _ = write!(html, "<tr{class}><th>{label}</th>");
-        for (i, column) in document.columns.iter().enumerate() {
-            html.push_str(&cell(i, key, get(column), unit));
-        }
-        html.push_str("</tr>");
-    }
+    figure_rows(html, document, &rows);
     html.push_str("<tr><th>bound by</th>");
     for column in &document.columns {
         let _ = write!(html, "<td class=\"num\">{}</td>", column.frame.time.bound.name());
