@@ -456,7 +456,17 @@ fn early_z_disabled(v: &PassView, out: &mut Vec<Draft>) {
     if discarding as f64 <= EARLY_Z_SHARE * shaded as f64 || counters.fragments_late_killed == 0 {
         return;
     }
-    let call = pass.draws.iter().find(|d| d.discards && d.depth_test).map(|d| d.call);
+    let first = pass.draws.iter().find(|d| d.discards && d.depth_test);
+    let call = first.map(|d| d.call);
+    // The built-in programs discard by their `alpha_cutoff` uniform; a GLSL program by a
+    // `discard` statement in its fragment shader.
+    let fix = if first.is_some_and(|d| d.program.is_some()) {
+        "use alpha_cutoff (discard) only on the draws that need it; draw opaque objects with a shader that never \
+         discards"
+    } else {
+        "keep `discard` only in the fragment shaders of the draws that need it (alpha-tested cut-outs); draw opaque \
+         objects with a program whose fragment shader has no `discard`, before the discarding draws"
+    };
     out.push(Draft::about(
         RuleId::EarlyZDisabled,
         pass,
@@ -469,9 +479,7 @@ fn early_z_disabled(v: &PassView, out: &mut Vec<Draft>) {
             pass.index,
             counters.fragments_late_killed
         ),
-        "use alpha_cutoff (discard) only on the draws that need it; draw opaque objects with a shader that never \
-         discards"
-            .to_string(),
+        fix.to_string(),
     ));
 }
 

@@ -605,6 +605,19 @@ fn the_glsl_example_pair_matches_the_built_in_one() {
             glsl.report.totals.counters.fragments_shaded, builtin.report.totals.counters.fragments_shaded,
             "{form}"
         );
+        // The advice speaks of what each program has: a `discard` statement, or the built-in's
+        // alpha_cutoff uniform.
+        let fixes = |r: &tiler_gl::trace::Replay| -> Vec<String> {
+            r.report.findings_with("early-z-disabled").map(|f| f.advice.clone()).collect()
+        };
+        for fix in fixes(&glsl) {
+            assert!(fix.contains("`discard`") && !fix.contains("alpha_cutoff"), "{fix}");
+        }
+        for fix in fixes(&builtin) {
+            assert!(fix.contains("alpha_cutoff"), "{fix}");
+        }
+        assert_eq!(fixes(&glsl).len(), fixes(&builtin).len(), "{form}");
+        assert_eq!(fixes(&glsl).is_empty(), form == "good", "{form}");
     }
 }
 
