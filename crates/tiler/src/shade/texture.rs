@@ -269,9 +269,60 @@ impl Texture {
                 levels.push(next);
             }
         }
+        Ok(Texture::store(rows, levels, &starts, color_space))
+    }
+
+    /// A texture whose mip chain is given, level 0 first, rows top to bottom, each level
+    /// `max(1, ⌊w/2^i⌋) × max(1, ⌊h/2^i⌋)` RGBA8 texels, down to 1×1: what an application
+    /// uploads level by level (`glTexImage2D` with `level > 0`).
+    ///
+    /// # Errors
+    /// A size out of range, a level of the wrong size, or a chain that does not end at 1×1.
+    pub fn from_rgba8_levels(width: u32, height: u32, given: &[&[u8]], color_space: ColorSpace) -> Result<Texture> {
+        let base = given.first().ok_or_else(|| Error::invalid("texture", "no levels".to_string()))?;
+        // Level 0 is checked as a texture of its own.
+        Texture::from_rgba8(width, height, base, color_space, MipChain::BaseOnly)?;
+        let (mut levels, mut starts) = (vec![Level::new(width, height, 0)], vec![0]);
+        let mut rows: Vec<[u8; 4]> = base.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
+        for (i, texels) in given.iter().enumerate().skip(1) {
+            let above = *levels.last().expect("level 0 is there");
+            if above.width == 1 && above.height == 1 {
+                return Err(Error::invalid("texture", format!("level {i} is below the 1×1 level")));
+            }
+            let next =
+                Level::new((above.width / 2).max(1), (above.height / 2).max(1), above.address + above.modelled_bytes());
+            if texels.len() != next.width as usize * next.height as usize * 4 {
+                return Err(Error::invalid(
+                    "texture",
+                    format!(
+                        "level {i} has {} bytes, but a {}×{} RGBA8 level needs {}",
+                        texels.len(),
+                        next.width,
+                        next.height,
+                        next.width as usize * next.height as usize * 4
+                    ),
+                ));
+            }
+            starts.push(rows.len());
+            rows.extend(texels.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]));
+            levels.push(next);
+        }
+        let last = levels.last().expect("level 0 is there");
+        if last.width > 1 || last.height > 1 {
+            return Err(Error::invalid(
+                "texture",
+                format!("the chain ends at level {} ({}×{}), not at 1×1", levels.len() - 1, last.width, last.height),
+            ));
+        }
+        Ok(Texture::store(rows, levels, &starts, color_space))
+    }
+
+    /// The texture of a chain built row-major (`rows`, each level's first texel in `starts`),
+    /// stored in blocks.
+    fn store(rows: Vec<[u8; 4]>, levels: Vec<Level>, starts: &[usize], color_space: ColorSpace) -> Texture {
         let last = levels.last().expect("level 0 is there");
         let mut texels = vec![[0u8; 4]; ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize];
-        for (level, &start) in levels.iter().zip(&starts) {
+        for (level, &start) in levels.iter().zip(starts) {
             let row_texels = level.width as usize;
             for (y, row) in rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels).enumerate()
             {
@@ -286,7 +337,7 @@ impl Texture {
             ColorSpace::Linear => unorm8_to_unorm16(c as u32) as u16,
             ColorSpace::Srgb => (srgb8_to_linear(c as u8) as f64 * 65535.0).round() as u16,
         }));
-        Ok(Texture { id: NEXT_TEXTURE_ID.fetch_add(1, Ordering::Relaxed), color_space, levels, texels, color_table })
+        Texture { id: NEXT_TEXTURE_ID.fetch_add(1, Ordering::Relaxed), color_space, levels, texels, color_table }
     }
 
     pub fn width(&self) -> u32 {
@@ -1204,6 +1255,34 @@ mod tests {
         assert_eq!(t.plan(&nearest_mip, 0.6), LevelPlan::Single { level: 1, filter: Filter::Nearest });
         assert_eq!(t.plan(&nearest_mip, 1.49), LevelPlan::Single { level: 1, filter: Filter::Nearest });
         assert_eq!(t.plan(&nearest_mip, 1.51), LevelPlan::Single { level: 2, filter: Filter::Nearest });
+    }
+
+    #[test]
+    fn a_given_chain_is_sampled_as_given_and_a_box_chain_given_equals_the_box_chain() {
+        // A 4×2 texture's chain given explicitly: 4×2, 2×1, 1×1, each level one colour.
+        let level = |w: usize, h: usize, c: u8| vec![c, 0, 0, 255].repeat(w * h);
+        let (l0, l1, l2) = (level(4, 2, 10), level(2, 1, 200), level(1, 1, 77));
+        let t = Texture::from_rgba8_levels(4, 2, &[&l0, &l1, &l2], ColorSpace::Linear).unwrap();
+        assert_eq!(t.levels().len(), 3);
+        let nearest_mip = Sampler { mipmap: MipmapMode::Nearest, ..Sampler::NEAREST_REPEAT };
+        for (lambda, red) in [(0.0, 10), (1.0, 200), (2.0, 77), (9.0, 77)] {
+            assert_eq!(t.sample_lod(&nearest_mip, 0.3, 0.6, lambda)[0], red as f32 / 255.0, "λ = {lambda}");
+        }
+        // The box chain, given back level by level, is the same texture.
+        let ramp = ramp(8, 4, MipChain::Box);
+        let levels: Vec<Vec<u8>> =
+            (0..ramp.levels().len()).map(|i| ramp.level_texels(i).into_iter().flatten().collect()).collect();
+        let given: Vec<&[u8]> = levels.iter().map(Vec::as_slice).collect();
+        let again = Texture::from_rgba8_levels(8, 4, &given, ColorSpace::Linear).unwrap();
+        for i in 0..ramp.levels().len() {
+            assert_eq!(again.level_texels(i), ramp.level_texels(i), "level {i}");
+        }
+        // A level of the wrong size, and a chain that stops early, are refused.
+        let wrong = level(3, 1, 0);
+        assert!(Texture::from_rgba8_levels(4, 2, &[&l0, &wrong, &l2], ColorSpace::Linear).is_err());
+        let error = Texture::from_rgba8_levels(4, 2, &[&l0, &l1], ColorSpace::Linear).unwrap_err();
+        assert!(error.to_string().contains("not at 1×1"), "{error}");
+        assert!(Texture::from_rgba8_levels(4, 2, &[&l0, &l1, &l2, &l2], ColorSpace::Linear).is_err());
     }
 
     #[test]
