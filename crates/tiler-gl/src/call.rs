@@ -69,6 +69,17 @@ pub enum Call<D = Bytes> {
         #[serde(default = "none", skip_serializing_if = "Option::is_none")]
         data: Option<D>,
     },
+    /// Level `level` (≥ 1) of texture `id` (`glTexImage2D` with `level > 0`): RGBA8 texels,
+    /// rows bottom to top, `max(1, w >> level) × max(1, h >> level)` for level 0's `w × h`.
+    /// Once every level down to 1×1 is given, a `*_mipmap_*` filter samples them as given;
+    /// `generate_mipmap` replaces them, and new storage of another size or format drops them.
+    TexImageLevel {
+        id: u32,
+        level: u32,
+        width: u32,
+        height: u32,
+        data: D,
+    },
     /// Overwrites a rectangle of a texture (`glTexSubImage2D`); rows bottom to top.
     TexSubImage {
         id: u32,
@@ -492,6 +503,7 @@ impl<D> Call<D> {
             DeleteBuffer { .. } => "delete_buffer",
             CreateTexture { .. } => "create_texture",
             TexImage { .. } => "tex_image",
+            TexImageLevel { .. } => "tex_image_level",
             TexSubImage { .. } => "tex_sub_image",
             TexParameters { .. } => "tex_parameters",
             GenerateMipmap { .. } => "generate_mipmap",
@@ -577,6 +589,9 @@ impl<D> Call<D> {
             }
             TexImage { id, width, height, format, data } => {
                 TexImage { id, width, height, format, data: data.map(&mut f).transpose()? }
+            }
+            TexImageLevel { id, level, width, height, data } => {
+                TexImageLevel { id, level, width, height, data: f(data)? }
             }
             TexSubImage { id, x, y, width, height, data } => TexSubImage { id, x, y, width, height, data: f(data)? },
             VertexAttribArray { index, size, component, normalized, stride, data } => {

@@ -467,6 +467,59 @@ fn a_mipmap_filter_without_levels_is_an_incomplete_texture_not_an_error() {
 }
 
 #[test]
+fn mip_levels_uploaded_by_the_application_are_sampled() {
+    // A 4×4 texture with levels 1 (2×2) and 2 (1×1) given by glTexImage2D, read at level 2
+    // by a vertex shader's texture2DLod: level 2's colour, as uploaded (GL_RGB, alpha 1).
+    let level = |w: &mut Writer, level: u64, size: u64, rgb: [u8; 3]| {
+        // Rows padded to GL_UNPACK_ALIGNMENT's default, 4.
+        let mut row = rgb.repeat(size as usize);
+        row.resize(row.len().next_multiple_of(4), 0);
+        let texels = row.repeat(size as usize);
+        let args = [
+            ("target", e("GL_TEXTURE_2D", 0x0de1)),
+            ("level", W::UInt(level)),
+            ("internalformat", e("GL_RGB", 0x1907)),
+            ("width", W::UInt(size)),
+            ("height", W::UInt(size)),
+            ("border", W::UInt(0)),
+            ("format", e("GL_RGB", 0x1907)),
+            ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+            ("pixels", W::Blob(texels)),
+        ];
+        w.call("glTexImage2D", &args, None, false)
+    };
+    let capture = |levels: &[(u64, u64, [u8; 3])]| {
+        let mut w = Writer::new(6);
+        window_surface(&mut w);
+        begin_context(&mut w, 100, 4, 4);
+        texture_rgb(&mut w, 4, 4, 4, vec![10; 48]);
+        let mut last = 0;
+        for &(l, size, rgb) in levels {
+            last = level(&mut w, l, size, rgb);
+        }
+        tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST_MIPMAP_NEAREST", 0x2700));
+        let vertex = "attribute vec2 where;\nuniform sampler2D height;\nvarying vec4 fetched;\n\
+                      void main() { fetched = texture2DLod(height, vec2(0.5, 0.5), 2.0); gl_Position = vec4(where, 0.0, 1.0); }\n";
+        let fragment = "precision mediump float;\nvarying vec4 fetched;\nvoid main() { gl_FragColor = fetched; }\n";
+        full_window_program(&mut w, vertex, fragment);
+        let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+        w.call("glDrawArrays", &draw, None, false);
+        swap(&mut w);
+        (w, last)
+    };
+    let (w, _) = capture(&[(1, 2, [90, 90, 90]), (2, 1, [30, 60, 120])]);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [30, 60, 120, 255]));
+    // A level of the wrong size fails at its call.
+    let (w, call) = capture(&[(1, 3, [90, 90, 90])]);
+    let (result, _) = replay(&w);
+    let error = result.err().expect("a 3×3 level 1 of a 4×4 texture");
+    assert_eq!(error.call(), Some(call));
+    assert!(error.to_string().contains("must be 2×2"), "{error}");
+}
+
+#[test]
 fn vertex_shader_fetches_are_filtered_as_the_texture_says() {
     // A height map read in the vertex shader, as glmark2's terrain reads one: a 2×1 texture
     // (black, grey 200) fetched half way between its texels. GL samples at level of detail 0,

@@ -547,6 +547,22 @@ impl Translator {
                 };
                 self.emit(Call::BindTexture { unit, texture: id })?;
             }
+            C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels }
+                if *level > 0 =>
+            {
+                check_2d_level0(*target, 0)?;
+                if *border != 0 {
+                    return Err(format!("border {border} must be 0"));
+                }
+                let (width, height) = size2(*width, *height)?;
+                let upload = Upload::new(*internal_format, *format, *kind)?;
+                let name = self.bound_texture()?;
+                let id = self
+                    .texture_id(name)?
+                    .ok_or_else(|| format!("mip level {level} of texture {name} before its level 0"))?;
+                let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
+                self.emit(Call::TexImageLevel { id, level: *level as u32, width, height, data })?;
+            }
             C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels } => {
                 check_2d_level0(*target, *level)?;
                 if *border != 0 {

@@ -20,6 +20,7 @@ mod targets;
 
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
 use tiler::{
     Backend, BlendFactor, BlendOp, BufferId, CompareOp, Device, DeviceConfig, ImageDesc, ImageId, StencilFaceState,
 };
@@ -202,8 +203,20 @@ pub(crate) struct TextureObject {
     pub image: ImageId,
     pub format: TextureFormat,
     pub sampler: SamplerState,
-    /// `generate_mipmap` was called since the storage was made.
+    /// It has a complete mip chain: `generate_mipmap` was called since the storage was made,
+    /// or every level down to 1×1 was given (`levels`).
     pub mipmaps: bool,
+    /// Levels 1, 2, … given by `tex_image_level` (RGBA8, rows top to bottom), `None` where not
+    /// given yet.
+    pub levels: Vec<Option<Arc<Vec<u8>>>>,
+}
+
+impl TextureObject {
+    /// The given levels 1, 2, … when they are the whole chain of a `width × height` level 0.
+    pub fn given_chain(&self, width: u32, height: u32) -> Option<Vec<Arc<Vec<u8>>>> {
+        let wanted = 32 - width.max(height).leading_zeros() as usize - 1;
+        (wanted > 0 && self.levels.len() == wanted).then(|| self.levels.iter().cloned().collect::<Option<Vec<_>>>())?
+    }
 }
 
 pub(crate) struct RenderbufferObject {
@@ -641,8 +654,19 @@ impl Context {
             GenerateMipmap { id } => {
                 let image = self.texture(id)?.image;
                 self.check_has_memory(image, &format!("generate_mipmap of texture {id}"))?;
-                self.texture_mut(id)?.mipmaps = true;
+                if self.pass.as_ref().is_some_and(|p| p.images_sampled.contains(&image))
+                    && !self.texture(id)?.levels.is_empty()
+                {
+                    return Err(format!(
+                        "generate_mipmap replaces the given levels of texture {id}, which the open pass samples: \
+                         not supported"
+                    ));
+                }
+                let t = self.texture_mut(id)?;
+                t.mipmaps = true;
+                t.levels.clear();
             }
+            TexImageLevel { id, level, width, height, data } => self.tex_image_level(id, level, width, height, data)?,
             DeleteTexture { id } => self.delete_texture(id)?,
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
                 if id == 0 || self.renderbuffers.contains_key(&id) {
@@ -1119,7 +1143,8 @@ impl Context {
             self.upload(image, 0, 0, width, height, &data)?;
         }
         let sampler = SamplerState::new(Filter::Nearest, Wrap::ClampToEdge);
-        let old = self.textures.insert(id, TextureObject { image, format, sampler, mipmaps: false });
+        let old =
+            self.textures.insert(id, TextureObject { image, format, sampler, mipmaps: false, levels: Vec::new() });
         if let Some(old) = old {
             // GL keeps the other levels of a texture whose level 0 is replaced by one of the same
             // size and format, so it stays complete.
@@ -1128,6 +1153,9 @@ impl Context {
             let t = self.textures.get_mut(&id).expect("inserted");
             t.sampler = old.sampler;
             t.mipmaps = old.mipmaps && same;
+            if same {
+                t.levels = old.levels;
+            }
             self.retire_image(old.image);
         }
         Ok(())
@@ -1202,6 +1230,52 @@ impl Context {
         info.defined = [true; 2];
         info.last_write = Some(frame);
         self.forget_stores(image, "overwritten by an upload");
+        Ok(())
+    }
+
+    fn tex_image_level(&mut self, id: u32, level: u32, width: u32, height: u32, data: Bytes) -> Fallible {
+        let t = self.texture(id)?;
+        let (image, format) = (t.image, t.format);
+        if !matches!(format, TextureFormat::Rgba8 | TextureFormat::Srgb8Alpha8) {
+            return Err(format!("mip level {level} of texture {id}: levels above 0 are RGBA8 only, not {format:?}"));
+        }
+        if t.mipmaps && t.levels.is_empty() {
+            return Err(format!(
+                "mip level {level} of texture {id} replaces one of its generated levels: not supported \
+                 (give every level, or generate them)"
+            ));
+        }
+        let desc = self.images[&image].desc;
+        let levels = 32 - desc.width.max(desc.height).leading_zeros();
+        if level == 0 || level >= levels {
+            return Err(format!(
+                "mip level {level} of texture {id}: a {}×{} texture has levels 1 to {}",
+                desc.width,
+                desc.height,
+                levels - 1
+            ));
+        }
+        let expected = ((desc.width >> level).max(1), (desc.height >> level).max(1));
+        if (width, height) != expected {
+            return Err(format!(
+                "mip level {level} of texture {id} is {width}×{height}, but level 0 is {}×{}, so it must be {}×{}",
+                desc.width, desc.height, expected.0, expected.1
+            ));
+        }
+        check_texel_bytes(format, width, height, data.len())?;
+        if self.pass.as_ref().is_some_and(|p| p.images_sampled.contains(&image)) {
+            return Err(format!("mip level {level} of texture {id}, which the open pass samples: not supported"));
+        }
+        // Rows bottom to top (GL) → top to bottom (tiler).
+        let row = width as usize * 4;
+        let texels: Vec<u8> = data.chunks_exact(row).rev().flatten().copied().collect();
+        let t = self.texture_mut(id)?;
+        let index = level as usize - 1;
+        if t.levels.len() <= index {
+            t.levels.resize(index + 1, None);
+        }
+        t.levels[index] = Some(Arc::new(texels));
+        t.mipmaps = t.given_chain(desc.width, desc.height).is_some();
         Ok(())
     }
 

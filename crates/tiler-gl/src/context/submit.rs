@@ -350,8 +350,22 @@ impl Context {
             Some(t) => t.clone(),
             None => {
                 let data = self.device.image_data(image).map_err(|e| e.to_string())?;
-                let t = tiler::Texture::from_rgba8(d.width, d.height, data, color_space, mip_chain)
-                    .map_err(|e| e.to_string())?;
+                // Levels given by the application, when they are the whole chain.
+                let given = self
+                    .textures
+                    .values()
+                    .find(|t| t.image == image)
+                    .and_then(|t| t.given_chain(d.width, d.height))
+                    .filter(|_| mipmaps);
+                let t = match given {
+                    Some(levels) => {
+                        let chain: Vec<&[u8]> =
+                            std::iter::once(data).chain(levels.iter().map(|l| l.as_slice())).collect();
+                        tiler::Texture::from_rgba8_levels(d.width, d.height, &chain, color_space)
+                    }
+                    None => tiler::Texture::from_rgba8(d.width, d.height, data, color_space, mip_chain),
+                }
+                .map_err(|e| e.to_string())?;
                 let t = Arc::new(t);
                 textures.insert(image, t.clone());
                 t

@@ -693,6 +693,72 @@ fn generated_mipmaps_are_sampled_with_a_mipmap_filter() {
     }
 }
 
+/// Levels given by the application (`tex_image_level`, `glTexImage2D` with `level > 0`) are
+/// sampled as given once the chain reaches 1×1: the same draw as above reads level 2, here
+/// solid red 20. A chain with levels missing is incomplete (black); `generate_mipmap` replaces
+/// the given levels with the box chain (grey 128); a level of the wrong size is refused.
+#[test]
+fn given_mip_levels_are_sampled_as_given() {
+    let checker: Vec<u8> =
+        (0..64 * 64).flat_map(|i| if (i % 64 + i / 64) % 2 == 0 { [0, 0, 0, 255] } else { [255; 4] }).collect();
+    let level = |level: u32| -> Call {
+        let size = 64 >> level;
+        let data = [10 * level as u8, 0, 0, 255].repeat((size * size) as usize);
+        Call::TexImageLevel { id: 1, level, width: size, height: size, data: Bytes::from(data) }
+    };
+    // (levels given, generate afterwards, the red every pixel must have)
+    for (given, generate, expected) in [(1..=6, false, 20), (1..=2, false, 0), (1..=6, true, 128)] {
+        let mut gl = screen();
+        let base = Bytes::from(checker.clone());
+        let texture = Call::CreateTexture {
+            id: 1,
+            width: 64,
+            height: 64,
+            format: TextureFormat::Rgba8,
+            data: Some(base),
+            transient: false,
+        };
+        c(&mut gl, texture);
+        let parameters = Call::TexParameters {
+            id: 1,
+            filter: Filter::NearestMipmapNearest,
+            wrap: Wrap::Repeat,
+            mag_filter: None,
+            wrap_t: None,
+        };
+        c(&mut gl, parameters);
+        for i in given.clone() {
+            c(&mut gl, level(i));
+        }
+        if generate {
+            c(&mut gl, Call::GenerateMipmap { id: 1 });
+        }
+        c(&mut gl, Call::BindTexture { unit: 0, texture: 1 });
+        use_glsl(&mut gl, 1, SAMPLE_FS);
+        draw(&mut gl, 3);
+        swap(&mut gl);
+        gl.end().unwrap();
+        let values: std::collections::BTreeSet<u8> = gl.surface_rgba8().chunks(4).map(|p| p[0]).collect();
+        assert_eq!(values.into_iter().collect::<Vec<_>>(), [expected], "levels {given:?}, generate {generate}");
+    }
+    let mut gl = screen();
+    let texture = Call::CreateTexture {
+        id: 1,
+        width: 64,
+        height: 64,
+        format: TextureFormat::Rgba8,
+        data: None,
+        transient: false,
+    };
+    c(&mut gl, texture);
+    let wrong = Call::TexImageLevel { id: 1, level: 1, width: 16, height: 16, data: Bytes::from(vec![0; 16 * 16 * 4]) };
+    let error = gl.call(wrong).unwrap_err().to_string();
+    assert!(error.contains("mip level 1 of texture 1 is 16×16") && error.contains("must be 32×32"), "{error}");
+    let below = Call::TexImageLevel { id: 1, level: 7, width: 1, height: 1, data: Bytes::from(vec![0; 4]) };
+    let error = gl.call(below).unwrap_err().to_string();
+    assert!(error.contains("levels 1 to 6"), "{error}");
+}
+
 /// `gl_FragCoord` is GL's window position: y up from the bottom row, pixel centres at .5.
 #[test]
 fn gl_frag_coord_counts_rows_from_the_bottom() {

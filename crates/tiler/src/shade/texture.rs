@@ -1260,7 +1260,7 @@ mod tests {
     #[test]
     fn a_given_chain_is_sampled_as_given_and_a_box_chain_given_equals_the_box_chain() {
         // A 4×2 texture's chain given explicitly: 4×2, 2×1, 1×1, each level one colour.
-        let level = |w: usize, h: usize, c: u8| vec![c, 0, 0, 255].repeat(w * h);
+        let level = |w: usize, h: usize, c: u8| [c, 0, 0, 255].repeat(w * h);
         let (l0, l1, l2) = (level(4, 2, 10), level(2, 1, 200), level(1, 1, 77));
         let t = Texture::from_rgba8_levels(4, 2, &[&l0, &l1, &l2], ColorSpace::Linear).unwrap();
         assert_eq!(t.levels().len(), 3);
