@@ -120,13 +120,18 @@ impl FetchLayout {
     /// memory — the lines filled (each attribute's bytes split at line boundaries), or the
     /// attributes' own bytes without a cache.
     pub fn fetch(&self, vertex: u32, cache: &mut CacheModel) -> u64 {
+        if !cache.config().is_enabled() {
+            // Exact bytes: what every access of a disabled cache reads.
+            return self.attributes.iter().map(|a| a.size).sum();
+        }
         let line = cache.config().line_bytes as u64;
         let mut read = 0;
         for a in &self.attributes {
             let mut address = a.base + vertex as u64 * a.stride;
             let end = address + a.size;
             while address < end {
-                let next = end.min((address / line + 1) * line);
+                // The start of the next line (line sizes are powers of two).
+                let next = end.min((address | (line - 1)) + 1);
                 read += cache.access(address, (next - address) as u32, false, 0).read;
                 address = next;
             }

@@ -106,13 +106,26 @@ pub struct CacheModel {
     config: CacheConfig,
     lines: Vec<Line>,
     clock: u64,
+    /// `log2(line_bytes)` (line sizes are powers of two, [`CacheConfig::validate`]).
+    line_shift: u32,
+    /// `sets − 1` when the number of sets is a power of two (a mask instead of a division).
+    set_mask: Option<u64>,
+    sets: u64,
 }
 
 impl CacheModel {
     pub fn new(config: CacheConfig) -> CacheModel {
         debug_assert!(config.validate("cache").is_ok(), "invalid cache shape {config:?}");
         let lines = if config.is_enabled() { config.sets() as usize * config.ways as usize } else { 0 };
-        CacheModel { config, lines: vec![Line::default(); lines], clock: 0 }
+        let sets = if config.is_enabled() { config.sets().max(1) as u64 } else { 1 };
+        CacheModel {
+            config,
+            lines: vec![Line::default(); lines],
+            clock: 0,
+            line_shift: config.line_bytes.max(1).trailing_zeros(),
+            set_mask: sets.is_power_of_two().then_some(sets - 1),
+            sets,
+        }
     }
 
     pub fn config(&self) -> &CacheConfig {
@@ -131,10 +144,14 @@ impl CacheModel {
             };
         }
         let line_bytes = self.config.line_bytes as u64;
-        let line = address / line_bytes;
-        let mask = granules(address % line_bytes, bytes as u64, line_bytes);
+        // Shifts and masks: the line size is a power of two, and so, usually, the sets.
+        let line = address >> self.line_shift;
+        let mask = granules(address & (line_bytes - 1), bytes as u64, line_bytes);
         let full = granules(0, line_bytes, line_bytes);
-        let set = (line % self.config.sets() as u64) as usize;
+        let set = match self.set_mask {
+            Some(m) => line & m,
+            None => line % self.sets,
+        } as usize;
         let ways = self.config.ways as usize;
         self.clock += 1;
         let clock = self.clock;
