@@ -214,9 +214,18 @@ pub(crate) struct TextureObject {
 impl TextureObject {
     /// The given levels 1, 2, … when they are the whole chain of a `width × height` level 0.
     pub fn given_chain(&self, width: u32, height: u32) -> Option<Vec<Arc<Vec<u8>>>> {
-        let wanted = 32 - width.max(height).leading_zeros() as usize - 1;
-        (wanted > 0 && self.levels.len() == wanted).then(|| self.levels.iter().cloned().collect::<Option<Vec<_>>>())?
+        let wanted = mip_levels(width, height) as usize - 1;
+        if wanted == 0 || self.levels.len() != wanted {
+            return None;
+        }
+        self.levels.iter().cloned().collect()
     }
+}
+
+/// Levels of a full mip chain of a `width × height` level 0, level 0 included:
+/// `⌊log2(max(width, height))⌋ + 1`.
+fn mip_levels(width: u32, height: u32) -> u32 {
+    32 - width.max(height).max(1).leading_zeros()
 }
 
 pub(crate) struct RenderbufferObject {
@@ -1246,7 +1255,7 @@ impl Context {
             ));
         }
         let desc = self.images[&image].desc;
-        let levels = 32 - desc.width.max(desc.height).leading_zeros();
+        let levels = mip_levels(desc.width, desc.height);
         if level == 0 || level >= levels {
             return Err(format!(
                 "mip level {level} of texture {id}: a {}×{} texture has levels 1 to {}",

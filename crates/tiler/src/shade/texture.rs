@@ -239,19 +239,7 @@ impl Texture {
         color_space: ColorSpace,
         mips: MipChain,
     ) -> Result<Texture> {
-        if width == 0 || height == 0 || width > MAX_TEXTURE_DIMENSION || height > MAX_TEXTURE_DIMENSION {
-            return Err(Error::invalid(
-                "texture",
-                format!("size {width}×{height} must be from 1×1 to {MAX_TEXTURE_DIMENSION}×{MAX_TEXTURE_DIMENSION}"),
-            ));
-        }
-        let texel_count = width as usize * height as usize;
-        if rgba.len() != texel_count * 4 {
-            return Err(Error::invalid(
-                "texture",
-                format!("{} bytes of texels for {width}×{height} RGBA8, which needs {}", rgba.len(), texel_count * 4),
-            ));
-        }
+        check_base(width, height, rgba)?;
         // The chain is built row-major, level after level (`rows`, each level's first texel in
         // `starts`), then stored in blocks.
         let mut rows: Vec<[u8; 4]> = rgba.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
@@ -280,8 +268,7 @@ impl Texture {
     /// A size out of range, a level of the wrong size, or a chain that does not end at 1×1.
     pub fn from_rgba8_levels(width: u32, height: u32, given: &[&[u8]], color_space: ColorSpace) -> Result<Texture> {
         let base = given.first().ok_or_else(|| Error::invalid("texture", "no levels".to_string()))?;
-        // Level 0 is checked as a texture of its own.
-        Texture::from_rgba8(width, height, base, color_space, MipChain::BaseOnly)?;
+        check_base(width, height, base)?;
         let (mut levels, mut starts) = (vec![Level::new(width, height, 0)], vec![0]);
         let mut rows: Vec<[u8; 4]> = base.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
         for (i, texels) in given.iter().enumerate().skip(1) {
@@ -579,6 +566,24 @@ impl Texture {
             }
         }
     }
+}
+
+/// Level 0 of a texture: its size in range and `rgba` its RGBA8 texels.
+fn check_base(width: u32, height: u32, rgba: &[u8]) -> Result<()> {
+    if width == 0 || height == 0 || width > MAX_TEXTURE_DIMENSION || height > MAX_TEXTURE_DIMENSION {
+        return Err(Error::invalid(
+            "texture",
+            format!("size {width}×{height} must be from 1×1 to {MAX_TEXTURE_DIMENSION}×{MAX_TEXTURE_DIMENSION}"),
+        ));
+    }
+    let texel_count = width as usize * height as usize;
+    if rgba.len() != texel_count * 4 {
+        return Err(Error::invalid(
+            "texture",
+            format!("{} bytes of texels for {width}×{height} RGBA8, which needs {}", rgba.len(), texel_count * 4),
+        ));
+    }
+    Ok(())
 }
 
 /// Channel `c` of four lanes' bilinear filter: `t` holds the texels `[corner][lane]`,
