@@ -103,8 +103,9 @@ pub enum Call<D = Bytes> {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         wrap_t: Option<Wrap>,
     },
-    /// `glGenerateMipmap`: texture `id` gets a mip chain, each level a 2×2 box filter of the
-    /// one above (the core's `MipChain::Box`), sampled with a `*_mipmap_*` filter. The levels
+    /// `glGenerateMipmap`: texture `id` gets a mip chain, each level a bilinear sample of the
+    /// one above at each texel's centre (the core's `MipChain::Linear`: Mesa's chain, a 2×2
+    /// box filter wherever a side halves exactly), sampled with a `*_mipmap_*` filter. The levels
     /// are made from level 0 as it is when a pass that samples it is rendered, so later
     /// uploads and renders into level 0 reach them too (GL would need another
     /// `glGenerateMipmap`). RGBA8 textures only; others sample level 0.

@@ -25,7 +25,7 @@
 //!
 //! `textured` samples RGBA8 textures (linear or sRGB) with the core's sampler
 //! ([`tiler::Texture`]): nearest or bilinear, on level 0 or, after `generate_mipmap` and with a
-//! `*_mipmap_*` filter, on the core's box-filtered mip chain (`MipChain::Box`), wrapped as
+//! `*_mipmap_*` filter, on the core's mip chain (`MipChain::Linear`, as Mesa builds it), wrapped as
 //! the texture says, through the core's texture-cache model, so its reads are `texture_fetch`
 //! in the pass's ledger. The texture is the image's contents when its render pass is submitted
 //! (render to texture included). Formats the core sampler does not take (float, 565, depth —

@@ -25,6 +25,7 @@
 //! | `post-process-chain` | 002 "Optimizing for TBR" (subpasses); 000 §23.5 | the intermediate store |
 //! | `subpass-split` | 002 "Optimizing for TBR", "Best Practices for TBR" | the split's stores and reloads |
 //! | `draws-discarded` (info) | 000 §23.10 | — |
+//! | `minified-without-mipmaps` | 004 §24.3.4, §24.3.5 | the minified quads' texture fetch less `MIPMAPPED_QUAD_BYTES` a quad |
 //!
 //! # Priced for the device
 //!
@@ -91,6 +92,13 @@ pub const EARLY_Z_SHARE: f64 = 0.5;
 pub const POST_PROCESS_MAX_DRAWS: usize = 2;
 /// Overdraw of opaque geometry (shaded fragments per pixel) above which its order matters.
 pub const UNSORTED_OVERDRAW: f64 = 1.25;
+/// What a quad of RGBA8 texels costs with mip maps, for the saving `minified-without-mipmaps`
+/// estimates: at a level of detail near 0 a quad's four pixels read about four texels of
+/// their level, 16 bytes, shared with no neighbour, and trilinear filtering adds a quarter of
+/// that from the next level: 20 bytes.
+pub const MIPMAPPED_QUAD_BYTES: u64 = 20;
+/// Texture bytes a pass must be able to save before `minified-without-mipmaps` speaks.
+pub const MIPMAP_MIN_SAVING: u64 = 4096;
 
 /// What a finding costs in its frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -8,8 +8,8 @@ use tiler::binning::frame_data::{POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, p
 use tiler::{Backend, Category};
 
 use super::{
-    Cost, Draft, EARLY_Z_SHARE, MICRO_TRIANGLE_FRAGMENTS, MICRO_TRIANGLE_MIN_PRIMITIVES, POST_PROCESS_MAX_DRAWS,
-    PassIndex, RuleId, UNSORTED_OVERDRAW, bytes, framebuffer_name, slots,
+    Cost, Draft, EARLY_Z_SHARE, MICRO_TRIANGLE_FRAGMENTS, MICRO_TRIANGLE_MIN_PRIMITIVES, MIPMAP_MIN_SAVING,
+    MIPMAPPED_QUAD_BYTES, POST_PROCESS_MAX_DRAWS, PassIndex, RuleId, UNSORTED_OVERDRAW, bytes, framebuffer_name, slots,
 };
 use crate::context::ContextConfig;
 use crate::report::{DrawKind, EndCause, LoadKind, PassRecord, Role, Slot, StartCause, StoreKind};
@@ -96,6 +96,38 @@ pub(super) fn check(config: &ContextConfig, index: &PassIndex, position: usize, 
     post_process_chain(&view, out);
     draws_discarded(&view, out);
     msaa_stored(&view, out);
+    minified_without_mipmaps(&view, out);
+}
+
+/// Textures read from level 0 while drawn much smaller than they are.
+fn minified_without_mipmaps(v: &PassView, out: &mut Vec<Draft>) {
+    let (pass, fb) = (v.pass, &v.fb);
+    let counters = &pass.cost.counters;
+    let (quads, fetched) = (counters.quads_minified_unmipped, counters.texture_fetch_minified_unmipped);
+    let saving = fetched.saturating_sub(quads * MIPMAPPED_QUAD_BYTES);
+    if saving < MIPMAP_MIN_SAVING {
+        return;
+    }
+    let draw = pass.draws.iter().max_by_key(|d| d.stats.texture_fetch_minified_unmipped);
+    let total = pass.cost.ledger.get(Category::TextureFetch);
+    out.push(Draft::about(
+        RuleId::MinifiedWithoutMipmaps,
+        pass,
+        draw.filter(|d| d.stats.texture_fetch_minified_unmipped > 0).map(|d| d.call),
+        Cost { bytes: saving, ..Cost::default() },
+        format!(
+            "pass {} on {fb} samples textures more than 2× smaller than their level 0, with no mip maps, in {quads} \
+             quads: they fetch {} of the pass's {} of texture reads, {:.0} bytes a quad where a mip level would \
+             read about {MIPMAPPED_QUAD_BYTES}",
+            pass.index,
+            bytes(fetched),
+            bytes(total),
+            fetched as f64 / quads as f64,
+        ),
+        "give the texture mip maps (glGenerateMipmap after its upload, or upload the levels) and a *_MIPMAP_* \
+         minification filter; it also stops the shimmering of a minified texture"
+            .to_string(),
+    ));
 }
 
 /// A clear drawn as a clear-quad: its shading, its frame data, and the loads it kept.

@@ -27,6 +27,7 @@ pub enum RuleId {
     PostProcessChain,
     SubpassSplit,
     DrawsDiscarded,
+    MinifiedWithoutMipmaps,
 }
 
 /// What the seed documents say about a rule.
@@ -43,7 +44,7 @@ pub struct RuleInfo {
 
 impl RuleId {
     /// Every rule, in the order of the advisor's table.
-    pub const ALL: [RuleId; 19] = [
+    pub const ALL: [RuleId; 20] = [
         RuleId::LoadAtPassStart,
         RuleId::PartialClear,
         RuleId::FramebufferRebound,
@@ -63,6 +64,7 @@ impl RuleId {
         RuleId::PostProcessChain,
         RuleId::SubpassSplit,
         RuleId::DrawsDiscarded,
+        RuleId::MinifiedWithoutMipmaps,
     ];
 
     /// The stable id of the rule's findings.
@@ -99,6 +101,7 @@ impl RuleId {
                 | RuleId::DrawsDiscarded
                 | RuleId::PartialClear
                 | RuleId::MicroTriangles
+                | RuleId::MinifiedWithoutMipmaps
         )
     }
 
@@ -229,6 +232,12 @@ impl RuleId {
                 seed: "000",
                 section: "000 §23.10",
                 text: "A full clear after draws throws those draws away before they are rendered.",
+            },
+            RuleId::MinifiedWithoutMipmaps => RuleInfo {
+                name: "minified-without-mipmaps",
+                seed: "004",
+                section: "004 §24.3.4, §24.3.5",
+                text: "Give textures that are drawn smaller than they are mip maps and a mipmapped minification filter: read from level 0, neighbouring pixels fall on different cache lines and almost every texel is fetched from memory, while a smaller level hits in the texture cache.",
             },
         }
     }

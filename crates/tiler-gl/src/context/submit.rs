@@ -345,7 +345,7 @@ impl Context {
         if d.samples != 1 {
             return Ok(ProgramTexture::Snapshot(self.snapshot(snapshots, image)?, sampler));
         }
-        let mip_chain = if mipmaps { tiler::MipChain::Box } else { tiler::MipChain::BaseOnly };
+        let mip_chain = if mipmaps { tiler::MipChain::Linear } else { tiler::MipChain::BaseOnly };
         let texture = match textures.get(&image) {
             Some(t) => t.clone(),
             None => {

@@ -826,3 +826,54 @@ void main() { gl_FragColor = texture2D(a, uv) + texture2D(b, uv); }",
     assert!(pass.cost.ledger.get(tiler::Category::TextureFetch) > 0);
     assert_eq!(pass.draws[0].sampled, gl.texture_image(1), "the first unit's texture is reported");
 }
+
+/// A 256×256 texture drawn over 16×16 pixels (16× minified): read from level 0 with `LINEAR`,
+/// neighbouring pixels share no cache line, the core counts those quads and their fetch, and
+/// the advisor says `minified-without-mipmaps` with the saving it estimates; with mip maps the
+/// pass fetches far less and the finding is gone (seed 004 §24.3.5).
+#[test]
+fn minified_textures_without_mip_maps_cost_fetch_and_are_advised() {
+    let noise: Vec<u8> = (0..256u32 * 256 * 4).map(|i| (i.wrapping_mul(2_654_435_761) >> 24) as u8).collect();
+    let run = |filter: Filter, generate: bool| {
+        let mut gl = screen();
+        let texture = Call::CreateTexture {
+            id: 1,
+            width: 256,
+            height: 256,
+            format: TextureFormat::Rgba8,
+            data: Some(Bytes::from(noise.clone())),
+            transient: false,
+        };
+        c(&mut gl, texture);
+        c(&mut gl, Call::TexParameters { id: 1, filter, wrap: Wrap::Repeat, mag_filter: None, wrap_t: None });
+        if generate {
+            c(&mut gl, Call::GenerateMipmap { id: 1 });
+        }
+        c(&mut gl, Call::BindTexture { unit: 0, texture: 1 });
+        use_glsl(&mut gl, 1, SAMPLE_FS);
+        draw(&mut gl, 3);
+        swap(&mut gl);
+        gl.end().unwrap()
+    };
+    let fetch = |report: &tiler_gl::Report| -> u64 {
+        report.passes().map(|p| p.cost.ledger.get(tiler::Category::TextureFetch)).sum()
+    };
+    let bare = run(Filter::Linear, false);
+    let pass = bare.passes().find(|p| p.cost.counters.quads_minified_unmipped > 0).expect("a minified pass");
+    // 16×16 pixels are 64 quads, each reading level 0 at λ = 4.
+    assert_eq!(pass.cost.counters.quads_minified_unmipped, 64);
+    let unmipped = pass.cost.counters.texture_fetch_minified_unmipped;
+    assert_eq!(unmipped, pass.cost.ledger.get(tiler::Category::TextureFetch), "all its fetch is minified");
+    // Each pixel's bilinear footprint spans two rows of 4×4 blocks 16 texels from its
+    // neighbours': at least one new 64-byte line per pixel.
+    assert!(unmipped >= 256 * 64, "{unmipped}");
+    assert_eq!(pass.draws.iter().map(|d| d.stats.texture_fetch_minified_unmipped).sum::<u64>(), unmipped);
+    let finding = bare.findings_with("minified-without-mipmaps").next().expect("the finding");
+    assert_eq!(finding.cost_bytes, Some(unmipped - 64 * tiler_gl::advisor::MIPMAPPED_QUAD_BYTES));
+    assert!(finding.message.contains("64 quads"), "{}", finding.message);
+
+    let mipped = run(Filter::LinearMipmapLinear, true);
+    assert!(mipped.findings_with("minified-without-mipmaps").next().is_none());
+    assert!(mipped.passes().all(|p| p.cost.counters.quads_minified_unmipped == 0));
+    assert!(fetch(&mipped) * 8 < fetch(&bare), "mip maps: {} B, level 0: {} B", fetch(&mipped), fetch(&bare));
+}

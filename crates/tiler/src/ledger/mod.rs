@@ -262,6 +262,12 @@ pub struct Counters {
     /// Samples written through blending: per draw, its samples that passed the depth and
     /// stencil tests × its colour targets that blend. For the time estimate.
     pub samples_blended: u64,
+    /// Quads that read a texture's level 0 minified more than 2× with a sampler that has no
+    /// mip maps (GL `NEAREST`/`LINEAR` minification), each one lookup of its footprint.
+    pub quads_minified_unmipped: u64,
+    /// The bytes those quads fetched from external memory (part of `texture_fetch`): what
+    /// mip maps would mostly save (seed 004 §24.3.5).
+    pub texture_fetch_minified_unmipped: u64,
 }
 
 impl Counters {
@@ -290,6 +296,8 @@ impl Counters {
             hsr_fallback,
             texels_read,
             samples_blended,
+            quads_minified_unmipped,
+            texture_fetch_minified_unmipped,
         } = self;
         *draws += o.draws;
         *vertices_shaded += o.vertices_shaded;
@@ -314,6 +322,8 @@ impl Counters {
         hsr_fallback.merge(&o.hsr_fallback);
         *texels_read += o.texels_read;
         *samples_blended += o.samples_blended;
+        *quads_minified_unmipped += o.quads_minified_unmipped;
+        *texture_fetch_minified_unmipped += o.texture_fetch_minified_unmipped;
     }
 }
 
@@ -324,6 +334,10 @@ pub struct DrawStats {
     pub fragments_shaded: u64,
     /// Samples that passed the depth and stencil tests (what an occlusion query counts).
     pub samples_passed: u64,
+    /// Its share of [`Counters::quads_minified_unmipped`].
+    pub quads_minified_unmipped: u64,
+    /// Its share of [`Counters::texture_fetch_minified_unmipped`].
+    pub texture_fetch_minified_unmipped: u64,
 }
 
 impl DrawStats {
@@ -331,6 +345,8 @@ impl DrawStats {
         self.primitives += o.primitives;
         self.fragments_shaded += o.fragments_shaded;
         self.samples_passed += o.samples_passed;
+        self.quads_minified_unmipped += o.quads_minified_unmipped;
+        self.texture_fetch_minified_unmipped += o.texture_fetch_minified_unmipped;
     }
 }
 

@@ -65,6 +65,14 @@ impl<V: VertexShader, F: FragmentShader> PipelineObject for Shaders<V, F> {
         // texture cache (`shade::texture_cache`), handed over after every run.
         let fetched = tally.context.texture_cache.take_fetched_bytes();
         tally.ledger.add(Category::TextureFetch, fetched);
+        let (quads, bytes) = tally.context.texture_cache.take_unmipped();
+        if quads > 0 {
+            tally.counters.quads_minified_unmipped += quads;
+            tally.counters.texture_fetch_minified_unmipped += bytes;
+            let draw = tally.draw_stats();
+            draw.quads_minified_unmipped += quads;
+            draw.texture_fetch_minified_unmipped += bytes;
+        }
     }
 
     fn properties(&self) -> ShaderProperties {

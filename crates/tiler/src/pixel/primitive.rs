@@ -87,7 +87,7 @@ impl OverdrawRows {
 impl FragmentTally {
     /// The stats of the current draw.
     #[inline]
-    fn draw_stats(&mut self) -> &mut DrawStats {
+    pub(crate) fn draw_stats(&mut self) -> &mut DrawStats {
         if self.draws.len() <= self.draw {
             self.draws.resize(self.draw + 1, DrawStats::default());
         }

@@ -96,6 +96,15 @@ pub enum MipChain {
     /// builds its chain: `(a + b + c + d + 2) >> 2` per channel. sRGB textures average their
     /// colour in linear light (decode, mean, encode, round to nearest) and alpha as above.
     Box,
+    /// Levels down to 1×1 of the same sizes as [`MipChain::Box`], each texel a bilinear sample
+    /// of the level above at the texel's centre: what Mesa's `glGenerateMipmap` does (a
+    /// linear-filtered blit from level to level), and so what a GL application's mip maps look
+    /// like on llvmpipe. Where a side halves exactly (even, or 1) the sample is the box filter,
+    /// byte for byte; along an odd side of `w` texels halved to `n`, texel `x` blends texels
+    /// `⌊s⌋` and `⌊s⌋ + 1` at `s = (x + ½) · w / n − ½` with an 8-bit weight (round to
+    /// nearest of the fraction · 256), so a 3-texel row halves to its middle texel and a
+    /// 75-texel one weighs its neighbours unevenly, where the box would drop the last texel.
+    Linear,
 }
 
 /// A texture filter.
@@ -223,6 +232,11 @@ pub struct Texture {
     color_table: Box<[u16; 256]>,
 }
 
+/// The level of detail above which a quad read from level 0 without mip maps is counted as
+/// minified ([`TextureCache::note_unmipped`]): more than 2× texels per pixel along an axis,
+/// where a bilinear footprint stops sharing lines with its neighbours.
+const UNMIPPED_LOD: f32 = 1.0;
+
 /// Hands out texture ids, the only process-wide state of the sampler: ids only make cache tags
 /// of different textures differ, so their values never change a count.
 static NEXT_TEXTURE_ID: AtomicU64 = AtomicU64::new(1);
@@ -244,7 +258,7 @@ impl Texture {
         // `starts`), then stored in blocks.
         let mut rows: Vec<[u8; 4]> = rgba.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
         let (mut levels, mut starts) = (vec![Level::new(width, height, 0)], vec![0]);
-        if mips == MipChain::Box {
+        if mips != MipChain::BaseOnly {
             while let Some(&above) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
                 let next = Level::new(
                     (above.width / 2).max(1),
@@ -253,7 +267,12 @@ impl Texture {
                 );
                 let above_start = *starts.last().expect("level 0 is there");
                 starts.push(rows.len());
-                box_filter(&mut rows, above_start, &above, &next, color_space);
+                let odd = |from: u32, to: u32| from != 2 * to && from != 1;
+                if mips == MipChain::Linear && (odd(above.width, next.width) || odd(above.height, next.height)) {
+                    linear_filter(&mut rows, above_start, &above, &next, color_space);
+                } else {
+                    box_filter(&mut rows, above_start, &above, &next, color_space);
+                }
                 levels.push(next);
             }
         }
@@ -419,10 +438,15 @@ impl Texture {
             let u = reduce_quad(self::lanes(|i| u.lane(lanes[i])), sampler.wrap_u);
             let v = reduce_quad(self::lanes(|i| v.lane(lanes[i])), sampler.wrap_v);
             let counted = lanes.map(|lane| counted.contains(lane));
-            let rgba = match self.plan(sampler, lods[quad] + sampler.lod_bias) {
+            let lambda = lods[quad] + sampler.lod_bias;
+            let rgba = match self.plan(sampler, lambda) {
                 LevelPlan::Single { level, filter } => {
                     let near = self.footprint(level, filter, sampler, u, v, line_shift);
+                    let misses = cache.misses();
                     cache.access_quad(first_line, near.rows(), counted);
+                    if lambda > UNMIPPED_LOD && sampler.mipmap == MipmapMode::None && counted.contains(&true) {
+                        cache.note_unmipped(misses);
+                    }
                     self.filter(&near, &decode)
                 }
                 LevelPlan::Blend { level, filter, weight } => {
@@ -746,6 +770,47 @@ fn box_filter(texels: &mut Vec<[u8; 4]>, above_start: usize, above: &Level, next
                 } else {
                     let sum: u32 = quad.iter().map(|t| t[c] as u32).sum();
                     ((sum + 2) >> 2) as u8
+                }
+            });
+            texels.push(texel);
+        }
+    }
+}
+
+/// Appends the level `next` made from `above` by [`MipChain::Linear`]'s bilinear samples.
+fn linear_filter(texels: &mut Vec<[u8; 4]>, above_start: usize, above: &Level, next: &Level, color_space: ColorSpace) {
+    // Per destination coordinate along one side: the two source texels and the weight of the
+    // second, in 256ths. `s = ((2x + 1)·w − n) / 2n`, computed exactly in integers.
+    let taps = |from: u32, to: u32| -> Vec<(usize, usize, u32)> {
+        (0..to as u64)
+            .map(|x| {
+                let (from, to) = (from as u64, to as u64);
+                let numerator = (2 * x + 1) * from - to; // ≥ 0: from ≥ to
+                let (whole, rest) = (numerator / (2 * to), numerator % (2 * to));
+                let weight = (rest * 256 + to) / (2 * to); // round(rest / 2n · 256)
+                let first = whole.min(from - 1) as usize;
+                (first, (first + 1).min(from as usize - 1), weight as u32)
+            })
+            .collect()
+    };
+    let (xs, ys) = (taps(above.width, next.width), taps(above.height, next.height));
+    let w = above.width as usize;
+    for &(y0, y1, fy) in &ys {
+        for &(x0, x1, fx) in &xs {
+            let at = |x: usize, y: usize| texels[above_start + y * w + x];
+            let quad = [at(x0, y0), at(x1, y0), at(x0, y1), at(x1, y1)];
+            let texel: [u8; 4] = std::array::from_fn(|c| {
+                if color_space == ColorSpace::Srgb && c < 3 {
+                    let [a, b, cc, d] = quad.map(|t| srgb8_to_linear(t[c]));
+                    let (wx, wy) = (fx as f32 / 256.0, fy as f32 / 256.0);
+                    let top = a * (1.0 - wx) + b * wx;
+                    let bottom = cc * (1.0 - wx) + d * wx;
+                    unorm8(linear_to_srgb(top * (1.0 - wy) + bottom * wy))
+                } else {
+                    let [a, b, cc, d] = quad.map(|t| t[c] as u32);
+                    let top = a * (256 - fx) + b * fx;
+                    let bottom = cc * (256 - fx) + d * fx;
+                    ((top * (256 - fy) + bottom * fy + (1 << 15)) >> 16) as u8
                 }
             });
             texels.push(texel);
@@ -1196,6 +1261,30 @@ mod tests {
         for u in [1.0e30f32, -1.0e30, f32::INFINITY, f32::NAN] {
             for wrap in [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat] {
                 sample_at(&t, &Sampler::TRILINEAR_REPEAT.with_wrap(wrap), u, u);
+            }
+        }
+    }
+
+    #[test]
+    fn linear_mip_chain_blends_odd_sides_like_a_linear_blit() {
+        // 5×1 → 2×1: s = 0.25 and 2.75, so texel 0 is ¼·t0 + ¾·t1, texel 1 is ¾·t3 + ¼·t4.
+        let row = |v: [u8; 5]| v.iter().flat_map(|&r| [r, 0, 0, 255]).collect::<Vec<u8>>();
+        let t = Texture::from_rgba8(5, 1, &row([0, 40, 80, 120, 160]), ColorSpace::Linear, MipChain::Linear).unwrap();
+        assert_eq!(t.level_texels(1), &[[30, 0, 0, 255], [130, 0, 0, 255]]);
+        // 3 → 1 is the middle texel (as Mesa halves a 3×2 level; the box takes texels 0, 1).
+        let t =
+            Texture::from_rgba8(3, 1, &row([10, 50, 200, 0, 0])[..12], ColorSpace::Linear, MipChain::Linear).unwrap();
+        assert_eq!(t.level_texels(1), &[[50, 0, 0, 255]]);
+        let box_chain =
+            Texture::from_rgba8(5, 1, &row([0, 40, 80, 120, 160]), ColorSpace::Linear, MipChain::Box).unwrap();
+        assert_eq!(box_chain.level_texels(1), &[[20, 0, 0, 255], [100, 0, 0, 255]]);
+        // Sides that halve exactly are the box filter, byte for byte, in both colour spaces.
+        for space in [ColorSpace::Linear, ColorSpace::Srgb] {
+            let data: Vec<u8> = (0..8 * 4 * 4).map(|i| (i * 37 % 251) as u8).collect();
+            let linear = Texture::from_rgba8(8, 4, &data, space, MipChain::Linear).unwrap();
+            let boxed = Texture::from_rgba8(8, 4, &data, space, MipChain::Box).unwrap();
+            for level in 0..linear.levels().len() {
+                assert_eq!(linear.level_texels(level), boxed.level_texels(level), "{space:?} level {level}");
             }
         }
     }

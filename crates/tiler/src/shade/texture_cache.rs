@@ -101,6 +101,10 @@ pub struct TextureCache {
     misses: u64,
     /// Misses already handed to the ledger.
     misses_reported: u64,
+    /// Quads read from level 0 minified more than 2× by a sampler without mip maps, and the
+    /// misses their reads caused ([`TextureCache::note_unmipped`]): what mip maps would save.
+    unmipped_quads: u64,
+    unmipped_misses: u64,
     /// With the `texture-cache-reference` feature (for tests): the same cache read one line
     /// at a time, as the model was first written, held equal after every quad.
     #[cfg(feature = "texture-cache-reference")]
@@ -132,6 +136,8 @@ impl TextureCache {
             hits: 0,
             misses: 0,
             misses_reported: 0,
+            unmipped_quads: 0,
+            unmipped_misses: 0,
             #[cfg(feature = "texture-cache-reference")]
             reference: None,
         };
@@ -301,6 +307,22 @@ impl TextureCache {
 
     pub fn misses(&self) -> u64 {
         self.misses
+    }
+
+    /// Counts the quad just read as minified without mip maps: one quad, and the misses since
+    /// `misses_before` (what [`TextureCache::misses`] was before its reads).
+    pub fn note_unmipped(&mut self, misses_before: u64) {
+        self.unmipped_quads += 1;
+        self.unmipped_misses += self.misses - misses_before;
+    }
+
+    /// Quads read minified more than 2× without mip maps ([`TextureCache::note_unmipped`])
+    /// since the last call, and the bytes they fetched from external memory (their misses ×
+    /// line size).
+    pub fn take_unmipped(&mut self) -> (u64, u64) {
+        let taken = (self.unmipped_quads, self.unmipped_misses * self.config.line_bytes as u64);
+        (self.unmipped_quads, self.unmipped_misses) = (0, 0);
+        taken
     }
 
     /// Bytes fetched from external memory since the last call: `misses × line size`.
