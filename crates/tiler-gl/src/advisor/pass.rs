@@ -125,7 +125,8 @@ fn minified_without_mipmaps(v: &PassView, out: &mut Vec<Draft>) {
             fetched as f64 / quads as f64,
         ),
         "give the texture mip maps (glGenerateMipmap after its upload, or upload the levels) and a *_MIPMAP_* \
-         minification filter; it also stops the shimmering of a minified texture"
+         minification filter, which also stops a minified texture shimmering; a texture rendered each frame (a \
+         blur's source) can instead be downsampled in 2× steps"
             .to_string(),
     ));
 }
