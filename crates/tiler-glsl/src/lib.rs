@@ -62,7 +62,8 @@
 //! into adds, multiplies and a square root in a fixed order, which the tests reproduce in
 //! Rust bit for bit). Control flow stays structured and runs under lane masks ([`exec`]).
 //! The executor is generic over the lane count: fragment shaders run 8 lanes (tiler's 4×2
-//! group, helper lanes included), vertex shaders 1 lane per `VertexShader::shade` call, so
+//! group, helper lanes included), vertex shaders 8 lanes (a batch of 8 vertices per
+//! `VertexShader::shade_batch` call), so
 //! batching vertices, wider fragment batches or a JIT can replace the interpreter without
 //! touching the compiler. Results are deterministic: every register a call reads was
 //! written in that call, loops are capped at [`exec::MAX_ITERATIONS`], and the built-ins are
