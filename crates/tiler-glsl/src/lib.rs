@@ -94,6 +94,7 @@
 
 pub mod compile;
 pub mod exec;
+mod fuse;
 pub mod guard;
 mod hoist;
 pub mod ir;
