@@ -1,8 +1,8 @@
 //! The shader executor: interprets the IR over `W` lanes at once.
 //!
 //! Every instruction processes all `W` lanes; the lane count is a const generic, so the
-//! fragment shader runs 8 lanes (tiler's 4×2 group), the vertex shader 1, and a wider batch
-//! or a JIT can replace [`run`] without touching the compiler. Dispatch (one `match` per
+//! fragment shader runs 8 lanes (tiler's 4×2 group), the vertex shader 8 (a batch of
+//! vertices), and a wider batch or a JIT can replace [`run`] without touching the compiler. Dispatch (one `match` per
 //! instruction) is amortised over the lanes; see the crate docs for measured costs.
 //!
 //! Masks: `active` holds the lanes still executing; `break`/`continue` move lanes out of it
