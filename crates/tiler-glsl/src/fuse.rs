@@ -60,15 +60,17 @@ fn block(code: &mut Vec<Inst>, uses: &Uses) {
     // Multiplies that may still move: (product, factors, index in `out`).
     let mut pending: Vec<(Reg, [Reg; 2], usize)> = Vec::new();
     for mut inst in code.drain(..) {
-        let flows = matches!(
+        // Anything but straight-line work (blocks, jumps, and whatever the IR gains later)
+        // stops multiplies from moving past it.
+        let flows = !matches!(
             inst,
-            Inst::If(..)
-                | Inst::Loop { .. }
-                | Inst::Call(_)
-                | Inst::Break
-                | Inst::Continue
-                | Inst::Return
-                | Inst::Discard
+            Inst::Un(..)
+                | Inst::Bin(..)
+                | Inst::Tri(..)
+                | Inst::Store(..)
+                | Inst::StoreIf(..)
+                | Inst::Sample { .. }
+                | Inst::Derivative { .. }
         );
         for nested in blocks_mut(&mut inst) {
             block(nested, uses);
