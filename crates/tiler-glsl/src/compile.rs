@@ -321,6 +321,7 @@ impl<'a> Compiler<'a> {
         let mut code = self.code;
         let mut bank = self.bank;
         let bank_program = crate::hoist::hoist(&mut code, self.work as usize, &mut bank, &pinned);
+        crate::fuse::fuse(&mut code, self.work as usize, &pinned);
         StageCode {
             stage: self.stage,
             code,

@@ -1,8 +1,8 @@
 //! The shader executor: interprets the IR over `W` lanes at once.
 //!
 //! Every instruction processes all `W` lanes; the lane count is a const generic, so the
-//! fragment shader runs 8 lanes (tiler's 4×2 group), the vertex shader 1, and a wider batch
-//! or a JIT can replace [`run`] without touching the compiler. Dispatch (one `match` per
+//! fragment shader runs 8 lanes (tiler's 4×2 group), the vertex shader 8 (a batch of
+//! vertices), and a wider batch or a JIT can replace [`run`] without touching the compiler. Dispatch (one `match` per
 //! instruction) is amortised over the lanes; see the crate docs for measured costs.
 //!
 //! Masks: `active` holds the lanes still executing; `break`/`continue` move lanes out of it
@@ -378,19 +378,20 @@ fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f32; W] {
 #[inline(always)]
 fn ternary<const W: usize>(op: TriOp, a: [f32; W], b: [f32; W], c: [f32; W]) -> [f32; W] {
     let mut out = [0.0; W];
-    for i in 0..W {
-        out[i] = match op {
-            TriOp::Clamp => clamp(a[i], b[i], c[i]),
-            TriOp::Mix => a[i] * (1.0 - c[i]) + b[i] * c[i],
-            TriOp::Smoothstep => smoothstep(a[i], b[i], c[i]),
-            TriOp::Select => {
-                if a[i] != 0.0 {
-                    b[i]
-                } else {
-                    c[i]
-                }
+    macro_rules! lanes {
+        ($f:expr) => {{
+            let f = $f;
+            for i in 0..W {
+                out[i] = f(a[i], b[i], c[i]);
             }
-        };
+        }};
+    }
+    match op {
+        TriOp::Clamp => lanes!(clamp),
+        TriOp::Mix => lanes!(|x: f32, y: f32, t: f32| x * (1.0 - t) + y * t),
+        TriOp::Smoothstep => lanes!(smoothstep),
+        TriOp::Select => lanes!(|c: f32, x: f32, y: f32| if c != 0.0 { x } else { y }),
+        TriOp::MulAdd => lanes!(|x: f32, y: f32, z: f32| x * y + z),
     }
     out
 }
@@ -461,6 +462,7 @@ mod tests {
         code.push(Inst::Un(UnOp::InverseSqrt, 21, 1));
         code.push(Inst::Tri(TriOp::Smoothstep, 22, 0, 1, 4));
         code.push(Inst::Tri(TriOp::Mix, 23, 0, 1, 3));
+        code.push(Inst::Tri(TriOp::MulAdd, 19, 0, 1, 3));
         let mut inputs = [[0.0f32; 8]; 24];
         inputs[0] = [0.1, -2.5, 3.3, 1e-8, 7.0, -0.0, 1e30, 0.3];
         inputs[1] = [0.7, 1.9, -4.1, 3.0, 0.001, 2.0, 1e-30, 0.9];

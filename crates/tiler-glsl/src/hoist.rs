@@ -10,7 +10,7 @@
 use crate::ir::{BANK, Inst, Reg};
 
 /// Calls `f` on each register `inst` reads (not those of nested blocks).
-fn reads_mut(inst: &mut Inst, f: &mut impl FnMut(&mut Reg)) {
+pub(crate) fn reads_mut(inst: &mut Inst, f: &mut impl FnMut(&mut Reg)) {
     match inst {
         Inst::Un(_, _, a) => f(a),
         Inst::Bin(_, _, a, b) => {
@@ -42,7 +42,7 @@ fn reads_mut(inst: &mut Inst, f: &mut impl FnMut(&mut Reg)) {
 }
 
 /// Calls `f` on each register `inst` writes.
-fn writes(inst: &Inst, f: &mut impl FnMut(Reg)) {
+pub(crate) fn writes(inst: &Inst, f: &mut impl FnMut(Reg)) {
     match inst {
         Inst::Un(_, d, _) | Inst::Bin(_, d, _, _) | Inst::Tri(_, d, _, _, _) => f(*d),
         Inst::Store(d, _) | Inst::StoreIf(d, _, _) => f(*d),
@@ -53,7 +53,7 @@ fn writes(inst: &Inst, f: &mut impl FnMut(Reg)) {
 }
 
 /// Nested blocks of an instruction.
-fn blocks_mut(inst: &mut Inst) -> Vec<&mut Vec<Inst>> {
+pub(crate) fn blocks_mut(inst: &mut Inst) -> Vec<&mut Vec<Inst>> {
     match inst {
         Inst::If(_, a, b) => vec![a, b],
         Inst::Loop { cond_code, body, step, .. } => vec![cond_code, body, step],

@@ -87,6 +87,9 @@ pub enum TriOp {
     Smoothstep,
     /// `c != 0 ? a : b` (operands `c, a, b`).
     Select,
+    /// `a·b + c`, rounded after the product and after the sum (not fused): a multiply and an
+    /// add in one instruction (see `fuse`).
+    MulAdd,
 }
 
 /// A window axis.

@@ -62,23 +62,27 @@
 //! into adds, multiplies and a square root in a fixed order, which the tests reproduce in
 //! Rust bit for bit). Control flow stays structured and runs under lane masks ([`exec`]).
 //! The executor is generic over the lane count: fragment shaders run 8 lanes (tiler's 4×2
-//! group, helper lanes included), vertex shaders 1 lane per `VertexShader::shade` call, so
-//! batching vertices, wider fragment batches or a JIT can replace the interpreter without
-//! touching the compiler. Results are deterministic: every register a call reads was
-//! written in that call, loops are capped at [`exec::MAX_ITERATIONS`], and the built-ins are
-//! std's f32 functions.
+//! group, helper lanes included), vertex shaders 8 lanes (the core hands
+//! `VertexShader::shade_batch` up to 8 vertices), so wider batches or a JIT can replace the
+//! interpreter without touching the compiler. Results are deterministic: every register a
+//! call reads was written in that call, loops are capped at [`exec::MAX_ITERATIONS`], and the
+//! built-ins are std's f32 functions.
 //!
-//! Measured with `benches/executor.rs` (a Blinn-Phong fragment shader, 63 instructions per
-//! group after hoisting, over a 256×256 full-screen triangle through `Device`, one tile
-//! thread; the interpreter's AVX2 build): the GLSL pipeline takes 2.7–2.9× the time of the
-//! native Rust one (4.15–4.29 ms against 1.42–1.58 ms per frame, of which 0.25 ms is the
-//! pipeline itself, measured with a flat shader), so the shader alone costs ≈ 3–3.4× native
-//! (≈ 60 ns against ≈ 19 ns per fragment, `powf` per lane in both). Measured on a 2-core
-//! machine under a load average of 6–8, so absolute times are inflated and noisy (earlier
-//! runs under heavier load were 1.7× slower for both); the ratio is what to read. The
-//! interpreter dispatches twice per instruction (instruction, then operation) and reads
-//! operands through a bank check; flattening that and wider batches (the notes measured a
-//! register VM at 64 lanes ≈ 1.1× native) are the known next steps.
+//! Before running, [`ir`] code is hoisted (uniform-only arithmetic computed once per
+//! instance, `hoist`) and fused (a multiply whose only use is an add becomes one
+//! [`ir::TriOp::MulAdd`], rounded twice as the pair was, `fuse`).
+//!
+//! Measured with `benches/executor.rs` (a Blinn-Phong fragment shader over a 256×256
+//! full-screen triangle through `Device`, one tile thread; the interpreter's AVX2 build),
+//! with this crate's starting and current executors alternated in one session on a 2-core
+//! machine under a load average of 11–12: the shader alone costs ≈ 89 ns per fragment native
+//! (`powf` per lane in both) against ≈ 95–110 ns interpreted (≈ 110–120 ns before fusion and
+//! vertex batching), after subtracting the pipeline's own cost (a flat shader). Absolute
+//! times under that load are several times those of a quiet machine, and an earlier,
+//! lighter-loaded run gave ≈ 3× native; docs/benchmarking.md has the figures. The interpreter
+//! dispatches twice per instruction (instruction, then operation) and reads operands through
+//! a bank check; flattening that and wider batches (the notes measured a register VM at 64
+//! lanes ≈ 1.1× native) are the known next steps.
 //!
 //! # Coordinate conventions
 //!
@@ -93,6 +97,7 @@
 
 pub mod compile;
 pub mod exec;
+mod fuse;
 pub mod guard;
 mod hoist;
 pub mod ir;

@@ -420,7 +420,8 @@ pub fn shaders(
     textures: &[Option<TextureBinding>],
     framebuffer_height: u32,
 ) -> (GlslVertexShader, GlslFragmentShader) {
-    let (vbank, vslots) = stage_state::<1>(&program.vertex, &program.vertex_uniform_offsets, uniforms, textures);
+    let (vbank, vslots) =
+        stage_state::<VERTEX_LANES>(&program.vertex, &program.vertex_uniform_offsets, uniforms, textures);
     let (fbank, fslots) = stage_state::<8>(&program.fragment, &program.fragment_uniform_offsets, uniforms, textures);
     let outputs: Vec<(Vec<Reg>, usize)> = program
         .varyings
@@ -460,10 +461,13 @@ pub fn pipeline(
     Pipeline::new(vs, fs, desc)
 }
 
-/// A program's vertex shader: one vertex per call, run with one lane.
+/// The lanes the vertex shader runs: a batch of [`tiler::VERTEX_BATCH`] vertices.
+const VERTEX_LANES: usize = tiler::VERTEX_BATCH;
+
+/// A program's vertex shader: a batch of vertices per call, one lane each.
 pub struct GlslVertexShader {
     program: Arc<CompiledProgram>,
-    bank: Vec<[f32; 1]>,
+    bank: Vec<[f32; VERTEX_LANES]>,
     slots: Vec<Option<TextureBinding>>,
     /// Each linked varying's vertex registers and first float.
     outputs: Vec<(Vec<Reg>, usize)>,
@@ -482,7 +486,7 @@ pub struct GlslFragmentShader {
 thread_local! {
     /// The work registers of the shader running on this thread: every register is written
     /// before it is read within a call (see `compile`), so no state passes between calls.
-    static VERTEX_WORK: RefCell<Vec<[f32; 1]>> = const { RefCell::new(Vec::new()) };
+    static VERTEX_WORK: RefCell<Vec<[f32; VERTEX_LANES]>> = const { RefCell::new(Vec::new()) };
     static FRAGMENT_WORK: RefCell<Vec<[f32; 8]>> = const { RefCell::new(Vec::new()) };
 }
 
@@ -496,13 +500,15 @@ fn core_texel(texture: &Texture, sampler: &Sampler, s: f32, t: f32, lod: f32) ->
     texture.sample_lod(sampler, s, 1.0 - t, lod)
 }
 
+/// Looks up lanes `0..lanes` one by one (the others read zero).
 fn lookup_lanes<const W: usize>(
     binding: Option<&TextureBinding>,
     coord: [[f32; W]; 2],
     lod: Option<[f32; W]>,
+    lanes: usize,
 ) -> [[f32; W]; 4] {
     let mut out = [[0.0; W]; 4];
-    for lane in 0..W {
+    for lane in 0..lanes {
         let (s, t) = (coord[0][lane], coord[1][lane]);
         let l = lod.map(|l| l[lane]);
         let texel = match binding {
@@ -519,15 +525,22 @@ fn lookup_lanes<const W: usize>(
 
 struct VertexEnv<'a> {
     slots: &'a [Option<TextureBinding>],
+    /// The lanes holding vertices of the batch (the first ones).
+    lanes: usize,
 }
 
-impl Env<1> for VertexEnv<'_> {
-    fn sample(&mut self, slot: usize, coord: [[f32; 1]; 2], lod: LodValue<1>) -> [[f32; 1]; 4] {
+impl Env<VERTEX_LANES> for VertexEnv<'_> {
+    fn sample(
+        &mut self,
+        slot: usize,
+        coord: [[f32; VERTEX_LANES]; 2],
+        lod: LodValue<VERTEX_LANES>,
+    ) -> [[f32; VERTEX_LANES]; 4] {
         let lod = match lod {
             LodValue::Explicit(l) => Some(l),
             _ => None,
         };
-        lookup_lanes(self.slots[slot].as_ref(), coord, lod)
+        lookup_lanes(self.slots[slot].as_ref(), coord, lod, self.lanes)
     }
 }
 
@@ -559,17 +572,33 @@ impl Env<8> for FragmentEnv<'_, '_> {
                 let texel = self.frag.sample(texture, &sampler, [F32x8(coord[0]), t]);
                 texel.map(|c| c.0)
             }
-            (binding, LodValue::Explicit(l)) => lookup_lanes(binding.as_ref(), coord, Some(l)),
-            (binding, _) => lookup_lanes(binding.as_ref(), coord, None),
+            (binding, LodValue::Explicit(l)) => lookup_lanes(binding.as_ref(), coord, Some(l), 8),
+            (binding, _) => lookup_lanes(binding.as_ref(), coord, None, 8),
         }
     }
 }
 
 impl VertexShader for GlslVertexShader {
     fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+        self.shade_batch(std::slice::from_ref(input), std::slice::from_mut(out));
+    }
+
+    fn shade_batch(&self, inputs: &[VertexInput], outs: &mut [VertexOutput]) {
+        for (inputs, outs) in inputs.chunks(VERTEX_LANES).zip(outs.chunks_mut(VERTEX_LANES)) {
+            self.shade_lanes(inputs, outs);
+        }
+    }
+}
+
+impl GlslVertexShader {
+    /// Shades up to [`VERTEX_LANES`] vertices, each in a lane of its own: the first lanes;
+    /// the others compute on stale inputs and are not read.
+    fn shade_lanes(&self, inputs: &[VertexInput], outs: &mut [VertexOutput]) {
         let code = &self.program.vertex;
+        let lanes = inputs.len();
+        debug_assert!(lanes <= VERTEX_LANES);
         VERTEX_WORK.with_borrow_mut(|regs| {
-            regs.resize(code.work_regs, [0.0]);
+            regs.resize(code.work_regs, [0.0; VERTEX_LANES]);
             // `attributes` is in the order of `code.inputs`.
             for (attr, var) in self.program.attributes.iter().zip(&code.inputs) {
                 for (k, &r) in var.regs.iter().enumerate() {
@@ -578,23 +607,29 @@ impl VertexShader for GlslVertexShader {
                         _ => (0, k),
                     };
                     let loc = attr.location as usize + column;
-                    regs[r as usize] = [input.attributes[loc][row]];
+                    for (lane, input) in inputs[..lanes].iter().enumerate() {
+                        regs[r as usize][lane] = input.attributes[loc][row];
+                    }
                 }
             }
-            run(&code.code, regs, &self.bank, 1, &mut VertexEnv { slots: &self.slots });
-            let p = code.position.expect("vertex shaders have gl_Position").map(|r| regs[r as usize][0]);
-            // GL clip space → tiler's (Vulkan's): y down, depth [−w, w] → [0, w].
-            out.position = Vec4::new(p[0], -p[1], (p[2] + p[3]) * 0.5, p[3]);
-            for (vregs, first) in &self.outputs {
-                for (k, &r) in vregs.iter().enumerate() {
-                    out.varyings[first + k] = regs[r as usize][0];
+            let active = (1u64 << lanes) - 1;
+            run(&code.code, regs, &self.bank, active, &mut VertexEnv { slots: &self.slots, lanes });
+            let position = code.position.expect("vertex shaders have gl_Position");
+            for (lane, out) in outs[..lanes].iter_mut().enumerate() {
+                let p = position.map(|r| regs[r as usize][lane]);
+                // GL clip space → tiler's (Vulkan's): y down, depth [−w, w] → [0, w].
+                out.position = Vec4::new(p[0], -p[1], (p[2] + p[3]) * 0.5, p[3]);
+                for (vregs, first) in &self.outputs {
+                    for (k, &r) in vregs.iter().enumerate() {
+                        out.varyings[first + k] = regs[r as usize][lane];
+                    }
                 }
-            }
-            if let Some(w) = self.program.w_varying {
-                out.varyings[w] = p[3];
-            }
-            if let (Some(v), Some(r)) = (self.program.point_size_varying, code.point_size) {
-                out.varyings[v] = regs[r as usize][0];
+                if let Some(w) = self.program.w_varying {
+                    out.varyings[w] = p[3];
+                }
+                if let (Some(v), Some(r)) = (self.program.point_size_varying, code.point_size) {
+                    out.varyings[v] = regs[r as usize][lane];
+                }
             }
         });
     }

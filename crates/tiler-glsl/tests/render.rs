@@ -828,3 +828,50 @@ fn repeated_arguments_are_counted_as_often_as_they_repeat() {
     let e = CompiledProgram::new(vs, &fs, &[]).map(|_| ()).unwrap_err();
     assert!(e.to_string().contains("expands to more than"), "{e}");
 }
+
+#[test]
+fn a_batch_of_vertices_shades_each_as_it_would_alone() {
+    // Lanes diverge: a loop whose count and a branch whose side depend on the attribute.
+    const VS: &str = "
+attribute vec4 position;
+varying vec4 v;
+void main() {
+    float sum = 0.0;
+    for (int i = 0; i < 8; i++) {
+        if (float(i) >= position.x) break;
+        sum += position.y * float(i) + 0.25;
+    }
+    if (position.z > 0.5) { v = vec4(sum, sqrt(position.z), 1.0, 0.0); }
+    else { v = vec4(-sum, position.w * position.w + position.z, 0.0, 1.0); }
+    gl_Position = vec4(position.xy * 0.1, sum, 1.0);
+}";
+    let program = glsl(VS, "precision mediump float;\nvarying vec4 v;\nvoid main() { gl_FragColor = v; }");
+    let (vs, _) = tiler_glsl::shaders(&program, &program.new_uniform_values(), &[], HEIGHT);
+    let inputs: Vec<VertexInput> = (0..11)
+        .map(|k| {
+            let mut attributes = [Vec4::ZERO; tiler::MAX_VERTEX_ATTRIBUTES];
+            attributes[0] = Vec4::new(k as f32 * 0.9, 0.3 - k as f32 * 0.07, (k % 3) as f32 * 0.4, k as f32 * 0.11);
+            VertexInput { attributes, vertex_index: k }
+        })
+        .collect();
+    let alone: Vec<VertexOutput> = inputs
+        .iter()
+        .map(|input| {
+            let mut out = VertexOutput::default();
+            vs.shade(input, &mut out);
+            out
+        })
+        .collect();
+    let bits = |out: &VertexOutput| {
+        (out.position.to_array().map(f32::to_bits), <[f32; 4]>::try_from(&out.varyings[..4]).unwrap().map(f32::to_bits))
+    };
+    // A full batch, a short one, and more than a batch.
+    for n in [8, 3, 11] {
+        let mut outs = vec![VertexOutput::default(); n];
+        vs.shade_batch(&inputs[..n], &mut outs);
+        for (k, out) in outs.iter().enumerate() {
+            assert_eq!(bits(out), bits(&alone[k]), "vertex {k} of a batch of {n}");
+        }
+    }
+    assert_ne!(bits(&alone[1]).1, bits(&alone[2]).1, "the vertices differ");
+}

@@ -147,27 +147,22 @@ impl Device {
             ));
         }
         let pixels = d.width as usize * d.height as usize;
-        let bpp = d.format.bytes_per_sample();
-        let plane = d.plane_bytes();
         let mut out = vec![0u8; pixels * 4];
-        for (p, px) in out.chunks_exact_mut(4).enumerate() {
-            let mut sum = [0.0f32; 4];
-            for s in 0..d.samples as usize {
-                let v = d.format.decode_color(&image.data[s * plane + p * bpp..s * plane + (p + 1) * bpp]);
+        if let (1, Some(tables)) = (d.samples, ByteTables::of(d.format)) {
+            // Every frame a replay presents is read back, so the common case is a table
+            // lookup per byte rather than a decode and an encode per pixel.
+            for (px, src) in out.chunks_exact_mut(4).zip(image.data[..pixels * 4].chunks_exact(4)) {
                 for c in 0..4 {
-                    sum[c] += v[c];
+                    px[c] = tables.table[c][src[tables.source[c]] as usize];
                 }
             }
-            let n = d.samples as f32;
-            let rgba = sum.map(|c| c / n);
-            if d.format == Format::Rgba8UnormSrgb {
-                // Keep the stored encoding: PNGs are sRGB.
-                let mut bytes = [0u8; 4];
-                d.format.encode_color(rgba, &mut bytes);
-                px.copy_from_slice(&bytes);
-            } else {
-                Format::Rgba8Unorm.encode_color(rgba, px);
-            }
+            return Ok(out);
+        }
+        let bpp = d.format.bytes_per_sample();
+        let plane = d.plane_bytes();
+        for (p, px) in out.chunks_exact_mut(4).enumerate() {
+            let samples = (0..d.samples as usize).map(|s| &image.data[s * plane + p * bpp..s * plane + (p + 1) * bpp]);
+            px.copy_from_slice(&resolve_rgba8(d.format, samples));
         }
         Ok(out)
     }
@@ -287,5 +282,69 @@ impl Device {
             Backend::Tbdr => tbr::render(pass, &resolved, images, buffers, config, workers, true),
             Backend::Imr => imr::render(pass, &resolved, images, buffers, config, workers.simd),
         })
+    }
+}
+
+/// A pixel's samples (each in `format`) resolved to 8-bit RGBA: their average, encoded as
+/// sRGB if the format is (PNGs are sRGB, so the stored encoding is kept), else linear.
+fn resolve_rgba8<'a>(format: Format, samples: impl ExactSizeIterator<Item = &'a [u8]>) -> [u8; 4] {
+    let n = samples.len() as f32;
+    let mut sum = [0.0f32; 4];
+    for sample in samples {
+        let v = format.decode_color(sample);
+        for c in 0..4 {
+            sum[c] += v[c];
+        }
+    }
+    let rgba = sum.map(|c| c / n);
+    let mut bytes = [0u8; 4];
+    let encoding = if format == Format::Rgba8UnormSrgb { format } else { Format::Rgba8Unorm };
+    encoding.encode_color(rgba, &mut bytes);
+    bytes
+}
+
+/// [`resolve_rgba8`] of one sample, as tables, for the formats of four bytes where each
+/// output byte depends on one stored byte only.
+struct ByteTables {
+    /// Output channel `c` is `table[c][stored byte source[c]]`.
+    source: [usize; 4],
+    table: [[u8; 256]; 4],
+}
+
+impl ByteTables {
+    fn of(format: Format) -> Option<ByteTables> {
+        let source = match format {
+            Format::Rgba8Unorm | Format::Rgba8UnormSrgb => [0, 1, 2, 3],
+            Format::Bgra8Unorm => [2, 1, 0, 3],
+            _ => return None,
+        };
+        let mut table = [[0u8; 256]; 4];
+        for v in 0..=255u8 {
+            let rgba = resolve_rgba8(format, std::iter::once(&[v; 4][..]));
+            for c in 0..4 {
+                table[c][v as usize] = rgba[c];
+            }
+        }
+        Some(ByteTables { source, table })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tables give what decoding and encoding each pixel gives, for every byte in every
+    /// channel (the channels of a pixel all different).
+    #[test]
+    fn byte_tables_match_the_per_pixel_resolve() {
+        for format in [Format::Rgba8Unorm, Format::Rgba8UnormSrgb, Format::Bgra8Unorm] {
+            let tables = ByteTables::of(format).expect("a format of bytes");
+            for v in 0..=255u8 {
+                let stored = [v, v.wrapping_mul(7).wrapping_add(3), v.wrapping_mul(13).wrapping_add(5), 255 - v];
+                let fast: [u8; 4] = std::array::from_fn(|c| tables.table[c][stored[tables.source[c]] as usize]);
+                assert_eq!(fast, resolve_rgba8(format, std::iter::once(&stored[..])), "{format:?}, {stored:?}");
+            }
+        }
+        assert!(ByteTables::of(Format::Rgb565Unorm).is_none());
     }
 }

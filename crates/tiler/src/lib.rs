@@ -106,7 +106,7 @@ pub use api::render_pass::{
     MAX_INPUT_ATTACHMENTS, Rect, RenderPassDesc, StoreOp, SubpassDependency, SubpassDesc, VertexBufferBinding,
     Viewport,
 };
-pub use api::shader::{ShaderProperties, VertexInput, VertexOutput, VertexShader};
+pub use api::shader::{ShaderProperties, VERTEX_BATCH, VertexInput, VertexOutput, VertexShader};
 pub use backend::PassReport;
 pub use config::Backend;
 pub use config::{DeviceConfig, preset::DevicePreset};

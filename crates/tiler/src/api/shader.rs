@@ -35,7 +35,20 @@ impl Default for VertexOutput {
 /// A vertex shader.
 pub trait VertexShader: Send + Sync + 'static {
     fn shade(&self, input: &VertexInput, out: &mut VertexOutput);
+
+    /// Shades `inputs[i]` into `outs[i]` (the same length, at most [`VERTEX_BATCH`]), each as
+    /// [`VertexShader::shade`] would: one by one unless the shader runs vertices side by side
+    /// (an interpreter amortising its dispatch over lanes).
+    fn shade_batch(&self, inputs: &[VertexInput], outs: &mut [VertexOutput]) {
+        for (input, out) in inputs.iter().zip(outs) {
+            self.shade(input, out);
+        }
+    }
 }
+
+/// The most vertices one [`VertexShader::shade_batch`] call is given: eight, the lanes of
+/// an AVX2 register of `f32`.
+pub const VERTEX_BATCH: usize = 8;
 
 /// What a fragment shader may do that decides how early the depth test may run and whether
 /// hidden-surface removal may skip it (seed 000 §23.7, seed 002 "Depth Testing").

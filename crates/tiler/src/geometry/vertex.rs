@@ -1,11 +1,11 @@
 //! Vertex shading: runs the vertex shader once for every vertex a draw references, in
-//! parallel, and checks that every position it writes is finite.
+//! parallel, in batches of [`VERTEX_BATCH`], and checks that every position it writes is finite.
 
 use glam::Vec4;
 use rayon::prelude::*;
 
 use super::fetch::VertexFetcher;
-use crate::api::shader::{VertexInput, VertexOutput, VertexShader};
+use crate::api::shader::{VERTEX_BATCH, VertexInput, VertexOutput, VertexShader};
 
 /// Vertices shaded per parallel task.
 const CHUNK: usize = 4096;
@@ -85,19 +85,31 @@ pub fn shade_vertices<V: VertexShader>(
         .zip(varyings.par_chunks_mut(CHUNK * stride))
         .enumerate()
         .map(|(chunk, (positions, varyings))| {
-            let mut input = VertexInput::default();
-            let mut out = VertexOutput::default();
+            let mut inputs = [VertexInput::default(); VERTEX_BATCH];
+            let mut outs = [VertexOutput::default(); VERTEX_BATCH];
+            // The chunk's slots of the vertices in `inputs`.
+            let mut batch = [0usize; VERTEX_BATCH];
             let mut error = None;
-            for (i, position) in positions.iter_mut().enumerate() {
-                let slot = chunk * CHUNK + i;
-                let Some(vertex) = set.vertex(slot) else { continue };
-                fetcher.fetch(vertex, &mut input);
-                shader.shade(&input, &mut out);
-                if !out.position.is_finite() && error.is_none() {
-                    error = Some(NonFinitePosition { vertex, position: out.position.to_array() });
+            let mut slots = (0..positions.len()).filter_map(|i| set.vertex(chunk * CHUNK + i).map(|v| (i, v)));
+            loop {
+                let mut n = 0;
+                for (i, vertex) in slots.by_ref().take(VERTEX_BATCH) {
+                    fetcher.fetch(vertex, &mut inputs[n]);
+                    batch[n] = i;
+                    n += 1;
                 }
-                *position = out.position;
-                varyings[i * stride..i * stride + varying_count].copy_from_slice(&out.varyings[..varying_count]);
+                if n == 0 {
+                    break;
+                }
+                shader.shade_batch(&inputs[..n], &mut outs[..n]);
+                for (&i, (out, input)) in batch[..n].iter().zip(outs.iter().zip(&inputs)) {
+                    if !out.position.is_finite() && error.is_none() {
+                        error =
+                            Some(NonFinitePosition { vertex: input.vertex_index, position: out.position.to_array() });
+                    }
+                    positions[i] = out.position;
+                    varyings[i * stride..i * stride + varying_count].copy_from_slice(&out.varyings[..varying_count]);
+                }
             }
             error
         })

@@ -426,7 +426,11 @@ impl Texture {
         cache: &mut TextureCache,
         decode: impl Fn(u32) -> u32,
     ) -> Vec4x8 {
-        let lods = quad_lods(u * self.width() as f32, v * self.height() as f32);
+        let lods = if self.plan_ignores_lod(sampler) {
+            [0.0; 2]
+        } else {
+            quad_lods(u * self.width() as f32, v * self.height() as f32)
+        };
         let line_shift = cache.line_shift();
         // Texel (x, y)'s modelled address is `id · 2^40` plus an offset below 2^32
         // (`MAX_MODELLED_BYTES`), so its line is the texture's first line plus the offset's:
@@ -496,6 +500,14 @@ impl Texture {
             }
         };
         rgba.map(|channel| unorm16_to_f32(channel[0]))
+    }
+
+    /// Whether [`Texture::plan`] gives the same plan at every level of detail: one filter for
+    /// magnification and minification, and one level to read. Then the quads' levels of detail
+    /// (two logarithms a group) need not be computed.
+    #[inline(always)]
+    fn plan_ignores_lod(&self, sampler: &Sampler) -> bool {
+        sampler.min_filter == sampler.mag_filter && (sampler.mipmap == MipmapMode::None || self.levels.len() == 1)
     }
 
     /// The levels and filter for a level of detail `lambda` (GL §8.14–8.15, see the module
