@@ -232,9 +232,10 @@ pub struct Texture {
     color_table: Box<[u16; 256]>,
 }
 
-/// The level of detail above which a quad read from level 0 without mip maps is counted as
-/// minified ([`TextureCache::note_unmipped`]): more than 2× texels per pixel along an axis,
-/// where a bilinear footprint stops sharing lines with its neighbours.
+/// The level of detail (bias included) above which a quad read from level 0 without mip maps
+/// is counted as minified ([`TextureCache::note_unmipped`]): more than 2× texels per pixel
+/// along an axis, where a bilinear footprint stops sharing lines with its neighbours. Told
+/// as `ρ² > 4^(UNMIPPED_LOD − bias)`.
 const UNMIPPED_LOD: f32 = 1.0;
 
 /// Hands out texture ids, the only process-wide state of the sampler: ids only make cache tags
@@ -426,10 +427,15 @@ impl Texture {
         cache: &mut TextureCache,
         decode: impl Fn(u32) -> u32,
     ) -> Vec4x8 {
-        let lods = if self.plan_ignores_lod(sampler) {
-            [0.0; 2]
+        let rho_squared = quad_rho_squared(u * self.width() as f32, v * self.height() as f32);
+        let lods = if self.plan_ignores_lod(sampler) { [0.0; 2] } else { rho_squared.map(|r| 0.5 * log2(r)) };
+        // Minified more than 2× (`λ > UNMIPPED_LOD`) without mip maps, told from `ρ²` so that
+        // samplers whose plan ignores the level of detail need no logarithm.
+        let unmipped = sampler.mipmap == MipmapMode::None;
+        let unmipped_rho_squared = if sampler.lod_bias == 0.0 {
+            4f32.powi(UNMIPPED_LOD as i32)
         } else {
-            quad_lods(u * self.width() as f32, v * self.height() as f32)
+            4f32.powf(UNMIPPED_LOD - sampler.lod_bias)
         };
         let line_shift = cache.line_shift();
         // Texel (x, y)'s modelled address is `id · 2^40` plus an offset below 2^32
@@ -448,7 +454,7 @@ impl Texture {
                     let near = self.footprint(level, filter, sampler, u, v, line_shift);
                     let misses = cache.misses();
                     cache.access_quad(first_line, near.rows(), counted);
-                    if lambda > UNMIPPED_LOD && sampler.mipmap == MipmapMode::None && counted.contains(&true) {
+                    if unmipped && rho_squared[quad] > unmipped_rho_squared && counted.contains(&true) {
                         cache.note_unmipped(misses);
                     }
                     self.filter(&near, &decode)
@@ -837,11 +843,17 @@ const QUAD_LANES: [[usize; 4]; 2] = [[0, 1, 4, 5], [2, 3, 6, 7]];
 /// differences (see the module notes). `s`, `t` are in texels of level 0.
 #[inline]
 pub fn quad_lods(s: F32x8, t: F32x8) -> [f32; 2] {
+    quad_rho_squared(s, t).map(|rho_squared| 0.5 * log2(rho_squared))
+}
+
+/// `ρ²` of each quad: the larger squared length of the upper-left pixel's differences in x
+/// and in y, `s`, `t` in texels of level 0 ([`quad_lods`] is `½ · log2` of it).
+#[inline]
+pub fn quad_rho_squared(s: F32x8, t: F32x8) -> [f32; 2] {
     QUAD_LANES.map(|[tl, tr, bl, _]| {
         let (dsdx, dtdx) = (s.lane(tr) - s.lane(tl), t.lane(tr) - t.lane(tl));
         let (dsdy, dtdy) = (s.lane(bl) - s.lane(tl), t.lane(bl) - t.lane(tl));
-        let rho_squared = (dsdx * dsdx + dtdx * dtdx).max(dsdy * dsdy + dtdy * dtdy);
-        0.5 * log2(rho_squared)
+        (dsdx * dsdx + dtdx * dtdx).max(dsdy * dsdy + dtdy * dtdy)
     })
 }
 
