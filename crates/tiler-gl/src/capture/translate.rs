@@ -1,6 +1,8 @@
 //! GL ES 2.0 calls of a capture → [`Call`]s of a [`Context`]; see the module docs of
 //! [`crate::capture`] for the rules.
 
+mod cube;
+
 use std::collections::HashMap;
 
 use tiler::{BlendFactor, BlendOp, CompareOp, StencilOp};
@@ -45,6 +47,8 @@ struct Texture {
     min: u32,
     mag: u32,
     wrap: [u32; 2],
+    /// Bound to `GL_TEXTURE_CUBE_MAP` (its target from then on).
+    cube: bool,
 }
 
 impl Default for Texture {
@@ -56,6 +60,7 @@ impl Default for Texture {
             min: GL_NEAREST_MIPMAP_LINEAR,
             mag: GL_LINEAR,
             wrap: [GL_REPEAT; 2],
+            cube: false,
         }
     }
 }
@@ -150,6 +155,8 @@ impl Objects {
 struct Bindings {
     active_unit: u32,
     textures: [u32; MAX_TEXTURE_UNITS as usize],
+    /// Each unit's `GL_TEXTURE_CUBE_MAP` binding.
+    cube_textures: [u32; MAX_TEXTURE_UNITS as usize],
     array_buffer: u32,
     element_buffer: u32,
     renderbuffer: u32,
@@ -167,6 +174,7 @@ impl Default for Bindings {
         Bindings {
             active_unit: 0,
             textures: [0; MAX_TEXTURE_UNITS as usize],
+            cube_textures: [0; MAX_TEXTURE_UNITS as usize],
             array_buffer: 0,
             element_buffer: 0,
             renderbuffer: 0,
@@ -300,6 +308,9 @@ impl Translator {
 
     fn command(&mut self, command: &Command, fake: bool) -> Fallible {
         use Command as C;
+        if self.cube_command(command)? {
+            return Ok(());
+        }
         match command {
             C::Ignored { .. } => {}
 
@@ -520,7 +531,7 @@ impl Translator {
                     if let Some(Texture { id: Some(id), .. }) = self.objects()?.textures.remove(&name) {
                         self.emit(Call::DeleteTexture { id })?;
                     }
-                    for bound in &mut self.bindings.textures {
+                    for bound in self.bindings.textures.iter_mut().chain(&mut self.bindings.cube_textures) {
                         if *bound == name {
                             *bound = 0;
                         }
@@ -539,12 +550,16 @@ impl Translator {
                     return Err(format!("texture target {target:#06x} is not supported (2D only)"));
                 }
                 let unit = self.bindings.active_unit;
-                self.bindings.textures[unit as usize] = *texture;
                 let id = if *texture == 0 {
                     0
                 } else {
-                    self.objects()?.textures.entry(*texture).or_default().id.unwrap_or(0)
+                    let t = self.objects()?.textures.entry(*texture).or_default();
+                    if t.cube {
+                        return Err(format!("texture {texture} is a cube map: binding it as 2D is a GL error"));
+                    }
+                    t.id.unwrap_or(0)
                 };
+                self.bindings.textures[unit as usize] = *texture;
                 self.emit(Call::BindTexture { unit, texture: id })?;
             }
             C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels }
@@ -631,15 +646,15 @@ impl Translator {
                 self.update_sampler(name)?;
             }
             C::TexParameter { target, pname, params } => {
-                if *target != GL_TEXTURE_2D {
-                    return Err(format!("texture target {target:#06x} is not supported (2D only)"));
+                if ![GL_TEXTURE_2D, cube::GL_TEXTURE_CUBE_MAP].contains(target) {
+                    return Err(format!("texture target {target:#06x} is not supported (2D and cube maps only)"));
                 }
                 let value = match params {
                     Params::Int(v) if v.len() == 1 => v[0] as u32,
                     Params::Float(v) if v.len() == 1 && v[0].fract() == 0.0 && v[0] >= 0.0 => v[0] as u32,
                     _ => return Err(format!("parameter {pname:#06x}: {params:?} is not a single GL enum")),
                 };
-                let name = self.bound_texture()?;
+                let name = if *target == GL_TEXTURE_2D { self.bound_texture()? } else { self.bound_cube()? };
                 let t = self.objects()?.textures.entry(name).or_default();
                 match *pname {
                     0x2801 => t.min = value,
@@ -1149,6 +1164,7 @@ impl Translator {
         }
         for unit in 0..MAX_TEXTURE_UNITS {
             calls.push(Call::BindTexture { unit, texture: 0 });
+            calls.push(Call::BindCubeTexture { unit, texture: 0 });
         }
         for index in 0..MAX_VERTEX_ATTRIBS {
             calls.push(Call::DisableVertexAttrib { index });
