@@ -445,7 +445,8 @@ pub enum Call<D = Bytes> {
         filter: Filter,
     },
     /// `glCopyTexSubImage2D`: copies a rectangle of the read framebuffer's colour into a
-    /// texture at (`x_offset`, `y_offset`).
+    /// texture at (`x_offset`, `y_offset`). With `alpha_one` the copied texels' alpha is 1:
+    /// a texture whose GL format has no alpha (`glCopyTexImage2D` with `GL_RGB`).
     CopyTexSubImage {
         texture: u32,
         x_offset: u32,
@@ -454,6 +455,8 @@ pub enum Call<D = Bytes> {
         y: i32,
         width: u32,
         height: u32,
+        #[serde(default, skip_serializing_if = "is_false")]
+        alpha_one: bool,
     },
     Flush,
     Finish,
@@ -707,8 +710,8 @@ impl<D> Call<D> {
             Invalidate { attachments } => Invalidate { attachments },
             ReadPixels { x, y, width, height } => ReadPixels { x, y, width, height },
             BlitFramebuffer { src, dst, filter } => BlitFramebuffer { src, dst, filter },
-            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height } => {
-                CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height }
+            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one } => {
+                CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one }
             }
             Flush => Flush,
             Finish => Finish,

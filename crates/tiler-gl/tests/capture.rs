@@ -746,3 +746,55 @@ fn a_cube_face_of_the_wrong_size_or_not_square_is_an_error_naming_the_call() {
     assert_eq!(error.call(), Some(calls[4]));
     assert!(error.to_string().contains("square"), "{error}");
 }
+
+/// The window cleared with alpha 0.5, copied by `glCopyTexImage2D` with `internal_format`,
+/// then drawn with the texture's alpha in every channel: returns the frame's first pixel.
+fn copied_alpha(internal_format: (&'static str, u32)) -> [u8; 4] {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    clear(&mut w, [0.2, 0.4, 0.6, 0.5]);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(4)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(4))], None, false);
+    let copy = [
+        ("target", e("GL_TEXTURE_2D", 0x0de1)),
+        ("level", W::UInt(0)),
+        ("internalformat", e(internal_format.0, internal_format.1)),
+        ("x", W::UInt(0)),
+        ("y", W::UInt(0)),
+        ("width", W::UInt(4)),
+        ("height", W::UInt(4)),
+        ("border", W::UInt(0)),
+    ];
+    w.call("glCopyTexImage2D", &copy, None, false);
+    // A later sub-image copy into the same texture keeps its format's alpha rule.
+    let sub = [
+        ("target", e("GL_TEXTURE_2D", 0x0de1)),
+        ("level", W::UInt(0)),
+        ("xoffset", W::UInt(0)),
+        ("yoffset", W::UInt(0)),
+        ("x", W::UInt(0)),
+        ("y", W::UInt(0)),
+        ("width", W::UInt(2)),
+        ("height", W::UInt(2)),
+    ];
+    w.call("glCopyTexSubImage2D", &sub, None, false);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    let vertex = "attribute vec2 where;\nvarying vec2 uv;\nvoid main() { uv = where * 0.5 + 0.5; gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "precision mediump float;\nuniform sampler2D copied;\nvarying vec2 uv;\n\
+                    void main() { gl_FragColor = vec4(texture2D(copied, uv).a); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    frames[0].4[..4].try_into().unwrap()
+}
+
+#[test]
+fn copy_tex_image_into_gl_rgb_reads_alpha_one() {
+    assert_eq!(copied_alpha(("GL_RGB", 0x1907)), [255; 4]);
+    // GL_RGBA keeps the window's alpha, 0.5.
+    assert_eq!(copied_alpha(("GL_RGBA", 0x1908)), [128; 4]);
+}

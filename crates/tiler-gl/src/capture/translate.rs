@@ -49,6 +49,9 @@ struct Texture {
     wrap: [u32; 2],
     /// Bound to `GL_TEXTURE_CUBE_MAP` (its target from then on).
     cube: bool,
+    /// Its GL format has no alpha (`glCopyTexImage2D` with `GL_RGB`): copies into it get
+    /// alpha 1.
+    opaque: bool,
 }
 
 impl Default for Texture {
@@ -61,6 +64,7 @@ impl Default for Texture {
             mag: GL_LINEAR,
             wrap: [GL_REPEAT; 2],
             cube: false,
+            opaque: false,
         }
     }
 }
@@ -604,6 +608,7 @@ impl Translator {
                 let t = self.objects()?.textures.get_mut(&name).expect("inserted above");
                 t.id = Some(id);
                 t.upload = Some(upload);
+                t.opaque = matches!(*internal_format, texels::GL_RGB | texels::GL_LUMINANCE | 0x8051 | 0x8d62);
                 t.size = (width, height);
                 self.update_sampler(name)?;
             }
@@ -683,11 +688,12 @@ impl Translator {
                 if *border != 0 {
                     return Err(format!("border {border} must be 0"));
                 }
-                if *internal_format != texels::GL_RGBA {
-                    // GL_RGB would need the copy's alpha forced to 1, which the context's copy
-                    // does not do.
-                    return Err(format!("copying into internal format {internal_format:#06x}: only GL_RGBA"));
-                }
+                // GL_RGB: a texture whose alpha reads 1, so the copy's alpha is 1.
+                let opaque = match *internal_format {
+                    texels::GL_RGBA => false,
+                    texels::GL_RGB => true,
+                    f => return Err(format!("copying into internal format {f:#06x}: only GL_RGBA and GL_RGB")),
+                };
                 let (width, height) = size2(*width, *height)?;
                 let upload = Upload::new(texels::GL_RGBA, texels::GL_RGBA, texels::GL_UNSIGNED_BYTE)?;
                 let format = upload.format;
@@ -710,9 +716,12 @@ impl Translator {
                 t.id = Some(id);
                 t.upload = Some(upload);
                 t.size = (width, height);
+                t.opaque = opaque;
                 self.update_sampler(name)?;
-                let (x, y) = (*x, *y);
-                self.emit(Call::CopyTexSubImage { texture: id, x_offset: 0, y_offset: 0, x, y, width, height })?;
+                let (x, y, alpha_one) = (*x, *y, opaque);
+                let copy =
+                    Call::CopyTexSubImage { texture: id, x_offset: 0, y_offset: 0, x, y, width, height, alpha_one };
+                self.emit(copy)?;
             }
             C::CopyTexSubImage2D { target, level, x_offset, y_offset, x, y, width, height } => {
                 check_2d_level0(*target, *level)?;
@@ -720,7 +729,9 @@ impl Translator {
                 let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
                 let (x_offset, y_offset) = size2(*x_offset, *y_offset)?;
                 let (width, height) = size2(*width, *height)?;
-                self.emit(Call::CopyTexSubImage { texture: id, x_offset, y_offset, x: *x, y: *y, width, height })?;
+                let alpha_one = self.objects()?.textures.get(&name).is_some_and(|t| t.opaque);
+                let (x, y) = (*x, *y);
+                self.emit(Call::CopyTexSubImage { texture: id, x_offset, y_offset, x, y, width, height, alpha_one })?;
             }
 
             // ---- framebuffers and renderbuffers ----------------------------------------------

@@ -889,8 +889,8 @@ impl Context {
             Invalidate { attachments } => self.invalidate(&attachments)?,
             ReadPixels { x, y, width, height } => return self.read_pixels(x, y, width, height).map(Output::Pixels),
             BlitFramebuffer { src, dst, filter } => self.blit(src, dst, filter)?,
-            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height } => {
-                self.copy_tex_sub_image(texture, x_offset, y_offset, [x, y], [width, height])?;
+            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one } => {
+                self.copy_tex_sub_image(texture, [x_offset, y_offset], [x, y], [width, height], alpha_one)?;
             }
             Flush => self.flush_open_pass(crate::report::FlushCause::Flush)?,
             Finish => self.finish()?,

@@ -114,9 +114,12 @@ impl Context {
                     d.desc.clone(),
                 )?,
                 DrawSource::Clear { color, depth, targets } => clear_pipeline(*color, *depth, *targets, d.desc.clone()),
-                DrawSource::Rectangle { image, ndc, tex, sampler, read_bytes } => {
+                DrawSource::Rectangle { image, ndc, tex, sampler, read_bytes, alpha_one } => {
                     extra.add(tiler::Category::TextureFetch, *read_bytes);
-                    let snapshot = self.snapshot(&mut snapshots, *image)?;
+                    let mut snapshot = self.snapshot(&mut snapshots, *image)?;
+                    if *alpha_one {
+                        snapshot = Arc::new(snapshot.with_alpha_one());
+                    }
                     blit_pipeline(*ndc, *tex, snapshot, *sampler, d.desc.clone())
                 }
             }
