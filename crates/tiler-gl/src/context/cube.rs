@@ -108,6 +108,12 @@ impl CubeObject {
         Ok(self.core.get_or_init(|| built).clone())
     }
 
+    /// Host memory its texels take (counted against the context's memory limit).
+    fn host_bytes(&self) -> u64 {
+        let faces = self.faces.iter().flatten().map(|f| f.len() as u64);
+        faces.chain(self.levels.iter().flatten().flatten().map(|l| l.len() as u64)).sum()
+    }
+
     /// Whether the cube has its faces' mip chains (generated, or given on every face).
     fn has_mipmaps(&self) -> bool {
         self.generated || self.given_chains().is_some()
@@ -116,6 +122,7 @@ impl CubeObject {
 
 impl Context {
     /// `cube_tex_image`: level `level` of face `face` of cube texture `id`, created if new.
+    /// The texels count against the context's memory limit while the cube holds them.
     pub(crate) fn cube_tex_image(
         &mut self,
         id: u32,
@@ -125,9 +132,32 @@ impl Context {
         format: TextureFormat,
         data: Option<Bytes>,
     ) -> Fallible {
-        if id == 0 || self.textures.contains_key(&id) {
-            return Err(format!("{} (a 2D texture), not a cube texture", name_taken("texture", id)));
+        if id == 0 {
+            return Err(name_taken("texture", id));
         }
+        if self.textures.contains_key(&id) {
+            return Err(format!("texture {id} is a 2D texture, not a cube texture"));
+        }
+        let before = self.cubes.get(&id).map_or(0, CubeObject::host_bytes);
+        // The new texels, at most (the size is checked below, before they are made).
+        let new_bytes = (size.min(tiler::MAX_CUBE_DIMENSION) as u64).pow(2) * 4;
+        self.reserve(new_bytes)?;
+        let result = self.store_cube_texels(id, face, level, size, format, data);
+        let after = self.cubes.get(&id).map_or(0, CubeObject::host_bytes);
+        self.allocated = self.allocated - new_bytes - before + after;
+        result
+    }
+
+    /// [`Context::cube_tex_image`] once its memory is reserved.
+    fn store_cube_texels(
+        &mut self,
+        id: u32,
+        face: CubeFace,
+        level: u32,
+        size: u32,
+        format: TextureFormat,
+        data: Option<Bytes>,
+    ) -> Fallible {
         if !matches!(format, TextureFormat::Rgba8 | TextureFormat::Srgb8Alpha8) {
             return Err(format!(
                 "cube texture {id}: format {} (cube textures are RGBA8 or sRGB8_alpha8)",
@@ -267,9 +297,12 @@ impl Context {
                 face.name()
             ));
         }
+        let before = cube.host_bytes();
         cube.generated = true;
         cube.levels = Default::default();
         cube.changed();
+        let freed = before - cube.host_bytes();
+        self.allocated -= freed;
         Ok(())
     }
 
@@ -287,7 +320,9 @@ impl Context {
 
     /// Deletes cube texture `id`, unbinding it from every unit.
     pub(crate) fn delete_cube(&mut self, id: u32) {
-        self.cubes.remove(&id);
+        if let Some(cube) = self.cubes.remove(&id) {
+            self.allocated -= cube.host_bytes();
+        }
         for unit in &mut self.state.cube_textures {
             if *unit == id {
                 *unit = 0;

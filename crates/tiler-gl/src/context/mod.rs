@@ -423,6 +423,7 @@ pub struct Context {
     pub(crate) images: HashMap<ImageId, ImageInfo>,
     buffer_pool: HashMap<u64, Vec<BufferId>>,
     image_pool: HashMap<ImageDesc, Vec<ImageId>>,
+    /// Bytes of images, buffers and cube textures' texels, against `memory_limit`.
     allocated: u64,
     pub(crate) state: GlState,
     pub(crate) draw_framebuffer: u32,

@@ -939,6 +939,26 @@ void main() { gl_FragColor = textureCubeLod(env, vec3(0.1, -0.2, -1.0), lod); }"
     let error = gl.call(Call::DrawArrays { mode: Mode::Triangles, first: 0, count: 3 }).unwrap_err().to_string();
     assert!(error.contains("sampler 'env' reads texture unit 0, which has no cube texture"), "{error}");
 
+    // Faces count against the context's memory limit until the cube is deleted.
+    let mut gl = Context::new(ContextConfig { memory_limit: 1 << 20, ..ContextConfig::new(16, 16) }).unwrap();
+    let quarter = |face: usize| Call::CubeTexImage {
+        id: 5,
+        face: CubeFace::ALL[face],
+        level: 0,
+        size: 256,
+        format: TextureFormat::Rgba8,
+        data: None,
+    };
+    for f in 0..3 {
+        c(&mut gl, quarter(f));
+    }
+    let error = gl.call(quarter(3)).unwrap_err().to_string();
+    assert!(error.contains("memory limit"), "{error}");
+    c(&mut gl, Call::DeleteTexture { id: 5 });
+    for f in 0..3 {
+        c(&mut gl, quarter(f));
+    }
+
     // The trace format: the calls as JSON and back.
     let call = face(4, 1, 9).try_map_data(|d: Bytes| Ok::<_, ()>(d.to_vec())).unwrap();
     let json = serde_json::to_string(&call).unwrap();
