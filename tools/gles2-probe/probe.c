@@ -4,6 +4,7 @@
 #include <EGL/egl.h>
 #include <GLES2/gl2.h>
 #include <X11/Xlib.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -374,10 +375,96 @@ static void scene_points(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* Cube maps: six 32x32 faces whose texels encode the direction of their centre (colour =
+ * 0.5 + 0.5 * normalised direction, so a face or orientation mix-up shows everywhere, and
+ * neighbouring faces meet with nearly equal texels), an 8x8 glTexSubImage2D square inside
+ * +Z, generated mip levels. Top half: a latitude/longitude panorama over all six faces
+ * (minified, so levels 1-3 are read) times a 2x2 2D texture on another unit; bottom left:
+ * textureCube with a bias; bottom right: colours fetched per vertex by textureCubeLod (inside the
+ * faces: llvmpipe filters across face edges, tiler within a face as ES 2.0 does). */
+static void cube_face_texels(int face, int size, unsigned char *out) {
+    for (int y = 0; y < size; y++)
+        for (int x = 0; x < size; x++) {
+            float sc = 2.0f * (x + 0.5f) / size - 1.0f, tc = 2.0f * (y + 0.5f) / size - 1.0f, d[3];
+            switch (face) { /* GL ES 2.0 table 3.21, inverted */
+            case 0: d[0] = 1; d[1] = -tc; d[2] = -sc; break;
+            case 1: d[0] = -1; d[1] = -tc; d[2] = sc; break;
+            case 2: d[0] = sc; d[1] = 1; d[2] = tc; break;
+            case 3: d[0] = sc; d[1] = -1; d[2] = -tc; break;
+            case 4: d[0] = sc; d[1] = -tc; d[2] = 1; break;
+            default: d[0] = -sc; d[1] = -tc; d[2] = -1; break;
+            }
+            float n = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            unsigned char *t = out + (y * size + x) * 4;
+            for (int c = 0; c < 3; c++) t[c] = (unsigned char)(255.0f * (0.5f + 0.5f * d[c] / n) + 0.5f);
+            t[3] = 255;
+        }
+}
+
+static void scene_cube(void) {
+    const int size = 32;
+    unsigned char *texels = malloc(size * size * 4);
+    GLuint t[2];
+    glGenTextures(2, t);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_CUBE_MAP, t[1]);
+    for (int face = 0; face < 6; face++) {
+        cube_face_texels(face, size, texels);
+        glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face, 0, GL_RGBA, size, size, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    }
+    for (int i = 0; i < 8 * 8; i++) memcpy(texels + i * 4, (const unsigned char[4]){255, 0, 255, 255}, 4);
+    glTexSubImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_Z, 0, 12, 4, 8, 8, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    free(texels);
+    glGenerateMipmap(GL_TEXTURE_CUBE_MAP);
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    /* A 2x2 tint on unit 0. */
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, t[0]);
+    const unsigned char tint[16] = {255, 255, 255, 255, 200, 255, 255, 255, 255, 200, 255, 255, 255, 255, 200, 255};
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 2, 2, 0, GL_RGBA, GL_UNSIGNED_BYTE, tint);
+    params(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    GLuint p = program(textured_vs,
+        "precision highp float;\nvarying vec2 v_uv;\nuniform samplerCube env;\nuniform sampler2D tint;\n"
+        "uniform float bias;\nuniform vec4 view;\n"
+        "void main() {\n"
+        "  float lon = (v_uv.x * 2.0 - 1.0) * view.x + view.z, lat = (v_uv.y - 0.5) * view.y + view.w;\n"
+        "  vec3 d = vec3(cos(lat) * sin(lon), sin(lat), cos(lat) * cos(lon));\n"
+        "  gl_FragColor = textureCube(env, d, bias) * texture2D(tint, v_uv);\n"
+        "}\n");
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "env"), 1);
+    glUniform1i(glGetUniformLocation(p, "tint"), 0);
+    glUniform1f(glGetUniformLocation(p, "bias"), 0.0f);
+    glUniform4f(glGetUniformLocation(p, "view"), 3.14159265f, 2.8f, 0.0f, 0.0f);
+    quad(-1, 0, 1, 1, 0, 0, 1, 1);
+    /* A closer view across the +X/+Y/+Z corner, biased one level down. */
+    glUniform1f(glGetUniformLocation(p, "bias"), 1.0f);
+    glUniform4f(glGetUniformLocation(p, "view"), 1.2f, 1.2f, 0.785f, 0.6f);
+    quad(-1, -1, 0, 0, 0, 0, 1, 1);
+    GLuint q = program(
+        "attribute vec2 position;\nattribute vec2 uv;\nuniform samplerCube env;\nvarying vec4 c;\n"
+        "void main() {\n"
+        "  c = textureCubeLod(env, vec3(uv.x * 2.0 - 1.0, 0.3, uv.y - 0.4), 3.0);\n"
+        "  gl_Position = vec4(position, 0.0, 1.0);\n"
+        "}\n",
+        "precision mediump float;\nvarying vec4 c;\nvoid main() { gl_FragColor = c; }\n");
+    glUseProgram(q);
+    glUniform1i(glGetUniformLocation(q, "env"), 1);
+    quad(0, -1, 1, 0, 0, 0, 1, 1);
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"sampler", scene_sampler}, {"incomplete", scene_incomplete}, {"stencil", scene_stencil},
-        {"indices", scene_indices}, {"offset", scene_offset}, {"copy", scene_copy}, {"lines", scene_lines}, {"points", scene_points}};
+        {"indices", scene_indices}, {"offset", scene_offset}, {"copy", scene_copy}, {"lines", scene_lines}, {"points", scene_points},
+        {"cube", scene_cube}};
     if (argc != 2) die("usage: probe SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

@@ -89,6 +89,34 @@ pub enum Call<D = Bytes> {
         height: u32,
         data: D,
     },
+    /// Level `level` of face `face` of cube texture `id` (`glTexImage2D` on
+    /// `GL_TEXTURE_CUBE_MAP_POSITIVE_X + face`), creating the cube texture when `id` is new:
+    /// `size × size` RGBA8 (or sRGB8_alpha8) texels, rows bottom to top (GL's `t = 0` first),
+    /// zeros without `data`; level `i > 0` is `max(1, size >> i)` of level 0's `size`. Every
+    /// face's level 0 has the same size and format. `tex_parameters`, `generate_mipmap` and
+    /// `delete_texture` take cube textures too; a mipmap filter samples generated levels, or
+    /// levels given down to 1×1 on every face; a cube missing a face samples (0, 0, 0, 1).
+    CubeTexImage {
+        id: u32,
+        face: CubeFace,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        level: u32,
+        size: u32,
+        format: TextureFormat,
+        #[serde(default = "none", skip_serializing_if = "Option::is_none")]
+        data: Option<D>,
+    },
+    /// Overwrites a rectangle of level 0 of a cube face (`glTexSubImage2D` on a face); rows
+    /// bottom to top.
+    CubeTexSubImage {
+        id: u32,
+        face: CubeFace,
+        x: u32,
+        y: u32,
+        width: u32,
+        height: u32,
+        data: D,
+    },
     /// Sampling state of a texture (`glTexParameteri` for the filters and wraps): `filter`
     /// minifies and `wrap` wraps s; `mag_filter` (default: `filter`'s first word) magnifies and
     /// `wrap_t` (default: `wrap`) wraps t.
@@ -367,6 +395,12 @@ pub enum Call<D = Bytes> {
         unit: u32,
         texture: u32,
     },
+    /// `glActiveTexture` + `glBindTexture(GL_TEXTURE_CUBE_MAP)`: a unit holds a 2D and a cube
+    /// texture, `samplerCube` uniforms read the latter; 0 unbinds.
+    BindCubeTexture {
+        unit: u32,
+        texture: u32,
+    },
 
     // --- drawing ---------------------------------------------------------------------------
     DrawArrays {
@@ -412,7 +446,8 @@ pub enum Call<D = Bytes> {
         filter: Filter,
     },
     /// `glCopyTexSubImage2D`: copies a rectangle of the read framebuffer's colour into a
-    /// texture at (`x_offset`, `y_offset`).
+    /// texture at (`x_offset`, `y_offset`). With `alpha_one` the copied texels' alpha is 1:
+    /// a texture whose GL format has no alpha (`glCopyTexImage2D` with `GL_RGB`).
     CopyTexSubImage {
         texture: u32,
         x_offset: u32,
@@ -421,6 +456,8 @@ pub enum Call<D = Bytes> {
         y: i32,
         width: u32,
         height: u32,
+        #[serde(default, skip_serializing_if = "is_false")]
+        alpha_one: bool,
     },
     Flush,
     Finish,
@@ -477,6 +514,10 @@ fn is_one(v: &u32) -> bool {
     *v == 1
 }
 
+fn is_zero(v: &u32) -> bool {
+    *v == 0
+}
+
 fn is_false(v: &bool) -> bool {
     !*v
 }
@@ -506,6 +547,8 @@ impl<D> Call<D> {
             TexImage { .. } => "tex_image",
             TexImageLevel { .. } => "tex_image_level",
             TexSubImage { .. } => "tex_sub_image",
+            CubeTexImage { .. } => "cube_tex_image",
+            CubeTexSubImage { .. } => "cube_tex_sub_image",
             TexParameters { .. } => "tex_parameters",
             GenerateMipmap { .. } => "generate_mipmap",
             DeleteTexture { .. } => "delete_texture",
@@ -552,6 +595,7 @@ impl<D> Call<D> {
             DisableVertexAttrib { .. } => "disable_vertex_attrib",
             BindIndexBuffer { .. } => "bind_index_buffer",
             BindTexture { .. } => "bind_texture",
+            BindCubeTexture { .. } => "bind_cube_texture",
             DrawArrays { .. } => "draw_arrays",
             DrawElements { .. } => "draw_elements",
             Clear { .. } => "clear",
@@ -595,6 +639,12 @@ impl<D> Call<D> {
                 TexImageLevel { id, level, width, height, data: f(data)? }
             }
             TexSubImage { id, x, y, width, height, data } => TexSubImage { id, x, y, width, height, data: f(data)? },
+            CubeTexImage { id, face, level, size, format, data } => {
+                CubeTexImage { id, face, level, size, format, data: data.map(&mut f).transpose()? }
+            }
+            CubeTexSubImage { id, face, x, y, width, height, data } => {
+                CubeTexSubImage { id, face, x, y, width, height, data: f(data)? }
+            }
             VertexAttribArray { index, size, component, normalized, stride, data } => {
                 VertexAttribArray { index, size, component, normalized, stride, data: f(data)? }
             }
@@ -654,14 +704,15 @@ impl<D> Call<D> {
             DisableVertexAttrib { index } => DisableVertexAttrib { index },
             BindIndexBuffer { buffer } => BindIndexBuffer { buffer },
             BindTexture { unit, texture } => BindTexture { unit, texture },
+            BindCubeTexture { unit, texture } => BindCubeTexture { unit, texture },
             DrawArrays { mode, first, count } => DrawArrays { mode, first, count },
             DrawElements { mode, count, index_type, offset } => DrawElements { mode, count, index_type, offset },
             Clear { color, depth, stencil } => Clear { color, depth, stencil },
             Invalidate { attachments } => Invalidate { attachments },
             ReadPixels { x, y, width, height } => ReadPixels { x, y, width, height },
             BlitFramebuffer { src, dst, filter } => BlitFramebuffer { src, dst, filter },
-            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height } => {
-                CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height }
+            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one } => {
+                CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one }
             }
             Flush => Flush,
             Finish => Finish,
@@ -961,6 +1012,40 @@ impl Filter {
             Filter::NearestMipmapNearest | Filter::LinearMipmapNearest => Some(Filter::Nearest),
             Filter::NearestMipmapLinear | Filter::LinearMipmapLinear => Some(Filter::Linear),
         }
+    }
+}
+
+/// A face of a cube texture, in GL's order (`GL_TEXTURE_CUBE_MAP_POSITIVE_X + index`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CubeFace {
+    PositiveX,
+    NegativeX,
+    PositiveY,
+    NegativeY,
+    PositiveZ,
+    NegativeZ,
+}
+
+impl CubeFace {
+    /// The faces in GL's order.
+    pub const ALL: [CubeFace; 6] = [
+        CubeFace::PositiveX,
+        CubeFace::NegativeX,
+        CubeFace::PositiveY,
+        CubeFace::NegativeY,
+        CubeFace::PositiveZ,
+        CubeFace::NegativeZ,
+    ];
+
+    /// Its place in GL's order, 0 to 5.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// As a trace spells it.
+    pub fn name(self) -> &'static str {
+        ["positive_x", "negative_x", "positive_y", "negative_y", "positive_z", "negative_z"][self.index()]
     }
 }
 

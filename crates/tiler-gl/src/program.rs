@@ -273,9 +273,11 @@ pub struct TextureSnapshot {
     pub width: u32,
     pub height: u32,
     texels: Texels,
+    /// Alpha reads as 1 (see [`TextureSnapshot::with_alpha_one`]).
+    alpha_one: bool,
 }
 
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 enum Texels {
     /// An image's bytes; a multisampled one reads as the mean of its samples, as the core
     /// resolves.
@@ -320,17 +322,23 @@ impl TextureSnapshot {
     /// A colour image's bytes (sample planes one after another, as the device stores them).
     pub fn color(width: u32, height: u32, format: tiler::Format, samples: u32, data: Vec<u8>) -> TextureSnapshot {
         debug_assert_eq!(data.len(), width as usize * height as usize * format.bytes_per_sample() * samples as usize);
-        TextureSnapshot { width, height, texels: Texels::Color { format, samples, data } }
+        TextureSnapshot { width, height, texels: Texels::Color { format, samples, data }, alpha_one: false }
     }
 
     /// A depth image's depths, rows top to bottom.
     pub fn depth(width: u32, height: u32, depths: Vec<f32>) -> TextureSnapshot {
-        TextureSnapshot { width, height, texels: Texels::Depth(depths) }
+        TextureSnapshot { width, height, texels: Texels::Depth(depths), alpha_one: false }
     }
 
     /// One texel of one value: what an unbound unit reads.
     pub fn constant(rgba: [f32; 4]) -> TextureSnapshot {
-        TextureSnapshot { width: 1, height: 1, texels: Texels::Constant(rgba) }
+        TextureSnapshot { width: 1, height: 1, texels: Texels::Constant(rgba), alpha_one: false }
+    }
+
+    /// The same texels with alpha read as 1: what a copy into a texture without alpha
+    /// (`glCopyTexImage2D` with `GL_RGB`) stores.
+    pub fn with_alpha_one(&self) -> TextureSnapshot {
+        TextureSnapshot { width: self.width, height: self.height, texels: self.texels.clone(), alpha_one: true }
     }
 
     fn texel(&self, x: i64, y_from_bottom: i64, state: SamplerState) -> [f32; 4] {
@@ -365,6 +373,14 @@ impl TextureSnapshot {
     /// one level and no derivatives, so it filters as GL magnifies (a level of detail of 0,
     /// what a render target read back at its own size has).
     pub fn sample(&self, s: f32, t: f32, state: SamplerState) -> [f32; 4] {
+        let mut rgba = self.sample_texels(s, t, state);
+        if self.alpha_one {
+            rgba[3] = 1.0;
+        }
+        rgba
+    }
+
+    fn sample_texels(&self, s: f32, t: f32, state: SamplerState) -> [f32; 4] {
         let (s, t) = if s.is_finite() && t.is_finite() { (s, t) } else { (0.0, 0.0) };
         // Keep coordinates in a range where the conversions below are exact enough.
         let (s, t) = (s.clamp(-65536.0, 65536.0), t.clamp(-65536.0, 65536.0));

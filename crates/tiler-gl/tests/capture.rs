@@ -660,3 +660,141 @@ fn deleted_shaders_and_a_deleted_program_live_while_attached_and_in_use_then_go(
 fn probe_points_match_llvmpipe() {
     check_probe("points");
 }
+
+#[test]
+fn probe_cube_maps_match_llvmpipe() {
+    check_probe("cube");
+}
+
+/// Level 0 of face `face` (0 = +X … 5 = −Z) of the cube map bound to the active unit:
+/// `width × height` RGBA texels of one colour; returns the call's number.
+fn cube_face(w: &mut Writer, face: u32, width: u64, height: u64, rgba: [u8; 4]) -> u64 {
+    let args = [
+        ("target", e("GL_TEXTURE_CUBE_MAP_POSITIVE_X", 0x8515 + face)),
+        ("level", W::UInt(0)),
+        ("internalformat", e("GL_RGBA", 0x1908)),
+        ("width", W::UInt(width)),
+        ("height", W::UInt(height)),
+        ("border", W::UInt(0)),
+        ("format", e("GL_RGBA", 0x1908)),
+        ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+        ("pixels", W::Blob(rgba.repeat((width * height) as usize))),
+    ];
+    w.call("glTexImage2D", &args, None, false)
+}
+
+/// A cube map (name 8, unit 1) whose faces are `sizes[face]` squares of colour
+/// `(40 · face, 0, 0)`, a 2D texture (name 4, unit 0) beside it, and a program whose vertex
+/// shader reads the cube in direction −Y and the 2D texture: returns the capture and the
+/// numbers of the face uploads.
+fn cube_capture(sizes: [(u64, u64); 6]) -> (Writer, Vec<u64>) {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    texture_rgb(&mut w, 4, 1, 1, vec![0, 200, 0, 0]);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    w.call("glActiveTexture", &[("texture", e("GL_TEXTURE1", 0x84c1))], None, false);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(8)]))], None, false);
+    let cube = e("GL_TEXTURE_CUBE_MAP", 0x8513);
+    w.call("glBindTexture", &[("target", cube.clone()), ("texture", W::UInt(8))], None, false);
+    let calls =
+        (0..6).map(|f| cube_face(&mut w, f, sizes[f as usize].0, sizes[f as usize].1, [40 * f as u8, 0, 0, 255]));
+    let calls: Vec<u64> = calls.collect();
+    w.call("glGenerateMipmap", &[("target", cube.clone())], None, false);
+    let filter = [("target", cube), ("pname", e("GL_TEXTURE_MIN_FILTER", 0x2801)), ("param", e("GL_LINEAR", 0x2601))];
+    w.call("glTexParameteri", &filter, None, false);
+    let vertex = "attribute vec2 where;\nuniform samplerCube env;\nuniform sampler2D plain;\nvarying vec4 fetched;\n\
+                  void main() { fetched = textureCube(env, vec3(0.2, -1.0, 0.3)) + texture2D(plain, vec2(0.5));\n\
+                  gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "precision mediump float;\nvarying vec4 fetched;\nvoid main() { gl_FragColor = fetched; }\n";
+    full_window_program(&mut w, vertex, fragment);
+    for (location, name, unit) in [(2, "env", 1), (3, "plain", 0)] {
+        let get = [("program", W::UInt(7)), ("name", W::Str(name))];
+        w.call("glGetUniformLocation", &get, Some(W::UInt(location)), false);
+        w.call("glUniform1i", &[("location", W::UInt(location)), ("v0", W::UInt(unit))], None, false);
+    }
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+    (w, calls)
+}
+
+#[test]
+fn a_cube_map_and_a_2d_texture_on_other_units_are_sampled_by_their_samplers() {
+    let (w, _) = cube_capture([(2, 2); 6]);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    // −Y is face 3 (red 120); the 2D texture adds green 200.
+    assert_eq!(frames[0].4, solid(4, 4, [120, 200, 0, 255]));
+}
+
+#[test]
+fn a_cube_face_of_the_wrong_size_or_not_square_is_an_error_naming_the_call() {
+    let mut sizes = [(2, 2); 6];
+    sizes[4] = (4, 4);
+    let (w, calls) = cube_capture(sizes);
+    let error = replay(&w).0.err().expect("a 4×4 face beside 2×2 ones");
+    assert_eq!(error.call(), Some(calls[4]));
+    let message = error.to_string();
+    assert!(
+        message.contains("`glTexImage2D`") && message.contains("positive_z") && message.contains("2×2"),
+        "{message}"
+    );
+    sizes[4] = (2, 1);
+    let (w, calls) = cube_capture(sizes);
+    let error = replay(&w).0.err().expect("a 2×1 face");
+    assert_eq!(error.call(), Some(calls[4]));
+    assert!(error.to_string().contains("square"), "{error}");
+}
+
+/// The window cleared with alpha 0.5, copied by `glCopyTexImage2D` with `internal_format`,
+/// then drawn with the texture's alpha in every channel: returns the frame's first pixel.
+fn copied_alpha(internal_format: (&'static str, u32)) -> [u8; 4] {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    clear(&mut w, [0.2, 0.4, 0.6, 0.5]);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(4)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(4))], None, false);
+    let copy = [
+        ("target", e("GL_TEXTURE_2D", 0x0de1)),
+        ("level", W::UInt(0)),
+        ("internalformat", e(internal_format.0, internal_format.1)),
+        ("x", W::UInt(0)),
+        ("y", W::UInt(0)),
+        ("width", W::UInt(4)),
+        ("height", W::UInt(4)),
+        ("border", W::UInt(0)),
+    ];
+    w.call("glCopyTexImage2D", &copy, None, false);
+    // A later sub-image copy into the same texture keeps its format's alpha rule.
+    let sub = [
+        ("target", e("GL_TEXTURE_2D", 0x0de1)),
+        ("level", W::UInt(0)),
+        ("xoffset", W::UInt(0)),
+        ("yoffset", W::UInt(0)),
+        ("x", W::UInt(0)),
+        ("y", W::UInt(0)),
+        ("width", W::UInt(2)),
+        ("height", W::UInt(2)),
+    ];
+    w.call("glCopyTexSubImage2D", &sub, None, false);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    let vertex = "attribute vec2 where;\nvarying vec2 uv;\nvoid main() { uv = where * 0.5 + 0.5; gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "precision mediump float;\nuniform sampler2D copied;\nvarying vec2 uv;\n\
+                    void main() { gl_FragColor = vec4(texture2D(copied, uv).a); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    frames[0].4[..4].try_into().unwrap()
+}
+
+#[test]
+fn copy_tex_image_into_gl_rgb_reads_alpha_one() {
+    assert_eq!(copied_alpha(("GL_RGB", 0x1907)), [255; 4]);
+    // GL_RGBA keeps the window's alpha, 0.5.
+    assert_eq!(copied_alpha(("GL_RGBA", 0x1908)), [128; 4]);
+}

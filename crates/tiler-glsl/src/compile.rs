@@ -2041,9 +2041,7 @@ impl<'a> Compiler<'a> {
             }
             "texture2D" | "texture2DProj" | "texture2DLod" | "texture2DProjLod" | "texture" | "textureProj"
             | "textureLod" => self.texture(name, args),
-            "textureCube" | "textureCubeLod" => {
-                self.fail(format!("{name}(): cube textures are not supported (tiler has no cube textures)"))
-            }
+            "textureCube" | "textureCubeLod" => self.texture_cube(name, args),
             "dFdx" | "dFdy" | "fwidth" => {
                 // OES_standard_derivatives.
                 arity(self, 1)?;
@@ -2079,8 +2077,9 @@ impl<'a> Compiler<'a> {
         }
         let slot = match args[0].ty {
             Type::Sampler(SamplerKind::Sampler2D) => args[0].regs[0] as u16,
-            Type::Sampler(SamplerKind::SamplerCube) => {
-                return self.fail(format!("{name}() on a samplerCube: cube textures are not supported"));
+            Type::Sampler(SamplerKind::SamplerCube) if matches!(name, "texture" | "textureLod") => {
+                // GLSL ES 3.00's `texture`/`textureLod` on a samplerCube.
+                return self.texture_cube(name, args);
             }
             _ => return self.fail(format!("{name}() needs a sampler2D, not {}", args[0].ty)),
         };
@@ -2113,6 +2112,43 @@ impl<'a> Compiler<'a> {
         };
         let dst = self.temps(4);
         self.emit(Inst::Sample { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord: [s, t], lod });
+        Ok(Value { ty: Type::vec(4), regs: dst })
+    }
+
+    /// `textureCube(samplerCube, vec3 [, bias])`, `textureCubeLod(samplerCube, vec3, lod)` (and
+    /// GLSL ES 3.00's `texture`/`textureLod` on a samplerCube): the direction need not be
+    /// normalised; a vertex shader's `textureCube` reads level 0 (`λ = 0`), as for 2D.
+    fn texture_cube(&mut self, name: &str, args: Vec<Value>) -> CResult<Value> {
+        let explicit = name.ends_with("Lod");
+        if args.len() < 2 || args.len() > 3 {
+            return self.fail(format!("{name}() takes 2 or 3 arguments"));
+        }
+        let slot = match args[0].ty {
+            Type::Sampler(SamplerKind::SamplerCube) => args[0].regs[0] as u16,
+            _ => return self.fail(format!("{name}() needs a samplerCube, not {}", args[0].ty)),
+        };
+        let direction = self.float_gen(name, args[1].clone())?;
+        if direction.regs.len() != 3 {
+            return self.fail(format!("{name}() takes a vec3 direction, not a {}", direction.ty));
+        }
+        let extra = match args.get(2) {
+            Some(v) => Some(self.float_gen(name, v.clone())?),
+            None => None,
+        };
+        if extra.as_ref().is_some_and(|v| v.ty != FLOAT) {
+            return self.fail(format!("{name}(): bias or level must be a float"));
+        }
+        let lod = match (explicit, extra.map(|v| v.regs[0]), self.stage) {
+            (true, Some(l), _) => Lod::Explicit(l),
+            (true, None, _) => return self.fail(format!("{name}() needs a level")),
+            (false, None, Stage::Fragment) => Lod::Implicit,
+            (false, Some(b), Stage::Fragment) => Lod::Bias(b),
+            (false, None, Stage::Vertex) => Lod::Explicit(self.konst(0.0)),
+            (false, Some(_), Stage::Vertex) => return self.fail(format!("{name}() with a bias in a vertex shader")),
+        };
+        let dst = self.temps(4);
+        let direction = [direction.regs[0], direction.regs[1], direction.regs[2]];
+        self.emit(Inst::SampleCube { slot, dst: [dst[0], dst[1], dst[2], dst[3]], direction, lod });
         Ok(Value { ty: Type::vec(4), regs: dst })
     }
 }

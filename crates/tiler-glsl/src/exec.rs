@@ -24,6 +24,10 @@ pub trait Env<const W: usize> {
     /// finite, deterministic coordinates).
     fn sample(&mut self, slot: usize, coord: [[f32; W]; 2], lod: LodValue<W>) -> [[f32; W]; 4];
 
+    /// Samples cube texture slot `slot` in the direction `direction` in the lanes (finite, as
+    /// `sample`'s coordinates).
+    fn sample_cube(&mut self, slot: usize, direction: [[f32; W]; 3], lod: LodValue<W>) -> [[f32; W]; 4];
+
     /// The derivative of `v` along `axis` (zero where lanes are not pixels of quads).
     fn derivative(&mut self, v: [f32; W], axis: Axis) -> [f32; W] {
         let _ = (v, axis);
@@ -276,6 +280,19 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         self.set(d, texel[c]);
                     }
                 }
+                Inst::SampleCube { slot, dst, direction, lod } => {
+                    let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
+                    let direction = direction.map(|r| finite(self.get(r)));
+                    let lod = match lod {
+                        Lod::Implicit => LodValue::Implicit,
+                        Lod::Bias(r) => LodValue::Bias(finite(self.get(*r))),
+                        Lod::Explicit(r) => LodValue::Explicit(finite(self.get(*r))),
+                    };
+                    let texel = self.env.sample_cube(*slot as usize, direction, lod);
+                    for (c, &d) in dst.iter().enumerate() {
+                        self.set(d, texel[c]);
+                    }
+                }
             }
         }
     }
@@ -417,6 +434,9 @@ mod tests {
 
     struct NoTextures;
     impl<const W: usize> Env<W> for NoTextures {
+        fn sample_cube(&mut self, _: usize, _: [[f32; W]; 3], _: LodValue<W>) -> [[f32; W]; 4] {
+            unreachable!("no textures")
+        }
         fn sample(&mut self, _: usize, _: [[f32; W]; 2], _: LodValue<W>) -> [[f32; W]; 4] {
             [[0.0; W]; 4]
         }

@@ -36,6 +36,12 @@ pub(crate) fn reads_mut(inst: &mut Inst, f: &mut impl FnMut(&mut Reg)) {
                 f(r);
             }
         }
+        Inst::SampleCube { direction, lod, .. } => {
+            direction.iter_mut().for_each(&mut *f);
+            if let crate::ir::Lod::Bias(r) | crate::ir::Lod::Explicit(r) = lod {
+                f(r);
+            }
+        }
         Inst::Derivative { src, .. } => f(src),
         _ => {}
     }
@@ -46,7 +52,7 @@ pub(crate) fn writes(inst: &Inst, f: &mut impl FnMut(Reg)) {
     match inst {
         Inst::Un(_, d, _) | Inst::Bin(_, d, _, _) | Inst::Tri(_, d, _, _, _) => f(*d),
         Inst::Store(d, _) | Inst::StoreIf(d, _, _) => f(*d),
-        Inst::Sample { dst, .. } => dst.iter().for_each(|&d| f(d)),
+        Inst::Sample { dst, .. } | Inst::SampleCube { dst, .. } => dst.iter().for_each(|&d| f(d)),
         Inst::Derivative { dst, .. } => f(*dst),
         _ => {}
     }

@@ -152,6 +152,13 @@ pub enum Inst {
         coord: [Reg; 2],
         lod: Lod,
     },
+    /// Samples cube texture slot `slot` in the direction `(x, y, z)` into four registers.
+    SampleCube {
+        slot: u16,
+        dst: [Reg; 4],
+        direction: [Reg; 3],
+        lod: Lod,
+    },
 }
 
 /// Instructions in `code`, nested blocks included.

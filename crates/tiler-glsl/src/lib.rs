@@ -11,13 +11,15 @@
 //! # Language
 //!
 //! GLSL ES 1.00: `attribute`/`varying`/`uniform`, precision qualifiers (parsed; all float
-//! math is f32), `float`/`int`/`bool` and their vectors, `mat2`–`mat4`, `sampler2D`, structs,
+//! math is f32), `float`/`int`/`bool` and their vectors, `mat2`–`mat4`, `sampler2D`,
+//! `samplerCube`, structs,
 //! arrays (constant sizes; dynamic indices allowed), `const`, user functions with
 //! `in`/`out`/`inout` parameters (inlined at each call), `if`/`else`, `for`/`while`/
 //! `do`-`while` with `break`/`continue`/`return`/`discard` in divergent control flow, and the
 //! ES 1.00 built-in functions: angle and trigonometry, exponentials, `abs` … `smoothstep`,
 //! the geometric functions, `matrixCompMult`, the vector relational functions, `texture2D`
-//! (with a bias), `texture2DProj`, `texture2DLod`/`texture2DProjLod`, and
+//! (with a bias), `texture2DProj`, `texture2DLod`/`texture2DProjLod`, `textureCube` (with a
+//! bias), `textureCubeLod` (core cube textures, in both stages), and
 //! `OES_standard_derivatives`' `dFdx`/`dFdy`/`fwidth` (fine derivatives within each 2×2
 //! quad, y up as in GL). Built-in variables:
 //! `gl_Position`, `gl_PointSize` and `gl_PointCoord` (each a hidden varying when named: the
@@ -27,8 +29,7 @@
 //! cheap: `in`/`out` (outputs with `layout(location)`), `texture`/`textureProj`/`textureLod`,
 //! `trunc`, `round`, `transpose`.
 //!
-//! Not supported (a compile error naming the shader and line): `samplerCube`/`textureCube`
-//! (tiler has no cube textures), `switch`, bit operations and `%`,
+//! Not supported (a compile error naming the shader and line): `switch`, bit operations and `%`,
 //! interface blocks. Simplifications: the operands of `&&`, `||` and `?:` are all evaluated
 //! and then selected per lane (a side effect in the untaken one happens); ints mix with
 //! floats (promoted, as desktop GLSL allows); ints are held in f32 (exact to 2²⁴, beyond ES

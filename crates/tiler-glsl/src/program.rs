@@ -14,7 +14,7 @@ use tiler::{
 use crate::compile::{StageCode, compile};
 use crate::exec::{Env, LodValue, run};
 use crate::ir::{Axis, BANK, Reg};
-use crate::types::Type;
+use crate::types::{SamplerKind, Type};
 use crate::{Error, Stage};
 
 /// A vertex attribute of a linked program.
@@ -215,6 +215,17 @@ impl CompiledProgram {
         self.uniforms
             .iter()
             .filter(|u| matches!(u.ty, Type::Sampler(_)))
+            .flat_map(|u| (0..u.array_size).map(move |k| (u, k)))
+            .map(|(u, k)| (u.name.clone(), uniforms.values[u.offset + k] as u32))
+            .collect()
+    }
+
+    /// [`CompiledProgram::sampler_units`] of the samplers of one kind (a unit holds a 2D and a
+    /// cube texture, each read by its kind of sampler).
+    pub fn sampler_units_of(&self, kind: SamplerKind, uniforms: &UniformValues) -> Vec<(String, u32)> {
+        self.uniforms
+            .iter()
+            .filter(|u| u.ty == Type::Sampler(kind))
             .flat_map(|u| (0..u.array_size).map(move |k| (u, k)))
             .map(|(u, k)| (u.name.clone(), uniforms.values[u.offset + k] as u32))
             .collect()
@@ -523,6 +534,31 @@ fn lookup_lanes<const W: usize>(
     out
 }
 
+/// A cube texture's lanes at explicit levels of detail (`None`: level 0), through the core's
+/// own filter arithmetic, not counted in the ledger. Anything but a core cube texture (an
+/// unbound unit, a 2D or caller's texture) reads opaque black, as an incomplete texture does.
+fn cube_lookup_lanes<const W: usize>(
+    binding: Option<&TextureBinding>,
+    direction: [[f32; W]; 3],
+    lod: Option<[f32; W]>,
+    lanes: usize,
+) -> [[f32; W]; 4] {
+    let mut out = [[0.0; W]; 4];
+    for lane in 0..lanes {
+        let texel = match binding {
+            Some(TextureBinding::Core(texture, sampler)) if texture.is_cube() => {
+                let lambda = lod.map_or(0.0, |l| l[lane]);
+                texture.sample_cube_lod(sampler, direction.map(|c| c[lane]), lambda)
+            }
+            _ => UNBOUND,
+        };
+        for c in 0..4 {
+            out[c][lane] = texel[c];
+        }
+    }
+    out
+}
+
 struct VertexEnv<'a> {
     slots: &'a [Option<TextureBinding>],
     /// The lanes holding vertices of the batch (the first ones).
@@ -541,6 +577,19 @@ impl Env<VERTEX_LANES> for VertexEnv<'_> {
             _ => None,
         };
         lookup_lanes(self.slots[slot].as_ref(), coord, lod, self.lanes)
+    }
+
+    fn sample_cube(
+        &mut self,
+        slot: usize,
+        direction: [[f32; VERTEX_LANES]; 3],
+        lod: LodValue<VERTEX_LANES>,
+    ) -> [[f32; VERTEX_LANES]; 4] {
+        let lod = match lod {
+            LodValue::Explicit(l) => Some(l),
+            _ => None,
+        };
+        cube_lookup_lanes(self.slots[slot].as_ref(), direction, lod, self.lanes)
     }
 }
 
@@ -574,6 +623,25 @@ impl Env<8> for FragmentEnv<'_, '_> {
             }
             (binding, LodValue::Explicit(l)) => lookup_lanes(binding.as_ref(), coord, Some(l), 8),
             (binding, _) => lookup_lanes(binding.as_ref(), coord, None, 8),
+        }
+    }
+
+    /// Directions are GL's: a core cube texture's faces keep GL's rows (`t = 0` first), so
+    /// nothing is flipped.
+    fn sample_cube(&mut self, slot: usize, direction: [[f32; 8]; 3], lod: LodValue<8>) -> [[f32; 8]; 4] {
+        match (&self.slots[slot], lod) {
+            (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit | LodValue::Bias(_))
+                if texture.is_cube() =>
+            {
+                let mut sampler = *sampler;
+                if let LodValue::Bias(b) = lod {
+                    // As for 2D: the group's first lane's bias stands for all.
+                    sampler.lod_bias += b[0];
+                }
+                self.frag.sample_cube(texture, &sampler, direction.map(F32x8)).map(|c| c.0)
+            }
+            (binding, LodValue::Explicit(l)) => cube_lookup_lanes(binding.as_ref(), direction, Some(l), 8),
+            (binding, _) => cube_lookup_lanes(binding.as_ref(), direction, None, 8),
         }
     }
 }

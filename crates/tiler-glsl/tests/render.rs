@@ -464,13 +464,23 @@ fn compile_errors_name_the_shader_and_line() {
     let fs_syntax = "#version 100\nvoid main() {\n  gl_FragColor = vec4(1.0) +;\n}";
     let e = CompiledProgram::new(vs_ok, fs_syntax, &[]).unwrap_err();
     assert!(matches!(e, Error::Compile { stage: Stage::Fragment, line: 3, .. }), "{e}");
-    // Cube textures are refused clearly.
-    let fs_cube = "uniform samplerCube env;\nvoid main() {\n  gl_FragColor = textureCube(env, vec3(1.0));\n}";
+    // Cube lookups with the wrong sampler or direction are refused clearly.
+    let fs_cube = "uniform sampler2D env;\nvoid main() {\n  gl_FragColor = textureCube(env, vec3(1.0));\n}";
     let e = CompiledProgram::new(vs_ok, fs_cube, &[]).unwrap_err();
     assert!(
-        matches!(e, Error::Compile { stage: Stage::Fragment, line: 3, .. }) && e.to_string().contains("cube"),
+        matches!(e, Error::Compile { stage: Stage::Fragment, line: 3, .. }) && e.to_string().contains("samplerCube"),
         "{e}"
     );
+    let fs_cube = "uniform samplerCube env;\nvoid main() {\n  gl_FragColor = textureCube(env, vec2(1.0));\n}";
+    let e = CompiledProgram::new(vs_ok, fs_cube, &[]).unwrap_err();
+    assert!(e.to_string().contains("vec3 direction"), "{e}");
+    let fs_cube = "uniform samplerCube env;\nvoid main() {\n  gl_FragColor = texture2D(env, vec2(1.0));\n}";
+    let e = CompiledProgram::new(vs_ok, fs_cube, &[]).unwrap_err();
+    assert!(e.to_string().contains("needs a sampler2D"), "{e}");
+    let vs_bias = "attribute vec4 p;\nuniform samplerCube env;\nvarying vec4 c;\n\
+                   void main() { c = textureCube(env, p.xyz, 1.0); gl_Position = p; }";
+    let e = CompiledProgram::new(vs_bias, fs_ok, &[]).unwrap_err();
+    assert!(e.to_string().contains("bias in a vertex shader"), "{e}");
     // GL_ES is predefined.
     let fs_es = "#ifdef GL_ES\nprecision mediump float;\n#else\n#error not ES\n#endif\nvoid main() { gl_FragColor = vec4(1.0); }";
     CompiledProgram::new(vs_ok, fs_es, &[]).unwrap();
@@ -669,6 +679,99 @@ void main() {
     let bottom_left = &image[((HEIGHT - 1) * WIDTH * 4) as usize..][..4];
     let unorm = |x: f32| (x * 255.0).round() as u8;
     assert_eq!(bottom_left, &[unorm(0.25 / 40.0), unorm(0.25 / 24.0), unorm(0.5), 255]);
+}
+
+/// A 16×16 cube whose face `i` has texel `(x, y)` = `(16 x, 16 y, 40 i, 255)`, mip-mapped.
+fn cube_texture() -> Arc<Texture> {
+    let faces: Vec<Vec<u8>> = (0..6u32)
+        .map(|i| (0..256u32).flat_map(|p| [(p % 16 * 16) as u8, (p / 16 * 16) as u8, (40 * i) as u8, 255]).collect())
+        .collect();
+    let faces: [&[u8]; 6] = std::array::from_fn(|i| faces[i].as_slice());
+    Arc::new(Texture::cube_from_rgba8(16, faces, ColorSpace::Linear, MipChain::Box).unwrap())
+}
+
+#[test]
+fn texture_cube_matches_native_with_the_same_traffic() {
+    // Directions sweeping several faces (x from −1 to 1 across the window, z from the
+    // varying), sampled with a bias through a samplerCube uniform on unit 1 beside a 2D
+    // texture on unit 0: the same pixels and texture bytes as a Rust shader calling the core.
+    const FS: &str = "
+precision mediump float;
+uniform sampler2D plain;
+uniform samplerCube env;
+uniform float bias;
+varying vec2 uv;
+void main() {
+    vec3 d = vec3(uv.x * 2.0 - 1.0, 0.3, uv.y * 3.0 - 1.5);
+    gl_FragColor = textureCube(env, d, bias) * 0.5 + texture2D(plain, uv) * 0.5;
+}";
+    struct Native {
+        cube: Arc<Texture>,
+        flat: Arc<Texture>,
+        sampler: Sampler,
+    }
+    impl FragmentShader for Native {
+        fn shade(&self, frag: &mut Fragments<'_>) {
+            let [u, v] = frag.smooth_n::<2>(0);
+            let d = [u * 2.0 - F32x8::ONE, F32x8::splat(0.3), v * 3.0 - F32x8::splat(1.5)];
+            let biased = Sampler { lod_bias: 0.75, ..self.sampler };
+            let cube = frag.sample_cube(&self.cube, &biased, d);
+            let flat = frag.sample(&self.flat, &self.sampler, [u, F32x8::ONE - v]);
+            frag.set_color(0, std::array::from_fn(|c| cube[c] * 0.5 + flat[c] * 0.5));
+        }
+    }
+    let (cube, flat, sampler) = (cube_texture(), checker_texture(), Sampler::TRILINEAR_REPEAT);
+    let program = glsl(PASS_VS, FS);
+    let mut uniforms = program.new_uniform_values();
+    program.set_uniform(&mut uniforms, program.uniform_location("env").unwrap(), &[1.0]).unwrap();
+    program.set_uniform(&mut uniforms, program.uniform_location("bias").unwrap(), &[0.75]).unwrap();
+    let textures =
+        [Some(TextureBinding::Core(flat.clone(), sampler)), Some(TextureBinding::Core(cube.clone(), sampler))];
+    let (a, ra) = render(&glsl_pipeline(&program, &uniforms, &textures));
+    let (b, rb) = render(&Pipeline::new(PassVs, Native { cube, flat, sampler }, native_desc()).unwrap());
+    assert_same(&a, &b, 40);
+    assert_eq!(ra.ledger, rb.ledger, "texture traffic differs");
+    // Several faces show: their blue channels (40 i, halved) differ.
+    let blues: std::collections::BTreeSet<u8> = a.chunks_exact(4).map(|p| p[2] / 16).collect();
+    assert!(blues.len() >= 3, "{blues:?}");
+}
+
+#[test]
+fn vertex_shaders_fetch_cube_textures_at_explicit_levels() {
+    const VS: &str = "
+attribute vec4 position;
+uniform samplerCube env;
+varying vec4 base;
+varying vec4 level1;
+void main() {
+    base = textureCube(env, vec3(-2.0, 1.0, 0.5));
+    level1 = textureCubeLod(env, vec3(0.1, -1.0, 0.1), 1.0);
+    gl_Position = position;
+}";
+    const FS: &str = "precision mediump float;\nvarying vec4 base;\nvarying vec4 level1;\n\
+                      void main() { gl_FragColor = base + level1; }";
+    let program = glsl(VS, FS);
+    let uniforms = program.new_uniform_values();
+    let cube = cube_texture();
+    let textures = [Some(TextureBinding::Core(cube.clone(), Sampler::NEAREST_REPEAT))];
+    let (vs, _) = tiler_glsl::shaders(&program, &uniforms, &textures, HEIGHT);
+    let input = VertexInput { attributes: [Vec4::ONE; tiler::MAX_VERTEX_ATTRIBUTES], vertex_index: 0 };
+    let mut out = VertexOutput::default();
+    vs.shade(&input, &mut out);
+    // −X: sc = +rz = 0.5, tc = −ry = −1, |ma| = 2: s = 0.625, t = 0.25 → texel (10, 4) of face 1.
+    assert_eq!(&out.varyings[..4], &[160.0 / 255.0, 64.0 / 255.0, 40.0 / 255.0, 1.0]);
+    // −Y: sc = rx, tc = −rz: s = 0.55, t = 0.45 on level 1 (8×8, nearest): texel (4, 3).
+    let nearest_mip = Sampler { mipmap: tiler::MipmapMode::Nearest, ..Sampler::NEAREST_REPEAT };
+    let textures = [Some(TextureBinding::Core(cube.clone(), nearest_mip))];
+    let (vs, _) = tiler_glsl::shaders(&program, &uniforms, &textures, HEIGHT);
+    vs.shade(&input, &mut out);
+    let texel = cube.face_texel(tiler::CubeFace::NegativeY, 1, 4, 3);
+    assert_eq!(&out.varyings[4..8], &texel.map(|c| c as f32 / 255.0));
+    // A 2D texture on a samplerCube's unit reads opaque black, as an incomplete texture.
+    let textures = [Some(TextureBinding::Core(checker_texture(), Sampler::NEAREST_REPEAT))];
+    let (vs, _) = tiler_glsl::shaders(&program, &uniforms, &textures, HEIGHT);
+    vs.shade(&input, &mut out);
+    assert_eq!(&out.varyings[..4], &[0.0, 0.0, 0.0, 1.0]);
 }
 
 #[test]

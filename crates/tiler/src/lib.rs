@@ -121,6 +121,9 @@ pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
 pub use pass::{Draw, RenderPass};
 pub use pixel::Pipeline;
 pub use shade::fragments::{FragmentShader, Fragments};
-pub use shade::texture::{ColorSpace, Filter, MipChain, MipmapMode, Sampler, Texture, Wrap};
+pub use shade::texture::{
+    ColorSpace, CubeFace, Filter, MAX_CUBE_DIMENSION, MipChain, MipmapMode, Sampler, Texture, Wrap,
+    cube_face_coordinates,
+};
 pub use shade::texture_cache::TextureCacheConfig;
 pub use simd::{F32x8, LaneMask, SimdLevel, SimdSupport, Vec4x8};

@@ -1,6 +1,8 @@
 //! GL ES 2.0 calls of a capture → [`Call`]s of a [`Context`]; see the module docs of
 //! [`crate::capture`] for the rules.
 
+mod cube;
+
 use std::collections::HashMap;
 
 use tiler::{BlendFactor, BlendOp, CompareOp, StencilOp};
@@ -45,6 +47,11 @@ struct Texture {
     min: u32,
     mag: u32,
     wrap: [u32; 2],
+    /// Bound to `GL_TEXTURE_CUBE_MAP` (its target from then on).
+    cube: bool,
+    /// Its GL format has no alpha (`glCopyTexImage2D` with `GL_RGB`): copies into it get
+    /// alpha 1.
+    opaque: bool,
 }
 
 impl Default for Texture {
@@ -56,6 +63,8 @@ impl Default for Texture {
             min: GL_NEAREST_MIPMAP_LINEAR,
             mag: GL_LINEAR,
             wrap: [GL_REPEAT; 2],
+            cube: false,
+            opaque: false,
         }
     }
 }
@@ -150,6 +159,8 @@ impl Objects {
 struct Bindings {
     active_unit: u32,
     textures: [u32; MAX_TEXTURE_UNITS as usize],
+    /// Each unit's `GL_TEXTURE_CUBE_MAP` binding.
+    cube_textures: [u32; MAX_TEXTURE_UNITS as usize],
     array_buffer: u32,
     element_buffer: u32,
     renderbuffer: u32,
@@ -167,6 +178,7 @@ impl Default for Bindings {
         Bindings {
             active_unit: 0,
             textures: [0; MAX_TEXTURE_UNITS as usize],
+            cube_textures: [0; MAX_TEXTURE_UNITS as usize],
             array_buffer: 0,
             element_buffer: 0,
             renderbuffer: 0,
@@ -300,6 +312,9 @@ impl Translator {
 
     fn command(&mut self, command: &Command, fake: bool) -> Fallible {
         use Command as C;
+        if self.cube_command(command)? {
+            return Ok(());
+        }
         match command {
             C::Ignored { .. } => {}
 
@@ -520,7 +535,7 @@ impl Translator {
                     if let Some(Texture { id: Some(id), .. }) = self.objects()?.textures.remove(&name) {
                         self.emit(Call::DeleteTexture { id })?;
                     }
-                    for bound in &mut self.bindings.textures {
+                    for bound in self.bindings.textures.iter_mut().chain(&mut self.bindings.cube_textures) {
                         if *bound == name {
                             *bound = 0;
                         }
@@ -539,12 +554,16 @@ impl Translator {
                     return Err(format!("texture target {target:#06x} is not supported (2D only)"));
                 }
                 let unit = self.bindings.active_unit;
-                self.bindings.textures[unit as usize] = *texture;
                 let id = if *texture == 0 {
                     0
                 } else {
-                    self.objects()?.textures.entry(*texture).or_default().id.unwrap_or(0)
+                    let t = self.objects()?.textures.entry(*texture).or_default();
+                    if t.cube {
+                        return Err(format!("texture {texture} is a cube map: binding it as 2D is a GL error"));
+                    }
+                    t.id.unwrap_or(0)
                 };
+                self.bindings.textures[unit as usize] = *texture;
                 self.emit(Call::BindTexture { unit, texture: id })?;
             }
             C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels }
@@ -589,6 +608,7 @@ impl Translator {
                 let t = self.objects()?.textures.get_mut(&name).expect("inserted above");
                 t.id = Some(id);
                 t.upload = Some(upload);
+                t.opaque = matches!(*internal_format, texels::GL_RGB | texels::GL_LUMINANCE | 0x8051 | 0x8d62);
                 t.size = (width, height);
                 self.update_sampler(name)?;
             }
@@ -631,15 +651,15 @@ impl Translator {
                 self.update_sampler(name)?;
             }
             C::TexParameter { target, pname, params } => {
-                if *target != GL_TEXTURE_2D {
-                    return Err(format!("texture target {target:#06x} is not supported (2D only)"));
+                if ![GL_TEXTURE_2D, cube::GL_TEXTURE_CUBE_MAP].contains(target) {
+                    return Err(format!("texture target {target:#06x} is not supported (2D and cube maps only)"));
                 }
                 let value = match params {
                     Params::Int(v) if v.len() == 1 => v[0] as u32,
                     Params::Float(v) if v.len() == 1 && v[0].fract() == 0.0 && v[0] >= 0.0 => v[0] as u32,
                     _ => return Err(format!("parameter {pname:#06x}: {params:?} is not a single GL enum")),
                 };
-                let name = self.bound_texture()?;
+                let name = if *target == GL_TEXTURE_2D { self.bound_texture()? } else { self.bound_cube()? };
                 let t = self.objects()?.textures.entry(name).or_default();
                 match *pname {
                     0x2801 => t.min = value,
@@ -668,11 +688,12 @@ impl Translator {
                 if *border != 0 {
                     return Err(format!("border {border} must be 0"));
                 }
-                if *internal_format != texels::GL_RGBA {
-                    // GL_RGB would need the copy's alpha forced to 1, which the context's copy
-                    // does not do.
-                    return Err(format!("copying into internal format {internal_format:#06x}: only GL_RGBA"));
-                }
+                // GL_RGB: a texture whose alpha reads 1, so the copy's alpha is 1.
+                let opaque = match *internal_format {
+                    texels::GL_RGBA => false,
+                    texels::GL_RGB => true,
+                    f => return Err(format!("copying into internal format {f:#06x}: only GL_RGBA and GL_RGB")),
+                };
                 let (width, height) = size2(*width, *height)?;
                 let upload = Upload::new(texels::GL_RGBA, texels::GL_RGBA, texels::GL_UNSIGNED_BYTE)?;
                 let format = upload.format;
@@ -695,9 +716,12 @@ impl Translator {
                 t.id = Some(id);
                 t.upload = Some(upload);
                 t.size = (width, height);
+                t.opaque = opaque;
                 self.update_sampler(name)?;
-                let (x, y) = (*x, *y);
-                self.emit(Call::CopyTexSubImage { texture: id, x_offset: 0, y_offset: 0, x, y, width, height })?;
+                let (x, y, alpha_one) = (*x, *y, opaque);
+                let copy =
+                    Call::CopyTexSubImage { texture: id, x_offset: 0, y_offset: 0, x, y, width, height, alpha_one };
+                self.emit(copy)?;
             }
             C::CopyTexSubImage2D { target, level, x_offset, y_offset, x, y, width, height } => {
                 check_2d_level0(*target, *level)?;
@@ -705,7 +729,9 @@ impl Translator {
                 let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
                 let (x_offset, y_offset) = size2(*x_offset, *y_offset)?;
                 let (width, height) = size2(*width, *height)?;
-                self.emit(Call::CopyTexSubImage { texture: id, x_offset, y_offset, x: *x, y: *y, width, height })?;
+                let alpha_one = self.objects()?.textures.get(&name).is_some_and(|t| t.opaque);
+                let (x, y) = (*x, *y);
+                self.emit(Call::CopyTexSubImage { texture: id, x_offset, y_offset, x, y, width, height, alpha_one })?;
             }
 
             // ---- framebuffers and renderbuffers ----------------------------------------------
@@ -1149,6 +1175,7 @@ impl Translator {
         }
         for unit in 0..MAX_TEXTURE_UNITS {
             calls.push(Call::BindTexture { unit, texture: 0 });
+            calls.push(Call::BindCubeTexture { unit, texture: 0 });
         }
         for index in 0..MAX_VERTEX_ATTRIBS {
             calls.push(Call::DisableVertexAttrib { index });

@@ -41,6 +41,8 @@ pub(crate) enum DrawSource {
         tex: [f32; 4],
         sampler: SamplerState,
         read_bytes: u64,
+        /// The texels' alpha is replaced by 1 (a copy into a texture without alpha).
+        alpha_one: bool,
     },
 }
 
@@ -437,7 +439,7 @@ impl Context {
 
     /// Records a textured rectangle (a blit or a copy) into the open pass.
     pub(crate) fn push_rectangle(&mut self, rect: TexturedRect) -> Fallible {
-        let TexturedRect { kind, image, dst, ndc, tex, filter, read_bytes, scissor } = rect;
+        let TexturedRect { kind, image, dst, ndc, tex, filter, read_bytes, scissor, alpha_one } = rect;
         let here = self.here;
         let pass = self.ensure_pass()?;
         let (width, height) = (pass.targets.width, pass.targets.height);
@@ -463,6 +465,7 @@ impl Context {
                     tex,
                     sampler: SamplerState::new(filter, Wrap::ClampToEdge),
                     read_bytes,
+                    alpha_one,
                 },
                 desc,
                 vertex_buffers: Vec::new(),
@@ -497,6 +500,8 @@ pub(crate) struct TexturedRect {
     /// Source bytes read, counted as `texture_fetch`.
     pub read_bytes: u64,
     pub scissor: Option<Rect>,
+    /// The texels drawn get alpha 1 (a copy into a texture whose format has no alpha).
+    pub alpha_one: bool,
 }
 
 /// GL's colour mask as tiler's write mask.

@@ -320,6 +320,7 @@ impl Context {
             filter,
             read_bytes,
             scissor,
+            alpha_one: false,
         })?;
         self.sampled(image, self.here.frame);
         Ok(())
@@ -327,13 +328,14 @@ impl Context {
 
     /// `glCopyTexSubImage2D`: renders a pass into the texture, drawing the read framebuffer's
     /// rectangle into it. The pass loads the texture only when the copy covers part of it.
+    /// `alpha_one`: the texels copied get alpha 1 (a texture without alpha).
     pub(crate) fn copy_tex_sub_image(
         &mut self,
         texture: u32,
-        x_offset: u32,
-        y_offset: u32,
+        [x_offset, y_offset]: [u32; 2],
         [x, y]: [i32; 2],
         [width, height]: [u32; 2],
+        alpha_one: bool,
     ) -> Fallible {
         self.outside_explicit_pass("copy_tex_sub_image")?;
         let read = self.read_framebuffer;
@@ -451,6 +453,7 @@ impl Context {
                 filter: Filter::Nearest,
                 read_bytes,
                 scissor: None,
+                alpha_one,
             })
             .and_then(|()| {
                 self.sampled(src_image, here.frame);

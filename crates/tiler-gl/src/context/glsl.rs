@@ -22,7 +22,9 @@ use std::sync::Arc;
 
 use glam::Vec4;
 use tiler::{ImageId, Pipeline, PipelineDesc, VertexInput, VertexOutput, VertexShader};
-use tiler_glsl::{CompiledProgram, GlslVertexShader, Scalar, TextureBinding, TextureSource, Type, UniformValues};
+use tiler_glsl::{
+    CompiledProgram, GlslVertexShader, SamplerKind, Scalar, TextureBinding, TextureSource, Type, UniformValues,
+};
 
 use super::{Context, Fallible, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS, ProgramObject};
 use crate::call::{GlslSource, ProgramKind, UniformValue};
@@ -154,8 +156,14 @@ pub(crate) enum ProgramDraw {
         uniforms: UniformValues,
         /// Disabled attribute locations the program reads, and their generic values.
         generic: Vec<(u32, [f32; 4])>,
+        /// The units `samplerCube` uniforms read and their cube textures as they were at the
+        /// draw (`None`: incomplete).
+        cubes: Vec<(u32, Option<CoreCube>)>,
     },
 }
+
+/// A cube texture as the core samples it.
+pub(crate) type CoreCube = (Arc<tiler::Texture>, tiler::Sampler);
 
 impl ProgramDraw {
     /// The built-in program, if it is one.
@@ -243,7 +251,7 @@ impl Context {
                     }
                 }
                 let mut textures: Vec<SampledTexture> = Vec::new();
-                for (name, unit) in p.compiled.sampler_units(&p.uniforms) {
+                for (name, unit) in p.compiled.sampler_units_of(SamplerKind::Sampler2D, &p.uniforms) {
                     if textures.iter().any(|t| t.unit == unit) {
                         continue;
                     }
@@ -258,12 +266,25 @@ impl Context {
                     self.check_has_memory(image, &format!("{label}: sampler '{name}' reads texture {texture}"))?;
                     textures.push(SampledTexture { unit, image, sampler, mipmaps });
                 }
+                let mut cubes: Vec<(u32, Option<CoreCube>)> = Vec::new();
+                for (name, unit) in p.compiled.sampler_units_of(SamplerKind::SamplerCube, &p.uniforms) {
+                    if cubes.iter().any(|(u, _)| *u == unit) {
+                        continue;
+                    }
+                    if textures.iter().any(|t| t.unit == unit) {
+                        return Err(format!(
+                            "{label}: samplerCube '{name}' and a sampler2D both read texture unit {unit} (a GL error)"
+                        ));
+                    }
+                    cubes.push((unit, self.cube_binding(unit, &format!("{label}: sampler '{name}'"))?));
+                }
+                let (program, uniforms) = (p.compiled.clone(), p.uniforms.clone());
                 Ok(DrawProgram {
                     label,
                     attributes,
                     textures,
                     inputs: 0,
-                    source: ProgramDraw::Glsl { program: p.compiled.clone(), uniforms: p.uniforms.clone(), generic },
+                    source: ProgramDraw::Glsl { program, uniforms, generic, cubes },
                 })
             }
         }
@@ -291,7 +312,7 @@ impl Context {
                 };
                 Ok(program_pipeline(*kind, uniforms, texture, desc))
             }
-            ProgramDraw::Glsl { program, uniforms, generic } => {
+            ProgramDraw::Glsl { program, uniforms, generic, cubes } => {
                 let mut units: Vec<Option<TextureBinding>> = vec![None; MAX_TEXTURE_UNITS as usize];
                 for t in textures {
                     units[t.unit as usize] =
@@ -301,6 +322,11 @@ impl Context {
                                 TextureBinding::Custom(Arc::new(SnapshotSource { snapshot, state }))
                             }
                         });
+                }
+                for (unit, cube) in cubes {
+                    // An incomplete cube (`None`) reads (0, 0, 0, 1), as an unbound unit does.
+                    units[*unit as usize] =
+                        cube.clone().map(|(texture, sampler)| TextureBinding::Core(texture, sampler));
                 }
                 desc.varyings = program.pipeline_varyings();
                 if desc.topology == tiler::Topology::PointList {

@@ -10,6 +10,7 @@
 //! The context owns its [`Device`]; there are no globals. Every call goes through
 //! [`Context::call`], which checks it, applies it, and records it when recording is on.
 
+mod cube;
 mod draw;
 mod explicit;
 mod frames;
@@ -343,6 +344,8 @@ pub(crate) struct GlState {
     pub attribs: Vec<Attrib>,
     pub index_buffer: u32,
     pub textures: [u32; MAX_TEXTURE_UNITS as usize],
+    /// Each unit's cube texture (`bind_cube_texture`), read by `samplerCube` uniforms.
+    pub cube_textures: [u32; MAX_TEXTURE_UNITS as usize],
     pub program: u32,
 }
 
@@ -379,6 +382,7 @@ impl GlState {
             ],
             index_buffer: 0,
             textures: [0; MAX_TEXTURE_UNITS as usize],
+            cube_textures: [0; MAX_TEXTURE_UNITS as usize],
             program: 0,
         }
     }
@@ -409,6 +413,7 @@ pub struct Context {
     pub(crate) config: ContextConfig,
     pub(crate) buffers: BTreeMap<u32, BufferObject>,
     pub(crate) textures: BTreeMap<u32, TextureObject>,
+    pub(crate) cubes: BTreeMap<u32, cube::CubeObject>,
     pub(crate) renderbuffers: BTreeMap<u32, RenderbufferObject>,
     pub(crate) framebuffers: BTreeMap<u32, FramebufferObject>,
     pub(crate) programs: BTreeMap<u32, ProgramObject>,
@@ -418,6 +423,7 @@ pub struct Context {
     pub(crate) images: HashMap<ImageId, ImageInfo>,
     buffer_pool: HashMap<u64, Vec<BufferId>>,
     image_pool: HashMap<ImageDesc, Vec<ImageId>>,
+    /// Bytes of images, buffers and cube textures' texels, against `memory_limit`.
     allocated: u64,
     pub(crate) state: GlState,
     pub(crate) draw_framebuffer: u32,
@@ -510,6 +516,7 @@ impl Context {
             device,
             buffers: BTreeMap::new(),
             textures: BTreeMap::new(),
+            cubes: BTreeMap::new(),
             renderbuffers: BTreeMap::new(),
             framebuffers,
             programs: BTreeMap::new(),
@@ -638,7 +645,7 @@ impl Context {
             BufferSubData { id, offset, data } => self.buffer_sub_data(id, offset, data)?,
             DeleteBuffer { id } => self.delete_buffer(id)?,
             CreateTexture { id, width, height, format, data, transient } => {
-                if id == 0 || self.textures.contains_key(&id) {
+                if id == 0 || self.textures.contains_key(&id) || self.cubes.contains_key(&id) {
                     return Err(name_taken("texture", id));
                 }
                 if transient && data.is_some() {
@@ -651,6 +658,12 @@ impl Context {
                 self.texture_storage(id, width, height, format, data, false)?;
             }
             TexSubImage { id, x, y, width, height, data } => self.tex_sub_image(id, x, y, width, height, data)?,
+            CubeTexImage { id, face, level, size, format, data } => {
+                self.cube_tex_image(id, face, level, size, format, data)?;
+            }
+            CubeTexSubImage { id, face, x, y, width, height, data } => {
+                self.cube_tex_sub_image(id, face, x, y, width, height, data)?;
+            }
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
                 if mag_filter.is_some_and(|f| f.mipmap().is_some()) {
                     return Err(format!("magnification filter {mag_filter:?} is not nearest or linear"));
@@ -658,8 +671,13 @@ impl Context {
                 let mut sampler = SamplerState::new(filter, wrap);
                 sampler.mag_filter = mag_filter.unwrap_or(sampler.mag_filter);
                 sampler.wrap_t = wrap_t.unwrap_or(wrap);
-                self.texture_mut(id)?.sampler = sampler;
+                if self.cubes.contains_key(&id) {
+                    self.cube_mut(id)?.sampler = sampler;
+                } else {
+                    self.texture_mut(id)?.sampler = sampler;
+                }
             }
+            GenerateMipmap { id } if self.cubes.contains_key(&id) => self.generate_cube_mipmap(id)?,
             GenerateMipmap { id } => {
                 let image = self.texture(id)?.image;
                 self.check_has_memory(image, &format!("generate_mipmap of texture {id}"))?;
@@ -676,6 +694,7 @@ impl Context {
                 t.levels.clear();
             }
             TexImageLevel { id, level, width, height, data } => self.tex_image_level(id, level, width, height, data)?,
+            DeleteTexture { id } if self.cubes.contains_key(&id) => self.delete_cube(id),
             DeleteTexture { id } => self.delete_texture(id)?,
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
                 if id == 0 || self.renderbuffers.contains_key(&id) {
@@ -862,6 +881,7 @@ impl Context {
                 }
                 self.state.textures[unit as usize] = texture;
             }
+            BindCubeTexture { unit, texture } => self.bind_cube_texture(unit, texture)?,
             DrawArrays { mode, first, count } => self.draw(mode, first, count, None)?,
             DrawElements { mode, count, index_type, offset } => {
                 self.draw(mode, 0, count, Some((index_type, offset)))?;
@@ -870,8 +890,8 @@ impl Context {
             Invalidate { attachments } => self.invalidate(&attachments)?,
             ReadPixels { x, y, width, height } => return self.read_pixels(x, y, width, height).map(Output::Pixels),
             BlitFramebuffer { src, dst, filter } => self.blit(src, dst, filter)?,
-            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height } => {
-                self.copy_tex_sub_image(texture, x_offset, y_offset, [x, y], [width, height])?;
+            CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one } => {
+                self.copy_tex_sub_image(texture, [x_offset, y_offset], [x, y], [width, height], alpha_one)?;
             }
             Flush => self.flush_open_pass(crate::report::FlushCause::Flush)?,
             Finish => self.finish()?,

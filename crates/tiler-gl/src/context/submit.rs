@@ -114,9 +114,12 @@ impl Context {
                     d.desc.clone(),
                 )?,
                 DrawSource::Clear { color, depth, targets } => clear_pipeline(*color, *depth, *targets, d.desc.clone()),
-                DrawSource::Rectangle { image, ndc, tex, sampler, read_bytes } => {
+                DrawSource::Rectangle { image, ndc, tex, sampler, read_bytes, alpha_one } => {
                     extra.add(tiler::Category::TextureFetch, *read_bytes);
-                    let snapshot = self.snapshot(&mut snapshots, *image)?;
+                    let mut snapshot = self.snapshot(&mut snapshots, *image)?;
+                    if *alpha_one {
+                        snapshot = Arc::new(snapshot.with_alpha_one());
+                    }
                     blit_pipeline(*ndc, *tex, snapshot, *sampler, d.desc.clone())
                 }
             }
@@ -371,29 +374,7 @@ impl Context {
                 t
             }
         };
-        let core_filter = |f: Filter| match f.base() {
-            Filter::Nearest => tiler::Filter::Nearest,
-            _ => tiler::Filter::Linear,
-        };
-        let mipmap = match sampler.min_filter.mipmap().filter(|_| mipmaps) {
-            None => tiler::MipmapMode::None,
-            Some(Filter::Nearest) => tiler::MipmapMode::Nearest,
-            Some(_) => tiler::MipmapMode::Linear,
-        };
-        let core_wrap = |w: Wrap| match w {
-            Wrap::ClampToEdge => tiler::Wrap::ClampToEdge,
-            Wrap::Repeat => tiler::Wrap::Repeat,
-            Wrap::MirroredRepeat => tiler::Wrap::MirroredRepeat,
-        };
-        let core = tiler::Sampler {
-            mag_filter: core_filter(sampler.mag_filter),
-            min_filter: core_filter(sampler.min_filter),
-            mipmap,
-            wrap_u: core_wrap(sampler.wrap_s),
-            wrap_v: core_wrap(sampler.wrap_t),
-            lod_bias: 0.0,
-        };
-        Ok(ProgramTexture::Core(texture, core))
+        Ok(ProgramTexture::Core(texture, core_sampler(sampler, mipmaps)))
     }
 
     /// The decoded texels of an image, once per submission.
@@ -415,6 +396,33 @@ impl Context {
         };
         cache.insert(image, snapshot.clone());
         Ok(snapshot)
+    }
+}
+
+/// The core's sampler for a GL sampling state; `mipmaps`: the texture has a mip chain (a
+/// mipmap filter reads it).
+pub(crate) fn core_sampler(sampler: SamplerState, mipmaps: bool) -> tiler::Sampler {
+    let core_filter = |f: Filter| match f.base() {
+        Filter::Nearest => tiler::Filter::Nearest,
+        _ => tiler::Filter::Linear,
+    };
+    let mipmap = match sampler.min_filter.mipmap().filter(|_| mipmaps) {
+        None => tiler::MipmapMode::None,
+        Some(Filter::Nearest) => tiler::MipmapMode::Nearest,
+        Some(_) => tiler::MipmapMode::Linear,
+    };
+    let core_wrap = |w: Wrap| match w {
+        Wrap::ClampToEdge => tiler::Wrap::ClampToEdge,
+        Wrap::Repeat => tiler::Wrap::Repeat,
+        Wrap::MirroredRepeat => tiler::Wrap::MirroredRepeat,
+    };
+    tiler::Sampler {
+        mag_filter: core_filter(sampler.mag_filter),
+        min_filter: core_filter(sampler.min_filter),
+        mipmap,
+        wrap_u: core_wrap(sampler.wrap_s),
+        wrap_v: core_wrap(sampler.wrap_t),
+        lod_bias: 0.0,
     }
 }
 

@@ -877,3 +877,144 @@ fn minified_textures_without_mip_maps_cost_fetch_and_are_advised() {
     assert!(mipped.passes().all(|p| p.cost.counters.quads_minified_unmipped == 0));
     assert!(fetch(&mipped) * 8 < fetch(&bare), "mip maps: {} B, level 0: {} B", fetch(&mipped), fetch(&bare));
 }
+
+/// Cube textures through calls: six faces uploaded (`cube_tex_image`), levels generated or
+/// given, bound to a unit beside nothing else, sampled by a `samplerCube`; a draw keeps the
+/// texels it was made with; a missing face or level makes the cube incomplete (black); bad
+/// faces are refused naming the face; the calls round-trip through a JSON trace.
+#[test]
+fn cube_textures_are_created_uploaded_and_sampled() {
+    const CUBE_FS: &str = "precision mediump float;
+uniform samplerCube env;
+uniform float lod;
+void main() { gl_FragColor = textureCubeLod(env, vec3(0.1, -0.2, -1.0), lod); }";
+    let face = |face: usize, level: u32, red: u8| Call::CubeTexImage {
+        id: 3,
+        face: CubeFace::ALL[face],
+        level,
+        size: 4 >> level,
+        format: TextureFormat::Rgba8,
+        data: Some(Bytes::from([red, 10 * face as u8, 0, 255].repeat((16 >> (2 * level)) as usize))),
+    };
+    let red_of = |gl: &Context, x: u32| pixel(&gl.surface_rgba8(), 16, x, 8);
+    let setup = |gl: &mut Context, faces: usize, filter: Filter| {
+        for f in 0..faces {
+            c(gl, face(f, 0, 100));
+        }
+        let parameters = Call::TexParameters { id: 3, filter, wrap: Wrap::Repeat, mag_filter: None, wrap_t: None };
+        c(gl, parameters);
+        c(gl, Call::BindCubeTexture { unit: 2, texture: 3 });
+        use_glsl(gl, 1, CUBE_FS);
+        c(gl, Call::Uniform { name: "env".into(), value: UniformValue::Int(2) });
+    };
+    // Generated levels: level 2 of −Z (face 5) is its colour averaged, the same.
+    let mut gl = screen();
+    setup(&mut gl, 6, Filter::NearestMipmapNearest);
+    c(&mut gl, Call::GenerateMipmap { id: 3 });
+    c(&mut gl, Call::Uniform { name: "lod".into(), value: UniformValue::Float(2.0) });
+    c(&mut gl, Call::Viewport { x: 0, y: 0, width: 8, height: 16 });
+    draw(&mut gl, 3);
+    // An upload after a draw reaches only later draws (no flush needed: the draw keeps its
+    // texels).
+    c(
+        &mut gl,
+        Call::CubeTexSubImage {
+            id: 3,
+            face: CubeFace::NegativeZ,
+            x: 0,
+            y: 0,
+            width: 4,
+            height: 4,
+            data: Bytes::from([7u8, 0, 0, 255].repeat(16)),
+        },
+    );
+    c(&mut gl, Call::Uniform { name: "lod".into(), value: UniformValue::Float(0.0) });
+    c(&mut gl, Call::Viewport { x: 8, y: 0, width: 8, height: 16 });
+    draw(&mut gl, 3);
+    c(&mut gl, Call::Finish);
+    assert_eq!(red_of(&gl, 2), [100, 50, 0, 255]);
+    assert_eq!(red_of(&gl, 12), [7, 0, 0, 255]);
+
+    // Given levels, on every face, are sampled as given; one face short of a level is
+    // incomplete with a mipmap filter, and complete without one.
+    for (faces_with_levels, filter, expected) in [
+        (6, Filter::NearestMipmapNearest, [30, 50, 0, 255]),
+        (5, Filter::NearestMipmapNearest, [0, 0, 0, 255]),
+        (5, Filter::Nearest, [100, 50, 0, 255]),
+    ] {
+        let mut gl = screen();
+        setup(&mut gl, 6, filter);
+        for f in 0..faces_with_levels {
+            c(&mut gl, face(f, 1, 20));
+            c(&mut gl, face(f, 2, 30));
+        }
+        c(&mut gl, Call::Uniform { name: "lod".into(), value: UniformValue::Float(2.0) });
+        draw(&mut gl, 3);
+        c(&mut gl, Call::Finish);
+        assert_eq!(red_of(&gl, 8), expected, "{faces_with_levels} faces with levels, {filter:?}");
+    }
+
+    // A missing face: incomplete, black.
+    let mut gl = screen();
+    setup(&mut gl, 5, Filter::Nearest);
+    c(&mut gl, Call::Uniform { name: "lod".into(), value: UniformValue::Float(0.0) });
+    draw(&mut gl, 3);
+    c(&mut gl, Call::Finish);
+    assert_eq!(red_of(&gl, 8), [0, 0, 0, 255]);
+
+    // Bad faces and uses are refused, naming what.
+    let mut gl = screen();
+    c(&mut gl, face(0, 0, 1));
+    let mut wrong = face(1, 0, 1);
+    if let Call::CubeTexImage { size, data, .. } = &mut wrong {
+        *size = 8;
+        *data = Some(Bytes::from(vec![0; 8 * 8 * 4]));
+    }
+    let error = gl.call(wrong).unwrap_err().to_string();
+    assert!(error.contains("face negative_x: 8×8") && error.contains("other faces are 4×4"), "{error}");
+    let below = Call::CubeTexImage {
+        id: 3,
+        face: CubeFace::PositiveX,
+        level: 3,
+        size: 1,
+        format: TextureFormat::Rgba8,
+        data: Some(Bytes::from(vec![0; 4])),
+    };
+    let error = gl.call(below).unwrap_err().to_string();
+    assert!(error.contains("levels 1 to 2"), "{error}");
+    let error = gl.call(Call::GenerateMipmap { id: 3 }).unwrap_err().to_string();
+    assert!(error.contains("face negative_x has no level 0"), "{error}");
+    let error = gl.call(Call::BindTexture { unit: 0, texture: 3 }).unwrap_err().to_string();
+    assert!(error.contains("texture 3"), "{error}");
+    use_glsl(&mut gl, 1, CUBE_FS);
+    let error = gl.call(Call::DrawArrays { mode: Mode::Triangles, first: 0, count: 3 }).unwrap_err().to_string();
+    assert!(error.contains("sampler 'env' reads texture unit 0, which has no cube texture"), "{error}");
+
+    // Faces count against the context's memory limit until the cube is deleted.
+    let mut gl = Context::new(ContextConfig { memory_limit: 1 << 20, ..ContextConfig::new(16, 16) }).unwrap();
+    let quarter = |face: usize| Call::CubeTexImage {
+        id: 5,
+        face: CubeFace::ALL[face],
+        level: 0,
+        size: 256,
+        format: TextureFormat::Rgba8,
+        data: None,
+    };
+    for f in 0..3 {
+        c(&mut gl, quarter(f));
+    }
+    let error = gl.call(quarter(3)).unwrap_err().to_string();
+    assert!(error.contains("memory limit"), "{error}");
+    c(&mut gl, Call::DeleteTexture { id: 5 });
+    for f in 0..3 {
+        c(&mut gl, quarter(f));
+    }
+
+    // The trace format: the calls as JSON and back.
+    let call = face(4, 1, 9).try_map_data(|d: Bytes| Ok::<_, ()>(d.to_vec())).unwrap();
+    let json = serde_json::to_string(&call).unwrap();
+    assert!(json.contains(r#""call":"cube_tex_image""#) && json.contains(r#""face":"positive_z""#), "{json}");
+    let bind: Call<Vec<u8>> =
+        serde_json::from_str(r#"{"call": "bind_cube_texture", "unit": 1, "texture": 3}"#).unwrap();
+    assert_eq!(bind, Call::BindCubeTexture { unit: 1, texture: 3 });
+}

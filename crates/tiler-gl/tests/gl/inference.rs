@@ -306,7 +306,17 @@ fn flush_triggers_render_the_pass_and_the_rest_loads() {
         FlushCause::QueryResult,
     );
     let copy = flushed(|gl| {
-        c(gl, Call::CopyTexSubImage { texture: 9, x_offset: 0, y_offset: 0, x: 0, y: 0, width: 64, height: 64 });
+        let copy = Call::CopyTexSubImage {
+            texture: 9,
+            x_offset: 0,
+            y_offset: 0,
+            x: 0,
+            y: 0,
+            width: 64,
+            height: 64,
+            alpha_one: false,
+        };
+        c(gl, copy);
     });
     // The copy is a pass of its own, between the two halves.
     let p = passes(&copy);

@@ -179,6 +179,13 @@ impl<'a> Fragments<'a> {
         texture.sample(self.simd, sampler, uv[0], uv[1], self.covered.quads(), &mut self.context.texture_cache)
     }
 
+    /// Samples cube texture `texture` in the directions `direction` with `sampler`, as
+    /// [`Fragments::sample`] samples a 2D one (level of detail from the quad's face
+    /// coordinates, reads of covered quads into the texture cache and the ledger).
+    pub fn sample_cube(&mut self, texture: &Texture, sampler: &Sampler, direction: [F32x8; 3]) -> Vec4x8 {
+        texture.sample_cube(self.simd, sampler, direction, self.covered.quads(), &mut self.context.texture_cache)
+    }
+
     /// Per-tile state shaders may use (texture caches and their counters).
     #[inline(always)]
     pub fn context(&mut self) -> &mut ShadeContext {

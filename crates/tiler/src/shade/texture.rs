@@ -42,7 +42,11 @@
 //! so a lane's result depends only on its quad's inputs: every backend, tile size, thread
 //! count and SIMD level samples the same values.
 
+mod cube;
+
 use std::sync::atomic::{AtomicU64, Ordering};
+
+pub use cube::{CubeFace, MAX_CUBE_DIMENSION, cube_face_coordinates};
 
 use super::texture_cache::{MAX_LANE_LINES, TextureCache};
 use crate::api::error::{Error, Result};
@@ -230,6 +234,9 @@ pub struct Texture {
     /// UNORM8 → the filter's 16-bit UNORM for the colour channels (see the module notes):
     /// `c · 257`, or the linear value of sRGB `c` when the texture is sRGB.
     color_table: Box<[u16; 256]>,
+    /// A cube texture's six faces (`cube`), each a chain laid out as `levels` say, one after
+    /// the other `face_bytes` apart in the modelled memory; `None` for a 2D texture.
+    face_bytes: Option<u32>,
 }
 
 /// The level of detail (bias included) above which a quad read from level 0 without mip maps
@@ -344,7 +351,14 @@ impl Texture {
             ColorSpace::Linear => unorm8_to_unorm16(c as u32) as u16,
             ColorSpace::Srgb => (srgb8_to_linear(c as u8) as f64 * 65535.0).round() as u16,
         }));
-        Texture { id: NEXT_TEXTURE_ID.fetch_add(1, Ordering::Relaxed), color_space, levels, texels, color_table }
+        Texture {
+            id: NEXT_TEXTURE_ID.fetch_add(1, Ordering::Relaxed),
+            color_space,
+            levels,
+            texels,
+            color_table,
+            face_bytes: None,
+        }
     }
 
     pub fn width(&self) -> u32 {
@@ -437,53 +451,81 @@ impl Texture {
         } else {
             4f32.powf(UNMIPPED_LOD - sampler.lod_bias)
         };
+        let mut quads = [[[0u32; 4]; 4]; 2];
+        for (quad, lanes) in QUAD_LANES.iter().enumerate() {
+            let at = QuadAt {
+                u: reduce_quad(self::lanes(|i| u.lane(lanes[i])), sampler.wrap_u),
+                v: reduce_quad(self::lanes(|i| v.lane(lanes[i])), sampler.wrap_v),
+                face_offsets: [0; 4],
+            };
+            let counted = lanes.map(|lane| counted.contains(lane));
+            let minified_unmipped = unmipped && rho_squared[quad] > unmipped_rho_squared;
+            let lambda = lods[quad] + sampler.lod_bias;
+            quads[quad] = self.sample_quad(sampler, lambda, &at, counted, minified_unmipped, cache, &decode);
+        }
+        group_of_quads(quads)
+    }
+
+    /// One quad's filtered colour at the level of detail `lambda` (bias added) and the reduced
+    /// coordinates `at`, 16-bit UNORMs `[channel][lane of the quad]`: the cache model reads
+    /// the `counted` lanes' lines in the order of the per-lane rules (lane by lane, each lane's
+    /// first level, then its second). `minified_unmipped`: the quad reads level 0 minified
+    /// more than 2× without mip maps, and its misses are noted as such
+    /// ([`TextureCache::note_unmipped`]). What 2D and cube sampling share.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // one quad's inputs; a struct would only rename them
+    fn sample_quad(
+        &self,
+        sampler: &Sampler,
+        lambda: f32,
+        at: &QuadAt,
+        counted: [bool; 4],
+        minified_unmipped: bool,
+        cache: &mut TextureCache,
+        decode: &impl Fn(u32) -> u32,
+    ) -> [Quad<u32>; 4] {
         let line_shift = cache.line_shift();
         // Texel (x, y)'s modelled address is `id · 2^40` plus an offset below 2^32
         // (`MAX_MODELLED_BYTES`), so its line is the texture's first line plus the offset's:
         // the low 40 bits of `id · 2^40` are zero, and lines are at most 2^12 bytes.
         let first_line = (self.id << 40) >> line_shift;
-        // Each quad's channels, `[quad][channel][lane of the quad]`.
-        let mut quads = [[[0u32; 4]; 4]; 2];
-        for (quad, lanes) in QUAD_LANES.iter().enumerate() {
-            let u = reduce_quad(self::lanes(|i| u.lane(lanes[i])), sampler.wrap_u);
-            let v = reduce_quad(self::lanes(|i| v.lane(lanes[i])), sampler.wrap_v);
-            let counted = lanes.map(|lane| counted.contains(lane));
-            let lambda = lods[quad] + sampler.lod_bias;
-            let rgba = match self.plan(sampler, lambda) {
-                LevelPlan::Single { level, filter } => {
-                    let near = self.footprint(level, filter, sampler, u, v, line_shift);
-                    let misses = cache.misses();
-                    cache.access_quad(first_line, near.rows(), counted);
-                    if unmipped && rho_squared[quad] > unmipped_rho_squared && counted.contains(&true) {
-                        cache.note_unmipped(misses);
-                    }
-                    self.filter(&near, &decode)
+        match self.plan(sampler, lambda) {
+            LevelPlan::Single { level, filter } => {
+                let near = self.footprint(level, filter, sampler, at, line_shift);
+                let misses = cache.misses();
+                cache.access_quad(first_line, near.rows(), counted);
+                if minified_unmipped && counted.contains(&true) {
+                    cache.note_unmipped(misses);
                 }
-                LevelPlan::Blend { level, filter, weight } => {
-                    let near = self.footprint(level, filter, sampler, u, v, line_shift);
-                    let far = self.footprint(level + 1, filter, sampler, u, v, line_shift);
-                    let (near_rows, far_rows) = (near.rows(), far.rows());
-                    let mut rows = [[0; 4]; MAX_LANE_LINES];
-                    rows[..near_rows.len()].copy_from_slice(near_rows);
-                    rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
-                    cache.access_quad(first_line, &rows[..near_rows.len() + far_rows.len()], counted);
-                    let (a, b) = (self.filter(&near, &decode), self.filter(&far, &decode));
-                    let blend = |c: usize| self::lanes(|i| lerp(a[c][i], b[c][i], weight));
-                    [blend(0), blend(1), blend(2), blend(3)]
-                }
-            };
-            quads[quad] = rgba;
+                self.filter(&near, decode)
+            }
+            LevelPlan::Blend { level, filter, weight } => {
+                let near = self.footprint(level, filter, sampler, at, line_shift);
+                let far = self.footprint(level + 1, filter, sampler, at, line_shift);
+                let (near_rows, far_rows) = (near.rows(), far.rows());
+                let mut rows = [[0; 4]; MAX_LANE_LINES];
+                rows[..near_rows.len()].copy_from_slice(near_rows);
+                rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
+                cache.access_quad(first_line, &rows[..near_rows.len() + far_rows.len()], counted);
+                let (a, b) = (self.filter(&near, decode), self.filter(&far, decode));
+                let blend = |c: usize| self::lanes(|i| lerp(a[c][i], b[c][i], weight));
+                [blend(0), blend(1), blend(2), blend(3)]
+            }
         }
-        // Back to the group's lanes with constant indices (so shuffles, not a store per lane),
-        // converted eight lanes at a time.
-        let [left, right] = quads;
-        std::array::from_fn(|c| {
-            let group = std::array::from_fn(|lane| {
-                let quad = if LANE_DX[lane] < 2 { &left } else { &right };
-                quad[c][(LANE_DX[lane] % 2 + 2 * LANE_DY[lane]) as usize]
-            });
-            F32x8(group.map(unorm16_to_f32))
-        })
+    }
+
+    /// [`Texture::sample_lod`] at reduced coordinates `at` (one point in every lane), no cache.
+    fn sample_point(&self, sampler: &Sampler, at: &QuadAt, lambda: f32) -> [f32; 4] {
+        let decode = |c: u32| self.color_table[c as usize] as u32;
+        let rgba = match self.plan(sampler, lambda + sampler.lod_bias) {
+            LevelPlan::Single { level, filter } => self.filter(&self.footprint(level, filter, sampler, at, 0), &decode),
+            LevelPlan::Blend { level, filter, weight } => {
+                let a = self.filter(&self.footprint(level, filter, sampler, at, 0), &decode);
+                let b = self.filter(&self.footprint(level + 1, filter, sampler, at, 0), &decode);
+                std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight)))
+            }
+        };
+        rgba.map(|channel| unorm16_to_f32(channel[0]))
     }
 
     /// Samples one point `(u, v)` at the level of detail `lambda` given by the caller (bias
@@ -492,20 +534,12 @@ impl Texture {
     /// magnification filter on level 0) or a fragment shader's explicit level
     /// (`texture2DLod`) reads. Reads are not counted in the ledger.
     pub fn sample_lod(&self, sampler: &Sampler, u: f32, v: f32, lambda: f32) -> [f32; 4] {
-        let u = reduce_quad([u; 4], sampler.wrap_u);
-        let v = reduce_quad([v; 4], sampler.wrap_v);
-        let decode = |c: u32| self.color_table[c as usize] as u32;
-        let rgba = match self.plan(sampler, lambda + sampler.lod_bias) {
-            LevelPlan::Single { level, filter } => {
-                self.filter(&self.footprint(level, filter, sampler, u, v, 0), &decode)
-            }
-            LevelPlan::Blend { level, filter, weight } => {
-                let a = self.filter(&self.footprint(level, filter, sampler, u, v, 0), &decode);
-                let b = self.filter(&self.footprint(level + 1, filter, sampler, u, v, 0), &decode);
-                std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight)))
-            }
+        let at = QuadAt {
+            u: reduce_quad([u; 4], sampler.wrap_u),
+            v: reduce_quad([v; 4], sampler.wrap_v),
+            face_offsets: [0; 4],
         };
-        rgba.map(|channel| unorm16_to_f32(channel[0]))
+        self.sample_point(sampler, &at, lambda)
     }
 
     /// Whether [`Texture::plan`] gives the same plan at every level of detail: one filter for
@@ -541,19 +575,12 @@ impl Texture {
         }
     }
 
-    /// What a quad reads on `level` with `filter` at the reduced coordinates `(u, v)` of its
+    /// What a quad reads on `level` with `filter` at the reduced coordinates `at` of its
     /// lanes (see [`reduce`]): texels and weights, and the cache lines that hold the texels
     /// (`line_shift`: [`TextureCache::line_shift`]).
     #[inline(always)]
-    fn footprint(
-        &self,
-        level: usize,
-        filter: Filter,
-        sampler: &Sampler,
-        u: Quad,
-        v: Quad,
-        line_shift: u32,
-    ) -> Footprint {
+    fn footprint(&self, level: usize, filter: Filter, sampler: &Sampler, at: &QuadAt, line_shift: u32) -> Footprint {
+        let (u, v) = (at.u, at.v);
         let l = &self.levels[level];
         let (x, alpha, y, beta) = match filter {
             Filter::Nearest => {
@@ -572,7 +599,8 @@ impl Texture {
         let column_offset = |x: Quad<u32>| lanes(|i| l.column_offset(x[i]));
         let row_offsets = [row_offset(y[0]), row_offset(y[1])];
         let column_offsets = [column_offset(x[0]), column_offset(x[1])];
-        let offset = |(cx, cy): (usize, usize)| lanes(|i| row_offsets[cy][i] + column_offsets[cx][i]);
+        let offset =
+            |(cx, cy): (usize, usize)| lanes(|i| at.face_offsets[i] + row_offsets[cy][i] + column_offsets[cx][i]);
         let texel = |corner| offset(corner).map(|offset| offset / TEXEL_BYTES as u32);
         let line = |corner| offset(corner).map(|offset| offset >> line_shift);
         let corners = [(0, 0), (1, 0), (0, 1), (1, 1)];
@@ -705,6 +733,29 @@ fn sample_group_body(
 
 /// Four lanes of a quad, in [`QUAD_LANES`] order.
 type Quad<T = f32> = [T; 4];
+
+/// Where a quad's lanes sample: coordinates reduced for the wraps ([`reduce`]) and, per
+/// lane, the modelled offset of the cube face it reads (0 for a 2D texture).
+struct QuadAt {
+    u: Quad,
+    v: Quad,
+    face_offsets: Quad<u32>,
+}
+
+/// The two quads' channels (`[quad][channel][lane of the quad]`, 16-bit UNORMs) back in the
+/// group's lanes, with constant indices (so shuffles, not a store per lane), converted eight
+/// lanes at a time.
+#[inline(always)]
+fn group_of_quads(quads: [[Quad<u32>; 4]; 2]) -> Vec4x8 {
+    let [left, right] = quads;
+    std::array::from_fn(|c| {
+        let group = std::array::from_fn(|lane| {
+            let quad = if LANE_DX[lane] < 2 { &left } else { &right };
+            quad[c][(LANE_DX[lane] % 2 + 2 * LANE_DY[lane]) as usize]
+        });
+        F32x8(group.map(unorm16_to_f32))
+    })
+}
 
 /// `[f(0), f(1), f(2), f(3)]`, as a plain loop the vectoriser sees through.
 #[inline(always)]
