@@ -660,3 +660,35 @@ fn deleted_shaders_and_a_deleted_program_live_while_attached_and_in_use_then_go(
 fn probe_points_match_llvmpipe() {
     check_probe("points");
 }
+
+/// ETC2 RGBA8 and ASTC 8×8 textures with mip chains given by `glCompressedTexImage2D` (GL ES
+/// 3; llvmpipe exposes `KHR_texture_compression_astc_ldr` by decoding in software), flat
+/// blocks: the picture matches llvmpipe's, and `texture fetch` is the compressed blocks
+/// fetched. Each half of the 64×64 window samples level 1 of its 64×128 texture (32×64 texels
+/// on 32×64 pixels, `NEAREST_MIPMAP_NEAREST`). With 32×32 tiles, one per half and row:
+///
+/// - ETC2: level 1 is 8×16 blocks of 16 bytes, a block row 128 bytes, 2 lines of 64. A tile
+///   reads 8 block rows, 16 lines; 2 tiles: 32 lines, 2048 bytes.
+/// - ASTC 8×8: level 1 is 4×8 blocks of 16 bytes, a block row one line. A tile reads 4 block
+///   rows, 4 lines; 2 tiles: 8 lines, 512 bytes.
+///
+/// The levels' lines start on line boundaries (level 0 is 8192 and 2048 bytes), tiles share
+/// no line, and the second triangle's helpers find their lines in the cache: 2560 bytes.
+#[test]
+fn probe_compressed_mip_chains_match_llvmpipe_and_fetch_their_blocks() {
+    check_probe("compressed");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles2-probe/compressed.trace");
+    for backend in [tiler::Backend::Tbr, tiler::Backend::Tbdr] {
+        let config = tiler_gl::ContextConfig {
+            backend,
+            tile_width: 32,
+            tile_height: 32,
+            threads: 2,
+            ..ReplayOptions::default().config
+        };
+        let options = ReplayOptions { config, ..ReplayOptions::default() };
+        let replay = tiler_gl::capture::replay_file(&path, &options, &mut |_| Ok(())).unwrap();
+        let fetched: u64 = replay.report.passes().map(|p| p.cost.ledger.get(tiler::Category::TextureFetch)).sum();
+        assert_eq!(fetched, 2048 + 512, "{backend:?}");
+    }
+}

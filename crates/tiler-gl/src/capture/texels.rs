@@ -46,7 +46,6 @@ impl Upload {
             (GL_RGB, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 3),
             (GL_LUMINANCE_ALPHA, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 2),
             (GL_LUMINANCE | GL_ALPHA, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 1),
-            (GL_RGBA, GL_UNSIGNED_SHORT_4_4_4_4 | GL_UNSIGNED_SHORT_5_5_5_1) => (TextureFormat::Rgba8, 2),
             (GL_RGB, GL_UNSIGNED_SHORT_5_6_5) => (TextureFormat::Rgb565, 2),
             (GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT) => (TextureFormat::Depth16, 2),
             (GL_DEPTH_COMPONENT, GL_UNSIGNED_INT) => (TextureFormat::Depth24, 4),
@@ -54,7 +53,7 @@ impl Upload {
             _ => {
                 return Err(format!(
                     "texel format {format:#06x} of type {kind:#06x} is not one the replay converts (RGBA, RGB, \
-                     LUMINANCE, LUMINANCE_ALPHA, ALPHA bytes; 4444, 5551, 565; DEPTH_COMPONENT)"
+                     LUMINANCE, LUMINANCE_ALPHA, ALPHA bytes; 565; DEPTH_COMPONENT; 4444 and 5551 are encoded uploads)"
                 ));
             }
         };
@@ -88,15 +87,6 @@ impl Upload {
                 }
                 (GL_LUMINANCE, _) => src.iter().for_each(|&l| out.extend_from_slice(&[l, l, l, 255])),
                 (GL_ALPHA, _) => src.iter().for_each(|&a| out.extend_from_slice(&[0, 0, 0, a])),
-                (_, GL_UNSIGNED_SHORT_4_4_4_4) => src.chunks_exact(2).for_each(|t| {
-                    let v = u16::from_le_bytes([t[0], t[1]]);
-                    out.extend([12, 8, 4, 0].map(|shift| ((v >> shift) & 0xf) as u8 * 17));
-                }),
-                (_, GL_UNSIGNED_SHORT_5_5_5_1) => src.chunks_exact(2).for_each(|t| {
-                    let v = u16::from_le_bytes([t[0], t[1]]);
-                    let five = |shift: u16| (((v >> shift) & 0x1f) as u32 * 255 + 15) / 31;
-                    out.extend([five(11) as u8, five(6) as u8, five(1) as u8, if v & 1 == 1 { 255 } else { 0 }]);
-                }),
                 _ => unreachable!("Upload::new accepts only the pairs converted here"),
             }
         }
@@ -119,11 +109,9 @@ mod tests {
     }
 
     #[test]
-    fn packed_formats_expand_to_full_range() {
-        let up = Upload::new(GL_RGBA, GL_RGBA, GL_UNSIGNED_SHORT_4_4_4_4).unwrap();
-        assert_eq!(up.convert(&0xf08fu16.to_le_bytes(), 1, 1, 4).unwrap(), [255, 0, 136, 255]);
-        let up = Upload::new(GL_RGBA, GL_RGBA, GL_UNSIGNED_SHORT_5_5_5_1).unwrap();
-        assert_eq!(up.convert(&0xf800u16.to_le_bytes(), 1, 1, 4).unwrap(), [255, 0, 0, 0]);
+    fn single_channels_expand_to_rgba() {
+        // 4444 and 5551 are encoded uploads (`capture::encoded`), decoded by the core.
+        assert!(Upload::new(GL_RGBA, GL_RGBA, GL_UNSIGNED_SHORT_4_4_4_4).is_err());
         let up = Upload::new(GL_LUMINANCE, GL_LUMINANCE, GL_UNSIGNED_BYTE).unwrap();
         assert_eq!(up.convert(&[7], 1, 1, 1).unwrap(), [7, 7, 7, 255]);
         let up = Upload::new(GL_ALPHA, GL_ALPHA, GL_UNSIGNED_BYTE).unwrap();

@@ -274,6 +274,25 @@ impl Texture {
         Ok(Texture::build(format, width, height, rows, color_space, mips))
     }
 
+    /// The same texels modelled as stored in `format`: for texels decoded before they reach
+    /// the core (a compressed upload the GL layer decoded once, say), so that sampling them
+    /// fetches what `format` stores. The texture gets a new id (its cache lines are its own).
+    ///
+    /// # Errors
+    /// An invalid ASTC footprint, or a chain `format` stores in more than 4 GiB.
+    pub fn stored_as(self, format: TexelFormat) -> Result<Texture> {
+        check_size(self.width(), self.height(), format)?;
+        let rows: Vec<[u8; 4]> = (0..self.levels.len()).flat_map(|level| self.level_texels(level)).collect();
+        // `store` takes the chain row-major: each level's first texel in `rows`.
+        let mut row_starts = Vec::with_capacity(self.levels.len());
+        let mut at = 0;
+        for l in &self.levels {
+            row_starts.push(at);
+            at += l.width as usize * l.height as usize;
+        }
+        Ok(Texture::store(format, rows, self.levels, &row_starts, self.color_space))
+    }
+
     /// The texture of decoded level 0 texels `rows`, its chain built by `mips`.
     fn build(
         format: TexelFormat,

@@ -261,3 +261,25 @@ fn compressed_mip_chains_are_counted_by_their_blocks() {
     let e = Texture::from_encoded_levels(TexelFormat::Etc2Rgba8, 256, 256, &short, ColorSpace::Linear).unwrap_err();
     assert!(e.to_string().contains("level 2"), "{e}");
 }
+
+/// `stored_as` keeps the texels and the picture and changes only what is fetched: the same
+/// as a texture made from the format's data.
+#[test]
+fn stored_as_is_made_from_the_format() {
+    let format = TexelFormat::Astc { block_width: 6, block_height: 6 };
+    let data = encoded(format, 32, 32, 5);
+    let made = Texture::from_encoded(format, 32, 32, &data, ColorSpace::Linear, MipChain::Box).unwrap();
+    let rgba: Vec<u8> = made.level_texels(0).concat();
+    let decoded = Texture::from_rgba8(32, 32, &rgba, ColorSpace::Linear, MipChain::Box).unwrap();
+    let restored = decoded.clone().stored_as(format).unwrap();
+    assert_eq!((restored.format(), restored.stored_bytes()), (format, made.stored_bytes()));
+    for sampler in [Sampler::NEAREST_REPEAT, Sampler::TRILINEAR_REPEAT] {
+        let (a, b, c) = (
+            draw(&made, sampler, 32, Backend::Tbr, 32, 1),
+            draw(&restored, sampler, 32, Backend::Tbr, 32, 1),
+            draw(&decoded, sampler, 32, Backend::Tbr, 32, 1),
+        );
+        assert!(a == b, "{sampler:?}");
+        assert!(c.0 == a.0 && c.1 > a.1, "{sampler:?}: RGBA8 draws the same and fetches more");
+    }
+}
