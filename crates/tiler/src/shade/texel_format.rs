@@ -24,9 +24,11 @@
 //!   (OpenGL ES 3.0 §C.1): decoded by the `texture2ddecoder` crate to bytes (the 11-bit EAC
 //!   channels rounded to 8 bits); R11 reads `(r, 0, 0, 1)`, RG11 `(r, g, 0, 1)`.
 //! - **ASTC LDR**, any of the 14 footprints from 4×4 to 12×12 (KHR_texture_compression_astc_ldr):
-//!   decoded by `texture2ddecoder` to bytes. Its decoder panics on some malformed blocks (HDR
-//!   endpoint modes it does not take, reserved weight ranges); each block is decoded under
-//!   `catch_unwind` so that such a block is an error naming it, not a crash.
+//!   decoded by `texture2ddecoder` to bytes. Its decoder panics on malformed blocks (about half
+//!   of random 16-byte blocks: weight grids larger than the footprint, reserved modes, HDR
+//!   endpoint modes it does not take), where the specification decodes an error colour; each
+//!   block is decoded under `catch_unwind`, so that such a block is an error naming it, not a
+//!   crash (the panic hook still prints the decoder's message). Encoders never write them.
 //!
 //! Blocks are in the data row after row from the first row given, each block's texels row
 //! after row, as GL uploads them (OpenGL ES 3.0 §3.8.3); a level whose size is not a multiple
@@ -365,13 +367,14 @@ mod tests {
     }
 
     /// Any 16 bytes as an ASTC block of any footprint decode or are an error naming the
-    /// block — never a panic out of the decoder. (A deterministic sweep of random blocks; the
-    /// first refused one is printed, for tests elsewhere to use.)
+    /// block — never a panic out of the decoder. A deterministic sweep of random blocks: about
+    /// half of random blocks make `texture2ddecoder` panic (weight grids larger than the block,
+    /// reserved modes: error blocks, which the specification decodes as magenta).
     #[test]
     fn random_astc_blocks_decode_or_are_refused() {
         let mut state = 1u64;
         let mut refused = 0;
-        for i in 0..20_000 {
+        for i in 0..2_000 {
             let (bw, bh) = ASTC_FOOTPRINTS[i % ASTC_FOOTPRINTS.len()];
             let block: [u8; 16] = std::array::from_fn(|_| {
                 state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -380,13 +383,11 @@ mod tests {
             let format = TexelFormat::Astc { block_width: bw, block_height: bh };
             if let Err(e) = format.decode(bw as u32, bh as u32, &block) {
                 assert!(e.to_string().contains("block 0 (block column 0, row 0)"), "{e}");
-                if refused == 0 {
-                    eprintln!("refused {bw}×{bh}: {block:?}");
-                }
                 refused += 1;
             }
         }
-        eprintln!("{refused} of 20000 refused");
+        // Both kinds are in the sweep.
+        assert!((1..2_000).contains(&refused), "{refused} of 2000 refused");
     }
 
     #[test]
