@@ -206,10 +206,8 @@ fn bad_encoded_uploads_are_named() {
     c(&mut gl, sub(4, 12));
     let plain = Call::TexSubImage { id: 1, x: 0, y: 0, width: 1, height: 1, data: Bytes::from(vec![0u8; 4]) };
     assert!(gl.call(plain).unwrap_err().message.contains("encoded_tex_sub_image"));
-    // A malformed ASTC block is refused, not a crash: a reserved block mode.
-    let mut bad = [0u8; 16];
-    bad[0] = 0x00;
-    bad[1] = 0x02;
+    // A malformed ASTC block (one the decoder panics on) is refused, not a crash.
+    let bad = [108u8, 130, 165, 98, 203, 128, 141, 16, 214, 50, 190, 137, 200, 81, 62, 191];
     let upload = Call::EncodedTexImage {
         id: 1,
         level: 0,
@@ -219,5 +217,6 @@ fn bad_encoded_uploads_are_named() {
         srgb: false,
         data: Bytes::from(bad.to_vec()),
     };
-    let _ = gl.call(upload);
+    let e = gl.call(upload).unwrap_err();
+    assert!(e.message.contains("ASTC 4×4 block 0 (block column 0, row 0) is not an LDR block"), "{e}");
 }
