@@ -137,7 +137,9 @@ pub enum Call<D = Bytes> {
     /// one above (the core's `MipChain::Box`), sampled with a `*_mipmap_*` filter. The levels
     /// are made from level 0 as it is when a pass that samples it is rendered, so later
     /// uploads and renders into level 0 reach them too (GL would need another
-    /// `glGenerateMipmap`). RGBA8 textures only; others sample level 0.
+    /// `glGenerateMipmap`). Textures the core samples (RGBA8, RGB565, 4444, 5551, floats within
+    /// [0, 1]); a compressed texture's levels must be given (an error, as GL ES 3.0's
+    /// `INVALID_OPERATION`); others sample level 0.
     GenerateMipmap {
         id: u32,
     },
