@@ -500,7 +500,7 @@ impl Texture {
     /// UNORM; alpha is `c · 257`): a kernel per colour space, so that linear textures decode
     /// with vector arithmetic.
     #[inline(always)]
-    fn sample_decoded(
+    fn sample_decoded<const STORED: bool>(
         &self,
         sampler: &Sampler,
         u: F32x8,
@@ -523,13 +523,13 @@ impl Texture {
             let counted = lanes.map(|lane| counted.contains(lane));
             let rgba = match self.plan(sampler, lods[quad] + sampler.lod_bias) {
                 LevelPlan::Single { level, filter } => {
-                    let near = self.footprint(level, filter, sampler, u, v, line_shift);
+                    let near = self.footprint::<STORED>(level, filter, sampler, u, v, line_shift);
                     cache.access_quad(first_line, near.rows(), counted);
                     self.filter(&near, &decode)
                 }
                 LevelPlan::Blend { level, filter, weight } => {
-                    let near = self.footprint(level, filter, sampler, u, v, line_shift);
-                    let far = self.footprint(level + 1, filter, sampler, u, v, line_shift);
+                    let near = self.footprint::<STORED>(level, filter, sampler, u, v, line_shift);
+                    let far = self.footprint::<STORED>(level + 1, filter, sampler, u, v, line_shift);
                     let (near_rows, far_rows) = (near.rows(), far.rows());
                     let mut rows = [[0; 4]; MAX_LANE_LINES];
                     rows[..near_rows.len()].copy_from_slice(near_rows);
@@ -565,11 +565,11 @@ impl Texture {
         let decode = |c: u32| self.color_table[c as usize] as u32;
         let rgba = match self.plan(sampler, lambda + sampler.lod_bias) {
             LevelPlan::Single { level, filter } => {
-                self.filter(&self.footprint(level, filter, sampler, u, v, 0), &decode)
+                self.filter(&self.footprint::<false>(level, filter, sampler, u, v, 0), &decode)
             }
             LevelPlan::Blend { level, filter, weight } => {
-                let a = self.filter(&self.footprint(level, filter, sampler, u, v, 0), &decode);
-                let b = self.filter(&self.footprint(level + 1, filter, sampler, u, v, 0), &decode);
+                let a = self.filter(&self.footprint::<false>(level, filter, sampler, u, v, 0), &decode);
+                let b = self.filter(&self.footprint::<false>(level + 1, filter, sampler, u, v, 0), &decode);
                 std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight)))
             }
         };
@@ -605,7 +605,7 @@ impl Texture {
     /// lanes (see [`reduce`]): texels and weights, and the cache lines that hold the texels
     /// (`line_shift`: [`TextureCache::line_shift`]).
     #[inline(always)]
-    fn footprint(
+    fn footprint<const STORED: bool>(
         &self,
         level: usize,
         filter: Filter,
@@ -634,10 +634,14 @@ impl Texture {
         let column_offsets = [column_offset(x[0]), column_offset(x[1])];
         let offset = |(cx, cy): (usize, usize)| lanes(|i| row_offsets[cy][i] + column_offsets[cx][i]);
         let texel = |corner| offset(corner).map(|offset| offset / TEXEL_BYTES as u32);
-        // An RGBA8 texture is stored as it is decoded; any other format where its layout says.
-        let line = |(cx, cy): (usize, usize)| match self.format {
-            TexelFormat::Rgba8 => offset((cx, cy)).map(|offset| offset >> line_shift),
-            _ => lanes(|i| (l.stored_offset(&self.layout, x[cx][i], y[cy][i]) >> line_shift) as u32),
+        // An RGBA8 texture is stored as it is decoded; any other format (`STORED`) where its
+        // layout says.
+        let line = |(cx, cy): (usize, usize)| {
+            if STORED {
+                lanes(|i| (l.stored_offset(&self.layout, x[cx][i], y[cy][i]) >> line_shift) as u32)
+            } else {
+                offset((cx, cy)).map(|offset| offset >> line_shift)
+            }
         };
         let corners = [(0, 0), (1, 0), (0, 1), (1, 1)];
         Footprint {
@@ -782,12 +786,18 @@ fn sample_group_body(
     counted: LaneMask,
     cache: &mut TextureCache,
 ) -> Vec4x8 {
-    match texture.color_space {
+    // A kernel per colour space, and per layout: RGBA8 finds its lines from the decoded
+    // texels' offsets, other formats from their stored layout (`STORED`), with no branch on
+    // the format in the RGBA8 kernel.
+    let srgb = |c: u32| texture.color_table[c as usize] as u32;
+    match (texture.color_space, texture.format != TexelFormat::Rgba8) {
         // `color_table` is `unorm8_to_unorm16`.
-        ColorSpace::Linear => texture.sample_decoded(sampler, u, v, counted, cache, unorm8_to_unorm16),
-        ColorSpace::Srgb => {
-            texture.sample_decoded(sampler, u, v, counted, cache, |c| texture.color_table[c as usize] as u32)
+        (ColorSpace::Linear, false) => {
+            texture.sample_decoded::<false>(sampler, u, v, counted, cache, unorm8_to_unorm16)
         }
+        (ColorSpace::Linear, true) => texture.sample_decoded::<true>(sampler, u, v, counted, cache, unorm8_to_unorm16),
+        (ColorSpace::Srgb, false) => texture.sample_decoded::<false>(sampler, u, v, counted, cache, srgb),
+        (ColorSpace::Srgb, true) => texture.sample_decoded::<true>(sampler, u, v, counted, cache, srgb),
     }
 }
 
