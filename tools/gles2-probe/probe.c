@@ -20,6 +20,9 @@ static void die(const char *what) {
     exit(1);
 }
 
+/* The GL ES version of the context: 2, or 3 for scenes that need it (ETC2). */
+static int es_version = 2;
+
 static void setup(void) {
     Display *x = XOpenDisplay(NULL);
     if (!x) die("no X display");
@@ -29,14 +32,14 @@ static void setup(void) {
     dpy = eglGetDisplay((EGLNativeDisplayType)x);
     if (!eglInitialize(dpy, NULL, NULL)) die("eglInitialize");
     EGLint attribs[] = {EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8,
-                        EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8, EGL_RENDERABLE_TYPE, EGL_OPENGL_ES2_BIT,
+                        EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8, EGL_RENDERABLE_TYPE, es_version == 3 ? 0x40 /* EGL_OPENGL_ES3_BIT */ : EGL_OPENGL_ES2_BIT,
                         EGL_SURFACE_TYPE, EGL_WINDOW_BIT, EGL_NONE};
     EGLConfig config;
     EGLint n;
     if (!eglChooseConfig(dpy, attribs, &config, 1, &n) || n != 1) die("eglChooseConfig");
     surf = eglCreateWindowSurface(dpy, config, (EGLNativeWindowType)win, NULL);
     if (surf == EGL_NO_SURFACE) die("eglCreateWindowSurface");
-    EGLint ctx_attribs[] = {EGL_CONTEXT_CLIENT_VERSION, 2, EGL_NONE};
+    EGLint ctx_attribs[] = {EGL_CONTEXT_CLIENT_VERSION, es_version, EGL_NONE};
     EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, ctx_attribs);
     if (ctx == EGL_NO_CONTEXT) die("eglCreateContext");
     if (!eglMakeCurrent(dpy, surf, surf, ctx)) die("eglMakeCurrent");
@@ -460,14 +463,77 @@ static void scene_cube(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* Compressed textures with mip chains given level by level (glCompressedTexImage2D), GL ES 3:
+ * the left half an ETC2 RGBA8 texture, the right half ASTC 8x8 (when the driver exposes
+ * KHR_texture_compression_astc_ldr; else the right half stays the clear colour). Both are
+ * 64x128 on 32x64 pixels with NEAREST_MIPMAP_NEAREST: level 1, texel for pixel. Every block
+ * is one flat colour, so any conforming decoder gives the same texels: ETC2 blocks in
+ * individual mode with all modifiers +2 (colour c*17+2) and EAC alpha of multiplier 0, ASTC
+ * void-extent blocks (UNORM16 v*257). */
+#define GL_COMPRESSED_RGBA8_ETC2_EAC 0x9278
+#define GL_COMPRESSED_RGBA_ASTC_8x8_KHR 0x93B7
+static void scene_compressed(void) {
+    const char *extensions = (const char *)glGetString(GL_EXTENSIONS);
+    int astc = strstr(extensions, "GL_KHR_texture_compression_astc_ldr") != NULL;
+    fprintf(stderr, "probe: ASTC LDR %s\n", astc ? "exposed" : "not exposed");
+    GLuint p = program(textured_vs, textured_fs);
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "tex"), 0);
+    glClearColor(0.2f, 0.2f, 0.2f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    static unsigned char blocks[64 * 128];
+    GLuint t[2];
+    glGenTextures(2, t);
+    glBindTexture(GL_TEXTURE_2D, t[0]);
+    for (int level = 0, w = 64, h = 128;; level++, w = w > 1 ? w / 2 : 1, h = h > 1 ? h / 2 : 1) {
+        int bw = (w + 3) / 4, bh = (h + 3) / 4;
+        for (int by = 0; by < bh; by++)
+            for (int bx = 0; bx < bw; bx++) {
+                unsigned char *b = blocks + (by * bw + bx) * 16;
+                memset(b, 0, 16);
+                b[0] = 255 - 20 * level;
+                int r = bx % 15, g = by % 15, bl = (2 * level + 3) % 15;
+                b[8] = r << 4 | r;
+                b[9] = g << 4 | g;
+                b[10] = bl << 4 | bl;
+            }
+        glCompressedTexImage2D(GL_TEXTURE_2D, level, GL_COMPRESSED_RGBA8_ETC2_EAC, w, h, 0, bw * bh * 16, blocks);
+        if (w == 1 && h == 1) break;
+    }
+    params(GL_NEAREST_MIPMAP_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+    quad(-1, -1, 0, 1, 0, 0, 1, 1);
+    if (astc) {
+        glBindTexture(GL_TEXTURE_2D, t[1]);
+        for (int level = 0, w = 64, h = 128;; level++, w = w > 1 ? w / 2 : 1, h = h > 1 ? h / 2 : 1) {
+            int bw = (w + 7) / 8, bh = (h + 7) / 8;
+            for (int by = 0; by < bh; by++)
+                for (int bx = 0; bx < bw; bx++) {
+                    unsigned char *b = blocks + (by * bw + bx) * 16;
+                    static const unsigned char head[8] = {0xfc, 0xfd, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff};
+                    memcpy(b, head, 8);
+                    unsigned char rgba[4] = {(unsigned char)(40 * bx + 30), (unsigned char)(25 * by + 10),
+                                             (unsigned char)(200 - 20 * level), 255};
+                    for (int c = 0; c < 4; c++) b[8 + 2 * c] = b[9 + 2 * c] = rgba[c];
+                }
+            glCompressedTexImage2D(GL_TEXTURE_2D, level, GL_COMPRESSED_RGBA_ASTC_8x8_KHR, w, h, 0, bw * bh * 16, blocks);
+            if (w == 1 && h == 1) break;
+        }
+        params(GL_NEAREST_MIPMAP_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+        quad(0, -1, 1, 1, 0, 0, 1, 1);
+    }
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"sampler", scene_sampler}, {"incomplete", scene_incomplete}, {"stencil", scene_stencil},
         {"indices", scene_indices}, {"offset", scene_offset}, {"copy", scene_copy}, {"lines", scene_lines}, {"points", scene_points},
-        {"cube", scene_cube}};
+        {"cube", scene_cube},
+        {"compressed", scene_compressed}};
     if (argc != 2) die("usage: probe SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {
+            if (scenes[i].draw == scene_compressed) es_version = 3;
             setup();
             scenes[i].draw();
             return 0;

@@ -80,6 +80,36 @@ pub enum Call<D = Bytes> {
         height: u32,
         data: D,
     },
+    /// Level `level` of texture `id` in a format tiler samples but does not render to
+    /// (`glCompressedTexImage2D`, and `glTexImage2D` of 4444 or 5551 texels): `data` is the
+    /// format's blocks or packed texels, (block) rows bottom to top as GL uploads them. Level 0
+    /// gives the texture new storage (as `tex_image`); a level above 0 is as `tex_image_level`
+    /// and has level 0's format. The texture is decoded once, sampled as RGBA8 and counted in
+    /// `texture_fetch` by what its format stores: compressed blocks, 2-byte texels. `srgb`: the
+    /// colour is sRGB-encoded (`GL_COMPRESSED_SRGB8_*`).
+    EncodedTexImage {
+        id: u32,
+        #[serde(default)]
+        level: u32,
+        width: u32,
+        height: u32,
+        format: EncodedFormat,
+        #[serde(default, skip_serializing_if = "is_false")]
+        srgb: bool,
+        data: D,
+    },
+    /// Overwrites a rectangle of level 0 of a texture given by `encoded_tex_image`, in its
+    /// format (`glCompressedTexSubImage2D`, `glTexSubImage2D` of 4444 or 5551 texels): a
+    /// compressed rectangle starts on a block and ends on one or at the texture's edge.
+    EncodedTexSubImage {
+        id: u32,
+        x: u32,
+        y: u32,
+        width: u32,
+        height: u32,
+        format: EncodedFormat,
+        data: D,
+    },
     /// Overwrites a rectangle of a texture (`glTexSubImage2D`); rows bottom to top.
     TexSubImage {
         id: u32,
@@ -136,7 +166,9 @@ pub enum Call<D = Bytes> {
     /// box filter wherever a side halves exactly), sampled with a `*_mipmap_*` filter. The levels
     /// are made from level 0 as it is when a pass that samples it is rendered, so later
     /// uploads and renders into level 0 reach them too (GL would need another
-    /// `glGenerateMipmap`). RGBA8 textures only; others sample level 0.
+    /// `glGenerateMipmap`). Textures the core samples (RGBA8, RGB565, 4444, 5551, floats within
+    /// [0, 1]); a compressed texture's levels must be given (an error, as GL ES 3.0's
+    /// `INVALID_OPERATION`); others sample level 0.
     GenerateMipmap {
         id: u32,
     },
@@ -546,6 +578,8 @@ impl<D> Call<D> {
             CreateTexture { .. } => "create_texture",
             TexImage { .. } => "tex_image",
             TexImageLevel { .. } => "tex_image_level",
+            EncodedTexImage { .. } => "encoded_tex_image",
+            EncodedTexSubImage { .. } => "encoded_tex_sub_image",
             TexSubImage { .. } => "tex_sub_image",
             CubeTexImage { .. } => "cube_tex_image",
             CubeTexSubImage { .. } => "cube_tex_sub_image",
@@ -644,6 +678,12 @@ impl<D> Call<D> {
             }
             CubeTexSubImage { id, face, x, y, width, height, data } => {
                 CubeTexSubImage { id, face, x, y, width, height, data: f(data)? }
+            }
+            EncodedTexImage { id, level, width, height, format, srgb, data } => {
+                EncodedTexImage { id, level, width, height, format, srgb, data: f(data)? }
+            }
+            EncodedTexSubImage { id, x, y, width, height, format, data } => {
+                EncodedTexSubImage { id, x, y, width, height, format, data: f(data)? }
             }
             VertexAttribArray { index, size, component, normalized, stride, data } => {
                 VertexAttribArray { index, size, component, normalized, stride, data: f(data)? }
@@ -811,6 +851,93 @@ impl TextureFormat {
             TextureFormat::Depth32f => "depth32f",
             TextureFormat::Depth24Stencil8 => "depth24_stencil8",
             TextureFormat::Stencil8 => "stencil8",
+        }
+    }
+}
+
+/// Formats of `encoded_tex_image`: textures tiler samples (decoded) but does not render to,
+/// with GL's names (`GL_COMPRESSED_RGBA8_ETC2_EAC` is `etc2_rgba8`, `GL_ETC1_RGB8_OES`
+/// `etc1_rgb8`, `GL_COMPRESSED_RGBA_ASTC_6x6_KHR` `astc_6x6`, `GL_UNSIGNED_SHORT_4_4_4_4`
+/// texels `rgba4444`). See the core's `TexelFormat` for how each decodes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EncodedFormat {
+    Rgba4444,
+    Rgba5551,
+    Etc1Rgb8,
+    Etc2Rgb8,
+    #[serde(rename = "etc2_rgb8_a1")]
+    Etc2Rgb8A1,
+    Etc2Rgba8,
+    EacR11,
+    EacRg11,
+    #[serde(rename = "astc_4x4")]
+    Astc4x4,
+    #[serde(rename = "astc_5x4")]
+    Astc5x4,
+    #[serde(rename = "astc_5x5")]
+    Astc5x5,
+    #[serde(rename = "astc_6x5")]
+    Astc6x5,
+    #[serde(rename = "astc_6x6")]
+    Astc6x6,
+    #[serde(rename = "astc_8x5")]
+    Astc8x5,
+    #[serde(rename = "astc_8x6")]
+    Astc8x6,
+    #[serde(rename = "astc_8x8")]
+    Astc8x8,
+    #[serde(rename = "astc_10x5")]
+    Astc10x5,
+    #[serde(rename = "astc_10x6")]
+    Astc10x6,
+    #[serde(rename = "astc_10x8")]
+    Astc10x8,
+    #[serde(rename = "astc_10x10")]
+    Astc10x10,
+    #[serde(rename = "astc_12x10")]
+    Astc12x10,
+    #[serde(rename = "astc_12x12")]
+    Astc12x12,
+}
+
+impl EncodedFormat {
+    /// The ASTC formats in GL's enum order (`0x93B0` + index), the footprints of
+    /// `tiler::ASTC_FOOTPRINTS`.
+    pub const ASTC: [EncodedFormat; 14] = [
+        EncodedFormat::Astc4x4,
+        EncodedFormat::Astc5x4,
+        EncodedFormat::Astc5x5,
+        EncodedFormat::Astc6x5,
+        EncodedFormat::Astc6x6,
+        EncodedFormat::Astc8x5,
+        EncodedFormat::Astc8x6,
+        EncodedFormat::Astc8x8,
+        EncodedFormat::Astc10x5,
+        EncodedFormat::Astc10x6,
+        EncodedFormat::Astc10x8,
+        EncodedFormat::Astc10x10,
+        EncodedFormat::Astc12x10,
+        EncodedFormat::Astc12x12,
+    ];
+
+    /// The core's format.
+    pub fn texel_format(self) -> tiler::TexelFormat {
+        use tiler::TexelFormat as T;
+        match self {
+            EncodedFormat::Rgba4444 => T::Rgba4444,
+            EncodedFormat::Rgba5551 => T::Rgba5551,
+            EncodedFormat::Etc1Rgb8 => T::Etc1Rgb8,
+            EncodedFormat::Etc2Rgb8 => T::Etc2Rgb8,
+            EncodedFormat::Etc2Rgb8A1 => T::Etc2Rgb8A1,
+            EncodedFormat::Etc2Rgba8 => T::Etc2Rgba8,
+            EncodedFormat::EacR11 => T::EacR11,
+            EncodedFormat::EacRg11 => T::EacRg11,
+            astc => {
+                let index = EncodedFormat::ASTC.iter().position(|&f| f == astc).expect("the rest are ASTC");
+                let (block_width, block_height) = tiler::ASTC_FOOTPRINTS[index];
+                T::Astc { block_width, block_height }
+            }
         }
     }
 }

@@ -84,7 +84,7 @@ pub mod trace;
 pub use advisor::{Finding, RuleId, Severity};
 pub use bytes::Bytes;
 pub use call::{
-    AttachmentPoint, BufferSet, Call, Capability, ComponentType, CubeFace, DependencySpec, Face, Filter,
+    AttachmentPoint, BufferSet, Call, Capability, ComponentType, CubeFace, DependencySpec, EncodedFormat, Face, Filter,
     FramebufferTarget, GlslSource, IndexKind, Mode, Output, ProgramKind, ProgramSource, SubpassSpec, SwapBehavior,
     TextureFormat, UniformValue, Winding, Wrap,
 };

@@ -28,9 +28,11 @@
 //! `*_mipmap_*` filter, on the core's mip chain (`MipChain::Linear`, as Mesa builds it), wrapped as
 //! the texture says, through the core's texture-cache model, so its reads are `texture_fetch`
 //! in the pass's ledger. The texture is the image's contents when its render pass is submitted
-//! (render to texture included). Formats the core sampler does not take (float, 565, depth —
-//! a shadow map) are sampled by [`TextureSnapshot`], the same filtering on decoded texels, whose
-//! reads are not counted. Blits and copies use [`TextureSnapshot`] too (it averages the samples
+//! (render to texture included). RGB565 textures, `encoded_tex_image` ones (ETC2, ASTC, 4444,
+//! 5551) and float ones whose values all lie in [0, 1] go through the core too, decoded to 8
+//! bits and counted by what their format stores. Formats the core sampler does not take (floats
+//! beyond [0, 1], depth — a shadow map) are sampled by [`TextureSnapshot`], the same filtering
+//! on decoded texels, whose reads are not counted. Blits and copies use [`TextureSnapshot`] too (it averages the samples
 //! of a multisampled source, a resolve) and count their source reads by formula (see
 //! `context`).
 

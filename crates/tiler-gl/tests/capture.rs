@@ -798,3 +798,106 @@ fn copy_tex_image_into_gl_rgb_reads_alpha_one() {
     // GL_RGBA keeps the window's alpha, 0.5.
     assert_eq!(copied_alpha(("GL_RGBA", 0x1908)), [128; 4]);
 }
+
+/// ETC2 RGBA8 and ASTC 8×8 textures with mip chains given by `glCompressedTexImage2D` (GL ES
+/// 3; llvmpipe exposes `KHR_texture_compression_astc_ldr` by decoding in software), flat
+/// blocks: the picture matches llvmpipe's, and `texture fetch` is the compressed blocks
+/// fetched. Each half of the 64×64 window samples level 1 of its 64×128 texture (32×64 texels
+/// on 32×64 pixels, `NEAREST_MIPMAP_NEAREST`). With 32×32 tiles, one per half and row:
+///
+/// - ETC2: level 1 is 8×16 blocks of 16 bytes, a block row 128 bytes, 2 lines of 64. A tile
+///   reads 8 block rows, 16 lines; 2 tiles: 32 lines, 2048 bytes.
+/// - ASTC 8×8: level 1 is 4×8 blocks of 16 bytes, a block row one line. A tile reads 4 block
+///   rows, 4 lines; 2 tiles: 8 lines, 512 bytes.
+///
+/// The levels' lines start on line boundaries (level 0 is 8192 and 2048 bytes), tiles share
+/// no line, and the second triangle's helpers find their lines in the cache: 2560 bytes.
+#[test]
+fn probe_compressed_mip_chains_match_llvmpipe_and_fetch_their_blocks() {
+    check_probe("compressed");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles2-probe/compressed.trace");
+    for backend in [tiler::Backend::Tbr, tiler::Backend::Tbdr] {
+        let config = tiler_gl::ContextConfig {
+            backend,
+            tile_width: 32,
+            tile_height: 32,
+            threads: 2,
+            ..ReplayOptions::default().config
+        };
+        let options = ReplayOptions { config, ..ReplayOptions::default() };
+        let replay = tiler_gl::capture::replay_file(&path, &options, &mut |_| Ok(())).unwrap();
+        let fetched: u64 = replay.report.passes().map(|p| p.cost.ledger.get(tiler::Category::TextureFetch)).sum();
+        assert_eq!(fetched, 2048 + 512, "{backend:?}");
+    }
+}
+
+/// `glCompressedTexImage2D` (ETC2 RGBA8) and `glTexImage2D` of 4444 texels replay, each texel
+/// decoded as GL does; a compressed upload whose size does not match its blocks fails at its
+/// call, naming the sizes.
+#[test]
+fn compressed_and_packed_uploads_replay_and_bad_sizes_fail_at_their_call() {
+    let capture = |upload: &dyn Fn(&mut Writer) -> u64| {
+        let mut w = Writer::new(6);
+        window_surface(&mut w);
+        begin_context(&mut w, 100, 4, 4);
+        w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(1)]))], None, false);
+        w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(1))], None, false);
+        let call = upload(&mut w);
+        tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+        let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+        let fragment = "precision mediump float;\nuniform sampler2D tex;\nvoid main() { gl_FragColor = texture2D(tex, vec2(0.4, 0.6)); }\n";
+        full_window_program(&mut w, vertex, fragment);
+        let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+        w.call("glDrawArrays", &draw, None, false);
+        swap(&mut w);
+        (w, call)
+    };
+    let compressed = |size: u64, blocks: Vec<u8>| {
+        move |w: &mut Writer| {
+            let args = [
+                ("target", e("GL_TEXTURE_2D", 0x0de1)),
+                ("level", W::UInt(0)),
+                ("internalformat", e("GL_COMPRESSED_RGBA8_ETC2_EAC", 0x9278)),
+                ("width", W::UInt(size)),
+                ("height", W::UInt(size)),
+                ("border", W::UInt(0)),
+                ("imageSize", W::UInt(blocks.len() as u64)),
+                ("data", W::Blob(blocks.clone())),
+            ];
+            w.call("glCompressedTexImage2D", &args, None, false)
+        }
+    };
+    // One flat ETC2 RGBA8 block: alpha 200, individual mode of the 4-bit colour (1, 2, 3), all
+    // modifiers +2: (19, 36, 53).
+    let mut block = vec![0u8; 16];
+    block[0] = 200;
+    block[8..11].copy_from_slice(&[0x11, 0x22, 0x33]);
+    let (w, _) = capture(&compressed(4, block.clone()));
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [19, 36, 53, 200]));
+    let (w, call) = capture(&compressed(8, block));
+    let (result, _) = replay(&w);
+    let error = result.err().expect("one block for an 8×8 texture");
+    assert_eq!(error.call(), Some(call));
+    assert!(error.to_string().contains("16 bytes of ETC2 RGBA8 data for 8×8, which needs 2×2 blocks"), "{error}");
+
+    // 2×2 texels of 4444: red 15, green 0, blue 8, alpha 15.
+    let (w, _) = capture(&|w: &mut Writer| {
+        let args = [
+            ("target", e("GL_TEXTURE_2D", 0x0de1)),
+            ("level", W::UInt(0)),
+            ("internalformat", e("GL_RGBA", 0x1908)),
+            ("width", W::UInt(2)),
+            ("height", W::UInt(2)),
+            ("border", W::UInt(0)),
+            ("format", e("GL_RGBA", 0x1908)),
+            ("type", e("GL_UNSIGNED_SHORT_4_4_4_4", 0x8033)),
+            ("pixels", W::Blob(0xf08fu16.to_le_bytes().repeat(4))),
+        ];
+        w.call("glTexImage2D", &args, None, false)
+    });
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [255, 0, 136, 255]));
+}

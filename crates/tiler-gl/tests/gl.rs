@@ -3,6 +3,8 @@
 
 #[path = "gl/common.rs"]
 mod common;
+#[path = "gl/encoded.rs"]
+mod encoded;
 #[path = "gl/fuzz.rs"]
 mod fuzz;
 #[path = "gl/glsl.rs"]

@@ -26,7 +26,8 @@
 //! a cycle, and `cargo run -p tiler --example module-graph` prints the graph with the site of
 //! every import.
 //!
-//! Textures (`shade::texture`: RGBA8 with mip chains, nearest/bilinear/trilinear filtering,
+//! Textures (`shade::texture`: RGBA8, packed 16-bit, float, ETC2/EAC and ASTC formats decoded
+//! at creation (`shade::texel_format`), with mip chains, nearest/bilinear/trilinear filtering,
 //! repeat/clamp/mirror wraps) are fields of shader values; [`Fragments::sample`] reads them with
 //! a level of detail from 2×2 quad derivatives, through the texture-cache model of the shading
 //! task (`shade::texture_cache`), whose misses the ledger counts as `TextureFetch`.
@@ -121,6 +122,7 @@ pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
 pub use pass::{Draw, RenderPass};
 pub use pixel::Pipeline;
 pub use shade::fragments::{FragmentShader, Fragments};
+pub use shade::texel_format::{ASTC_FOOTPRINTS, StoredLayout, TexelFormat};
 pub use shade::texture::{
     ColorSpace, CubeFace, Filter, MAX_CUBE_DIMENSION, MipChain, MipmapMode, Sampler, Texture, Wrap,
     cube_face_coordinates,

@@ -24,3 +24,5 @@ mod load_store;
 mod msaa_hsr;
 #[path = "render/subpasses.rs"]
 mod subpasses;
+#[path = "render/texture_formats.rs"]
+mod texture_formats;

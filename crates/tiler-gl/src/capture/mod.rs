@@ -55,6 +55,7 @@
 //! matters under a capability the replay refuses to enable (`glPolygonOffset`,
 //! `glSampleCoverage`).
 
+mod encoded;
 mod texels;
 mod translate;
 

@@ -9,6 +9,7 @@ use tiler::{BlendFactor, BlendOp, CompareOp, StencilOp};
 use tiler_apitrace::GlesCall;
 use tiler_apitrace::gles::{Command, EglHandle, GlEnum, Memory, Params, UniformValue as GlUniform};
 
+use super::encoded;
 use super::texels::{self, Upload};
 use super::{CaptureError, Replay};
 use crate::bytes::Bytes;
@@ -295,11 +296,11 @@ impl Translator {
         Ok(self.ctx.as_mut().expect("made above"))
     }
 
-    fn emit(&mut self, call: Call) -> Fallible<crate::call::Output> {
+    pub(super) fn emit(&mut self, call: Call) -> Fallible<crate::call::Output> {
         self.ctx()?.call(call).map_err(|e| e.message)
     }
 
-    fn fresh_id(&mut self) -> u32 {
+    pub(super) fn fresh_id(&mut self) -> u32 {
         let id = self.next_id;
         self.next_id += 1;
         id
@@ -565,6 +566,49 @@ impl Translator {
                 };
                 self.bindings.textures[unit as usize] = *texture;
                 self.emit(Call::BindTexture { unit, texture: id })?;
+            }
+            C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels }
+                if encoded::packed_format(*format, *kind).is_some() =>
+            {
+                check_2d_level0(*target, 0)?;
+                if *border != 0 || internal_format != format {
+                    return Err(format!(
+                        "border {border} must be 0, internal format {internal_format:#06x} the format"
+                    ));
+                }
+                let level = u32::try_from(*level).map_err(|_| format!("mip level {level} is negative"))?;
+                let packed = encoded::packed_format(*format, *kind).expect("matched");
+                self.packed_tex_image(level, size2(*width, *height)?, packed, pixels)?;
+            }
+            C::TexSubImage2D { target, level, x_offset, y_offset, width, height, format, kind, pixels }
+                if encoded::packed_format(*format, *kind).is_some() =>
+            {
+                check_2d_level0(*target, *level)?;
+                let packed = encoded::packed_format(*format, *kind).expect("matched");
+                let (offset, size) = (size2(*x_offset, *y_offset)?, size2(*width, *height)?);
+                self.packed_tex_sub_image(offset, size, packed, pixels)?;
+            }
+            C::CompressedTexImage2D { target, level, internal_format, width, height, border, image_size, data } => {
+                check_2d_level0(*target, 0)?;
+                if *border != 0 {
+                    return Err(format!("border {border} must be 0"));
+                }
+                self.compressed_tex_image(*level, *internal_format, size2(*width, *height)?, *image_size, data)?;
+            }
+            C::CompressedTexSubImage2D {
+                target,
+                level,
+                x_offset,
+                y_offset,
+                width,
+                height,
+                format,
+                image_size,
+                data,
+            } => {
+                check_2d_level0(*target, *level)?;
+                let (offset, size) = (size2(*x_offset, *y_offset)?, size2(*width, *height)?);
+                self.compressed_tex_sub_image(offset, size, *format, *image_size, data)?;
             }
             C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels }
                 if *level > 0 =>
@@ -1378,7 +1422,7 @@ impl Translator {
         Ok(name)
     }
 
-    fn bound_texture(&self) -> Fallible<u32> {
+    pub(super) fn bound_texture(&self) -> Fallible<u32> {
         match self.bindings.textures[self.bindings.active_unit as usize] {
             0 => Err("the default texture (0) is not supported: bind a texture".into()),
             name => Ok(name),
@@ -1386,7 +1430,7 @@ impl Translator {
     }
 
     /// Binds a texture that just got storage on the units GL bound its name to.
-    fn bind_new_texture(&mut self, name: u32, id: u32) -> Fallible {
+    pub(super) fn bind_new_texture(&mut self, name: u32, id: u32) -> Fallible {
         for unit in 0..MAX_TEXTURE_UNITS {
             if self.bindings.textures[unit as usize] == name {
                 self.emit(Call::BindTexture { unit, texture: id })?;
@@ -1395,11 +1439,25 @@ impl Translator {
         Ok(())
     }
 
-    fn texture_id(&mut self, name: u32) -> Fallible<Option<u32>> {
+    /// Texture `name` got storage `id` of `size` from an encoded upload: its texels come
+    /// encoded from now on (`capture::encoded`).
+    pub(super) fn set_encoded_storage(&mut self, name: u32, id: u32, size: (u32, u32)) -> Fallible {
+        let t = self.objects()?.textures.entry(name).or_default();
+        t.id = Some(id);
+        t.upload = None;
+        t.size = size;
+        Ok(())
+    }
+
+    pub(super) fn unpack_alignment(&self) -> u32 {
+        self.bindings.unpack_alignment
+    }
+
+    pub(super) fn texture_id(&mut self, name: u32) -> Fallible<Option<u32>> {
         Ok(self.objects()?.textures.get(&name).and_then(|t| t.id))
     }
 
-    fn update_sampler(&mut self, name: u32) -> Fallible {
+    pub(super) fn update_sampler(&mut self, name: u32) -> Fallible {
         let t = self.objects()?.textures.get(&name).cloned().unwrap_or_default();
         // A GL state the context cannot sample is refused when it is drawn with.
         if let (Some(id), Ok(p)) = (t.id, t.sampler()) {

@@ -12,6 +12,7 @@
 
 mod cube;
 mod draw;
+mod encoded;
 mod explicit;
 mod frames;
 mod glsl;
@@ -210,6 +211,9 @@ pub(crate) struct TextureObject {
     /// Levels 1, 2, … given by `tex_image_level` (RGBA8, rows top to bottom), `None` where not
     /// given yet.
     pub levels: Vec<Option<Arc<Vec<u8>>>>,
+    /// The format `encoded_tex_image` uploaded it in (decoded into the image, which is RGBA8),
+    /// the one its samples are counted in; `None` for storage of the image's own format.
+    pub encoded: Option<crate::call::EncodedFormat>,
 }
 
 impl TextureObject {
@@ -657,12 +661,25 @@ impl Context {
                 self.texture(id)?;
                 self.texture_storage(id, width, height, format, data, false)?;
             }
-            TexSubImage { id, x, y, width, height, data } => self.tex_sub_image(id, x, y, width, height, data)?,
+            TexSubImage { id, x, y, width, height, data } => {
+                if let Some(format) = self.texture(id)?.encoded {
+                    return Err(format!(
+                        "texture {id} is stored as {format:?}: its texels come by encoded_tex_sub_image"
+                    ));
+                }
+                self.tex_sub_image(id, x, y, width, height, data)?
+            }
             CubeTexImage { id, face, level, size, format, data } => {
                 self.cube_tex_image(id, face, level, size, format, data)?;
             }
             CubeTexSubImage { id, face, x, y, width, height, data } => {
                 self.cube_tex_sub_image(id, face, x, y, width, height, data)?;
+            }
+            EncodedTexImage { id, level, width, height, format, srgb, data } => {
+                self.encoded_tex_image(id, level, (width, height), format, srgb, data)?
+            }
+            EncodedTexSubImage { id, x, y, width, height, format, data } => {
+                self.encoded_tex_sub_image(id, (x, y, width, height), format, data)?
             }
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
                 if mag_filter.is_some_and(|f| f.mipmap().is_some()) {
@@ -681,6 +698,11 @@ impl Context {
             GenerateMipmap { id } => {
                 let image = self.texture(id)?.image;
                 self.check_has_memory(image, &format!("generate_mipmap of texture {id}"))?;
+                if let Some(format) = self.texture(id)?.encoded.filter(|f| f.texel_format().is_compressed()) {
+                    return Err(format!(
+                        "generate_mipmap of texture {id}, which is compressed ({format:?}): its levels must be given"
+                    ));
+                }
                 if self.pass.as_ref().is_some_and(|p| p.images_sampled.contains(&image))
                     && !self.texture(id)?.levels.is_empty()
                 {
@@ -1172,8 +1194,9 @@ impl Context {
             self.upload(image, 0, 0, width, height, &data)?;
         }
         let sampler = SamplerState::new(Filter::Nearest, Wrap::ClampToEdge);
-        let old =
-            self.textures.insert(id, TextureObject { image, format, sampler, mipmaps: false, levels: Vec::new() });
+        let old = self
+            .textures
+            .insert(id, TextureObject { image, format, sampler, mipmaps: false, levels: Vec::new(), encoded: None });
         if let Some(old) = old {
             // GL keeps the other levels of a texture whose level 0 is replaced by one of the same
             // size and format, so it stays complete.

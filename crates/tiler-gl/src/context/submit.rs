@@ -340,9 +340,20 @@ impl Context {
             return Ok(ProgramTexture::Snapshot(Arc::new(TextureSnapshot::constant([0.0, 0.0, 0.0, 1.0])), sampler));
         }
         let d = self.images[&image].desc;
-        let color_space = match d.format {
-            tiler::Format::Rgba8Unorm => tiler::ColorSpace::Linear,
-            tiler::Format::Rgba8UnormSrgb => tiler::ColorSpace::Srgb,
+        // RGBA8 as it is; RGB565 and float images (with every value in [0, 1], which 8 bits
+        // hold) decoded, modelled in their own format; others (HDR floats, depth) snapshots.
+        let (color_space, own_format) = match d.format {
+            tiler::Format::Rgba8Unorm => (tiler::ColorSpace::Linear, None),
+            tiler::Format::Rgba8UnormSrgb => (tiler::ColorSpace::Srgb, None),
+            // Made once per submission: one already made is taken as it is.
+            _ if d.samples == 1 && textures.contains_key(&image) => (tiler::ColorSpace::Linear, None),
+            format if d.samples == 1 => {
+                let data = self.device.image_data(image).map_err(|e| e.to_string())?;
+                match sampled_format(format, data) {
+                    Some(own) => (tiler::ColorSpace::Linear, Some(own)),
+                    None => return Ok(ProgramTexture::Snapshot(self.snapshot(snapshots, image)?, sampler)),
+                }
+            }
             _ => return Ok(ProgramTexture::Snapshot(self.snapshot(snapshots, image)?, sampler)),
         };
         if d.samples != 1 {
@@ -351,6 +362,15 @@ impl Context {
         let mip_chain = if mipmaps { tiler::MipChain::Linear } else { tiler::MipChain::BaseOnly };
         let texture = match textures.get(&image) {
             Some(t) => t.clone(),
+            None if own_format.is_some() => {
+                let own = own_format.expect("matched");
+                let data = self.device.image_data(image).map_err(|e| e.to_string())?;
+                let t = tiler::Texture::from_encoded(own, d.width, d.height, data, color_space, mip_chain)
+                    .map_err(|e| e.to_string())?;
+                let t = Arc::new(t);
+                textures.insert(image, t.clone());
+                t
+            }
             None => {
                 let data = self.device.image_data(image).map_err(|e| e.to_string())?;
                 // Levels given by the application, when they are the whole chain.
@@ -368,6 +388,10 @@ impl Context {
                     }
                     None => tiler::Texture::from_rgba8(d.width, d.height, data, color_space, mip_chain),
                 }
+                .and_then(|t| match self.encoded_format(image) {
+                    Some(format) => t.stored_as(format),
+                    None => Ok(t),
+                })
                 .map_err(|e| e.to_string())?;
                 let t = Arc::new(t);
                 textures.insert(image, t.clone());
@@ -423,6 +447,26 @@ pub(crate) fn core_sampler(sampler: SamplerState, mipmaps: bool) -> tiler::Sampl
         wrap_u: core_wrap(sampler.wrap_s),
         wrap_v: core_wrap(sampler.wrap_t),
         lod_bias: 0.0,
+    }
+}
+
+/// The core format an image of `format` other than RGBA8 is sampled from: RGB565, and float
+/// formats whose every value is within `[0, 1]` (the core sampler filters 8-bit texels, which
+/// hold them; others keep the snapshot's float precision, uncounted).
+fn sampled_format(format: tiler::Format, data: &[u8]) -> Option<tiler::TexelFormat> {
+    use tiler::{Format, TexelFormat};
+    let in_range = |v: f32| (0.0..=1.0).contains(&v);
+    match format {
+        Format::Rgb565Unorm => Some(TexelFormat::Rgb565),
+        Format::Rgba16Float => data
+            .chunks_exact(2)
+            .all(|h| in_range(half::f16::from_le_bytes([h[0], h[1]]).to_f32()))
+            .then_some(TexelFormat::Rgba16Float),
+        Format::Rgba32Float | Format::R32Float => data
+            .chunks_exact(4)
+            .all(|f| in_range(f32::from_le_bytes([f[0], f[1], f[2], f[3]])))
+            .then_some(if format == Format::R32Float { TexelFormat::R32Float } else { TexelFormat::Rgba32Float }),
+        _ => None,
     }
 }
 

@@ -4,6 +4,7 @@
 
 pub mod fragments;
 pub mod interpolate;
+pub mod texel_format;
 pub mod texture;
 pub mod texture_cache;
 

@@ -1,4 +1,5 @@
-//! Textures and samplers: RGBA8 images with mip chains, sampled eight lanes at a time with
+//! Textures and samplers: images with mip chains, stored in any `TexelFormat` and decoded to
+//! RGBA8 when made (`shade::texel_format`), sampled eight lanes at a time with
 //! nearest, bilinear or trilinear filtering, repeat / clamp-to-edge / mirrored-repeat wraps and
 //! a level of detail from 2×2 quad derivatives. Every texel read goes through the texture cache
 //! model (`shade::texture_cache`), which decides what the ledger counts.
@@ -48,6 +49,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 pub use cube::{CubeFace, MAX_CUBE_DIMENSION, cube_face_coordinates};
 
+use super::texel_format::{StoredLayout, TexelFormat};
 use super::texture_cache::{MAX_LANE_LINES, TextureCache};
 use crate::api::error::{Error, Result};
 use crate::api::format::{linear_to_srgb, srgb8_to_linear, unorm8};
@@ -194,14 +196,19 @@ impl Sampler {
     }
 }
 
-/// One mip level: its size and its modelled address (see `texture_cache`), relative to the
-/// texture's, which is where its texels start in the texture's texels, × 4.
+/// One mip level: its size, where its decoded texels start in the texture's texels (× 4:
+/// `address`, the modelled address of an RGBA8 texture) and where the texture's format stores
+/// it in the modelled memory (`stored_address`, see `texture_cache` and [`StoredLayout`]),
+/// both relative to the texture's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Level {
     pub width: u32,
     pub height: u32,
     address: u64,
     blocks_x: u32,
+    stored_address: u64,
+    /// The stored format's blocks across.
+    stored_blocks_x: u32,
 }
 
 /// What to read for one quad: one level, or two levels blended.
@@ -219,11 +226,13 @@ enum LevelPlan {
     },
 }
 
-/// An RGBA8 texture with its mip chain.
+/// A texture with its mip chain, decoded to RGBA8, modelled as stored in its [`TexelFormat`].
 #[derive(Clone, Debug)]
 pub struct Texture {
     id: u64,
     color_space: ColorSpace,
+    format: TexelFormat,
+    layout: StoredLayout,
     levels: Vec<Level>,
     /// Every level's texels, level after level, in the modelled layout (`texture_cache`): 4×4
     /// blocks of 16 texels row-major, blocks row-major, so that texel `(x, y)` of a level is at
@@ -262,9 +271,61 @@ impl Texture {
         mips: MipChain,
     ) -> Result<Texture> {
         check_base(width, height, rgba)?;
+        let rows: Vec<[u8; 4]> = rgba.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
+        Ok(Texture::build(TexelFormat::Rgba8, width, height, rows, color_space, mips))
+    }
+
+    /// A texture from a `width × height` level 0 stored in `format` (see
+    /// `shade::texel_format` for the data's layout and how each format decodes), rows or
+    /// block rows top to bottom. A `MipChain::Box` chain is built from the decoded texels and
+    /// modelled as stored in `format` too (for a compressed format: as if encoded again).
+    ///
+    /// # Errors
+    /// A zero or too large size, `data` not the size the format needs for it, or a block the
+    /// decoder refuses.
+    pub fn from_encoded(
+        format: TexelFormat,
+        width: u32,
+        height: u32,
+        data: &[u8],
+        color_space: ColorSpace,
+        mips: MipChain,
+    ) -> Result<Texture> {
+        check_size(width, height, format)?;
+        let rows = format.decode(width, height, data)?;
+        Ok(Texture::build(format, width, height, rows, color_space, mips))
+    }
+
+    /// The same texels modelled as stored in `format`: for texels decoded before they reach
+    /// the core (a compressed upload the GL layer decoded once, say), so that sampling them
+    /// fetches what `format` stores. The texture gets a new id (its cache lines are its own).
+    ///
+    /// # Errors
+    /// An invalid ASTC footprint, or a chain `format` stores in more than 4 GiB.
+    pub fn stored_as(self, format: TexelFormat) -> Result<Texture> {
+        check_size(self.width(), self.height(), format)?;
+        let rows: Vec<[u8; 4]> = (0..self.levels.len()).flat_map(|level| self.level_texels(level)).collect();
+        // `store` takes the chain row-major: each level's first texel in `rows`.
+        let mut row_starts = Vec::with_capacity(self.levels.len());
+        let mut at = 0;
+        for l in &self.levels {
+            row_starts.push(at);
+            at += l.width as usize * l.height as usize;
+        }
+        Ok(Texture::store(format, rows, self.levels, &row_starts, self.color_space))
+    }
+
+    /// The texture of decoded level 0 texels `rows`, its chain built by `mips`.
+    fn build(
+        format: TexelFormat,
+        width: u32,
+        height: u32,
+        mut rows: Vec<[u8; 4]>,
+        color_space: ColorSpace,
+        mips: MipChain,
+    ) -> Texture {
         // The chain is built row-major, level after level (`rows`, each level's first texel in
         // `starts`), then stored in blocks.
-        let mut rows: Vec<[u8; 4]> = rgba.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
         let (mut levels, mut starts) = (vec![Level::new(width, height, 0)], vec![0]);
         if mips != MipChain::BaseOnly {
             while let Some(&above) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
@@ -284,7 +345,7 @@ impl Texture {
                 levels.push(next);
             }
         }
-        Ok(Texture::store(rows, levels, &starts, color_space))
+        Texture::store(format, rows, levels, &starts, color_space)
     }
 
     /// A texture whose mip chain is given, level 0 first, rows top to bottom, each level
@@ -296,29 +357,40 @@ impl Texture {
     pub fn from_rgba8_levels(width: u32, height: u32, given: &[&[u8]], color_space: ColorSpace) -> Result<Texture> {
         let base = given.first().ok_or_else(|| Error::invalid("texture", "no levels".to_string()))?;
         check_base(width, height, base)?;
+        Texture::from_encoded_levels(TexelFormat::Rgba8, width, height, given, color_space)
+    }
+
+    /// [`Texture::from_rgba8_levels`] for levels stored in `format` (each level's data as
+    /// [`Texture::from_encoded`] takes it): what an application uploads level by level
+    /// (`glCompressedTexImage2D` with `level > 0`, for instance).
+    ///
+    /// # Errors
+    /// A size out of range, a level of the wrong size or data, a block the decoder refuses,
+    /// or a chain that does not end at 1×1.
+    pub fn from_encoded_levels(
+        format: TexelFormat,
+        width: u32,
+        height: u32,
+        given: &[&[u8]],
+        color_space: ColorSpace,
+    ) -> Result<Texture> {
+        let base = given.first().ok_or_else(|| Error::invalid("texture", "no levels".to_string()))?;
+        check_size(width, height, format)?;
         let (mut levels, mut starts) = (vec![Level::new(width, height, 0)], vec![0]);
-        let mut rows: Vec<[u8; 4]> = base.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
-        for (i, texels) in given.iter().enumerate().skip(1) {
+        let mut rows = format.decode(width, height, base)?;
+        for (i, data) in given.iter().enumerate().skip(1) {
             let above = *levels.last().expect("level 0 is there");
             if above.width == 1 && above.height == 1 {
                 return Err(Error::invalid("texture", format!("level {i} is below the 1×1 level")));
             }
             let next =
                 Level::new((above.width / 2).max(1), (above.height / 2).max(1), above.address + above.modelled_bytes());
-            if texels.len() != next.width as usize * next.height as usize * 4 {
-                return Err(Error::invalid(
-                    "texture",
-                    format!(
-                        "level {i} has {} bytes, but a {}×{} RGBA8 level needs {}",
-                        texels.len(),
-                        next.width,
-                        next.height,
-                        next.width as usize * next.height as usize * 4
-                    ),
-                ));
-            }
+            let texels = format.decode(next.width, next.height, data).map_err(|e| match e {
+                Error::Invalid { reason, .. } => Error::invalid("texture", format!("level {i}: {reason}")),
+                other => other,
+            })?;
             starts.push(rows.len());
-            rows.extend(texels.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]));
+            rows.extend(texels);
             levels.push(next);
         }
         let last = levels.last().expect("level 0 is there");
@@ -328,12 +400,25 @@ impl Texture {
                 format!("the chain ends at level {} ({}×{}), not at 1×1", levels.len() - 1, last.width, last.height),
             ));
         }
-        Ok(Texture::store(rows, levels, &starts, color_space))
+        Ok(Texture::store(format, rows, levels, &starts, color_space))
     }
 
     /// The texture of a chain built row-major (`rows`, each level's first texel in `starts`),
-    /// stored in blocks.
-    fn store(rows: Vec<[u8; 4]>, levels: Vec<Level>, starts: &[usize], color_space: ColorSpace) -> Texture {
+    /// stored in blocks; each level's stored address follows the level before it in `format`.
+    fn store(
+        format: TexelFormat,
+        rows: Vec<[u8; 4]>,
+        mut levels: Vec<Level>,
+        starts: &[usize],
+        color_space: ColorSpace,
+    ) -> Texture {
+        let layout = format.layout();
+        let mut stored_address = 0;
+        for level in &mut levels {
+            level.stored_address = stored_address;
+            level.stored_blocks_x = layout.blocks(level.width, level.height).0;
+            stored_address += layout.level_bytes(level.width, level.height);
+        }
         let last = levels.last().expect("level 0 is there");
         let mut texels = vec![[0u8; 4]; ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize];
         for (level, &start) in levels.iter().zip(starts) {
@@ -354,6 +439,8 @@ impl Texture {
         Texture {
             id: NEXT_TEXTURE_ID.fetch_add(1, Ordering::Relaxed),
             color_space,
+            format,
+            layout,
             levels,
             texels,
             color_table,
@@ -371,6 +458,17 @@ impl Texture {
 
     pub fn color_space(&self) -> ColorSpace {
         self.color_space
+    }
+
+    /// The format its texels are stored in (they are sampled decoded to RGBA8).
+    pub fn format(&self) -> TexelFormat {
+        self.format
+    }
+
+    /// Bytes the stored format takes for every level: what the texture occupies in external
+    /// memory.
+    pub fn stored_bytes(&self) -> u64 {
+        self.levels.iter().map(|l| self.layout.level_bytes(l.width, l.height)).sum()
     }
 
     pub fn levels(&self) -> &[Level] {
@@ -395,13 +493,11 @@ impl Texture {
         self.texels.len() * 4
     }
 
-    /// The modelled address of texel `(x, y)` of `level` (see `texture_cache`).
+    /// The modelled address of texel `(x, y)` of `level` (see `texture_cache`): where the
+    /// texture's format stores it ([`StoredLayout`]).
     #[inline(always)]
     pub fn texel_address(&self, level: usize, x: u32, y: u32) -> u64 {
-        let l = &self.levels[level];
-        let block = (y / BLOCK_TEXELS) as u64 * l.blocks_x as u64 + (x / BLOCK_TEXELS) as u64;
-        let within = ((y % BLOCK_TEXELS) * BLOCK_TEXELS + x % BLOCK_TEXELS) as u64;
-        (self.id << 40).wrapping_add(l.address + block * BLOCK_BYTES + within * TEXEL_BYTES)
+        (self.id << 40).wrapping_add(self.levels[level].stored_offset(&self.layout, x, y))
     }
 
     /// Samples the eight lanes at `(u, v)` with the instruction set of `simd` (every level
@@ -432,7 +528,7 @@ impl Texture {
     /// UNORM; alpha is `c · 257`): a kernel per colour space, so that linear textures decode
     /// with vector arithmetic.
     #[inline(always)]
-    fn sample_decoded(
+    fn sample_decoded<const STORED: bool>(
         &self,
         sampler: &Sampler,
         u: F32x8,
@@ -461,7 +557,7 @@ impl Texture {
             let counted = lanes.map(|lane| counted.contains(lane));
             let minified_unmipped = unmipped && rho_squared[quad] > unmipped_rho_squared;
             let lambda = lods[quad] + sampler.lod_bias;
-            quads[quad] = self.sample_quad(sampler, lambda, &at, counted, minified_unmipped, cache, &decode);
+            quads[quad] = self.sample_quad::<STORED>(sampler, lambda, &at, counted, minified_unmipped, cache, &decode);
         }
         group_of_quads(quads)
     }
@@ -474,7 +570,7 @@ impl Texture {
     /// ([`TextureCache::note_unmipped`]). What 2D and cube sampling share.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)] // one quad's inputs; a struct would only rename them
-    fn sample_quad(
+    fn sample_quad<const STORED: bool>(
         &self,
         sampler: &Sampler,
         lambda: f32,
@@ -491,7 +587,7 @@ impl Texture {
         let first_line = (self.id << 40) >> line_shift;
         match self.plan(sampler, lambda) {
             LevelPlan::Single { level, filter } => {
-                let near = self.footprint(level, filter, sampler, at, line_shift);
+                let near = self.footprint::<STORED>(level, filter, sampler, at, line_shift);
                 let misses = cache.misses();
                 cache.access_quad(first_line, near.rows(), counted);
                 if minified_unmipped && counted.contains(&true) {
@@ -500,8 +596,8 @@ impl Texture {
                 self.filter(&near, decode)
             }
             LevelPlan::Blend { level, filter, weight } => {
-                let near = self.footprint(level, filter, sampler, at, line_shift);
-                let far = self.footprint(level + 1, filter, sampler, at, line_shift);
+                let near = self.footprint::<STORED>(level, filter, sampler, at, line_shift);
+                let far = self.footprint::<STORED>(level + 1, filter, sampler, at, line_shift);
                 let (near_rows, far_rows) = (near.rows(), far.rows());
                 let mut rows = [[0; 4]; MAX_LANE_LINES];
                 rows[..near_rows.len()].copy_from_slice(near_rows);
@@ -518,10 +614,12 @@ impl Texture {
     fn sample_point(&self, sampler: &Sampler, at: &QuadAt, lambda: f32) -> [f32; 4] {
         let decode = |c: u32| self.color_table[c as usize] as u32;
         let rgba = match self.plan(sampler, lambda + sampler.lod_bias) {
-            LevelPlan::Single { level, filter } => self.filter(&self.footprint(level, filter, sampler, at, 0), &decode),
+            LevelPlan::Single { level, filter } => {
+                self.filter(&self.footprint::<false>(level, filter, sampler, at, 0), &decode)
+            }
             LevelPlan::Blend { level, filter, weight } => {
-                let a = self.filter(&self.footprint(level, filter, sampler, at, 0), &decode);
-                let b = self.filter(&self.footprint(level + 1, filter, sampler, at, 0), &decode);
+                let a = self.filter(&self.footprint::<false>(level, filter, sampler, at, 0), &decode);
+                let b = self.filter(&self.footprint::<false>(level + 1, filter, sampler, at, 0), &decode);
                 std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight)))
             }
         };
@@ -579,7 +677,14 @@ impl Texture {
     /// lanes (see [`reduce`]): texels and weights, and the cache lines that hold the texels
     /// (`line_shift`: [`TextureCache::line_shift`]).
     #[inline(always)]
-    fn footprint(&self, level: usize, filter: Filter, sampler: &Sampler, at: &QuadAt, line_shift: u32) -> Footprint {
+    fn footprint<const STORED: bool>(
+        &self,
+        level: usize,
+        filter: Filter,
+        sampler: &Sampler,
+        at: &QuadAt,
+        line_shift: u32,
+    ) -> Footprint {
         let (u, v) = (at.u, at.v);
         let l = &self.levels[level];
         let (x, alpha, y, beta) = match filter {
@@ -602,7 +707,15 @@ impl Texture {
         let offset =
             |(cx, cy): (usize, usize)| lanes(|i| at.face_offsets[i] + row_offsets[cy][i] + column_offsets[cx][i]);
         let texel = |corner| offset(corner).map(|offset| offset / TEXEL_BYTES as u32);
-        let line = |corner| offset(corner).map(|offset| offset >> line_shift);
+        // An RGBA8 texture is stored as it is decoded; any other format (`STORED`) where its
+        // layout says.
+        let line = |(cx, cy): (usize, usize)| {
+            if STORED {
+                lanes(|i| (l.stored_offset(&self.layout, x[cx][i], y[cy][i]) >> line_shift) as u32)
+            } else {
+                offset((cx, cy)).map(|offset| offset >> line_shift)
+            }
+        };
         let corners = [(0, 0), (1, 0), (0, 1), (1, 1)];
         Footprint {
             filter,
@@ -640,17 +753,41 @@ impl Texture {
 
 /// Level 0 of a texture: its size in range and `rgba` its RGBA8 texels.
 fn check_base(width: u32, height: u32, rgba: &[u8]) -> Result<()> {
+    check_size(width, height, TexelFormat::Rgba8)?;
+    let texel_count = width as usize * height as usize;
+    if rgba.len() != texel_count * 4 {
+        return Err(Error::invalid(
+            "texture",
+            format!("{} bytes of texels for {width}×{height} RGBA8, which needs {}", rgba.len(), texel_count * 4),
+        ));
+    }
+    Ok(())
+}
+
+/// A level 0 size in range, and small enough that `format` stores its whole chain in 4 GiB
+/// (a texture's stored offsets, and so its lines, then fit in 32 bits; only RGBA32F above
+/// 11585² is refused by the second rule).
+fn check_size(width: u32, height: u32, format: TexelFormat) -> Result<()> {
     if width == 0 || height == 0 || width > MAX_TEXTURE_DIMENSION || height > MAX_TEXTURE_DIMENSION {
         return Err(Error::invalid(
             "texture",
             format!("size {width}×{height} must be from 1×1 to {MAX_TEXTURE_DIMENSION}×{MAX_TEXTURE_DIMENSION}"),
         ));
     }
-    let texel_count = width as usize * height as usize;
-    if rgba.len() != texel_count * 4 {
+    format.validate()?;
+    let layout = format.layout();
+    let (mut w, mut h, mut stored) = (width, height, 0);
+    loop {
+        stored += layout.level_bytes(w, h);
+        if w == 1 && h == 1 {
+            break;
+        }
+        (w, h) = ((w / 2).max(1), (h / 2).max(1));
+    }
+    if stored > 1 << 32 {
         return Err(Error::invalid(
             "texture",
-            format!("{} bytes of texels for {width}×{height} RGBA8, which needs {}", rgba.len(), texel_count * 4),
+            format!("{width}×{height} {} with its mip chain takes {stored} bytes, more than 4 GiB", format.name()),
         ));
     }
     Ok(())
@@ -722,12 +859,18 @@ fn sample_group_body(
     counted: LaneMask,
     cache: &mut TextureCache,
 ) -> Vec4x8 {
-    match texture.color_space {
+    // A kernel per colour space, and per layout: RGBA8 finds its lines from the decoded
+    // texels' offsets, other formats from their stored layout (`STORED`), with no branch on
+    // the format in the RGBA8 kernel.
+    let srgb = |c: u32| texture.color_table[c as usize] as u32;
+    match (texture.color_space, texture.format != TexelFormat::Rgba8) {
         // `color_table` is `unorm8_to_unorm16`.
-        ColorSpace::Linear => texture.sample_decoded(sampler, u, v, counted, cache, unorm8_to_unorm16),
-        ColorSpace::Srgb => {
-            texture.sample_decoded(sampler, u, v, counted, cache, |c| texture.color_table[c as usize] as u32)
+        (ColorSpace::Linear, false) => {
+            texture.sample_decoded::<false>(sampler, u, v, counted, cache, unorm8_to_unorm16)
         }
+        (ColorSpace::Linear, true) => texture.sample_decoded::<true>(sampler, u, v, counted, cache, unorm8_to_unorm16),
+        (ColorSpace::Srgb, false) => texture.sample_decoded::<false>(sampler, u, v, counted, cache, srgb),
+        (ColorSpace::Srgb, true) => texture.sample_decoded::<true>(sampler, u, v, counted, cache, srgb),
     }
 }
 
@@ -792,8 +935,19 @@ impl Footprint {
 }
 
 impl Level {
+    /// A level at `address` in the decoded layout (its stored address is set by `Texture::store`).
     fn new(width: u32, height: u32, address: u64) -> Level {
-        Level { width, height, address, blocks_x: width.div_ceil(BLOCK_TEXELS) }
+        Level { width, height, address, blocks_x: width.div_ceil(BLOCK_TEXELS), stored_address: 0, stored_blocks_x: 0 }
+    }
+
+    /// Where the texture's format stores texel `(x, y)`, relative to the texture's modelled
+    /// address (see [`StoredLayout`]): below `2^32` (`check_size`).
+    #[inline(always)]
+    fn stored_offset(&self, layout: &StoredLayout, x: u32, y: u32) -> u64 {
+        let (bx, by) = (x / layout.block_width, y / layout.block_height);
+        let block = by as u64 * self.stored_blocks_x as u64 + bx as u64;
+        let within = ((y - by * layout.block_height) * layout.block_width + (x - bx * layout.block_width)) as u64;
+        self.stored_address + block * layout.block_bytes as u64 + within * layout.texel_bytes as u64
     }
 
     /// Where texel `(x, y)` is in the texture's texels: its modelled address / 4.
@@ -1719,22 +1873,43 @@ mod tests {
         )
     }
 
-    /// A texture of random texels: any texel read in the wrong place shows.
+    /// A texture of random texels: any texel read in the wrong place shows. Mostly RGBA8;
+    /// other formats (whose lines the reference finds through `texel_address`, the stored
+    /// layout) from random bytes — ASTC blocks made void-extent (constant, random colours).
     fn texture() -> impl Strategy<Value = Texture> {
         let color_space = prop::sample::select(vec![ColorSpace::Linear, ColorSpace::Srgb]);
         let mips = prop::sample::select(vec![MipChain::Box, MipChain::BaseOnly]);
-        (1u32..70, 1u32..70, color_space, mips, any::<u64>()).prop_map(|(width, height, color_space, mips, seed)| {
-            let mut state = seed;
-            let rgba: Vec<u8> = (0..width * height * 4)
-                .map(|_| {
-                    // SplitMix64.
-                    state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-                    let z = (state ^ (state >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-                    ((z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb) >> 56) as u8
-                })
-                .collect();
-            Texture::from_rgba8(width, height, &rgba, color_space, mips).unwrap()
-        })
+        let format = prop_oneof![
+            4 => Just(TexelFormat::Rgba8),
+            1 => prop::sample::select(vec![
+                TexelFormat::Rgb565,
+                TexelFormat::Rgba16Float,
+                TexelFormat::Rgba32Float,
+                TexelFormat::Etc2Rgb8,
+                TexelFormat::Etc2Rgba8,
+                TexelFormat::Astc { block_width: 5, block_height: 5 },
+                TexelFormat::Astc { block_width: 12, block_height: 10 },
+            ]),
+        ];
+        (1u32..70, 1u32..70, color_space, mips, format, any::<u64>()).prop_map(
+            |(width, height, color_space, mips, format, seed)| {
+                let mut state = seed;
+                let mut data: Vec<u8> = (0..format.data_bytes(width, height))
+                    .map(|_| {
+                        // SplitMix64.
+                        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+                        let z = (state ^ (state >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+                        ((z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb) >> 56) as u8
+                    })
+                    .collect();
+                if let TexelFormat::Astc { .. } = format {
+                    for block in data.chunks_exact_mut(16) {
+                        block[..8].copy_from_slice(&[0xfc, 0xfd, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff]);
+                    }
+                }
+                Texture::from_encoded(format, width, height, &data, color_space, mips).unwrap()
+            },
+        )
     }
 
     /// Every SIMD level this processor runs.

@@ -13,8 +13,11 @@
 //! texel read.
 //!
 //! Addresses are modelled, not host pointers: texture `id` at `id · 2^40`, its levels one after
-//! another, each level in 4×4-texel blocks of 64 bytes (RGBA8), blocks in row-major order
-//! (`Texture::texel_address`). Storing textures in blocks is what GPUs do (block-linear or
+//! another, each level in blocks in row-major order, as its format stores it
+//! (`Texture::texel_address`, `texel_format::StoredLayout`): 4×4-texel blocks of uncompressed
+//! texels (64 bytes for RGBA8, 32 for RGB565, 256 for RGBA32F), or the compressed blocks of
+//! ETC2 (4×4 texels in 8 or 16 bytes) and ASTC (16 bytes for its footprint), each read whole by
+//! any of its texels. Storing textures in blocks is what GPUs do (block-linear or
 //! Morton layouts) so that a cache line holds a square of texels, not a thin row.
 //!
 //! Every task (a band of tiles on a tiler, a band of rows for one draw in immediate mode) starts

@@ -248,7 +248,7 @@ impl Texture {
             let at = self.cube_quad_at(x, y, z);
             let counted = lanes.map(|lane| counted.contains(lane));
             let minified_unmipped = sampler.mipmap == MipmapMode::None && lambda > super::UNMIPPED_LOD;
-            quads[quad] = self.sample_quad(&sampler, lambda, &at, counted, minified_unmipped, cache, &decode);
+            quads[quad] = self.sample_quad::<false>(&sampler, lambda, &at, counted, minified_unmipped, cache, &decode);
         }
         group_of_quads(quads)
     }
