@@ -361,10 +361,51 @@ pub enum Call<D = Bytes> {
     BindIndexBuffer {
         buffer: u32,
     },
+    /// Attribute `index` advances once every `divisor` instances instead of once per vertex
+    /// (`glVertexAttribDivisor`); 0, the default, is per vertex.
+    VertexAttribDivisor {
+        index: u32,
+        divisor: u32,
+    },
+    /// Creates vertex array object `id` (`glGenVertexArrays`): every attribute disabled,
+    /// without a pointer, divisor 0, no index buffer.
+    CreateVertexArray {
+        id: u32,
+    },
+    /// `glBindVertexArray`: the attributes' enables, pointers and divisors and the index
+    /// buffer binding are those of vertex array `id` until another is bound; 0 is the
+    /// default vertex array. Generic values (`vertex_attrib`) are the context's, not the
+    /// array's.
+    BindVertexArray {
+        id: u32,
+    },
+    /// `glDeleteVertexArrays`; deleting the bound array binds 0.
+    DeleteVertexArray {
+        id: u32,
+    },
     /// `glActiveTexture` + `glBindTexture`; 0 unbinds.
     BindTexture {
         unit: u32,
         texture: u32,
+    },
+
+    /// `glUniformBlockBinding`: uniform block `block` (by name) of GLSL program `program`
+    /// reads the buffer bound at uniform buffer binding `binding` (initially 0).
+    UniformBlockBinding {
+        program: u32,
+        block: String,
+        binding: u32,
+    },
+    /// `glBindBufferBase` / `glBindBufferRange(GL_UNIFORM_BUFFER)`: uniform buffer binding
+    /// `binding` holds buffer `buffer` (0 unbinds) from byte `offset`, `size` bytes (to the
+    /// buffer's end without one). A draw reads the blocks' values from it (`std140`).
+    BindUniformBuffer {
+        binding: u32,
+        buffer: u32,
+        #[serde(default)]
+        offset: u64,
+        #[serde(default = "none", skip_serializing_if = "Option::is_none")]
+        size: Option<u64>,
     },
 
     // --- drawing ---------------------------------------------------------------------------
@@ -380,6 +421,24 @@ pub enum Call<D = Bytes> {
         index_type: IndexKind,
         #[serde(default)]
         offset: u64,
+    },
+    /// `glDrawArraysInstanced`: `instances` copies of the draw; attributes with a divisor
+    /// read element `instance / divisor`, and `gl_InstanceID` is the copy's number.
+    DrawArraysInstanced {
+        mode: Mode,
+        first: u32,
+        count: u32,
+        instances: u32,
+    },
+    /// `glDrawElementsInstanced`, as `draw_arrays_instanced`.
+    DrawElementsInstanced {
+        mode: Mode,
+        count: u32,
+        #[serde(rename = "type")]
+        index_type: IndexKind,
+        #[serde(default)]
+        offset: u64,
+        instances: u32,
     },
     /// `glClear` of the buffers set to `true`.
     Clear {
@@ -550,9 +609,17 @@ impl<D> Call<D> {
             VertexAttrib { .. } => "vertex_attrib",
             DisableVertexAttrib { .. } => "disable_vertex_attrib",
             BindIndexBuffer { .. } => "bind_index_buffer",
+            VertexAttribDivisor { .. } => "vertex_attrib_divisor",
+            CreateVertexArray { .. } => "create_vertex_array",
+            BindVertexArray { .. } => "bind_vertex_array",
+            DeleteVertexArray { .. } => "delete_vertex_array",
+            UniformBlockBinding { .. } => "uniform_block_binding",
+            BindUniformBuffer { .. } => "bind_uniform_buffer",
             BindTexture { .. } => "bind_texture",
             DrawArrays { .. } => "draw_arrays",
             DrawElements { .. } => "draw_elements",
+            DrawArraysInstanced { .. } => "draw_arrays_instanced",
+            DrawElementsInstanced { .. } => "draw_elements_instanced",
             Clear { .. } => "clear",
             Invalidate { .. } => "invalidate",
             ReadPixels { .. } => "read_pixels",
@@ -652,9 +719,21 @@ impl<D> Call<D> {
             VertexAttrib { index, value } => VertexAttrib { index, value },
             DisableVertexAttrib { index } => DisableVertexAttrib { index },
             BindIndexBuffer { buffer } => BindIndexBuffer { buffer },
+            VertexAttribDivisor { index, divisor } => VertexAttribDivisor { index, divisor },
+            CreateVertexArray { id } => CreateVertexArray { id },
+            BindVertexArray { id } => BindVertexArray { id },
+            DeleteVertexArray { id } => DeleteVertexArray { id },
+            UniformBlockBinding { program, block, binding } => UniformBlockBinding { program, block, binding },
+            BindUniformBuffer { binding, buffer, offset, size } => BindUniformBuffer { binding, buffer, offset, size },
             BindTexture { unit, texture } => BindTexture { unit, texture },
             DrawArrays { mode, first, count } => DrawArrays { mode, first, count },
             DrawElements { mode, count, index_type, offset } => DrawElements { mode, count, index_type, offset },
+            DrawArraysInstanced { mode, first, count, instances } => {
+                DrawArraysInstanced { mode, first, count, instances }
+            }
+            DrawElementsInstanced { mode, count, index_type, offset, instances } => {
+                DrawElementsInstanced { mode, count, index_type, offset, instances }
+            }
             Clear { color, depth, stencil } => Clear { color, depth, stencil },
             Invalidate { attachments } => Invalidate { attachments },
             ReadPixels { x, y, width, height } => ReadPixels { x, y, width, height },

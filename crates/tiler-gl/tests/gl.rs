@@ -5,6 +5,8 @@
 mod common;
 #[path = "gl/fuzz.rs"]
 mod fuzz;
+#[path = "gl/gles3.rs"]
+mod gles3;
 #[path = "gl/glsl.rs"]
 mod glsl;
 #[path = "gl/inference.rs"]

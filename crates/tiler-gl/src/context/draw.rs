@@ -28,6 +28,9 @@ pub(crate) enum DrawSource {
     Program {
         program: super::glsl::ProgramDraw,
         textures: Vec<super::glsl::SampledTexture>,
+        /// The per-instance attribute bytes the driver read for this instance, counted as
+        /// `vertex_fetch` (see `instancing.rs`).
+        instance_fetch_bytes: u64,
     },
     Clear {
         color: [f32; 4],
@@ -115,8 +118,16 @@ pub(super) fn intersect(a: Rect, b: Rect) -> Rect {
 }
 
 impl Context {
-    /// A draw of the program in use: checked now, gathered into the open pass.
-    pub(crate) fn draw(&mut self, mode: Mode, first: u32, count: u32, indexed: Option<(IndexKind, u64)>) -> Fallible {
+    /// A draw of the program in use, `instances` times: checked now, gathered into the open
+    /// pass (each instance a draw of its own, see `instancing`).
+    pub(crate) fn draw(
+        &mut self,
+        mode: Mode,
+        first: u32,
+        count: u32,
+        indexed: Option<(IndexKind, u64)>,
+        instances: u32,
+    ) -> Fallible {
         let here = self.here;
         if self.pass.is_none() {
             // A draw needs a complete framebuffer before anything else.
@@ -180,9 +191,14 @@ impl Context {
             source: AttribSource,
         }
         let mut inputs = Vec::new();
+        let mut per_instance = Vec::new();
         for (index, name) in &program.attributes {
             let index = *index;
             let attrib = &self.state.attribs[index as usize];
+            if attrib.enabled && attrib.divisor > 0 {
+                per_instance.push(self.instanced_attribute(&program, index, name, instances)?);
+                continue;
+            }
             let Some((source, size, component, normalized, stride)) = attrib.source.clone().filter(|_| attrib.enabled)
             else {
                 return Err(format!(
@@ -256,7 +272,7 @@ impl Context {
             Mode::Lines | Mode::LineStrip | Mode::LineLoop => 2,
             Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => 3,
         };
-        if max_vertex.is_none() || count < fewest {
+        if max_vertex.is_none() || count < fewest || instances == 0 {
             return Ok(());
         }
         let (width, height) = (targets.width, targets.height);
@@ -380,6 +396,11 @@ impl Context {
             client.push((copy, shorts.len() as u64));
             (binding.buffer, binding.offset) = (copy, 0);
         }
+        for id in &program.uniform_buffers {
+            let b = self.buffers.get_mut(id).expect("checked by read_uniform_blocks");
+            b.last_use = Some(here.frame);
+            used.push(b.storage);
+        }
         if let Some((storage, _)) = index_binding {
             used.push(storage);
             let id = self.state.index_buffer;
@@ -409,29 +430,41 @@ impl Context {
         if let Some(q) = query.and_then(|q| self.queries.get_mut(&q)) {
             q.pending_draws += 1;
         }
+        if let Some(q) = query.and_then(|q| self.queries.get_mut(&q)) {
+            q.pending_draws += instances - 1;
+        }
+        let per_instance = super::instancing::InstanceReader::new(per_instance);
+        used.extend(self.instanced_buffers_used(&per_instance, here.frame));
         let pass = self.pass.as_mut().expect("ensured above");
         pass.buffers_used.extend(used);
         pass.retired_buffers.extend(client);
         pass.images_sampled.extend(program.textures.iter().map(|t| t.image));
-        push_draw(
-            pass,
-            PendingDraw {
-                call: here,
-                kind: DrawKind::Draw,
-                source: DrawSource::Program { program: program.source, textures: program.textures },
-                desc,
-                vertex_buffers,
-                index: index_binding.map(|b| b.1),
-                first,
-                count,
-                viewport,
-                scissor,
-                query,
-                writes,
-                clip_rect,
-                partial_clear: None,
-            },
-        );
+        for instance in 0..instances {
+            let (source, instance_fetch_bytes) = per_instance.instance(&program.source, instance);
+            push_draw(
+                pass,
+                PendingDraw {
+                    call: here,
+                    kind: DrawKind::Draw,
+                    source: DrawSource::Program {
+                        program: source,
+                        textures: program.textures.clone(),
+                        instance_fetch_bytes,
+                    },
+                    desc: desc.clone(),
+                    vertex_buffers: vertex_buffers.clone(),
+                    index: index_binding.as_ref().map(|b| b.1),
+                    first,
+                    count,
+                    viewport,
+                    scissor,
+                    query,
+                    writes,
+                    clip_rect,
+                    partial_clear: None,
+                },
+            );
+        }
         Ok(())
     }
 

@@ -14,9 +14,12 @@ mod draw;
 mod explicit;
 mod frames;
 mod glsl;
+mod instancing;
 mod pass;
 mod submit;
 mod targets;
+mod uniform_blocks;
+mod vertex_array;
 
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
@@ -39,6 +42,8 @@ pub(crate) use pass::OpenPass;
 pub const MAX_TEXTURE_UNITS: u32 = 8;
 /// The most vertex attributes.
 pub const MAX_VERTEX_ATTRIBS: u32 = 8;
+/// The most uniform buffer bindings (GL ES 3.0's minimum `GL_MAX_UNIFORM_BUFFER_BINDINGS`).
+pub const MAX_UNIFORM_BUFFER_BINDINGS: u32 = 24;
 /// The largest number of frames in flight the model accepts.
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 16;
 
@@ -304,12 +309,17 @@ pub(crate) enum AttribSource {
     Client { data: Bytes },
 }
 
+/// One attribute of a vertex array object.
 #[derive(Clone, Debug)]
 pub(crate) struct Attrib {
     pub enabled: bool,
     pub source: Option<(AttribSource, u32, ComponentType, bool, u32)>,
-    /// The current generic value (`glVertexAttrib4f`), read when disabled by GLSL programs.
-    pub generic: [f32; 4],
+    /// `glVertexAttribDivisor`: 0 per vertex, `n` once every `n` instances.
+    pub divisor: u32,
+}
+
+impl Attrib {
+    const DEFAULT: Attrib = Attrib { enabled: false, source: None, divisor: 0 };
 }
 
 /// The fixed-function and binding state, as GL's context holds it.
@@ -340,8 +350,16 @@ pub(crate) struct GlState {
     pub clear_color: [f32; 4],
     pub clear_depth: f32,
     pub clear_stencil: u8,
+    /// The bound vertex array object's attributes and index buffer (`vertex_array.rs`).
     pub attribs: Vec<Attrib>,
     pub index_buffer: u32,
+    /// The bound vertex array object (0: the default one).
+    pub vertex_array: u32,
+    /// Each attribute's current generic value (`glVertexAttrib4f`), read when disabled by
+    /// GLSL programs; context state, not a vertex array's.
+    pub generic: Vec<[f32; 4]>,
+    /// Uniform buffer bindings (`uniform_blocks.rs`).
+    pub uniform_buffers: Vec<Option<uniform_blocks::UniformBufferBinding>>,
     pub textures: [u32; MAX_TEXTURE_UNITS as usize],
     pub program: u32,
 }
@@ -373,11 +391,11 @@ impl GlState {
             clear_color: [0.0; 4],
             clear_depth: 1.0,
             clear_stencil: 0,
-            attribs: vec![
-                Attrib { enabled: false, source: None, generic: [0.0, 0.0, 0.0, 1.0] };
-                MAX_VERTEX_ATTRIBS as usize
-            ],
+            attribs: vec![Attrib::DEFAULT; MAX_VERTEX_ATTRIBS as usize],
             index_buffer: 0,
+            vertex_array: 0,
+            generic: vec![[0.0, 0.0, 0.0, 1.0]; MAX_VERTEX_ATTRIBS as usize],
+            uniform_buffers: vec![None; MAX_UNIFORM_BUFFER_BINDINGS as usize],
             textures: [0; MAX_TEXTURE_UNITS as usize],
             program: 0,
         }
@@ -412,6 +430,8 @@ pub struct Context {
     pub(crate) renderbuffers: BTreeMap<u32, RenderbufferObject>,
     pub(crate) framebuffers: BTreeMap<u32, FramebufferObject>,
     pub(crate) programs: BTreeMap<u32, ProgramObject>,
+    /// The vertex array objects other than the bound one (`vertex_array.rs`).
+    pub(crate) vertex_arrays: BTreeMap<u32, vertex_array::VertexArray>,
     /// The program in use, deleted: it goes when another is used.
     deleted_program: Option<u32>,
     pub(crate) queries: BTreeMap<u32, QueryObject>,
@@ -513,6 +533,7 @@ impl Context {
             renderbuffers: BTreeMap::new(),
             framebuffers,
             programs: BTreeMap::new(),
+            vertex_arrays: BTreeMap::new(),
             deleted_program: None,
             queries: BTreeMap::new(),
             images,
@@ -831,6 +852,13 @@ impl Context {
             }
             VertexAttribArray { index, size, component, normalized, stride, data } => {
                 self.attrib_index(index)?;
+                if self.state.vertex_array != 0 {
+                    return Err(format!(
+                        "client-side arrays need the default vertex array, but vertex array {} is bound (GL ES 3.0 \
+                         §2.9.6)",
+                        self.state.vertex_array
+                    ));
+                }
                 crate::context::draw::vertex_format(size, component, normalized)?;
                 self.state.attribs[index as usize].source =
                     Some((AttribSource::Client { data }, size, component, normalized, stride));
@@ -841,7 +869,7 @@ impl Context {
             }
             VertexAttrib { index, value } => {
                 self.attrib_index(index)?;
-                self.state.attribs[index as usize].generic = finite4(&format!("vertex attribute {index}"), value)?;
+                self.state.generic[index as usize] = finite4(&format!("vertex attribute {index}"), value)?;
             }
             DisableVertexAttrib { index } => {
                 self.attrib_index(index)?;
@@ -853,6 +881,17 @@ impl Context {
                 }
                 self.state.index_buffer = buffer;
             }
+            VertexAttribDivisor { index, divisor } => {
+                self.attrib_index(index)?;
+                self.state.attribs[index as usize].divisor = divisor;
+            }
+            CreateVertexArray { id } => self.create_vertex_array(id)?,
+            BindVertexArray { id } => self.bind_vertex_array(id)?,
+            DeleteVertexArray { id } => self.delete_vertex_array(id)?,
+            UniformBlockBinding { program, block, binding } => self.uniform_block_binding(program, &block, binding)?,
+            BindUniformBuffer { binding, buffer, offset, size } => {
+                self.bind_uniform_buffer(binding, buffer, offset, size)?;
+            }
             BindTexture { unit, texture } => {
                 if unit >= MAX_TEXTURE_UNITS {
                     return Err(format!("texture unit {unit} is out of range (0 to {})", MAX_TEXTURE_UNITS - 1));
@@ -862,9 +901,13 @@ impl Context {
                 }
                 self.state.textures[unit as usize] = texture;
             }
-            DrawArrays { mode, first, count } => self.draw(mode, first, count, None)?,
+            DrawArrays { mode, first, count } => self.draw(mode, first, count, None, 1)?,
             DrawElements { mode, count, index_type, offset } => {
-                self.draw(mode, 0, count, Some((index_type, offset)))?;
+                self.draw(mode, 0, count, Some((index_type, offset)), 1)?;
+            }
+            DrawArraysInstanced { mode, first, count, instances } => self.draw(mode, first, count, None, instances)?,
+            DrawElementsInstanced { mode, count, index_type, offset, instances } => {
+                self.draw(mode, 0, count, Some((index_type, offset)), instances)?;
             }
             Clear { color, depth, stencil } => self.clear(BufferSet { color, depth, stencil })?,
             Invalidate { attachments } => self.invalidate(&attachments)?,
@@ -1115,16 +1158,8 @@ impl Context {
     fn delete_buffer(&mut self, id: u32) -> Fallible {
         let b = self.buffers.remove(&id).ok_or_else(|| format!("buffer {id} does not exist"))?;
         self.retire_buffer(b.storage, b.size);
-        for attrib in &mut self.state.attribs {
-            if let Some((AttribSource::Buffer { buffer, .. }, ..)) = &attrib.source
-                && *buffer == id
-            {
-                attrib.source = None;
-            }
-        }
-        if self.state.index_buffer == id {
-            self.state.index_buffer = 0;
-        }
+        self.forget_buffer_in_vertex_arrays(id);
+        self.forget_uniform_buffer(id);
         Ok(())
     }
 
