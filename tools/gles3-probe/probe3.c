@@ -319,9 +319,77 @@ static void scene_glsl3(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* Immutable storage, sampler objects, buffer copies: an 8x8 texture with 4 levels from
+ * glTexStorage2D, each level a colour given by glTexSubImage2D; its own parameters say
+ * linear, clamped; a sampler object bound to unit 0 says nearest-mipmap-nearest, repeated,
+ * for the left quad and is unbound for the right one. The quads' vertices reach their buffer
+ * through glCopyBufferSubData from a staging buffer. */
+static void scene_objects(void) {
+    GLuint p = program(
+        "#version 300 es\n"
+        "layout(location = 0) in vec4 vertex;\n"
+        "out vec2 uv;\n"
+        "void main() { uv = vertex.zw; gl_Position = vec4(vertex.xy, 0.0, 1.0); }\n",
+        "#version 300 es\n"
+        "precision mediump float;\n"
+        "in vec2 uv;\n"
+        "uniform sampler2D tex;\n"
+        "out vec4 color;\n"
+        "void main() { color = texture(tex, uv); }\n");
+    glUseProgram(p);
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexStorage2D(GL_TEXTURE_2D, 4, GL_RGBA8, 8, 8);
+    const unsigned char level_colors[4][4] = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 0, 255}};
+    unsigned char texels[8 * 8 * 4];
+    for (int level = 0; level < 4; level++) {
+        int size = 8 >> level;
+        for (int i = 0; i < size * size; i++) {
+            memcpy(texels + i * 4, level_colors[level], 4);
+            if (level == 0 && ((i % 8) / 2 + i / 16) % 2) texels[i * 4 + 2] = 200; /* a checker on level 0 */
+        }
+        glTexSubImage2D(GL_TEXTURE_2D, level, 0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    }
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    GLuint sampler;
+    glGenSamplers(1, &sampler);
+    glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, GL_MIRRORED_REPEAT);
+
+    /* Two strips: x, y, s, t; the left one minifies (uv to 6), the right one magnifies. */
+    const float strips[] = {-0.95f, -0.9f, 0, 0, -0.05f, -0.9f, 6, 0, -0.95f, 0.9f, 0, 6, -0.05f, 0.9f, 6, 6,
+                            0.05f, -0.9f, -0.2f, -0.2f, 0.95f, -0.9f, 1.2f, -0.2f, 0.05f, 0.9f, -0.2f, 1.2f,
+                            0.95f, 0.9f, 1.2f, 1.2f};
+    GLuint staging = buffer(GL_COPY_READ_BUFFER, sizeof strips, strips);
+    GLuint vao;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    GLuint vertices = buffer(GL_ARRAY_BUFFER, sizeof strips + 64, NULL);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, vertices);
+    glBindBuffer(GL_COPY_READ_BUFFER, staging);
+    glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 64, sizeof strips);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, (void *)64);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glBindSampler(0, sampler);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindSampler(0, 0);
+    glDrawArrays(GL_TRIANGLE_STRIP, 4, 4);
+    glDeleteSamplers(1, &sampler);
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
-        {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3}};
+        {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3},
+        {"objects", scene_objects}};
     if (argc != 2) die("usage: probe3 SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

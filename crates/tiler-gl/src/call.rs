@@ -43,6 +43,18 @@ pub enum Call<D = Bytes> {
     DeleteBuffer {
         id: u32,
     },
+    /// `glCopyBufferSubData`: `size` bytes of buffer `src` from `src_offset` into buffer `dst`
+    /// at `dst_offset` (a write into `dst` as `buffer_sub_data` makes one, copy-on-write
+    /// included). The ranges may not overlap within one buffer.
+    CopyBufferSubData {
+        src: u32,
+        dst: u32,
+        #[serde(default)]
+        src_offset: u64,
+        #[serde(default)]
+        dst_offset: u64,
+        size: u64,
+    },
 
     // --- textures and renderbuffers ---------------------------------------------------------
     /// Creates texture `id` with storage (`glGenTextures` + `glTexImage2D`); `data` rows run
@@ -102,6 +114,24 @@ pub enum Call<D = Bytes> {
         mag_filter: Option<Filter>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         wrap_t: Option<Wrap>,
+    },
+    /// A sampler object on texture unit `unit` (`glBindSampler` + `glSamplerParameter*`): the
+    /// unit samples its texture with these parameters (as `tex_parameters` takes them) instead
+    /// of the texture's own.
+    BindSampler {
+        unit: u32,
+        #[serde(default)]
+        filter: Filter,
+        #[serde(default)]
+        wrap: Wrap,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        mag_filter: Option<Filter>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        wrap_t: Option<Wrap>,
+    },
+    /// `glBindSampler(unit, 0)`: the unit samples with its texture's parameters again.
+    UnbindSampler {
+        unit: u32,
     },
     /// `glGenerateMipmap`: texture `id` gets a mip chain, each level a 2×2 box filter of the
     /// one above (the core's `MipChain::Box`), sampled with a `*_mipmap_*` filter. The levels
@@ -560,11 +590,14 @@ impl<D> Call<D> {
             BufferData { .. } => "buffer_data",
             BufferSubData { .. } => "buffer_sub_data",
             DeleteBuffer { .. } => "delete_buffer",
+            CopyBufferSubData { .. } => "copy_buffer_sub_data",
             CreateTexture { .. } => "create_texture",
             TexImage { .. } => "tex_image",
             TexImageLevel { .. } => "tex_image_level",
             TexSubImage { .. } => "tex_sub_image",
             TexParameters { .. } => "tex_parameters",
+            BindSampler { .. } => "bind_sampler",
+            UnbindSampler { .. } => "unbind_sampler",
             GenerateMipmap { .. } => "generate_mipmap",
             DeleteTexture { .. } => "delete_texture",
             CreateRenderbuffer { .. } => "create_renderbuffer",
@@ -665,9 +698,16 @@ impl<D> Call<D> {
                 VertexAttribArray { index, size, component, normalized, stride, data: f(data)? }
             }
             DeleteBuffer { id } => DeleteBuffer { id },
+            CopyBufferSubData { src, dst, src_offset, dst_offset, size } => {
+                CopyBufferSubData { src, dst, src_offset, dst_offset, size }
+            }
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
                 TexParameters { id, filter, wrap, mag_filter, wrap_t }
             }
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t } => {
+                BindSampler { unit, filter, wrap, mag_filter, wrap_t }
+            }
+            UnbindSampler { unit } => UnbindSampler { unit },
             GenerateMipmap { id } => GenerateMipmap { id },
             DeleteTexture { id } => DeleteTexture { id },
             CreateRenderbuffer { id, width, height, format, samples, transient } => {

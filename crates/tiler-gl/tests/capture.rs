@@ -683,6 +683,11 @@ fn probe_uniform_blocks_match_llvmpipe() {
 }
 
 #[test]
+fn probe_storage_levels_sampler_objects_and_buffer_copies_match_llvmpipe() {
+    check_probe_in("gles3-probe", "objects");
+}
+
+#[test]
 fn probe_glsl_es_300_matches_llvmpipe() {
     check_probe_in("gles3-probe", "glsl3");
 }
@@ -804,4 +809,48 @@ fn gles3_vertex_state_errors_name_their_call() {
         |_| {},
     );
     expect_error(&w, call, &["`glBindVertexArray`", "vertex array 3"]);
+}
+
+#[test]
+fn gles3_object_errors_name_their_call() {
+    let expect_error = |call: &dyn Fn(&mut Writer) -> u64, function: &str, words: &[&str]| {
+        let mut number = 0;
+        let (w, _) = uniform_array_capture(|w| number = call(w), |_| {});
+        let (result, _) = replay(&w);
+        let error = result.err().expect("an error");
+        assert_eq!(error.call(), Some(number), "{error}");
+        let message = error.to_string();
+        assert!(message.contains(&format!("`{function}`")), "{message}");
+        assert!(words.iter().all(|word| message.contains(word)), "{message}");
+    };
+    expect_error(
+        &|w| w.call("glBindSampler", &[("unit", W::UInt(0)), ("sampler", W::UInt(9))], None, false),
+        "glBindSampler",
+        &["sampler 9"],
+    );
+    expect_error(
+        &|w| {
+            w.call("glGenSamplers", &[("n", W::UInt(1)), ("samplers", W::Array(vec![W::UInt(2)]))], None, false);
+            let lod = [("sampler", W::UInt(2)), ("pname", e("GL_TEXTURE_MIN_LOD", 0x813a)), ("param", W::Float(2.0))];
+            w.call("glSamplerParameterf", &lod, None, false)
+        },
+        "glSamplerParameterf",
+        &["0x813a"],
+    );
+    expect_error(
+        &|w| {
+            w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(4)]))], None, false);
+            w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(4))], None, false);
+            let storage = [
+                ("target", e("GL_TEXTURE_2D", 0x0de1)),
+                ("levels", W::UInt(2)),
+                ("internalformat", e("GL_RGBA8", 0x8058)),
+                ("width", W::UInt(8)),
+                ("height", W::UInt(8)),
+            ];
+            w.call("glTexStorage2D", &storage, None, false)
+        },
+        "glTexStorage2D",
+        &["2 mip levels", "whole chain (4)"],
+    );
 }

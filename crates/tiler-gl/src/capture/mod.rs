@@ -40,7 +40,9 @@
 //!   indices are mapped back to the names `glGetUniformBlockIndex` returned them for, as
 //!   uniform locations are; `glBindBufferBase`/`Range(GL_UNIFORM_BUFFER)` become the
 //!   context's uniform buffer bindings (a buffer bound before it has storage is bound when it
-//!   gets some).
+//!   gets some). Sampler objects are kept here and hand the context each unit's sampling
+//!   state; `glCopyBufferSubData` is the context's buffer copy; `glTexStorage2D` takes 1 level
+//!   or the whole chain, whose levels `glTexSubImage2D` fills whole.
 //! - **Client-side vertex arrays** (apitrace records the bytes a draw reads in a fake
 //!   `glVertexAttribPointer` just before it) become client arrays the context copies at each
 //!   draw, as a driver must; client-side indices go through a scratch index buffer. Writes

@@ -129,6 +129,8 @@ struct Objects {
     queries: HashMap<u32, u32>,
     /// Vertex array object names → the context's ids.
     vertex_arrays: HashMap<u32, u32>,
+    /// Sampler objects: their sampling parameters (a texture's, unused fields aside).
+    samplers: HashMap<u32, Texture>,
 }
 
 impl Objects {
@@ -178,6 +180,8 @@ struct Bindings {
     /// Uniform buffer bindings: index → (buffer name, offset, size), kept so that a buffer
     /// bound before it has storage is bound in the context when the storage arrives.
     uniform_bindings: HashMap<u32, (u32, u64, Option<u64>)>,
+    /// The sampler object bound to each texture unit.
+    samplers: [u32; MAX_TEXTURE_UNITS as usize],
 }
 
 impl Default for Bindings {
@@ -199,6 +203,7 @@ impl Default for Bindings {
             unbound_vertex_arrays: HashMap::new(),
             other_buffers: HashMap::new(),
             uniform_bindings: HashMap::new(),
+            samplers: [0; MAX_TEXTURE_UNITS as usize],
         }
     }
 }
@@ -443,6 +448,14 @@ impl Translator {
                 let id = self.buffer_id(name)?.ok_or_else(|| format!("buffer {name} has no storage"))?;
                 self.emit(Call::BufferSubData { id, offset: *offset, data: Bytes::from(bytes) })?;
             }
+            C::CopyBufferSubData { read_target, write_target, read_offset, write_offset, size } => {
+                let (src, dst) = (self.bound_buffer(*read_target)?, self.bound_buffer(*write_target)?);
+                let storage =
+                    |t: &mut Self, name: u32| t.buffer_id(name)?.ok_or_else(|| format!("buffer {name} has no storage"));
+                let (src, dst) = (storage(self, src)?, storage(self, dst)?);
+                let (src_offset, dst_offset, size) = (*read_offset, *write_offset, *size);
+                self.emit(Call::CopyBufferSubData { src, dst, src_offset, dst_offset, size })?;
+            }
             C::MapBuffer { .. } | C::UnmapBuffer { .. } | C::FlushMappedBufferRange { .. } => {}
             C::BufferWrite { buffer, offset, data } => {
                 let id = self.buffer_id(*buffer)?.ok_or_else(|| format!("buffer {buffer} has no storage"))?;
@@ -627,6 +640,14 @@ impl Translator {
                 t.size = (width, height);
                 self.update_sampler(name)?;
             }
+            C::TexSubImage2D { target, level, x_offset, y_offset, width, height, format, kind, pixels }
+                if *level > 0 =>
+            {
+                check_2d_level0(*target, 0)?;
+                let (x, y) = size2(*x_offset, *y_offset)?;
+                let (width, height) = size2(*width, *height)?;
+                self.tex_sub_image_level(*level as u32, [x, y, width, height], *format, *kind, pixels)?;
+            }
             C::TexSubImage2D { target, level, x_offset, y_offset, width, height, format, kind, pixels } => {
                 check_2d_level0(*target, *level)?;
                 let name = self.bound_texture()?;
@@ -648,11 +669,9 @@ impl Translator {
             }
             C::TexStorage2D { target, levels, internal_format, width, height } => {
                 check_2d_level0(*target, 0)?;
-                if *levels != 1 {
-                    return Err(format!("{levels} mip levels: the context has no mip maps"));
-                }
                 let format = renderbuffer_format(*internal_format)?;
                 let (width, height) = size2(*width, *height)?;
+                gles3::check_storage_levels(*levels, width, height)?;
                 let name = self.bound_texture()?;
                 if self.objects()?.textures.get(&name).is_some_and(|t| t.id.is_some()) {
                     return Err(format!("texture {name} already has storage"));
@@ -663,6 +682,7 @@ impl Translator {
                 let t = self.objects()?.textures.entry(name).or_default();
                 t.id = Some(id);
                 t.size = (width, height);
+                t.upload = gles3::storage_upload(format);
                 self.update_sampler(name)?;
             }
             C::TexParameter { target, pname, params } => {
@@ -965,6 +985,15 @@ impl Translator {
             C::UniformBlockBinding { program, block_index, binding } => {
                 self.uniform_block_binding(*program, *block_index, *binding)?;
             }
+            C::GenSamplers { names } => {
+                let objects = self.objects()?;
+                for &name in names {
+                    objects.samplers.insert(name, Texture::default());
+                }
+            }
+            C::DeleteSamplers { names } => self.delete_samplers(names)?,
+            C::BindSampler { unit, sampler } => self.bind_sampler(*unit, *sampler)?,
+            C::SamplerParameter { sampler, pname, params } => self.sampler_parameter(*sampler, *pname, params)?,
             C::BindBufferRange { target, index, buffer, range } => {
                 self.bind_buffer_range(*target, *index, *buffer, *range)?;
             }
@@ -1156,7 +1185,7 @@ impl Translator {
         let Some(ctx) = self.ctx.as_ref() else { return Ok(()) };
         let (width, height) = (ctx.config().width, ctx.config().height);
         // Back to the default vertex array first: the resets below are its state.
-        let mut calls = gles3::default_vertex_array_calls(&old);
+        let mut calls = gles3::default_gles3_calls(&old);
         calls.extend([
             Call::BindFramebuffer { target: FramebufferTarget::Framebuffer, framebuffer: 0 },
             Call::UseProgram { id: 0 },

@@ -219,7 +219,7 @@ impl Context {
                     let texture = self.state.textures[unit as usize];
                     if texture != 0 {
                         let t = self.texture(texture)?;
-                        let (image, sampler, mipmaps) = (t.image, t.sampler, t.mipmaps);
+                        let (image, sampler, mipmaps) = (t.image, self.unit_sampler(unit as u32, t), t.mipmaps);
                         self.check_has_memory(image, &format!("program '{}' samples texture {texture}", kind.name()))?;
                         textures.push(SampledTexture { unit: unit as u32, image, sampler, mipmaps });
                     }
@@ -267,7 +267,7 @@ impl Context {
                         ));
                     }
                     let t = self.texture(texture)?;
-                    let (image, sampler, mipmaps) = (t.image, t.sampler, t.mipmaps);
+                    let (image, sampler, mipmaps) = (t.image, self.unit_sampler(unit, t), t.mipmaps);
                     self.check_has_memory(image, &format!("{label}: sampler '{name}' reads texture {texture}"))?;
                     textures.push(SampledTexture { unit, image, sampler, mipmaps });
                 }

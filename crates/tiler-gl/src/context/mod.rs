@@ -16,6 +16,7 @@ mod frames;
 mod glsl;
 mod instancing;
 mod pass;
+mod sampler_objects;
 mod submit;
 mod targets;
 mod uniform_blocks;
@@ -358,6 +359,8 @@ pub(crate) struct GlState {
     /// Each attribute's current generic value (`glVertexAttrib4f`), read when disabled by
     /// GLSL programs; context state, not a vertex array's.
     pub generic: Vec<[f32; 4]>,
+    /// Sampler objects' state per texture unit (`sampler_objects.rs`).
+    pub unit_samplers: [Option<SamplerState>; MAX_TEXTURE_UNITS as usize],
     /// Uniform buffer bindings (`uniform_blocks.rs`).
     pub uniform_buffers: Vec<Option<uniform_blocks::UniformBufferBinding>>,
     pub textures: [u32; MAX_TEXTURE_UNITS as usize],
@@ -396,6 +399,7 @@ impl GlState {
             vertex_array: 0,
             generic: vec![[0.0, 0.0, 0.0, 1.0]; MAX_VERTEX_ATTRIBS as usize],
             uniform_buffers: vec![None; MAX_UNIFORM_BUFFER_BINDINGS as usize],
+            unit_samplers: [None; MAX_TEXTURE_UNITS as usize],
             textures: [0; MAX_TEXTURE_UNITS as usize],
             program: 0,
         }
@@ -658,6 +662,9 @@ impl Context {
             BufferData { id, data } => self.buffer_data(id, data)?,
             BufferSubData { id, offset, data } => self.buffer_sub_data(id, offset, data)?,
             DeleteBuffer { id } => self.delete_buffer(id)?,
+            CopyBufferSubData { src, dst, src_offset, dst_offset, size } => {
+                self.copy_buffer_sub_data(src, dst, src_offset, dst_offset, size)?;
+            }
             CreateTexture { id, width, height, format, data, transient } => {
                 if id == 0 || self.textures.contains_key(&id) {
                     return Err(name_taken("texture", id));
@@ -673,14 +680,13 @@ impl Context {
             }
             TexSubImage { id, x, y, width, height, data } => self.tex_sub_image(id, x, y, width, height, data)?,
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
-                if mag_filter.is_some_and(|f| f.mipmap().is_some()) {
-                    return Err(format!("magnification filter {mag_filter:?} is not nearest or linear"));
-                }
-                let mut sampler = SamplerState::new(filter, wrap);
-                sampler.mag_filter = mag_filter.unwrap_or(sampler.mag_filter);
-                sampler.wrap_t = wrap_t.unwrap_or(wrap);
-                self.texture_mut(id)?.sampler = sampler;
+                self.texture_mut(id)?.sampler = sampler_state(filter, wrap, mag_filter, wrap_t)?;
             }
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t } => {
+                let sampler = sampler_state(filter, wrap, mag_filter, wrap_t)?;
+                self.bind_sampler(unit, Some(sampler))?;
+            }
+            UnbindSampler { unit } => self.bind_sampler(unit, None)?,
             GenerateMipmap { id } => {
                 let image = self.texture(id)?.image;
                 self.check_has_memory(image, &format!("generate_mipmap of texture {id}"))?;
@@ -1141,6 +1147,23 @@ impl Context {
         Ok(())
     }
 
+    /// `copy_buffer_sub_data`: the source's bytes now, written into the destination as
+    /// `buffer_sub_data` writes (the copy itself is not counted, as uploads are not).
+    fn copy_buffer_sub_data(&mut self, src: u32, dst: u32, src_offset: u64, dst_offset: u64, size: u64) -> Fallible {
+        let b = self.buffers.get(&src).ok_or_else(|| format!("buffer {src} does not exist"))?;
+        let end = src_offset.checked_add(size).filter(|e| *e <= b.size).ok_or_else(|| {
+            format!(
+                "a copy of {size} bytes from offset {src_offset} runs past the end of buffer {src} ({} bytes)",
+                b.size
+            )
+        })?;
+        if src == dst && src_offset < dst_offset.saturating_add(size) && dst_offset < end {
+            return Err(format!("copying buffer {src} onto itself with overlapping ranges"));
+        }
+        let bytes = self.device_buffer_bytes(b.storage, b.size)?[src_offset as usize..end as usize].to_vec();
+        self.buffer_sub_data(dst, dst_offset, Bytes::from(bytes))
+    }
+
     /// A buffer's bytes (the device has no read-back for buffers, so the context keeps none
     /// either: it reconstructs them by reading the storage through a scratch copy).
     fn device_buffer_bytes(&self, storage: BufferId, size: u64) -> Fallible<Vec<u8>> {
@@ -1450,6 +1473,22 @@ impl Context {
         }
         Ok(())
     }
+}
+
+/// The sampling state `tex_parameters` (or `bind_sampler`) describes.
+fn sampler_state(
+    filter: Filter,
+    wrap: Wrap,
+    mag_filter: Option<Filter>,
+    wrap_t: Option<Wrap>,
+) -> Fallible<SamplerState> {
+    if mag_filter.is_some_and(|f| f.mipmap().is_some()) {
+        return Err(format!("magnification filter {mag_filter:?} is not nearest or linear"));
+    }
+    let mut sampler = SamplerState::new(filter, wrap);
+    sampler.mag_filter = mag_filter.unwrap_or(sampler.mag_filter);
+    sampler.wrap_t = wrap_t.unwrap_or(wrap);
+    Ok(sampler)
 }
 
 fn name_taken(kind: &str, id: u32) -> String {

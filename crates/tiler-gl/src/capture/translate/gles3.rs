@@ -1,6 +1,7 @@
 //! GL ES 3.0 calls that map onto the context: vertex array objects (and
 //! `OES_vertex_array_object`'s names), attribute divisors (with the `ANGLE`/`EXT`
-//! variants), uniform blocks and uniform buffer bindings. Instanced draws are in
+//! variants), uniform blocks and uniform buffer bindings, sampler objects, and the mip levels
+//! of `glTexStorage2D` textures. Instanced draws are in
 //! `translate.rs`'s draw calls.
 //!
 //! The context keeps each vertex array's attributes and index buffer; the translation keeps
@@ -8,10 +9,11 @@
 //! unrecorded client memory, or have a divisor), swapped on `glBindVertexArray` as the
 //! context swaps its own.
 
-use tiler_apitrace::gles::GlEnum;
+use tiler_apitrace::gles::{GlEnum, Memory, Params};
 
-use crate::call::Call;
-use crate::context::MAX_VERTEX_ATTRIBS;
+use super::texels::{self, Upload};
+use crate::call::{Call, TextureFormat};
+use crate::context::{MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS};
 
 use super::{Bindings, Fallible, Translator, attrib_slot};
 
@@ -40,11 +42,16 @@ impl VertexArrayState {
     }
 }
 
-/// The calls that bring the context back to the default vertex array with divisors 0, from
-/// the GL state `old` (none for an application that never used either, so such a capture's
-/// context sees the same calls as before vertex arrays existed).
-pub(super) fn default_vertex_array_calls(old: &Bindings) -> Vec<Call> {
+/// The calls that bring the context back to the default vertex array with divisors 0 and no
+/// sampler objects, from the GL state `old` (none for an application that never used them,
+/// so such a capture's context sees the same calls as before they existed).
+pub(super) fn default_gles3_calls(old: &Bindings) -> Vec<Call> {
     let mut calls = Vec::new();
+    for unit in 0..MAX_TEXTURE_UNITS {
+        if old.samplers[unit as usize] != 0 {
+            calls.push(Call::UnbindSampler { unit });
+        }
+    }
     let divisors = if old.vertex_array != 0 {
         calls.push(Call::BindVertexArray { id: 0 });
         old.unbound_vertex_arrays.get(&0).map(|a| a.divisors).unwrap_or_default()
@@ -57,6 +64,26 @@ pub(super) fn default_vertex_array_calls(old: &Bindings) -> Vec<Call> {
         }
     }
     calls
+}
+
+/// `glTexStorage2D`'s level count: 1, or the whole chain down to 1×1 (the context samples a
+/// chain it has all of; a shorter immutable chain would be complete in GL).
+pub(super) fn check_storage_levels(levels: i32, width: u32, height: u32) -> Fallible {
+    let chain = 32 - width.max(height).max(1).leading_zeros() as i32;
+    if levels == 1 || levels == chain {
+        return Ok(());
+    }
+    Err(format!("{levels} mip levels of a {width}×{height} texture: only 1 or the whole chain ({chain}) is supported"))
+}
+
+/// What `glTexSubImage2D` into storage of `format` (from `glTexStorage2D`) converts from.
+pub(super) fn storage_upload(format: TextureFormat) -> Option<Upload> {
+    let (format, kind) = match format {
+        TextureFormat::Rgba8 | TextureFormat::Srgb8Alpha8 => (texels::GL_RGBA, texels::GL_UNSIGNED_BYTE),
+        TextureFormat::Rgb565 => (texels::GL_RGB, texels::GL_UNSIGNED_SHORT_5_6_5),
+        _ => return None,
+    };
+    Upload::new(format, format, kind).ok()
 }
 
 /// A deleted buffer is no unbound array's element buffer any more (the context forgets it in
@@ -178,6 +205,116 @@ impl Translator {
         for (binding, offset, size) in bound {
             self.emit(Call::BindUniformBuffer { binding, buffer: id, offset, size })?;
         }
+        Ok(())
+    }
+
+    /// `glBindSampler`: the unit samples with the sampler's parameters until unbound.
+    pub(super) fn bind_sampler(&mut self, unit: u32, sampler: u32) -> Fallible {
+        if unit >= MAX_TEXTURE_UNITS {
+            return Err(format!("texture unit {unit} is beyond the context's {MAX_TEXTURE_UNITS}"));
+        }
+        if sampler != 0 && !self.objects()?.samplers.contains_key(&sampler) {
+            return Err(format!("sampler {sampler} was not made by glGenSamplers"));
+        }
+        self.bindings.samplers[unit as usize] = sampler;
+        self.emit_unit_sampler(unit)
+    }
+
+    /// The context's sampler state of `unit` from the sampler bound there.
+    fn emit_unit_sampler(&mut self, unit: u32) -> Fallible {
+        let name = self.bindings.samplers[unit as usize];
+        if name == 0 {
+            self.emit(Call::UnbindSampler { unit })?;
+            return Ok(());
+        }
+        let p = self.objects()?.samplers.get(&name).cloned().unwrap_or_default().sampler()?;
+        let (filter, wrap, mag_filter, wrap_t) = (p.min, p.wrap_s, Some(p.mag), Some(p.wrap_t));
+        self.emit(Call::BindSampler { unit, filter, wrap, mag_filter, wrap_t })?;
+        Ok(())
+    }
+
+    /// `glSamplerParameter*`: filters and wraps (`GL_TEXTURE_WRAP_R` is ignored: textures are
+    /// 2D); level-of-detail ranges and comparisons only at their defaults.
+    pub(super) fn sampler_parameter(&mut self, sampler: u32, pname: GlEnum, params: &Params) -> Fallible {
+        let value = match params {
+            Params::Int(v) if v.len() == 1 => v[0] as f32,
+            Params::Float(v) if v.len() == 1 => v[0],
+            _ => return Err(format!("parameter {pname:#06x}: {params:?} is not a single value")),
+        };
+        let s = self
+            .objects()?
+            .samplers
+            .get_mut(&sampler)
+            .ok_or_else(|| format!("sampler {sampler} was not made by glGenSamplers"))?;
+        let enumeration = value as u32;
+        match (pname, value) {
+            (0x2801, _) => s.min = enumeration,
+            (0x2800, _) => s.mag = enumeration,
+            (0x2802, _) => s.wrap[0] = enumeration,
+            (0x2803, _) => s.wrap[1] = enumeration,
+            (0x8072, _) => {}
+            // GL_TEXTURE_MIN_LOD / MAX_LOD at -1000 / 1000, GL_TEXTURE_COMPARE_MODE GL_NONE.
+            (0x813a, -1000.0) | (0x813b, 1000.0) | (0x884c, 0.0) => {}
+            (p, v) => return Err(format!("sampler parameter {p:#06x} = {v} is not supported")),
+        }
+        s.sampler()?;
+        for unit in 0..MAX_TEXTURE_UNITS {
+            if self.bindings.samplers[unit as usize] == sampler {
+                self.emit_unit_sampler(unit)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// `glDeleteSamplers`: units that had one bound sample with their textures' parameters.
+    pub(super) fn delete_samplers(&mut self, names: &[u32]) -> Fallible {
+        for &name in names {
+            if name == 0 || self.objects()?.samplers.remove(&name).is_none() {
+                continue;
+            }
+            for unit in 0..MAX_TEXTURE_UNITS {
+                if self.bindings.samplers[unit as usize] == name {
+                    self.bind_sampler(unit, 0)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `glTexSubImage2D` at `level` > 0: a whole level (`rect` = x, y, width, height) becomes
+    /// the context's `tex_image_level`.
+    pub(super) fn tex_sub_image_level(
+        &mut self,
+        level: u32,
+        rect: [u32; 4],
+        format: GlEnum,
+        kind: GlEnum,
+        pixels: &Memory,
+    ) -> Fallible {
+        let [x, y, width, height] = rect;
+        let name = self.bound_texture()?;
+        let texture = self.objects()?.textures.get(&name).cloned().unwrap_or_default();
+        let (Some(id), Some(stored)) = (texture.id, texture.upload) else {
+            return Err(format!("texture {name} has no storage"));
+        };
+        let upload = Upload::new(format, format, kind)?;
+        if upload.format != stored.format {
+            return Err(format!(
+                "texels of format {format:#06x} / type {kind:#06x} into a texture stored as {}",
+                stored.format.name()
+            ));
+        }
+        let (w, h) = texture.size;
+        let expected = ((w >> level).max(1), (h >> level).max(1));
+        if (x, y, width, height) != (0, 0, expected.0, expected.1) {
+            return Err(format!(
+                "part of mip level {level} ({width}×{height} at {x}, {y}) of a {w}×{h} texture: only whole levels \
+                 ({}×{}) are supported",
+                expected.0, expected.1
+            ));
+        }
+        let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
+        self.emit(Call::TexImageLevel { id, level, width, height, data })?;
         Ok(())
     }
 }
