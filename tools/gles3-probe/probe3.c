@@ -386,10 +386,77 @@ static void scene_objects(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* Multiple render targets: one draw writes two outputs into two colour textures of a
+ * framebuffer (glDrawBuffers), then the window shows the first on the left and the second
+ * on the right. */
+static void scene_mrt(void) {
+    GLuint write = program(
+        "#version 300 es\n"
+        "layout(location = 0) in vec2 position;\n"
+        "out vec2 p;\n"
+        "void main() { p = position; gl_Position = vec4(position, 0.0, 1.0); }\n",
+        "#version 300 es\n"
+        "precision mediump float;\n"
+        "in vec2 p;\n"
+        "layout(location = 0) out vec4 first;\n"
+        "layout(location = 1) out vec4 second;\n"
+        "void main() {\n"
+        "  first = vec4(p * 0.5 + 0.5, 0.2, 1.0);\n"
+        "  second = vec4(0.9, 0.5 - p.x * 0.5, p.y * p.y, 1.0);\n"
+        "}\n");
+    GLuint show = program(
+        "#version 300 es\n"
+        "layout(location = 0) in vec2 position;\n"
+        "out vec2 uv;\n"
+        "void main() { uv = position * 0.5 + 0.5; gl_Position = vec4(position, 0.0, 1.0); }\n",
+        "#version 300 es\n"
+        "precision mediump float;\n"
+        "in vec2 uv;\n"
+        "uniform sampler2D first;\n"
+        "uniform sampler2D second;\n"
+        "out vec4 color;\n"
+        "void main() { color = uv.x < 0.5 ? texture(first, uv) : texture(second, uv); }\n");
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    for (int i = 0; i < 2; i++) {
+        glActiveTexture(GL_TEXTURE0 + i);
+        glBindTexture(GL_TEXTURE_2D, tex[i]);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, W, H, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    GLuint fb;
+    glGenFramebuffers(1, &fb);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[0], 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[1], 0);
+    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, buffers);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("framebuffer");
+    GLuint vao;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    const float quad[] = {-1, -1, 1, -1, -1, 1, 1, 1};
+    buffer(GL_ARRAY_BUFFER, sizeof quad, quad);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    glViewport(0, 0, W, H);
+    glUseProgram(write);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glUseProgram(show);
+    glUniform1i(glGetUniformLocation(show, "first"), 0);
+    glUniform1i(glGetUniformLocation(show, "second"), 1);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3},
-        {"objects", scene_objects}};
+        {"objects", scene_objects}, {"mrt", scene_mrt}};
     if (argc != 2) die("usage: probe3 SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

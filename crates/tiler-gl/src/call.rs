@@ -470,6 +470,11 @@ pub enum Call<D = Bytes> {
         offset: u64,
         instances: u32,
     },
+    /// `glDrawBuffers` on the bound draw framebuffer: draws write colour outputs `0..count`
+    /// to colour attachments `0..count` (GL's default is 1; the window takes only 1).
+    DrawBuffers {
+        count: u32,
+    },
     /// `glClear` of the buffers set to `true`.
     Clear {
         #[serde(default)]
@@ -653,6 +658,7 @@ impl<D> Call<D> {
             DrawElements { .. } => "draw_elements",
             DrawArraysInstanced { .. } => "draw_arrays_instanced",
             DrawElementsInstanced { .. } => "draw_elements_instanced",
+            DrawBuffers { .. } => "draw_buffers",
             Clear { .. } => "clear",
             Invalidate { .. } => "invalidate",
             ReadPixels { .. } => "read_pixels",
@@ -774,6 +780,7 @@ impl<D> Call<D> {
             DrawElementsInstanced { mode, count, index_type, offset, instances } => {
                 DrawElementsInstanced { mode, count, index_type, offset, instances }
             }
+            DrawBuffers { count } => DrawBuffers { count },
             Clear { color, depth, stencil } => Clear { color, depth, stencil },
             Invalidate { attachments } => Invalidate { attachments },
             ReadPixels { x, y, width, height } => ReadPixels { x, y, width, height },

@@ -688,6 +688,11 @@ fn probe_storage_levels_sampler_objects_and_buffer_copies_match_llvmpipe() {
 }
 
 #[test]
+fn probe_multiple_render_targets_match_llvmpipe() {
+    check_probe_in("gles3-probe", "mrt");
+}
+
+#[test]
 fn probe_glsl_es_300_matches_llvmpipe() {
     check_probe_in("gles3-probe", "glsl3");
 }
@@ -852,5 +857,10 @@ fn gles3_object_errors_name_their_call() {
         },
         "glTexStorage2D",
         &["2 mip levels", "whole chain (4)"],
+    );
+    expect_error(
+        &|w| w.call("glDrawBuffers", &[("n", W::UInt(1)), ("bufs", W::Array(vec![W::UInt(0)]))], None, false),
+        "glDrawBuffers",
+        &["of the window"],
     );
 }

@@ -42,7 +42,9 @@
 //!   context's uniform buffer bindings (a buffer bound before it has storage is bound when it
 //!   gets some). Sampler objects are kept here and hand the context each unit's sampling
 //!   state; `glCopyBufferSubData` is the context's buffer copy; `glTexStorage2D` takes 1 level
-//!   or the whole chain, whose levels `glTexSubImage2D` fills whole.
+//!   or the whole chain, whose levels `glTexSubImage2D` fills whole; `glDrawBuffers` of
+//!   colour attachments 0, 1, … in order is the context's `draw_buffers` (multiple render
+//!   targets).
 //! - **Client-side vertex arrays** (apitrace records the bytes a draw reads in a fake
 //!   `glVertexAttribPointer` just before it) become client arrays the context copies at each
 //!   draw, as a driver must; client-side indices go through a scratch index buffer. Writes

@@ -875,14 +875,7 @@ impl Translator {
                 };
                 self.emit(Call::BlitFramebuffer { src: *src, dst: *dst, filter })?;
             }
-            C::DrawBuffers { buffers } => {
-                let default = self.bindings.draw_framebuffer == 0;
-                if buffers.as_slice() != [if default { 0x0405 } else { 0x8ce0 }] {
-                    return Err(format!(
-                        "draw buffers {buffers:x?}: only the default (one colour buffer) is supported"
-                    ));
-                }
-            }
+            C::DrawBuffers { buffers } => self.draw_buffers(buffers)?,
             C::ReadBuffer { source } => {
                 let default = self.bindings.read_framebuffer == 0;
                 if *source != if default { 0x0405 } else { 0x8ce0 } {

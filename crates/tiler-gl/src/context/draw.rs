@@ -267,6 +267,12 @@ impl Context {
         }
 
         let targets = self.ensure_pass()?.targets.clone();
+        // `draw_buffers` of the pass's framebuffer (explicit subpasses write theirs all).
+        let framebuffer = self.pass.as_ref().expect("ensured").framebuffer;
+        let draw_buffers = match (&subpass, self.framebuffers.get(&framebuffer)) {
+            (None, Some(fb)) => (fb.draw_buffers.unwrap_or(1) as usize).min(targets.color.len()),
+            _ => 1,
+        };
         let fewest = match mode {
             Mode::Points => 1,
             Mode::Lines | Mode::LineStrip | Mode::LineLoop => 2,
@@ -424,7 +430,7 @@ impl Context {
         desc.color_targets = if targets.color.is_empty() || !subpass_color {
             Vec::new()
         } else {
-            vec![ColorTargetState { blend, write_mask }]
+            vec![ColorTargetState { blend, write_mask }; draw_buffers]
         };
         desc.blend_constant = blend_constant;
         if let Some(q) = query.and_then(|q| self.queries.get_mut(&q)) {

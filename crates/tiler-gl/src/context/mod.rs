@@ -43,6 +43,8 @@ pub(crate) use pass::OpenPass;
 pub const MAX_TEXTURE_UNITS: u32 = 8;
 /// The most vertex attributes.
 pub const MAX_VERTEX_ATTRIBS: u32 = 8;
+/// The most colour attachments a draw writes (`glDrawBuffers`), as framebuffers have.
+pub const MAX_DRAW_BUFFERS: u32 = 4;
 /// The most uniform buffer bindings (GL ES 3.0's minimum `GL_MAX_UNIFORM_BUFFER_BINDINGS`).
 pub const MAX_UNIFORM_BUFFER_BINDINGS: u32 = 24;
 /// The largest number of frames in flight the model accepts.
@@ -273,6 +275,8 @@ pub(crate) struct FramebufferObject {
     pub color: [Option<AttachmentRef>; 4],
     pub depth: Option<AttachmentRef>,
     pub stencil: Option<AttachmentRef>,
+    /// `draw_buffers`: draws write colour attachments `0..n` (`None`: GL's default, 1).
+    pub draw_buffers: Option<u32>,
 }
 
 pub(crate) enum ProgramObject {
@@ -757,6 +761,15 @@ impl Context {
                 self.attach(framebuffer, attachment, r)?;
             }
             BindFramebuffer { target, framebuffer } => self.bind_framebuffer(target, framebuffer)?,
+            DrawBuffers { count } => {
+                let framebuffer = self.draw_framebuffer;
+                let max = if framebuffer == 0 { 1 } else { MAX_DRAW_BUFFERS };
+                if !(1..=max).contains(&count) {
+                    return Err(format!("{count} draw buffers: framebuffer {framebuffer} takes 1 to {max}"));
+                }
+                self.framebuffers.get_mut(&framebuffer).expect("the bound framebuffer exists").draw_buffers =
+                    Some(count);
+            }
             BeginPass { framebuffer, subpasses, dependencies } => {
                 self.begin_pass(framebuffer, &subpasses, &dependencies)?;
             }

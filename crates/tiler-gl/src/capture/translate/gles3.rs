@@ -1,7 +1,7 @@
 //! GL ES 3.0 calls that map onto the context: vertex array objects (and
 //! `OES_vertex_array_object`'s names), attribute divisors (with the `ANGLE`/`EXT`
-//! variants), uniform blocks and uniform buffer bindings, sampler objects, and the mip levels
-//! of `glTexStorage2D` textures. Instanced draws are in
+//! variants), uniform blocks and uniform buffer bindings, sampler objects, the mip levels
+//! of `glTexStorage2D` textures, and `glDrawBuffers`. Instanced draws are in
 //! `translate.rs`'s draw calls.
 //!
 //! The context keeps each vertex array's attributes and index buffer; the translation keeps
@@ -315,6 +315,29 @@ impl Translator {
         }
         let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
         self.emit(Call::TexImageLevel { id, level, width, height, data })?;
+        Ok(())
+    }
+
+    /// `glDrawBuffers`: the window's `GL_BACK`, or a framebuffer's colour attachments in order
+    /// (`GL_COLOR_ATTACHMENT0`, `1`, …, then only `GL_NONE`s) — outputs `i` to attachment `i`,
+    /// as the context draws them.
+    pub(super) fn draw_buffers(&mut self, buffers: &[GlEnum]) -> Fallible {
+        const GL_BACK: GlEnum = 0x0405;
+        const GL_COLOR_ATTACHMENT0: GlEnum = 0x8ce0;
+        if self.bindings.draw_framebuffer == 0 {
+            if buffers != [GL_BACK] {
+                return Err(format!("draw buffers {buffers:x?} of the window: only GL_BACK is supported"));
+            }
+            return Ok(());
+        }
+        let count = buffers.iter().take_while(|&&b| b != 0).count();
+        let in_order = (0..).zip(&buffers[..count]).all(|(i, &b)| b == GL_COLOR_ATTACHMENT0 + i);
+        if count == 0 || !in_order || buffers[count..].iter().any(|&b| b != 0) {
+            return Err(format!(
+                "draw buffers {buffers:x?}: only colour attachments 0, 1, … in order (then GL_NONE) are supported"
+            ));
+        }
+        self.emit(Call::DrawBuffers { count: count as u32 })?;
         Ok(())
     }
 }
