@@ -129,6 +129,12 @@ impl Context {
         instances: u32,
     ) -> Fallible {
         let here = self.here;
+        if instances > super::instancing::MAX_INSTANCES {
+            return Err(format!(
+                "{instances} instances: the context draws each instance as a draw of its own, at most {} per call",
+                super::instancing::MAX_INSTANCES
+            ));
+        }
         if self.pass.is_none() {
             // A draw needs a complete framebuffer before anything else.
             self.targets(self.draw_framebuffer)?;

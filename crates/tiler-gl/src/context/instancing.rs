@@ -21,6 +21,10 @@
 
 use tiler::VertexFormat;
 
+/// The most instances one call draws: each becomes a gathered draw, so the count bounds the
+/// memory a call can take (a draw record per instance).
+pub const MAX_INSTANCES: u32 = 1 << 16;
+
 use super::draw::vertex_format;
 use super::glsl::{DrawProgram, ProgramDraw};
 use super::{AttribSource, Context, Fallible};

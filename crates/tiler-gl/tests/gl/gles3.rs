@@ -129,6 +129,9 @@ fn a_divisor_reads_one_element_per_divisor_instances_and_short_data_is_an_error(
         "{error}"
     );
     assert!(gl.call(Call::VertexAttribDivisor { index: 8, divisor: 1 }).is_err());
+    // Each instance is a draw of its own: a call's instances are bounded.
+    let many = Call::DrawArraysInstanced { mode: Mode::Triangles, first: 0, count: 3, instances: u32::MAX };
+    assert!(gl.call(many).unwrap_err().message.contains("at most 65536"));
 }
 
 #[test]
