@@ -451,20 +451,24 @@ impl Context {
         pass.buffers_used.extend(used);
         pass.retired_buffers.extend(client);
         pass.images_sampled.extend(program.textures.iter().map(|t| t.image));
+        // The last instance (the only one of a plain draw) takes the draw's state, the others
+        // copies.
+        let mut state = Some((program.source, program.textures, desc, vertex_buffers));
         for instance in 0..instances {
-            let (source, instance_fetch_bytes) = per_instance.instance(&program.source, instance);
+            let (source, textures, desc, vertex_buffers) = if instance + 1 == instances {
+                state.take().expect("taken by the last instance only")
+            } else {
+                state.clone().expect("taken by the last instance only")
+            };
+            let (source, instance_fetch_bytes) = per_instance.instance(source, instance);
             push_draw(
                 pass,
                 PendingDraw {
                     call: here,
                     kind: DrawKind::Draw,
-                    source: DrawSource::Program {
-                        program: source,
-                        textures: program.textures.clone(),
-                        instance_fetch_bytes,
-                    },
-                    desc: desc.clone(),
-                    vertex_buffers: vertex_buffers.clone(),
+                    source: DrawSource::Program { program: source, textures, instance_fetch_bytes },
+                    desc,
+                    vertex_buffers,
                     index: index_binding.as_ref().map(|b| b.1),
                     first,
                     count,

@@ -120,8 +120,7 @@ impl InstanceReader {
 
     /// The program of instance `instance` — its per-instance attributes as generic values, its
     /// `gl_InstanceID` — and the attribute bytes it fetched.
-    pub fn instance(&self, program: &ProgramDraw, instance: u32) -> (ProgramDraw, u64) {
-        let mut program = program.clone();
+    pub fn instance(&self, mut program: ProgramDraw, instance: u32) -> (ProgramDraw, u64) {
         let mut bytes = 0;
         if let ProgramDraw::Glsl { generic, instance: id, .. } = &mut program {
             *id = instance;
