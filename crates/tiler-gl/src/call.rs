@@ -43,6 +43,18 @@ pub enum Call<D = Bytes> {
     DeleteBuffer {
         id: u32,
     },
+    /// `glCopyBufferSubData`: `size` bytes of buffer `src` from `src_offset` into buffer `dst`
+    /// at `dst_offset` (a write into `dst` as `buffer_sub_data` makes one, copy-on-write
+    /// included). The ranges may not overlap within one buffer.
+    CopyBufferSubData {
+        src: u32,
+        dst: u32,
+        #[serde(default)]
+        src_offset: u64,
+        #[serde(default)]
+        dst_offset: u64,
+        size: u64,
+    },
 
     // --- textures and renderbuffers ---------------------------------------------------------
     /// Creates texture `id` with storage (`glGenTextures` + `glTexImage2D`); `data` rows run
@@ -160,6 +172,24 @@ pub enum Call<D = Bytes> {
         mag_filter: Option<Filter>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         wrap_t: Option<Wrap>,
+    },
+    /// A sampler object on texture unit `unit` (`glBindSampler` + `glSamplerParameter*`): the
+    /// unit samples its texture with these parameters (as `tex_parameters` takes them) instead
+    /// of the texture's own.
+    BindSampler {
+        unit: u32,
+        #[serde(default)]
+        filter: Filter,
+        #[serde(default)]
+        wrap: Wrap,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        mag_filter: Option<Filter>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        wrap_t: Option<Wrap>,
+    },
+    /// `glBindSampler(unit, 0)`: the unit samples with its texture's parameters again.
+    UnbindSampler {
+        unit: u32,
     },
     /// `glGenerateMipmap`: texture `id` gets a mip chain, each level a bilinear sample of the
     /// one above at each texel's centre (the core's `MipChain::Linear`: Mesa's chain, a 2×2
@@ -422,6 +452,28 @@ pub enum Call<D = Bytes> {
     BindIndexBuffer {
         buffer: u32,
     },
+    /// Attribute `index` advances once every `divisor` instances instead of once per vertex
+    /// (`glVertexAttribDivisor`); 0, the default, is per vertex.
+    VertexAttribDivisor {
+        index: u32,
+        divisor: u32,
+    },
+    /// Creates vertex array object `id` (`glGenVertexArrays`): every attribute disabled,
+    /// without a pointer, divisor 0, no index buffer.
+    CreateVertexArray {
+        id: u32,
+    },
+    /// `glBindVertexArray`: the attributes' enables, pointers and divisors and the index
+    /// buffer binding are those of vertex array `id` until another is bound; 0 is the
+    /// default vertex array. Generic values (`vertex_attrib`) are the context's, not the
+    /// array's.
+    BindVertexArray {
+        id: u32,
+    },
+    /// `glDeleteVertexArrays`; deleting the bound array binds 0.
+    DeleteVertexArray {
+        id: u32,
+    },
     /// `glActiveTexture` + `glBindTexture`; 0 unbinds.
     BindTexture {
         unit: u32,
@@ -432,6 +484,25 @@ pub enum Call<D = Bytes> {
     BindCubeTexture {
         unit: u32,
         texture: u32,
+    },
+
+    /// `glUniformBlockBinding`: uniform block `block` (by name) of GLSL program `program`
+    /// reads the buffer bound at uniform buffer binding `binding` (initially 0).
+    UniformBlockBinding {
+        program: u32,
+        block: String,
+        binding: u32,
+    },
+    /// `glBindBufferBase` / `glBindBufferRange(GL_UNIFORM_BUFFER)`: uniform buffer binding
+    /// `binding` holds buffer `buffer` (0 unbinds) from byte `offset`, `size` bytes (to the
+    /// buffer's end without one). A draw reads the blocks' values from it (`std140`).
+    BindUniformBuffer {
+        binding: u32,
+        buffer: u32,
+        #[serde(default)]
+        offset: u64,
+        #[serde(default = "none", skip_serializing_if = "Option::is_none")]
+        size: Option<u64>,
     },
 
     // --- drawing ---------------------------------------------------------------------------
@@ -447,6 +518,29 @@ pub enum Call<D = Bytes> {
         index_type: IndexKind,
         #[serde(default)]
         offset: u64,
+    },
+    /// `glDrawArraysInstanced`: `instances` copies of the draw; attributes with a divisor
+    /// read element `instance / divisor`, and `gl_InstanceID` is the copy's number.
+    DrawArraysInstanced {
+        mode: Mode,
+        first: u32,
+        count: u32,
+        instances: u32,
+    },
+    /// `glDrawElementsInstanced`, as `draw_arrays_instanced`.
+    DrawElementsInstanced {
+        mode: Mode,
+        count: u32,
+        #[serde(rename = "type")]
+        index_type: IndexKind,
+        #[serde(default)]
+        offset: u64,
+        instances: u32,
+    },
+    /// `glDrawBuffers` on the bound draw framebuffer: draws write colour outputs `0..count`
+    /// to colour attachments `0..count` (GL's default is 1; the window takes only 1).
+    DrawBuffers {
+        count: u32,
     },
     /// `glClear` of the buffers set to `true`.
     Clear {
@@ -575,6 +669,7 @@ impl<D> Call<D> {
             BufferData { .. } => "buffer_data",
             BufferSubData { .. } => "buffer_sub_data",
             DeleteBuffer { .. } => "delete_buffer",
+            CopyBufferSubData { .. } => "copy_buffer_sub_data",
             CreateTexture { .. } => "create_texture",
             TexImage { .. } => "tex_image",
             TexImageLevel { .. } => "tex_image_level",
@@ -584,6 +679,8 @@ impl<D> Call<D> {
             CubeTexImage { .. } => "cube_tex_image",
             CubeTexSubImage { .. } => "cube_tex_sub_image",
             TexParameters { .. } => "tex_parameters",
+            BindSampler { .. } => "bind_sampler",
+            UnbindSampler { .. } => "unbind_sampler",
             GenerateMipmap { .. } => "generate_mipmap",
             DeleteTexture { .. } => "delete_texture",
             CreateRenderbuffer { .. } => "create_renderbuffer",
@@ -628,10 +725,19 @@ impl<D> Call<D> {
             VertexAttrib { .. } => "vertex_attrib",
             DisableVertexAttrib { .. } => "disable_vertex_attrib",
             BindIndexBuffer { .. } => "bind_index_buffer",
+            VertexAttribDivisor { .. } => "vertex_attrib_divisor",
+            CreateVertexArray { .. } => "create_vertex_array",
+            BindVertexArray { .. } => "bind_vertex_array",
+            DeleteVertexArray { .. } => "delete_vertex_array",
+            UniformBlockBinding { .. } => "uniform_block_binding",
+            BindUniformBuffer { .. } => "bind_uniform_buffer",
             BindTexture { .. } => "bind_texture",
             BindCubeTexture { .. } => "bind_cube_texture",
             DrawArrays { .. } => "draw_arrays",
             DrawElements { .. } => "draw_elements",
+            DrawArraysInstanced { .. } => "draw_arrays_instanced",
+            DrawElementsInstanced { .. } => "draw_elements_instanced",
+            DrawBuffers { .. } => "draw_buffers",
             Clear { .. } => "clear",
             Invalidate { .. } => "invalidate",
             ReadPixels { .. } => "read_pixels",
@@ -689,9 +795,16 @@ impl<D> Call<D> {
                 VertexAttribArray { index, size, component, normalized, stride, data: f(data)? }
             }
             DeleteBuffer { id } => DeleteBuffer { id },
+            CopyBufferSubData { src, dst, src_offset, dst_offset, size } => {
+                CopyBufferSubData { src, dst, src_offset, dst_offset, size }
+            }
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
                 TexParameters { id, filter, wrap, mag_filter, wrap_t }
             }
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t } => {
+                BindSampler { unit, filter, wrap, mag_filter, wrap_t }
+            }
+            UnbindSampler { unit } => UnbindSampler { unit },
             GenerateMipmap { id } => GenerateMipmap { id },
             DeleteTexture { id } => DeleteTexture { id },
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
@@ -743,10 +856,23 @@ impl<D> Call<D> {
             VertexAttrib { index, value } => VertexAttrib { index, value },
             DisableVertexAttrib { index } => DisableVertexAttrib { index },
             BindIndexBuffer { buffer } => BindIndexBuffer { buffer },
+            VertexAttribDivisor { index, divisor } => VertexAttribDivisor { index, divisor },
+            CreateVertexArray { id } => CreateVertexArray { id },
+            BindVertexArray { id } => BindVertexArray { id },
+            DeleteVertexArray { id } => DeleteVertexArray { id },
+            UniformBlockBinding { program, block, binding } => UniformBlockBinding { program, block, binding },
+            BindUniformBuffer { binding, buffer, offset, size } => BindUniformBuffer { binding, buffer, offset, size },
             BindTexture { unit, texture } => BindTexture { unit, texture },
             BindCubeTexture { unit, texture } => BindCubeTexture { unit, texture },
             DrawArrays { mode, first, count } => DrawArrays { mode, first, count },
             DrawElements { mode, count, index_type, offset } => DrawElements { mode, count, index_type, offset },
+            DrawArraysInstanced { mode, first, count, instances } => {
+                DrawArraysInstanced { mode, first, count, instances }
+            }
+            DrawElementsInstanced { mode, count, index_type, offset, instances } => {
+                DrawElementsInstanced { mode, count, index_type, offset, instances }
+            }
+            DrawBuffers { count } => DrawBuffers { count },
             Clear { color, depth, stencil } => Clear { color, depth, stencil },
             Invalidate { attachments } => Invalidate { attachments },
             ReadPixels { x, y, width, height } => ReadPixels { x, y, width, height },

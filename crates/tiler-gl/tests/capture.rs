@@ -549,8 +549,9 @@ fn vertex_shader_fetches_are_filtered_as_the_texture_says() {
 // ---- our own GLES2 probe's captures (tests/data/gles2-probe, see its README) ---------------
 
 /// The frames of one probe capture replayed with `config`.
-fn replay_probe(scene: &str, config: tiler_gl::ContextConfig) -> Result<Frames, String> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles2-probe").join(format!("{scene}.trace"));
+/// A capture of one of our probes: `probe` is its directory under `tests/data`.
+fn replay_probe_in(probe: &str, scene: &str, config: tiler_gl::ContextConfig) -> Result<Frames, String> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(probe).join(format!("{scene}.trace"));
     let mut frames = Vec::new();
     let options = ReplayOptions { config, ..ReplayOptions::default() };
     tiler_gl::capture::replay_file(path, &options, &mut |f| {
@@ -564,9 +565,14 @@ fn replay_probe(scene: &str, config: tiler_gl::ContextConfig) -> Result<Frames, 
 /// Replays a probe capture, compares its one frame with llvmpipe's and checks that every
 /// backend, two tile sizes and two thread counts give the same bytes.
 fn check_probe(scene: &str) {
-    let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles2-probe").join(format!("{scene}.png"));
+    check_probe_in("gles2-probe", scene);
+}
+
+/// [`check_probe`] of a capture of the probe in `tests/data/{probe}`.
+fn check_probe_in(probe: &str, scene: &str) {
+    let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(probe).join(format!("{scene}.png"));
     let base = ReplayOptions::default().config;
-    let frames = replay_probe(scene, base.clone()).unwrap();
+    let frames = replay_probe_in(probe, scene, base.clone()).unwrap();
     assert_eq!(frames.len(), 1, "{scene}: one frame");
     let (_, _, w, h, rgba) = &frames[0];
     let (rw, rh, expected) = read_png(&reference).unwrap();
@@ -590,7 +596,7 @@ fn check_probe(scene: &str) {
         for (tile, threads) in [(16, 1), (32, 2)] {
             let config =
                 tiler_gl::ContextConfig { backend, tile_width: tile, tile_height: tile, threads, ..base.clone() };
-            let other = replay_probe(scene, config).unwrap();
+            let other = replay_probe_in(probe, scene, config).unwrap();
             assert!(other[0].4 == *rgba, "{scene}: {backend:?} with {tile}×{tile} tiles differs");
         }
     }
@@ -900,4 +906,202 @@ fn compressed_and_packed_uploads_replay_and_bad_sizes_fail_at_their_call() {
     let (result, frames) = replay(&w);
     result.unwrap();
     assert_eq!(frames[0].4, solid(4, 4, [255, 0, 136, 255]));
+}
+
+#[test]
+fn probe_vertex_array_objects_match_llvmpipe() {
+    check_probe_in("gles3-probe", "vao");
+}
+
+#[test]
+fn probe_instanced_draws_match_llvmpipe() {
+    check_probe_in("gles3-probe", "instanced");
+}
+
+#[test]
+fn probe_uniform_blocks_match_llvmpipe() {
+    check_probe_in("gles3-probe", "ubo");
+}
+
+#[test]
+fn probe_storage_levels_sampler_objects_and_buffer_copies_match_llvmpipe() {
+    check_probe_in("gles3-probe", "objects");
+}
+
+#[test]
+fn probe_multiple_render_targets_match_llvmpipe() {
+    check_probe_in("gles3-probe", "mrt");
+}
+
+#[test]
+fn probe_glsl_es_300_matches_llvmpipe() {
+    check_probe_in("gles3-probe", "glsl3");
+}
+
+/// A program whose fragment shader reads uniform block `Colors` (with `uniform_array_capture`'s
+/// full-window triangle).
+fn uniform_block_capture(before_draw: impl FnOnce(&mut Writer)) -> (Writer, u64) {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    full_window_program(
+        &mut w,
+        "#version 300 es\nin vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n",
+        "#version 300 es\nprecision mediump float;\nuniform Colors { vec4 a; vec4 b; };\nout vec4 c;\n\
+         void main() { c = b; }\n",
+    );
+    let index = [("program", W::UInt(7)), ("uniformBlockName", W::Str("Colors"))];
+    w.call("glGetUniformBlockIndex", &index, Some(W::UInt(0)), false);
+    before_draw(&mut w);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    let call = w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+    (w, call)
+}
+
+#[test]
+fn uniform_blocks_read_their_bound_buffer_and_errors_name_the_call() {
+    let values: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.2, 0.4, 0.6, 1.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let bind_and_fill = |w: &mut Writer, binding: u64| {
+        w.call("glGenBuffers", &[("n", W::UInt(1)), ("buffers", W::Array(vec![W::UInt(4)]))], None, false);
+        // Bound by index before it has storage: bound in the context when it gets some.
+        let base = [("target", e("GL_UNIFORM_BUFFER", 0x8a11)), ("index", W::UInt(binding)), ("buffer", W::UInt(4))];
+        w.call("glBindBufferBase", &base, None, false);
+        w.call(
+            "glBufferData",
+            &[
+                ("target", e("GL_UNIFORM_BUFFER", 0x8a11)),
+                ("size", W::UInt(32)),
+                ("data", W::Blob(values.clone())),
+                ("usage", e("GL_STATIC_DRAW", 0x88e4)),
+            ],
+            None,
+            false,
+        );
+    };
+    let block_binding = |w: &mut Writer, index: u64, binding: u64| {
+        let args =
+            [("program", W::UInt(7)), ("uniformBlockIndex", W::UInt(index)), ("uniformBlockBinding", W::UInt(binding))];
+        w.call("glUniformBlockBinding", &args, None, false)
+    };
+    // Binding 3.
+    let (w, _) = uniform_block_capture(|w| {
+        block_binding(w, 0, 3);
+        bind_and_fill(w, 3);
+    });
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [51, 102, 153, 255]));
+    // The block reads binding 3, where nothing is bound: the draw names the block.
+    let (w, draw) = uniform_block_capture(|w| {
+        block_binding(w, 0, 3);
+        bind_and_fill(w, 1);
+    });
+    let (result, _) = replay(&w);
+    let error = result.err().expect("binding 3 is empty");
+    assert_eq!(error.call(), Some(draw));
+    let message = error.to_string();
+    assert!(message.contains("`glDrawArrays`") && message.contains("uniform block 'Colors' (binding 3)"), "{message}");
+    // A block index glGetUniformBlockIndex never returned.
+    let mut call = 0;
+    let (w, _) = uniform_block_capture(|w| call = block_binding(w, 4, 0));
+    let (result, _) = replay(&w);
+    let error = result.err().expect("index 4 was never returned");
+    assert_eq!(error.call(), Some(call));
+    assert!(error.to_string().contains("`glUniformBlockBinding`"), "{error}");
+}
+
+#[test]
+fn gles3_vertex_state_errors_name_their_call() {
+    let expect_error = |w: &Writer, call: u64, words: &[&str]| {
+        let (result, _) = replay(w);
+        let error = result.err().expect("an error");
+        assert_eq!(error.call(), Some(call), "{error}");
+        let message = error.to_string();
+        assert!(words.iter().all(|word| message.contains(word)), "{message}");
+    };
+    // A divisor on an attribute the context does not have.
+    let mut call = 0;
+    let (w, _) = uniform_array_capture(
+        |w| {
+            let args = [("index", W::UInt(9)), ("divisor", W::UInt(1))];
+            call = w.call("glVertexAttribDivisor", &args, None, false);
+        },
+        |_| {},
+    );
+    expect_error(&w, call, &["`glVertexAttribDivisor`", "vertex attribute 9"]);
+    // Per-instance data too short for the instances drawn: `where` (3 elements) advancing
+    // every instance, 4 instances.
+    let (w, _) = uniform_array_capture(
+        |w| {
+            w.call("glVertexAttribDivisor", &[("index", W::UInt(5)), ("divisor", W::UInt(1))], None, false);
+        },
+        |w| {
+            let args = [
+                ("mode", e("GL_TRIANGLES", 4)),
+                ("first", W::UInt(0)),
+                ("count", W::UInt(3)),
+                ("instancecount", W::UInt(4)),
+            ];
+            call = w.call("glDrawArraysInstanced", &args, None, false);
+        },
+    );
+    expect_error(&w, call, &["`glDrawArraysInstanced`", "attribute 5 (where), divisor 1", "past the end"]);
+    // A vertex array name glGenVertexArrays never returned.
+    let (w, _) = uniform_array_capture(
+        |w| {
+            call = w.call("glBindVertexArray", &[("array", W::UInt(3))], None, false);
+        },
+        |_| {},
+    );
+    expect_error(&w, call, &["`glBindVertexArray`", "vertex array 3"]);
+}
+
+#[test]
+fn gles3_object_errors_name_their_call() {
+    let expect_error = |call: &dyn Fn(&mut Writer) -> u64, function: &str, words: &[&str]| {
+        let mut number = 0;
+        let (w, _) = uniform_array_capture(|w| number = call(w), |_| {});
+        let (result, _) = replay(&w);
+        let error = result.err().expect("an error");
+        assert_eq!(error.call(), Some(number), "{error}");
+        let message = error.to_string();
+        assert!(message.contains(&format!("`{function}`")), "{message}");
+        assert!(words.iter().all(|word| message.contains(word)), "{message}");
+    };
+    expect_error(
+        &|w| w.call("glBindSampler", &[("unit", W::UInt(0)), ("sampler", W::UInt(9))], None, false),
+        "glBindSampler",
+        &["sampler 9"],
+    );
+    expect_error(
+        &|w| {
+            w.call("glGenSamplers", &[("n", W::UInt(1)), ("samplers", W::Array(vec![W::UInt(2)]))], None, false);
+            let lod = [("sampler", W::UInt(2)), ("pname", e("GL_TEXTURE_MIN_LOD", 0x813a)), ("param", W::Float(2.0))];
+            w.call("glSamplerParameterf", &lod, None, false)
+        },
+        "glSamplerParameterf",
+        &["0x813a"],
+    );
+    expect_error(
+        &|w| {
+            w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(4)]))], None, false);
+            w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(4))], None, false);
+            let storage = [
+                ("target", e("GL_TEXTURE_2D", 0x0de1)),
+                ("levels", W::UInt(2)),
+                ("internalformat", e("GL_RGBA8", 0x8058)),
+                ("width", W::UInt(8)),
+                ("height", W::UInt(8)),
+            ];
+            w.call("glTexStorage2D", &storage, None, false)
+        },
+        "glTexStorage2D",
+        &["2 mip levels", "whole chain (4)"],
+    );
+    expect_error(
+        &|w| w.call("glDrawBuffers", &[("n", W::UInt(1)), ("bufs", W::Array(vec![W::UInt(0)]))], None, false),
+        "glDrawBuffers",
+        &["of the window"],
+    );
 }

@@ -7,6 +7,8 @@ mod common;
 mod encoded;
 #[path = "gl/fuzz.rs"]
 mod fuzz;
+#[path = "gl/gles3.rs"]
+mod gles3;
 #[path = "gl/glsl.rs"]
 mod glsl;
 #[path = "gl/inference.rs"]

@@ -74,6 +74,11 @@ pub struct StageCode {
     /// `gl_PointCoord`, when the fragment shader reads it.
     pub point_coord: Option<[Reg; 2]>,
     pub front_facing: Option<Reg>,
+    /// `gl_VertexID` and `gl_InstanceID` (ES 3.00), filled by the caller before each vertex.
+    pub vertex_id: Option<Reg>,
+    pub instance_id: Option<Reg>,
+    /// The uniforms that are uniform blocks (by name), whose values come from buffers.
+    pub blocks: Vec<String>,
     /// `gl_FragColor` or `gl_FragData[i]` (colour attachment `i`).
     pub colors: Vec<(usize, [Reg; 4])>,
     pub discards: bool,
@@ -223,6 +228,9 @@ struct Compiler<'a> {
     point_size: Option<Reg>,
     point_coord: Option<[Reg; 2]>,
     front_facing: Option<Reg>,
+    vertex_id: Option<Reg>,
+    instance_id: Option<Reg>,
+    blocks: Vec<String>,
     frag_color: Option<[Reg; 4]>,
     frag_data: Option<Vec<Reg>>,
     discards: bool,
@@ -269,6 +277,9 @@ impl<'a> Compiler<'a> {
             point_size: None,
             point_coord: None,
             front_facing: None,
+            vertex_id: None,
+            instance_id: None,
+            blocks: Vec::new(),
             frag_color: None,
             frag_data: None,
             discards: false,
@@ -315,6 +326,8 @@ impl<'a> Compiler<'a> {
         pinned.extend(self.point_size.filter(|_| self.names_point));
         pinned.extend(self.point_coord.iter().flatten());
         pinned.extend(self.front_facing);
+        pinned.extend(self.vertex_id);
+        pinned.extend(self.instance_id);
         for (_, c) in &colors {
             pinned.extend(c);
         }
@@ -337,6 +350,9 @@ impl<'a> Compiler<'a> {
             point_size: self.point_size.filter(|_| self.names_point),
             point_coord: self.point_coord.filter(|_| self.names_point),
             front_facing: self.front_facing,
+            vertex_id: self.vertex_id,
+            instance_id: self.instance_id,
+            blocks: self.blocks,
             colors,
             discards: self.discards,
         }
@@ -624,6 +640,14 @@ impl<'a> Compiler<'a> {
             Stage::Vertex => {
                 self.position = Some(four(var(self, "gl_Position", Type::vec(4), true)));
                 self.point_size = Some(var(self, "gl_PointSize", FLOAT, true)[0]);
+                // Inputs filled by the caller: declared directly, not zeroed.
+                let input = |c: &mut Self, name: &str| {
+                    let r = c.temp();
+                    c.scopes[0].insert(name.into(), Symbol { ty: INT, regs: vec![r], writable: false, konst: None });
+                    Some(r)
+                };
+                self.vertex_id = input(self, "gl_VertexID");
+                self.instance_id = input(self, "gl_InstanceID");
             }
             Stage::Fragment => {
                 // Inputs are filled by the caller, so they are not zeroed: declare them
@@ -688,7 +712,7 @@ impl<'a> Compiler<'a> {
             ast::DeclarationData::FunctionPrototype(_) | ast::DeclarationData::Precision(..) => Ok(()),
             ast::DeclarationData::Invariant(_) => Ok(()),
             ast::DeclarationData::TypeOnly(_) => Ok(()),
-            ast::DeclarationData::Block(_) => self.fail("interface blocks are not supported (GLSL ES 1.00)"),
+            ast::DeclarationData::Block(b) => self.uniform_block(b),
             ast::DeclarationData::InitDeclaratorList(list) => {
                 let head = &list.head;
                 let base = self.type_of(&head.ty.ty)?;
@@ -699,6 +723,13 @@ impl<'a> Compiler<'a> {
                     (Storage::Out, Stage::Fragment) => Storage::FragOut,
                     (s, _) => s,
                 };
+                if is_flat(head.ty.qualifier.as_ref()) {
+                    // GL's provoking vertex is a primitive's last, tiler's (Vulkan's) its first.
+                    return self.fail(
+                        "flat varyings are not supported (GL takes them from a primitive's last vertex, tiler \
+                         from its first)",
+                    );
+                }
                 let location = location_of(head.ty.qualifier.as_ref(), self);
                 if let Some(name) = &head.name {
                     let ty = self.arrayed(base.clone(), head.array_specifier.as_ref())?;
@@ -843,6 +874,80 @@ impl<'a> Compiler<'a> {
         }
     }
 
+    /// `uniform Name { … } [instance];` (ES 3.00): a uniform of a struct type named after the
+    /// block, its members visible directly (or through the instance name). Its values come
+    /// from a buffer in the `std140` layout (`std140.rs`), which `shared`, the default, is
+    /// taken to be (Mesa lays `shared` blocks out so).
+    fn uniform_block(&mut self, b: &ast::Block) -> CResult<()> {
+        if storage_of(Some(&b.qualifier)) != Storage::Uniform {
+            return self.fail("only uniform blocks are supported (in/out blocks are not GLSL ES 3.00)");
+        }
+        let name = b.name.as_str();
+        self.block_layout(Some(&b.qualifier), name)?;
+        let mut fields = Vec::new();
+        for f in &b.fields {
+            self.at(&f.span);
+            self.block_layout(f.qualifier.as_ref(), name)?;
+            let ty = self.type_of(&f.ty)?;
+            for id in &f.identifiers {
+                let fty = self.arrayed(ty.clone(), id.array_spec.as_ref())?;
+                if fty.contains_sampler() {
+                    return self.fail(format!("uniform block '{name}' holds a sampler, which blocks cannot"));
+                }
+                fields.push((id.ident.as_str().to_string(), fty));
+            }
+        }
+        if b.identifier.as_ref().is_some_and(|i| i.array_spec.is_some()) {
+            return self.fail(format!("arrays of uniform blocks ('{name}') are not supported"));
+        }
+        if self.uniforms.iter().any(|u| u.name == name) {
+            return self.fail(format!("'{name}' is declared twice"));
+        }
+        let block = Arc::new(StructType { name: name.to_string(), fields });
+        let ty = Type::Struct(block.clone());
+        let regs = self.uniform_regs(&ty);
+        self.uniforms.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location: None });
+        self.blocks.push(name.to_string());
+        match &b.identifier {
+            Some(instance) => self.declare(instance.ident.as_str(), Symbol { ty, regs, writable: false, konst: None }),
+            None => {
+                let mut at = 0;
+                for (field, fty) in &block.fields {
+                    let n = fty.size();
+                    let symbol =
+                        Symbol { ty: fty.clone(), regs: regs[at..at + n].to_vec(), writable: false, konst: None };
+                    self.declare(field, symbol)?;
+                    at += n;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Checks a uniform block's (or member's) layout qualifiers: `std140`, `shared` and
+    /// `column_major` are what tiler reads; `packed` and `row_major` are refused.
+    fn block_layout(&mut self, q: Option<&ast::TypeQualifier>, block: &str) -> CResult<()> {
+        for spec in q.iter().flat_map(|q| &q.qualifiers) {
+            if let ast::TypeQualifierSpecData::Layout(l) = &spec.content {
+                for id in &l.ids {
+                    match &id.content {
+                        ast::LayoutQualifierSpecData::Shared => {}
+                        ast::LayoutQualifierSpecData::Identifier(n, None)
+                            if matches!(n.as_str(), "std140" | "column_major") => {}
+                        ast::LayoutQualifierSpecData::Identifier(n, _) => {
+                            return self.fail(format!(
+                                "uniform block '{block}': layout '{}' is not supported (std140, shared and \
+                                 column_major are)",
+                                n.as_str()
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Bank registers for a uniform's components; sampler components get slots instead.
     fn uniform_regs(&mut self, ty: &Type) -> Vec<Reg> {
         match ty {
@@ -916,6 +1021,16 @@ fn storage_of(q: Option<&ast::TypeQualifier>) -> Storage {
         }
     }
     storage
+}
+
+/// Whether a declaration is qualified `flat` (ES 3.00).
+fn is_flat(q: Option<&ast::TypeQualifier>) -> bool {
+    q.is_some_and(|q| {
+        q.qualifiers.iter().any(|spec| {
+            matches!(&spec.content, ast::TypeQualifierSpecData::Interpolation(i)
+                if i.content == ast::InterpolationQualifierData::Flat)
+        })
+    })
 }
 
 fn location_of(q: Option<&ast::TypeQualifier>, c: &Compiler) -> Option<u32> {

@@ -26,11 +26,16 @@
 //! core sizes points from the first and fills the second at their corners; see
 //! `CompiledProgram::point_size_varying`), `gl_FragCoord`, `gl_FrontFacing`, `gl_FragColor`,
 //! `gl_FragData[n]`. From ES 3.00 where it is
-//! cheap: `in`/`out` (outputs with `layout(location)`), `texture`/`textureProj`/`textureLod`,
-//! `trunc`, `round`, `transpose`.
+//! cheap (`#version 300 es`): `in`/`out` (inputs and outputs with `layout(location)`),
+//! `texture`/`textureProj`/`textureLod`, `trunc`, `round`, `transpose`, `gl_VertexID` and
+//! `gl_InstanceID` (the caller's, [`GlslVertexShader::set_instance`]), and uniform blocks
+//! (`uniform Name { … } [instance];`, laid out `std140` — `shared` is taken to be the same —
+//! and set from a buffer's bytes with [`CompiledProgram::set_uniform_block`]; see [`std140`]).
 //!
 //! Not supported (a compile error naming the shader and line): `switch`, bit operations and `%`,
-//! interface blocks. Simplifications: the operands of `&&`, `||` and `?:` are all evaluated
+//! `uint` and the other ES 3.00 types beyond ES 1.00's, `flat` (GL takes a flat varying from a
+//! primitive's last vertex, tiler's core from its first), in/out blocks, arrays of uniform
+//! blocks, `packed` and `row_major` blocks. Simplifications: the operands of `&&`, `||` and `?:` are all evaluated
 //! and then selected per lane (a side effect in the untaken one happens); ints mix with
 //! floats (promoted, as desktop GLSL allows); ints are held in f32 (exact to 2²⁴, beyond ES
 //! 1.00's required ±2¹⁶).
@@ -103,11 +108,12 @@ pub mod guard;
 mod hoist;
 pub mod ir;
 mod program;
+pub mod std140;
 pub mod types;
 
 pub use program::{
-    AttributeInfo, CompiledProgram, GlslFragmentShader, GlslVertexShader, TextureBinding, TextureSource, UniformInfo,
-    UniformValues, VaryingInfo, pipeline, shaders,
+    AttributeInfo, CompiledProgram, GlslFragmentShader, GlslVertexShader, TextureBinding, TextureSource,
+    UniformBlockInfo, UniformInfo, UniformValues, VaryingInfo, pipeline, shaders,
 };
 pub use types::{SamplerKind, Scalar, StructType, Type};
 

@@ -51,6 +51,19 @@ pub struct UniformInfo {
     offset: usize,
 }
 
+/// A uniform block (ES 3.00) of a program: its members' values are read from a buffer laid
+/// out `std140` ([`CompiledProgram::set_uniform_block`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct UniformBlockInfo {
+    /// The block's name (not its instance name), as `glGetUniformBlockIndex` takes it.
+    pub name: String,
+    /// The bytes the block takes in its buffer.
+    pub size: usize,
+    ty: Type,
+    /// Where its values start in [`UniformValues`].
+    offset: usize,
+}
+
 /// A compiled and linked GLSL ES program.
 #[derive(Debug)]
 pub struct CompiledProgram {
@@ -59,6 +72,7 @@ pub struct CompiledProgram {
     attributes: Vec<AttributeInfo>,
     varyings: Vec<VaryingInfo>,
     uniforms: Vec<UniformInfo>,
+    blocks: Vec<UniformBlockInfo>,
     /// For each declared uniform of each stage, its offset in the values.
     vertex_uniform_offsets: Vec<usize>,
     fragment_uniform_offsets: Vec<usize>,
@@ -116,7 +130,7 @@ impl CompiledProgram {
         })?;
         let attributes = link_attributes(&vertex, attribute_locations)?;
         let (varyings, hidden, varying_floats) = link_varyings(&vertex, &fragment)?;
-        let (uniforms, vertex_uniform_offsets, fragment_uniform_offsets, uniform_floats) =
+        let (uniforms, blocks, vertex_uniform_offsets, fragment_uniform_offsets, uniform_floats) =
             link_uniforms(&vertex, &fragment)?;
         Ok(CompiledProgram {
             vertex,
@@ -124,6 +138,7 @@ impl CompiledProgram {
             attributes,
             varyings,
             uniforms,
+            blocks,
             vertex_uniform_offsets,
             fragment_uniform_offsets,
             uniform_floats,
@@ -207,6 +222,32 @@ impl CompiledProgram {
         }
         let start = u.offset + element * size;
         uniforms.values[start..start + values.len()].copy_from_slice(values);
+        Ok(())
+    }
+
+    /// The program's uniform blocks; a block's index is its place here.
+    pub fn uniform_blocks(&self) -> &[UniformBlockInfo] {
+        &self.blocks
+    }
+
+    /// Sets the members of uniform block `block` from `bytes`, the block's data in its
+    /// buffer (`std140`, from the bound range's start).
+    ///
+    /// # Errors
+    /// An unknown block, or fewer bytes than the block takes.
+    pub fn set_uniform_block(&self, uniforms: &mut UniformValues, block: usize, bytes: &[u8]) -> Result<(), Error> {
+        let b = self.blocks.get(block).ok_or_else(|| Error::Uniform(format!("no uniform block {block}")))?;
+        if bytes.len() < b.size {
+            return Err(Error::Uniform(format!(
+                "uniform block '{}' takes {} bytes, but its buffer range has {}",
+                b.name,
+                b.size,
+                bytes.len()
+            )));
+        }
+        let mut values = Vec::with_capacity(b.ty.size());
+        crate::std140::read(&b.ty, bytes, &mut values);
+        uniforms.values[b.offset..b.offset + values.len()].copy_from_slice(&values);
         Ok(())
     }
 
@@ -328,7 +369,7 @@ fn link_varyings(vertex: &StageCode, fragment: &StageCode) -> Result<(Vec<Varyin
     Ok((out, HiddenVaryings { w, point_size, point_coord }, next))
 }
 
-type UniformLink = (Vec<UniformInfo>, Vec<usize>, Vec<usize>, usize);
+type UniformLink = (Vec<UniformInfo>, Vec<UniformBlockInfo>, Vec<usize>, Vec<usize>, usize);
 
 fn link_uniforms(vertex: &StageCode, fragment: &StageCode) -> Result<UniformLink, Error> {
     // Declared uniforms, merged by name: (name, type, offset).
@@ -356,12 +397,20 @@ fn link_uniforms(vertex: &StageCode, fragment: &StageCode) -> Result<UniformLink
         }
     }
     let mut infos = Vec::new();
+    let mut blocks = Vec::new();
     let mut location = 0;
     for (name, ty, offset) in &declared {
-        leaves(name, ty, *offset, &mut infos, &mut location);
+        // A block's members have no locations (GL ES 3.0 §2.12.6): their values come from a
+        // buffer.
+        if vertex.blocks.contains(name) || fragment.blocks.contains(name) {
+            let size = crate::std140::size(ty);
+            blocks.push(UniformBlockInfo { name: name.clone(), size, ty: ty.clone(), offset: *offset });
+        } else {
+            leaves(name, ty, *offset, &mut infos, &mut location);
+        }
     }
     let [v, f] = offsets;
-    Ok((infos, v, f, floats))
+    Ok((infos, blocks, v, f, floats))
 }
 
 /// Lists the GL-visible leaves of a uniform of type `ty` at `offset`.
@@ -445,7 +494,7 @@ pub fn shaders(
     let inputs: Vec<(Vec<Reg>, usize)> =
         program.fragment.inputs.iter().zip(&program.varyings).map(|(input, v)| (input.regs.clone(), v.first)).collect();
     (
-        GlslVertexShader { program: program.clone(), bank: vbank, slots: vslots, outputs },
+        GlslVertexShader { program: program.clone(), bank: vbank, slots: vslots, outputs, instance: 0 },
         GlslFragmentShader {
             program: program.clone(),
             bank: fbank,
@@ -482,6 +531,16 @@ pub struct GlslVertexShader {
     slots: Vec<Option<TextureBinding>>,
     /// Each linked varying's vertex registers and first float.
     outputs: Vec<(Vec<Reg>, usize)>,
+    /// `gl_InstanceID`.
+    instance: u32,
+}
+
+impl GlslVertexShader {
+    /// Makes the shader run instance `instance` of an instanced draw (`gl_InstanceID`;
+    /// 0 unless set).
+    pub fn set_instance(&mut self, instance: u32) {
+        self.instance = instance;
+    }
 }
 
 /// A program's fragment shader: one 4×2 group per call, run with eight lanes.
@@ -679,6 +738,15 @@ impl GlslVertexShader {
                         regs[r as usize][lane] = input.attributes[loc][row];
                     }
                 }
+            }
+            // Ints are held in f32 (exact to 2²⁴).
+            if let Some(r) = code.vertex_id {
+                for (lane, input) in inputs[..lanes].iter().enumerate() {
+                    regs[r as usize][lane] = input.vertex_index as f32;
+                }
+            }
+            if let Some(r) = code.instance_id {
+                regs[r as usize] = [self.instance as f32; VERTEX_LANES];
             }
             let active = (1u64 << lanes) - 1;
             run(&code.code, regs, &self.bank, active, &mut VertexEnv { slots: &self.slots, lanes });

@@ -978,3 +978,77 @@ void main() {
     }
     assert_ne!(bits(&alone[1]).1, bits(&alone[2]).1, "the vertices differ");
 }
+
+#[test]
+fn es300_inputs_outputs_locations_and_vertex_built_ins() {
+    // `in` at a layout location and the lowest free one, `gl_VertexID`, `gl_InstanceID`.
+    const VS: &str = "#version 300 es
+layout(location = 3) in vec4 placed;
+in vec2 free;
+out vec4 ids;
+out vec2 passed;
+void main() {
+    ids = vec4(float(gl_VertexID), float(gl_InstanceID), placed.x, placed.w);
+    passed = free;
+    gl_Position = placed;
+}";
+    const FS: &str = "#version 300 es
+precision mediump float;
+in vec4 ids;
+in vec2 passed;
+layout(location = 0) out vec4 color;
+uniform sampler2D tex;
+void main() { color = ids + texture(tex, passed) + textureLod(tex, passed, 0.0); }";
+    let program = Arc::new(CompiledProgram::new(VS, FS, &[]).unwrap());
+    assert_eq!(program.attribute_location("placed"), Some(3));
+    assert_eq!(program.attribute_location("free"), Some(0));
+    let (mut shader, _) = tiler_glsl::shaders(&program, &program.new_uniform_values(), &[], HEIGHT);
+    let mut input = VertexInput { attributes: [Vec4::ZERO; tiler::MAX_VERTEX_ATTRIBUTES], vertex_index: 7 };
+    input.attributes[3] = Vec4::new(0.5, 0.25, 0.0, 2.0);
+    input.attributes[0] = Vec4::new(-1.5, 9.0, 0.0, 1.0);
+    let mut out = VertexOutput::default();
+    shader.shade(&input, &mut out);
+    assert_eq!(&out.varyings[..6], &[7.0, 0.0, 0.5, 2.0, -1.5, 9.0]);
+    shader.set_instance(11);
+    shader.shade(&input, &mut out);
+    assert_eq!(&out.varyings[..2], &[7.0, 11.0]);
+    // The built-ins are inputs: writing one is an error.
+    let vs_write = "#version 300 es\nin vec4 p;\nvoid main() {\n  gl_InstanceID = 1;\n  gl_Position = p;\n}";
+    let e = CompiledProgram::new(vs_write, FS, &[]).unwrap_err();
+    assert!(matches!(e, Error::Compile { stage: Stage::Vertex, line: 4, .. }), "{e}");
+}
+
+#[test]
+fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
+    let vs = "#version 300 es\nin vec4 p;\nout vec4 v;\nvoid main() { v = p; gl_Position = p; }";
+    let fs = "#version 300 es\nprecision mediump float;\nin vec4 v;\nout vec4 c;\nvoid main() { c = v; }";
+    CompiledProgram::new(vs, fs, &[]).unwrap();
+    let cases = [
+        // flat: GL's provoking vertex is the last, tiler's the first.
+        (
+            Stage::Vertex,
+            "#version 300 es\nin vec4 p;\nflat out vec4 v;\nvoid main() { v = p; gl_Position = p; }",
+            3,
+            "flat",
+        ),
+        (
+            Stage::Fragment,
+            "#version 300 es\nprecision mediump float;\nout vec4 c;\nvoid main() {\n  uint u = 1u;\n  c = vec4(1.0);\n}",
+            5,
+            "",
+        ),
+    ];
+    for (stage, source, line, word) in cases {
+        let e = match stage {
+            Stage::Vertex => CompiledProgram::new(source, fs, &[]),
+            Stage::Fragment => CompiledProgram::new(vs, source, &[]),
+        }
+        .unwrap_err();
+        match &e {
+            Error::Compile { stage: s, line: l, message } => {
+                assert!(*s == stage && *l == line && message.contains(word), "{e}");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}

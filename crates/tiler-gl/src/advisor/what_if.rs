@@ -207,6 +207,8 @@ impl Fixer {
                         | Call::BindFramebuffer { .. }
                         | Call::DrawArrays { .. }
                         | Call::DrawElements { .. }
+                        | Call::DrawArraysInstanced { .. }
+                        | Call::DrawElementsInstanced { .. }
                 )
             )
         {

@@ -1,4 +1,4 @@
-//! Replaying real captures: an apitrace capture of an OpenGL ES 2.0 / EGL application, read
+//! Replaying real captures: an apitrace capture of an OpenGL ES 2.0 / 3.0 / EGL application, read
 //! by `tiler-apitrace`, drives a [`Context`] with [`Call`](crate::Call)s, so a real
 //! application's frames get the same inferred passes, costs and findings as a JSON trace.
 //!
@@ -33,6 +33,18 @@
 //!   application then uses). Uniform locations are mapped back to the names
 //!   `glGetUniformLocation` returned them for; `glUniform*v` with a count sets consecutive
 //!   array elements (`base[i + k]`). A location never returned is an error naming the call.
+//! - **GL ES 3.0 vertex state**: vertex array objects (`glGenVertexArrays`, and the
+//!   `OES_vertex_array_object` names) become the context's, each keeping its attributes and
+//!   element buffer; `glVertexAttribDivisor` (and its `ANGLE`/`EXT` names) and
+//!   `glDraw*Instanced` become the context's divisors and instanced draws. Uniform block
+//!   indices are mapped back to the names `glGetUniformBlockIndex` returned them for, as
+//!   uniform locations are; `glBindBufferBase`/`Range(GL_UNIFORM_BUFFER)` become the
+//!   context's uniform buffer bindings (a buffer bound before it has storage is bound when it
+//!   gets some). Sampler objects are kept here and hand the context each unit's sampling
+//!   state; `glCopyBufferSubData` is the context's buffer copy; `glTexStorage2D` takes 1 level
+//!   or the whole chain, whose levels `glTexSubImage2D` fills whole; `glDrawBuffers` of
+//!   colour attachments 0, 1, … in order is the context's `draw_buffers` (multiple render
+//!   targets).
 //! - **Client-side vertex arrays** (apitrace records the bytes a draw reads in a fake
 //!   `glVertexAttribPointer` just before it) become client arrays the context copies at each
 //!   draw, as a driver must; client-side indices go through a scratch index buffer. Writes

@@ -21,6 +21,8 @@ use crate::context::{Context, ContextConfig, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRI
 
 type Fallible<T = ()> = Result<T, String>;
 
+mod gles3;
+
 const GL_NEAREST: u32 = 0x2600;
 const GL_LINEAR: u32 = 0x2601;
 const GL_NEAREST_MIPMAP_LINEAR: u32 = 0x2702;
@@ -117,6 +119,8 @@ struct Program {
     id: Option<u32>,
     /// Uniform location → name, from `glGetUniformLocation`'s return values.
     uniforms: HashMap<i32, String>,
+    /// Uniform block index → name, from `glGetUniformBlockIndex`'s return values.
+    blocks: HashMap<u32, String>,
     /// `glDeleteProgram` while in use: it goes when another program is used.
     deleted: bool,
 }
@@ -133,6 +137,10 @@ struct Objects {
     deleted_shaders: Vec<u32>,
     programs: HashMap<u32, Program>,
     queries: HashMap<u32, u32>,
+    /// Vertex array object names → the context's ids.
+    vertex_arrays: HashMap<u32, u32>,
+    /// Sampler objects: their sampling parameters (a texture's, unused fields aside).
+    samplers: HashMap<u32, Texture>,
 }
 
 impl Objects {
@@ -172,6 +180,20 @@ struct Bindings {
     enabled_attribs: [bool; MAX_VERTEX_ATTRIBS as usize],
     /// Attributes pointing at client memory whose bytes the capture has not (yet) recorded.
     unrecorded_client_attribs: [bool; MAX_VERTEX_ATTRIBS as usize],
+    /// `glVertexAttribDivisor`s.
+    divisors: [u32; MAX_VERTEX_ATTRIBS as usize],
+    /// The bound vertex array object; `element_buffer` and the attribute arrays above are its
+    /// state, the other arrays' is kept here (`gles3.rs`).
+    vertex_array: u32,
+    unbound_vertex_arrays: HashMap<u32, gles3::VertexArrayState>,
+    /// The GL ES 3.0 buffer targets that only name a buffer for other calls
+    /// (`GL_UNIFORM_BUFFER`, `GL_COPY_READ_BUFFER`, `GL_COPY_WRITE_BUFFER`).
+    other_buffers: HashMap<GlEnum, u32>,
+    /// Uniform buffer bindings: index → (buffer name, offset, size), kept so that a buffer
+    /// bound before it has storage is bound in the context when the storage arrives.
+    uniform_bindings: HashMap<u32, (u32, u64, Option<u64>)>,
+    /// The sampler object bound to each texture unit.
+    samplers: [u32; MAX_TEXTURE_UNITS as usize],
 }
 
 impl Default for Bindings {
@@ -189,6 +211,12 @@ impl Default for Bindings {
             unpack_alignment: 4,
             enabled_attribs: [false; MAX_VERTEX_ATTRIBS as usize],
             unrecorded_client_attribs: [false; MAX_VERTEX_ATTRIBS as usize],
+            divisors: [0; MAX_VERTEX_ATTRIBS as usize],
+            vertex_array: 0,
+            unbound_vertex_arrays: HashMap::new(),
+            other_buffers: HashMap::new(),
+            uniform_bindings: HashMap::new(),
+            samplers: [0; MAX_TEXTURE_UNITS as usize],
         }
     }
 }
@@ -378,6 +406,8 @@ impl Translator {
                             *bound = 0;
                         }
                     }
+                    gles3::forget_buffer(b, name);
+                    b.other_buffers.retain(|_, bound| *bound != name);
                 }
             }
             C::BindBuffer { target, buffer } => {
@@ -390,6 +420,9 @@ impl Translator {
                         self.bindings.element_buffer = *buffer;
                         let id = self.buffer_id(*buffer)?.unwrap_or(0);
                         self.emit(Call::BindIndexBuffer { buffer: id })?;
+                    }
+                    t if gles3::OTHER_BUFFER_TARGETS.contains(&t) => {
+                        self.bindings.other_buffers.insert(t, *buffer);
                     }
                     t => return Err(format!("buffer target {t:#06x} is not supported")),
                 }
@@ -421,6 +454,7 @@ impl Translator {
                         if self.bindings.element_buffer == name {
                             self.emit(Call::BindIndexBuffer { buffer: id })?;
                         }
+                        self.bind_new_uniform_buffer(name, id)?;
                     }
                 }
             }
@@ -429,6 +463,14 @@ impl Translator {
                 let bytes = data.bytes().ok_or("the data was not recorded")?;
                 let id = self.buffer_id(name)?.ok_or_else(|| format!("buffer {name} has no storage"))?;
                 self.emit(Call::BufferSubData { id, offset: *offset, data: Bytes::from(bytes) })?;
+            }
+            C::CopyBufferSubData { read_target, write_target, read_offset, write_offset, size } => {
+                let (src, dst) = (self.bound_buffer(*read_target)?, self.bound_buffer(*write_target)?);
+                let storage =
+                    |t: &mut Self, name: u32| t.buffer_id(name)?.ok_or_else(|| format!("buffer {name} has no storage"));
+                let (src, dst) = (storage(self, src)?, storage(self, dst)?);
+                let (src_offset, dst_offset, size) = (*read_offset, *write_offset, *size);
+                self.emit(Call::CopyBufferSubData { src, dst, src_offset, dst_offset, size })?;
             }
             C::MapBuffer { .. } | C::UnmapBuffer { .. } | C::FlushMappedBufferRange { .. } => {}
             C::BufferWrite { buffer, offset, data } => {
@@ -486,7 +528,10 @@ impl Translator {
                     self.bindings.unrecorded_client_attribs[slot] = true;
                 }
             }
-            C::VertexAttribDivisor { divisor: 0, .. } => {}
+            C::VertexAttribDivisor { index, divisor } => self.vertex_attrib_divisor(*index, *divisor)?,
+            C::GenVertexArrays { names } => self.gen_vertex_arrays(names)?,
+            C::BindVertexArray { array } => self.bind_vertex_array(*array)?,
+            C::DeleteVertexArrays { names } => self.delete_vertex_arrays(names)?,
             C::VertexAttrib { index, value } => {
                 attrib_slot(*index)?;
                 self.emit(Call::VertexAttrib { index: *index, value: *value })?;
@@ -494,17 +539,20 @@ impl Translator {
 
             // ---- drawing --------------------------------------------------------------------
             C::DrawArrays { mode, first, count, instance_count } => {
-                self.check_draw(*instance_count)?;
+                let instances = self.check_draw(*instance_count)?;
                 let mode = draw_mode(*mode)?;
                 let first = u32::try_from(*first).map_err(|_| format!("first {first} is negative"))?;
                 let count = u32::try_from(*count).map_err(|_| format!("count {count} is negative"))?;
-                self.emit(Call::DrawArrays { mode, first, count })?;
+                self.emit(match instances {
+                    None => Call::DrawArrays { mode, first, count },
+                    Some(instances) => Call::DrawArraysInstanced { mode, first, count, instances },
+                })?;
             }
             C::DrawElements { mode, count, kind, indices, instance_count, .. } => {
-                self.check_draw(*instance_count)?;
+                let instances = self.check_draw(*instance_count)?;
                 let mode = draw_mode(*mode)?;
                 let count = u32::try_from(*count).map_err(|_| format!("count {count} is negative"))?;
-                self.draw_elements(mode, count, *kind, indices)?;
+                self.draw_elements(mode, count, *kind, indices, instances)?;
             }
             C::Clear { mask } => {
                 const KNOWN: u32 = 0x4000 | 0x0100 | 0x0400;
@@ -656,6 +704,14 @@ impl Translator {
                 t.size = (width, height);
                 self.update_sampler(name)?;
             }
+            C::TexSubImage2D { target, level, x_offset, y_offset, width, height, format, kind, pixels }
+                if *level > 0 =>
+            {
+                check_2d_level0(*target, 0)?;
+                let (x, y) = size2(*x_offset, *y_offset)?;
+                let (width, height) = size2(*width, *height)?;
+                self.tex_sub_image_level(*level as u32, [x, y, width, height], *format, *kind, pixels)?;
+            }
             C::TexSubImage2D { target, level, x_offset, y_offset, width, height, format, kind, pixels } => {
                 check_2d_level0(*target, *level)?;
                 let name = self.bound_texture()?;
@@ -677,11 +733,9 @@ impl Translator {
             }
             C::TexStorage2D { target, levels, internal_format, width, height } => {
                 check_2d_level0(*target, 0)?;
-                if *levels != 1 {
-                    return Err(format!("{levels} mip levels: the context has no mip maps"));
-                }
                 let format = renderbuffer_format(*internal_format)?;
                 let (width, height) = size2(*width, *height)?;
+                gles3::check_storage_levels(*levels, width, height)?;
                 let name = self.bound_texture()?;
                 if self.objects()?.textures.get(&name).is_some_and(|t| t.id.is_some()) {
                     return Err(format!("texture {name} already has storage"));
@@ -692,6 +746,7 @@ impl Translator {
                 let t = self.objects()?.textures.entry(name).or_default();
                 t.id = Some(id);
                 t.size = (width, height);
+                t.upload = gles3::storage_upload(format);
                 self.update_sampler(name)?;
             }
             C::TexParameter { target, pname, params } => {
@@ -890,14 +945,7 @@ impl Translator {
                 };
                 self.emit(Call::BlitFramebuffer { src: *src, dst: *dst, filter })?;
             }
-            C::DrawBuffers { buffers } => {
-                let default = self.bindings.draw_framebuffer == 0;
-                if buffers.as_slice() != [if default { 0x0405 } else { 0x8ce0 }] {
-                    return Err(format!(
-                        "draw buffers {buffers:x?}: only the default (one colour buffer) is supported"
-                    ));
-                }
-            }
+            C::DrawBuffers { buffers } => self.draw_buffers(buffers)?,
             C::ReadBuffer { source } => {
                 let default = self.bindings.read_framebuffer == 0;
                 if *source != if default { 0x0405 } else { 0x8ce0 } {
@@ -991,6 +1039,27 @@ impl Translator {
                 }
             }
             C::Uniform { location, value } => self.uniform(*location, value)?,
+            C::UniformBlockIndex { program, name, index } => {
+                // GL_INVALID_INDEX: no such block.
+                if *index != u32::MAX {
+                    self.program(*program)?.blocks.insert(*index, name.clone());
+                }
+            }
+            C::UniformBlockBinding { program, block_index, binding } => {
+                self.uniform_block_binding(*program, *block_index, *binding)?;
+            }
+            C::GenSamplers { names } => {
+                let objects = self.objects()?;
+                for &name in names {
+                    objects.samplers.insert(name, Texture::default());
+                }
+            }
+            C::DeleteSamplers { names } => self.delete_samplers(names)?,
+            C::BindSampler { unit, sampler } => self.bind_sampler(*unit, *sampler)?,
+            C::SamplerParameter { sampler, pname, params } => self.sampler_parameter(*sampler, *pname, params)?,
+            C::BindBufferRange { target, index, buffer, range } => {
+                self.bind_buffer_range(*target, *index, *buffer, *range)?;
+            }
 
             // ---- fixed-function state ------------------------------------------------------------
             C::Enable { cap } | C::Disable { cap } => {
@@ -1175,10 +1244,12 @@ impl Translator {
 
     /// A new context's GL state: the defaults, with the viewport and scissor of the window.
     fn reset_state(&mut self) -> Fallible {
-        self.bindings = Bindings::default();
+        let old = std::mem::take(&mut self.bindings);
         let Some(ctx) = self.ctx.as_ref() else { return Ok(()) };
         let (width, height) = (ctx.config().width, ctx.config().height);
-        let mut calls = vec![
+        // Back to the default vertex array first: the resets below are its state.
+        let mut calls = gles3::default_gles3_calls(&old);
+        calls.extend([
             Call::BindFramebuffer { target: FramebufferTarget::Framebuffer, framebuffer: 0 },
             Call::UseProgram { id: 0 },
             Call::BindIndexBuffer { buffer: 0 },
@@ -1206,7 +1277,7 @@ impl Translator {
             Call::ClearColor { rgba: [0.0; 4] },
             Call::ClearDepth { depth: 1.0 },
             Call::ClearStencil { stencil: 0 },
-        ];
+        ]);
         for cap in [
             Capability::DepthTest,
             Capability::StencilTest,
@@ -1271,6 +1342,11 @@ impl Translator {
         );
         calls
             .extend(sorted(objects.queries.values().copied().collect()).into_iter().map(|id| Call::DeleteQuery { id }));
+        calls.extend(
+            sorted(objects.vertex_arrays.values().copied().collect())
+                .into_iter()
+                .map(|id| Call::DeleteVertexArray { id }),
+        );
         // Deleted programs were deleted in the context when GL deleted them.
         let programs = objects.programs.values().filter(|p| !p.deleted).filter_map(|p| p.id).collect();
         calls.extend(sorted(programs).into_iter().map(|id| Call::DeleteProgram { id }));
@@ -1306,6 +1382,7 @@ impl Translator {
         let old = p.id.replace(id);
         let deleted = p.deleted;
         p.uniforms.clear();
+        p.blocks.clear();
         if self.bindings.program == program {
             self.emit(Call::UseProgram { id })?;
         }
@@ -1336,10 +1413,13 @@ impl Translator {
         Ok(())
     }
 
-    fn check_draw(&mut self, instance_count: i32) -> Fallible {
-        if instance_count != 1 {
-            return Err(format!("{instance_count} instances: instancing is not supported"));
-        }
+    /// Checks what a draw reads; returns its instance count unless it is 1 (a draw of one
+    /// instance is a plain draw: per-instance attributes read their first element in both).
+    fn check_draw(&mut self, instance_count: i32) -> Fallible<Option<u32>> {
+        let instances = match instance_count {
+            1 => None,
+            n => Some(u32::try_from(n).map_err(|_| format!("instance count {n} is negative"))?),
+        };
         for slot in 0..MAX_VERTEX_ATTRIBS as usize {
             if self.bindings.enabled_attribs[slot] && self.bindings.unrecorded_client_attribs[slot] {
                 return Err(format!("attribute {slot} reads client memory the capture did not record"));
@@ -1353,10 +1433,17 @@ impl Translator {
                 t.sampler().map_err(|e| format!("texture {name} on unit {unit}: {e}"))?;
             }
         }
-        Ok(())
+        Ok(instances)
     }
 
-    fn draw_elements(&mut self, mode: Mode, count: u32, kind: GlEnum, indices: &Memory) -> Fallible {
+    fn draw_elements(
+        &mut self,
+        mode: Mode,
+        count: u32,
+        kind: GlEnum,
+        indices: &Memory,
+        instances: Option<u32>,
+    ) -> Fallible {
         let index_type = match kind {
             texels::GL_UNSIGNED_SHORT => IndexKind::UnsignedShort,
             texels::GL_UNSIGNED_INT => IndexKind::UnsignedInt,
@@ -1365,6 +1452,10 @@ impl Translator {
             texels::GL_UNSIGNED_BYTE if matches!(indices, Memory::Client(_)) => IndexKind::UnsignedShort,
             texels::GL_UNSIGNED_BYTE => IndexKind::UnsignedByte,
             k => return Err(format!("index type {k:#06x} is not a GL one")),
+        };
+        let draw = |offset| match instances {
+            None => Call::DrawElements { mode, count, index_type, offset },
+            Some(instances) => Call::DrawElementsInstanced { mode, count, index_type, offset, instances },
         };
         match indices {
             Memory::Client(bytes) => {
@@ -1388,16 +1479,16 @@ impl Translator {
                     }
                 };
                 self.emit(Call::BindIndexBuffer { buffer: scratch })?;
-                let drawn = self.emit(Call::DrawElements { mode, count, index_type, offset: 0 });
+                let drawn = self.emit(draw(0));
                 let bound = self.buffer_id(self.bindings.element_buffer)?.unwrap_or(0);
                 self.emit(Call::BindIndexBuffer { buffer: bound })?;
                 drawn?;
             }
             Memory::Null => {
-                self.emit(Call::DrawElements { mode, count, index_type, offset: 0 })?;
+                self.emit(draw(0))?;
             }
             Memory::Offset(offset) => {
-                self.emit(Call::DrawElements { mode, count, index_type, offset: *offset })?;
+                self.emit(draw(*offset))?;
             }
         }
         Ok(())
@@ -1414,6 +1505,7 @@ impl Translator {
         let name = match target {
             GL_ARRAY_BUFFER => self.bindings.array_buffer,
             GL_ELEMENT_ARRAY_BUFFER => self.bindings.element_buffer,
+            t if gles3::OTHER_BUFFER_TARGETS.contains(&t) => self.bindings.other_buffers.get(&t).copied().unwrap_or(0),
             t => return Err(format!("buffer target {t:#06x} is not supported")),
         };
         if name == 0 {

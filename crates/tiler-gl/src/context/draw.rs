@@ -28,6 +28,9 @@ pub(crate) enum DrawSource {
     Program {
         program: super::glsl::ProgramDraw,
         textures: Vec<super::glsl::SampledTexture>,
+        /// The per-instance attribute bytes the driver read for this instance, counted as
+        /// `vertex_fetch` (see `instancing.rs`).
+        instance_fetch_bytes: u64,
     },
     Clear {
         color: [f32; 4],
@@ -117,9 +120,23 @@ pub(super) fn intersect(a: Rect, b: Rect) -> Rect {
 }
 
 impl Context {
-    /// A draw of the program in use: checked now, gathered into the open pass.
-    pub(crate) fn draw(&mut self, mode: Mode, first: u32, count: u32, indexed: Option<(IndexKind, u64)>) -> Fallible {
+    /// A draw of the program in use, `instances` times: checked now, gathered into the open
+    /// pass (each instance a draw of its own, see `instancing`).
+    pub(crate) fn draw(
+        &mut self,
+        mode: Mode,
+        first: u32,
+        count: u32,
+        indexed: Option<(IndexKind, u64)>,
+        instances: u32,
+    ) -> Fallible {
         let here = self.here;
+        if instances > super::instancing::MAX_INSTANCES {
+            return Err(format!(
+                "{instances} instances: the context draws each instance as a draw of its own, at most {} per call",
+                super::instancing::MAX_INSTANCES
+            ));
+        }
         if self.pass.is_none() {
             // A draw needs a complete framebuffer before anything else.
             self.targets(self.draw_framebuffer)?;
@@ -182,9 +199,14 @@ impl Context {
             source: AttribSource,
         }
         let mut inputs = Vec::new();
+        let mut per_instance = Vec::new();
         for (index, name) in &program.attributes {
             let index = *index;
             let attrib = &self.state.attribs[index as usize];
+            if attrib.enabled && attrib.divisor > 0 {
+                per_instance.push(self.instanced_attribute(&program, index, name, instances)?);
+                continue;
+            }
             let Some((source, size, component, normalized, stride)) = attrib.source.clone().filter(|_| attrib.enabled)
             else {
                 return Err(format!(
@@ -253,12 +275,18 @@ impl Context {
         }
 
         let targets = self.ensure_pass()?.targets.clone();
+        // `draw_buffers` of the pass's framebuffer (explicit subpasses write theirs all).
+        let framebuffer = self.pass.as_ref().expect("ensured").framebuffer;
+        let draw_buffers = match (&subpass, self.framebuffers.get(&framebuffer)) {
+            (None, Some(fb)) => (fb.draw_buffers.unwrap_or(1) as usize).min(targets.color.len()),
+            _ => 1,
+        };
         let fewest = match mode {
             Mode::Points => 1,
             Mode::Lines | Mode::LineStrip | Mode::LineLoop => 2,
             Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => 3,
         };
-        if max_vertex.is_none() || count < fewest {
+        if max_vertex.is_none() || count < fewest || instances == 0 {
             return Ok(());
         }
         let (width, height) = (targets.width, targets.height);
@@ -382,6 +410,11 @@ impl Context {
             client.push((copy, shorts.len() as u64));
             (binding.buffer, binding.offset) = (copy, 0);
         }
+        for id in &program.uniform_buffers {
+            let b = self.buffers.get_mut(id).expect("checked by read_uniform_blocks");
+            b.last_use = Some(here.frame);
+            used.push(b.storage);
+        }
         if let Some((storage, _)) = index_binding {
             used.push(storage);
             let id = self.state.index_buffer;
@@ -405,35 +438,51 @@ impl Context {
         desc.color_targets = if targets.color.is_empty() || !subpass_color {
             Vec::new()
         } else {
-            vec![ColorTargetState { blend, write_mask }]
+            vec![ColorTargetState { blend, write_mask }; draw_buffers]
         };
         desc.blend_constant = blend_constant;
         if let Some(q) = query.and_then(|q| self.queries.get_mut(&q)) {
             q.pending_draws += 1;
         }
+        if let Some(q) = query.and_then(|q| self.queries.get_mut(&q)) {
+            q.pending_draws += instances - 1;
+        }
+        let per_instance = super::instancing::InstanceReader::new(per_instance);
+        used.extend(self.instanced_buffers_used(&per_instance, here.frame));
         let pass = self.pass.as_mut().expect("ensured above");
         pass.buffers_used.extend(used);
         pass.retired_buffers.extend(client);
         pass.images_sampled.extend(program.textures.iter().map(|t| t.image));
-        push_draw(
-            pass,
-            PendingDraw {
-                call: here,
-                kind: DrawKind::Draw,
-                source: DrawSource::Program { program: program.source, textures: program.textures },
-                desc,
-                vertex_buffers,
-                index: index_binding.map(|b| b.1),
-                first,
-                count,
-                viewport,
-                scissor,
-                query,
-                writes,
-                clip_rect,
-                partial_clear: None,
-            },
-        );
+        // The last instance (the only one of a plain draw) takes the draw's state, the others
+        // copies.
+        let mut state = Some((program.source, program.textures, desc, vertex_buffers));
+        for instance in 0..instances {
+            let (source, textures, desc, vertex_buffers) = if instance + 1 == instances {
+                state.take().expect("taken by the last instance only")
+            } else {
+                state.clone().expect("taken by the last instance only")
+            };
+            let (source, instance_fetch_bytes) = per_instance.instance(source, instance);
+            push_draw(
+                pass,
+                PendingDraw {
+                    call: here,
+                    kind: DrawKind::Draw,
+                    source: DrawSource::Program { program: source, textures, instance_fetch_bytes },
+                    desc,
+                    vertex_buffers,
+                    index: index_binding.as_ref().map(|b| b.1),
+                    first,
+                    count,
+                    viewport,
+                    scissor,
+                    query,
+                    writes,
+                    clip_rect,
+                    partial_clear: None,
+                },
+            );
+        }
         Ok(())
     }
 

@@ -37,6 +37,8 @@ pub(crate) struct GlslProgram {
     bindings: Vec<(String, u32)>,
     compiled: Arc<CompiledProgram>,
     uniforms: UniformValues,
+    /// Each uniform block's uniform buffer binding (`uniform_blocks.rs`).
+    pub(super) block_bindings: Vec<u32>,
 }
 
 impl GlslProgram {
@@ -47,7 +49,8 @@ impl GlslProgram {
     pub fn new(source: GlslSource) -> Result<GlslProgram, tiler_glsl::Error> {
         let compiled = CompiledProgram::new(&source.vertex, &source.fragment, &[])?;
         let uniforms = compiled.new_uniform_values();
-        Ok(GlslProgram { source, bindings: Vec::new(), compiled: Arc::new(compiled), uniforms })
+        let block_bindings = vec![0; compiled.uniform_blocks().len()];
+        Ok(GlslProgram { source, bindings: Vec::new(), compiled: Arc::new(compiled), uniforms, block_bindings })
     }
 
     /// Binds attribute `name` to `index` and relinks, unless nothing would change: the same
@@ -70,6 +73,10 @@ impl GlslProgram {
         self.compiled = Arc::new(compiled);
         self.bindings = bindings;
         Ok(())
+    }
+
+    pub(super) fn compiled(&self) -> &CompiledProgram {
+        &self.compiled
     }
 
     /// `glUniform*` by name, with GL's type rules (see [`UniformValue`]).
@@ -154,11 +161,14 @@ pub(crate) enum ProgramDraw {
     Glsl {
         program: Arc<CompiledProgram>,
         uniforms: UniformValues,
-        /// Disabled attribute locations the program reads, and their generic values.
+        /// Disabled attribute locations the program reads, and their generic values (and
+        /// per-instance attributes, their instance's values: `instancing.rs`).
         generic: Vec<(u32, [f32; 4])>,
         /// The units `samplerCube` uniforms read and their cube textures as they were at the
         /// draw (`None`: incomplete).
         cubes: Vec<(u32, Option<CoreCube>)>,
+        /// `gl_InstanceID`.
+        instance: u32,
     },
 }
 
@@ -195,6 +205,8 @@ pub(crate) struct DrawProgram {
     pub textures: Vec<SampledTexture>,
     /// Input attachments it reads.
     pub inputs: usize,
+    /// The buffers its uniform blocks read (their values are in `source`).
+    pub uniform_buffers: Vec<u32>,
     pub source: ProgramDraw,
 }
 
@@ -215,7 +227,7 @@ impl Context {
                     let texture = self.state.textures[unit as usize];
                     if texture != 0 {
                         let t = self.texture(texture)?;
-                        let (image, sampler, mipmaps) = (t.image, t.sampler, t.mipmaps);
+                        let (image, sampler, mipmaps) = (t.image, self.unit_sampler(unit as u32, t), t.mipmaps);
                         self.check_has_memory(image, &format!("program '{}' samples texture {texture}", kind.name()))?;
                         textures.push(SampledTexture { unit: unit as u32, image, sampler, mipmaps });
                     }
@@ -225,6 +237,7 @@ impl Context {
                     attributes: info.attributes.iter().map(|(i, n)| (*i, n.to_string())).collect(),
                     textures,
                     inputs: kind.inputs(),
+                    uniform_buffers: Vec::new(),
                     source: ProgramDraw::Builtin { kind: *kind, uniforms: *uniforms },
                 })
             }
@@ -246,7 +259,7 @@ impl Context {
                         if attrib.enabled {
                             attributes.push((location, a.name.clone()));
                         } else {
-                            generic.push((location, attrib.generic));
+                            generic.push((location, self.state.generic[location as usize]));
                         }
                     }
                 }
@@ -262,7 +275,7 @@ impl Context {
                         ));
                     }
                     let t = self.texture(texture)?;
-                    let (image, sampler, mipmaps) = (t.image, t.sampler, t.mipmaps);
+                    let (image, sampler, mipmaps) = (t.image, self.unit_sampler(unit, t), t.mipmaps);
                     self.check_has_memory(image, &format!("{label}: sampler '{name}' reads texture {texture}"))?;
                     textures.push(SampledTexture { unit, image, sampler, mipmaps });
                 }
@@ -278,13 +291,15 @@ impl Context {
                     }
                     cubes.push((unit, self.cube_binding(unit, &format!("{label}: sampler '{name}'"))?));
                 }
-                let (program, uniforms) = (p.compiled.clone(), p.uniforms.clone());
+                let mut uniforms = p.uniforms.clone();
+                let uniform_buffers = self.read_uniform_blocks(&label, p, &mut uniforms)?;
                 Ok(DrawProgram {
                     label,
                     attributes,
                     textures,
                     inputs: 0,
-                    source: ProgramDraw::Glsl { program, uniforms, generic, cubes },
+                    uniform_buffers,
+                    source: ProgramDraw::Glsl { program: p.compiled.clone(), uniforms, generic, cubes, instance: 0 },
                 })
             }
         }
@@ -312,7 +327,7 @@ impl Context {
                 };
                 Ok(program_pipeline(*kind, uniforms, texture, desc))
             }
-            ProgramDraw::Glsl { program, uniforms, generic, cubes } => {
+            ProgramDraw::Glsl { program, uniforms, generic, cubes, instance } => {
                 let mut units: Vec<Option<TextureBinding>> = vec![None; MAX_TEXTURE_UNITS as usize];
                 for t in textures {
                     units[t.unit as usize] =
@@ -333,7 +348,8 @@ impl Context {
                     desc.point_size_varying = program.point_size_varying();
                     desc.point_coord_varying = program.point_coord_varying();
                 }
-                let (vertex, fragment) = tiler_glsl::shaders(program, uniforms, &units, framebuffer_height);
+                let (mut vertex, fragment) = tiler_glsl::shaders(program, uniforms, &units, framebuffer_height);
+                vertex.set_instance(*instance);
                 let generic = generic.iter().map(|(l, v)| (*l as usize, Vec4::from_array(*v))).collect();
                 Ok(Pipeline::new(GenericAttributes { inner: vertex, generic }, fragment, desc))
             }

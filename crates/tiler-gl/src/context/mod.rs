@@ -16,9 +16,13 @@ mod encoded;
 mod explicit;
 mod frames;
 mod glsl;
+mod instancing;
 mod pass;
+mod sampler_objects;
 mod submit;
 mod targets;
+mod uniform_blocks;
+mod vertex_array;
 
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
@@ -41,6 +45,10 @@ pub(crate) use pass::OpenPass;
 pub const MAX_TEXTURE_UNITS: u32 = 8;
 /// The most vertex attributes.
 pub const MAX_VERTEX_ATTRIBS: u32 = 8;
+/// The most colour attachments a draw writes (`glDrawBuffers`), as framebuffers have.
+pub const MAX_DRAW_BUFFERS: u32 = 4;
+/// The most uniform buffer bindings (GL ES 3.0's minimum `GL_MAX_UNIFORM_BUFFER_BINDINGS`).
+pub const MAX_UNIFORM_BUFFER_BINDINGS: u32 = 24;
 /// The largest number of frames in flight the model accepts.
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 16;
 
@@ -272,6 +280,8 @@ pub(crate) struct FramebufferObject {
     pub color: [Option<AttachmentRef>; 4],
     pub depth: Option<AttachmentRef>,
     pub stencil: Option<AttachmentRef>,
+    /// `draw_buffers`: draws write colour attachments `0..n` (`None`: GL's default, 1).
+    pub draw_buffers: Option<u32>,
 }
 
 pub(crate) enum ProgramObject {
@@ -309,12 +319,17 @@ pub(crate) enum AttribSource {
     Client { data: Bytes },
 }
 
+/// One attribute of a vertex array object.
 #[derive(Clone, Debug)]
 pub(crate) struct Attrib {
     pub enabled: bool,
     pub source: Option<(AttribSource, u32, ComponentType, bool, u32)>,
-    /// The current generic value (`glVertexAttrib4f`), read when disabled by GLSL programs.
-    pub generic: [f32; 4],
+    /// `glVertexAttribDivisor`: 0 per vertex, `n` once every `n` instances.
+    pub divisor: u32,
+}
+
+impl Attrib {
+    const DEFAULT: Attrib = Attrib { enabled: false, source: None, divisor: 0 };
 }
 
 /// The fixed-function and binding state, as GL's context holds it.
@@ -345,8 +360,18 @@ pub(crate) struct GlState {
     pub clear_color: [f32; 4],
     pub clear_depth: f32,
     pub clear_stencil: u8,
+    /// The bound vertex array object's attributes and index buffer (`vertex_array.rs`).
     pub attribs: Vec<Attrib>,
     pub index_buffer: u32,
+    /// The bound vertex array object (0: the default one).
+    pub vertex_array: u32,
+    /// Each attribute's current generic value (`glVertexAttrib4f`), read when disabled by
+    /// GLSL programs; context state, not a vertex array's.
+    pub generic: Vec<[f32; 4]>,
+    /// Sampler objects' state per texture unit (`sampler_objects.rs`).
+    pub unit_samplers: [Option<SamplerState>; MAX_TEXTURE_UNITS as usize],
+    /// Uniform buffer bindings (`uniform_blocks.rs`).
+    pub uniform_buffers: Vec<Option<uniform_blocks::UniformBufferBinding>>,
     pub textures: [u32; MAX_TEXTURE_UNITS as usize],
     /// Each unit's cube texture (`bind_cube_texture`), read by `samplerCube` uniforms.
     pub cube_textures: [u32; MAX_TEXTURE_UNITS as usize],
@@ -380,11 +405,12 @@ impl GlState {
             clear_color: [0.0; 4],
             clear_depth: 1.0,
             clear_stencil: 0,
-            attribs: vec![
-                Attrib { enabled: false, source: None, generic: [0.0, 0.0, 0.0, 1.0] };
-                MAX_VERTEX_ATTRIBS as usize
-            ],
+            attribs: vec![Attrib::DEFAULT; MAX_VERTEX_ATTRIBS as usize],
             index_buffer: 0,
+            vertex_array: 0,
+            generic: vec![[0.0, 0.0, 0.0, 1.0]; MAX_VERTEX_ATTRIBS as usize],
+            uniform_buffers: vec![None; MAX_UNIFORM_BUFFER_BINDINGS as usize],
+            unit_samplers: [None; MAX_TEXTURE_UNITS as usize],
             textures: [0; MAX_TEXTURE_UNITS as usize],
             cube_textures: [0; MAX_TEXTURE_UNITS as usize],
             program: 0,
@@ -421,6 +447,8 @@ pub struct Context {
     pub(crate) renderbuffers: BTreeMap<u32, RenderbufferObject>,
     pub(crate) framebuffers: BTreeMap<u32, FramebufferObject>,
     pub(crate) programs: BTreeMap<u32, ProgramObject>,
+    /// The vertex array objects other than the bound one (`vertex_array.rs`).
+    pub(crate) vertex_arrays: BTreeMap<u32, vertex_array::VertexArray>,
     /// The program in use, deleted: it goes when another is used.
     deleted_program: Option<u32>,
     pub(crate) queries: BTreeMap<u32, QueryObject>,
@@ -524,6 +552,7 @@ impl Context {
             renderbuffers: BTreeMap::new(),
             framebuffers,
             programs: BTreeMap::new(),
+            vertex_arrays: BTreeMap::new(),
             deleted_program: None,
             queries: BTreeMap::new(),
             images,
@@ -648,6 +677,9 @@ impl Context {
             BufferData { id, data } => self.buffer_data(id, data)?,
             BufferSubData { id, offset, data } => self.buffer_sub_data(id, offset, data)?,
             DeleteBuffer { id } => self.delete_buffer(id)?,
+            CopyBufferSubData { src, dst, src_offset, dst_offset, size } => {
+                self.copy_buffer_sub_data(src, dst, src_offset, dst_offset, size)?;
+            }
             CreateTexture { id, width, height, format, data, transient } => {
                 if id == 0 || self.textures.contains_key(&id) || self.cubes.contains_key(&id) {
                     return Err(name_taken("texture", id));
@@ -682,12 +714,7 @@ impl Context {
                 self.encoded_tex_sub_image(id, (x, y, width, height), format, data)?
             }
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
-                if mag_filter.is_some_and(|f| f.mipmap().is_some()) {
-                    return Err(format!("magnification filter {mag_filter:?} is not nearest or linear"));
-                }
-                let mut sampler = SamplerState::new(filter, wrap);
-                sampler.mag_filter = mag_filter.unwrap_or(sampler.mag_filter);
-                sampler.wrap_t = wrap_t.unwrap_or(wrap);
+                let sampler = sampler_state(filter, wrap, mag_filter, wrap_t)?;
                 if self.cubes.contains_key(&id) {
                     self.cube_mut(id)?.sampler = sampler;
                 } else {
@@ -695,6 +722,11 @@ impl Context {
                 }
             }
             GenerateMipmap { id } if self.cubes.contains_key(&id) => self.generate_cube_mipmap(id)?,
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t } => {
+                let sampler = sampler_state(filter, wrap, mag_filter, wrap_t)?;
+                self.bind_sampler(unit, Some(sampler))?;
+            }
+            UnbindSampler { unit } => self.bind_sampler(unit, None)?,
             GenerateMipmap { id } => {
                 let image = self.texture(id)?.image;
                 self.check_has_memory(image, &format!("generate_mipmap of texture {id}"))?;
@@ -771,6 +803,15 @@ impl Context {
                 self.attach(framebuffer, attachment, r)?;
             }
             BindFramebuffer { target, framebuffer } => self.bind_framebuffer(target, framebuffer)?,
+            DrawBuffers { count } => {
+                let framebuffer = self.draw_framebuffer;
+                let max = if framebuffer == 0 { 1 } else { MAX_DRAW_BUFFERS };
+                if !(1..=max).contains(&count) {
+                    return Err(format!("{count} draw buffers: framebuffer {framebuffer} takes 1 to {max}"));
+                }
+                self.framebuffers.get_mut(&framebuffer).expect("the bound framebuffer exists").draw_buffers =
+                    Some(count);
+            }
             BeginPass { framebuffer, subpasses, dependencies } => {
                 self.begin_pass(framebuffer, &subpasses, &dependencies)?;
             }
@@ -872,6 +913,13 @@ impl Context {
             }
             VertexAttribArray { index, size, component, normalized, stride, data } => {
                 self.attrib_index(index)?;
+                if self.state.vertex_array != 0 {
+                    return Err(format!(
+                        "client-side arrays need the default vertex array, but vertex array {} is bound (GL ES 3.0 \
+                         §2.9.6)",
+                        self.state.vertex_array
+                    ));
+                }
                 crate::context::draw::vertex_format(size, component, normalized)?;
                 self.state.attribs[index as usize].source =
                     Some((AttribSource::Client { data }, size, component, normalized, stride));
@@ -882,7 +930,7 @@ impl Context {
             }
             VertexAttrib { index, value } => {
                 self.attrib_index(index)?;
-                self.state.attribs[index as usize].generic = finite4(&format!("vertex attribute {index}"), value)?;
+                self.state.generic[index as usize] = finite4(&format!("vertex attribute {index}"), value)?;
             }
             DisableVertexAttrib { index } => {
                 self.attrib_index(index)?;
@@ -894,6 +942,17 @@ impl Context {
                 }
                 self.state.index_buffer = buffer;
             }
+            VertexAttribDivisor { index, divisor } => {
+                self.attrib_index(index)?;
+                self.state.attribs[index as usize].divisor = divisor;
+            }
+            CreateVertexArray { id } => self.create_vertex_array(id)?,
+            BindVertexArray { id } => self.bind_vertex_array(id)?,
+            DeleteVertexArray { id } => self.delete_vertex_array(id)?,
+            UniformBlockBinding { program, block, binding } => self.uniform_block_binding(program, &block, binding)?,
+            BindUniformBuffer { binding, buffer, offset, size } => {
+                self.bind_uniform_buffer(binding, buffer, offset, size)?;
+            }
             BindTexture { unit, texture } => {
                 if unit >= MAX_TEXTURE_UNITS {
                     return Err(format!("texture unit {unit} is out of range (0 to {})", MAX_TEXTURE_UNITS - 1));
@@ -904,9 +963,13 @@ impl Context {
                 self.state.textures[unit as usize] = texture;
             }
             BindCubeTexture { unit, texture } => self.bind_cube_texture(unit, texture)?,
-            DrawArrays { mode, first, count } => self.draw(mode, first, count, None)?,
+            DrawArrays { mode, first, count } => self.draw(mode, first, count, None, 1)?,
             DrawElements { mode, count, index_type, offset } => {
-                self.draw(mode, 0, count, Some((index_type, offset)))?;
+                self.draw(mode, 0, count, Some((index_type, offset)), 1)?;
+            }
+            DrawArraysInstanced { mode, first, count, instances } => self.draw(mode, first, count, None, instances)?,
+            DrawElementsInstanced { mode, count, index_type, offset, instances } => {
+                self.draw(mode, 0, count, Some((index_type, offset)), instances)?;
             }
             Clear { color, depth, stencil } => self.clear(BufferSet { color, depth, stencil })?,
             Invalidate { attachments } => self.invalidate(&attachments)?,
@@ -1140,6 +1203,23 @@ impl Context {
         Ok(())
     }
 
+    /// `copy_buffer_sub_data`: the source's bytes now, written into the destination as
+    /// `buffer_sub_data` writes (the copy itself is not counted, as uploads are not).
+    fn copy_buffer_sub_data(&mut self, src: u32, dst: u32, src_offset: u64, dst_offset: u64, size: u64) -> Fallible {
+        let b = self.buffers.get(&src).ok_or_else(|| format!("buffer {src} does not exist"))?;
+        let end = src_offset.checked_add(size).filter(|e| *e <= b.size).ok_or_else(|| {
+            format!(
+                "a copy of {size} bytes from offset {src_offset} runs past the end of buffer {src} ({} bytes)",
+                b.size
+            )
+        })?;
+        if src == dst && src_offset < dst_offset.saturating_add(size) && dst_offset < end {
+            return Err(format!("copying buffer {src} onto itself with overlapping ranges"));
+        }
+        let bytes = self.device_buffer_bytes(b.storage, b.size)?[src_offset as usize..end as usize].to_vec();
+        self.buffer_sub_data(dst, dst_offset, Bytes::from(bytes))
+    }
+
     /// A buffer's bytes (the device has no read-back for buffers, so the context keeps none
     /// either: it reconstructs them by reading the storage through a scratch copy).
     fn device_buffer_bytes(&self, storage: BufferId, size: u64) -> Fallible<Vec<u8>> {
@@ -1157,16 +1237,8 @@ impl Context {
     fn delete_buffer(&mut self, id: u32) -> Fallible {
         let b = self.buffers.remove(&id).ok_or_else(|| format!("buffer {id} does not exist"))?;
         self.retire_buffer(b.storage, b.size);
-        for attrib in &mut self.state.attribs {
-            if let Some((AttribSource::Buffer { buffer, .. }, ..)) = &attrib.source
-                && *buffer == id
-            {
-                attrib.source = None;
-            }
-        }
-        if self.state.index_buffer == id {
-            self.state.index_buffer = 0;
-        }
+        self.forget_buffer_in_vertex_arrays(id);
+        self.forget_uniform_buffer(id);
         Ok(())
     }
 
@@ -1458,6 +1530,22 @@ impl Context {
         }
         Ok(())
     }
+}
+
+/// The sampling state `tex_parameters` (or `bind_sampler`) describes.
+fn sampler_state(
+    filter: Filter,
+    wrap: Wrap,
+    mag_filter: Option<Filter>,
+    wrap_t: Option<Wrap>,
+) -> Fallible<SamplerState> {
+    if mag_filter.is_some_and(|f| f.mipmap().is_some()) {
+        return Err(format!("magnification filter {mag_filter:?} is not nearest or linear"));
+    }
+    let mut sampler = SamplerState::new(filter, wrap);
+    sampler.mag_filter = mag_filter.unwrap_or(sampler.mag_filter);
+    sampler.wrap_t = wrap_t.unwrap_or(wrap);
+    Ok(sampler)
 }
 
 fn name_taken(kind: &str, id: u32) -> String {

@@ -105,14 +105,17 @@ impl Context {
         let mut extra = tiler::Ledger::default();
         for d in &pass.draws {
             let pipeline = match &d.source {
-                DrawSource::Program { program, textures: sampled } => self.program_draw_pipeline(
-                    program,
-                    sampled,
-                    &mut snapshots,
-                    &mut textures,
-                    pass.targets.height,
-                    d.desc.clone(),
-                )?,
+                DrawSource::Program { program, textures: sampled, instance_fetch_bytes } => {
+                    extra.add(tiler::Category::VertexFetch, *instance_fetch_bytes);
+                    self.program_draw_pipeline(
+                        program,
+                        sampled,
+                        &mut snapshots,
+                        &mut textures,
+                        pass.targets.height,
+                        d.desc.clone(),
+                    )?
+                }
                 DrawSource::Clear { color, depth, targets } => clear_pipeline(*color, *depth, *targets, d.desc.clone()),
                 DrawSource::Rectangle { image, ndc, tex, sampler, read_bytes, alpha_one } => {
                     extra.add(tiler::Category::TextureFetch, *read_bytes);

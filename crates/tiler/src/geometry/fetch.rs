@@ -148,7 +148,7 @@ impl Default for VertexInput {
 
 /// Converts one attribute's bytes (little-endian) to a vector. Normalised integers follow
 /// Vulkan: UNORM `c / (2^b − 1)`, SNORM `max(c / (2^(b−1) − 1), −1)`.
-fn decode(format: VertexFormat, b: &[u8]) -> Vec4 {
+pub(crate) fn decode(format: VertexFormat, b: &[u8]) -> Vec4 {
     let f32_at = |i: usize| f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]);
     let u16_at = |i: usize| u16::from_le_bytes([b[2 * i], b[2 * i + 1]]);
     let unorm8 = |i: usize| b[i] as f32 / 255.0;
