@@ -114,6 +114,7 @@ pub use config::{DeviceConfig, preset::DevicePreset};
 pub use device::Device;
 pub use frame::FrameCost;
 pub use geometry::VertexShading;
+pub use geometry::fetch::read_attribute;
 pub use ledger::cache::CacheConfig;
 pub use ledger::display::DisplayModel;
 pub use ledger::energy::{EnergyEstimate, EnergyModel};

@@ -126,7 +126,7 @@ impl InstanceReader {
             *id = instance;
             for (a, data) in &self.attributes {
                 let start = (instance / a.divisor) as usize * a.stride as usize;
-                generic.push((a.index, a.format.read(&data[start..])));
+                generic.push((a.index, tiler::read_attribute(a.format, &data[start..])));
                 bytes += a.format.size_bytes() as u64;
             }
         }

@@ -332,16 +332,6 @@ impl VertexFormat {
             VertexFormat::Unorm16x4 | VertexFormat::Snorm16x4 | VertexFormat::Float16x4 => 8,
         }
     }
-
-    /// The vector vertex fetch makes of one attribute's `size_bytes()` bytes (little-endian),
-    /// missing components `(0, 0, 0, 1)`: what a driver that reads an attribute itself (a
-    /// per-instance one, say) hands the vertex shader.
-    ///
-    /// # Panics
-    /// If `bytes` is shorter than `size_bytes()`.
-    pub fn read(self, bytes: &[u8]) -> [f32; 4] {
-        crate::geometry::fetch::decode(self, &bytes[..self.size_bytes() as usize]).to_array()
-    }
 }
 
 /// One vertex buffer binding: its stride between consecutive vertices.

@@ -148,6 +148,16 @@ impl Default for VertexInput {
 
 /// Converts one attribute's bytes (little-endian) to a vector. Normalised integers follow
 /// Vulkan: UNORM `c / (2^b − 1)`, SNORM `max(c / (2^(b−1) − 1), −1)`.
+/// The vector vertex fetch makes of one attribute of `format` from its `size_bytes()` bytes
+/// (little-endian), missing components `(0, 0, 0, 1)`: what a driver that reads an attribute
+/// itself (a per-instance one, say) hands the vertex shader.
+///
+/// # Panics
+/// If `bytes` is shorter than `format.size_bytes()`.
+pub fn read_attribute(format: VertexFormat, bytes: &[u8]) -> [f32; 4] {
+    decode(format, &bytes[..format.size_bytes() as usize]).to_array()
+}
+
 pub(crate) fn decode(format: VertexFormat, b: &[u8]) -> Vec4 {
     let f32_at = |i: usize| f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]);
     let u16_at = |i: usize| u16::from_le_bytes([b[2 * i], b[2 * i + 1]]);
