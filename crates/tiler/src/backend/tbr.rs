@@ -69,6 +69,8 @@ pub struct Scratch {
     /// Emptied after every pass (`FrameData::reset`), its memory kept.
     frame: Option<FrameData>,
     batches: Vec<SetupBatch>,
+    /// The next chunk's, set up while `batches` is binned.
+    next_batches: Vec<SetupBatch>,
     /// The last draw's shaded vertices, for the next draw to shade into.
     vertices: ShadedVertices,
 }
@@ -150,41 +152,50 @@ pub fn render(
             subpass: pass.subpass_of(draw_index) as u32,
         };
         let mut state_index = None;
-        let mut start = 0;
-        while start < geometry.triangles {
-            let end = (start + BIN_CHUNK).min(geometry.triangles);
-            let used = geometry.setup_into(start..end, &samples, 0, &mut scratch.batches);
-            for batch in &scratch.batches[..used] {
-                run.totals.counters.merge(&batch.counters);
-                run.totals.draws[draw_index].primitives += batch.counters.primitives;
-                // Append the longest run of primitives the frame data says surely fits its
-                // budget; render it (an incremental render) when it is full. Binning waits
-                // for the end of the chunk unless the frame data, counting what waits at its
-                // bound, is not sure the run fits.
-                let mut i = 0;
-                while i < batch.primitives.len() {
-                    let index = *state_index.get_or_insert_with(|| frame.push_state(state.clone()));
-                    let mut fitting = frame.fitting(&batch.primitives[i..], varying_count);
-                    if fitting < batch.primitives.len() - i && frame.unbinned() {
-                        bin(&mut frame, &samples, bands);
-                        fitting = frame.fitting(&batch.primitives[i..], varying_count);
+        let chunks = geometry.triangles.div_ceil(BIN_CHUNK);
+        let chunk = |c: u32| c * BIN_CHUNK..((c + 1) * BIN_CHUNK).min(geometry.triangles);
+        let mut used = if chunks > 0 { geometry.setup_into(chunk(0), &samples, 0, &mut scratch.batches) } else { 0 };
+        for c in 0..chunks {
+            // Chunk `c` is appended and binned while chunk `c + 1` is set up beside it: the
+            // serial appending overlaps parallel setup.
+            let (current, next) = (&scratch.batches[..used], &mut scratch.next_batches);
+            let ((), next_used) = rayon::join(
+                || {
+                    for batch in current {
+                        run.totals.counters.merge(&batch.counters);
+                        run.totals.draws[draw_index].primitives += batch.counters.primitives;
+                        // Append the longest run of primitives the frame data says surely
+                        // fits its budget; render it (an incremental render) when it is full.
+                        // Binning waits for the end of the chunk unless the frame data,
+                        // counting what waits at its bound, is not sure the run fits.
+                        let mut i = 0;
+                        while i < batch.primitives.len() {
+                            let index = *state_index.get_or_insert_with(|| frame.push_state(state.clone()));
+                            let mut fitting = frame.fitting(&batch.primitives[i..], varying_count);
+                            if fitting < batch.primitives.len() - i && frame.unbinned() {
+                                bin(&mut frame, &samples, bands);
+                                fitting = frame.fitting(&batch.primitives[i..], varying_count);
+                            }
+                            if fitting == 0 && !frame.is_empty() {
+                                run.flush(&frame, &mut memory, Flush::Incremental);
+                                frame.clear();
+                                state_index = None;
+                                continue;
+                            }
+                            // A primitive too large for an empty budget still goes in alone.
+                            let k = i + fitting.max(1);
+                            frame.append(&batch.primitives[i..k], &batch.varyings, index, varying_count);
+                            i = k;
+                        }
                     }
-                    if fitting == 0 && !frame.is_empty() {
-                        run.flush(&frame, &mut memory, Flush::Incremental);
-                        frame.clear();
-                        state_index = None;
-                        continue;
-                    }
-                    // A primitive too large for an empty budget still goes in alone.
-                    let k = i + fitting.max(1);
-                    frame.append(&batch.primitives[i..k], &batch.varyings, index, varying_count);
-                    i = k;
-                }
-            }
-            bin(&mut frame, &samples, bands);
-            run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes().total());
-            run.frame_data.peak_host_bytes = run.frame_data.peak_host_bytes.max(frame.host_bytes());
-            start = end;
+                    bin(&mut frame, &samples, bands);
+                    run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes().total());
+                    run.frame_data.peak_host_bytes = run.frame_data.peak_host_bytes.max(frame.host_bytes());
+                },
+                || if c + 1 < chunks { geometry.setup_into(chunk(c + 1), &samples, 0, next) } else { 0 },
+            );
+            std::mem::swap(&mut scratch.batches, &mut scratch.next_batches);
+            used = next_used;
         }
         scratch.vertices = geometry.vertices;
     }
