@@ -19,6 +19,8 @@ pub struct Device {
     pool: rayon::ThreadPool,
     images: Vec<Image>,
     buffers: Vec<Vec<u8>>,
+    /// The tilers' frame data and setup batches, kept from pass to pass.
+    scratch: tbr::Scratch,
 }
 
 impl Device {
@@ -51,7 +53,14 @@ impl Device {
             .thread_name(|i| format!("tiler-worker-{i}"))
             .build()
             .map_err(|e| Error::invalid("device", format!("cannot start {threads} worker threads: {e}")))?;
-        Ok(Device { config, workers: Workers { threads, simd }, pool, images: Vec::new(), buffers: Vec::new() })
+        Ok(Device {
+            config,
+            workers: Workers { threads, simd },
+            pool,
+            images: Vec::new(),
+            buffers: Vec::new(),
+            scratch: tbr::Scratch::default(),
+        })
     }
 
     pub fn config(&self) -> &DeviceConfig {
@@ -277,9 +286,10 @@ impl Device {
     pub fn submit_with(&mut self, pass: &RenderPass, backend: Backend) -> Result<PassReport> {
         let resolved = ResolvedPass::new(pass, &self.images)?;
         let (images, buffers, config, workers) = (&mut self.images, &self.buffers, &self.config, self.workers);
+        let scratch = &mut self.scratch;
         self.pool.install(|| match backend {
-            Backend::Tbr => tbr::render(pass, &resolved, images, buffers, config, workers, false),
-            Backend::Tbdr => tbr::render(pass, &resolved, images, buffers, config, workers, true),
+            Backend::Tbr => tbr::render(pass, &resolved, images, buffers, config, workers, false, scratch),
+            Backend::Tbdr => tbr::render(pass, &resolved, images, buffers, config, workers, true, scratch),
             Backend::Imr => imr::render(pass, &resolved, images, buffers, config, workers.simd),
         })
     }

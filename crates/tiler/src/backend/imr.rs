@@ -156,6 +156,7 @@ pub fn render(
             &frame_info,
             config.post_transform_cache,
             config.vertex_cache,
+            Default::default(),
         )?;
         geometry.record(counters, ledger);
         let batches = geometry.setup(0..geometry.triangles, &samples, 0);

@@ -33,7 +33,8 @@ use crate::binning::frame_data::{FrameData, StateRecord};
 use crate::binning::grid::TileGrid;
 use crate::config::DeviceConfig;
 use crate::depth::hsr::{HsrMode, Visibility};
-use crate::geometry::prepare_draw;
+use crate::geometry::vertex::ShadedVertices;
+use crate::geometry::{SetupBatch, prepare_draw};
 use crate::ledger::{Category, Counters, TileStats};
 use crate::pass::{Draw, RenderPass};
 use crate::raster::samples::SampleLocations;
@@ -61,7 +62,21 @@ pub fn tile_size(config: &DeviceConfig, bytes_per_pixel: u64) -> (u32, u32) {
     (w.max(MIN_TILE_SIDE), h.max(MIN_TILE_SIDE))
 }
 
+/// What a tiler keeps from pass to pass, so that once the first frame has grown them a frame
+/// allocates no frame data and no setup batches: the device holds one.
+#[derive(Default)]
+pub struct Scratch {
+    /// Emptied after every pass (`FrameData::reset`), its memory kept.
+    frame: Option<FrameData>,
+    batches: Vec<SetupBatch>,
+    /// The next chunk's, set up while `batches` is binned.
+    next_batches: Vec<SetupBatch>,
+    /// The last draw's shaded vertices, for the next draw to shade into.
+    vertices: ShadedVertices,
+}
+
 /// Renders a validated pass as a tiler; `hsr` selects TBDR.
+#[allow(clippy::too_many_arguments)]
 pub fn render(
     pass: &RenderPass,
     resolved: &ResolvedPass,
@@ -70,13 +85,20 @@ pub fn render(
     config: &DeviceConfig,
     workers: Workers,
     hsr: bool,
+    scratch: &mut Scratch,
 ) -> Result<PassReport> {
     let (tile_width, tile_height) = tile_size(config, resolved.tile_bytes_per_pixel());
     let grid = TileGrid::new(resolved.width, resolved.height, tile_width, tile_height);
     let samples = SampleLocations::standard(resolved.samples);
     let frame_info = resolved.frame(buffers);
     let mut memory = attachment_images(images, resolved);
-    let mut frame = FrameData::new(grid, config.vertex_shading, config.frame_data_budget);
+    let mut frame = match scratch.frame.take() {
+        Some(mut frame) => {
+            frame.reset(grid, config.vertex_shading, config.frame_data_budget);
+            frame
+        }
+        None => FrameData::new(grid, config.vertex_shading, config.frame_data_budget),
+    };
     let pixels = resolved.width as usize * resolved.height as usize;
     let mut run = Run {
         resolved,
@@ -95,7 +117,9 @@ pub fn render(
         flushes: 0,
         scratch: resolved.attachments.iter().map(|_| None).collect(),
     };
-    let bands = workers.threads * 4;
+    // Every band walks every new primitive: one band per thread (the lists are the same
+    // whatever the number of bands).
+    let bands = workers.threads;
 
     let mut subpass = 0;
     for (draw_index, draw) in pass.draws.iter().enumerate() {
@@ -115,6 +139,7 @@ pub fn render(
             &frame_info,
             config.post_transform_cache,
             config.vertex_cache,
+            std::mem::take(&mut scratch.vertices),
         )?;
         geometry.record(&mut run.totals.counters, &mut run.totals.ledger);
         let varying_count = geometry.vertices.varying_count;
@@ -127,39 +152,56 @@ pub fn render(
             subpass: pass.subpass_of(draw_index) as u32,
         };
         let mut state_index = None;
-        let mut start = 0;
-        while start < geometry.triangles {
-            let end = (start + BIN_CHUNK).min(geometry.triangles);
-            let batches = geometry.setup(start..end, &samples, 0);
-            for batch in &batches {
-                run.totals.counters.merge(&batch.counters);
-                run.totals.draws[draw_index].primitives += batch.counters.primitives;
-                // Append the longest run of primitives the frame data says surely fits its
-                // budget; render it (an incremental render) when it is full.
-                let mut i = 0;
-                while i < batch.primitives.len() {
-                    let index = *state_index.get_or_insert_with(|| frame.push_state(state.clone()));
-                    let fitting = frame.fitting(&batch.primitives[i..], varying_count);
-                    if fitting == 0 && !frame.is_empty() {
-                        run.flush(&frame, &mut memory, Flush::Incremental);
-                        frame.clear();
-                        state_index = None;
-                        continue;
+        let chunks = geometry.triangles.div_ceil(BIN_CHUNK);
+        let chunk = |c: u32| c * BIN_CHUNK..((c + 1) * BIN_CHUNK).min(geometry.triangles);
+        let mut used = if chunks > 0 { geometry.setup_into(chunk(0), &samples, 0, &mut scratch.batches) } else { 0 };
+        for c in 0..chunks {
+            // Chunk `c` is appended and binned while chunk `c + 1` is set up beside it: the
+            // serial appending overlaps parallel setup.
+            let (current, next) = (&scratch.batches[..used], &mut scratch.next_batches);
+            let ((), next_used) = rayon::join(
+                || {
+                    for batch in current {
+                        run.totals.counters.merge(&batch.counters);
+                        run.totals.draws[draw_index].primitives += batch.counters.primitives;
+                        // Append the longest run of primitives the frame data says surely
+                        // fits its budget; render it (an incremental render) when it is full.
+                        // Binning waits for the end of the chunk unless the frame data,
+                        // counting what waits at its bound, is not sure the run fits.
+                        let mut i = 0;
+                        while i < batch.primitives.len() {
+                            let index = *state_index.get_or_insert_with(|| frame.push_state(state.clone()));
+                            let mut fitting = frame.fitting(&batch.primitives[i..], varying_count);
+                            if fitting < batch.primitives.len() - i && frame.unbinned() {
+                                bin(&mut frame, &samples, bands);
+                                fitting = frame.fitting(&batch.primitives[i..], varying_count);
+                            }
+                            if fitting == 0 && !frame.is_empty() {
+                                run.flush(&frame, &mut memory, Flush::Incremental);
+                                frame.clear();
+                                state_index = None;
+                                continue;
+                            }
+                            // A primitive too large for an empty budget still goes in alone.
+                            let k = i + fitting.max(1);
+                            frame.append(&batch.primitives[i..k], &batch.varyings, index, varying_count);
+                            i = k;
+                        }
                     }
-                    // A primitive too large for an empty budget still goes in alone.
-                    let k = i + fitting.max(1);
-                    let first = frame.primitives().len();
-                    frame.append(&batch.primitives[i..k], &batch.varyings, index, varying_count);
-                    bin(&mut frame, first, &samples, bands);
-                    i = k;
-                }
-            }
-            run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes().total());
-            run.frame_data.peak_host_bytes = run.frame_data.peak_host_bytes.max(frame.host_bytes());
-            start = end;
+                    bin(&mut frame, &samples, bands);
+                    run.frame_data.peak_bytes = run.frame_data.peak_bytes.max(frame.bytes().total());
+                    run.frame_data.peak_host_bytes = run.frame_data.peak_host_bytes.max(frame.host_bytes());
+                },
+                || if c + 1 < chunks { geometry.setup_into(chunk(c + 1), &samples, 0, next) } else { 0 },
+            );
+            std::mem::swap(&mut scratch.batches, &mut scratch.next_batches);
+            used = next_used;
         }
+        scratch.vertices = geometry.vertices;
     }
     run.flush(&frame, &mut memory, Flush::Final);
+    frame.clear();
+    scratch.frame = Some(frame);
 
     let shrunk = (tile_width, tile_height) != (config.tile_width, config.tile_height);
     // Transient attachments that never had to spill never needed memory at all.

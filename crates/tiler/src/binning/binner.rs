@@ -19,9 +19,13 @@ use crate::raster::PixelRect;
 use crate::raster::fixed::SubPixel;
 use crate::raster::samples::SampleLocations;
 
-/// Bins primitives `from..` of the frame data; returns the entries added.
-pub fn bin(frame: &mut FrameData, from: usize, samples: &SampleLocations, bands: usize) -> u64 {
+/// Bins the primitives appended since the last call, over `bands` bands of tile rows;
+/// returns the entries added.
+pub fn bin(frame: &mut FrameData, samples: &SampleLocations, bands: usize) -> u64 {
     let grid = frame.grid;
+    let from = frame.binned;
+    frame.binned = frame.primitives.len();
+    frame.unbinned_bound = 0;
     let primitives = &frame.primitives[from..];
     if primitives.is_empty() {
         return 0;

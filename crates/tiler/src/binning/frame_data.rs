@@ -90,6 +90,10 @@ pub struct FrameData {
     /// One polygon list per tile, row-major; entries are primitive indices in submission order.
     pub(super) lists: Vec<Vec<u32>>,
     pub(super) bytes: FrameDataBytes,
+    /// Primitives from this index on are appended but not binned yet ([`FrameData::unbinned`]).
+    pub(super) binned: usize,
+    /// A bound of the polygon-list bytes binning them will write (every tile their boxes meet).
+    pub(super) unbinned_bound: u64,
     /// Modelled bytes it may hold before an incremental render (the device's
     /// `frame_data_budget`): the frame data says when it is full ([`FrameData::fitting`]).
     budget: u64,
@@ -106,7 +110,20 @@ impl FrameData {
             varyings: Vec::new(),
             states: Vec::new(),
             bytes: FrameDataBytes::default(),
+            binned: 0,
+            unbinned_bound: 0,
         }
+    }
+
+    /// Empties the frame data for a pass over `grid`, keeping every allocation it can (the
+    /// records, and the lists of the tiles both grids have): a device reuses one frame data
+    /// for all its passes, so a frame allocates nothing once the first has grown it.
+    pub fn reset(&mut self, grid: TileGrid, vertex_shading: VertexShading, budget: u64) {
+        self.clear();
+        self.lists.resize_with(grid.tile_count(), Vec::new);
+        self.grid = grid;
+        self.vertex_shading = vertex_shading;
+        self.budget = budget;
     }
 
     pub fn grid(&self) -> TileGrid {
@@ -155,6 +172,13 @@ impl FrameData {
             list.clear();
         }
         self.bytes = FrameDataBytes::default();
+        self.binned = 0;
+        self.unbinned_bound = 0;
+    }
+
+    /// Whether some primitives are appended but not binned yet.
+    pub fn unbinned(&self) -> bool {
+        self.binned < self.primitives.len()
     }
 
     /// How many primitives from the front of `primitives` (of a draw with `varying_count`
@@ -162,9 +186,13 @@ impl FrameData {
     /// every tile its box meets (a bound on the entries binning writes). 0 means full: the
     /// caller renders what is here (an incremental render), clears, and tries again; a
     /// primitive too large for an empty budget still goes in alone.
+    ///
+    /// Primitives appended but not binned yet count with their bound too, so the answer may
+    /// be smaller than once they are binned — never larger. A caller that gets fewer than all
+    /// bins them and asks again; when all fit, binning first would have said so as well.
     pub fn fitting(&self, primitives: &[Primitive], varying_count: usize) -> usize {
         let record = record_bytes(varying_count, self.vertex_shading);
-        let mut room = self.budget.saturating_sub(self.bytes.total());
+        let mut room = self.budget.saturating_sub(self.bytes.total() + self.unbinned_bound);
         let mut count = 0;
         for primitive in primitives {
             let cost = record + POLYGON_LIST_ENTRY_BYTES * self.grid.tiles_meeting_count(&primitive.bbox);
@@ -193,6 +221,9 @@ impl FrameData {
         }));
         self.varyings.extend_from_slice(&varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
         self.bytes.primitive_records += primitives.len() as u64 * modelled;
+        let grid = self.grid;
+        self.unbinned_bound +=
+            POLYGON_LIST_ENTRY_BYTES * primitives.iter().map(|p| grid.tiles_meeting_count(&p.bbox)).sum::<u64>();
     }
 
     /// Adds a state record and returns its index.
@@ -286,9 +317,14 @@ mod tests {
         assert_eq!(frame.fitting(&batch, 0), 2, "the third needs 60 bytes, 59 are left");
         frame.append(&batch[..2], &[], state, 0);
         assert_eq!(frame.bytes.primitive_records, 2 * 56);
-        // Entries are bounded, not yet written: binning writes them.
+        // Appended, not binned: their entries count at their bound (1 + 4 tiles), 59 left.
+        assert_eq!(frame.fitting(&batch[2..], 0), 0);
+        // Binning wrote fewer (the 4-tile box has samples in 3 of its tiles): 63 left.
+        frame.binned = 2;
+        frame.unbinned_bound = 0;
+        frame.bytes.polygon_list_entries += 4 * POLYGON_LIST_ENTRY_BYTES;
         assert_eq!(frame.fitting(&batch[2..], 0), 1);
-        frame.bytes.polygon_list_entries += 5 * POLYGON_LIST_ENTRY_BYTES;
+        frame.bytes.polygon_list_entries += POLYGON_LIST_ENTRY_BYTES;
         assert_eq!(frame.fitting(&batch[2..], 0), 0, "full");
         frame.clear();
         assert_eq!(frame.fitting(&batch, 0), 3);

@@ -51,12 +51,18 @@ impl TileGrid {
     #[inline]
     pub fn tiles_meeting(&self, rect: &PixelRect) -> (u32, u32, u32, u32) {
         debug_assert!(!rect.is_empty() && rect.x0 >= 0 && rect.y0 >= 0);
-        (
-            rect.x0 as u32 / self.tile_width,
-            rect.y0 as u32 / self.tile_height,
-            (rect.x1 as u32 - 1) / self.tile_width,
-            (rect.y1 as u32 - 1) / self.tile_height,
-        )
+        // Tiles are usually powers of two: a shift, not a division, for every primitive binned.
+        let (w, h) = (self.tile_width, self.tile_height);
+        if w.is_power_of_two() && h.is_power_of_two() {
+            let (sx, sy) = (w.trailing_zeros(), h.trailing_zeros());
+            return (
+                rect.x0 as u32 >> sx,
+                rect.y0 as u32 >> sy,
+                (rect.x1 as u32 - 1) >> sx,
+                (rect.y1 as u32 - 1) >> sy,
+            );
+        }
+        (rect.x0 as u32 / w, rect.y0 as u32 / h, (rect.x1 as u32 - 1) / w, (rect.y1 as u32 - 1) / h)
     }
 
     /// How many tiles a non-empty rectangle meets.

@@ -6,7 +6,9 @@ use glam::Vec4;
 use crate::api::pipeline::{MAX_VERTEX_ATTRIBUTES, VertexFormat, VertexInputState};
 use crate::api::render_pass::VertexBufferBinding;
 use crate::api::shader::VertexInput;
+#[cfg(any(test, feature = "vertex-cache-reference"))]
 use crate::ledger::cache::CacheModel;
+use crate::ledger::cache::ReadCache;
 
 /// One attribute ready to fetch: where its bytes are.
 #[derive(Clone, Copy)]
@@ -119,9 +121,17 @@ impl FetchLayout {
     /// Reads `vertex`'s attributes through `cache`: returns the bytes read from external
     /// memory — the lines filled (each attribute's bytes split at line boundaries), or the
     /// attributes' own bytes without a cache.
-    pub fn fetch(&self, vertex: u32, cache: &mut CacheModel) -> u64 {
+    #[inline]
+    pub fn fetch(&self, vertex: u32, cache: &mut ReadCache) -> u64 {
+        self.attributes.iter().map(|a| cache.read(a.base + vertex as u64 * a.stride, a.size)).sum()
+    }
+
+    /// [`FetchLayout::fetch`] through the general cache model, line by line, as the count was
+    /// first written: the reference the read cache is held to (feature
+    /// `vertex-cache-reference`, and this module's tests).
+    #[cfg(any(test, feature = "vertex-cache-reference"))]
+    pub fn fetch_reference(&self, vertex: u32, cache: &mut CacheModel) -> u64 {
         if !cache.config().is_enabled() {
-            // Exact bytes: what every access of a disabled cache reads.
             return self.attributes.iter().map(|a| a.size).sum();
         }
         let line = cache.config().line_bytes as u64;
@@ -130,7 +140,6 @@ impl FetchLayout {
             let mut address = a.base + vertex as u64 * a.stride;
             let end = address + a.size;
             while address < end {
-                // The start of the next line (line sizes are powers of two).
                 let next = end.min((address | (line - 1)) + 1);
                 read += cache.access(address, (next - address) as u32, false, 0).read;
                 address = next;
@@ -193,8 +202,8 @@ mod tests {
     use crate::api::pipeline::VertexFormat::Float32x4;
     use crate::ledger::cache::CacheConfig;
 
-    fn lines() -> CacheModel {
-        CacheModel::new(CacheConfig { size_bytes: 4096, line_bytes: 64, ways: 4 })
+    fn lines() -> ReadCache {
+        ReadCache::new(CacheConfig { size_bytes: 4096, line_bytes: 64, ways: 4 })
     }
 
     /// Six vertices of a 16-byte position and a 16-byte colour: interleaved they fill 3
@@ -212,7 +221,7 @@ mod tests {
         let mut cache = lines();
         assert_eq!((0..6).map(|v| layout.fetch(v, &mut cache)).sum::<u64>(), 4 * 64);
         // Without a cache: the exact bytes, 6 × 32.
-        let mut none = CacheModel::new(CacheConfig::NONE);
+        let mut none = ReadCache::new(CacheConfig::NONE);
         assert_eq!((0..6).map(|v| layout.fetch(v, &mut none)).sum::<u64>(), 6 * 32);
         // An attribute across a line boundary reads both lines.
         let offset = VertexBufferBinding { buffer: BufferId(0), offset: 56 };

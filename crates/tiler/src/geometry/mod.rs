@@ -20,7 +20,7 @@ use crate::api::pipeline::PipelineDesc;
 use crate::api::pipeline::{CullMode, MAX_VARYINGS, Topology};
 use crate::api::render_pass::{IndexBufferBinding, IndexType, Rect, VertexBufferBinding, Viewport};
 use crate::geometry::primitive::Primitive;
-use crate::ledger::cache::{CacheConfig, CacheModel};
+use crate::ledger::cache::{CacheConfig, ReadCache};
 use crate::ledger::{Category, Counters, Ledger};
 use crate::raster::PixelRect;
 use crate::raster::fixed::MAX_VIEWPORT_EXTENT_PX;
@@ -133,15 +133,18 @@ pub struct DrawInput<'a> {
 /// A pipeline's vertex shader behind one dynamic call per draw (implemented by
 /// `pixel::pipeline`, where the shaders' types are erased).
 pub trait VertexStage: Send + Sync {
+    /// Shades `set`'s vertices into `out`, reusing its memory.
     fn shade_vertices(
         &self,
         fetcher: &VertexFetcher,
         set: &VertexSet,
         varying_count: usize,
-    ) -> std::result::Result<ShadedVertices, vertex::NonFinitePosition>;
+        out: &mut ShadedVertices,
+    ) -> std::result::Result<(), vertex::NonFinitePosition>;
 }
 
-/// Validates a draw against its buffers and the pass, and shades its vertices.
+/// Validates a draw against its buffers and the pass, and shades its vertices into
+/// `vertices` (whose memory is reused: a backend hands back the last draw's).
 ///
 /// # Errors
 /// Missing or too short buffers, indices out of range, bad viewports or scissors, and vertex
@@ -152,6 +155,7 @@ pub fn prepare_draw<'a>(
     frame: &PassFrame<'a>,
     post_transform_cache: u32,
     vertex_cache: CacheConfig,
+    mut vertices: ShadedVertices,
 ) -> Result<DrawGeometry<'a>> {
     let desc = draw.desc;
     let fail = |reason: String| Error::draw(draw_index, reason);
@@ -294,40 +298,19 @@ pub fn prepare_draw<'a>(
     };
 
     let fetcher = VertexFetcher::new(input, &bindings);
-    let vertices = draw
-        .vertex
-        .shade_vertices(&fetcher, &set, desc.varyings.len())
-        .map_err(|e| Error::NonFinitePosition { draw: draw_index, vertex: e.vertex, position: e.position })?;
-    // The work a GPU does: without indices every vertex of the stream is shaded; with them,
-    // each index that misses the post-transform cache. Each vertex shaded is fetched, in
-    // that order, through the vertex cache: `VertexFetch` is its line fills.
     let slots = match &set {
         VertexSet::Range { first, .. } => SlotVertices::From(*first),
         VertexSet::Dense { min, .. } => SlotVertices::From(*min),
         VertexSet::Sparse { vertices } => SlotVertices::List(vertices.as_slice().into()),
     };
     let fetch = FetchLayout::new(input, draw.vertex_buffers, slots);
-    let mut cache = CacheModel::new(vertex_cache);
-    let mut vertex_fetch_bytes = 0;
-    let vertices_shaded = match indices {
-        Some(source) => {
-            let offset = draw.vertex_offset as i64;
-            let indices = (draw.first..draw.first + draw.count).map(|p| source.get(p));
-            let mut shade = |index: u32| vertex_fetch_bytes += fetch.fetch((index as i64 + offset) as u32, &mut cache);
-            if post_transform_cache > 0 {
-                post_transform_fetch(indices, post_transform_cache, shade)
-            } else {
-                indices.for_each(&mut shade);
-                draw.count as u64
-            }
-        }
-        None => {
-            for vertex in draw.first..draw.first + draw.count {
-                vertex_fetch_bytes += fetch.fetch(vertex, &mut cache);
-            }
-            draw.count as u64
-        }
-    };
+    // The vertex shader runs in parallel; the count of what a GPU fetches for it, a model
+    // walked in stream order, runs beside it on one worker.
+    let (shaded, (vertices_shaded, vertex_fetch_bytes)) = rayon::join(
+        || draw.vertex.shade_vertices(&fetcher, &set, desc.varyings.len(), &mut vertices),
+        || count_vertex_fetch(&draw, indices, &fetch, post_transform_cache, vertex_cache),
+    );
+    shaded.map_err(|e| Error::NonFinitePosition { draw: draw_index, vertex: e.vertex, position: e.position })?;
     let triangles = assemble::triangle_count(desc.topology, draw.count);
     Ok(DrawGeometry {
         desc: draw.desc,
@@ -348,26 +331,114 @@ pub fn prepare_draw<'a>(
     })
 }
 
+/// The work a GPU does for a draw's vertices: without indices every vertex of the stream is
+/// shaded; with them, each index that misses the post-transform cache. Each vertex shaded is
+/// fetched, in that order, through the vertex cache: `VertexFetch` is its line fills.
+/// Returns (vertices shaded, bytes fetched).
+fn count_vertex_fetch(
+    draw: &DrawInput,
+    indices: Option<IndexSource>,
+    fetch: &FetchLayout,
+    post_transform_cache: u32,
+    vertex_cache: CacheConfig,
+) -> (u64, u64) {
+    let mut cache = ReadCache::new(vertex_cache);
+    let mut bytes = 0;
+    let range = draw.first..draw.first + draw.count;
+    let shaded = match indices {
+        Some(source) => {
+            let offset = draw.vertex_offset as i64;
+            let indices = range.map(|p| source.get(p));
+            let mut shade = |index: u32| bytes += fetch.fetch((index as i64 + offset) as u32, &mut cache);
+            if post_transform_cache > 0 {
+                post_transform_fetch(indices, post_transform_cache, shade)
+            } else {
+                indices.for_each(&mut shade);
+                draw.count as u64
+            }
+        }
+        None => {
+            for vertex in range {
+                bytes += fetch.fetch(vertex, &mut cache);
+            }
+            draw.count as u64
+        }
+    };
+    #[cfg(feature = "vertex-cache-reference")]
+    assert_eq!(
+        (shaded, bytes),
+        count_vertex_fetch_reference(draw, indices, fetch, post_transform_cache, vertex_cache),
+        "the vertex fetch count disagrees with its reference"
+    );
+    (shaded, bytes)
+}
+
+/// [`count_vertex_fetch`] as it was first written: a hashed FIFO and the general cache model
+/// line by line (feature `vertex-cache-reference`).
+#[cfg(feature = "vertex-cache-reference")]
+fn count_vertex_fetch_reference(
+    draw: &DrawInput,
+    indices: Option<IndexSource>,
+    fetch: &FetchLayout,
+    post_transform_cache: u32,
+    vertex_cache: CacheConfig,
+) -> (u64, u64) {
+    let mut cache = crate::ledger::cache::CacheModel::new(vertex_cache);
+    let mut bytes = 0;
+    let range = draw.first..draw.first + draw.count;
+    let shaded = match indices {
+        Some(source) if post_transform_cache > 0 => {
+            let entries = post_transform_cache as usize;
+            let mut fifo = std::collections::VecDeque::with_capacity(entries);
+            let mut held = std::collections::HashSet::with_capacity(entries * 2);
+            let mut misses = 0;
+            for index in range.map(|p| source.get(p)) {
+                if held.contains(&index) {
+                    continue;
+                }
+                misses += 1;
+                bytes += fetch.fetch_reference((index as i64 + draw.vertex_offset as i64) as u32, &mut cache);
+                if fifo.len() == entries {
+                    held.remove(&fifo.pop_front().expect("full"));
+                }
+                fifo.push_back(index);
+                held.insert(index);
+            }
+            misses
+        }
+        Some(source) => {
+            for p in range {
+                bytes += fetch.fetch_reference((source.get(p) as i64 + draw.vertex_offset as i64) as u32, &mut cache);
+            }
+            draw.count as u64
+        }
+        None => {
+            for vertex in range {
+                bytes += fetch.fetch_reference(vertex, &mut cache);
+            }
+            draw.count as u64
+        }
+    };
+    (shaded, bytes)
+}
+
 /// Misses of a FIFO post-transform vertex cache of `entries` over an index stream: the
 /// vertices a GPU with such a cache shades and fetches, `miss(index)` called for each in
-/// stream order.
+/// stream order. The cache is a ring of the last `entries` indices missed (all different), so
+/// a lookup compares them all — a few dozen for real caches, faster than hashing.
 fn post_transform_fetch(indices: impl Iterator<Item = u32>, entries: u32, mut miss: impl FnMut(u32)) -> u64 {
-    let entries = entries as usize;
-    let mut fifo = std::collections::VecDeque::with_capacity(entries);
-    let mut held = std::collections::HashSet::with_capacity(entries * 2);
+    // `u64::MAX` marks an empty entry: no index reaches it.
+    let mut ring = vec![u64::MAX; entries as usize];
+    let mut next = 0;
     let mut misses = 0;
     for index in indices {
-        if held.contains(&index) {
+        if ring.contains(&(index as u64)) {
             continue;
         }
         misses += 1;
         miss(index);
-        if fifo.len() == entries {
-            let oldest = fifo.pop_front().expect("full");
-            held.remove(&oldest);
-        }
-        fifo.push_back(index);
-        held.insert(index);
+        ring[next] = index as u64;
+        next = if next + 1 == ring.len() { 0 } else { next + 1 };
     }
     misses
 }
@@ -448,6 +519,22 @@ impl DrawGeometry<'_> {
 
     /// Clips, culls and sets up triangles `range`, in parallel, in submission order.
     pub fn setup(&self, range: std::ops::Range<u32>, samples: &SampleLocations, state: u32) -> Vec<SetupBatch> {
+        let mut batches = Vec::new();
+        let used = self.setup_into(range, samples, state, &mut batches);
+        batches.truncate(used);
+        batches
+    }
+
+    /// [`DrawGeometry::setup`] into `batches`, reusing their memory (a pass sets up every
+    /// chunk of every draw into the same batches): returns how many of them, from the first,
+    /// hold the triangles' primitives, in submission order.
+    pub fn setup_into(
+        &self,
+        range: std::ops::Range<u32>,
+        samples: &SampleLocations,
+        state: u32,
+        batches: &mut Vec<SetupBatch>,
+    ) -> usize {
         let desc = self.desc;
         let params = SetupParams {
             viewport: ViewportTransform::new(&self.viewport),
@@ -459,30 +546,31 @@ impl DrawGeometry<'_> {
             depth_bias: DepthOffset::new(desc.depth_bias, self.depth_format),
             always_front: false,
         };
+        let chunks = if self.clip_rect.is_empty() { 1 } else { range.len().div_ceil(SETUP_CHUNK as usize) };
+        if batches.len() < chunks {
+            batches.resize_with(chunks, SetupBatch::default);
+        }
+        for batch in &mut batches[..chunks] {
+            batch.primitives.clear();
+            batch.varyings.clear();
+            batch.counters = Counters::default();
+        }
         if self.clip_rect.is_empty() {
-            let mut batch = SetupBatch::default();
-            batch.counters.triangles_in = range.len() as u64;
-            batch.counters.triangles_clip_rejected = range.len() as u64;
-            return vec![batch];
+            batches[0].counters.triangles_in = range.len() as u64;
+            batches[0].counters.triangles_clip_rejected = range.len() as u64;
+            return 1;
         }
         let volume = ClipVolume::new(self.viewport.width.abs(), self.viewport.height.abs());
-        let chunks = range.len().div_ceil(SETUP_CHUNK as usize) as u32;
-        (0..chunks)
-            .into_par_iter()
-            .map(|c| {
-                let start = range.start + c * SETUP_CHUNK;
-                let end = (start + SETUP_CHUNK).min(range.end);
-                let mut batch = SetupBatch {
-                    primitives: Vec::with_capacity((end - start) as usize),
-                    varyings: Vec::with_capacity((end - start) as usize * 3 * self.vertices.varying_count),
-                    counters: Counters::default(),
-                };
-                for t in start..end {
-                    self.setup_one(t, &params, &volume, &mut batch);
-                }
-                batch
-            })
-            .collect()
+        batches[..chunks].par_iter_mut().enumerate().for_each(|(c, batch)| {
+            let start = range.start + c as u32 * SETUP_CHUNK;
+            let end = (start + SETUP_CHUNK).min(range.end);
+            batch.primitives.reserve((end - start) as usize);
+            batch.varyings.reserve((end - start) as usize * 3 * self.vertices.varying_count);
+            for t in start..end {
+                self.setup_one(t, &params, &volume, batch);
+            }
+        });
+        chunks
     }
 
     fn setup_one(&self, t: u32, params: &SetupParams, volume: &ClipVolume, batch: &mut SetupBatch) {
@@ -596,5 +684,45 @@ fn count_outcome(counters: &mut Counters, outcome: SetupOutcome) {
         SetupOutcome::Primitive => counters.primitives += 1,
         SetupOutcome::Culled => counters.triangles_culled += 1,
         SetupOutcome::Degenerate => counters.triangles_degenerate += 1,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ring's misses are a FIFO's, index for index: checked against a queue searched
+    /// front to back, over streams with reuse, far indices and `u32::MAX` itself.
+    #[test]
+    fn post_transform_ring_is_a_fifo() {
+        let mut state = 7u32;
+        let stream: Vec<u32> = (0..5000)
+            .map(|i| {
+                state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                match state >> 29 {
+                    0 => u32::MAX,
+                    1 => state,
+                    _ => i / 3 + (state >> 24) % 8,
+                }
+            })
+            .collect();
+        for entries in [1, 3, 32, 100] {
+            let mut queue = std::collections::VecDeque::new();
+            let mut expected = Vec::new();
+            for &index in &stream {
+                if !queue.contains(&index) {
+                    expected.push(index);
+                    if queue.len() == entries {
+                        queue.pop_front();
+                    }
+                    queue.push_back(index);
+                }
+            }
+            let mut missed = Vec::new();
+            let misses = post_transform_fetch(stream.iter().copied(), entries as u32, |i| missed.push(i));
+            assert_eq!(missed, expected, "{entries} entries");
+            assert_eq!(misses, expected.len() as u64);
+            assert!(misses < stream.len() as u64);
+        }
     }
 }

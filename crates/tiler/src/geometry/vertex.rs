@@ -44,6 +44,7 @@ impl VertexSet {
 }
 
 /// The vertex shader's results, per slot.
+#[derive(Default)]
 pub struct ShadedVertices {
     pub positions: Vec<Vec4>,
     /// `varying_stride` floats per slot.
@@ -66,7 +67,7 @@ pub struct NonFinitePosition {
     pub position: [f32; 4],
 }
 
-/// Shades every referenced vertex of `set`.
+/// Shades every referenced vertex of `set` into `out`, reusing its memory.
 ///
 /// # Errors
 /// The lowest-numbered vertex whose position has a NaN or infinite component.
@@ -75,14 +76,20 @@ pub fn shade_vertices<V: VertexShader>(
     fetcher: &VertexFetcher,
     set: &VertexSet,
     varying_count: usize,
-) -> Result<ShadedVertices, NonFinitePosition> {
+    out: &mut ShadedVertices,
+) -> Result<(), NonFinitePosition> {
     let slots = set.slots();
     let stride = varying_count.max(1);
-    let mut positions = vec![Vec4::ZERO; slots];
-    let mut varyings = vec![0.0f32; slots * stride];
-    let errors: Vec<Option<NonFinitePosition>> = positions
+    out.positions.clear();
+    out.positions.resize(slots, Vec4::ZERO);
+    out.varyings.clear();
+    out.varyings.resize(slots * stride, 0.0);
+    out.varying_count = varying_count;
+    out.varying_stride = stride;
+    let error = out
+        .positions
         .par_chunks_mut(CHUNK)
-        .zip(varyings.par_chunks_mut(CHUNK * stride))
+        .zip(out.varyings.par_chunks_mut(CHUNK * stride))
         .enumerate()
         .map(|(chunk, (positions, varyings))| {
             let mut inputs = [VertexInput::default(); VERTEX_BATCH];
@@ -113,9 +120,10 @@ pub fn shade_vertices<V: VertexShader>(
             }
             error
         })
-        .collect();
-    if let Some(error) = errors.into_iter().flatten().min_by_key(|e| e.vertex) {
-        return Err(error);
+        .flatten()
+        .min_by_key(|e| e.vertex);
+    match error {
+        Some(error) => Err(error),
+        None => Ok(()),
     }
-    Ok(ShadedVertices { positions, varyings, varying_count, varying_stride: stride })
 }

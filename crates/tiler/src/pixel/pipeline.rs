@@ -45,8 +45,9 @@ impl<V: VertexShader, F: FragmentShader> VertexStage for Shaders<V, F> {
         fetcher: &VertexFetcher,
         set: &VertexSet,
         varying_count: usize,
-    ) -> std::result::Result<ShadedVertices, NonFinitePosition> {
-        shade_vertices(&self.vertex, fetcher, set, varying_count)
+        out: &mut ShadedVertices,
+    ) -> std::result::Result<(), NonFinitePosition> {
+        shade_vertices(&self.vertex, fetcher, set, varying_count, out)
     }
 }
 

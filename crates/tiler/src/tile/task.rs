@@ -271,7 +271,7 @@ fn render_tile(
         // Position-only binning: the tile fetches and shades each vertex it uses again, in
         // the order its primitives name them, through a vertex cache of its own.
         worker.tile_vertices.clear();
-        let mut cache = crate::ledger::cache::CacheModel::new(plan.vertex_cache);
+        let mut cache = crate::ledger::cache::ReadCache::new(plan.vertex_cache);
         let mut bytes = 0;
         for &entry in list {
             let primitive = &frame.primitives()[entry as usize];
