@@ -13,6 +13,7 @@ use tiler::{DevicePreset, FrameCost, Ledger};
 use tiler_gl::advisor::what_if;
 use tiler_gl::capture::{self, ReplayOptions};
 use tiler_gl::report::{FrameRecord, PassRecord};
+use tiler_gl::trace::TraceFrame;
 use tiler_gl::{ContextConfig, Limits, Report as GlReport, Trace, text_report};
 use tiler_report::{AttachmentInfo, Column, FrameSpan, PassInfo, Report, Rgba8Image, SceneInfo};
 
@@ -56,7 +57,8 @@ pub struct AnalyzeArgs {
     /// Prove the advice: apply each finding's fix to the trace (invalidate before the unbind,
     /// clear after the bind, bind each framebuffer once, read back at the end of the pass),
     /// replay it on each device, and report the bytes it saved beside the estimate and
-    /// whether the picture is unchanged. JSON traces only.
+    /// whether the picture is unchanged. For an apitrace capture, the calls it becomes are
+    /// edited.
     #[arg(long)]
     pub what_if: bool,
 }
@@ -107,9 +109,6 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
     if !capture && args.frames.is_some() {
         bail!("--frames is for apitrace captures; {} is a JSON trace", args.trace.display());
     }
-    if capture && args.what_if {
-        bail!("--what-if edits a JSON trace's calls; {} is an apitrace capture", args.trace.display());
-    }
     let mut trace = if capture {
         None
     } else {
@@ -120,6 +119,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
         Some(trace)
     };
     let mut replays: Vec<Replayed> = Vec::with_capacity(devices.len());
+    let mut recorded_trace: Option<Trace> = None;
     for (i, device) in devices.iter().enumerate() {
         let configure = |config: ContextConfig| -> ContextConfig {
             let config = match device {
@@ -130,7 +130,15 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
         };
         let (report, picture, config) = match &mut trace {
             Some(trace) => replay_trace(trace, configure, &args.trace)?,
-            None => replay_capture(args, configure, i == 0)?,
+            None => {
+                let (report, picture, config, recorded) = replay_capture(args, configure, i == 0)?;
+                // `--what-if` edits the calls the capture became, recorded on the first replay.
+                if let Some(frames) = recorded {
+                    let frames = frames.into_iter().map(|calls| TraceFrame { repeat: 1, calls }).collect();
+                    recorded_trace = Some(Trace { description: None, config: config.clone(), frames });
+                }
+                (report, picture, config)
+            }
         };
         let preset = match device {
             Some(preset) => (*preset).clone(),
@@ -153,8 +161,8 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
         replays.push(Replayed { preset, report, picture, config });
     }
     if args.what_if {
-        let Some(trace) = &trace else {
-            bail!("--what-if edits a JSON trace's calls; {} is an apitrace capture", args.trace.display());
+        let Some(trace) = trace.as_ref().or(recorded_trace.as_ref()) else {
+            bail!("--what-if: the calls of {} were not recorded", args.trace.display());
         };
         for replayed in &mut replays {
             what_if(trace, replayed, &args.trace)?;
@@ -220,8 +228,16 @@ fn what_if(trace: &Trace, replayed: &mut Replayed, path: &Path) -> Result<()> {
             Ok(fix) => {
                 let mut fixed = fixer.fixed(trace);
                 fixed.config = replayed.config.clone();
-                let replay =
-                    fixed.replay().with_context(|| format!("--what-if: replaying {} with '{fix}'", path.display()))?;
+                // A fix the edited calls cannot take (it moves a bind before the framebuffer
+                // exists, say) is reported as not applied, with the replay's error.
+                let replay = match fixed.replay() {
+                    Ok(replay) => replay,
+                    Err(e) => {
+                        result.fix = format!("{fix}: not applied, the edited calls of {} fail: {e}", path.display());
+                        results.push(result);
+                        continue;
+                    }
+                };
                 let after = replay.report.totals.ledger.total();
                 result.fix = fix;
                 result.applied = true;
@@ -279,7 +295,7 @@ fn replay_capture(
     args: &AnalyzeArgs,
     configure: impl Fn(ContextConfig) -> ContextConfig,
     write_frames: bool,
-) -> Result<(GlReport, Picture, ContextConfig)> {
+) -> Result<(GlReport, Picture, ContextConfig, Option<Vec<Vec<tiler_gl::Call>>>)> {
     let inputs = std::slice::from_ref(&args.trace);
     let frames_dir = args.frames.as_ref().filter(|_| write_frames);
     if let Some(dir) = frames_dir {
@@ -294,12 +310,15 @@ fn replay_capture(
             .map_err(|e| format!("{e:#}"))
     };
     let defaults = ReplayOptions::default();
-    let options = ReplayOptions { config: configure(defaults.config.clone()), ..defaults };
+    // The first replay records the calls for `--what-if`.
+    let record = args.what_if && write_frames;
+    let options = ReplayOptions { config: configure(defaults.config.clone()), record, ..defaults };
     let replay = capture::replay_file(&args.trace, &options, &mut write_frame)
         .with_context(|| format!("replaying {}", args.trace.display()))?;
     let c = replay.context.config().clone();
     let picture = (c.width, c.height, replay.context.surface_rgba8());
-    Ok((replay.report, picture, c))
+    let recorded = replay.context.recorded_frames().map(<[Vec<tiler_gl::Call>]>::to_vec);
+    Ok((replay.report, picture, c, recorded))
 }
 
 /// The report every frame source shares: one column per replay, the passes as the driver

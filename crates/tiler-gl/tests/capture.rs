@@ -1105,3 +1105,42 @@ fn gles3_object_errors_name_their_call() {
         &["of the window"],
     );
 }
+
+/// `ReplayOptions::record` keeps the calls a capture became, a JSON trace of the same frames:
+/// `--what-if` edits it. A `glFlush` between two draws on the window splits its pass
+/// (`flush-mid-pass`); the recorded calls replay to the same picture and report, and with
+/// the advisor's fix (the flush moved to the end of the pass) they save what it estimated and
+/// keep the picture.
+#[test]
+fn recorded_capture_calls_replay_and_take_the_advisors_fixes() {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 16, 16);
+    clear(&mut w, [0.1, 0.2, 0.3, 1.0]);
+    let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where * 0.5, 0.0, 1.0); }\n";
+    let fragment = "precision mediump float;\nvoid main() { gl_FragColor = vec4(0.9, 0.5, 0.1, 1.0); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    w.call("glFlush", &[], None, false);
+    w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+
+    let options = ReplayOptions { record: true, ..ReplayOptions::default() };
+    let replay = replay_reader(&w.snappy(1 << 16)[..], &options, &mut |_| Ok(())).unwrap();
+    let frames = replay.context.recorded_frames().expect("recorded").to_vec();
+    let frames = frames.into_iter().map(|calls| tiler_gl::trace::TraceFrame { repeat: 1, calls }).collect();
+    let config = replay.context.config().clone();
+    let trace = tiler_gl::Trace { description: None, config, frames };
+    let again = trace.replay().unwrap();
+    assert_eq!(again.context.surface_rgba8(), replay.context.surface_rgba8());
+    assert_eq!(again.report.totals.ledger, replay.report.totals.ledger);
+
+    let finding = replay.report.findings_with("flush-mid-pass").next().expect("the flush splits the pass");
+    let mut fixer = tiler_gl::advisor::what_if::Fixer::new(&trace).unwrap();
+    fixer.add(finding, &replay.report).unwrap();
+    let fixed = fixer.fixed(&trace).replay().unwrap();
+    let saved = replay.report.totals.ledger.total() - fixed.report.totals.ledger.total();
+    assert_eq!(Some(saved), finding.cost_bytes);
+    assert_eq!(fixed.context.surface_rgba8(), replay.context.surface_rgba8());
+}

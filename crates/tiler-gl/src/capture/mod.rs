@@ -90,11 +90,14 @@ pub struct ReplayOptions {
     pub window: Option<(u32, u32)>,
     /// Limits on what the capture reader holds in memory.
     pub limits: Limits,
+    /// Record the context calls the capture became ([`Context::recorded_frames`] of the
+    /// replay's context): a JSON trace of the same frames, which `--what-if` edits.
+    pub record: bool,
 }
 
 impl Default for ReplayOptions {
     fn default() -> ReplayOptions {
-        ReplayOptions { config: ContextConfig::new(1, 1), window: None, limits: Limits::default() }
+        ReplayOptions { config: ContextConfig::new(1, 1), window: None, limits: Limits::default(), record: false }
     }
 }
 
@@ -187,7 +190,7 @@ pub fn replay_reader<R: Read>(
 ) -> Result<Replay, CaptureError> {
     let reader = TraceReader::new(reader, options.limits)?;
     let mut decoder = Decoder::new();
-    let mut translator = Translator::new(options.config.clone(), options.window);
+    let mut translator = Translator::new(options.config.clone(), options.window, options.record);
     let mut calls = 0;
     for call in reader {
         let call = call?;

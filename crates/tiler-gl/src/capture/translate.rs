@@ -224,6 +224,8 @@ impl Default for Bindings {
 /// Replays decoded calls on a [`Context`], keeping the GL state it does not.
 pub struct Translator {
     config: ContextConfig,
+    /// The context records the calls it is given (`ReplayOptions::record`).
+    record: bool,
     window: Option<(u32, u32)>,
     ctx: Option<Context>,
     /// EGL context handle → generation.
@@ -249,9 +251,10 @@ pub struct Translator {
 }
 
 impl Translator {
-    pub fn new(config: ContextConfig, window: Option<(u32, u32)>) -> Translator {
+    pub fn new(config: ContextConfig, window: Option<(u32, u32)>, record: bool) -> Translator {
         Translator {
             config,
+            record,
             window,
             ctx: None,
             generations: HashMap::new(),
@@ -285,7 +288,7 @@ impl Translator {
     pub fn finish(mut self, calls: u64) -> Result<Replay, CaptureError> {
         let mut ctx = match self.ctx.take() {
             Some(ctx) => ctx,
-            None => Context::new(self.window_config(1, 1)).map_err(|message| self.error(message))?,
+            None => self.new_context(1, 1).map_err(|message| self.error(message))?,
         };
         self.function = "end of capture".into();
         let report = ctx.end().map_err(|e| self.error(e.message))?;
@@ -294,6 +297,11 @@ impl Translator {
 
     fn error(&self, message: String) -> CaptureError {
         CaptureError::Call { call: self.call, function: self.function.clone(), message }
+    }
+
+    fn new_context(&self, width: u32, height: u32) -> Result<Context, String> {
+        let config = self.window_config(width, height);
+        if self.record { Context::new_recording(config) } else { Context::new(config) }
     }
 
     fn window_config(&self, width: u32, height: u32) -> ContextConfig {
@@ -319,7 +327,7 @@ impl Translator {
             let (w, h) = self.window.ok_or(
                 "the window's size is not known yet (no glViewport before this call; give the replay a window size)",
             )?;
-            self.ctx = Some(Context::new(self.window_config(w, h))?);
+            self.ctx = Some(self.new_context(w, h)?);
         }
         Ok(self.ctx.as_mut().expect("made above"))
     }
