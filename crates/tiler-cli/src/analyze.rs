@@ -66,6 +66,9 @@ pub struct AnalyzeArgs {
 /// The window's last picture: width, height, RGBA8 rows top first.
 type Picture = (u32, u32, Vec<u8>);
 
+/// The context calls a capture became, one list per frame (for `--what-if`).
+type RecordedFrames = Vec<Vec<tiler_gl::Call>>;
+
 /// One replay of the trace: on which device, what the driver recorded, the last picture.
 struct Replayed {
     preset: DevicePreset,
@@ -295,7 +298,7 @@ fn replay_capture(
     args: &AnalyzeArgs,
     configure: impl Fn(ContextConfig) -> ContextConfig,
     write_frames: bool,
-) -> Result<(GlReport, Picture, ContextConfig, Option<Vec<Vec<tiler_gl::Call>>>)> {
+) -> Result<(GlReport, Picture, ContextConfig, Option<RecordedFrames>)> {
     let inputs = std::slice::from_ref(&args.trace);
     let frames_dir = args.frames.as_ref().filter(|_| write_frames);
     if let Some(dir) = frames_dir {
