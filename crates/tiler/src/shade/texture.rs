@@ -547,6 +547,19 @@ impl Texture {
         } else {
             4f32.powf(UNMIPPED_LOD - sampler.lod_bias)
         };
+        let lambdas = [lods[0] + sampler.lod_bias, lods[1] + sampler.lod_bias];
+        let plans = lambdas.map(|lambda| self.plan(sampler, lambda));
+        let counted = QUAD_LANES.map(|lanes| lanes.map(|lane| counted.contains(lane)));
+        let minified_unmipped = rho_squared.map(|rho_squared| unmipped && rho_squared > unmipped_rho_squared);
+        if let Some(pair) = PairPlan::of(plans) {
+            let at = QuadAt {
+                u: reduce_quad(lanes(|i| u.lane(PAIR_LANES[i])), sampler.wrap_u),
+                v: reduce_quad(lanes(|i| v.lane(PAIR_LANES[i])), sampler.wrap_v),
+                face_offsets: [0; 8],
+            };
+            let rgba = self.sample_pair::<STORED>(sampler, pair, &at, counted, minified_unmipped, cache, &decode);
+            return group_of_pair(rgba);
+        }
         let mut quads = [[[0u32; 4]; 4]; 2];
         for (quad, lanes) in QUAD_LANES.iter().enumerate() {
             let at = QuadAt {
@@ -554,12 +567,71 @@ impl Texture {
                 v: reduce_quad(self::lanes(|i| v.lane(lanes[i])), sampler.wrap_v),
                 face_offsets: [0; 4],
             };
-            let counted = lanes.map(|lane| counted.contains(lane));
-            let minified_unmipped = unmipped && rho_squared[quad] > unmipped_rho_squared;
-            let lambda = lods[quad] + sampler.lod_bias;
-            quads[quad] = self.sample_quad::<STORED>(sampler, lambda, &at, counted, minified_unmipped, cache, &decode);
+            quads[quad] = self.sample_quad::<STORED>(
+                sampler,
+                lambdas[quad],
+                &at,
+                counted[quad],
+                minified_unmipped[quad],
+                cache,
+                &decode,
+            );
         }
         group_of_quads(quads)
+    }
+
+    /// Both quads of a group read on the same level(s) with the same filter (`pair`): their
+    /// eight lanes' footprints and filter computed side by side ([`PAIR_LANES`] order), eight
+    /// lanes per operation where [`Texture::sample_quad`] does four. The cache model reads
+    /// quad 0's lines, then quad 1's, each as [`Texture::sample_quad`] reads them, so counts
+    /// and cache state are the same; per lane the arithmetic is the same, so the values too.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // one group's inputs; a struct would only rename them
+    fn sample_pair<const STORED: bool>(
+        &self,
+        sampler: &Sampler,
+        pair: PairPlan,
+        at: &QuadAt<8>,
+        counted: [[bool; 4]; 2],
+        minified_unmipped: [bool; 2],
+        cache: &mut TextureCache,
+        decode: &impl Fn(u32) -> u32,
+    ) -> [[u32; 8]; 4] {
+        let line_shift = cache.line_shift();
+        // See `sample_quad`.
+        let first_line = (self.id << 40) >> line_shift;
+        // Quad `quad`'s half of a row of eight lanes.
+        let half = |row: &[u32; 8], quad: usize| -> [u32; 4] { std::array::from_fn(|i| row[4 * quad + i]) };
+        match pair {
+            PairPlan::Single { level, filter } => {
+                let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
+                let near_rows = near.rows();
+                for quad in 0..2 {
+                    let rows: [[u32; 4]; 4] = near.lines.each_ref().map(|row| half(row, quad));
+                    let misses = cache.misses();
+                    cache.access_quad(first_line, &rows[..near_rows.len()], counted[quad]);
+                    if minified_unmipped[quad] && counted[quad].contains(&true) {
+                        cache.note_unmipped(misses);
+                    }
+                }
+                self.filter(&near, decode)
+            }
+            PairPlan::Blend { level, filter, weights } => {
+                let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
+                let far = self.footprint::<STORED, 8>(level + 1, filter, sampler, at, line_shift);
+                let (near_rows, far_rows) = (near.rows().len(), far.rows().len());
+                for (quad, counted) in counted.into_iter().enumerate() {
+                    let mut rows = [[0; 4]; MAX_LANE_LINES];
+                    for (row, line) in rows.iter_mut().zip(near.lines[..near_rows].iter().chain(&far.lines[..far_rows])) {
+                        *row = half(line, quad);
+                    }
+                    cache.access_quad(first_line, &rows[..near_rows + far_rows], counted);
+                }
+                let (a, b) = (self.filter(&near, decode), self.filter(&far, decode));
+                let weight = lanes::<u32, 8>(|i| weights[i / 4]);
+                std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight[i])))
+            }
+        }
     }
 
     /// One quad's filtered colour at the level of detail `lambda` (bias added) and the reduced
@@ -587,7 +659,7 @@ impl Texture {
         let first_line = (self.id << 40) >> line_shift;
         match self.plan(sampler, lambda) {
             LevelPlan::Single { level, filter } => {
-                let near = self.footprint::<STORED>(level, filter, sampler, at, line_shift);
+                let near = self.footprint::<STORED, 4>(level, filter, sampler, at, line_shift);
                 let misses = cache.misses();
                 cache.access_quad(first_line, near.rows(), counted);
                 if minified_unmipped && counted.contains(&true) {
@@ -596,8 +668,8 @@ impl Texture {
                 self.filter(&near, decode)
             }
             LevelPlan::Blend { level, filter, weight } => {
-                let near = self.footprint::<STORED>(level, filter, sampler, at, line_shift);
-                let far = self.footprint::<STORED>(level + 1, filter, sampler, at, line_shift);
+                let near = self.footprint::<STORED, 4>(level, filter, sampler, at, line_shift);
+                let far = self.footprint::<STORED, 4>(level + 1, filter, sampler, at, line_shift);
                 let (near_rows, far_rows) = (near.rows(), far.rows());
                 let mut rows = [[0; 4]; MAX_LANE_LINES];
                 rows[..near_rows.len()].copy_from_slice(near_rows);
@@ -615,11 +687,11 @@ impl Texture {
         let decode = |c: u32| self.color_table[c as usize] as u32;
         let rgba = match self.plan(sampler, lambda + sampler.lod_bias) {
             LevelPlan::Single { level, filter } => {
-                self.filter(&self.footprint::<false>(level, filter, sampler, at, 0), &decode)
+                self.filter(&self.footprint::<false, 4>(level, filter, sampler, at, 0), &decode)
             }
             LevelPlan::Blend { level, filter, weight } => {
-                let a = self.filter(&self.footprint::<false>(level, filter, sampler, at, 0), &decode);
-                let b = self.filter(&self.footprint::<false>(level + 1, filter, sampler, at, 0), &decode);
+                let a = self.filter(&self.footprint::<false, 4>(level, filter, sampler, at, 0), &decode);
+                let b = self.filter(&self.footprint::<false, 4>(level + 1, filter, sampler, at, 0), &decode);
                 std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight)))
             }
         };
@@ -677,20 +749,20 @@ impl Texture {
     /// lanes (see [`reduce`]): texels and weights, and the cache lines that hold the texels
     /// (`line_shift`: [`TextureCache::line_shift`]).
     #[inline(always)]
-    fn footprint<const STORED: bool>(
+    fn footprint<const STORED: bool, const N: usize>(
         &self,
         level: usize,
         filter: Filter,
         sampler: &Sampler,
-        at: &QuadAt,
+        at: &QuadAt<N>,
         line_shift: u32,
-    ) -> Footprint {
+    ) -> Footprint<N> {
         let (u, v) = (at.u, at.v);
         let l = &self.levels[level];
         let (x, alpha, y, beta) = match filter {
             Filter::Nearest => {
                 let (x, y) = (nearest_texels(u, l.width, sampler.wrap_u), nearest_texels(v, l.height, sampler.wrap_v));
-                ([x; 2], [0; 4], [y; 2], [0; 4])
+                ([x; 2], [0; N], [y; 2], [0; N])
             }
             Filter::Linear => {
                 let (x, alpha) = linear_texels(u, l.width, sampler.wrap_u);
@@ -700,12 +772,12 @@ impl Texture {
         };
         // Texel (x, y) is at `row_offset(y) + column_offset(x)` in the modelled memory of the
         // texture, and at a quarter of that in `texels`.
-        let row_offset = |y: Quad<u32>| lanes(|i| l.row_offset(y[i]));
-        let column_offset = |x: Quad<u32>| lanes(|i| l.column_offset(x[i]));
+        let row_offset = |y: [u32; N]| lanes::<u32, N>(|i| l.row_offset(y[i]));
+        let column_offset = |x: [u32; N]| lanes::<u32, N>(|i| l.column_offset(x[i]));
         let row_offsets = [row_offset(y[0]), row_offset(y[1])];
         let column_offsets = [column_offset(x[0]), column_offset(x[1])];
         let offset =
-            |(cx, cy): (usize, usize)| lanes(|i| at.face_offsets[i] + row_offsets[cy][i] + column_offsets[cx][i]);
+            |(cx, cy): (usize, usize)| lanes::<u32, N>(|i| at.face_offsets[i] + row_offsets[cy][i] + column_offsets[cx][i]);
         let texel = |corner| offset(corner).map(|offset| offset / TEXEL_BYTES as u32);
         // An RGBA8 texture is stored as it is decoded; any other format (`STORED`) where its
         // layout says.
@@ -729,7 +801,7 @@ impl Texture {
     /// The filtered colour of a footprint's lanes as 16-bit UNORMs, `[channel][lane]` (see the
     /// module notes for the linear filter's formula), colour channels decoded by `decode`.
     #[inline(always)]
-    fn filter(&self, footprint: &Footprint, decode: &impl Fn(u32) -> u32) -> [Quad<u32>; 4] {
+    fn filter<const N: usize>(&self, footprint: &Footprint<N>, decode: &impl Fn(u32) -> u32) -> [[u32; N]; 4] {
         let texels = |corner: usize| lanes(|i| u32::from_le_bytes(self.texels[footprint.texels[corner][i] as usize]));
         match footprint.filter {
             Filter::Nearest => {
@@ -797,17 +869,17 @@ fn check_size(width: u32, height: u32, format: TexelFormat) -> Result<()> {
 /// `decode` turns a channel's byte to a 16-bit UNORM. (Each channel through a function of its
 /// own, not a loop, which LLVM would vectorise across the channels of a texel instead.)
 #[inline(always)]
-fn bilinear_channel(
-    t: &[Quad<u32>; 4],
+fn bilinear_channel<const N: usize>(
+    t: &[[u32; N]; 4],
     c: u32,
-    alpha: &Quad<u32>,
-    beta: &Quad<u32>,
+    alpha: &[u32; N],
+    beta: &[u32; N],
     decode: &impl Fn(u32) -> u32,
-) -> Quad<u32> {
-    let corner = |k: usize| lanes(|i| decode(t[k][i] >> (8 * c) & 0xff));
+) -> [u32; N] {
+    let corner = |k: usize| lanes::<u32, N>(|i| decode(t[k][i] >> (8 * c) & 0xff));
     let (t00, t10, t01, t11) = (corner(0), corner(1), corner(2), corner(3));
-    let top = lanes(|i| lerp(t00[i], t10[i], alpha[i]));
-    let bottom = lanes(|i| lerp(t01[i], t11[i], alpha[i]));
+    let top = lanes::<u32, N>(|i| lerp(t00[i], t10[i], alpha[i]));
+    let bottom = lanes::<u32, N>(|i| lerp(t01[i], t11[i], alpha[i]));
     lanes(|i| lerp(top[i], bottom[i], beta[i]))
 }
 
@@ -874,15 +946,56 @@ fn sample_group_body(
     }
 }
 
+/// What both quads of a group read when their [`LevelPlan`]s name the same levels and
+/// filter: then they are sampled side by side ([`Texture::sample_pair`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum PairPlan {
+    Single { level: usize, filter: Filter },
+    /// `weights`: each quad's 8-bit weight of `level + 1`.
+    Blend { level: usize, filter: Filter, weights: [u32; 2] },
+}
+
+impl PairPlan {
+    /// The pair plan of two quads' plans, if they read the same levels with the same filter.
+    #[inline(always)]
+    fn of(plans: [LevelPlan; 2]) -> Option<PairPlan> {
+        match plans {
+            [LevelPlan::Single { level, filter }, LevelPlan::Single { level: level1, filter: filter1 }]
+                if level == level1 && filter == filter1 =>
+            {
+                Some(PairPlan::Single { level, filter })
+            }
+            [
+                LevelPlan::Blend { level, filter, weight },
+                LevelPlan::Blend { level: level1, filter: filter1, weight: weight1 },
+            ] if level == level1 && filter == filter1 => {
+                Some(PairPlan::Blend { level, filter, weights: [weight, weight1] })
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The lanes of a group as [`Texture::sample_pair`] orders them: quad 0's then quad 1's, each
+/// in [`QUAD_LANES`] order. The permutation is its own inverse.
+const PAIR_LANES: [usize; 8] = [0, 1, 4, 5, 2, 3, 6, 7];
+
+/// A pair's channels (`[channel][lane in PAIR_LANES order]`, 16-bit UNORMs) back in the
+/// group's lanes, converted eight lanes at a time.
+#[inline(always)]
+fn group_of_pair(rgba: [[u32; 8]; 4]) -> Vec4x8 {
+    rgba.map(|channel| F32x8(std::array::from_fn(|lane| unorm16_to_f32(channel[PAIR_LANES[lane]]))))
+}
+
 /// Four lanes of a quad, in [`QUAD_LANES`] order.
 type Quad<T = f32> = [T; 4];
 
 /// Where a quad's lanes sample: coordinates reduced for the wraps ([`reduce`]) and, per
 /// lane, the modelled offset of the cube face it reads (0 for a 2D texture).
-struct QuadAt {
-    u: Quad,
-    v: Quad,
-    face_offsets: Quad<u32>,
+struct QuadAt<const N: usize = 4> {
+    u: [f32; N],
+    v: [f32; N],
+    face_offsets: [u32; N],
 }
 
 /// The two quads' channels (`[quad][channel][lane of the quad]`, 16-bit UNORMs) back in the
@@ -900,10 +1013,11 @@ fn group_of_quads(quads: [[Quad<u32>; 4]; 2]) -> Vec4x8 {
     })
 }
 
-/// `[f(0), f(1), f(2), f(3)]`, as a plain loop the vectoriser sees through.
+/// `[f(0), f(1), …, f(N − 1)]`, as a plain loop the vectoriser sees through: a quad's four
+/// lanes, or a pair of quads' eight ([`PAIR_LANES`]).
 #[inline(always)]
-fn lanes<T: Copy + Default>(f: impl Fn(usize) -> T) -> Quad<T> {
-    let mut out = [T::default(); 4];
+fn lanes<T: Copy + Default, const N: usize>(f: impl Fn(usize) -> T) -> [T; N] {
+    let mut out = [T::default(); N];
     for (i, out) in out.iter_mut().enumerate() {
         *out = f(i);
     }
@@ -914,19 +1028,19 @@ fn lanes<T: Copy + Default>(f: impl Fn(usize) -> T) -> Quad<T> {
 /// and the cache lines that hold them (relative to the texture's first line), both
 /// `[corner][lane]`. Nearest filtering reads corner 0; linear filtering reads `(x0, y0)`,
 /// `(x1, y0)`, `(x0, y1)`, `(x1, y1)` and weighs them with `α` and `β`.
-struct Footprint {
+struct Footprint<const N: usize = 4> {
     filter: Filter,
-    texels: [Quad<u32>; 4],
-    lines: [Quad<u32>; 4],
+    texels: [[u32; N]; 4],
+    lines: [[u32; N]; 4],
     /// The 8-bit weights of the second texel in x and in y.
-    alpha: Quad<u32>,
-    beta: Quad<u32>,
+    alpha: [u32; N],
+    beta: [u32; N],
 }
 
-impl Footprint {
+impl<const N: usize> Footprint<N> {
     /// The lines each lane reads, `[texel][lane]` in the order of its texels.
     #[inline(always)]
-    fn rows(&self) -> &[Quad<u32>] {
+    fn rows(&self) -> &[[u32; N]] {
         match self.filter {
             Filter::Nearest => &self.lines[..1],
             Filter::Linear => &self.lines,
@@ -1173,7 +1287,7 @@ fn wrap_reduced(i: i32, n: u32, wrap: Wrap) -> u32 {
 
 /// Reduces a quad's coordinates for `wrap` ([`reduce`]).
 #[inline(always)]
-fn reduce_quad(u: Quad, wrap: Wrap) -> Quad {
+fn reduce_quad<const N: usize>(u: [f32; N], wrap: Wrap) -> [f32; N] {
     match wrap {
         Wrap::Repeat => lanes(|i| reduce(u[i], Wrap::Repeat)),
         Wrap::ClampToEdge => lanes(|i| reduce(u[i], Wrap::ClampToEdge)),
@@ -1184,8 +1298,8 @@ fn reduce_quad(u: Quad, wrap: Wrap) -> Quad {
 /// The texel indices for nearest filtering at reduced coordinates `r`: `⌊r · n⌋`, wrapped.
 /// (`⌊r · n⌋` is in `[−1, 2n]`, see [`wrap_reduced`].)
 #[inline(always)]
-fn nearest_texels(r: Quad, n: u32, wrap: Wrap) -> Quad<u32> {
-    let i = lanes(|i| floor_small(r[i] * n as f32).1);
+fn nearest_texels<const N: usize>(r: [f32; N], n: u32, wrap: Wrap) -> [u32; N] {
+    let i = lanes::<i32, N>(|i| floor_small(r[i] * n as f32).1);
     match wrap {
         Wrap::Repeat => lanes(|k| wrap_reduced(i[k], n, Wrap::Repeat)),
         Wrap::ClampToEdge => lanes(|k| wrap_reduced(i[k], n, Wrap::ClampToEdge)),
@@ -1199,13 +1313,13 @@ fn nearest_texels(r: Quad, n: u32, wrap: Wrap) -> Quad<u32> {
 /// as [`wrap_reduced`] does, with only the correction each can need: repeat and mirrored
 /// repeat take `i0` from `[−1, p)` and `i1` from `[0, p]`, `p` the period (`n`, `2n`).
 #[inline(always)]
-fn linear_texels(r: Quad, n: u32, wrap: Wrap) -> ([Quad<u32>; 2], Quad<u32>) {
-    let x = lanes(|i| r[i] * n as f32 - 0.5);
-    let floors = lanes(|i| floor_small(x[i]));
-    let i0 = lanes(|i| floors[i].1);
+fn linear_texels<const N: usize>(r: [f32; N], n: u32, wrap: Wrap) -> ([[u32; N]; 2], [u32; N]) {
+    let x = lanes::<f32, N>(|i| r[i] * n as f32 - 0.5);
+    let floors = lanes::<(f32, i32), N>(|i| floor_small(x[i]));
+    let i0 = lanes::<i32, N>(|i| floors[i].1);
     let (n, alpha) = (n as i32, lanes(|i| floor_small((x[i] - floors[i].0) * 256.0).1 as u32));
     let mirror = |m: i32| if m < n { m } else { 2 * n - 1 - m };
-    let (x0, x1) = match wrap {
+    let (x0, x1): ([i32; N], [i32; N]) = match wrap {
         Wrap::Repeat => (
             lanes(|i| if i0[i] < 0 { i0[i] + n } else { i0[i] }),
             lanes(|i| if i0[i] + 1 == n { 0 } else { i0[i] + 1 }),
