@@ -622,7 +622,8 @@ impl Texture {
                 let (near_rows, far_rows) = (near.rows().len(), far.rows().len());
                 for (quad, counted) in counted.into_iter().enumerate() {
                     let mut rows = [[0; 4]; MAX_LANE_LINES];
-                    for (row, line) in rows.iter_mut().zip(near.lines[..near_rows].iter().chain(&far.lines[..far_rows])) {
+                    for (row, line) in rows.iter_mut().zip(near.lines[..near_rows].iter().chain(&far.lines[..far_rows]))
+                    {
                         *row = half(line, quad);
                     }
                     cache.access_quad(first_line, &rows[..near_rows + far_rows], counted);
@@ -776,8 +777,9 @@ impl Texture {
         let column_offset = |x: [u32; N]| lanes::<u32, N>(|i| l.column_offset(x[i]));
         let row_offsets = [row_offset(y[0]), row_offset(y[1])];
         let column_offsets = [column_offset(x[0]), column_offset(x[1])];
-        let offset =
-            |(cx, cy): (usize, usize)| lanes::<u32, N>(|i| at.face_offsets[i] + row_offsets[cy][i] + column_offsets[cx][i]);
+        let offset = |(cx, cy): (usize, usize)| {
+            lanes::<u32, N>(|i| at.face_offsets[i] + row_offsets[cy][i] + column_offsets[cx][i])
+        };
         let texel = |corner| offset(corner).map(|offset| offset / TEXEL_BYTES as u32);
         // An RGBA8 texture is stored as it is decoded; any other format (`STORED`) where its
         // layout says.
@@ -950,9 +952,16 @@ fn sample_group_body(
 /// filter: then they are sampled side by side ([`Texture::sample_pair`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum PairPlan {
-    Single { level: usize, filter: Filter },
+    Single {
+        level: usize,
+        filter: Filter,
+    },
     /// `weights`: each quad's 8-bit weight of `level + 1`.
-    Blend { level: usize, filter: Filter, weights: [u32; 2] },
+    Blend {
+        level: usize,
+        filter: Filter,
+        weights: [u32; 2],
+    },
 }
 
 impl PairPlan {
