@@ -191,6 +191,103 @@ fn rgb_texels_reach_the_window_upright_through_a_blit() {
     assert_eq!(frames[0].4, [70, 80, 90, 255, 100, 110, 120, 255, 10, 20, 30, 255, 40, 50, 60, 255]);
 }
 
+/// A framebuffer whose colour is a multisampled RGBA8 renderbuffer of `samples` samples
+/// (`glRenderbufferStorageMultisample`), cleared to red and blitted onto the 8×4 window.
+/// Returns the storage call's number.
+fn multisampled_renderbuffer_capture(w: &mut Writer, samples: u64) -> u64 {
+    window_surface(w);
+    begin_context(w, 100, 8, 4);
+    let renderbuffer = e("GL_RENDERBUFFER", 0x8d41);
+    let framebuffer = e("GL_FRAMEBUFFER", 0x8d40);
+    w.call("glGenRenderbuffers", &[("n", W::UInt(1)), ("renderbuffers", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindRenderbuffer", &[("target", renderbuffer.clone()), ("renderbuffer", W::UInt(1))], None, false);
+    let storage = w.call(
+        "glRenderbufferStorageMultisample",
+        &[
+            ("target", renderbuffer.clone()),
+            ("samples", W::UInt(samples)),
+            ("internalformat", e("GL_RGBA8", 0x8058)),
+            ("width", W::UInt(8)),
+            ("height", W::UInt(4)),
+        ],
+        None,
+        false,
+    );
+    w.call("glGenFramebuffers", &[("n", W::UInt(1)), ("framebuffers", W::Array(vec![W::UInt(3)]))], None, false);
+    w.call("glBindFramebuffer", &[("target", framebuffer.clone()), ("framebuffer", W::UInt(3))], None, false);
+    w.call(
+        "glFramebufferRenderbuffer",
+        &[
+            ("target", framebuffer.clone()),
+            ("attachment", e("GL_COLOR_ATTACHMENT0", 0x8ce0)),
+            ("renderbuffertarget", renderbuffer),
+            ("renderbuffer", W::UInt(1)),
+        ],
+        None,
+        false,
+    );
+    clear(w, [1.0, 0.0, 0.0, 1.0]);
+    w.call(
+        "glBindFramebuffer",
+        &[("target", e("GL_DRAW_FRAMEBUFFER", 0x8ca9)), ("framebuffer", W::UInt(0))],
+        None,
+        false,
+    );
+    w.call(
+        "glBindFramebuffer",
+        &[("target", e("GL_READ_FRAMEBUFFER", 0x8ca8)), ("framebuffer", W::UInt(3))],
+        None,
+        false,
+    );
+    let rect = |a, b, c, d| [W::UInt(a), W::UInt(b), W::UInt(c), W::UInt(d)];
+    let [s0, s1, s2, s3] = rect(0, 0, 8, 4);
+    let [d0, d1, d2, d3] = rect(0, 0, 8, 4);
+    w.call(
+        "glBlitFramebuffer",
+        &[
+            ("srcX0", s0),
+            ("srcY0", s1),
+            ("srcX1", s2),
+            ("srcY1", s3),
+            ("dstX0", d0),
+            ("dstY0", d1),
+            ("dstX1", d2),
+            ("dstY1", d3),
+            ("mask", W::UInt(0x4000)),
+            ("filter", e("GL_NEAREST", 0x2600)),
+        ],
+        None,
+        false,
+    );
+    swap(w);
+    storage
+}
+
+#[test]
+fn multisampled_renderbuffers_get_the_sample_count_gl_grants() {
+    // Asked → granted: at least as many, no more than the next supported count (GL ES 3.0
+    // §4.4.2.1); 16 is the most.
+    for (asked, granted) in [(16, 16), (9, 16), (3, 4), (0, 1)] {
+        let mut w = Writer::new(6);
+        multisampled_renderbuffer_capture(&mut w, asked);
+        let (result, frames) = replay(&w);
+        let replay = result.unwrap_or_else(|e| panic!("{asked} samples: {e}"));
+        assert_eq!(frames[0].4, solid(8, 4, [255, 0, 0, 255]), "{asked} samples");
+        let pass = replay.report.passes().find(|p| p.framebuffer != 0).expect("the renderbuffer's pass");
+        let color = pass.attachment(tiler_gl::report::Slot::Color(0)).expect("a colour attachment");
+        assert_eq!(color.samples, granted, "{asked} samples asked");
+        // Stored at every sample: 8 × 4 pixels × granted samples × 4 bytes.
+        assert_eq!(color.store_bytes, 8 * 4 * granted as u64 * 4, "{asked} samples asked");
+    }
+    let mut w = Writer::new(6);
+    let call = multisampled_renderbuffer_capture(&mut w, 17);
+    let (result, frames) = replay(&w);
+    let error = result.err().expect("17 samples is more than GL_MAX_SAMPLES");
+    assert_eq!(error.call(), Some(call));
+    assert!(error.to_string().contains("GL_MAX_SAMPLES"), "{error}");
+    assert!(frames.is_empty());
+}
+
 #[test]
 fn an_unsupported_call_fails_with_its_number_and_function() {
     let mut w = Writer::new(6);

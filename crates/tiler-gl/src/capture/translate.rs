@@ -881,7 +881,7 @@ impl Translator {
                     check_2d_level0(*texture_target, *level)?;
                     self.texture_id(*texture)?.ok_or_else(|| format!("texture {texture} has no storage"))?
                 };
-                let samples = (*samples).max(1) as u32;
+                let samples = granted_samples(*samples)?;
                 self.emit(Call::FramebufferTexture { framebuffer, attachment, texture, samples })?;
             }
             C::BindRenderbuffer { renderbuffer, .. } => {
@@ -901,7 +901,7 @@ impl Translator {
                 let format = renderbuffer_format(*internal_format)?;
                 let (width, height) = size2(*width, *height)?;
                 let id = self.fresh_id();
-                let samples = (*samples).max(1) as u32;
+                let samples = granted_samples(*samples)?;
                 self.emit(Call::CreateRenderbuffer { id, width, height, format, samples, transient: false })?;
                 self.objects()?.renderbuffers.insert(name, Some(id));
             }
@@ -1775,6 +1775,18 @@ fn invalidate_point(a: GlEnum, default: bool) -> Fallible<AttachmentPoint> {
         (a, false) => attachment_point(a),
         (a, true) => Err(format!("attachment {a:#06x} is not one of the window's")),
     }
+}
+
+/// The samples a multisampled renderbuffer or render-to-texture gets when the application asks
+/// for `samples`: at least as many, and no more than the next count the implementation
+/// supports (GL ES 3.0 §4.4.2.1), so 0 is one sample, 3 is 4 and 9 is 16. Above the largest
+/// count (16, the context's `GL_MAX_SAMPLES`) GL fails the call, and so does the replay.
+fn granted_samples(samples: i32) -> Fallible<u32> {
+    let supported = tiler::api::image::SUPPORTED_SAMPLE_COUNTS;
+    let asked = samples.max(1) as u32;
+    supported.iter().copied().find(|&n| n >= asked).ok_or_else(|| {
+        format!("{samples} samples: more than GL_MAX_SAMPLES ({})", supported.iter().max().unwrap_or(&1))
+    })
 }
 
 fn renderbuffer_format(f: GlEnum) -> Fallible<TextureFormat> {

@@ -72,6 +72,33 @@ fn each_example_pair_differs_by_what_the_advisor_reports() {
     }
 }
 
+/// The msaa pair with 16 samples in its JSON (renderbuffers and render to texture): the good
+/// form resolves in the tile; the bad form stores the samples and a blit reads them back,
+/// which the advisor prices by hand arithmetic.
+#[test]
+fn the_msaa_pair_at_sixteen_samples() {
+    let at_16 = |name: &str| {
+        let json = std::fs::read_to_string(traces().join(name)).unwrap();
+        assert!(json.contains("\"samples\": 4"), "{name}");
+        let json = json.replace("\"samples\": 4", "\"samples\": 16");
+        let trace = Trace::parse(&json, Some(&traces())).unwrap_or_else(|e| panic!("{name}: {e}"));
+        trace.replay_with(Limits { threads: Some(1), ..Limits::default() }).unwrap_or_else(|e| panic!("{name}: {e}"))
+    };
+    let (good, bad) = (at_16("msaa-good.json"), at_16("msaa-bad.json"));
+    for replay in [&good, &bad] {
+        let samples = replay.report.passes().flat_map(|p| &p.attachments).map(|a| a.samples).max();
+        assert_eq!(samples, Some(16));
+    }
+    assert!(good.report.findings.is_empty(), "{:#?}", good.report.findings);
+    assert_eq!(good.context.surface_rgba8(), bad.context.surface_rgba8());
+    // Per frame (3 frames): 128 × 96 pixels × 16 samples × 4 B = 786,432 B of colour stored,
+    // and as many read back by the resolving blit; resolved in the tile, 1/16 of each.
+    let reported: u64 = bad.report.findings.iter().map(|f| f.cost_bytes.unwrap_or(0)).sum();
+    assert!(bad.report.findings.iter().all(|f| f.id == "msaa-stored"), "{:#?}", bad.report.findings);
+    assert_eq!(reported, 3 * (786_432 + 786_432) * 15 / 16);
+    assert_eq!(bad.report.totals.ledger.total() - good.report.totals.ledger.total(), reported);
+}
+
 /// On an immediate-mode GPU the pairs about loads, stores, flushes and frame data cost the
 /// same in both forms, and the advisor reports none of them there: what remains (stalls,
 /// copies, shading order) still differs by exactly what it reports.

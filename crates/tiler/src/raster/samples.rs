@@ -36,6 +36,8 @@ pub const MAX_SAMPLES: usize = 16;
 pub struct SampleLocations {
     count: usize,
     positions: [(i32, i32); MAX_SAMPLES],
+    /// [`SampleLocations::hull`], worked out once (every primitive's coverage asks for it).
+    hull: (i32, i32, i32, i32),
 }
 
 impl SampleLocations {
@@ -57,7 +59,13 @@ impl SampleLocations {
         for (p, &(x, y)) in positions.iter_mut().zip(table) {
             *p = (x * scale, y * scale);
         }
-        SampleLocations { count: table.len(), positions }
+        let positions = &positions[..table.len()];
+        let xs = positions.iter().map(|p| p.0);
+        let ys = positions.iter().map(|p| p.1);
+        let hull = (xs.clone().min().unwrap(), ys.clone().min().unwrap(), xs.max().unwrap(), ys.max().unwrap());
+        let mut all = [(0, 0); MAX_SAMPLES];
+        all[..table.len()].copy_from_slice(positions);
+        SampleLocations { count: table.len(), positions: all, hull }
     }
 
     pub fn count(&self) -> usize {
@@ -75,10 +83,9 @@ impl SampleLocations {
     }
 
     /// The smallest and largest x and y offsets over all samples: the sample hull of a pixel.
+    #[inline]
     pub fn hull(&self) -> (i32, i32, i32, i32) {
-        let xs = self.iter().map(|p| p.0);
-        let ys = self.iter().map(|p| p.1);
-        (xs.clone().min().unwrap(), ys.clone().min().unwrap(), xs.max().unwrap(), ys.max().unwrap())
+        self.hull
     }
 }
 
