@@ -353,9 +353,15 @@ fn what_if_lines(finding: &crate::Finding) -> String {
                 };
                 let mut figures = vec![format!(
                     "<b>{}</b> (estimated {})",
-                    saved(measured, "B"),
+                    saved(w.measured_bytes_before_elimination.unwrap_or(measured), "B"),
                     format::count(w.estimated_bytes.unwrap_or(0))
                 )];
+                if w.measured_bytes_before_elimination.is_some() {
+                    figures.push(format!(
+                        "of which the device moved {} (transaction elimination skips the stores of unchanged tiles)",
+                        saved(measured, "B")
+                    ));
+                }
                 if w.estimated_fragments.is_some() || w.measured_fragments.is_some_and(|n| n != 0) {
                     figures.push(format!(
                         "<b>{}</b> (estimated {})",
@@ -367,7 +373,11 @@ fn what_if_lines(finding: &crate::Finding) -> String {
                     "{}: {}, {}",
                     escape(&w.fix),
                     figures.join(", "),
-                    if same { "same picture" } else { "<b>the picture changed</b>" }
+                    match (same, w.different_frame) {
+                        (true, _) => "same pictures".to_string(),
+                        (false, Some(frame)) => format!("<b>the picture changed</b> (from frame {frame})"),
+                        (false, None) => "<b>the picture changed</b>".to_string(),
+                    }
                 )
             }
             _ => format!("not tried: {}", escape(&w.fix)),

@@ -10,13 +10,98 @@
 //! of pixels, a flush, a finish) to the end of the pass it cut short — before a swap, after
 //! invalidating the window's depth and stencil, which the swap would throw away anyway;
 //! `unsorted-opaque` reverses the order of the pass's opaque draws (each with the state calls
-//! before it), the usual back-to-front submission turned front to back. The other rules change the content
-//! of the frame (geometry, shaders, draw order, formats) and have no automatic fix.
+//! before it), the usual back-to-front submission turned front to back; `partial-clear`, for
+//! a clear made a clear-quad by the scissor test alone, disables the test around the clear (a
+//! scissor box smaller than the framebuffer then clears more: the picture check says so). The
+//! other rules change the content of the frame (geometry, shaders, formats, resources) and
+//! have no automatic fix; `msaa-stored` (resolving in the tile) would replace the multisampled
+//! renderbuffer of every frame, not edit the one frame the finding prices.
+
+use tiler_finding::WhatIf;
 
 use super::{Finding, RuleId};
 use crate::call::{AttachmentPoint, Call};
-use crate::report::{CallRef, PassRecord, Report, Slot};
+use crate::context::ContextConfig;
+use crate::report::{CallRef, PassRecord, Report, Slot, first_different_frame};
 use crate::trace::{Trace, TraceFrame};
+
+/// A run of a trace that [`prove`] compares its fixed replays with.
+pub struct Run<'a> {
+    /// The configuration it ran with; it must record the presented pictures
+    /// ([`ContextConfig::digest_presented`]).
+    pub config: &'a ContextConfig,
+    pub report: &'a Report,
+    /// The window's picture at the end (RGBA8), for what no swap presented.
+    pub picture: &'a [u8],
+}
+
+/// Applies each finding of `run` alone to the trace's calls, replays the fixed trace as `run`
+/// ran, and returns, per finding in order, what the fix saved beside what the finding
+/// estimated (labelled `device`) and whether every presented picture stayed the same. A fix
+/// whose edited calls fail to replay is reported as not applied, with the replay's error.
+///
+/// On a device with transaction elimination, stores of tiles whose content repeats what
+/// memory holds are skipped, which depends on the pictures, not on the pattern the finding is
+/// about: the estimate prices the stores as made, so the measured saving it is compared with
+/// (`measured_bytes_before_elimination`) counts the stores elimination skipped as moved, and
+/// `measured_bytes` says what the device moved fewer.
+///
+/// # Errors
+/// A run whose configuration did not record the presented pictures, or a trace too long to
+/// edit ([`MAX_WHAT_IF_CALLS`]).
+pub fn prove(trace: &Trace, run: &Run, device: &str) -> Result<Vec<WhatIf>, String> {
+    if !run.config.digest_presented {
+        return Err("the run did not record its presented pictures (ContextConfig::digest_presented)".into());
+    }
+    let before = run.report.totals.ledger.total() as i64;
+    let eliminated = |r: &Report| r.transaction_elimination_saved() as i64;
+    let shaded = |r: &Report| r.totals.counters.fragments_shaded as i64;
+    let mut results = Vec::with_capacity(run.report.findings.len());
+    for finding in &run.report.findings {
+        let mut fixer = Fixer::new(trace)?;
+        let mut result = WhatIf {
+            device: device.to_string(),
+            estimated_bytes: finding.cost_bytes,
+            estimated_fragments: finding.cost_fragments,
+            ..WhatIf::default()
+        };
+        let fix = match fixer.add(finding, run.report) {
+            Ok(fix) => fix,
+            Err(why) => {
+                result.fix = why;
+                results.push(result);
+                continue;
+            }
+        };
+        let mut fixed = fixer.fixed(trace);
+        fixed.config = run.config.clone();
+        let replay = match fixed.replay() {
+            Ok(replay) => replay,
+            Err(e) => {
+                result.fix = format!("{fix}: not applied, the edited calls fail: {e}");
+                results.push(result);
+                continue;
+            }
+        };
+        let measured = before - replay.report.totals.ledger.total() as i64;
+        let before_elimination = measured + eliminated(run.report) - eliminated(&replay.report);
+        let different = first_different_frame(&run.report.frames, &replay.report.frames).or_else(|| {
+            (replay.context.surface_rgba8() != run.picture)
+                .then_some(run.report.frames.len().max(replay.report.frames.len()) as u32)
+        });
+        results.push(WhatIf {
+            fix,
+            applied: true,
+            measured_bytes: Some(measured),
+            measured_bytes_before_elimination: (before_elimination != measured).then_some(before_elimination),
+            measured_fragments: Some(shaded(run.report) - shaded(&replay.report)),
+            same_picture: Some(different.is_none()),
+            different_frame: different.map(u64::from),
+            ..result
+        });
+    }
+    Ok(results)
+}
 
 /// The most calls (repeats expanded) a trace may have for fixes to be applied.
 pub const MAX_WHAT_IF_CALLS: usize = 1 << 20;
@@ -133,8 +218,11 @@ impl Fixer {
             }
             RuleId::FlushMidPass => {
                 let at = finding.location.call_at.map(CallRef::from).ok_or("the finding names no call")?;
-                if !matches!(self.call(at), Some(Call::ReadPixels { .. } | Call::Flush | Call::Finish)) {
-                    return Err("only a read_pixels, flush or finish is moved".into());
+                if !matches!(
+                    self.call(at),
+                    Some(Call::ReadPixels { .. } | Call::Flush | Call::Finish | Call::QueryResult { .. })
+                ) {
+                    return Err("only a read_pixels, query_result, flush or finish is moved".into());
                 }
                 // To the end of the pass it cut short: just before the call that ends the
                 // pass drawing went on in.
@@ -166,6 +254,31 @@ impl Fixer {
                 self.move_before(at.frame as usize, call..call + 1, to)?;
                 let invalidated = if window { ", the window's depth and stencil invalidated first" } else { "" };
                 Ok(format!("move {at} to just before {to}, the end of the pass{invalidated}"))
+            }
+            RuleId::PartialClear => {
+                // A clear made a clear-quad only by the scissor test: clear with it off.
+                let at = finding.location.call_at.map(CallRef::from).ok_or("the finding names no call")?;
+                if !matches!(self.call(at), Some(Call::Clear { .. })) {
+                    return Err("the finding names no clear".into());
+                }
+                let pass = pass?;
+                let reasons = pass
+                    .draws
+                    .iter()
+                    .find(|d| d.call == at)
+                    .and_then(|d| d.partial_clear.as_ref())
+                    .map(|pc| pc.reasons.clone())
+                    .unwrap_or_default();
+                if reasons.is_empty() || reasons.iter().any(|r| !r.contains("scissor")) {
+                    return Err(format!(
+                        "only a clear made partial by the scissor test alone is fixed automatically (this one: {})",
+                        reasons.join(", ")
+                    ));
+                }
+                use crate::call::Capability;
+                self.before(at, vec![Call::Disable { cap: Capability::ScissorTest }])?;
+                self.after(at, vec![Call::Enable { cap: Capability::ScissorTest }])?;
+                Ok(format!("disable the scissor test around the clear at {at}"))
             }
             RuleId::UnsortedOpaque => {
                 let pass = pass?;

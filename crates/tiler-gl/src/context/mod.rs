@@ -111,6 +111,12 @@ pub struct ContextConfig {
     /// report; off, a long run keeps only the totals. Not part of a trace.
     #[serde(skip)]
     pub keep_pass_reports: bool,
+    /// Record a digest of the window's picture at each swap in the frame's
+    /// [`FrameRecord::presented_digest`](crate::report::FrameRecord::presented_digest), so
+    /// that two runs can be checked to present the same pictures frame by frame
+    /// (`tiler analyze --devices`, `--what-if`). Not part of a trace.
+    #[serde(skip)]
+    pub digest_presented: bool,
 }
 
 fn default_color_format() -> TextureFormat {
@@ -156,6 +162,7 @@ impl ContextConfig {
             memory_limit: default_memory_limit(),
             device: None,
             keep_pass_reports: false,
+            digest_presented: false,
         }
     }
 
