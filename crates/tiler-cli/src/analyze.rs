@@ -189,9 +189,9 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
         print!("{}", what_if_text(&first.report.findings));
         return Ok(());
     }
-    let report = shared_report(&args.trace, &replays, args.report.fps)?;
+    let report = shared_report(&args.trace, &mut replays, args.report.fps)?;
     let lines = args.report.write(&report)?;
-    print!("{}", text_report(&first.report));
+    print!("{}", text_report(&replays[0].report));
     if replays.len() > 1 {
         print!("{}", findings_per_device(&report));
     }
@@ -322,8 +322,8 @@ fn replay_capture(
 
 /// The report every frame source shares: one column per replay, the passes as the driver
 /// inferred them, and each finding priced on each device.
-fn shared_report(path: &Path, replays: &[Replayed], fps: f64) -> Result<Report> {
-    let columns = replays.iter().map(column).collect::<Result<Vec<_>>>()?;
+fn shared_report(path: &Path, replays: &mut [Replayed], fps: f64) -> Result<Report> {
+    let columns = replays.iter_mut().map(column).collect::<Result<Vec<_>>>()?;
     let first = &replays[0].report;
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let scene = SceneInfo {
@@ -352,17 +352,18 @@ fn shared_report(path: &Path, replays: &[Replayed], fps: f64) -> Result<Report> 
 }
 
 /// A replay as a report column: every pass of every frame (with the traffic the driver
-/// counts for it), and each frame's presenting and driver costs.
-fn column(replayed: &Replayed) -> Result<Column> {
+/// counts for it), and each frame's presenting and driver costs. The core's pass reports move
+/// into the column (each is held once).
+fn column(replayed: &mut Replayed) -> Result<Column> {
     let mut frame = FrameCost::default();
     let mut frames = Vec::with_capacity(replayed.report.frames.len());
-    for record in &replayed.report.frames {
+    for record in &mut replayed.report.frames {
         let first_pass = frame.passes.len();
-        for pass in &record.passes {
-            let Some(core) = &pass.core else {
+        for pass in &mut record.passes {
+            let Some(core) = pass.core.take() else {
                 bail!("pass {} has no record of its cost (an internal error)", pass.index);
             };
-            let mut core = (**core).clone();
+            let mut core = *core;
             core.ledger.merge(&pass.extra);
             frame.passes.push(core);
         }

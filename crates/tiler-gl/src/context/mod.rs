@@ -638,14 +638,17 @@ impl Context {
     }
 
     /// Renders whatever is still pending, closes the frame being built (if it did anything),
-    /// and returns everything the context did with the advisor's findings.
+    /// and returns everything the context did with the advisor's findings. The frame records
+    /// move into the report (a run's records, with the core's pass reports when
+    /// [`ContextConfig::keep_pass_reports`], are held once, not copied): [`Context::frames`]
+    /// is empty afterwards.
     ///
     /// # Errors
     /// A pending pass that fails to render.
     pub fn end(&mut self) -> Result<Report, Error> {
         let here = self.here;
         self.end_run().map_err(|message| Error { frame: here.frame, call: here.call, name: "end", message })?;
-        Ok(Report::new(self.config.clone(), self.frames.clone()))
+        Ok(Report::new(self.config.clone(), std::mem::take(&mut self.frames)))
     }
 
     /// Executes one call.

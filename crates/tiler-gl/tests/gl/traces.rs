@@ -697,3 +697,43 @@ fn dead_packed_depth_and_stencil_are_one_finding_for_the_whole_word() {
         assert_eq!(finding.cost_bytes, Some(128 * 96 * 4), "{}", finding.message);
     }
 }
+
+/// A long run's records are held once: `Context::end` moves the frames into the report (the
+/// context keeps none), and each pass keeps exactly one core report, whose per-tile arrays are
+/// one entry per tile and whose overdraw map is absent unless the device records one. So the
+/// memory of a run with `keep_pass_reports` grows by a fixed amount per pass, counted here in
+/// records and entries rather than timed: 12 frames hold 12 frame records, and every frame
+/// after the first holds the same passes, tile entries and draws.
+#[test]
+fn a_runs_records_are_held_once_and_grow_linearly_small() {
+    let mut trace = Trace::read(&traces().join("rebind-good.json")).unwrap();
+    let frames_in_file: u32 = trace.frames.iter().map(|f| f.repeat).sum();
+    let extra = 12 - frames_in_file;
+    trace.frames.last_mut().unwrap().repeat += extra;
+    trace.config.keep_pass_reports = true;
+    let mut replay = trace.replay_with(Limits { threads: Some(1), ..Limits::default() }).unwrap();
+    assert!(replay.context.frames().is_empty(), "the context keeps no copy of the records");
+    assert_eq!(replay.context.end().unwrap().frames.len(), 0, "ending again adds nothing");
+    let report = &replay.report;
+    assert_eq!(report.frames.len(), 12);
+    let passes: Vec<_> = report.passes().collect();
+    let tiles = |p: &&tiler_gl::report::PassRecord| (p.cost.tiles_x * p.cost.tiles_y) as usize;
+    for pass in &passes {
+        let core = pass.core.as_ref().expect("kept");
+        assert_eq!(core.tiles.len(), tiles(pass), "pass {}: one entry per tile", pass.index);
+        assert_eq!(core.draws.len(), pass.draws.len(), "pass {}: one entry per draw", pass.index);
+        assert!(core.overdraw_map.is_none(), "pass {}: no per-pixel map unless the device records one", pass.index);
+    }
+    // Every frame holds the same: the records grow in step with the frames.
+    let per_frame: Vec<(usize, usize, usize)> = report
+        .frames
+        .iter()
+        .skip(1)
+        .map(|f| {
+            let tile_entries = f.passes.iter().map(|p| p.core.as_ref().unwrap().tiles.len()).sum();
+            let draws = f.passes.iter().map(|p| p.draws.len()).sum();
+            (f.passes.len(), tile_entries, draws)
+        })
+        .collect();
+    assert!(per_frame.windows(2).all(|w| w[0] == w[1]), "{per_frame:?}");
+}
