@@ -13,9 +13,10 @@
 //! before it), the usual back-to-front submission turned front to back; `partial-clear`, for
 //! a clear made a clear-quad by the scissor test alone, disables the test around the clear (a
 //! scissor box smaller than the framebuffer then clears more: the picture check says so). The
-//! other rules change the content of the frame (geometry, shaders, formats, resources) and
-//! have no automatic fix; `msaa-stored` (resolving in the tile) would replace the multisampled
-//! renderbuffer of every frame, not edit the one frame the finding prices.
+//! other rules change the content of the frame (geometry, shaders, formats) and have no
+//! automatic fix. `msaa-stored` renders the finding's frame to a multisampled texture resolved in
+//! the tile (a framebuffer and texture made for that frame) and has the frame's blits read
+//! the resolved texture.
 
 use tiler_finding::WhatIf;
 
@@ -102,6 +103,10 @@ pub fn prove(trace: &Trace, run: &Run, device: &str) -> Result<Vec<WhatIf>, Stri
     }
     Ok(results)
 }
+
+/// The first of the names (textures, framebuffers) a fix creates: three per frame from here,
+/// far above the names applications use.
+pub const FIX_NAMES: u32 = 0x7000_0000;
 
 /// The most calls (repeats expanded) a trace may have for fixes to be applied.
 pub const MAX_WHAT_IF_CALLS: usize = 1 << 20;
@@ -255,6 +260,10 @@ impl Fixer {
                 let invalidated = if window { ", the window's depth and stencil invalidated first" } else { "" };
                 Ok(format!("move {at} to just before {to}, the end of the pass{invalidated}"))
             }
+            RuleId::MsaaStored => {
+                let pass = pass?;
+                self.resolve_in_tile(pass)
+            }
             RuleId::PartialClear => {
                 // A clear made a clear-quad only by the scissor test: clear with it off.
                 let at = finding.location.call_at.map(CallRef::from).ok_or("the finding names no call")?;
@@ -346,6 +355,126 @@ impl Fixer {
         edits.moved.push(start..from);
         edits.before.push((start, reordered));
         Ok(())
+    }
+
+    /// `msaa-stored`: the pass renders to a multisampled texture resolved in the tile
+    /// (`framebuffer_texture` with samples) instead of the multisampled colour renderbuffer,
+    /// through a framebuffer made for this frame with the same other attachments; the reads
+    /// of the framebuffer that follow in the frame (a blit's `bind_framebuffer` for reading)
+    /// read the single-sampled texture. Only this frame changes, as the finding prices it.
+    fn resolve_in_tile(&mut self, pass: &PassRecord) -> Result<String, String> {
+        use crate::call::FramebufferTarget;
+        let at = pass.started_at;
+        let (target, fb) = match self.call(at) {
+            Some(Call::BindFramebuffer { target, framebuffer })
+                if *target != FramebufferTarget::Read && *framebuffer == pass.framebuffer && *framebuffer != 0 =>
+            {
+                (*target, *framebuffer)
+            }
+            _ => return Err("the pass does not begin by binding an application framebuffer".into()),
+        };
+        // The framebuffer's attachments as the calls up to the bind left them.
+        let mut attached: Vec<(AttachmentPoint, Call)> = Vec::new();
+        let mut renderbuffers: std::collections::HashMap<u32, (u32, u32, crate::call::TextureFormat, u32)> =
+            std::collections::HashMap::new();
+        let upto = self.frames[..=at.frame as usize].iter().enumerate().flat_map(|(f, calls)| {
+            let end = if f == at.frame as usize { at.call as usize } else { calls.len() };
+            calls[..end].iter()
+        });
+        for call in upto {
+            match call {
+                Call::CreateRenderbuffer { id, width, height, format, samples, .. } => {
+                    renderbuffers.insert(*id, (*width, *height, *format, *samples));
+                }
+                Call::FramebufferRenderbuffer { framebuffer, attachment, .. }
+                | Call::FramebufferTexture { framebuffer, attachment, .. }
+                    if *framebuffer == fb =>
+                {
+                    attached.retain(|(point, _)| point != attachment);
+                    attached.push((*attachment, call.clone()));
+                }
+                _ => {}
+            }
+        }
+        let color = attached.iter().find(|(point, _)| *point == AttachmentPoint::Color0).map(|(_, c)| c);
+        let Some(Call::FramebufferRenderbuffer { renderbuffer, .. }) = color else {
+            return Err("only a multisampled colour renderbuffer at color0 is replaced".into());
+        };
+        let Some(&(width, height, format, samples)) = renderbuffers.get(renderbuffer) else {
+            return Err(format!("renderbuffer {renderbuffer} is not created by the calls"));
+        };
+        if samples <= 1
+            || attached.iter().any(|(point, _)| {
+                !matches!(
+                    point,
+                    AttachmentPoint::Color0
+                        | AttachmentPoint::Depth
+                        | AttachmentPoint::Stencil
+                        | AttachmentPoint::DepthStencil
+                )
+            })
+        {
+            return Err("only a framebuffer with one multisampled colour attachment is changed".into());
+        }
+        // Names of this frame's own: far above what applications use.
+        let base = FIX_NAMES + 3 * at.frame;
+        let (draw_fb, read_fb, texture) = (base, base + 1, base + 2);
+        let mut setup = vec![
+            Call::CreateTexture { id: texture, width, height, format, data: None, transient: false },
+            Call::CreateFramebuffer { id: draw_fb },
+            Call::FramebufferTexture { framebuffer: draw_fb, attachment: AttachmentPoint::Color0, texture, samples },
+        ];
+        for (_, call) in attached.iter().filter(|(point, _)| *point != AttachmentPoint::Color0) {
+            setup.push(match call.clone() {
+                Call::FramebufferRenderbuffer { attachment, renderbuffer, .. } => {
+                    Call::FramebufferRenderbuffer { framebuffer: draw_fb, attachment, renderbuffer }
+                }
+                Call::FramebufferTexture { attachment, texture, samples, .. } => {
+                    Call::FramebufferTexture { framebuffer: draw_fb, attachment, texture, samples }
+                }
+                other => other,
+            });
+        }
+        setup.push(Call::CreateFramebuffer { id: read_fb });
+        setup.push(Call::FramebufferTexture {
+            framebuffer: read_fb,
+            attachment: AttachmentPoint::Color0,
+            texture,
+            samples: 1,
+        });
+        setup.push(Call::BindFramebuffer { target, framebuffer: draw_fb });
+        let frame = at.frame as usize;
+        let bind = at.call as usize;
+        // The reads that follow in the frame, until the framebuffer is drawn to again.
+        let mut reads = Vec::new();
+        for (i, call) in self.frames[frame].iter().enumerate().skip(pass.ended_at.call as usize) {
+            match call {
+                Call::BindFramebuffer { target: FramebufferTarget::Read, framebuffer } if *framebuffer == fb => {
+                    reads.push(i)
+                }
+                Call::BindFramebuffer { framebuffer, .. } if *framebuffer == fb => break,
+                _ => {}
+            }
+        }
+        let edits = &mut self.edits[frame];
+        if edits.moved.iter().any(|m| m.contains(&bind) || reads.iter().any(|r| m.contains(r))) {
+            return Err("the calls are already moved".into());
+        }
+        edits.moved.push(bind..bind + 1);
+        edits.before.push((bind, setup));
+        for &i in &reads {
+            edits.moved.push(i..i + 1);
+            edits
+                .before
+                .push((i, vec![Call::BindFramebuffer { target: FramebufferTarget::Read, framebuffer: read_fb }]));
+        }
+        Ok(format!(
+            "render frame {}'s pass on framebuffer {fb} to a {samples}× multisampled texture resolved in the tile \
+             (framebuffer_texture with samples) instead of renderbuffer {renderbuffer}, and read the resolved texture \
+             in the {} read(s) that follow",
+            at.frame,
+            reads.len()
+        ))
     }
 
     fn check(&self, at: CallRef) -> Result<(), String> {

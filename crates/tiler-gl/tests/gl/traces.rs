@@ -459,7 +459,7 @@ fn each_fix_applied_to_the_bad_form_costs_what_the_good_form_costs() {
     let limits = Limits { threads: Some(1), ..Limits::default() };
     let mut table = String::new();
     for preset in tiler::DevicePreset::builtins() {
-        for name in ["clear", "rebind", "invalidate", "readback", "sort", "masked-clear", "query"] {
+        for name in ["clear", "rebind", "invalidate", "readback", "sort", "masked-clear", "query", "msaa"] {
             let on_device = |file: &str| {
                 let mut trace = Trace::read(&traces().join(file)).unwrap();
                 trace.config = ContextConfig { digest_presented: true, ..trace.config.on_device(&preset.device) };
