@@ -11,8 +11,8 @@
 //! invalidating the window's depth and stencil, which the swap would throw away anyway;
 //! `unsorted-opaque` reverses the order of the pass's opaque draws (each with the state calls
 //! before it), the usual back-to-front submission turned front to back; `partial-clear`, for
-//! a clear made a clear-quad by the scissor test alone, disables the test around the clear (a
-//! scissor box smaller than the framebuffer then clears more: the picture check says so). The
+//! a clear made a clear-quad by the scissor test alone with a box covering the framebuffer,
+//! disables the test around the clear (a smaller box keeps what lies outside it: no fix). The
 //! other rules change the content of the frame (geometry, shaders, formats) and have no
 //! automatic fix. `msaa-stored` renders the finding's frame to a multisampled texture resolved in
 //! the tile (a framebuffer and texture made for that frame) and has the frame's blits read
@@ -271,13 +271,16 @@ impl Fixer {
                     return Err("the finding names no clear".into());
                 }
                 let pass = pass?;
-                let reasons = pass
-                    .draws
-                    .iter()
-                    .find(|d| d.call == at)
-                    .and_then(|d| d.partial_clear.as_ref())
-                    .map(|pc| pc.reasons.clone())
-                    .unwrap_or_default();
+                let quad = pass.draws.iter().find(|d| d.call == at);
+                let reasons =
+                    quad.and_then(|d| d.partial_clear.as_ref()).map(|pc| pc.reasons.clone()).unwrap_or_default();
+                // A box smaller than the framebuffer keeps what lies outside it: clearing
+                // without it would change the picture, and the advice is then to keep it.
+                if quad.is_some_and(|d| d.clip_rect.area() < pass.width as u64 * pass.height as u64) {
+                    return Err("the scissor box is smaller than the framebuffer: without it the clear would clear \
+                                more; keep the scissor around the pass or use a tiled-rendering region, as advised"
+                        .into());
+                }
                 if reasons.is_empty() || reasons.iter().any(|r| !r.contains("scissor")) {
                     return Err(format!(
                         "only a clear made partial by the scissor test alone is fixed automatically (this one: {})",
