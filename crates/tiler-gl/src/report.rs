@@ -584,3 +584,31 @@ impl Report {
         self.findings.iter().filter(move |f| f.id == id)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(digests: &[Option<u64>]) -> Vec<FrameRecord> {
+        digests
+            .iter()
+            .enumerate()
+            .map(|(i, d)| FrameRecord { index: i as u32, presented_digest: *d, ..FrameRecord::default() })
+            .collect()
+    }
+
+    /// Every presented frame is compared, in order; the first that differs is named; a frame
+    /// that presented nothing is not compared, and a picture one run presented and the other
+    /// did not differs.
+    #[test]
+    fn the_first_different_presented_frame_is_named() {
+        let a = run(&[Some(1), Some(2), Some(3), None]);
+        assert_eq!(first_different_frame(&a, &run(&[Some(1), Some(2), Some(3)])), None);
+        assert_eq!(first_different_frame(&a, &run(&[Some(1), Some(9), Some(3)])), Some(1));
+        assert_eq!(first_different_frame(&a, &run(&[Some(1), Some(2)])), Some(2));
+        assert_eq!(first_different_frame(&run(&[Some(1)]), &run(&[Some(1), Some(5)])), Some(1));
+        let picture = [10u8, 20, 30, 255];
+        assert_ne!(picture_digest(1, 1, &picture), picture_digest(1, 1, &[10, 20, 31, 255]));
+        assert_ne!(picture_digest(1, 2, &[0; 8]), picture_digest(2, 1, &[0; 8]), "the size counts");
+    }
+}
