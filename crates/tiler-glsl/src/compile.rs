@@ -333,6 +333,8 @@ impl<'a> Compiler<'a> {
         }
         let mut code = self.code;
         let mut bank = self.bank;
+        let constants = crate::fold::Constants::new(&mut bank, self.consts.values().copied());
+        crate::fold::optimize(&mut code, self.work as usize, &mut { constants }, &pinned);
         let bank_program = crate::hoist::hoist(&mut code, self.work as usize, &mut bank, &pinned);
         crate::fuse::fuse(&mut code, self.work as usize, &pinned);
         StageCode {

@@ -317,7 +317,7 @@ pub fn run_bank<const W: usize>(code: &[Inst], bank: &mut [[f32; W]]) {
 }
 
 #[inline(always)]
-fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
+pub(crate) fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
     let f: fn(f32) -> f32 = match op {
         UnOp::Mov => return a,
         UnOp::Neg => return a.map(|x| -x),
@@ -357,7 +357,7 @@ fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
 }
 
 #[inline(always)]
-fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f32; W] {
+pub(crate) fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f32; W] {
     let mut out = [0.0; W];
     macro_rules! lanes {
         ($f:expr) => {{
@@ -393,7 +393,7 @@ fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f32; W] {
 }
 
 #[inline(always)]
-fn ternary<const W: usize>(op: TriOp, a: [f32; W], b: [f32; W], c: [f32; W]) -> [f32; W] {
+pub(crate) fn ternary<const W: usize>(op: TriOp, a: [f32; W], b: [f32; W], c: [f32; W]) -> [f32; W] {
     let mut out = [0.0; W];
     macro_rules! lanes {
         ($f:expr) => {{

@@ -103,6 +103,7 @@
 
 pub mod compile;
 pub mod exec;
+mod fold;
 mod fuse;
 pub mod guard;
 mod hoist;

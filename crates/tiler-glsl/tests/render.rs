@@ -9,9 +9,9 @@ use std::sync::Arc;
 
 use glam::Vec4;
 use tiler::{
-    ColorAttachment, ColorSpace, Device, DeviceConfig, Draw, F32x8, Format, FragmentShader, Fragments, ImageDesc,
-    Interpolation, LaneMask, MipChain, PassReport, Pipeline, PipelineDesc, RenderPass, RenderPassDesc, Sampler,
-    ShaderProperties, Texture, VertexFormat, VertexInput, VertexInputState, VertexOutput, VertexShader,
+    Category, ColorAttachment, ColorSpace, Device, DeviceConfig, Draw, F32x8, Format, FragmentShader, Fragments,
+    ImageDesc, Interpolation, LaneMask, MipChain, PassReport, Pipeline, PipelineDesc, RenderPass, RenderPassDesc,
+    Sampler, ShaderProperties, Texture, VertexFormat, VertexInput, VertexInputState, VertexOutput, VertexShader,
 };
 use tiler_glsl::{CompiledProgram, Error, Stage, TextureBinding, Type, UniformValues};
 
@@ -842,14 +842,57 @@ fn hostile_programs_fail_cleanly() {
     );
 }
 
+/// A convolution whose weights are the constants 0 and 1 (glmark2's effect2d with its
+/// identity kernel) compiles to the one lookup whose weight is 1: the picture is the single
+/// lookup's, bit for bit, and so is the texture traffic — the zero-weighted lookups are not
+/// fetched, as a GPU's compiler removes them (see `fold.rs`).
+#[test]
+fn lookups_weighted_by_a_constant_zero_are_not_fetched() {
+    const KERNEL: &str = "
+precision mediump float;
+const float K0 = 0.0;
+const float K1 = 1.0;
+const float Step = 0.0625;
+uniform sampler2D tex;
+varying vec2 uv;
+void main() {
+    vec4 result = texture2D(tex, uv + vec2(-Step, 0.0)) * K0 +
+                  texture2D(tex, uv + vec2(0.0 * Step, 0.0)) * K1 +
+                  texture2D(tex, uv + vec2(Step, Step)) * K0;
+    gl_FragColor = vec4(result.xyz, 1.0);
+}";
+    const SINGLE: &str = "
+precision mediump float;
+uniform sampler2D tex;
+varying vec2 uv;
+void main() { gl_FragColor = vec4(texture2D(tex, uv).xyz, 1.0); }";
+    let textures = [Some(TextureBinding::Core(checker_texture(), Sampler::BILINEAR_CLAMP))];
+    let kernel = glsl(PASS_VS, KERNEL);
+    let single = glsl(PASS_VS, SINGLE);
+    assert_eq!(kernel.instruction_counts().1, single.instruction_counts().1);
+    let (a, ra) = render(&glsl_pipeline(&kernel, &kernel.new_uniform_values(), &textures));
+    let (b, rb) = render(&glsl_pipeline(&single, &single.new_uniform_values(), &textures));
+    assert_same(&a, &b, 20);
+    assert_eq!(ra.ledger, rb.ledger, "the zero-weighted lookups were fetched");
+    assert_eq!(ra.counters.texels_read, rb.counters.texels_read);
+    assert!(ra.ledger.get(Category::TextureFetch) > 0);
+
+    // A weight that is not a constant keeps its lookup.
+    let uniform_weight = KERNEL.replace("const float K0 = 0.0;", "uniform float K0;");
+    let kept = glsl(PASS_VS, &uniform_weight);
+    let (_, rk) = render(&glsl_pipeline(&kept, &kept.new_uniform_values(), &textures));
+    assert_eq!(rk.counters.texels_read, 3 * rb.counters.texels_read);
+}
+
 #[test]
 fn uniform_only_arithmetic_is_computed_once_per_instance() {
     const FS: &str = "
 uniform vec3 u;
 void main() { gl_FragColor = vec4(normalize(u) * 0.5 + 0.5, 1.0); }";
     let program = glsl(PASS_VS, FS);
-    // gl_FragColor's zeroing and its four stores are all that is left per group.
-    assert_eq!(program.instruction_counts().1, 8);
+    // gl_FragColor's four moves from the bank are all that is left per group (its zeroing
+    // is overwritten before any read, and the stores at the top of `main` are moves).
+    assert_eq!(program.instruction_counts().1, 4);
     let u = [0.3f32, -0.7, 0.2];
     let mut uniforms = program.new_uniform_values();
     program.set_uniform(&mut uniforms, 0, &u).unwrap();
