@@ -97,6 +97,17 @@ impl Executable {
     pub fn code(&self) -> &[Inst] {
         &self.code
     }
+
+    /// For each work register, whether an instruction reads it.
+    pub fn reads(&self) -> Vec<bool> {
+        let mut read = vec![false; self.work_regs];
+        registers_mut(&mut self.code.clone(), &mut |r, written| {
+            if !written && (*r as usize) < self.work_regs {
+                read[*r as usize] = true;
+            }
+        });
+        read
+    }
 }
 
 /// Calls `f` on every register of `code` (nested blocks included), with whether it is
@@ -520,6 +531,11 @@ pub(crate) fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f3
         BinOp::Mul => lanes!(|x: f32, y: f32| x * y),
         BinOp::Div => lanes!(|x: f32, y: f32| x / y),
         BinOp::IDiv => lanes!(|x: f32, y: f32| (x / y).trunc()),
+        BinOp::IRem => lanes!(|x: f32, y: f32| {
+            // Ints are held exactly in f32 (`ir`); the casts saturate, and NaN is 0.
+            let (x, y) = (x as i64, y as i64);
+            if y == 0 { 0.0 } else { (x % y) as f32 }
+        }),
         BinOp::Mod => lanes!(|x: f32, y: f32| x - y * (x / y).floor()),
         BinOp::Min => lanes!(|x: f32, y: f32| if y < x { y } else { x }),
         BinOp::Max => lanes!(|x: f32, y: f32| if x < y { y } else { x }),

@@ -1061,6 +1061,30 @@ void main() { color = ids + texture(tex, passed) + textureLod(tex, passed, 0.0);
     assert!(matches!(e, Error::Compile { stage: Stage::Vertex, line: 4, .. }), "{e}");
 }
 
+/// `%` on integers (ES 3.00): exact, on vectors component-wise, folded when constant;
+/// on floats a compile error that points to `mod()`.
+#[test]
+fn integer_remainder_is_exact() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+void main() {
+    int x = int(a.x);
+    ivec2 v = ivec2(int(a.y), 23) % ivec2(int(a.z), 6);
+    r = vec4(float(x % 5), float(16777213 % 7), float(v.x), float(v.y));
+    gl_Position = a;
+}";
+    const FS: &str = "#version 300 es
+precision mediump float;
+in vec4 r;
+out vec4 c;
+void main() { c = r; }";
+    let out = run_vertex(VS, FS, [17.0, 16777215.0, 65536.0, 1.0], |_, _| {});
+    assert_eq!(out, [2.0, 5.0, 65535.0, 5.0]);
+    let e = CompiledProgram::new(VS, &FS.replace("c = r;", "c = vec4(r.x % 2.0);"), &[]).unwrap_err();
+    assert!(e.to_string().contains("mod()"), "{e}");
+}
+
 #[test]
 fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
     let vs = "#version 300 es\nin vec4 p;\nout vec4 v;\nvoid main() { v = p; gl_Position = p; }";
