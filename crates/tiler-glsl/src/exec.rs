@@ -97,17 +97,6 @@ impl Executable {
     pub fn code(&self) -> &[Inst] {
         &self.code
     }
-
-    /// For each work register, whether an instruction reads it.
-    pub fn reads(&self) -> Vec<bool> {
-        let mut read = vec![false; self.work_regs];
-        registers_mut(&mut self.code.clone(), &mut |r, written| {
-            if !written && (*r as usize) < self.work_regs {
-                read[*r as usize] = true;
-            }
-        });
-        read
-    }
 }
 
 /// Calls `f` on every register of `code` (nested blocks included), with whether it is

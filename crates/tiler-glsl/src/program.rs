@@ -73,9 +73,6 @@ pub struct CompiledProgram {
     /// The stages' code as the executor runs it (one register file, checked registers).
     vertex_executable: Executable,
     fragment_executable: Executable,
-    /// The fragment shader's inputs it reads: (register, varying float), so that a varying
-    /// it declares but never uses is not interpolated per group.
-    fragment_reads: Vec<(Reg, usize)>,
     attributes: Vec<AttributeInfo>,
     varyings: Vec<VaryingInfo>,
     uniforms: Vec<UniformInfo>,
@@ -144,20 +141,11 @@ impl CompiledProgram {
         let (varyings, hidden, varying_floats) = link_varyings(&vertex, &fragment)?;
         let (uniforms, blocks, vertex_uniform_offsets, fragment_uniform_offsets, uniform_floats) =
             link_uniforms(&vertex, &fragment)?;
-        let read = fragment_executable.reads();
-        let fragment_reads = fragment
-            .inputs
-            .iter()
-            .zip(&varyings)
-            .flat_map(|(input, v)| input.regs.iter().enumerate().map(move |(k, &r)| (r, v.first + k)))
-            .filter(|&(r, _)| read.get(r as usize).copied().unwrap_or(false))
-            .collect();
         Ok(CompiledProgram {
             vertex,
             fragment,
             vertex_executable,
             fragment_executable,
-            fragment_reads,
             attributes,
             varyings,
             uniforms,
@@ -514,6 +502,8 @@ pub fn shaders(
             (vs.regs.clone(), v.first)
         })
         .collect();
+    let inputs: Vec<(Vec<Reg>, usize)> =
+        program.fragment.inputs.iter().zip(&program.varyings).map(|(input, v)| (input.regs.clone(), v.first)).collect();
     (
         GlslVertexShader {
             program: program.clone(),
@@ -528,6 +518,7 @@ pub fn shaders(
             id: new_instance(),
             bank: fbank,
             slots: fslots,
+            inputs,
             height: framebuffer_height as f32,
         },
     )
@@ -580,6 +571,8 @@ pub struct GlslFragmentShader {
     id: u64,
     bank: Vec<[f32; 8]>,
     slots: Vec<Option<TextureBinding>>,
+    /// Each fragment varying's registers and first float.
+    inputs: Vec<(Vec<Reg>, usize)>,
     height: f32,
 }
 
@@ -843,8 +836,10 @@ impl FragmentShader for GlslFragmentShader {
         FRAGMENT_WORK.with_borrow_mut(|file| {
             let executable = &self.program.fragment_executable;
             let regs = file.load(self.id, executable, &self.bank);
-            for &(r, varying) in &self.program.fragment_reads {
-                regs[r as usize] = frag.smooth(varying).0;
+            for (vregs, first) in &self.inputs {
+                for (k, &r) in vregs.iter().enumerate() {
+                    regs[r as usize] = frag.smooth(first + k).0;
+                }
             }
             if let Some(fc) = code.frag_coord {
                 let (x, y) = frag.position();
