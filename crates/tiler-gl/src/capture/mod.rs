@@ -131,16 +131,30 @@ pub struct Replay {
 pub enum CaptureError {
     #[error("{path}: {source}")]
     Open { path: String, source: std::io::Error },
+    // The inner error is in the message and so is not also the `source` (`#[from]` would make
+    // it one, and a printer of the error chain, as `tiler`'s, would then say it twice).
     #[error("reading the capture: {0}")]
-    Read(#[from] tiler_apitrace::ReadError),
+    Read(tiler_apitrace::ReadError),
     #[error("decoding the capture: {0}")]
-    Decode(#[from] tiler_apitrace::gles::DecodeError),
+    Decode(tiler_apitrace::gles::DecodeError),
     /// A call the replay cannot express, or one the context refused.
     #[error("call {call} `{function}`: {message}")]
     Call { call: u64, function: String, message: String },
     /// The caller's frame handler failed.
     #[error("frame {frame} (call {call}): {message}")]
     Frame { frame: u32, call: u64, message: String },
+}
+
+impl From<tiler_apitrace::ReadError> for CaptureError {
+    fn from(e: tiler_apitrace::ReadError) -> CaptureError {
+        CaptureError::Read(e)
+    }
+}
+
+impl From<tiler_apitrace::gles::DecodeError> for CaptureError {
+    fn from(e: tiler_apitrace::gles::DecodeError) -> CaptureError {
+        CaptureError::Decode(e)
+    }
 }
 
 impl CaptureError {

@@ -708,7 +708,10 @@ impl Translator {
                 let t = self.objects()?.textures.get_mut(&name).expect("inserted above");
                 t.id = Some(id);
                 t.upload = Some(upload);
-                t.opaque = matches!(*internal_format, texels::GL_RGB | texels::GL_LUMINANCE | 0x8051 | 0x8d62);
+                t.opaque = matches!(
+                    *internal_format,
+                    texels::GL_RGB | texels::GL_LUMINANCE | texels::GL_RED | texels::GL_RG | 0x8051 | 0x8d62 | 0x8229 | 0x822b
+                );
                 t.size = (width, height);
                 self.update_sampler(name)?;
             }
