@@ -747,8 +747,6 @@ static void scene_formats(void) {
         static const GLushort h[8] = {0x0000, 0x3400, 0x3800, 0x3A00, 0x3C00, 0x3D00, 0x3E00, 0x3F00};
         halves[i] = h[(i * 5) % 8];
     }
-    GLuint packed[8 * 8];
-    for (int i = 0; i < 64; i++) packed[i] = (GLuint)(i * 2654435761u);
     struct { GLenum internal, format, type; const void *data; float scale; } formats[] = {
         {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, bytes, 1},
         {GL_RGB8, GL_RGB, GL_UNSIGNED_BYTE, bytes, 1},
@@ -763,7 +761,7 @@ static void scene_formats(void) {
         {GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT, halves, 0.5f},
         {GL_R32F, GL_RED, GL_FLOAT, floats, 0.5f},
         {GL_RGBA32F, GL_RGBA, GL_FLOAT, floats, 0.5f},
-        {GL_RGB10_A2, GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV, packed, 1},
+        {GL_RG16F, GL_RG, GL_HALF_FLOAT, halves, 0.5f},
         {GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE, bytes, 1},
         {GL_LUMINANCE, GL_LUMINANCE, GL_UNSIGNED_BYTE, bytes, 1},
     };

@@ -47,7 +47,8 @@ impl Upload {
             return Err(format!(
                 "internal format {internal_format:#06x} with format {format:#06x} is not a combination the replay \
                  converts (GLES 2.0's unsized formats and GL ES 3.0's RGBA8, RGB8, RG8, R8, RGB565, RGBA4, \
-                 RGB5_A1, SRGB8_ALPHA8, RGBA16F/32F, RGB16F/32F, DEPTH_COMPONENT16/24/32F, DEPTH24_STENCIL8)"
+                 RGB5_A1, SRGB8_ALPHA8, RGBA16F/32F, RGB16F/32F, RG16F/32F, R16F/32F, DEPTH_COMPONENT16/24/32F, \
+                 DEPTH24_STENCIL8)"
             ));
         }
         let (mut stored, client_bytes) = match (format, kind) {
@@ -60,6 +61,10 @@ impl Upload {
             (GL_RGB, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => (TextureFormat::Rgba16f, 6),
             (GL_RGBA, GL_FLOAT) => (TextureFormat::Rgba32f, 16),
             (GL_RGB, GL_FLOAT) => (TextureFormat::Rgba32f, 12),
+            (GL_RG, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => (TextureFormat::Rgba16f, 4),
+            (GL_RED, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => (TextureFormat::Rgba16f, 2),
+            (GL_RG, GL_FLOAT) => (TextureFormat::Rgba32f, 8),
+            (GL_RED, GL_FLOAT) => (TextureFormat::R32f, 4),
             (GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT) => (TextureFormat::Depth16, 2),
             (GL_DEPTH_COMPONENT, GL_UNSIGNED_INT) => (TextureFormat::Depth24, 4),
             (GL_DEPTH_COMPONENT, GL_FLOAT) => (TextureFormat::Depth32f, 4),
@@ -67,7 +72,7 @@ impl Upload {
             _ => {
                 return Err(format!(
                     "texel format {format:#06x} of type {kind:#06x} is not one the replay converts (RGBA, RGB, RG, \
-                     RED, LUMINANCE, LUMINANCE_ALPHA, ALPHA bytes; 565; RGBA, RGB halves and floats; \
+                     RED, LUMINANCE, LUMINANCE_ALPHA, ALPHA bytes; 565; RGBA, RGB, RG, RED halves and floats; \
                      DEPTH_COMPONENT; 4444 and 5551 are encoded uploads)"
                 ));
             }
@@ -91,6 +96,13 @@ impl Upload {
         Ok(Upload { format: stored, client_bytes, format_enum: format, kind })
     }
 
+    /// Whether these texels can fill (part of) a texture stored as `stored`: the same storage,
+    /// or bytes into sRGB storage (GL ES 3.0 uploads `SRGB8_ALPHA8` from `RGBA` bytes, stored
+    /// as given).
+    pub fn fills(&self, stored: TextureFormat) -> bool {
+        self.format == stored || (self.format == TextureFormat::Rgba8 && stored == TextureFormat::Srgb8Alpha8)
+    }
+
     /// Converts `width × height` client texels (rows bottom to top, each starting at a
     /// multiple of `alignment`) into the stored format, rows bottom to top and packed.
     pub fn convert(&self, data: &[u8], width: u32, height: u32, alignment: u32) -> Result<Vec<u8>, String> {
@@ -112,9 +124,19 @@ impl Upload {
             let src = &data[y * stride..y * stride + row];
             match (self.format_enum, self.kind) {
                 (_, GL_UNSIGNED_SHORT_5_6_5)
-                | (GL_RGBA, GL_UNSIGNED_BYTE | GL_HALF_FLOAT_OES | GL_HALF_FLOAT | GL_FLOAT) => {
-                    out.extend_from_slice(src)
-                }
+                | (GL_RGBA, GL_UNSIGNED_BYTE | GL_HALF_FLOAT_OES | GL_HALF_FLOAT | GL_FLOAT)
+                | (GL_RED, GL_FLOAT) => out.extend_from_slice(src),
+                // Green and blue 0, alpha 1, as a half and as a float.
+                (GL_RED | GL_RG, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => src.chunks_exact(self.client_bytes).for_each(|t| {
+                    out.extend_from_slice(t);
+                    out.resize(out.len() + 6 - t.len(), 0);
+                    out.extend_from_slice(&0x3c00u16.to_le_bytes());
+                }),
+                (GL_RG, GL_FLOAT) => src.chunks_exact(8).for_each(|t| {
+                    out.extend_from_slice(t);
+                    out.extend_from_slice(&0.0f32.to_le_bytes());
+                    out.extend_from_slice(&1.0f32.to_le_bytes());
+                }),
                 // Alpha 1.0 as a half and as a float.
                 (GL_RGB, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => src.chunks_exact(6).for_each(|t| {
                     out.extend_from_slice(t);
@@ -154,6 +176,10 @@ fn sized_internal_format(internal_format: u32) -> Option<(u32, Option<TextureFor
         0x8815 /* RGB32F */ => (GL_RGB, Some(TextureFormat::Rgba32f)),
         0x822b /* RG8 */ => (GL_RG, None),
         0x8229 /* R8 */ => (GL_RED, None),
+        0x822d /* R16F */ => (GL_RED, Some(TextureFormat::Rgba16f)),
+        0x822f /* RG16F */ => (GL_RG, Some(TextureFormat::Rgba16f)),
+        0x822e /* R32F */ => (GL_RED, Some(TextureFormat::R32f)),
+        0x8230 /* RG32F */ => (GL_RG, Some(TextureFormat::Rgba32f)),
         0x81a5 /* DEPTH_COMPONENT16 */ => (GL_DEPTH_COMPONENT, Some(TextureFormat::Depth16)),
         0x81a6 /* DEPTH_COMPONENT24 */ => (GL_DEPTH_COMPONENT, Some(TextureFormat::Depth24)),
         0x8cac /* DEPTH_COMPONENT32F */ => (GL_DEPTH_COMPONENT, Some(TextureFormat::Depth32f)),
@@ -207,6 +233,12 @@ mod tests {
         let up = Upload::new(0x822b, GL_RG, GL_UNSIGNED_BYTE).unwrap();
         assert_eq!(up.convert(&[9, 8], 1, 1, 4).unwrap(), [9, 8, 0, 255]);
         assert_eq!(Upload::new(0x8c43, GL_RGBA, GL_UNSIGNED_BYTE).unwrap().format, TextureFormat::Srgb8Alpha8);
+        // Half-float red and red-green: green and blue 0, alpha 1.
+        let up = Upload::new(0x822d, GL_RED, GL_HALF_FLOAT).unwrap();
+        assert_eq!(up.convert(&[0x00, 0x38], 1, 1, 1).unwrap(), [0x00, 0x38, 0, 0, 0, 0, 0x00, 0x3c]);
+        let up = Upload::new(0x822f, GL_RG, GL_HALF_FLOAT).unwrap();
+        assert_eq!(up.convert(&[1, 2, 3, 4], 1, 1, 1).unwrap(), [1, 2, 3, 4, 0, 0, 0x00, 0x3c]);
+        assert_eq!(Upload::new(0x822e, GL_RED, GL_FLOAT).unwrap().format, TextureFormat::R32f);
         assert_eq!(Upload::new(0x81a6, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT).unwrap().format, TextureFormat::Depth24);
         assert_eq!(Upload::new(0x81a5, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT).unwrap().format, TextureFormat::Depth16);
         assert_eq!(Upload::new(0x8cac, GL_DEPTH_COMPONENT, GL_FLOAT).unwrap().format, TextureFormat::Depth32f);

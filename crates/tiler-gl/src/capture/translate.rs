@@ -14,7 +14,7 @@ use super::texels::{self, Upload};
 use super::{CaptureError, Replay};
 use crate::bytes::Bytes;
 use crate::call::{
-    AttachmentPoint, BufferSet, Call, Capability, ComponentType, Face, Filter, FramebufferTarget, IndexKind, Mode,
+    AttachmentPoint, BufferSet, Call, Capability, ComponentType, EncodedFormat, Face, Filter, FramebufferTarget, IndexKind, Mode,
     SwapBehavior, TextureFormat, Winding, Wrap,
 };
 use crate::context::{Context, ContextConfig, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS};
@@ -55,6 +55,15 @@ struct Texture {
     /// Its GL format has no alpha (`glCopyTexImage2D` with `GL_RGB`): copies into it get
     /// alpha 1.
     opaque: bool,
+    /// Its GL format has only red (and green) channels (`R8`, `RG8`, `GL_RED`, `GL_RG`): it
+    /// is stored as RGBA8 with green, blue and alpha as GL reads them (0, 0, 1), which holds
+    /// for uploads; rendering or copying into it would write them, so that is refused.
+    red_green: bool,
+}
+
+/// Whether a texture of this internal format has only red (and green) channels.
+fn red_green_format(internal_format: u32) -> bool {
+    matches!(internal_format, texels::GL_RED | texels::GL_RG | 0x8229 | 0x822b | 0x822d | 0x822f | 0x8230)
 }
 
 impl Default for Texture {
@@ -68,6 +77,7 @@ impl Default for Texture {
             wrap: [GL_REPEAT; 2],
             cube: false,
             opaque: false,
+            red_green: false,
         }
     }
 }
@@ -627,7 +637,9 @@ impl Translator {
                 if encoded::packed_format(*format, *kind).is_some() =>
             {
                 check_2d_level0(*target, 0)?;
-                if *border != 0 || internal_format != format {
+                // The unsized format, or GL ES 3.0's sized RGBA4 / RGB5_A1 of a packed type.
+                let sized = matches!((*internal_format, *kind), (0x8056, 0x8033) | (0x8057, 0x8034));
+                if *border != 0 || (internal_format != format && !sized) {
                     return Err(format!(
                         "border {border} must be 0, internal format {internal_format:#06x} the format"
                     ));
@@ -708,6 +720,7 @@ impl Translator {
                 let t = self.objects()?.textures.get_mut(&name).expect("inserted above");
                 t.id = Some(id);
                 t.upload = Some(upload);
+                t.red_green = red_green_format(*internal_format);
                 t.opaque = matches!(
                     *internal_format,
                     texels::GL_RGB | texels::GL_LUMINANCE | texels::GL_RED | texels::GL_RG | 0x8051 | 0x8d62 | 0x8229 | 0x822b
@@ -731,7 +744,7 @@ impl Translator {
                     return Err(format!("texture {name} has no storage"));
                 };
                 let upload = Upload::new(*format, *format, *kind)?;
-                if upload.format != stored.format {
+                if !upload.fills(stored.format) {
                     return Err(format!(
                         "texels of format {format:#06x} / type {kind:#06x} into a texture stored as {}",
                         stored.format.name()
@@ -742,9 +755,27 @@ impl Translator {
                 let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
                 self.emit(Call::TexSubImage { id, x, y, width, height, data })?;
             }
+            C::TexStorage2D { target, levels: 1, internal_format: internal @ (0x8056 | 0x8057), width, height } => {
+                // RGBA4 / RGB5_A1 storage, for glTexSubImage2D of packed 16-bit texels: an
+                // encoded level of zeros (GL leaves it undefined), as glTexImage2D without data.
+                check_2d_level0(*target, 0)?;
+                let format = if *internal == 0x8056 { EncodedFormat::Rgba4444 } else { EncodedFormat::Rgba5551 };
+                let (width, height) = size2(*width, *height)?;
+                if self.texture_id(self.bound_texture()?)?.is_some() {
+                    return Err(format!("texture {} already has storage", self.bound_texture()?));
+                }
+                let zeros = Bytes::from(vec![0u8; width as usize * height as usize * 2]);
+                self.encoded_tex_image(0, (width, height), (format, false), zeros)?;
+            }
             C::TexStorage2D { target, levels, internal_format, width, height } => {
                 check_2d_level0(*target, 0)?;
-                let format = renderbuffer_format(*internal_format)?;
+                let red_green = red_green_format(*internal_format);
+                let format = match *internal_format {
+                    0x8229 | 0x822b => TextureFormat::Rgba8,
+                    0x822d | 0x822f => TextureFormat::Rgba16f,
+                    0x8230 => TextureFormat::Rgba32f,
+                    f => renderbuffer_format(f)?,
+                };
                 let (width, height) = size2(*width, *height)?;
                 gles3::check_storage_levels(*levels, width, height)?;
                 let name = self.bound_texture()?;
@@ -758,6 +789,7 @@ impl Translator {
                 t.id = Some(id);
                 t.size = (width, height);
                 t.upload = gles3::storage_upload(format);
+                t.red_green = red_green;
                 self.update_sampler(name)?;
             }
             C::TexParameter { target, pname, params } => {
@@ -837,6 +869,7 @@ impl Translator {
                 check_2d_level0(*target, *level)?;
                 let name = self.bound_texture()?;
                 let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
+                self.check_renderable(name)?;
                 let (x_offset, y_offset) = size2(*x_offset, *y_offset)?;
                 let (width, height) = size2(*width, *height)?;
                 let alpha_one = self.objects()?.textures.get(&name).is_some_and(|t| t.opaque);
@@ -882,6 +915,7 @@ impl Translator {
                     0
                 } else {
                     check_2d_level0(*texture_target, *level)?;
+                    self.check_renderable(*texture)?;
                     self.texture_id(*texture)?.ok_or_else(|| format!("texture {texture} has no storage"))?
                 };
                 let samples = (*samples).max(1) as u32;
@@ -1554,6 +1588,17 @@ impl Translator {
 
     pub(super) fn unpack_alignment(&self) -> u32 {
         self.bindings.unpack_alignment
+    }
+
+    /// Refuses to render or copy into a red/green texture (see [`Texture::red_green`]).
+    fn check_renderable(&mut self, name: u32) -> Fallible {
+        if self.objects()?.textures.get(&name).is_some_and(|t| t.red_green) {
+            return Err(format!(
+                "texture {name} has only red (and green) channels (R8, RG8): the replay samples those, but rendering \
+                 or copying into one is not supported"
+            ));
+        }
+        Ok(())
     }
 
     pub(super) fn texture_id(&mut self, name: u32) -> Fallible<Option<u32>> {
