@@ -1116,6 +1116,7 @@ impl Translator {
                     0x0b44 => Some(Capability::CullFace),
                     0x0c11 => Some(Capability::ScissorTest),
                     0x8037 => Some(Capability::PolygonOffsetFill),
+                    0x8d69 => Some(Capability::PrimitiveRestartFixedIndex),
                     // Dithering may be a no-op in GL; neither llvmpipe nor tiler dithers.
                     0x0bd0 => None,
                     // Off by default; turning them off changes nothing.
@@ -1330,6 +1331,7 @@ impl Translator {
             Capability::CullFace,
             Capability::ScissorTest,
             Capability::PolygonOffsetFill,
+            Capability::PrimitiveRestartFixedIndex,
         ] {
             calls.push(Call::Disable { cap });
         }
