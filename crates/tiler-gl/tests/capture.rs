@@ -938,6 +938,45 @@ fn probe_glsl_es_300_matches_llvmpipe() {
     check_probe_in("gles3-probe", "glsl3");
 }
 
+#[test]
+fn probe_blits_and_a_multisample_resolve_by_blit_match_llvmpipe() {
+    check_probe_in("gles3-probe", "blit");
+}
+
+#[test]
+fn probe_invalidated_attachments_match_llvmpipe() {
+    check_probe_in("gles3-probe", "invalidate");
+}
+
+#[test]
+fn probe_primitive_restart_and_range_elements_match_llvmpipe() {
+    check_probe_in("gles3-probe", "restart");
+}
+
+#[test]
+fn probe_texture_formats_through_tex_sub_image_match_llvmpipe() {
+    check_probe_in("gles3-probe", "formats");
+}
+
+#[test]
+fn probe_float_and_srgb_render_targets_match_llvmpipe() {
+    check_probe_in("gles3-probe", "float-srgb");
+}
+
+#[test]
+fn probe_read_pixels_mid_frame_a_mapped_range_and_a_fence_match_llvmpipe() {
+    check_probe_in("gles3-probe", "readback");
+}
+
+#[test]
+fn probe_transform_feedback_fails_naming_the_call_and_the_feature() {
+    let error = replay_probe_in("gles3-probe", "feedback", ReplayOptions::default().config).unwrap_err();
+    assert!(
+        error.contains("glTransformFeedbackVaryings") && error.contains("transform feedback"),
+        "{error}"
+    );
+}
+
 /// A program whose fragment shader reads uniform block `Colors` (with `uniform_array_capture`'s
 /// full-window triangle).
 fn uniform_block_capture(before_draw: impl FnOnce(&mut Writer)) -> (Writer, u64) {
