@@ -4,7 +4,7 @@
 //! `docs/report-format.md`), new fields may be added.
 
 use serde::{Serialize, Serializer};
-use tiler::backend::FrameDataReport;
+use tiler::FrameDataReport;
 use tiler::{Counters, DrawStats, Format, ImageId, Ledger, PassReport, Rect};
 
 use crate::advisor::Finding;

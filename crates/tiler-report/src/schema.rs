@@ -6,7 +6,7 @@
 //! schema version; adding a field is not.
 
 use serde::Serialize;
-use tiler::backend::FrameDataReport;
+use tiler::FrameDataReport;
 use tiler::{Backend, Category, Counters, DevicePreset, DrawStats, Ledger, PassReport, Stage, TimeEstimate, TimeModel};
 
 use crate::run::{FrameSpan, PassInfo};

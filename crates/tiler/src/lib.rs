@@ -76,8 +76,8 @@
 #[doc(hidden)]
 pub mod __bench;
 pub mod api;
-pub mod backend;
-pub mod binning;
+pub(crate) mod backend;
+pub(crate) mod binning;
 pub(crate) mod blend;
 pub mod config;
 pub(crate) mod depth;
@@ -88,7 +88,7 @@ pub mod ledger;
 pub(crate) mod pass;
 pub(crate) mod pixel;
 pub(crate) mod raster;
-pub mod shade;
+pub(crate) mod shade;
 pub mod simd;
 pub(crate) mod tile;
 
@@ -108,7 +108,10 @@ pub use api::render_pass::{
     Viewport,
 };
 pub use api::shader::{ShaderProperties, VERTEX_BATCH, VertexInput, VertexOutput, VertexShader};
-pub use backend::PassReport;
+pub use backend::{FrameDataReport, PassReport, Workers};
+pub use binning::frame_data::{
+    POLYGON_LIST_ENTRY_BYTES, PRIMITIVE_HEADER_BYTES, STATE_RECORD_BYTES, VERTEX_POSITION_BYTES, primitive_record_bytes,
+};
 pub use config::Backend;
 pub use config::{DeviceConfig, preset::DevicePreset};
 pub use device::Device;
@@ -122,6 +125,7 @@ pub use ledger::time::{Stage, TimeEstimate, TimeModel};
 pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
 pub use pass::{Draw, RenderPass};
 pub use pixel::Pipeline;
+pub use shade::ShadeContext;
 pub use shade::fragments::{FragmentShader, Fragments};
 pub use shade::texel_format::{ASTC_FOOTPRINTS, StoredLayout, TexelFormat};
 pub use shade::texture::{

@@ -4,8 +4,8 @@
 //! before it (post-processing), and what it stores (multisampled images).
 
 use tiler::Rect;
-use tiler::binning::frame_data::{POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, primitive_record_bytes};
 use tiler::{Backend, Category};
+use tiler::{POLYGON_LIST_ENTRY_BYTES, STATE_RECORD_BYTES, primitive_record_bytes};
 
 use super::{
     Cost, Draft, EARLY_Z_SHARE, MICRO_TRIANGLE_FRAGMENTS, MICRO_TRIANGLE_MIN_PRIMITIVES, MIPMAP_MIN_SAVING,

@@ -138,11 +138,11 @@ impl Context {
                 };
                 input.push(r);
             }
-            if input.len() > tiler::backend::pass::MAX_INPUT_ATTACHMENTS {
+            if input.len() > tiler::MAX_INPUT_ATTACHMENTS {
                 return Err(format!(
                     "subpass {s}: {} input attachments, at most {}",
                     input.len(),
-                    tiler::backend::pass::MAX_INPUT_ATTACHMENTS
+                    tiler::MAX_INPUT_ATTACHMENTS
                 ));
             }
             descs.push(SubpassDesc { color, depth_stencil: spec.depth_stencil, input, resolve: Vec::new() });

@@ -13,7 +13,7 @@
 //! | binds the same framebuffer again later | a second pass, loading | [`Context::ensure_pass`] |
 //! | swaps (destroyed / preserved) | the window's next pass starts `DontCare` / `Load` | `frames.rs` |
 //! | `start_tiling` / `end_tiling` | render area = the region; load and store as the masks say | [`Context::start_tiling`] |
-//! | exceeds the frame-data budget | incremental render (in the core: `tiler::backend::tbr`) | — |
+//! | exceeds the frame-data budget | incremental render (in the core: the tbr backend) | — |
 //! | changes a buffer a pending frame uses | copy-on-write, counted | `mod.rs`, `frames.rs` |
 //! | begins an explicit pass (`begin_pass`) | the same inference, with the given subpasses; nothing may end it before `end_pass` | `explicit.rs` |
 //! | attaches a transient image | never loaded or stored (load `DontCare` or `Clear`, store `DontCare`) | `start_aspect` |

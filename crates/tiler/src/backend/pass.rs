@@ -2,6 +2,5 @@
 //! (`pass::resolved`), the images a pass touches, and views of them cut into bands of rows
 //! (`raster::target`).
 
-pub use crate::api::render_pass::{MAX_INPUT_ATTACHMENTS, ResolvedSubpass};
-pub use crate::pass::resolved::{ResolveTarget, ResolvedAttachment, ResolvedPass, attachment_images};
+pub use crate::pass::resolved::{ResolvedAttachment, ResolvedPass, attachment_images};
 pub use crate::raster::target::{band_surface, data_bands, image_bands};

@@ -145,7 +145,6 @@ pub fn render(
         let varying_count = geometry.vertices.varying_count;
         let state = StateRecord {
             draw: draw_index as u32,
-            clip_rect: geometry.clip_rect,
             varying_count: varying_count as u32,
             hsr: HsrMode::of(draw.pipeline.desc(), draw.pipeline.object.properties(), resolved.color_count),
             fetch: geometry.fetch.clone(),

@@ -21,7 +21,6 @@
 use crate::binning::grid::TileGrid;
 use crate::depth::hsr::HsrMode;
 use crate::geometry::VertexShading;
-use crate::raster::PixelRect;
 
 pub use crate::geometry::primitive::Primitive;
 
@@ -54,8 +53,6 @@ pub const fn record_bytes(varyings: usize, shading: VertexShading) -> u64 {
 pub struct StateRecord {
     /// The draw's index in its render pass (the tile phase finds its pipeline there).
     pub draw: u32,
-    /// Viewport ∩ scissor ∩ render area ∩ framebuffer.
-    pub clip_rect: PixelRect,
     pub varying_count: u32,
     /// Whether the draw can wait for hidden-surface removal (TBDR).
     pub hsr: HsrMode,
@@ -261,13 +258,6 @@ impl FrameData {
         self.states[self.primitives[index as usize].state as usize].subpass
     }
 
-    /// The three vertices' varyings of a primitive.
-    #[inline]
-    pub fn varyings_of(&self, primitive: &Primitive) -> &[f32] {
-        let n = self.states[primitive.state as usize].varying_count as usize;
-        &self.varyings[primitive.varyings as usize..primitive.varyings as usize + 3 * n]
-    }
-
     /// Bytes of host memory the frame data occupies.
     pub fn host_bytes(&self) -> u64 {
         (self.primitives.capacity() * std::mem::size_of::<Primitive>()
@@ -279,6 +269,7 @@ impl FrameData {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::PixelRect;
 
     fn primitive(bbox: PixelRect) -> Primitive {
         let edge = crate::raster::edge::Edge { a: 0, b: 0, c: 0 };
@@ -307,7 +298,6 @@ mod tests {
         let mut frame = FrameData::new(grid, VertexShading::Once, budget);
         let state = frame.push_state(StateRecord {
             draw: 0,
-            clip_rect: PixelRect::new(0, 0, 64, 64),
             varying_count: 0,
             hsr: HsrMode::Deferred { claims: true },
             fetch: Default::default(),

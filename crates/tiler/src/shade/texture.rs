@@ -1046,8 +1046,8 @@ const QUAD_LANES: [[usize; 4]; 2] = [[0, 1, 4, 5], [2, 3, 6, 7]];
 
 /// The level of detail of each quad before bias: `½ · log2(ρ²)` from the upper-left pixel's
 /// differences (see the module notes). `s`, `t` are in texels of level 0.
-#[inline]
-pub fn quad_lods(s: F32x8, t: F32x8) -> [f32; 2] {
+#[cfg(test)]
+fn quad_lods(s: F32x8, t: F32x8) -> [f32; 2] {
     quad_rho_squared(s, t).map(|rho_squared| 0.5 * log2(rho_squared))
 }
 

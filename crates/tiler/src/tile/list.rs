@@ -10,17 +10,42 @@ use crate::pixel::primitive::{FragmentTally, Mode, PrimitiveRun};
 use crate::raster::PixelRect;
 use crate::raster::target::RenderTarget;
 
-/// The runs of `list` whose primitives share a state record (one draw): `(start, count)`.
-fn draw_runs<'a>(list: &'a [u32], frame: &'a FrameData) -> impl Iterator<Item = (usize, usize)> + 'a {
-    let mut start = 0;
+/// Runs of list positions that are consecutive and whose primitives share a state record
+/// (one draw), from `positions` (ascending): `(first, count)`. Every walk over a tile's list
+/// by draw goes through here: the whole list in order ([`render_in_order`], HSR's pass one) or
+/// the positions that own samples after HSR's pass one (`shade_segment`).
+fn draw_runs<'a>(
+    positions: impl Iterator<Item = usize> + 'a,
+    list: &'a [u32],
+    frame: &'a FrameData,
+) -> impl Iterator<Item = (usize, usize)> + 'a {
+    let state_of = move |position: usize| frame.primitives()[list[position] as usize].state;
+    let mut positions = positions.peekable();
     std::iter::from_fn(move || {
-        let first = *list.get(start)?;
-        let state = frame.primitives()[first as usize].state;
-        let count = list[start..].iter().take_while(|&&e| frame.primitives()[e as usize].state == state).count();
-        let run = (start, count);
-        start += count;
-        Some(run)
+        let first = positions.next()?;
+        let state = state_of(first);
+        let mut count = 1;
+        while positions.next_if(|&p| p == first + count && state_of(p) == state).is_some() {
+            count += 1;
+        }
+        Some((first, count))
     })
+}
+
+/// Hands the run `first..first + count` of `list` (one draw's primitives) to its pipeline.
+fn rasterize_run(
+    (first, count): (usize, usize),
+    list: &[u32],
+    frame: &FrameData,
+    draws: &[Draw],
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+    mode: &mut Mode,
+) {
+    let state = &frame.states()[frame.primitives()[list[first] as usize].state as usize];
+    tally.draw = state.draw as usize;
+    let run = PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[first..first + count], first as u32);
+    draws[state.draw as usize].pipeline.object.rasterize(&run, target, tally, mode);
 }
 
 /// Renders a tile's list in submission order (early-Z where the pipeline allows it).
@@ -31,12 +56,8 @@ pub fn render_in_order(
     target: &mut RenderTarget,
     tally: &mut FragmentTally,
 ) {
-    for (first, count) in draw_runs(list, frame) {
-        let state = &frame.states()[frame.primitives()[list[first] as usize].state as usize];
-        tally.draw = state.draw as usize;
-        let run =
-            PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[first..first + count], first as u32);
-        draws[state.draw as usize].pipeline.object.rasterize(&run, target, tally, &mut Mode::InOrder);
+    for run in draw_runs(0..list.len(), list, frame) {
+        rasterize_run(run, list, frame, draws, target, tally, &mut Mode::InOrder);
     }
 }
 
@@ -51,27 +72,22 @@ pub fn render_hsr(
     tile: &PixelRect,
 ) {
     let mut segment: Option<usize> = None;
-    for (i, count) in draw_runs(list, frame) {
-        let state = &frame.states()[frame.primitives()[list[i] as usize].state as usize];
-        let pipeline = &draws[state.draw as usize].pipeline;
-        let run = PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[i..i + count], i as u32);
-        tally.draw = state.draw as usize;
-        match state.hsr {
+    for run in draw_runs(0..list.len(), list, frame) {
+        let (first, _) = run;
+        match frame.states()[frame.primitives()[list[first] as usize].state as usize].hsr {
             HsrMode::Deferred { claims } => {
                 if segment.is_none() {
                     visibility.reset(tile);
-                    segment = Some(i);
+                    segment = Some(first);
                 }
-                let mut mode = Mode::Resolve { visibility, claims };
-                pipeline.object.rasterize(&run, target, tally, &mut mode);
+                rasterize_run(run, list, frame, draws, target, tally, &mut Mode::Resolve { visibility, claims });
             }
             HsrMode::InOrder(reason) => {
                 if let Some(start) = segment.take() {
-                    shade_segment(list, start..i, frame, draws, target, tally, visibility);
+                    shade_segment(list, start..first, frame, draws, target, tally, visibility);
                 }
-                tally.draw = state.draw as usize;
                 let before = tally.counters.fragments_rasterized;
-                pipeline.object.rasterize(&run, target, tally, &mut Mode::InOrder);
+                rasterize_run(run, list, frame, draws, target, tally, &mut Mode::InOrder);
                 tally.counters.hsr_fallback.add(reason, tally.counters.fragments_rasterized - before);
             }
         }
@@ -93,25 +109,9 @@ fn shade_segment(
     visibility: &mut Visibility,
 ) {
     let shaded_before = tally.counters.fragments_shaded;
-    let owners: Vec<u32> = visibility.owners_in(segment.start as u32, segment.len()).collect();
-    let state_of = |position: u32| frame.primitives()[list[position as usize] as usize].state;
-    let mut k = 0;
-    while k < owners.len() {
-        let first = owners[k];
-        let mut count = 1;
-        while k + count < owners.len()
-            && owners[k + count] == first + count as u32
-            && state_of(owners[k + count]) == state_of(first)
-        {
-            count += 1;
-        }
-        let state = &frame.states()[state_of(first) as usize];
-        tally.draw = state.draw as usize;
-        let entries = &list[first as usize..first as usize + count];
-        let run = PrimitiveRun::entries(frame.primitives(), frame.varyings(), entries, first);
-        let pipeline = &draws[state.draw as usize].pipeline;
-        pipeline.object.rasterize(&run, target, tally, &mut Mode::Shade { visibility });
-        k += count;
+    let owners: Vec<usize> = visibility.owners_in(segment.start as u32, segment.len()).map(|o| o as usize).collect();
+    for run in draw_runs(owners.into_iter(), list, frame) {
+        rasterize_run(run, list, frame, draws, target, tally, &mut Mode::Shade { visibility });
     }
     let shaded = tally.counters.fragments_shaded - shaded_before;
     tally.counters.fragments_hsr_killed += tally.hsr_candidates.saturating_sub(shaded);
