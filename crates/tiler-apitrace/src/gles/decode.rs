@@ -14,7 +14,9 @@ use crate::wire::Call;
 
 use super::args::Args;
 use super::consts::{GL_ELEMENT_ARRAY_BUFFER, GL_FRONT_AND_BACK};
-use super::{ClearValue, Command, DecodeError, DecodeErrorKind, GlEnum, GlesCall, Params, UniformValue, ignored, not_modelled};
+use super::{
+    ClearValue, Command, DecodeError, DecodeErrorKind, GlEnum, GlesCall, Params, UniformValue, ignored, not_modelled,
+};
 
 type Result<T> = std::result::Result<T, DecodeErrorKind>;
 

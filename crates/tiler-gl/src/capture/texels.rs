@@ -127,11 +127,13 @@ impl Upload {
                 | (GL_RGBA, GL_UNSIGNED_BYTE | GL_HALF_FLOAT_OES | GL_HALF_FLOAT | GL_FLOAT)
                 | (GL_RED, GL_FLOAT) => out.extend_from_slice(src),
                 // Green and blue 0, alpha 1, as a half and as a float.
-                (GL_RED | GL_RG, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => src.chunks_exact(self.client_bytes).for_each(|t| {
-                    out.extend_from_slice(t);
-                    out.resize(out.len() + 6 - t.len(), 0);
-                    out.extend_from_slice(&0x3c00u16.to_le_bytes());
-                }),
+                (GL_RED | GL_RG, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => {
+                    src.chunks_exact(self.client_bytes).for_each(|t| {
+                        out.extend_from_slice(t);
+                        out.resize(out.len() + 6 - t.len(), 0);
+                        out.extend_from_slice(&0x3c00u16.to_le_bytes());
+                    })
+                }
                 (GL_RG, GL_FLOAT) => src.chunks_exact(8).for_each(|t| {
                     out.extend_from_slice(t);
                     out.extend_from_slice(&0.0f32.to_le_bytes());

@@ -14,8 +14,8 @@ use super::texels::{self, Upload};
 use super::{CaptureError, Replay};
 use crate::bytes::Bytes;
 use crate::call::{
-    AttachmentPoint, BufferSet, Call, Capability, ComponentType, EncodedFormat, Face, Filter, FramebufferTarget, IndexKind, Mode,
-    SwapBehavior, TextureFormat, Winding, Wrap,
+    AttachmentPoint, BufferSet, Call, Capability, ComponentType, EncodedFormat, Face, Filter, FramebufferTarget,
+    IndexKind, Mode, SwapBehavior, TextureFormat, Winding, Wrap,
 };
 use crate::context::{Context, ContextConfig, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS};
 
@@ -59,6 +59,11 @@ struct Texture {
     /// is stored as RGBA8 with green, blue and alpha as GL reads them (0, 0, 1), which holds
     /// for uploads; rendering or copying into it would write them, so that is refused.
     red_green: bool,
+    /// `GL_TEXTURE_MAX_LEVEL` (GL's default 1000). At 0 a texture is complete with level 0
+    /// alone and a mipmap minification filter samples level 0 only, so it is sampled with its
+    /// first word (`LINEAR_MIPMAP_*` as `LINEAR`); a level between 0 and the chain's last is
+    /// refused where it is sampled.
+    max_level: u32,
 }
 
 /// Whether a texture of this internal format has only red (and green) channels.
@@ -78,6 +83,7 @@ impl Default for Texture {
             cube: false,
             opaque: false,
             red_green: false,
+            max_level: 1000,
         }
     }
 }
@@ -101,9 +107,19 @@ impl Texture {
             GL_LINEAR => Filter::Linear,
             f => return Err(format!("magnification filter {f:#06x} is not a GL one")),
         };
+        let chain = 32 - self.size.0.max(self.size.1).max(1).leading_zeros();
+        let mipmapped = matches!(self.min, 0x2700..=0x2703);
+        if mipmapped && self.max_level != 0 && self.max_level + 1 < chain {
+            return Err(format!(
+                "GL_TEXTURE_MAX_LEVEL {} of a {}-level chain: only 0 or the whole chain is supported",
+                self.max_level, chain
+            ));
+        }
         let min = match self.min {
             GL_NEAREST => Filter::Nearest,
             GL_LINEAR => Filter::Linear,
+            0x2700 | 0x2702 if self.max_level == 0 => Filter::Nearest,
+            0x2701 | 0x2703 if self.max_level == 0 => Filter::Linear,
             0x2700 => Filter::NearestMipmapNearest,
             0x2701 => Filter::LinearMipmapNearest,
             GL_NEAREST_MIPMAP_LINEAR => Filter::NearestMipmapLinear,
@@ -723,7 +739,14 @@ impl Translator {
                 t.red_green = red_green_format(*internal_format);
                 t.opaque = matches!(
                     *internal_format,
-                    texels::GL_RGB | texels::GL_LUMINANCE | texels::GL_RED | texels::GL_RG | 0x8051 | 0x8d62 | 0x8229 | 0x822b
+                    texels::GL_RGB
+                        | texels::GL_LUMINANCE
+                        | texels::GL_RED
+                        | texels::GL_RG
+                        | 0x8051
+                        | 0x8d62
+                        | 0x8229
+                        | 0x822b
                 );
                 t.size = (width, height);
                 self.update_sampler(name)?;
@@ -796,19 +819,32 @@ impl Translator {
                 if ![GL_TEXTURE_2D, cube::GL_TEXTURE_CUBE_MAP].contains(target) {
                     return Err(format!("texture target {target:#06x} is not supported (2D and cube maps only)"));
                 }
-                let value = match params {
-                    Params::Int(v) if v.len() == 1 => v[0] as u32,
-                    Params::Float(v) if v.len() == 1 && v[0].fract() == 0.0 && v[0] >= 0.0 => v[0] as u32,
-                    _ => return Err(format!("parameter {pname:#06x}: {params:?} is not a single GL enum")),
+                let number = match params {
+                    Params::Int(v) if v.len() == 1 => v[0] as f64,
+                    Params::Float(v) if v.len() == 1 => f64::from(v[0]),
+                    _ => return Err(format!("parameter {pname:#06x}: {params:?} is not a single value")),
                 };
+                let value = number as u32;
                 let name = if *target == GL_TEXTURE_2D { self.bound_texture()? } else { self.bound_cube()? };
                 let t = self.objects()?.textures.entry(name).or_default();
-                match *pname {
-                    0x2801 => t.min = value,
-                    0x2800 => t.mag = value,
-                    0x2802 => t.wrap[0] = value,
-                    0x2803 => t.wrap[1] = value,
-                    p => return Err(format!("texture parameter {p:#06x} is not supported")),
+                match (*pname, number) {
+                    (0x2801, _) => t.min = value,
+                    (0x2800, _) => t.mag = value,
+                    (0x2802, _) => t.wrap[0] = value,
+                    (0x2803, _) => t.wrap[1] = value,
+                    // GL ES 3.0 parameters apps set to their defaults, or to what changes
+                    // nothing here: WRAP_R (no third coordinate), the compare function (without
+                    // compare mode), the LOD range's defaults, base level 0, identity swizzles.
+                    (0x8072 | 0x884d, _) | (0x813a, -1000.0) | (0x813b, 1000.0) | (0x813c, 0.0) | (0x884c, 0.0) => {}
+                    (0x8e42, 6403.0) | (0x8e43, 6404.0) | (0x8e44, 6405.0) | (0x8e45, 6406.0) => {}
+                    // GL_TEXTURE_MAX_LEVEL (see `Texture::max_level`).
+                    (0x813d, v) if v >= 0.0 => t.max_level = v.min(1000.0) as u32,
+                    (0x884c, _) => {
+                        return Err("GL_TEXTURE_COMPARE_MODE = GL_COMPARE_REF_TO_TEXTURE: depth comparison \
+                                    (sampler2DShadow) is not supported"
+                            .into());
+                    }
+                    (p, v) => return Err(format!("texture parameter {p:#06x} = {v} is not supported")),
                 }
                 self.update_sampler(name)?;
             }

@@ -536,10 +536,9 @@ impl Context {
         self.state.primitive_restart = false;
         let result = match runs {
             None => self.draw(mode, first, count, Some((index_kind, offset)), instances),
-            Some(runs) => runs
-                .into_iter()
-                .filter(|&(_, n)| n > 0)
-                .try_for_each(|(start, n)| self.draw(mode, first, n, Some((index_kind, offset + start as u64 * size)), instances)),
+            Some(runs) => runs.into_iter().filter(|&(_, n)| n > 0).try_for_each(|(start, n)| {
+                self.draw(mode, first, n, Some((index_kind, offset + start as u64 * size)), instances)
+            }),
         };
         self.state.primitive_restart = true;
         result
