@@ -168,7 +168,8 @@ impl Upload {
 /// format decides it, the storage.
 fn sized_internal_format(internal_format: u32) -> Option<(u32, Option<TextureFormat>)> {
     Some(match internal_format {
-        0x8058 /* RGBA8 */ | 0x8056 /* RGBA4 */ | 0x8057 /* RGB5_A1 */ => (GL_RGBA, None),
+        // RGBA4, RGB5_A1, RGBA8
+        0x8056..=0x8058 => (GL_RGBA, None),
         0x881a /* RGBA16F */ => (GL_RGBA, Some(TextureFormat::Rgba16f)),
         0x8814 /* RGBA32F */ => (GL_RGBA, Some(TextureFormat::Rgba32f)),
         0x8c43 /* SRGB8_ALPHA8 */ => (GL_RGBA, Some(TextureFormat::Srgb8Alpha8)),

@@ -514,7 +514,7 @@ impl Context {
         };
         let end = offset.saturating_add(count as u64 * size);
         // Out-of-range draws are left to `draw`, which says why.
-        let runs = if offset % size != 0 || end > buffer.size {
+        let runs = if !offset.is_multiple_of(size) || end > buffer.size {
             None
         } else {
             let data = self.device.buffer_data(buffer.storage).map_err(|e| e.to_string())?;
