@@ -44,14 +44,17 @@
 //!   state; `glCopyBufferSubData` is the context's buffer copy; `glTexStorage2D` takes 1 level
 //!   or the whole chain, whose levels `glTexSubImage2D` fills whole; `glDrawBuffers` of
 //!   colour attachments 0, 1, … in order is the context's `draw_buffers` (multiple render
-//!   targets).
+//!   targets). `GL_PRIMITIVE_RESTART_FIXED_INDEX` is the context's capability of that name.
 //! - **Client-side vertex arrays** (apitrace records the bytes a draw reads in a fake
 //!   `glVertexAttribPointer` just before it) become client arrays the context copies at each
 //!   draw, as a driver must; client-side indices go through a scratch index buffer. Writes
 //!   through mapped buffers become `buffer_sub_data`.
 //! - **Textures**: `RGBA`, `RGB`, `LUMINANCE`, `LUMINANCE_ALPHA`, `ALPHA` bytes and the 4444 /
 //!   5551 packings are expanded to RGBA8 (what sampling returns is the same); 565 is kept as
-//!   565; `DEPTH_COMPONENT` is a depth texture without data. Rows honour `GL_UNPACK_ALIGNMENT`.
+//!   565; `DEPTH_COMPONENT` is a depth texture without data. GL ES 3.0's sized internal
+//!   formats of those bases are taken too; `RED`/`RG` bytes, halves and floats (`R8`, `RG8`,
+//!   `R16F`, …) are stored with green/blue 0 and alpha 1, as GL reads them, and are never
+//!   render targets. Rows honour `GL_UNPACK_ALIGNMENT`.
 //!   Level 0 only; `glGenerateMipmap` gives the context's mip chain, and the `*_MIPMAP_*`
 //!   minification filters use it (with a magnification filter of the same first word; a mipmap
 //!   filter on a texture without levels — incomplete in GL — is refused where it is drawn).
