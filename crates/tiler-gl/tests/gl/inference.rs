@@ -892,7 +892,9 @@ fn a_multisampled_window_resolves_before_presenting() {
 /// the scissor or uses a tiled region — a full clear would erase the rest of the window.
 #[test]
 fn a_scissored_redraw_of_a_preserved_window_covers_only_the_box() {
-    let mut gl = window();
+    let mut gl = Context::new_recording(config(64, 64)).unwrap();
+    geometry(&mut gl, 1, ProgramKind::Solid, &quad(-1.0, -1.0, 0.0, 0.0, 0.0));
+    set_color(&mut gl, [1.0, 0.0, 0.0, 1.0]);
     c(&mut gl, Call::SwapBehavior { behavior: SwapBehavior::Preserved });
     clear_all(&mut gl);
     draw(&mut gl, 6);
@@ -922,4 +924,14 @@ fn a_scissored_redraw_of_a_preserved_window_covers_only_the_box() {
     assert_eq!(f.len(), 1);
     assert!(f[0].advice.contains("the window is preserved"), "{}", f[0].advice);
     assert!(f[0].advice.starts_with("to redraw only the 16×16 region at (0, 0)"), "{}", f[0].advice);
+    // `--what-if` does not clear without the scissor: that would erase the rest of the window.
+    let frames = gl
+        .recorded_frames()
+        .unwrap()
+        .iter()
+        .map(|calls| tiler_gl::trace::TraceFrame { repeat: 1, calls: calls.clone() });
+    let trace = Trace { description: None, config: gl.config().clone(), frames: frames.collect() };
+    let mut fixer = tiler_gl::advisor::what_if::Fixer::new(&trace).unwrap();
+    let why = fixer.add(f[0], &report).unwrap_err();
+    assert!(why.contains("smaller than the framebuffer"), "{why}");
 }
