@@ -354,6 +354,8 @@ pub(crate) struct GlState {
     pub depth_mask: bool,
     pub depth_func: CompareOp,
     pub polygon_offset_fill: bool,
+    /// `GL_PRIMITIVE_RESTART_FIXED_INDEX` (see `draw`).
+    pub primitive_restart: bool,
     /// `glPolygonOffset`'s `(factor, units)`.
     pub polygon_offset: (f32, f32),
     pub line_width: f32,
@@ -401,6 +403,7 @@ impl GlState {
             depth_mask: true,
             depth_func: CompareOp::Less,
             polygon_offset_fill: false,
+            primitive_restart: false,
             polygon_offset: (0.0, 0.0),
             line_width: 1.0,
             stencil: [StencilFaceState::KEEP; 2],
@@ -1043,6 +1046,7 @@ impl Context {
             Capability::CullFace => s.cull_face = on,
             Capability::ScissorTest => s.scissor_test = on,
             Capability::PolygonOffsetFill => s.polygon_offset_fill = on,
+            Capability::PrimitiveRestartFixedIndex => s.primitive_restart = on,
         }
     }
 
