@@ -453,10 +453,604 @@ static void scene_mrt(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+
+/* A full-window quad program that shows texture unit 0 (uv from the position). */
+static const char *show_vs =
+    "#version 300 es\n"
+    "layout(location = 0) in vec2 position;\n"
+    "out vec2 uv;\n"
+    "void main() { uv = position * 0.5 + 0.5; gl_Position = vec4(position, 0.0, 1.0); }\n";
+
+static GLuint quad_vao(void) {
+    GLuint vao;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    const float quad[] = {-1, -1, 1, -1, -1, 1, 1, 1};
+    buffer(GL_ARRAY_BUFFER, sizeof quad, quad);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    return vao;
+}
+
+static GLuint gradient_program(void) {
+    return program(
+        "#version 300 es\n"
+        "layout(location = 0) in vec2 position;\n"
+        "out vec2 p;\n"
+        "void main() { p = position; gl_Position = vec4(position, 0.0, 1.0); }\n",
+        "#version 300 es\n"
+        "precision mediump float;\n"
+        "in vec2 p;\n"
+        "out vec4 color;\n"
+        "void main() { color = vec4(p * 0.5 + 0.5, fract(p.x * p.y * 3.0), 1.0); }\n");
+}
+
+static void draw_triangle(void) {
+    const float tri[] = {-0.8f, -0.9f, 0.9f, -0.6f, -0.3f, 0.85f};
+    GLuint vao;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    buffer(GL_ARRAY_BUFFER, sizeof tri, tri);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+/* glBlitFramebuffer: a 32x32 texture framebuffer blitted to the window's bottom-left quarter
+ * at 1:1, magnified 2x with NEAREST to the bottom-right, mirrored to the top-left; a 4-sample
+ * renderbuffer resolved by a blit into a texture shown in the top-right. */
+static void scene_blit(void) {
+    GLuint p = gradient_program();
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, 32, 32);
+    GLuint fb;
+    glGenFramebuffers(1, &fb);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    glViewport(0, 0, 32, 32);
+    glClearColor(0.1f, 0.1f, 0.4f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glUseProgram(p);
+    draw_triangle();
+
+    GLuint ms_rb;
+    glGenRenderbuffers(1, &ms_rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, ms_rb);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, 4, GL_RGBA8, 32, 32);
+    GLuint ms_fb;
+    glGenFramebuffers(1, &ms_fb);
+    glBindFramebuffer(GL_FRAMEBUFFER, ms_fb);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, ms_rb);
+    glClearColor(0.4f, 0.1f, 0.1f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    draw_triangle();
+    GLuint resolved;
+    glGenTextures(1, &resolved);
+    glBindTexture(GL_TEXTURE_2D, resolved);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, 32, 32);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    GLuint resolve_fb;
+    glGenFramebuffers(1, &resolve_fb);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fb);
+    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, resolved, 0);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, ms_fb);
+    glBlitFramebuffer(0, 0, 32, 32, 0, 0, 32, 32, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, W, H);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fb);
+    glBlitFramebuffer(0, 0, 32, 32, 0, 0, 32, 32, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitFramebuffer(0, 0, 16, 16, 32, 0, 64, 32, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitFramebuffer(0, 0, 32, 32, 32, 32, 0, 64, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    /* the resolved texture, drawn in the top-right quarter */
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\nuniform sampler2D tex;\nout vec4 color;\n"
+        "void main() { color = texture(tex, uv); }\n");
+    glUseProgram(show);
+    glBindTexture(GL_TEXTURE_2D, resolved);
+    quad_vao();
+    glViewport(32, 32, 32, 32);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* glInvalidateFramebuffer: a framebuffer's depth invalidated after its draws (its colour is then
+ * sampled), the window's depth and stencil invalidated before the swap. */
+static void scene_invalidate(void) {
+    GLuint p = gradient_program();
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, W, H, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    GLuint depth;
+    glGenRenderbuffers(1, &depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, W, H);
+    GLuint fb;
+    glGenFramebuffers(1, &fb);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    glEnable(GL_DEPTH_TEST);
+    glClearColor(0.2f, 0.3f, 0.1f, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUseProgram(p);
+    draw_triangle();
+    const GLenum depth_only[] = {GL_DEPTH_ATTACHMENT};
+    glInvalidateFramebuffer(GL_FRAMEBUFFER, 1, depth_only);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDisable(GL_DEPTH_TEST);
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\nuniform sampler2D tex;\nout vec4 color;\n"
+        "void main() { color = texture(tex, uv).bgra; }\n");
+    glUseProgram(show);
+    quad_vao();
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    const GLenum window_ds[] = {GL_DEPTH, GL_STENCIL};
+    glInvalidateFramebuffer(GL_FRAMEBUFFER, 2, window_ds);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* Depth textures with compare mode: a slanted quad's depth rendered into a DEPTH_COMPONENT24
+ * texture, then sampled through sampler2DShadow (LEQUAL against a reference that sweeps
+ * across the window), nearest on the left, linear (percentage-closer) on the right, and
+ * through textureProj. */
+static void scene_shadow(void) {
+    GLuint depth_tex;
+    glGenTextures(1, &depth_tex);
+    glBindTexture(GL_TEXTURE_2D, depth_tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, 32, 32, 0, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    GLuint fb;
+    glGenFramebuffers(1, &fb);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_tex, 0);
+    glDrawBuffers(0, NULL);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("depth framebuffer");
+    GLuint depth_only = program(
+        "#version 300 es\nlayout(location = 0) in vec3 position;\n"
+        "void main() { gl_Position = vec4(position, 1.0); }\n",
+        "#version 300 es\nprecision mediump float;\nvoid main() {}\n");
+    glUseProgram(depth_only);
+    glViewport(0, 0, 32, 32);
+    glEnable(GL_DEPTH_TEST);
+    glClearDepthf(1.0f);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    const float slanted[] = {-1, -1, -0.9f, 1, -1, 0.2f, -1, 1, 0.2f, 1, 1, 0.9f};
+    GLuint vao;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    buffer(GL_ARRAY_BUFFER, sizeof slanted, slanted);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    const float small[] = {-0.5f, -0.5f, -1.0f, 0.2f, -0.5f, -1.0f, -0.5f, 0.2f, -1.0f};
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    GLuint vao2;
+    glGenVertexArrays(1, &vao2);
+    glBindVertexArray(vao2);
+    buffer(GL_ARRAY_BUFFER, sizeof small, small);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisable(GL_DEPTH_TEST);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, W, H);
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nprecision mediump sampler2DShadow;\n"
+        "in vec2 uv;\nuniform sampler2DShadow shadow;\nuniform float bias;\nout vec4 color;\n"
+        "void main() {\n"
+        "  float reference = uv.y * 0.8 + 0.1 + bias;\n"
+        "  float lit = texture(shadow, vec3(uv * 1.2 - 0.1, reference));\n"
+        "  float projected = textureProj(shadow, vec4(uv * 2.0, reference * 2.0, 2.0));\n"
+        "  color = vec4(lit, projected, 0.3, 1.0);\n"
+        "}\n");
+    glUseProgram(show);
+    glUniform1f(glGetUniformLocation(show, "bias"), 0.0f);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, 32, 64);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glScissor(32, 0, 32, 64);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_SCISSOR_TEST);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* Primitive restart (always on in GL ES 3.0 as GL_PRIMITIVE_RESTART_FIXED_INDEX) with short and
+ * byte indices, and glDrawRangeElements. */
+static void scene_restart(void) {
+    GLuint p = program(color_vs, color_fs);
+    glUseProgram(p);
+    GLuint vao;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    float vertices[16 * 6];
+    for (int i = 0; i < 16; i++) {
+        float *v = vertices + i * 6;
+        v[0] = -0.9f + (i / 2) * 0.25f;
+        v[1] = (i % 2) ? 0.8f : 0.1f;
+        v[2] = (i % 3) * 0.4f; v[3] = 1.0f - (i % 4) * 0.25f; v[4] = (i % 5) * 0.2f; v[5] = 1;
+    }
+    buffer(GL_ARRAY_BUFFER, sizeof vertices, vertices);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void *)(2 * sizeof(float)));
+    const GLushort strips[] = {0, 1, 2, 3, 0xFFFF, 4, 5, 6, 7, 8, 9, 0xFFFF, 12, 13, 14, 15};
+    buffer(GL_ELEMENT_ARRAY_BUFFER, sizeof strips, strips);
+    glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+    glClearColor(0.1f, 0.1f, 0.1f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawElements(GL_TRIANGLE_STRIP, 16, GL_UNSIGNED_SHORT, (void *)0);
+    /* the bottom row: byte indices with restart, then a range-elements draw without restart */
+    const GLubyte bytes[] = {0, 1, 2, 0xFF, 2, 3, 4, 0xFF, 6, 7, 8};
+    GLuint vao2;
+    glGenVertexArrays(1, &vao2);
+    glBindVertexArray(vao2);
+    float low[16 * 6];
+    memcpy(low, vertices, sizeof low);
+    for (int i = 0; i < 16; i++) low[i * 6 + 1] -= 1.0f;
+    buffer(GL_ARRAY_BUFFER, sizeof low, low);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void *)(2 * sizeof(float)));
+    buffer(GL_ELEMENT_ARRAY_BUFFER, sizeof bytes, bytes);
+    glDrawElements(GL_TRIANGLE_STRIP, 11, GL_UNSIGNED_BYTE, (void *)0);
+    glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+    const GLushort range[] = {10, 11, 12, 12, 11, 13};
+    GLuint ib;
+    glGenBuffers(1, &ib);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ib);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof range, range, GL_STATIC_DRAW);
+    glDrawRangeElements(GL_TRIANGLES, 10, 13, 6, GL_UNSIGNED_SHORT, (void *)0);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* One 8x8 texture per format, each shown in a 16x16 cell: allocated by glTexImage2D without
+ * data (or glTexStorage2D) and filled by glTexSubImage2D, partly at an offset. */
+static void scene_formats(void) {
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision highp float;\nin vec2 uv;\nuniform sampler2D tex;\nuniform float scale;\n"
+        "out vec4 color;\n"
+        "void main() { color = texture(tex, uv) * scale; }\n");
+    glUseProgram(show);
+    GLint scale_location = glGetUniformLocation(show, "scale");
+    quad_vao();
+    glClearColor(0.5f, 0.0f, 0.5f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    unsigned char bytes[8 * 8 * 16];
+    for (int i = 0; i < (int)sizeof bytes; i++) bytes[i] = (unsigned char)(i * 37 + (i >> 3) * 11);
+    GLushort halves[8 * 8 * 4];
+    float floats[8 * 8 * 4];
+    for (int i = 0; i < 8 * 8 * 4; i++) {
+        floats[i] = (float)((i * 7) % 23) / 11.0f;
+        /* half floats of 0, 0.25, 0.5, ..., 1.75 */
+        static const GLushort h[8] = {0x0000, 0x3400, 0x3800, 0x3A00, 0x3C00, 0x3D00, 0x3E00, 0x3F00};
+        halves[i] = h[(i * 5) % 8];
+    }
+    struct { GLenum internal, format, type; const void *data; float scale; } formats[] = {
+        {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, bytes, 1},
+        {GL_RGB8, GL_RGB, GL_UNSIGNED_BYTE, bytes, 1},
+        {GL_RG8, GL_RG, GL_UNSIGNED_BYTE, bytes, 1},
+        {GL_R8, GL_RED, GL_UNSIGNED_BYTE, bytes, 1},
+        {GL_RGB565, GL_RGB, GL_UNSIGNED_SHORT_5_6_5, bytes, 1},
+        {GL_RGBA4, GL_RGBA, GL_UNSIGNED_SHORT_4_4_4_4, bytes, 1},
+        {GL_RGB5_A1, GL_RGBA, GL_UNSIGNED_SHORT_5_5_5_1, bytes, 1},
+        {GL_LUMINANCE_ALPHA, GL_LUMINANCE_ALPHA, GL_UNSIGNED_BYTE, bytes, 1},
+        {GL_ALPHA, GL_ALPHA, GL_UNSIGNED_BYTE, bytes, 1},
+        {GL_R16F, GL_RED, GL_HALF_FLOAT, halves, 0.5f},
+        {GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT, halves, 0.5f},
+        {GL_R32F, GL_RED, GL_FLOAT, floats, 0.5f},
+        {GL_RGBA32F, GL_RGBA, GL_FLOAT, floats, 0.5f},
+        {GL_RG16F, GL_RG, GL_HALF_FLOAT, halves, 0.5f},
+        {GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE, bytes, 1},
+        {GL_LUMINANCE, GL_LUMINANCE, GL_UNSIGNED_BYTE, bytes, 1},
+    };
+    for (int i = 0; i < 16; i++) {
+        GLuint tex;
+        glGenTextures(1, &tex);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        GLenum internal = formats[i].internal;
+        if (internal == GL_LUMINANCE_ALPHA || internal == GL_ALPHA || internal == GL_LUMINANCE)
+            glTexImage2D(GL_TEXTURE_2D, 0, internal, 8, 8, 0, formats[i].format, formats[i].type, NULL);
+        else if (i % 2)
+            glTexStorage2D(GL_TEXTURE_2D, 1, internal, 8, 8);
+        else
+            glTexImage2D(GL_TEXTURE_2D, 0, internal, 8, 8, 0, formats[i].format, formats[i].type, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        /* the whole level, then a 3x2 patch at (4, 5) from the same data */
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 8, 8, formats[i].format, formats[i].type, formats[i].data);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 4, 5, 3, 2, formats[i].format, formats[i].type, formats[i].data);
+        glUniform1f(scale_location, formats[i].scale);
+        glViewport((i % 4) * 16, (i / 4) * 16, 16, 16);
+        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    }
+    eglSwapBuffers(dpy, surf);
+}
+
+/* Integer render targets and attributes: an RGBA8UI texture written through a uvec4 output
+ * from an integer attribute (glVertexAttribIPointer) passed flat, read back with texelFetch
+ * of a usampler2D; an R32I one cleared by glClearBufferiv. */
+static void scene_integer(void) {
+    GLuint write = program(
+        "#version 300 es\n"
+        "layout(location = 0) in vec2 position;\n"
+        "layout(location = 1) in uvec4 code;\n"
+        "flat out uvec4 v_code;\n"
+        "void main() { v_code = code; gl_Position = vec4(position, 0.0, 1.0); }\n",
+        "#version 300 es\n"
+        "precision highp float;\nprecision highp int;\n"
+        "flat in uvec4 v_code;\n"
+        "layout(location = 0) out uvec4 color;\n"
+        "layout(location = 1) out ivec4 signed_value;\n"
+        "void main() {\n"
+        "  uvec2 p = uvec2(gl_FragCoord.xy);\n"
+        "  color = (v_code + uvec4(p.x * 7u, p.y * 5u, (p.x ^ p.y) << 2, 0u)) & 0xFFu;\n"
+        "  signed_value = ivec4(int(p.x) - 16, -int(p.y), int(v_code.x) * -3, 7);\n"
+        "}\n");
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8UI, 32, 32);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R32I, 32, 32, 0, GL_RED_INTEGER, GL_INT, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    GLuint fb;
+    glGenFramebuffers(1, &fb);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[0], 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, tex[1], 0);
+    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, buffers);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("integer framebuffer");
+    glViewport(0, 0, 32, 32);
+    const GLuint clear_u[4] = {10, 20, 30, 255};
+    const GLint clear_i[4] = {-5, 0, 0, 0};
+    glClearBufferuiv(GL_COLOR, 0, clear_u);
+    glClearBufferiv(GL_COLOR, 1, clear_i);
+    GLuint vao;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    const float tri[] = {-0.8f, -0.9f, 0.9f, -0.6f, -0.3f, 0.85f};
+    buffer(GL_ARRAY_BUFFER, sizeof tri, tri);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    const GLushort codes[] = {200, 16, 64, 255, 3, 180, 90, 255, 77, 99, 250, 255};
+    buffer(GL_ARRAY_BUFFER, sizeof codes, codes);
+    glEnableVertexAttribArray(1);
+    glVertexAttribIPointer(1, 4, GL_UNSIGNED_SHORT, 0, (void *)0);
+    glUseProgram(write);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, W, H);
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision highp float;\nprecision highp int;\n"
+        "in vec2 uv;\nuniform highp usampler2D codes;\nuniform highp isampler2D values;\nout vec4 color;\n"
+        "void main() {\n"
+        "  ivec2 texel = ivec2(uv * vec2(textureSize(codes, 0)));\n"
+        "  if (uv.x < 0.5) color = vec4(texelFetch(codes, texel, 0)) / 255.0;\n"
+        "  else { ivec4 v = texelFetch(values, texel, 0); color = vec4(vec3(v.xyz) / 40.0 + 0.5, 1.0); }\n"
+        "}\n");
+    glUseProgram(show);
+    glUniform1i(glGetUniformLocation(show, "codes"), 0);
+    glUniform1i(glGetUniformLocation(show, "values"), 1);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    quad_vao();
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* Float and sRGB render targets: additive blending past 1.0 into RGBA16F (then scaled down
+ * when shown), and blending into an SRGB8_ALPHA8 texture (blended in linear light, encoded on
+ * write, decoded when sampled). */
+static void scene_float_srgb(void) {
+    GLuint p = gradient_program();
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA16F, 32, 64);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_SRGB8_ALPHA8, 32, 64);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    GLuint fb[2];
+    glGenFramebuffers(2, fb);
+    glUseProgram(p);
+    glEnable(GL_BLEND);
+    for (int i = 0; i < 2; i++) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fb[i]);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex[i], 0);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("float/srgb framebuffer");
+        glViewport(0, 0, 32, 64);
+        glClearColor(0.25f, 0.5f, 0.125f, 0.5f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        if (i == 0) glBlendFunc(GL_ONE, GL_ONE);
+        else glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        draw_triangle();
+        draw_triangle();
+    }
+    glDisable(GL_BLEND);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision highp float;\nin vec2 uv;\nuniform sampler2D tex;\nuniform float scale;\n"
+        "out vec4 color;\n"
+        "void main() { color = texture(tex, uv) * scale; }\n");
+    glUseProgram(show);
+    quad_vao();
+    for (int i = 0; i < 2; i++) {
+        glBindTexture(GL_TEXTURE_2D, tex[i]);
+        glUniform1f(glGetUniformLocation(show, "scale"), i == 0 ? 0.4f : 1.0f);
+        glViewport(i * 32, 0, 32, 64);
+        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    }
+    eglSwapBuffers(dpy, surf);
+}
+
+/* glReadPixels in the middle of a frame, drawing on afterwards; a glMapBufferRange write with an
+ * explicit flush; a fence. */
+static void scene_readback(void) {
+    GLuint p = gradient_program();
+    glUseProgram(p);
+    glClearColor(0.3f, 0.3f, 0.3f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    draw_triangle();
+    unsigned char pixels[4 * 4 * 4];
+    glReadPixels(30, 30, 4, 4, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
+    GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000);
+    glDeleteSync(fence);
+    /* a quad whose colour is the pixel read back, at the top left */
+    GLuint c = program(color_vs, color_fs);
+    glUseProgram(c);
+    GLuint vao;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    GLuint vb;
+    glGenBuffers(1, &vb);
+    glBindBuffer(GL_ARRAY_BUFFER, vb);
+    glBufferData(GL_ARRAY_BUFFER, 4 * 6 * sizeof(float), NULL, GL_DYNAMIC_DRAW);
+    float *v = glMapBufferRange(GL_ARRAY_BUFFER, 0, 4 * 6 * sizeof(float),
+                                GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT | GL_MAP_FLUSH_EXPLICIT_BIT);
+    if (!v) die("map");
+    const float corners[] = {-1, 0.5f, -0.5f, 0.5f, -1, 1, -0.5f, 1};
+    for (int i = 0; i < 4; i++) {
+        v[i * 6] = corners[2 * i];
+        v[i * 6 + 1] = corners[2 * i + 1];
+        for (int k = 0; k < 4; k++) v[i * 6 + 2 + k] = pixels[k] / 255.0f;
+    }
+    glFlushMappedBufferRange(GL_ARRAY_BUFFER, 0, 4 * 6 * sizeof(float));
+    glUnmapBuffer(GL_ARRAY_BUFFER);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void *)(2 * sizeof(float)));
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* Transform feedback: not modelled by tiler; the replay must fail naming the call. */
+static void scene_feedback(void) {
+    GLuint p = glCreateProgram();
+    GLuint v = shader(GL_VERTEX_SHADER,
+        "#version 300 es\nlayout(location = 0) in vec2 position;\nout vec2 doubled;\n"
+        "void main() { doubled = position * 2.0; gl_Position = vec4(position, 0.0, 1.0); }\n");
+    GLuint f = shader(GL_FRAGMENT_SHADER,
+        "#version 300 es\nprecision mediump float;\nout vec4 color;\nvoid main() { color = vec4(1.0); }\n");
+    glAttachShader(p, v);
+    glAttachShader(p, f);
+    const char *varyings[] = {"doubled"};
+    glTransformFeedbackVaryings(p, 1, varyings, GL_INTERLEAVED_ATTRIBS);
+    glLinkProgram(p);
+    glUseProgram(p);
+    quad_vao();
+    GLuint out = buffer(GL_TRANSFORM_FEEDBACK_BUFFER, 4 * 2 * sizeof(float), NULL);
+    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, out);
+    glBeginTransformFeedback(GL_POINTS);
+    glDrawArrays(GL_POINTS, 0, 4);
+    glEndTransformFeedback();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* GLSL ES 3.00 language features real shaders use: integer and bit operations, switch,
+ * do-while, structs and arrays, non-square matrices, inverse/transpose, textureSize,
+ * texelFetch, textureGrad, textureOffset, packing functions, float bit casts. */
+static void scene_glsl3_more(void) {
+    GLuint p = program(show_vs,
+        "#version 300 es\n"
+        "precision highp float;\nprecision highp int;\n"
+        "in vec2 uv;\n"
+        "uniform sampler2D tex;\n"
+        "uniform ivec2 offset_choice;\n"
+        "uniform uint mask;\n"
+        "out vec4 color;\n"
+        "struct Light { vec3 direction; float power; };\n"
+        "const Light lights[2] = Light[2](Light(vec3(0.0, 0.6, 0.8), 1.0), Light(vec3(0.8, 0.0, 0.6), 0.5));\n"
+        "float shade(Light l, vec3 n) { return max(dot(n, l.direction), 0.0) * l.power; }\n"
+        "void main() {\n"
+        "  ivec2 cell = ivec2(uv * 8.0);\n"
+        "  int which = (cell.x + cell.y * 8) % 6;\n"
+        "  vec4 c = vec4(0.0);\n"
+        "  switch (which) {\n"
+        "    case 0: c = texture(tex, uv); break;\n"
+        "    case 1: c = texelFetch(tex, ivec2(uv * vec2(textureSize(tex, 0))), 0); break;\n"
+        "    case 2: c = textureGrad(tex, uv, vec2(0.1, 0.0), vec2(0.0, 0.1)); break;\n"
+        "    case 3: c = textureOffset(tex, uv, ivec2(2, -1)); break;\n"
+        "    case 4: {\n"
+        "      mat2x3 m = mat2x3(1.0, 0.5, 0.2, 0.3, 0.9, 0.1);\n"
+        "      mat3 r = inverse(mat3(2.0, 0.0, 0.0, 0.0, 4.0, 0.0, 0.1, 0.0, 1.0));\n"
+        "      vec3 n = normalize(r * (m * uv) + transpose(m)[0].xyx * 0.1);\n"
+        "      c = vec4(shade(lights[0], n), shade(lights[1], n), n.z, 1.0);\n"
+        "      break;\n"
+        "    }\n"
+        "    default: {\n"
+        "      uint bits = packUnorm2x16(uv);\n"
+        "      uint v = (bits ^ mask) >> 3u;\n"
+        "      int count = 0;\n"
+        "      do { count += int(v & 1u); v >>= 1u; } while (v != 0u);\n"
+        "      float f = intBitsToFloat(floatBitsToInt(uv.x) & ~0xFFFF);\n"
+        "      c = vec4(float(count) / 32.0, f, float(uint(which) * 40u % 256u) / 255.0, 1.0);\n"
+        "    }\n"
+        "  }\n"
+        "  color = c;\n"
+        "}\n");
+    glUseProgram(p);
+    glUniform1ui(glGetUniformLocation(p, "mask"), 0xA5A5A5A5u);
+    unsigned char texels[16 * 16 * 4];
+    for (int i = 0; i < 16 * 16; i++) {
+        texels[i * 4] = (unsigned char)((i % 16) * 16);
+        texels[i * 4 + 1] = (unsigned char)((i / 16) * 16);
+        texels[i * 4 + 2] = ((i % 16) / 4 + (i / 64)) % 2 ? 220 : 30;
+        texels[i * 4 + 3] = 255;
+    }
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 16, 16, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3},
-        {"objects", scene_objects}, {"mrt", scene_mrt}};
+        {"objects", scene_objects}, {"mrt", scene_mrt}, {"blit", scene_blit},
+        {"invalidate", scene_invalidate}, {"shadow", scene_shadow}, {"restart", scene_restart},
+        {"formats", scene_formats}, {"integer", scene_integer}, {"float-srgb", scene_float_srgb},
+        {"readback", scene_readback}, {"feedback", scene_feedback}, {"glsl3-more", scene_glsl3_more}};
     if (argc != 2) die("usage: probe3 SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

@@ -96,6 +96,14 @@
 //!   glDebugMessageControl (+KHR), glDebugMessageInsert (+KHR), glInsertEventMarkerEXT,
 //!   glObjectLabel (+KHR), glPopDebugGroup (+KHR), glPopGroupMarkerEXT, glPushDebugGroup (+KHR),
 //!   glPushGroupMarkerEXT.
+//! - *Sync objects* — one context's commands run in order, and what a wait costs is
+//!   modelled where the CPU waits (`glClientWaitSync` decodes to [`Command::Finish`]):
+//!   glFenceSync, glDeleteSync, glWaitSync, glIsSync, glGetSynciv.
+//!
+//! Calls of a feature tiler does not model (transform feedback, 3-D and array textures,
+//! program binaries, compute) and desktop OpenGL calls fail with
+//! [`DecodeErrorKind::NotModelled`](gles::DecodeErrorKind::NotModelled), which names the
+//! feature.
 //!
 //! `glGetUniformLocation`, `glGetAttribLocation` and `glGetUniformBlockIndex` change nothing
 //! either, but their recorded return values are the names later calls use, so they decode to

@@ -129,7 +129,8 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
                 Some(preset) => config.on_device(&preset.device),
                 None => config,
             };
-            ContextConfig { keep_pass_reports: shared, ..config }
+            // Every presented frame is checked, not only the last (`--devices`, `--what-if`).
+            ContextConfig { keep_pass_reports: shared, digest_presented: devices.len() > 1 || args.what_if, ..config }
         };
         let (report, picture, config) = match &mut trace {
             Some(trace) => replay_trace(trace, configure, &args.trace)?,
@@ -152,11 +153,12 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
             },
         };
         if let Some(first) = replays.first()
-            && first.picture != picture
+            && let Some(frame) = different_picture(&first.report, &first.picture, &report, &picture)
         {
             bail!(
-                "'{}' presented a different picture from '{}': every device must give the same picture, bit for \
-                 bit; this is a tiler bug, please report it",
+                "{}: '{}' presented a different picture from '{}': every device must give the same pictures, bit \
+                 for bit; this is a tiler bug, please report it",
+                describe_frame(frame, report.frames.len()),
                 preset.name,
                 first.preset.name
             );
@@ -187,9 +189,9 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
         print!("{}", what_if_text(&first.report.findings));
         return Ok(());
     }
-    let report = shared_report(&args.trace, &replays, args.report.fps)?;
+    let report = shared_report(&args.trace, &mut replays, args.report.fps)?;
     let lines = args.report.write(&report)?;
-    print!("{}", text_report(&first.report));
+    print!("{}", text_report(&replays[0].report));
     if replays.len() > 1 {
         print!("{}", findings_per_device(&report));
     }
@@ -215,48 +217,30 @@ fn replay_trace(
 }
 
 /// Applies each finding's fix alone to the trace, replays it as `replayed` ran, and records
-/// what it saved and whether the picture stayed the same in the finding.
+/// what it saved and whether the pictures stayed the same in the finding.
 fn what_if(trace: &Trace, replayed: &mut Replayed, path: &Path) -> Result<()> {
-    let before = replayed.report.totals.ledger.total();
-    let mut results = Vec::with_capacity(replayed.report.findings.len());
-    for finding in &replayed.report.findings {
-        let mut fixer = what_if::Fixer::new(trace).map_err(anyhow::Error::msg).context("--what-if")?;
-        let mut result = tiler_report::WhatIf {
-            device: replayed.preset.name.clone(),
-            estimated_bytes: finding.cost_bytes,
-            estimated_fragments: finding.cost_fragments,
-            ..Default::default()
-        };
-        match fixer.add(finding, &replayed.report) {
-            Ok(fix) => {
-                let mut fixed = fixer.fixed(trace);
-                fixed.config = replayed.config.clone();
-                // A fix the edited calls cannot take (it moves a bind before the framebuffer
-                // exists, say) is reported as not applied, with the replay's error.
-                let replay = match fixed.replay() {
-                    Ok(replay) => replay,
-                    Err(e) => {
-                        result.fix = format!("{fix}: not applied, the edited calls of {} fail: {e}", path.display());
-                        results.push(result);
-                        continue;
-                    }
-                };
-                let after = replay.report.totals.ledger.total();
-                result.fix = fix;
-                result.applied = true;
-                result.measured_bytes = Some(before as i64 - after as i64);
-                let shaded = |r: &GlReport| r.totals.counters.fragments_shaded as i64;
-                result.measured_fragments = Some(shaded(&replayed.report) - shaded(&replay.report));
-                result.same_picture = Some(replay.context.surface_rgba8() == replayed.picture.2);
-            }
-            Err(why) => result.fix = why,
-        }
-        results.push(result);
-    }
+    let (_, _, picture) = &replayed.picture;
+    let run = what_if::Run { config: &replayed.config, report: &replayed.report, picture };
+    let results = what_if::prove(trace, &run, &replayed.preset.name)
+        .map_err(anyhow::Error::msg)
+        .with_context(|| format!("--what-if on {}", path.display()))?;
     for (finding, result) in replayed.report.findings.iter_mut().zip(results) {
         finding.what_if.push(result);
     }
     Ok(())
+}
+
+/// The first frame whose presented picture differs between two runs of the same calls (each
+/// frame's digest, recorded with `digest_presented`), or, when every presented frame is the
+/// same, the number of frames if the window's picture at the end differs; `None`: the same.
+fn different_picture(a: &GlReport, a_end: &Picture, b: &GlReport, b_end: &Picture) -> Option<u32> {
+    tiler_gl::report::first_different_frame(&a.frames, &b.frames)
+        .or_else(|| (a_end != b_end).then_some(a.frames.len().max(b.frames.len()) as u32))
+}
+
+/// `frame 3`, or `the window at the end` for the frame after the last.
+fn describe_frame(frame: u32, frames: usize) -> String {
+    if frame as usize >= frames { "the window at the end".to_string() } else { format!("frame {frame}") }
 }
 
 /// Each fix tried: the bytes it saved beside the estimate, and whether the picture held.
@@ -269,12 +253,24 @@ fn what_if_text(findings: &[tiler_report::Finding]) -> String {
             }
             let line = match (w.measured_bytes, w.same_picture) {
                 (Some(measured), Some(same)) => format!(
-                    "{}: measured {measured} B and {} fragments saved, estimated {} B and {}; {} picture",
+                    "{}: measured {} B and {} fragments saved, estimated {} B and {}{}; {}",
                     w.fix,
+                    w.measured_bytes_before_elimination.unwrap_or(measured),
                     w.measured_fragments.unwrap_or(0),
                     w.estimated_bytes.unwrap_or(0),
                     w.estimated_fragments.unwrap_or(0),
-                    if same { "same" } else { "a DIFFERENT" }
+                    match w.measured_bytes_before_elimination {
+                        Some(_) => format!(
+                            " (the device moved {measured} B fewer: transaction elimination skips the stores of \
+                             unchanged tiles)"
+                        ),
+                        None => String::new(),
+                    },
+                    match (same, w.different_frame) {
+                        (true, _) => "same pictures".to_string(),
+                        (false, Some(frame)) => format!("a DIFFERENT picture from frame {frame}"),
+                        (false, None) => "a DIFFERENT picture".to_string(),
+                    }
                 ),
                 _ => format!("not tried: {}", w.fix),
             };
@@ -326,8 +322,8 @@ fn replay_capture(
 
 /// The report every frame source shares: one column per replay, the passes as the driver
 /// inferred them, and each finding priced on each device.
-fn shared_report(path: &Path, replays: &[Replayed], fps: f64) -> Result<Report> {
-    let columns = replays.iter().map(column).collect::<Result<Vec<_>>>()?;
+fn shared_report(path: &Path, replays: &mut [Replayed], fps: f64) -> Result<Report> {
+    let columns = replays.iter_mut().map(column).collect::<Result<Vec<_>>>()?;
     let first = &replays[0].report;
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let scene = SceneInfo {
@@ -356,17 +352,18 @@ fn shared_report(path: &Path, replays: &[Replayed], fps: f64) -> Result<Report> 
 }
 
 /// A replay as a report column: every pass of every frame (with the traffic the driver
-/// counts for it), and each frame's presenting and driver costs.
-fn column(replayed: &Replayed) -> Result<Column> {
+/// counts for it), and each frame's presenting and driver costs. The core's pass reports move
+/// into the column (each is held once).
+fn column(replayed: &mut Replayed) -> Result<Column> {
     let mut frame = FrameCost::default();
     let mut frames = Vec::with_capacity(replayed.report.frames.len());
-    for record in &replayed.report.frames {
+    for record in &mut replayed.report.frames {
         let first_pass = frame.passes.len();
-        for pass in &record.passes {
-            let Some(core) = &pass.core else {
+        for pass in &mut record.passes {
+            let Some(core) = pass.core.take() else {
                 bail!("pass {} has no record of its cost (an internal error)", pass.index);
             };
-            let mut core = (**core).clone();
+            let mut core = *core;
             core.ledger.merge(&pass.extra);
             frame.passes.push(core);
         }

@@ -12,7 +12,7 @@ use serde::Serialize;
 use tiler::{Backend, Device, DeviceConfig, SimdLevel};
 use tiler_scene::bench::{BenchCase, BenchScene, build, standard_cases};
 
-use crate::scene_args::parse_size;
+use crate::scene_args::{parse_samples, parse_size};
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -45,9 +45,9 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 32)]
     pub tile: u32,
 
-    /// Samples per pixel of the colour and depth attachments (1, 2, 4 or 8); the samples are
-    /// resolved in the tile and only the resolved image is stored.
-    #[arg(long, default_value_t = 1)]
+    /// Samples per pixel of the colour and depth attachments (1, 2, 4, 8 or 16); the samples
+    /// are resolved in the tile and only the resolved image is stored.
+    #[arg(long, default_value_t = 1, value_parser = parse_samples)]
     pub msaa: u32,
 
     /// The instruction set of the pixel pipeline: `baseline` or `avx2` [default: the best this

@@ -46,8 +46,8 @@ pub struct SceneArgs {
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
 
-    /// Samples per pixel: 1, 2, 4 or 8 (MSAA, resolved in the tile on the tilers).
-    #[arg(long, default_value_t = 1)]
+    /// Samples per pixel: 1, 2, 4, 8 or 16 (MSAA, resolved in the tile on the tilers).
+    #[arg(long, default_value_t = 1, value_parser = parse_samples)]
     pub msaa: u32,
 }
 
@@ -176,6 +176,17 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("'{s}' is not WIDTHxHEIGHT (e.g. 1280x720)"))?;
     let parse = |v: &str| v.trim().parse::<u32>().map_err(|_| format!("'{v}' in '{s}' is not a whole number"));
     Ok((parse(w)?, parse(h)?))
+}
+
+/// Parses a sample count (`--msaa`) that images may have: the core's own check, so the
+/// command line accepts exactly what `ImageDesc::validate` does.
+pub fn parse_samples(s: &str) -> Result<u32, String> {
+    let samples = s.trim().parse::<u32>().map_err(|_| format!("'{s}' is not a whole number"))?;
+    tiler::ImageDesc::new(1, 1, tiler::Format::Rgba8Unorm)
+        .with_samples(samples)
+        .validate()
+        .map_err(|e| e.to_string())?;
+    Ok(samples)
 }
 
 fn parse_shading(s: &str) -> Result<Shading, String> {

@@ -94,6 +94,22 @@ fn render_errors_name_the_file() {
     assert!(!out.status.success());
 }
 
+/// `--msaa` takes the counts the core renders, 16 included, and names any other.
+#[test]
+fn msaa_takes_sixteen_samples_and_names_other_counts() {
+    let dir = scratch("msaa16");
+    let png = dir.join("out.png");
+    let out = tiler(&["render", "--size", "64x48", "--msaa", "16", "-o", png.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(png.exists());
+    for bad in ["3", "32", "many"] {
+        let out = tiler(&["render", "--size", "64x48", "--msaa", bad]);
+        assert!(!out.status.success(), "--msaa {bad}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("--msaa") && stderr.contains(bad), "{stderr}");
+    }
+}
+
 #[test]
 fn bench_prints_json() {
     let out = tiler(&[

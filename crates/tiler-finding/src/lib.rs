@@ -145,8 +145,20 @@ pub struct WhatIf {
     /// The finding's estimate on this device, fragments.
     #[serde(default)]
     pub estimated_fragments: Option<u64>,
-    /// Whether the replay presented the same last picture, bit for bit.
+    /// Whether the replay presented the same pictures, bit for bit: every presented frame
+    /// and the window at the end.
     pub same_picture: Option<bool>,
+    /// When the pictures differ: the first frame (from 0) whose presented picture differs
+    /// (the run's frame count when only the window at the end does).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub different_frame: Option<u64>,
+    /// Bytes the replay with the fix moved fewer, counting the tile stores transaction
+    /// elimination skipped as moved (`measured_bytes` + the change in
+    /// `transaction_elimination_saved_bytes`): what the fix saves whatever the pictures, the
+    /// figure the estimate prices. Equal to `measured_bytes` on a device without transaction
+    /// elimination; written only when it differs from it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_bytes_before_elimination: Option<i64>,
 }
 
 /// What a finding costs on one device.

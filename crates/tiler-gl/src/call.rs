@@ -1178,6 +1178,9 @@ pub enum Capability {
     CullFace,
     ScissorTest,
     PolygonOffsetFill,
+    /// GL ES 3.0's `GL_PRIMITIVE_RESTART_FIXED_INDEX`: the largest value of an indexed draw's
+    /// index type ends the primitive being assembled and starts a new one.
+    PrimitiveRestartFixedIndex,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -281,8 +281,8 @@ pub struct TextureSnapshot {
 
 #[derive(Clone, Debug)]
 enum Texels {
-    /// An image's bytes; a multisampled one reads as the mean of its samples, as the core
-    /// resolves.
+    /// An image's bytes; a multisampled one reads as its samples resolved, as the core
+    /// resolves them (`Format::resolve_samples`).
     Color {
         format: tiler::Format,
         samples: u32,
@@ -352,15 +352,16 @@ impl TextureSnapshot {
             Texels::Color { format, samples, data } => {
                 let bpp = format.bytes_per_sample();
                 let plane = self.width as usize * self.height as usize * bpp;
-                let mut sum = [0.0f32; 4];
-                for s in 0..*samples as usize {
-                    let start = s * plane + index * bpp;
-                    let v = format.decode_color(&data[start..start + bpp]);
-                    for c in 0..4 {
-                        sum[c] += v[c];
-                    }
+                let start = index * bpp;
+                if *samples == 1 {
+                    return format.decode_color(&data[start..start + bpp]);
                 }
-                if *samples == 1 { sum } else { sum.map(|c| c * (1.0 / *samples as f32)) }
+                // Resolved as the tile resolves (nearest byte of the mean for UNORM8), so a
+                // blit's resolve gives the picture a resolve in the tile gives.
+                let mut resolved = [0u8; 16];
+                let pixel = (0..*samples as usize).map(|s| &data[s * plane + start..s * plane + start + bpp]);
+                format.resolve_samples(pixel, &mut resolved);
+                format.decode_color(&resolved[..bpp])
             }
             Texels::Depth(depths) => {
                 let z = depths[index];

@@ -263,6 +263,8 @@ pub struct PassCost {
     /// Memory the pass's transient attachments did not need (tilers, when they never
     /// spilled to memory through an incremental render or a subpass split).
     pub transient_bytes_saved: u64,
+    /// Bytes of tile stores transaction elimination skipped: tiles stored unchanged.
+    pub transaction_elimination_saved: u64,
 }
 
 impl From<&PassReport> for PassCost {
@@ -276,6 +278,7 @@ impl From<&PassReport> for PassCost {
             tiles_x: r.tiles_x,
             tiles_y: r.tiles_y,
             transient_bytes_saved: r.transient_bytes_saved,
+            transaction_elimination_saved: r.transaction_elimination_saved,
         }
     }
 }
@@ -412,6 +415,39 @@ pub struct FrameRecord {
     pub stalls: Vec<Stall>,
     pub copies: Vec<CopyOnWrite>,
     pub dead_stores: Vec<DeadStore>,
+    /// The picture the frame presented, as [`picture_digest`], when the configuration asked
+    /// for it ([`ContextConfig::digest_presented`]) and the frame ended with a swap.
+    #[serde(skip)]
+    pub presented_digest: Option<u64>,
+}
+
+/// FNV-1a (64-bit) of the width and height (little-endian u32 each) and the RGBA8 pixels: the
+/// `image_digest` of the `tiler-report/1` schema. Equal pictures have equal digests.
+pub fn picture_digest(width: u32, height: u32, rgba: &[u8]) -> u64 {
+    const OFFSET_BASIS: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    let mut hash = OFFSET_BASIS;
+    for byte in width.to_le_bytes().iter().chain(&height.to_le_bytes()).chain(rgba) {
+        hash ^= *byte as u64;
+        hash = hash.wrapping_mul(PRIME);
+    }
+    hash
+}
+
+/// The first presented frame of two runs whose pictures differ (each run's frames'
+/// [`FrameRecord::presented_digest`]s, in the order presented), or `None` when both presented
+/// the same pictures. A picture one run presented and the other did not differs; frames that
+/// presented nothing (a trace's last calls after its last swap) are not compared.
+pub fn first_different_frame(a: &[FrameRecord], b: &[FrameRecord]) -> Option<u32> {
+    let presented = |frames: &[FrameRecord]| -> Vec<(u32, u64)> {
+        frames.iter().filter_map(|f| f.presented_digest.map(|d| (f.index, d))).collect()
+    };
+    let (a, b) = (presented(a), presented(b));
+    (0..a.len().max(b.len())).find_map(|i| match (a.get(i), b.get(i)) {
+        (Some((frame, x)), Some((_, y))) => (x != y).then_some(*frame),
+        (Some((frame, _)), None) | (None, Some((frame, _))) => Some(*frame),
+        (None, None) => None,
+    })
 }
 
 impl FrameRecord {
@@ -537,9 +573,42 @@ impl Report {
         self.frames.iter().flat_map(|f| f.passes.iter())
     }
 
+    /// Bytes of tile stores transaction elimination skipped over the run.
+    pub fn transaction_elimination_saved(&self) -> u64 {
+        self.passes().map(|p| p.cost.transaction_elimination_saved).sum()
+    }
+
     /// The findings with this id.
     pub fn findings_with(&self, id: &str) -> impl Iterator<Item = &Finding> + '_ {
         let id = id.to_string();
         self.findings.iter().filter(move |f| f.id == id)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(digests: &[Option<u64>]) -> Vec<FrameRecord> {
+        digests
+            .iter()
+            .enumerate()
+            .map(|(i, d)| FrameRecord { index: i as u32, presented_digest: *d, ..FrameRecord::default() })
+            .collect()
+    }
+
+    /// Every presented frame is compared, in order; the first that differs is named; a frame
+    /// that presented nothing is not compared, and a picture one run presented and the other
+    /// did not differs.
+    #[test]
+    fn the_first_different_presented_frame_is_named() {
+        let a = run(&[Some(1), Some(2), Some(3), None]);
+        assert_eq!(first_different_frame(&a, &run(&[Some(1), Some(2), Some(3)])), None);
+        assert_eq!(first_different_frame(&a, &run(&[Some(1), Some(9), Some(3)])), Some(1));
+        assert_eq!(first_different_frame(&a, &run(&[Some(1), Some(2)])), Some(2));
+        assert_eq!(first_different_frame(&run(&[Some(1)]), &run(&[Some(1), Some(5)])), Some(1));
+        let picture = [10u8, 20, 30, 255];
+        assert_ne!(picture_digest(1, 1, &picture), picture_digest(1, 1, &[10, 20, 31, 255]));
+        assert_ne!(picture_digest(1, 2, &[0; 8]), picture_digest(2, 1, &[0; 8]), "the size counts");
     }
 }

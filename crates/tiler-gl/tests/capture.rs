@@ -191,6 +191,103 @@ fn rgb_texels_reach_the_window_upright_through_a_blit() {
     assert_eq!(frames[0].4, [70, 80, 90, 255, 100, 110, 120, 255, 10, 20, 30, 255, 40, 50, 60, 255]);
 }
 
+/// A framebuffer whose colour is a multisampled RGBA8 renderbuffer of `samples` samples
+/// (`glRenderbufferStorageMultisample`), cleared to red and blitted onto the 8×4 window.
+/// Returns the storage call's number.
+fn multisampled_renderbuffer_capture(w: &mut Writer, samples: u64) -> u64 {
+    window_surface(w);
+    begin_context(w, 100, 8, 4);
+    let renderbuffer = e("GL_RENDERBUFFER", 0x8d41);
+    let framebuffer = e("GL_FRAMEBUFFER", 0x8d40);
+    w.call("glGenRenderbuffers", &[("n", W::UInt(1)), ("renderbuffers", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindRenderbuffer", &[("target", renderbuffer.clone()), ("renderbuffer", W::UInt(1))], None, false);
+    let storage = w.call(
+        "glRenderbufferStorageMultisample",
+        &[
+            ("target", renderbuffer.clone()),
+            ("samples", W::UInt(samples)),
+            ("internalformat", e("GL_RGBA8", 0x8058)),
+            ("width", W::UInt(8)),
+            ("height", W::UInt(4)),
+        ],
+        None,
+        false,
+    );
+    w.call("glGenFramebuffers", &[("n", W::UInt(1)), ("framebuffers", W::Array(vec![W::UInt(3)]))], None, false);
+    w.call("glBindFramebuffer", &[("target", framebuffer.clone()), ("framebuffer", W::UInt(3))], None, false);
+    w.call(
+        "glFramebufferRenderbuffer",
+        &[
+            ("target", framebuffer.clone()),
+            ("attachment", e("GL_COLOR_ATTACHMENT0", 0x8ce0)),
+            ("renderbuffertarget", renderbuffer),
+            ("renderbuffer", W::UInt(1)),
+        ],
+        None,
+        false,
+    );
+    clear(w, [1.0, 0.0, 0.0, 1.0]);
+    w.call(
+        "glBindFramebuffer",
+        &[("target", e("GL_DRAW_FRAMEBUFFER", 0x8ca9)), ("framebuffer", W::UInt(0))],
+        None,
+        false,
+    );
+    w.call(
+        "glBindFramebuffer",
+        &[("target", e("GL_READ_FRAMEBUFFER", 0x8ca8)), ("framebuffer", W::UInt(3))],
+        None,
+        false,
+    );
+    let rect = |a, b, c, d| [W::UInt(a), W::UInt(b), W::UInt(c), W::UInt(d)];
+    let [s0, s1, s2, s3] = rect(0, 0, 8, 4);
+    let [d0, d1, d2, d3] = rect(0, 0, 8, 4);
+    w.call(
+        "glBlitFramebuffer",
+        &[
+            ("srcX0", s0),
+            ("srcY0", s1),
+            ("srcX1", s2),
+            ("srcY1", s3),
+            ("dstX0", d0),
+            ("dstY0", d1),
+            ("dstX1", d2),
+            ("dstY1", d3),
+            ("mask", W::UInt(0x4000)),
+            ("filter", e("GL_NEAREST", 0x2600)),
+        ],
+        None,
+        false,
+    );
+    swap(w);
+    storage
+}
+
+#[test]
+fn multisampled_renderbuffers_get_the_sample_count_gl_grants() {
+    // Asked → granted: at least as many, no more than the next supported count (GL ES 3.0
+    // §4.4.2.1); 16 is the most.
+    for (asked, granted) in [(16, 16), (9, 16), (3, 4), (0, 1)] {
+        let mut w = Writer::new(6);
+        multisampled_renderbuffer_capture(&mut w, asked);
+        let (result, frames) = replay(&w);
+        let replay = result.unwrap_or_else(|e| panic!("{asked} samples: {e}"));
+        assert_eq!(frames[0].4, solid(8, 4, [255, 0, 0, 255]), "{asked} samples");
+        let pass = replay.report.passes().find(|p| p.framebuffer != 0).expect("the renderbuffer's pass");
+        let color = pass.attachment(tiler_gl::report::Slot::Color(0)).expect("a colour attachment");
+        assert_eq!(color.samples, granted, "{asked} samples asked");
+        // Stored at every sample: 8 × 4 pixels × granted samples × 4 bytes.
+        assert_eq!(color.store_bytes, 8 * 4 * granted as u64 * 4, "{asked} samples asked");
+    }
+    let mut w = Writer::new(6);
+    let call = multisampled_renderbuffer_capture(&mut w, 17);
+    let (result, frames) = replay(&w);
+    let error = result.err().expect("17 samples is more than GL_MAX_SAMPLES");
+    assert_eq!(error.call(), Some(call));
+    assert!(error.to_string().contains("GL_MAX_SAMPLES"), "{error}");
+    assert!(frames.is_empty());
+}
+
 #[test]
 fn an_unsupported_call_fails_with_its_number_and_function() {
     let mut w = Writer::new(6);
@@ -433,12 +530,17 @@ fn a_uniform_location_never_returned_is_an_error_naming_the_call() {
 }
 
 fn tex_parameter(w: &mut Writer, pname: (&'static str, u32), value: (&'static str, u32)) {
+    tex_parameter_call(w, pname, value);
+}
+
+/// [`tex_parameter`], returning the call's number.
+fn tex_parameter_call(w: &mut Writer, pname: (&'static str, u32), value: (&'static str, u32)) -> u64 {
     w.call(
         "glTexParameteri",
         &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("pname", e(pname.0, pname.1)), ("param", e(value.0, value.1))],
         None,
         false,
-    );
+    )
 }
 
 #[test]
@@ -517,6 +619,61 @@ fn mip_levels_uploaded_by_the_application_are_sampled() {
     let error = result.err().expect("a 3×3 level 1 of a 4×4 texture");
     assert_eq!(error.call(), Some(call));
     assert!(error.to_string().contains("must be 2×2"), "{error}");
+}
+
+#[test]
+fn max_level_zero_makes_a_mipmap_filter_sample_level_zero_and_compare_mode_is_refused() {
+    // A 4×4 texture without levels and a trilinear filter read at level 2: incomplete (black)
+    // in GL ES 2.0, but complete with GL_TEXTURE_MAX_LEVEL 0, which samples level 0.
+    let capture = |max_level: Option<u64>, compare: bool| {
+        let mut w = Writer::new(6);
+        window_surface(&mut w);
+        begin_context(&mut w, 100, 4, 4);
+        texture_rgb(&mut w, 4, 4, 4, vec![40; 48]);
+        tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_LINEAR_MIPMAP_LINEAR", 0x2703));
+        let int_parameter = |w: &mut Writer, pname: (&'static str, u32), value: u64| {
+            let args =
+                [("target", e("GL_TEXTURE_2D", 0x0de1)), ("pname", e(pname.0, pname.1)), ("param", W::UInt(value))];
+            w.call("glTexParameteri", &args, None, false)
+        };
+        // Defaults apps set explicitly change nothing.
+        int_parameter(&mut w, ("GL_TEXTURE_BASE_LEVEL", 0x813c), 0);
+        tex_parameter(&mut w, ("GL_TEXTURE_WRAP_R", 0x8072), ("GL_CLAMP_TO_EDGE", 0x812f));
+        tex_parameter(&mut w, ("GL_TEXTURE_SWIZZLE_R", 0x8e42), ("GL_RED", 0x1903));
+        let mut last = 0;
+        if let Some(level) = max_level {
+            last = int_parameter(&mut w, ("GL_TEXTURE_MAX_LEVEL", 0x813d), level);
+        }
+        if compare {
+            last =
+                tex_parameter_call(&mut w, ("GL_TEXTURE_COMPARE_MODE", 0x884c), ("GL_COMPARE_REF_TO_TEXTURE", 0x884e));
+        }
+        let vertex = "attribute vec2 where;\nuniform sampler2D height;\nvarying vec4 fetched;\n\
+                      void main() { fetched = texture2DLod(height, vec2(0.5, 0.5), 2.0); gl_Position = vec4(where, 0.0, 1.0); }\n";
+        let fragment = "precision mediump float;\nvarying vec4 fetched;\nvoid main() { gl_FragColor = fetched; }\n";
+        full_window_program(&mut w, vertex, fragment);
+        let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+        let draw_call = w.call("glDrawArrays", &draw, None, false);
+        swap(&mut w);
+        (w, last, draw_call)
+    };
+    let (w, ..) = capture(None, false);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [0, 0, 0, 255]), "incomplete without levels");
+    let (w, ..) = capture(Some(0), false);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [40, 40, 40, 255]), "level 0 with GL_TEXTURE_MAX_LEVEL 0");
+    // A max level inside the chain is refused where the texture is drawn with.
+    let (w, _, draw_call) = capture(Some(1), false);
+    let error = replay(&w).0.err().expect("max level 1 of a 3-level chain");
+    assert_eq!(error.call(), Some(draw_call));
+    assert!(error.to_string().contains("GL_TEXTURE_MAX_LEVEL 1"), "{error}");
+    let (w, call, _) = capture(Some(0), true);
+    let error = replay(&w).0.err().expect("compare mode");
+    assert_eq!(error.call(), Some(call));
+    assert!(error.to_string().contains("sampler2DShadow"), "{error}");
 }
 
 #[test]
@@ -936,6 +1093,42 @@ fn probe_multiple_render_targets_match_llvmpipe() {
 #[test]
 fn probe_glsl_es_300_matches_llvmpipe() {
     check_probe_in("gles3-probe", "glsl3");
+}
+
+#[test]
+fn probe_blits_and_a_multisample_resolve_by_blit_match_llvmpipe() {
+    check_probe_in("gles3-probe", "blit");
+}
+
+#[test]
+fn probe_invalidated_attachments_match_llvmpipe() {
+    check_probe_in("gles3-probe", "invalidate");
+}
+
+#[test]
+fn probe_primitive_restart_and_range_elements_match_llvmpipe() {
+    check_probe_in("gles3-probe", "restart");
+}
+
+#[test]
+fn probe_texture_formats_through_tex_sub_image_match_llvmpipe() {
+    check_probe_in("gles3-probe", "formats");
+}
+
+#[test]
+fn probe_float_and_srgb_render_targets_match_llvmpipe() {
+    check_probe_in("gles3-probe", "float-srgb");
+}
+
+#[test]
+fn probe_read_pixels_mid_frame_a_mapped_range_and_a_fence_match_llvmpipe() {
+    check_probe_in("gles3-probe", "readback");
+}
+
+#[test]
+fn probe_transform_feedback_fails_naming_the_call_and_the_feature() {
+    let error = replay_probe_in("gles3-probe", "feedback", ReplayOptions::default().config).unwrap_err();
+    assert!(error.contains("glTransformFeedbackVaryings") && error.contains("transform feedback"), "{error}");
 }
 
 /// A program whose fragment shader reads uniform block `Colors` (with `uniform_array_capture`'s

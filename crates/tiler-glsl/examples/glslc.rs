@@ -1,5 +1,7 @@
 //! Compiles and links GLSL ES programs, prints what linking found (or the error), and renders
-//! each once as a smoke test: `glslc VERTEX FRAGMENT [VERTEX FRAGMENT …]`.
+//! each once as a smoke test: `glslc [--ir] VERTEX FRAGMENT [VERTEX FRAGMENT …]`. With `--ir`
+//! it also prints each stage's lowered code, as the executor runs it (after folding, hoisting
+//! and fusion) and the bank program run once per instance.
 //!
 //! The render draws a full-screen triangle into a 64×64 target with every attribute set to
 //! the vertex's position, `mat4` uniforms the identity, other uniforms zero and no textures,
@@ -12,7 +14,8 @@ use tiler::{
     ColorAttachment, Device, DeviceConfig, Draw, Format, ImageDesc, PipelineDesc, RenderPass, RenderPassDesc,
     VertexFormat, VertexInputState,
 };
-use tiler_glsl::{CompiledProgram, Type};
+use tiler_glsl::ir::{BANK, Inst};
+use tiler_glsl::{CompiledProgram, Stage, Type};
 
 /// Renders `program` as described in the module docs; returns the pixels written.
 fn smoke_render(program: CompiledProgram) -> Result<usize, String> {
@@ -47,10 +50,54 @@ fn smoke_render(program: CompiledProgram) -> Result<usize, String> {
     Ok(pixels.chunks(4).filter(|p| *p != [0, 0, 0, 0]).count())
 }
 
+/// Prints a stage's lowered code, one instruction per line (nested blocks indented).
+fn print_ir(stage: Stage, source: &str) {
+    fn block(code: &[Inst], depth: usize) {
+        for inst in code {
+            let pad = "  ".repeat(depth + 1);
+            match inst {
+                Inst::If(c, then, els) => {
+                    println!("{pad}If({c})");
+                    block(then, depth + 1);
+                    println!("{pad}Else");
+                    block(els, depth + 1);
+                }
+                Inst::Loop { cond_code, cond, body, step, test_first } => {
+                    println!("{pad}Loop(cond {cond:?}, test_first {test_first})");
+                    block(cond_code, depth + 1);
+                    println!("{pad}Body");
+                    block(body, depth + 1);
+                    println!("{pad}Step");
+                    block(step, depth + 1);
+                }
+                Inst::Call(body) => {
+                    println!("{pad}Call");
+                    block(body, depth + 1);
+                }
+                other => println!("{pad}{other:?}"),
+            }
+        }
+    }
+    match tiler_glsl::compile::compile(stage, source) {
+        Ok(code) => {
+            println!("{stage}: {} work registers, bank {:?} (registers from {:#x})", code.work_regs, code.bank, BANK);
+            println!(" bank program:");
+            block(&code.bank_program, 0);
+            println!(" code:");
+            block(&code.code, 0);
+        }
+        Err(e) => println!("{stage}: {e}"),
+    }
+}
+
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let ir = args.first().is_some_and(|a| a == "--ir");
+    if ir {
+        args.remove(0);
+    }
     if args.is_empty() || !args.len().is_multiple_of(2) {
-        eprintln!("usage: glslc VERTEX FRAGMENT [VERTEX FRAGMENT …]");
+        eprintln!("usage: glslc [--ir] VERTEX FRAGMENT [VERTEX FRAGMENT …]");
         return ExitCode::FAILURE;
     }
     let mut failed = 0;
@@ -58,6 +105,10 @@ fn main() -> ExitCode {
         let read = |path: &str| std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"));
         let result = read(&pair[0]).and_then(|vs| {
             let fs = read(&pair[1])?;
+            if ir {
+                print_ir(Stage::Vertex, &vs);
+                print_ir(Stage::Fragment, &fs);
+            }
             CompiledProgram::new(&vs, &fs, &[]).map_err(|e| e.to_string())
         });
         match result {

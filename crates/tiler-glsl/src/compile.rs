@@ -333,6 +333,8 @@ impl<'a> Compiler<'a> {
         }
         let mut code = self.code;
         let mut bank = self.bank;
+        let constants = crate::fold::Constants::new(&mut bank, self.consts.values().copied());
+        crate::fold::optimize(&mut code, self.work as usize, &mut { constants }, &pinned);
         let bank_program = crate::hoist::hoist(&mut code, self.work as usize, &mut bank, &pinned);
         crate::fuse::fuse(&mut code, self.work as usize, &pinned);
         StageCode {
@@ -1370,7 +1372,8 @@ impl<'a> Compiler<'a> {
                 Ok(Value { ty: BOOL, regs: vec![self.bin(op, a.regs[0], b.regs[0])] })
             }
             B::Add | B::Sub | B::Mult | B::Div => self.arith(op, a, b),
-            B::Mod => self.fail("% is not supported (GLSL ES 1.00 reserves it; use mod())"),
+            B::Mod if a.ty.scalar() == Some(Scalar::Int) => self.arith(op, a, b),
+            B::Mod => self.fail(format!("% takes integers (ES 3.00), not {} and {}; use mod()", a.ty, b.ty)),
             _ => self.fail("bit operations are not supported (GLSL ES 1.00 has none)"),
         }
     }
@@ -1402,6 +1405,7 @@ impl<'a> Compiler<'a> {
             B::Add => BinOp::Add,
             B::Sub => BinOp::Sub,
             B::Mult => BinOp::Mul,
+            B::Mod => BinOp::IRem,
             _ if int => BinOp::IDiv,
             _ => BinOp::Div,
         };

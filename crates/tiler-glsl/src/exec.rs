@@ -55,39 +55,153 @@ struct Masks {
     discarded: u64,
 }
 
-/// Runs `code` on the registers in `regs` (the work file) and `bank`, for the lanes in
-/// `active`. Returns the lanes discarded.
-pub fn run<const W: usize, E: Env<W>>(
-    code: &[Inst],
-    regs: &mut [[f32; W]],
-    bank: &[[f32; W]],
-    active: u64,
-    env: &mut E,
-) -> u64 {
+/// Code ready to run: the bank's registers renumbered after the work registers, so that one
+/// register file holds both (`[work … | bank …]`) and an operand is one index, and every
+/// register checked once against the file's size, so that the executor reads and writes
+/// without bounds checks.
+#[derive(Clone, Debug)]
+pub struct Executable {
+    code: Vec<Inst>,
+    work_regs: usize,
+    registers: usize,
+}
+
+impl Executable {
+    /// `code` over `work_regs` work registers and a bank of `bank_len`; `None` if a register
+    /// is out of range or the code writes to the bank (a compiler bug).
+    pub fn new(code: &[Inst], work_regs: usize, bank_len: usize) -> Option<Executable> {
+        let mut code = code.to_vec();
+        let mut valid = true;
+        let mut remap = |r: &mut Reg, written: bool| {
+            let index = (*r & !BANK) as usize;
+            if *r & BANK != 0 && !written && index < bank_len {
+                *r = (work_regs + index) as Reg;
+            } else if *r & BANK != 0 || index >= work_regs {
+                valid = false;
+            }
+        };
+        registers_mut(&mut code, &mut remap);
+        valid.then_some(Executable { code, work_regs, registers: work_regs + bank_len })
+    }
+
+    /// Where the bank starts in the register file.
+    pub fn work_regs(&self) -> usize {
+        self.work_regs
+    }
+
+    /// The registers the file must hold: the work registers, then the bank.
+    pub fn registers(&self) -> usize {
+        self.registers
+    }
+
+    pub fn code(&self) -> &[Inst] {
+        &self.code
+    }
+}
+
+/// Calls `f` on every register of `code` (nested blocks included), with whether it is
+/// written.
+fn registers_mut(code: &mut [Inst], f: &mut impl FnMut(&mut Reg, bool)) {
+    for inst in code {
+        match inst {
+            Inst::Un(_, d, a) => {
+                f(d, true);
+                f(a, false);
+            }
+            Inst::Bin(_, d, a, b) => {
+                f(d, true);
+                f(a, false);
+                f(b, false);
+            }
+            Inst::Tri(_, d, a, b, c) => {
+                f(d, true);
+                f(a, false);
+                f(b, false);
+                f(c, false);
+            }
+            Inst::Store(d, s) => {
+                f(d, true);
+                f(s, false);
+            }
+            Inst::StoreIf(d, s, c) => {
+                f(d, true);
+                f(s, false);
+                f(c, false);
+            }
+            Inst::If(c, then, els) => {
+                f(c, false);
+                registers_mut(then, f);
+                registers_mut(els, f);
+            }
+            Inst::Loop { cond_code, cond, body, step, .. } => {
+                if let Some(c) = cond {
+                    f(c, false);
+                }
+                registers_mut(cond_code, f);
+                registers_mut(body, f);
+                registers_mut(step, f);
+            }
+            Inst::Call(body) => registers_mut(body, f),
+            Inst::Derivative { dst, src, .. } => {
+                f(dst, true);
+                f(src, false);
+            }
+            Inst::Sample { dst, coord, lod, .. } => {
+                dst.iter_mut().for_each(|d| f(d, true));
+                coord.iter_mut().for_each(|c| f(c, false));
+                if let Lod::Bias(r) | Lod::Explicit(r) = lod {
+                    f(r, false);
+                }
+            }
+            Inst::SampleCube { dst, direction, lod, .. } => {
+                dst.iter_mut().for_each(|d| f(d, true));
+                direction.iter_mut().for_each(|c| f(c, false));
+                if let Lod::Bias(r) | Lod::Explicit(r) = lod {
+                    f(r, false);
+                }
+            }
+            Inst::Break | Inst::Continue | Inst::Return | Inst::Discard => {}
+        }
+    }
+}
+
+/// Runs `program` on the register file `regs` (its work registers, then the bank's values
+/// from [`Executable::work_regs`] on), for the lanes in `active`. Returns the lanes discarded.
+///
+/// # Panics
+/// If `regs` holds fewer than [`Executable::registers`].
+pub fn run<const W: usize, E: Env<W>>(program: &Executable, regs: &mut [[f32; W]], active: u64, env: &mut E) -> u64 {
+    assert!(regs.len() >= program.registers, "a register file of {} for {} registers", regs.len(), program.registers);
     let mut masks = Masks { active, returned: 0, exited: 0, continued: 0, discarded: 0 };
-    let mut machine = Machine { regs, bank, env };
+    let mut machine = Machine { regs, env };
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2 (checked just above), the only feature
-        // `block_avx2` enables.
-        unsafe { machine.block_avx2(code, &mut masks) };
+        // `block_avx2` enables; every register of the code is below `program.registers`
+        // (`Executable::new`), which `regs` holds (asserted above).
+        unsafe { machine.block_avx2(&program.code, &mut masks) };
         return masks.discarded;
     }
-    machine.block(code, &mut masks);
+    // SAFETY: as above, every register is within `regs`.
+    unsafe { machine.block(&program.code, &mut masks) };
     masks.discarded
 }
 
 /// How a block runs its nested blocks: with the instruction set it was compiled for.
+///
+/// # Safety
+/// Every register of `code` must be within the machine's register file.
 trait Nested {
-    fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks);
+    unsafe fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks);
 }
 
 /// The baseline instruction set.
 struct Baseline;
 
 impl Nested for Baseline {
-    fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks) {
-        machine.block(code, m);
+    unsafe fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks) {
+        // SAFETY: the caller's guarantee, passed on.
+        unsafe { machine.block(code, m) };
     }
 }
 
@@ -99,16 +213,16 @@ struct Avx2;
 
 #[cfg(target_arch = "x86_64")]
 impl Nested for Avx2 {
-    fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks) {
+    unsafe fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks) {
         // SAFETY: `Avx2` blocks only run inside `block_avx2`, which `run` calls only when the
-        // processor has AVX2.
+        // processor has AVX2; the registers are the caller's guarantee.
         unsafe { machine.block_avx2(code, m) }
     }
 }
 
+/// The register file (work registers, then the bank) and the caller's environment.
 struct Machine<'a, const W: usize, E> {
     regs: &'a mut [[f32; W]],
-    bank: &'a [[f32; W]],
     env: &'a mut E,
 }
 
@@ -117,21 +231,32 @@ const fn full<const W: usize>() -> u64 {
 }
 
 impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
+    /// # Safety
+    /// `r` must be within the register file.
     #[inline(always)]
-    fn get(&self, r: Reg) -> [f32; W] {
-        if r & BANK != 0 { self.bank[(r & !BANK) as usize] } else { self.regs[r as usize] }
+    unsafe fn get(&self, r: Reg) -> [f32; W] {
+        debug_assert!((r as usize) < self.regs.len());
+        // SAFETY: the caller's guarantee.
+        unsafe { *self.regs.get_unchecked(r as usize) }
     }
 
+    /// # Safety
+    /// `r` must be within the register file.
     #[inline(always)]
-    fn set(&mut self, r: Reg, value: [f32; W]) {
-        debug_assert!(r & BANK == 0, "a write to the bank");
-        self.regs[r as usize] = value;
+    unsafe fn set(&mut self, r: Reg, value: [f32; W]) {
+        debug_assert!((r as usize) < self.regs.len());
+        // SAFETY: the caller's guarantee.
+        unsafe { *self.regs.get_unchecked_mut(r as usize) = value };
     }
 
     /// The lanes where register `r` is true.
+    ///
+    /// # Safety
+    /// `r` must be within the register file.
     #[inline(always)]
-    fn truth(&self, r: Reg) -> u64 {
-        let v = self.get(r);
+    unsafe fn truth(&self, r: Reg) -> u64 {
+        // SAFETY: the caller's guarantee.
+        let v = unsafe { self.get(r) };
         let mut mask = 0;
         for (lane, &x) in v.iter().enumerate() {
             if x != 0.0 {
@@ -141,36 +266,58 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
         mask
     }
 
+    /// # Safety
+    /// `dst` must be within the register file.
     #[inline(always)]
-    fn store(&mut self, dst: Reg, src: [f32; W], mask: u64) {
-        if mask == full::<W>() {
-            self.set(dst, src);
-        } else if mask != 0 {
-            let mut v = self.get(dst);
-            for (lane, x) in v.iter_mut().enumerate() {
-                if mask >> lane & 1 != 0 {
-                    *x = src[lane];
+    unsafe fn store(&mut self, dst: Reg, src: [f32; W], mask: u64) {
+        // SAFETY: the caller's guarantee.
+        unsafe {
+            if mask == full::<W>() {
+                self.set(dst, src);
+            } else if mask != 0 {
+                let mut v = self.get(dst);
+                for (lane, x) in v.iter_mut().enumerate() {
+                    if mask >> lane & 1 != 0 {
+                        *x = src[lane];
+                    }
                 }
+                self.set(dst, v);
             }
-            self.set(dst, v);
         }
     }
 
-    fn block(&mut self, code: &[Inst], m: &mut Masks) {
-        self.block_in::<Baseline>(code, m);
+    /// # Safety
+    /// Every register of `code` must be within the register file.
+    unsafe fn block(&mut self, code: &[Inst], m: &mut Masks) {
+        // SAFETY: the caller's guarantee.
+        unsafe { self.block_in::<Baseline>(code, m) };
     }
 
     /// # Safety
-    /// The processor must have AVX2.
+    /// The processor must have AVX2, and every register of `code` must be within the
+    /// register file.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn block_avx2(&mut self, code: &[Inst], m: &mut Masks) {
-        self.block_in::<Avx2>(code, m);
+        // SAFETY: the caller's guarantee.
+        unsafe { self.block_in::<Avx2>(code, m) };
     }
 
     /// Runs `code`; nested blocks run through `N` (the same instruction set).
+    ///
+    /// # Safety
+    /// Every register of `code` must be within the register file (and `N` runnable).
     #[inline(always)]
-    fn block_in<N: Nested>(&mut self, code: &[Inst], m: &mut Masks) {
+    unsafe fn block_in<N: Nested>(&mut self, code: &[Inst], m: &mut Masks) {
+        // SAFETY: every register access below is of a register of `code`, within the file by
+        // the caller's guarantee; nested blocks are parts of `code`.
+        unsafe { self.block_in_body::<N>(code, m) }
+    }
+
+    #[inline(always)]
+    unsafe fn block_in_body<N: Nested>(&mut self, code: &[Inst], m: &mut Masks) {
+        // Every operation here reads or writes registers of `code` (see `block_in`).
+        #![allow(unsafe_op_in_unsafe_fn)]
         for inst in code {
             if m.active == 0 {
                 return;
@@ -317,7 +464,7 @@ pub fn run_bank<const W: usize>(code: &[Inst], bank: &mut [[f32; W]]) {
 }
 
 #[inline(always)]
-fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
+pub(crate) fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
     let f: fn(f32) -> f32 = match op {
         UnOp::Mov => return a,
         UnOp::Neg => return a.map(|x| -x),
@@ -357,7 +504,7 @@ fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
 }
 
 #[inline(always)]
-fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f32; W] {
+pub(crate) fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f32; W] {
     let mut out = [0.0; W];
     macro_rules! lanes {
         ($f:expr) => {{
@@ -373,6 +520,11 @@ fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f32; W] {
         BinOp::Mul => lanes!(|x: f32, y: f32| x * y),
         BinOp::Div => lanes!(|x: f32, y: f32| x / y),
         BinOp::IDiv => lanes!(|x: f32, y: f32| (x / y).trunc()),
+        BinOp::IRem => lanes!(|x: f32, y: f32| {
+            // Ints are held exactly in f32 (`ir`); the casts saturate, and NaN is 0.
+            let (x, y) = (x as i64, y as i64);
+            if y == 0 { 0.0 } else { (x % y) as f32 }
+        }),
         BinOp::Mod => lanes!(|x: f32, y: f32| x - y * (x / y).floor()),
         BinOp::Min => lanes!(|x: f32, y: f32| if y < x { y } else { x }),
         BinOp::Max => lanes!(|x: f32, y: f32| if x < y { y } else { x }),
@@ -393,7 +545,7 @@ fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f32; W] {
 }
 
 #[inline(always)]
-fn ternary<const W: usize>(op: TriOp, a: [f32; W], b: [f32; W], c: [f32; W]) -> [f32; W] {
+pub(crate) fn ternary<const W: usize>(op: TriOp, a: [f32; W], b: [f32; W], c: [f32; W]) -> [f32; W] {
     let mut out = [0.0; W];
     macro_rules! lanes {
         ($f:expr) => {{
@@ -442,6 +594,26 @@ mod tests {
         }
     }
 
+    /// Runs `code` over the work registers `regs` and the bank `bank` (the register file is
+    /// both; the work registers are copied back).
+    fn run_with_bank<const W: usize>(code: &[Inst], regs: &mut [[f32; W]], bank: &[[f32; W]], active: u64) -> u64 {
+        let program = Executable::new(code, regs.len(), bank.len()).expect("registers in range");
+        let mut file: Vec<[f32; W]> = regs.iter().chain(bank).copied().collect();
+        let discarded = run(&program, &mut file, active, &mut NoTextures);
+        regs.copy_from_slice(&file[..regs.len()]);
+        discarded
+    }
+
+    #[test]
+    fn out_of_range_registers_and_bank_writes_are_refused() {
+        assert!(Executable::new(&[Inst::Un(UnOp::Mov, 0, BANK)], 1, 1).is_some());
+        assert!(Executable::new(&[Inst::Un(UnOp::Mov, 1, BANK)], 1, 1).is_none());
+        assert!(Executable::new(&[Inst::Un(UnOp::Mov, 0, BANK | 1)], 1, 1).is_none());
+        assert!(Executable::new(&[Inst::Un(UnOp::Mov, BANK, 0)], 1, 1).is_none());
+        let nested = Inst::If(0, vec![], vec![Inst::Store(3, 0)]);
+        assert!(Executable::new(&[nested], 2, 4).is_none());
+    }
+
     #[test]
     fn divergent_loop_break_keeps_each_lanes_count() {
         // r0 = lane limit (input), r1 = counter, r2 = cond, bank 0 = 1.0, bank 1 = 100.
@@ -461,7 +633,7 @@ mod tests {
         let mut regs = [[0.0f32; 4]; 4];
         regs[0] = [0.0, 1.0, 5.0, 3.0];
         let bank = [[1.0f32; 4]];
-        let discarded = run(&code, &mut regs, &bank, 0b1111, &mut NoTextures);
+        let discarded = run_with_bank(&code, &mut regs, &bank, 0b1111);
         assert_eq!(discarded, 0);
         assert_eq!(regs[1], [0.0, 1.0, 5.0, 3.0]);
     }
@@ -488,9 +660,10 @@ mod tests {
         inputs[1] = [0.7, 1.9, -4.1, 3.0, 0.001, 2.0, 1e-30, 0.9];
         let (mut a, mut b) = (inputs, inputs);
         let masks = || Masks { active: 0xff, returned: 0, exited: 0, continued: 0, discarded: 0 };
-        Machine { regs: &mut a, bank: &[], env: &mut NoTextures }.block(&code, &mut masks());
-        // SAFETY: AVX2 was detected above.
-        unsafe { Machine { regs: &mut b, bank: &[], env: &mut NoTextures }.block_avx2(&code, &mut masks()) };
+        // SAFETY: the code's registers are below 24, the files' size.
+        unsafe { Machine { regs: &mut a, env: &mut NoTextures }.block(&code, &mut masks()) };
+        // SAFETY: AVX2 was detected above, and the registers are as above.
+        unsafe { Machine { regs: &mut b, env: &mut NoTextures }.block_avx2(&code, &mut masks()) };
         let bits = |r: &[[f32; 8]; 24]| r.map(|v| v.map(f32::to_bits));
         assert_eq!(bits(&a), bits(&b));
         assert_ne!(a[20], inputs[20], "the code ran");
@@ -500,14 +673,14 @@ mod tests {
     fn endless_loop_is_cut_off() {
         let code = vec![Inst::Loop { cond_code: vec![], cond: None, body: vec![], step: vec![], test_first: true }];
         let mut regs = [[0.0f32; 1]; 1];
-        run(&code, &mut regs, &[], 1, &mut NoTextures);
+        run_with_bank(&code, &mut regs, &[], 1);
     }
 
     #[test]
     fn masked_store_leaves_inactive_lanes() {
         let code = vec![Inst::Store(0, BANK)];
         let mut regs = [[5.0f32; 2]];
-        run(&code, &mut regs, &[[7.0, 7.0]], 0b10, &mut NoTextures);
+        run_with_bank(&code, &mut regs, &[[7.0, 7.0]], 0b10);
         assert_eq!(regs[0], [5.0, 7.0]);
     }
 }

@@ -58,6 +58,9 @@ pub enum BinOp {
     Div,
     /// Integer division: the quotient truncated toward zero.
     IDiv,
+    /// Integer remainder (`%`, ES 3.00): `x − y·(x / y)` with that quotient, computed on
+    /// integers (exact); 0 for a zero divisor, which GLSL leaves undefined.
+    IRem,
     /// GLSL `mod`: `x − y·floor(x/y)`.
     Mod,
     Min,

@@ -32,7 +32,9 @@
 //! (`uniform Name { … } [instance];`, laid out `std140` — `shared` is taken to be the same —
 //! and set from a buffer's bytes with [`CompiledProgram::set_uniform_block`]; see [`std140`]).
 //!
-//! Not supported (a compile error naming the shader and line): `switch`, bit operations and `%`,
+//! `%` on integers (ES 3.00; any version is accepted, as ints mixing with floats are).
+//!
+//! Not supported (a compile error naming the shader and line): `switch`, bit operations,
 //! `uint` and the other ES 3.00 types beyond ES 1.00's, `flat` (GL takes a flat varying from a
 //! primitive's last vertex, tiler's core from its first), in/out blocks, arrays of uniform
 //! blocks, `packed` and `row_major` blocks. Simplifications: the operands of `&&`, `||` and `?:` are all evaluated
@@ -74,21 +76,27 @@
 //! call reads was written in that call, loops are capped at [`exec::MAX_ITERATIONS`], and the
 //! built-ins are std's f32 functions.
 //!
-//! Before running, [`ir`] code is hoisted (uniform-only arithmetic computed once per
-//! instance, `hoist`) and fused (a multiply whose only use is an add becomes one
-//! [`ir::TriOp::MulAdd`], rounded twice as the pair was, `fuse`).
+//! Before running, [`ir`] code is optimised as a GPU's compiler would (`fold`: constant
+//! folding, `x·1 → x`, `x·0 → 0`, `x + 0 → x`, and removal of whatever nothing reads —
+//! texture lookups included, so a convolution weight of the constant 0.0 removes its fetch
+//! from the ledger, as it does on hardware; GLSL ES does not require the NaN, infinity and
+//! signed-zero results these rules can change), hoisted (uniform-only arithmetic computed
+//! once per instance, `hoist`) and fused (a multiply whose only use is an add becomes one
+//! [`ir::TriOp::MulAdd`], rounded twice as the pair was, `fuse`). The executor runs an
+//! [`exec::Executable`]: the code with the bank renumbered after the work registers, so that
+//! one register file per thread holds both and every register is range-checked once.
 //!
 //! Measured with `benches/executor.rs` (a Blinn-Phong fragment shader over a 256×256
-//! full-screen triangle through `Device`, one tile thread; the interpreter's AVX2 build),
-//! with this crate's starting and current executors alternated in one session on a 2-core
-//! machine under a load average of 11–12: the shader alone costs ≈ 89 ns per fragment native
-//! (`powf` per lane in both) against ≈ 95–110 ns interpreted (≈ 110–120 ns before fusion and
-//! vertex batching), after subtracting the pipeline's own cost (a flat shader). Absolute
-//! times under that load are several times those of a quiet machine, and an earlier,
-//! lighter-loaded run gave ≈ 3× native; docs/benchmarking.md has the figures. The interpreter
-//! dispatches twice per instruction (instruction, then operation) and reads operands through
-//! a bank check; flattening that and wider batches (the notes measured a register VM at 64
-//! lanes ≈ 1.1× native) are the known next steps.
+//! full-screen triangle through `Device`, one tile thread; the interpreter's AVX2 build), on
+//! a 2-core machine under a load average of 9–11 (2026-11-26): after subtracting the
+//! pipeline's own cost (a flat shader), the shader costs ≈ 39–43 ns per fragment native
+//! (`powf` per lane) and ≈ 30–38 ns interpreted, i.e. no more than native, because the
+//! per-lane `powf` both call dominates and the interpreter's dispatch is amortised over 8
+//! lanes.
+//! Shaders of cheap arithmetic show the interpreter more: it was 11–19% of the
+//! instructions of the arithmetic-heavy glmark2 captures (callgrind), see
+//! docs/benchmarking.md. A flat bytecode (one dispatch per operation, not instruction then
+//! operation) and wider batches are the known next steps.
 //!
 //! # Coordinate conventions
 //!
@@ -103,6 +111,7 @@
 
 pub mod compile;
 pub mod exec;
+mod fold;
 mod fuse;
 pub mod guard;
 mod hoist;

@@ -4,6 +4,7 @@
 use std::cell::RefCell;
 use std::fmt;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec4;
 use tiler::{
@@ -12,7 +13,7 @@ use tiler::{
 };
 
 use crate::compile::{StageCode, compile};
-use crate::exec::{Env, LodValue, run};
+use crate::exec::{Env, Executable, LodValue, run};
 use crate::ir::{Axis, BANK, Reg};
 use crate::types::{SamplerKind, Type};
 use crate::{Error, Stage};
@@ -69,6 +70,9 @@ pub struct UniformBlockInfo {
 pub struct CompiledProgram {
     vertex: StageCode,
     fragment: StageCode,
+    /// The stages' code as the executor runs it (one register file, checked registers).
+    vertex_executable: Executable,
+    fragment_executable: Executable,
     attributes: Vec<AttributeInfo>,
     varyings: Vec<VaryingInfo>,
     uniforms: Vec<UniformInfo>,
@@ -128,6 +132,11 @@ impl CompiledProgram {
             let fragment = compile(Stage::Fragment, fragment)?;
             Ok((vertex, fragment))
         })?;
+        let executable = |code: &StageCode| {
+            Executable::new(&code.code, code.work_regs, code.bank.len())
+                .ok_or_else(|| Error::Link(format!("the {} was lowered with a register out of range", code.stage)))
+        };
+        let (vertex_executable, fragment_executable) = (executable(&vertex)?, executable(&fragment)?);
         let attributes = link_attributes(&vertex, attribute_locations)?;
         let (varyings, hidden, varying_floats) = link_varyings(&vertex, &fragment)?;
         let (uniforms, blocks, vertex_uniform_offsets, fragment_uniform_offsets, uniform_floats) =
@@ -135,6 +144,8 @@ impl CompiledProgram {
         Ok(CompiledProgram {
             vertex,
             fragment,
+            vertex_executable,
+            fragment_executable,
             attributes,
             varyings,
             uniforms,
@@ -494,9 +505,17 @@ pub fn shaders(
     let inputs: Vec<(Vec<Reg>, usize)> =
         program.fragment.inputs.iter().zip(&program.varyings).map(|(input, v)| (input.regs.clone(), v.first)).collect();
     (
-        GlslVertexShader { program: program.clone(), bank: vbank, slots: vslots, outputs, instance: 0 },
+        GlslVertexShader {
+            program: program.clone(),
+            id: new_instance(),
+            bank: vbank,
+            slots: vslots,
+            outputs,
+            instance: 0,
+        },
         GlslFragmentShader {
             program: program.clone(),
+            id: new_instance(),
             bank: fbank,
             slots: fslots,
             inputs,
@@ -527,6 +546,8 @@ const VERTEX_LANES: usize = tiler::VERTEX_BATCH;
 /// A program's vertex shader: a batch of vertices per call, one lane each.
 pub struct GlslVertexShader {
     program: Arc<CompiledProgram>,
+    /// This instance's identity (see `WorkFile`).
+    id: u64,
     bank: Vec<[f32; VERTEX_LANES]>,
     slots: Vec<Option<TextureBinding>>,
     /// Each linked varying's vertex registers and first float.
@@ -546,6 +567,8 @@ impl GlslVertexShader {
 /// A program's fragment shader: one 4×2 group per call, run with eight lanes.
 pub struct GlslFragmentShader {
     program: Arc<CompiledProgram>,
+    /// This instance's identity (see `WorkFile`).
+    id: u64,
     bank: Vec<[f32; 8]>,
     slots: Vec<Option<TextureBinding>>,
     /// Each fragment varying's registers and first float.
@@ -553,11 +576,42 @@ pub struct GlslFragmentShader {
     height: f32,
 }
 
+/// A register file: the work registers, then the bank of the shader instance it was last
+/// loaded for.
+struct WorkFile<const W: usize> {
+    regs: Vec<[f32; W]>,
+    /// The instance whose bank is in place (0: none).
+    instance: u64,
+}
+
+impl<const W: usize> WorkFile<W> {
+    const EMPTY: WorkFile<W> = WorkFile { regs: Vec::new(), instance: 0 };
+
+    /// The file for `instance`: its bank is copied in when another instance ran last here,
+    /// so a run of groups (or vertex batches) of one draw copies it once.
+    fn load(&mut self, instance: u64, program: &Executable, bank: &[[f32; W]]) -> &mut [[f32; W]] {
+        if self.instance != instance {
+            self.regs.resize(program.registers(), [0.0; W]);
+            self.regs[program.work_regs()..].copy_from_slice(bank);
+            self.instance = instance;
+        }
+        &mut self.regs
+    }
+}
+
 thread_local! {
-    /// The work registers of the shader running on this thread: every register is written
-    /// before it is read within a call (see `compile`), so no state passes between calls.
-    static VERTEX_WORK: RefCell<Vec<[f32; VERTEX_LANES]>> = const { RefCell::new(Vec::new()) };
-    static FRAGMENT_WORK: RefCell<Vec<[f32; 8]>> = const { RefCell::new(Vec::new()) };
+    /// The register files of the shaders running on this thread: every work register is
+    /// written before it is read within a call (see `compile`), so no state passes between
+    /// calls; the bank part is the instance's and is never written.
+    static VERTEX_WORK: RefCell<WorkFile<VERTEX_LANES>> = const { RefCell::new(WorkFile::EMPTY) };
+    static FRAGMENT_WORK: RefCell<WorkFile<8>> = const { RefCell::new(WorkFile::EMPTY) };
+}
+
+/// Identities of shader instances (which bank a thread's register file holds); 0 is none.
+static NEXT_INSTANCE: AtomicU64 = AtomicU64::new(1);
+
+fn new_instance() -> u64 {
+    NEXT_INSTANCE.fetch_add(1, Ordering::Relaxed)
 }
 
 /// Unbound units read opaque black.
@@ -724,8 +778,9 @@ impl GlslVertexShader {
         let code = &self.program.vertex;
         let lanes = inputs.len();
         debug_assert!(lanes <= VERTEX_LANES);
-        VERTEX_WORK.with_borrow_mut(|regs| {
-            regs.resize(code.work_regs, [0.0; VERTEX_LANES]);
+        VERTEX_WORK.with_borrow_mut(|file| {
+            let executable = &self.program.vertex_executable;
+            let regs = file.load(self.id, executable, &self.bank);
             // `attributes` is in the order of `code.inputs`.
             for (attr, var) in self.program.attributes.iter().zip(&code.inputs) {
                 for (k, &r) in var.regs.iter().enumerate() {
@@ -749,7 +804,7 @@ impl GlslVertexShader {
                 regs[r as usize] = [self.instance as f32; VERTEX_LANES];
             }
             let active = (1u64 << lanes) - 1;
-            run(&code.code, regs, &self.bank, active, &mut VertexEnv { slots: &self.slots, lanes });
+            run(executable, regs, active, &mut VertexEnv { slots: &self.slots, lanes });
             let position = code.position.expect("vertex shaders have gl_Position");
             for (lane, out) in outs[..lanes].iter_mut().enumerate() {
                 let p = position.map(|r| regs[r as usize][lane]);
@@ -778,8 +833,9 @@ impl FragmentShader for GlslFragmentShader {
 
     fn shade(&self, frag: &mut Fragments<'_>) {
         let code = &self.program.fragment;
-        FRAGMENT_WORK.with_borrow_mut(|regs| {
-            regs.resize(code.work_regs, [0.0; 8]);
+        FRAGMENT_WORK.with_borrow_mut(|file| {
+            let executable = &self.program.fragment_executable;
+            let regs = file.load(self.id, executable, &self.bank);
             for (vregs, first) in &self.inputs {
                 for (k, &r) in vregs.iter().enumerate() {
                     regs[r as usize] = frag.smooth(first + k).0;
@@ -800,7 +856,7 @@ impl FragmentShader for GlslFragmentShader {
             if let Some(ff) = code.front_facing {
                 regs[ff as usize] = [if frag.front_facing() { 1.0 } else { 0.0 }; 8];
             }
-            let discarded = run(&code.code, regs, &self.bank, 0xff, &mut FragmentEnv { slots: &self.slots, frag });
+            let discarded = run(executable, regs, 0xff, &mut FragmentEnv { slots: &self.slots, frag });
             if discarded != 0 {
                 frag.discard(LaneMask(discarded as u8));
             }

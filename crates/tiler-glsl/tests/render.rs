@@ -9,9 +9,9 @@ use std::sync::Arc;
 
 use glam::Vec4;
 use tiler::{
-    ColorAttachment, ColorSpace, Device, DeviceConfig, Draw, F32x8, Format, FragmentShader, Fragments, ImageDesc,
-    Interpolation, LaneMask, MipChain, PassReport, Pipeline, PipelineDesc, RenderPass, RenderPassDesc, Sampler,
-    ShaderProperties, Texture, VertexFormat, VertexInput, VertexInputState, VertexOutput, VertexShader,
+    Category, ColorAttachment, ColorSpace, Device, DeviceConfig, Draw, F32x8, Format, FragmentShader, Fragments,
+    ImageDesc, Interpolation, LaneMask, MipChain, PassReport, Pipeline, PipelineDesc, RenderPass, RenderPassDesc,
+    Sampler, ShaderProperties, Texture, VertexFormat, VertexInput, VertexInputState, VertexOutput, VertexShader,
 };
 use tiler_glsl::{CompiledProgram, Error, Stage, TextureBinding, Type, UniformValues};
 
@@ -842,14 +842,57 @@ fn hostile_programs_fail_cleanly() {
     );
 }
 
+/// A convolution whose weights are the constants 0 and 1 (glmark2's effect2d with its
+/// identity kernel) compiles to the one lookup whose weight is 1: the picture is the single
+/// lookup's, bit for bit, and so is the texture traffic — the zero-weighted lookups are not
+/// fetched, as a GPU's compiler removes them (see `fold.rs`).
+#[test]
+fn lookups_weighted_by_a_constant_zero_are_not_fetched() {
+    const KERNEL: &str = "
+precision mediump float;
+const float K0 = 0.0;
+const float K1 = 1.0;
+const float Step = 0.0625;
+uniform sampler2D tex;
+varying vec2 uv;
+void main() {
+    vec4 result = texture2D(tex, uv + vec2(-Step, 0.0)) * K0 +
+                  texture2D(tex, uv + vec2(0.0 * Step, 0.0)) * K1 +
+                  texture2D(tex, uv + vec2(Step, Step)) * K0;
+    gl_FragColor = vec4(result.xyz, 1.0);
+}";
+    const SINGLE: &str = "
+precision mediump float;
+uniform sampler2D tex;
+varying vec2 uv;
+void main() { gl_FragColor = vec4(texture2D(tex, uv).xyz, 1.0); }";
+    let textures = [Some(TextureBinding::Core(checker_texture(), Sampler::BILINEAR_CLAMP))];
+    let kernel = glsl(PASS_VS, KERNEL);
+    let single = glsl(PASS_VS, SINGLE);
+    assert_eq!(kernel.instruction_counts().1, single.instruction_counts().1);
+    let (a, ra) = render(&glsl_pipeline(&kernel, &kernel.new_uniform_values(), &textures));
+    let (b, rb) = render(&glsl_pipeline(&single, &single.new_uniform_values(), &textures));
+    assert_same(&a, &b, 20);
+    assert_eq!(ra.ledger, rb.ledger, "the zero-weighted lookups were fetched");
+    assert_eq!(ra.counters.texels_read, rb.counters.texels_read);
+    assert!(ra.ledger.get(Category::TextureFetch) > 0);
+
+    // A weight that is not a constant keeps its lookup.
+    let uniform_weight = KERNEL.replace("const float K0 = 0.0;", "uniform float K0;");
+    let kept = glsl(PASS_VS, &uniform_weight);
+    let (_, rk) = render(&glsl_pipeline(&kept, &kept.new_uniform_values(), &textures));
+    assert_eq!(rk.counters.texels_read, 3 * rb.counters.texels_read);
+}
+
 #[test]
 fn uniform_only_arithmetic_is_computed_once_per_instance() {
     const FS: &str = "
 uniform vec3 u;
 void main() { gl_FragColor = vec4(normalize(u) * 0.5 + 0.5, 1.0); }";
     let program = glsl(PASS_VS, FS);
-    // gl_FragColor's zeroing and its four stores are all that is left per group.
-    assert_eq!(program.instruction_counts().1, 8);
+    // gl_FragColor's four moves from the bank are all that is left per group (its zeroing
+    // is overwritten before any read, and the stores at the top of `main` are moves).
+    assert_eq!(program.instruction_counts().1, 4);
     let u = [0.3f32, -0.7, 0.2];
     let mut uniforms = program.new_uniform_values();
     program.set_uniform(&mut uniforms, 0, &u).unwrap();
@@ -1016,6 +1059,30 @@ void main() { color = ids + texture(tex, passed) + textureLod(tex, passed, 0.0);
     let vs_write = "#version 300 es\nin vec4 p;\nvoid main() {\n  gl_InstanceID = 1;\n  gl_Position = p;\n}";
     let e = CompiledProgram::new(vs_write, FS, &[]).unwrap_err();
     assert!(matches!(e, Error::Compile { stage: Stage::Vertex, line: 4, .. }), "{e}");
+}
+
+/// `%` on integers (ES 3.00): exact, on vectors component-wise, folded when constant;
+/// on floats a compile error that points to `mod()`.
+#[test]
+fn integer_remainder_is_exact() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+void main() {
+    int x = int(a.x);
+    ivec2 v = ivec2(int(a.y), 23) % ivec2(int(a.z), 6);
+    r = vec4(float(x % 5), float(16777213 % 7), float(v.x), float(v.y));
+    gl_Position = a;
+}";
+    const FS: &str = "#version 300 es
+precision mediump float;
+in vec4 r;
+out vec4 c;
+void main() { c = r; }";
+    let out = run_vertex(VS, FS, [17.0, 16777215.0, 65536.0, 1.0], |_, _| {});
+    assert_eq!(out, [2.0, 5.0, 65535.0, 5.0]);
+    let e = CompiledProgram::new(VS, &FS.replace("c = r;", "c = vec4(r.x % 2.0);"), &[]).unwrap_err();
+    assert!(e.to_string().contains("mod()"), "{e}");
 }
 
 #[test]

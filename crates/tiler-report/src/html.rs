@@ -250,10 +250,19 @@ fn overview(html: &mut String, document: &Document, report: &Report, has_picture
         html.push_str("<p class=\"note\">The picture could not be embedded.</p>");
     }
     let same = if image.identical_across_columns {
-        if document.columns.len() > 1 {
-            "<span class=\"ok\">every device rendered the same picture, bit for bit</span>".to_string()
-        } else {
-            "the rendered picture".to_string()
+        match (document.columns.len() > 1, document.frame_count > 1) {
+            // A run's report is written only when every presented frame matched
+            // (`tiler analyze` checks them one by one); the picture shown is the last.
+            (true, true) => format!(
+                "the last of {} frames · <span class=\"ok\">every device presented the same picture in every frame, \
+                 bit for bit</span>",
+                document.frame_count
+            ),
+            (true, false) => {
+                "<span class=\"ok\">every device rendered the same picture, bit for bit</span>".to_string()
+            }
+            (false, true) => format!("the last of {} frames", document.frame_count),
+            (false, false) => "the rendered picture".to_string(),
         }
     } else {
         let differing: Vec<String> =
@@ -353,9 +362,15 @@ fn what_if_lines(finding: &crate::Finding) -> String {
                 };
                 let mut figures = vec![format!(
                     "<b>{}</b> (estimated {})",
-                    saved(measured, "B"),
+                    saved(w.measured_bytes_before_elimination.unwrap_or(measured), "B"),
                     format::count(w.estimated_bytes.unwrap_or(0))
                 )];
+                if w.measured_bytes_before_elimination.is_some() {
+                    figures.push(format!(
+                        "of which the device moved {} (transaction elimination skips the stores of unchanged tiles)",
+                        saved(measured, "B")
+                    ));
+                }
                 if w.estimated_fragments.is_some() || w.measured_fragments.is_some_and(|n| n != 0) {
                     figures.push(format!(
                         "<b>{}</b> (estimated {})",
@@ -367,7 +382,11 @@ fn what_if_lines(finding: &crate::Finding) -> String {
                     "{}: {}, {}",
                     escape(&w.fix),
                     figures.join(", "),
-                    if same { "same picture" } else { "<b>the picture changed</b>" }
+                    match (same, w.different_frame) {
+                        (true, _) => "same pictures".to_string(),
+                        (false, Some(frame)) => format!("<b>the picture changed</b> (from frame {frame})"),
+                        (false, None) => "<b>the picture changed</b>".to_string(),
+                    }
                 )
             }
             _ => format!("not tried: {}", escape(&w.fix)),
@@ -937,17 +956,44 @@ fn map_figure(
     );
 }
 
+/// The passes a column's maps show: every pass of a single frame; of a run, the last frame's
+/// (the picture the maps lie over is the last frame's, and a page of maps for every pass of a
+/// long run would grow with it; the JSON report keeps every pass's per-tile figures). Each
+/// with its index in the column's passes and its heading.
+fn mapped_passes(column: &crate::Column) -> Vec<(usize, String)> {
+    match column.frames.last() {
+        Some(last) => (last.first_pass..last.first_pass + last.passes)
+            .map(|p| (p, format!("frame {} · pass {p}", last.index)))
+            .collect(),
+        None => (0..column.frame.passes.len()).map(|p| (p, format!("pass {p}"))).collect(),
+    }
+}
+
+/// A note under a run's maps: which frame they show.
+fn maps_note(report: &Report) -> String {
+    match report.columns.first().and_then(|c| c.frames.last()) {
+        Some(last) if report.columns[0].frames.len() > 1 => format!(
+            " For this run of {} frames, the maps are the last frame's (frame {}); the JSON report has every pass's \
+             per-tile figures.",
+            report.columns[0].frames.len(),
+            last.index
+        ),
+        _ => String::new(),
+    }
+}
+
 fn tile_maps(html: &mut String, document: &Document, report: &Report) {
     let image = &report.columns[0].image;
     let mut body = String::new();
     for (index, (column, figures)) in report.columns.iter().zip(&document.columns).enumerate() {
-        for (p, pass) in column.frame.passes.iter().enumerate() {
+        for (p, heading) in mapped_passes(column) {
+            let Some(pass) = column.frame.passes.get(p) else { continue };
             if tile_values(pass, TileMetric::ListEntries).is_none() {
                 continue;
             }
             let _ = write!(
                 body,
-                "<h3>{} · pass {p} · {}×{} tiles{}</h3><div class=\"maps\">",
+                "<h3>{} · {heading} · {}×{} tiles{}</h3><div class=\"maps\">",
                 escape(&figures.label),
                 pass.tile_width,
                 pass.tile_height,
@@ -987,7 +1033,8 @@ fn tile_maps(html: &mut String, document: &Document, report: &Report) {
     }
     let _ = writeln!(
         html,
-        "<section id=\"heatmaps\"><h2>Per-tile heat maps</h2><p class=\"lead\">Each tiler's tiles coloured by the work they did, over the dimmed picture: how many polygon-list entries the tile read back (geometry that touched it), how many fragments it shaded, and how many bytes its store ops wrote. Each map is scaled from 0 to its own maximum; uncoloured tiles did none of that work.</p>{body}</section>"
+        "<section id=\"heatmaps\"><h2>Per-tile heat maps</h2><p class=\"lead\">Each tiler's tiles coloured by the work they did, over the dimmed picture: how many polygon-list entries the tile read back (geometry that touched it), how many fragments it shaded, and how many bytes its store ops wrote. Each map is scaled from 0 to its own maximum; uncoloured tiles did none of that work.{}</p>{body}</section>",
+        maps_note(report)
     );
 }
 
@@ -1001,7 +1048,8 @@ fn overdraw_maps(html: &mut String, document: &Document, report: &Report) {
     let top = report_overdraw_top(report);
     let mut body = String::new();
     for (column, figures) in report.columns.iter().zip(&document.columns) {
-        for (p, pass) in column.frame.passes.iter().enumerate() {
+        for (p, heading) in mapped_passes(column) {
+            let Some(pass) = column.frame.passes.get(p) else { continue };
             let Some(map) = pass.overdraw_map.as_ref() else { continue };
             if map.len() != pass.width as usize * pass.height as usize {
                 continue;
@@ -1011,7 +1059,7 @@ fn overdraw_maps(html: &mut String, document: &Document, report: &Report) {
             let caption = format!(
                 "<div class=\"map-head\"><span class=\"title\">{}{}</span><span class=\"max\">{:.2} shaded/pixel · max {}</span></div>",
                 escape(&figures.label),
-                if passes > 1 { format!(" · pass {p}") } else { String::new() },
+                if passes > 1 { format!(" · {heading}") } else { String::new() },
                 figures.passes[p].overdraw,
                 map.iter().max().copied().unwrap_or(0),
             );

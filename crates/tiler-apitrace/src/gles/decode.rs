@@ -14,7 +14,9 @@ use crate::wire::Call;
 
 use super::args::Args;
 use super::consts::{GL_ELEMENT_ARRAY_BUFFER, GL_FRONT_AND_BACK};
-use super::{ClearValue, Command, DecodeError, DecodeErrorKind, GlEnum, GlesCall, Params, UniformValue, ignored};
+use super::{
+    ClearValue, Command, DecodeError, DecodeErrorKind, GlEnum, GlesCall, Params, UniformValue, ignored, not_modelled,
+};
 
 type Result<T> = std::result::Result<T, DecodeErrorKind>;
 
@@ -127,6 +129,9 @@ impl Decoder {
         }
         if let Some((function, reason)) = ignored(name) {
             return Ok(Command::Ignored { function, reason });
+        }
+        if let Some(feature) = not_modelled(name) {
+            return Err(DecodeErrorKind::NotModelled { feature });
         }
         Err(DecodeErrorKind::Unknown)
     }
@@ -595,7 +600,9 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
             value: ClearValue::DepthStencil { depth: a.f32(2)?, stencil: a.i32(3)? },
         },
         "glFlush" => C::Flush,
-        "glFinish" => C::Finish,
+        // The CPU waits for the GPU to reach the fence: a driver flushes and stalls, as at
+        // glFinish (the fence is normally the last command; an earlier one is taken as the last).
+        "glFinish" | "glClientWaitSync" => C::Finish,
         "glGenQueries" | "glGenQueriesEXT" => C::GenQueries { names: a.u32s(1)? },
         "glDeleteQueries" | "glDeleteQueriesEXT" => C::DeleteQueries { names: a.u32s(1)? },
         "glBeginQuery" | "glBeginQueryEXT" => C::BeginQuery { target: a.enumeration(0)?, query: a.u32(1)? },

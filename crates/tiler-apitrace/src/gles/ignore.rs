@@ -9,6 +9,8 @@ const SWAP_INTERVAL: &str = "paces presentation; the image and its memory traffi
 const VALIDATE: &str = "only sets the program's validate status, which only a query reads";
 const RELEASE_COMPILER: &str = "a hint that the compiler's resources may be freed";
 const DEBUG: &str = "debug labels, markers and callbacks; no effect on rendering";
+const SYNC: &str = "a sync object: one context's commands run in order, and a CPU wait is modelled at \
+                    glClientWaitSync (as glFinish)";
 
 /// Every call on the ignore list, with why it is safe to ignore. They decode to
 /// [`Command::Ignored`](super::Command::Ignored). `glGetUniformLocation`,
@@ -106,7 +108,62 @@ pub const IGNORED: &[(&str, &str)] = &[
     ("eglGetCurrentSurface", CURRENT),
     ("eglGetProcAddress", PROC),
     ("eglSwapInterval", SWAP_INTERVAL),
+    ("glFenceSync", SYNC),
+    ("glDeleteSync", SYNC),
+    ("glWaitSync", SYNC),
+    ("glIsSync", QUERY),
+    ("glGetSynciv", QUERY),
 ];
+
+/// Functions of a feature tiler does not model, with the feature's name: their calls fail
+/// with a message that says so rather than as unknown calls.
+pub const NOT_MODELLED: &[(&[&str], &str)] = &[
+    (
+        &[
+            "glTransformFeedbackVaryings",
+            "glBeginTransformFeedback",
+            "glEndTransformFeedback",
+            "glPauseTransformFeedback",
+            "glResumeTransformFeedback",
+            "glBindTransformFeedback",
+            "glGenTransformFeedbacks",
+            "glDeleteTransformFeedbacks",
+        ],
+        "transform feedback (GL ES 3.0 §2.15)",
+    ),
+    (
+        &[
+            "glTexImage3D",
+            "glTexImage3DOES",
+            "glTexSubImage3D",
+            "glTexSubImage3DOES",
+            "glTexStorage3D",
+            "glCompressedTexImage3D",
+            "glCompressedTexSubImage3D",
+            "glCopyTexSubImage3D",
+            "glFramebufferTextureLayer",
+        ],
+        "3-D and 2-D array textures",
+    ),
+    (&["glProgramBinary", "glProgramBinaryOES", "glShaderBinary"], "program binaries (tiler compiles GLSL source)"),
+    (&["glDispatchCompute", "glDispatchComputeIndirect", "glMemoryBarrier"], "compute shaders (GL ES 3.1)"),
+];
+
+/// The feature `function` belongs to, if tiler does not model it; desktop OpenGL calls (ARB
+/// entry points, immediate mode, GLX) are named as such.
+pub fn not_modelled(function: &str) -> Option<&'static str> {
+    if let Some((_, feature)) = NOT_MODELLED.iter().find(|(names, _)| names.contains(&function)) {
+        return Some(feature);
+    }
+    let desktop = function.ends_with("ARB")
+        || function.starts_with("glX")
+        || ["glBegin", "glEnd", "glVertex2", "glVertex3", "glMatrixMode", "glLoadIdentity", "glPolygonMode"]
+            .iter()
+            .any(|p| function.starts_with(p) && !function.starts_with("glVertexAttrib"));
+    desktop.then_some(
+        "desktop OpenGL: tiler replays OpenGL ES / EGL captures (record a GLES context with `apitrace trace --api egl`)",
+    )
+}
 
 /// Why `function` may be ignored, if it is on [`IGNORED`]; with its name as a `'static str`.
 pub fn ignored(function: &str) -> Option<(&'static str, &'static str)> {

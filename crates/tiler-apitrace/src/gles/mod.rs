@@ -23,7 +23,7 @@ use std::path::Path;
 
 pub use command::{ClearValue, Command, EglHandle, GlEnum, Memory, Params, UniformValue};
 pub use decode::Decoder;
-pub use ignore::{IGNORED, ignored};
+pub use ignore::{IGNORED, NOT_MODELLED, ignored, not_modelled};
 
 use crate::wire::{Header, Limits, ReadError, TraceReader};
 
@@ -52,6 +52,9 @@ pub struct DecodeError {
 pub enum DecodeErrorKind {
     #[error("not an OpenGL ES or EGL call this reader decodes, and not on its ignore list")]
     Unknown,
+    /// A call of a feature tiler does not model, or of desktop OpenGL.
+    #[error("not supported: {feature}")]
+    NotModelled { feature: &'static str },
     #[error("argument `{argument}` is missing")]
     MissingArgument { argument: String },
     #[error("argument `{argument}`: expected {expected}, found a {found}")]

@@ -24,16 +24,16 @@ use tiler_apitrace::gles::GlEnum;
 fn an_unknown_call_is_an_error_naming_its_number_and_function() {
     let mut writer = Writer::new(6);
     writer.call("glFlush", &[], None, false);
-    writer.call("glTexImage3D", &[("target", W::UInt(0x806f))], None, false);
+    writer.call("glFrobnicate", &[("target", W::UInt(0x806f))], None, false);
     let calls: Vec<_> = GlesReader::new(&writer.snappy(1 << 20)[..], Limits::DEFAULT).unwrap().collect();
     assert_eq!(calls.len(), 2, "the iterator ends after the error");
     assert_eq!(calls[0].as_ref().unwrap().command, Command::Flush);
     match &calls[1] {
         Err(Error::Decode(e)) => {
-            assert_eq!((e.call, e.function.as_str()), (1, "glTexImage3D"));
+            assert_eq!((e.call, e.function.as_str()), (1, "glFrobnicate"));
             assert!(matches!(e.kind, DecodeErrorKind::Unknown));
             let message = e.to_string();
-            assert!(message.contains("call 1") && message.contains("glTexImage3D"), "{message}");
+            assert!(message.contains("call 1") && message.contains("glFrobnicate"), "{message}");
         }
         other => panic!("expected a decode error, got {other:?}"),
     }
@@ -570,4 +570,50 @@ fn every_gles2_call_and_the_promised_others_are_known() {
         }
     }
     assert_eq!(GLES2.len(), 142);
+}
+
+#[test]
+fn sync_objects_are_ignored_and_a_client_wait_is_a_finish() {
+    let mut writer = Writer::new(6);
+    writer.call(
+        "glFenceSync",
+        &[("condition", gl_enum("GL_SYNC_GPU_COMMANDS_COMPLETE", 0x9117)), ("flags", W::UInt(0))],
+        Some(W::UInt(0x5555_0000)),
+        false,
+    );
+    writer.call(
+        "glClientWaitSync",
+        &[("sync", W::UInt(0x5555_0000)), ("flags", W::UInt(1)), ("timeout", W::UInt(1_000_000_000))],
+        Some(gl_enum("GL_CONDITION_SATISFIED", 0x911c)),
+        false,
+    );
+    writer.call("glDeleteSync", &[("sync", W::UInt(0x5555_0000))], None, false);
+    let commands = commands(&writer);
+    assert!(matches!(commands[0], Command::Ignored { function: "glFenceSync", .. }));
+    assert_eq!(commands[1], Command::Finish);
+    assert!(matches!(commands[2], Command::Ignored { function: "glDeleteSync", .. }));
+}
+
+#[test]
+fn calls_of_unmodelled_features_and_of_desktop_gl_say_so() {
+    for (function, says) in [
+        ("glBeginTransformFeedback", "transform feedback"),
+        ("glTexImage3D", "3-D and 2-D array textures"),
+        ("glCreateProgramObjectARB", "desktop OpenGL"),
+        ("glBegin", "desktop OpenGL"),
+    ] {
+        let mut writer = Writer::new(6);
+        writer.call(function, &[("mode", gl_enum("GL_POINTS", 0))], None, false);
+        match decode(&writer) {
+            Err(Error::Decode(e)) => {
+                let message = e.to_string();
+                assert!(message.contains(function) && message.contains(says), "{message}");
+            }
+            other => panic!("{function}: expected an error, got {other:?}"),
+        }
+    }
+    // Other unknown calls keep the general message.
+    let mut writer = Writer::new(6);
+    writer.call("glFrobnicate", &[], None, false);
+    assert!(matches!(decode(&writer), Err(Error::Decode(e)) if e.to_string().contains("ignore list")));
 }

@@ -39,9 +39,17 @@
 //!
 //! Frames given as render passes (glTF, built-in scenes, the Rust API) are judged by the same
 //! rules through [`advise_passes`]. [`what_if`] applies a finding's fix to a trace's calls so
-//! the run can be replayed with it: on the example pairs each fix saves exactly its estimate
-//! on a device without transaction elimination (with it, stores of unchanged tiles were
-//! already skipped and the measured saving is smaller).
+//! the run can be replayed with it, and [`what_if::prove`] replays each fix and measures it:
+//! on the example pairs each fix saves exactly its estimate on every built-in preset. On a
+//! device with transaction elimination the estimate prices the stores as made, and so does
+//! the measurement it is compared with: elimination skips the stores of tiles whose content
+//! repeats what memory holds, which depends on the pictures rather than on the pattern (the
+//! static example frames repeat, so there the device moves less than either figure), and
+//! pricing it would make one frame's finding depend on what other frames store. What the
+//! device moved fewer is reported beside it. Two costs are not priced: on a device that shades
+//! vertices per tile, a flush also loses the vertex-cache hits between the draws it puts in two
+//! passes; on an immediate-mode GPU, a clear-quad's writes against a full clear's (the
+//! fragments are priced).
 //!
 //! # Structure
 //!

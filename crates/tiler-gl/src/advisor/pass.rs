@@ -535,11 +535,26 @@ fn unsorted_opaque(v: &PassView, out: &mut Vec<Draft>) {
     if counters.fragments_early_z_killed >= overdrawn {
         return;
     }
+    // An immediate-mode GPU without a framebuffer cache also writes each covered fragment's
+    // colour and depth to memory, once per sample (a cache absorbs the overwrites): sorted,
+    // those writes are not made. The depth tests (reads) are the same either way.
+    let device = v.config.device_config();
+    let bytes = if !device.backend.is_tiler() && device.framebuffer_cache.size_bytes == 0 {
+        let written: u64 = pass
+            .attachments
+            .iter()
+            .filter(|a| a.role == Role::Attached && matches!(a.slot, Slot::Color(_) | Slot::Depth))
+            .map(|a| a.format.bytes_per_sample() as u64)
+            .sum();
+        overdrawn * written * pass.samples as u64
+    } else {
+        0
+    };
     out.push(Draft::about(
         RuleId::UnsortedOpaque,
         pass,
         opaque.first().map(|d| d.call),
-        Cost { fragments: overdrawn, ..Cost::default() },
+        Cost { fragments: overdrawn, bytes, ..Cost::default() },
         format!(
             "the opaque draws of pass {} on {fb} shade {opaque_shaded} fragments for {area} pixels ({:.2} per pixel) \
              while early-Z rejected only {}: at least {overdrawn} were shaded and then covered",

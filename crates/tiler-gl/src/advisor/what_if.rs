@@ -10,13 +10,103 @@
 //! of pixels, a flush, a finish) to the end of the pass it cut short — before a swap, after
 //! invalidating the window's depth and stencil, which the swap would throw away anyway;
 //! `unsorted-opaque` reverses the order of the pass's opaque draws (each with the state calls
-//! before it), the usual back-to-front submission turned front to back. The other rules change the content
-//! of the frame (geometry, shaders, draw order, formats) and have no automatic fix.
+//! before it), the usual back-to-front submission turned front to back; `partial-clear`, for
+//! a clear made a clear-quad by the scissor test alone with a box covering the framebuffer,
+//! disables the test around the clear (a smaller box keeps what lies outside it: no fix). The
+//! other rules change the content of the frame (geometry, shaders, formats) and have no
+//! automatic fix. `msaa-stored` renders the finding's frame to a multisampled texture resolved in
+//! the tile (a framebuffer and texture made for that frame) and has the frame's blits read
+//! the resolved texture.
+
+use tiler_finding::WhatIf;
 
 use super::{Finding, RuleId};
 use crate::call::{AttachmentPoint, Call};
-use crate::report::{CallRef, PassRecord, Report, Slot};
+use crate::context::ContextConfig;
+use crate::report::{CallRef, PassRecord, Report, Slot, first_different_frame};
 use crate::trace::{Trace, TraceFrame};
+
+/// A run of a trace that [`prove`] compares its fixed replays with.
+pub struct Run<'a> {
+    /// The configuration it ran with; it must record the presented pictures
+    /// ([`ContextConfig::digest_presented`]).
+    pub config: &'a ContextConfig,
+    pub report: &'a Report,
+    /// The window's picture at the end (RGBA8), for what no swap presented.
+    pub picture: &'a [u8],
+}
+
+/// Applies each finding of `run` alone to the trace's calls, replays the fixed trace as `run`
+/// ran, and returns, per finding in order, what the fix saved beside what the finding
+/// estimated (labelled `device`) and whether every presented picture stayed the same. A fix
+/// whose edited calls fail to replay is reported as not applied, with the replay's error.
+///
+/// On a device with transaction elimination, stores of tiles whose content repeats what
+/// memory holds are skipped, which depends on the pictures, not on the pattern the finding is
+/// about: the estimate prices the stores as made, so the measured saving it is compared with
+/// (`measured_bytes_before_elimination`) counts the stores elimination skipped as moved, and
+/// `measured_bytes` says what the device moved fewer.
+///
+/// # Errors
+/// A run whose configuration did not record the presented pictures, or a trace too long to
+/// edit ([`MAX_WHAT_IF_CALLS`]).
+pub fn prove(trace: &Trace, run: &Run, device: &str) -> Result<Vec<WhatIf>, String> {
+    if !run.config.digest_presented {
+        return Err("the run did not record its presented pictures (ContextConfig::digest_presented)".into());
+    }
+    let before = run.report.totals.ledger.total() as i64;
+    let eliminated = |r: &Report| r.transaction_elimination_saved() as i64;
+    let shaded = |r: &Report| r.totals.counters.fragments_shaded as i64;
+    let mut results = Vec::with_capacity(run.report.findings.len());
+    for finding in &run.report.findings {
+        let mut fixer = Fixer::new(trace)?;
+        let mut result = WhatIf {
+            device: device.to_string(),
+            estimated_bytes: finding.cost_bytes,
+            estimated_fragments: finding.cost_fragments,
+            ..WhatIf::default()
+        };
+        let fix = match fixer.add(finding, run.report) {
+            Ok(fix) => fix,
+            Err(why) => {
+                result.fix = why;
+                results.push(result);
+                continue;
+            }
+        };
+        let mut fixed = fixer.fixed(trace);
+        fixed.config = run.config.clone();
+        let replay = match fixed.replay() {
+            Ok(replay) => replay,
+            Err(e) => {
+                result.fix = format!("{fix}: not applied, the edited calls fail: {e}");
+                results.push(result);
+                continue;
+            }
+        };
+        let measured = before - replay.report.totals.ledger.total() as i64;
+        let before_elimination = measured + eliminated(run.report) - eliminated(&replay.report);
+        let different = first_different_frame(&run.report.frames, &replay.report.frames).or_else(|| {
+            (replay.context.surface_rgba8() != run.picture)
+                .then_some(run.report.frames.len().max(replay.report.frames.len()) as u32)
+        });
+        results.push(WhatIf {
+            fix,
+            applied: true,
+            measured_bytes: Some(measured),
+            measured_bytes_before_elimination: (before_elimination != measured).then_some(before_elimination),
+            measured_fragments: Some(shaded(run.report) - shaded(&replay.report)),
+            same_picture: Some(different.is_none()),
+            different_frame: different.map(u64::from),
+            ..result
+        });
+    }
+    Ok(results)
+}
+
+/// The first of the names (textures, framebuffers) a fix creates: three per frame from here,
+/// far above the names applications use.
+pub const FIX_NAMES: u32 = 0x7000_0000;
 
 /// The most calls (repeats expanded) a trace may have for fixes to be applied.
 pub const MAX_WHAT_IF_CALLS: usize = 1 << 20;
@@ -133,8 +223,11 @@ impl Fixer {
             }
             RuleId::FlushMidPass => {
                 let at = finding.location.call_at.map(CallRef::from).ok_or("the finding names no call")?;
-                if !matches!(self.call(at), Some(Call::ReadPixels { .. } | Call::Flush | Call::Finish)) {
-                    return Err("only a read_pixels, flush or finish is moved".into());
+                if !matches!(
+                    self.call(at),
+                    Some(Call::ReadPixels { .. } | Call::Flush | Call::Finish | Call::QueryResult { .. })
+                ) {
+                    return Err("only a read_pixels, query_result, flush or finish is moved".into());
                 }
                 // To the end of the pass it cut short: just before the call that ends the
                 // pass drawing went on in.
@@ -166,6 +259,38 @@ impl Fixer {
                 self.move_before(at.frame as usize, call..call + 1, to)?;
                 let invalidated = if window { ", the window's depth and stencil invalidated first" } else { "" };
                 Ok(format!("move {at} to just before {to}, the end of the pass{invalidated}"))
+            }
+            RuleId::MsaaStored => {
+                let pass = pass?;
+                self.resolve_in_tile(pass)
+            }
+            RuleId::PartialClear => {
+                // A clear made a clear-quad only by the scissor test: clear with it off.
+                let at = finding.location.call_at.map(CallRef::from).ok_or("the finding names no call")?;
+                if !matches!(self.call(at), Some(Call::Clear { .. })) {
+                    return Err("the finding names no clear".into());
+                }
+                let pass = pass?;
+                let quad = pass.draws.iter().find(|d| d.call == at);
+                let reasons =
+                    quad.and_then(|d| d.partial_clear.as_ref()).map(|pc| pc.reasons.clone()).unwrap_or_default();
+                // A box smaller than the framebuffer keeps what lies outside it: clearing
+                // without it would change the picture, and the advice is then to keep it.
+                if quad.is_some_and(|d| d.clip_rect.area() < pass.width as u64 * pass.height as u64) {
+                    return Err("the scissor box is smaller than the framebuffer: without it the clear would clear \
+                                more; keep the scissor around the pass or use a tiled-rendering region, as advised"
+                        .into());
+                }
+                if reasons.is_empty() || reasons.iter().any(|r| !r.contains("scissor")) {
+                    return Err(format!(
+                        "only a clear made partial by the scissor test alone is fixed automatically (this one: {})",
+                        reasons.join(", ")
+                    ));
+                }
+                use crate::call::Capability;
+                self.before(at, vec![Call::Disable { cap: Capability::ScissorTest }])?;
+                self.after(at, vec![Call::Enable { cap: Capability::ScissorTest }])?;
+                Ok(format!("disable the scissor test around the clear at {at}"))
             }
             RuleId::UnsortedOpaque => {
                 let pass = pass?;
@@ -233,6 +358,126 @@ impl Fixer {
         edits.moved.push(start..from);
         edits.before.push((start, reordered));
         Ok(())
+    }
+
+    /// `msaa-stored`: the pass renders to a multisampled texture resolved in the tile
+    /// (`framebuffer_texture` with samples) instead of the multisampled colour renderbuffer,
+    /// through a framebuffer made for this frame with the same other attachments; the reads
+    /// of the framebuffer that follow in the frame (a blit's `bind_framebuffer` for reading)
+    /// read the single-sampled texture. Only this frame changes, as the finding prices it.
+    fn resolve_in_tile(&mut self, pass: &PassRecord) -> Result<String, String> {
+        use crate::call::FramebufferTarget;
+        let at = pass.started_at;
+        let (target, fb) = match self.call(at) {
+            Some(Call::BindFramebuffer { target, framebuffer })
+                if *target != FramebufferTarget::Read && *framebuffer == pass.framebuffer && *framebuffer != 0 =>
+            {
+                (*target, *framebuffer)
+            }
+            _ => return Err("the pass does not begin by binding an application framebuffer".into()),
+        };
+        // The framebuffer's attachments as the calls up to the bind left them.
+        let mut attached: Vec<(AttachmentPoint, Call)> = Vec::new();
+        let mut renderbuffers: std::collections::HashMap<u32, (u32, u32, crate::call::TextureFormat, u32)> =
+            std::collections::HashMap::new();
+        let upto = self.frames[..=at.frame as usize].iter().enumerate().flat_map(|(f, calls)| {
+            let end = if f == at.frame as usize { at.call as usize } else { calls.len() };
+            calls[..end].iter()
+        });
+        for call in upto {
+            match call {
+                Call::CreateRenderbuffer { id, width, height, format, samples, .. } => {
+                    renderbuffers.insert(*id, (*width, *height, *format, *samples));
+                }
+                Call::FramebufferRenderbuffer { framebuffer, attachment, .. }
+                | Call::FramebufferTexture { framebuffer, attachment, .. }
+                    if *framebuffer == fb =>
+                {
+                    attached.retain(|(point, _)| point != attachment);
+                    attached.push((*attachment, call.clone()));
+                }
+                _ => {}
+            }
+        }
+        let color = attached.iter().find(|(point, _)| *point == AttachmentPoint::Color0).map(|(_, c)| c);
+        let Some(Call::FramebufferRenderbuffer { renderbuffer, .. }) = color else {
+            return Err("only a multisampled colour renderbuffer at color0 is replaced".into());
+        };
+        let Some(&(width, height, format, samples)) = renderbuffers.get(renderbuffer) else {
+            return Err(format!("renderbuffer {renderbuffer} is not created by the calls"));
+        };
+        if samples <= 1
+            || attached.iter().any(|(point, _)| {
+                !matches!(
+                    point,
+                    AttachmentPoint::Color0
+                        | AttachmentPoint::Depth
+                        | AttachmentPoint::Stencil
+                        | AttachmentPoint::DepthStencil
+                )
+            })
+        {
+            return Err("only a framebuffer with one multisampled colour attachment is changed".into());
+        }
+        // Names of this frame's own: far above what applications use.
+        let base = FIX_NAMES + 3 * at.frame;
+        let (draw_fb, read_fb, texture) = (base, base + 1, base + 2);
+        let mut setup = vec![
+            Call::CreateTexture { id: texture, width, height, format, data: None, transient: false },
+            Call::CreateFramebuffer { id: draw_fb },
+            Call::FramebufferTexture { framebuffer: draw_fb, attachment: AttachmentPoint::Color0, texture, samples },
+        ];
+        for (_, call) in attached.iter().filter(|(point, _)| *point != AttachmentPoint::Color0) {
+            setup.push(match call.clone() {
+                Call::FramebufferRenderbuffer { attachment, renderbuffer, .. } => {
+                    Call::FramebufferRenderbuffer { framebuffer: draw_fb, attachment, renderbuffer }
+                }
+                Call::FramebufferTexture { attachment, texture, samples, .. } => {
+                    Call::FramebufferTexture { framebuffer: draw_fb, attachment, texture, samples }
+                }
+                other => other,
+            });
+        }
+        setup.push(Call::CreateFramebuffer { id: read_fb });
+        setup.push(Call::FramebufferTexture {
+            framebuffer: read_fb,
+            attachment: AttachmentPoint::Color0,
+            texture,
+            samples: 1,
+        });
+        setup.push(Call::BindFramebuffer { target, framebuffer: draw_fb });
+        let frame = at.frame as usize;
+        let bind = at.call as usize;
+        // The reads that follow in the frame, until the framebuffer is drawn to again.
+        let mut reads = Vec::new();
+        for (i, call) in self.frames[frame].iter().enumerate().skip(pass.ended_at.call as usize) {
+            match call {
+                Call::BindFramebuffer { target: FramebufferTarget::Read, framebuffer } if *framebuffer == fb => {
+                    reads.push(i)
+                }
+                Call::BindFramebuffer { framebuffer, .. } if *framebuffer == fb => break,
+                _ => {}
+            }
+        }
+        let edits = &mut self.edits[frame];
+        if edits.moved.iter().any(|m| m.contains(&bind) || reads.iter().any(|r| m.contains(r))) {
+            return Err("the calls are already moved".into());
+        }
+        edits.moved.push(bind..bind + 1);
+        edits.before.push((bind, setup));
+        for &i in &reads {
+            edits.moved.push(i..i + 1);
+            edits
+                .before
+                .push((i, vec![Call::BindFramebuffer { target: FramebufferTarget::Read, framebuffer: read_fb }]));
+        }
+        Ok(format!(
+            "render frame {}'s pass on framebuffer {fb} to a {samples}× multisampled texture resolved in the tile \
+             (framebuffer_texture with samples) instead of renderbuffer {renderbuffer}, and read the resolved texture \
+             in the {} read(s) that follow",
+            at.frame,
+            reads.len()
+        ))
     }
 
     fn check(&self, at: CallRef) -> Result<(), String> {

@@ -170,7 +170,11 @@ impl Translator {
         format: EncodedFormat,
         pixels: &Memory,
     ) -> Fallible {
-        let data = packed_texels(pixels, size.0, size.1, self.unpack_alignment())?;
+        let data = match pixels {
+            // Storage without texels (GL leaves them undefined): zeros, for glTexSubImage2D.
+            Memory::Null => Bytes::from(vec![0u8; size.0 as usize * size.1 as usize * 2]),
+            _ => packed_texels(pixels, size.0, size.1, self.unpack_alignment())?,
+        };
         self.encoded_tex_image(level, size, (format, false), data)
     }
 

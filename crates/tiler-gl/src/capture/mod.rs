@@ -44,14 +44,17 @@
 //!   state; `glCopyBufferSubData` is the context's buffer copy; `glTexStorage2D` takes 1 level
 //!   or the whole chain, whose levels `glTexSubImage2D` fills whole; `glDrawBuffers` of
 //!   colour attachments 0, 1, … in order is the context's `draw_buffers` (multiple render
-//!   targets).
+//!   targets). `GL_PRIMITIVE_RESTART_FIXED_INDEX` is the context's capability of that name.
 //! - **Client-side vertex arrays** (apitrace records the bytes a draw reads in a fake
 //!   `glVertexAttribPointer` just before it) become client arrays the context copies at each
 //!   draw, as a driver must; client-side indices go through a scratch index buffer. Writes
 //!   through mapped buffers become `buffer_sub_data`.
 //! - **Textures**: `RGBA`, `RGB`, `LUMINANCE`, `LUMINANCE_ALPHA`, `ALPHA` bytes and the 4444 /
 //!   5551 packings are expanded to RGBA8 (what sampling returns is the same); 565 is kept as
-//!   565; `DEPTH_COMPONENT` is a depth texture without data. Rows honour `GL_UNPACK_ALIGNMENT`.
+//!   565; `DEPTH_COMPONENT` is a depth texture without data. GL ES 3.0's sized internal
+//!   formats of those bases are taken too; `RED`/`RG` bytes, halves and floats (`R8`, `RG8`,
+//!   `R16F`, …) are stored with green/blue 0 and alpha 1, as GL reads them, and are never
+//!   render targets. Rows honour `GL_UNPACK_ALIGNMENT`.
 //!   Level 0 only; `glGenerateMipmap` gives the context's mip chain, and the `*_MIPMAP_*`
 //!   minification filters use it (with a magnification filter of the same first word; a mipmap
 //!   filter on a texture without levels — incomplete in GL — is refused where it is drawn).
@@ -131,16 +134,30 @@ pub struct Replay {
 pub enum CaptureError {
     #[error("{path}: {source}")]
     Open { path: String, source: std::io::Error },
+    // The inner error is in the message and so is not also the `source` (`#[from]` would make
+    // it one, and a printer of the error chain, as `tiler`'s, would then say it twice).
     #[error("reading the capture: {0}")]
-    Read(#[from] tiler_apitrace::ReadError),
+    Read(tiler_apitrace::ReadError),
     #[error("decoding the capture: {0}")]
-    Decode(#[from] tiler_apitrace::gles::DecodeError),
+    Decode(tiler_apitrace::gles::DecodeError),
     /// A call the replay cannot express, or one the context refused.
     #[error("call {call} `{function}`: {message}")]
     Call { call: u64, function: String, message: String },
     /// The caller's frame handler failed.
     #[error("frame {frame} (call {call}): {message}")]
     Frame { frame: u32, call: u64, message: String },
+}
+
+impl From<tiler_apitrace::ReadError> for CaptureError {
+    fn from(e: tiler_apitrace::ReadError) -> CaptureError {
+        CaptureError::Read(e)
+    }
+}
+
+impl From<tiler_apitrace::gles::DecodeError> for CaptureError {
+    fn from(e: tiler_apitrace::gles::DecodeError) -> CaptureError {
+        CaptureError::Decode(e)
+    }
 }
 
 impl CaptureError {

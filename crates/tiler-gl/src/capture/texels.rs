@@ -8,6 +8,8 @@ pub(crate) const GL_RGB: u32 = 0x1907;
 pub(crate) const GL_RGBA: u32 = 0x1908;
 pub(crate) const GL_LUMINANCE: u32 = 0x1909;
 pub(crate) const GL_LUMINANCE_ALPHA: u32 = 0x190a;
+pub(crate) const GL_RED: u32 = 0x1903;
+pub(crate) const GL_RG: u32 = 0x8227;
 pub(crate) const GL_DEPTH_COMPONENT: u32 = 0x1902;
 pub(crate) const GL_DEPTH_STENCIL: u32 = 0x84f9;
 pub(crate) const GL_UNSIGNED_BYTE: u32 = 0x1401;
@@ -36,42 +38,69 @@ pub(crate) struct Upload {
 impl Upload {
     /// The storage of a `glTexImage2D` with this internal format, format and type.
     pub fn new(internal_format: u32, format: u32, kind: u32) -> Result<Upload, String> {
-        // GLES 2.0: the internal format is the format (sized RGBA8/RGB8 from GLES 3.0 too).
-        // Float textures (`OES_texture_float`, `OES_texture_half_float`; GL ES 3.0's sized
-        // RGBA16F/RGBA32F/RGB16F/RGB32F).
-        let internal_ok = internal_format == format
-            || matches!(
-                (internal_format, format),
-                (0x8058 | 0x881a | 0x8814, GL_RGBA) | (0x8051 | 0x8d62 | 0x881b | 0x8815, GL_RGB)
-            );
+        // GLES 2.0: the internal format is the format. GL ES 3.0 also takes a sized internal
+        // format of the format's base (its table 3.2, `RGBA8` for `RGBA`, `DEPTH_COMPONENT24`
+        // for `DEPTH_COMPONENT`, …); the sized ones the replay stores are listed in `sized`.
+        let sized = sized_internal_format(internal_format);
+        let internal_ok = internal_format == format || sized.is_some_and(|(base, _)| base == format);
         if !internal_ok {
             return Err(format!(
-                "internal format {internal_format:#06x} with format {format:#06x} is not a GLES 2.0 combination the \
-                 replay converts"
+                "internal format {internal_format:#06x} with format {format:#06x} is not a combination the replay \
+                 converts (GLES 2.0's unsized formats and GL ES 3.0's RGBA8, RGB8, RG8, R8, RGB565, RGBA4, \
+                 RGB5_A1, SRGB8_ALPHA8, RGBA16F/32F, RGB16F/32F, RG16F/32F, R16F/32F, DEPTH_COMPONENT16/24/32F, \
+                 DEPTH24_STENCIL8)"
             ));
         }
-        let (stored, client_bytes) = match (format, kind) {
+        let (mut stored, client_bytes) = match (format, kind) {
             (GL_RGBA, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 4),
             (GL_RGB, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 3),
-            (GL_LUMINANCE_ALPHA, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 2),
-            (GL_LUMINANCE | GL_ALPHA, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 1),
+            (GL_LUMINANCE_ALPHA | GL_RG, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 2),
+            (GL_LUMINANCE | GL_ALPHA | GL_RED, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 1),
             (GL_RGB, GL_UNSIGNED_SHORT_5_6_5) => (TextureFormat::Rgb565, 2),
             (GL_RGBA, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => (TextureFormat::Rgba16f, 8),
             (GL_RGB, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => (TextureFormat::Rgba16f, 6),
             (GL_RGBA, GL_FLOAT) => (TextureFormat::Rgba32f, 16),
             (GL_RGB, GL_FLOAT) => (TextureFormat::Rgba32f, 12),
+            (GL_RG, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => (TextureFormat::Rgba16f, 4),
+            (GL_RED, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => (TextureFormat::Rgba16f, 2),
+            (GL_RG, GL_FLOAT) => (TextureFormat::Rgba32f, 8),
+            (GL_RED, GL_FLOAT) => (TextureFormat::R32f, 4),
             (GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT) => (TextureFormat::Depth16, 2),
             (GL_DEPTH_COMPONENT, GL_UNSIGNED_INT) => (TextureFormat::Depth24, 4),
+            (GL_DEPTH_COMPONENT, GL_FLOAT) => (TextureFormat::Depth32f, 4),
             (GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8) => (TextureFormat::Depth24Stencil8, 4),
             _ => {
                 return Err(format!(
-                    "texel format {format:#06x} of type {kind:#06x} is not one the replay converts (RGBA, RGB, \
-                     LUMINANCE, LUMINANCE_ALPHA, ALPHA bytes; 565; RGBA, RGB halves and floats; DEPTH_COMPONENT; 4444 and 5551 \
-                     are encoded uploads)"
+                    "texel format {format:#06x} of type {kind:#06x} is not one the replay converts (RGBA, RGB, RG, \
+                     RED, LUMINANCE, LUMINANCE_ALPHA, ALPHA bytes; 565; RGBA, RGB, RG, RED halves and floats; \
+                     DEPTH_COMPONENT; 4444 and 5551 are encoded uploads)"
                 ));
             }
         };
+        // A sized internal format picks the storage where the type alone does not say it: sRGB
+        // bytes, the depth format's precision. Sized formats of more precision than the
+        // client's type (RGB565 from bytes: GL rounds each texel to 5/6 bits) are refused
+        // rather than stored at the type's precision.
+        if let Some((_, storage)) = sized {
+            match (storage, stored) {
+                (Some(storage), _) if storage.has_depth() || storage == TextureFormat::Srgb8Alpha8 => stored = storage,
+                (Some(TextureFormat::Rgb565), TextureFormat::Rgba8) => {
+                    return Err(format!(
+                        "internal format RGB565 ({internal_format:#06x}) from type {kind:#06x}: the replay converts \
+                         RGB565 from UNSIGNED_SHORT_5_6_5 texels only"
+                    ));
+                }
+                _ => {}
+            }
+        }
         Ok(Upload { format: stored, client_bytes, format_enum: format, kind })
+    }
+
+    /// Whether these texels can fill (part of) a texture stored as `stored`: the same storage,
+    /// or bytes into sRGB storage (GL ES 3.0 uploads `SRGB8_ALPHA8` from `RGBA` bytes, stored
+    /// as given).
+    pub fn fills(&self, stored: TextureFormat) -> bool {
+        self.format == stored || (self.format == TextureFormat::Rgba8 && stored == TextureFormat::Srgb8Alpha8)
     }
 
     /// Converts `width × height` client texels (rows bottom to top, each starting at a
@@ -95,9 +124,21 @@ impl Upload {
             let src = &data[y * stride..y * stride + row];
             match (self.format_enum, self.kind) {
                 (_, GL_UNSIGNED_SHORT_5_6_5)
-                | (GL_RGBA, GL_UNSIGNED_BYTE | GL_HALF_FLOAT_OES | GL_HALF_FLOAT | GL_FLOAT) => {
-                    out.extend_from_slice(src)
+                | (GL_RGBA, GL_UNSIGNED_BYTE | GL_HALF_FLOAT_OES | GL_HALF_FLOAT | GL_FLOAT)
+                | (GL_RED, GL_FLOAT) => out.extend_from_slice(src),
+                // Green and blue 0, alpha 1, as a half and as a float.
+                (GL_RED | GL_RG, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => {
+                    src.chunks_exact(self.client_bytes).for_each(|t| {
+                        out.extend_from_slice(t);
+                        out.resize(out.len() + 6 - t.len(), 0);
+                        out.extend_from_slice(&0x3c00u16.to_le_bytes());
+                    })
                 }
+                (GL_RG, GL_FLOAT) => src.chunks_exact(8).for_each(|t| {
+                    out.extend_from_slice(t);
+                    out.extend_from_slice(&0.0f32.to_le_bytes());
+                    out.extend_from_slice(&1.0f32.to_le_bytes());
+                }),
                 // Alpha 1.0 as a half and as a float.
                 (GL_RGB, GL_HALF_FLOAT_OES | GL_HALF_FLOAT) => src.chunks_exact(6).for_each(|t| {
                     out.extend_from_slice(t);
@@ -112,12 +153,42 @@ impl Upload {
                     src.chunks_exact(2).for_each(|t| out.extend_from_slice(&[t[0], t[0], t[0], t[1]]))
                 }
                 (GL_LUMINANCE, _) => src.iter().for_each(|&l| out.extend_from_slice(&[l, l, l, 255])),
+                // GL ES 3.0 §3.8.15: a texture without green or blue reads 0 there, alpha 1.
+                (GL_RED, _) => src.iter().for_each(|&r| out.extend_from_slice(&[r, 0, 0, 255])),
+                (GL_RG, _) => src.chunks_exact(2).for_each(|t| out.extend_from_slice(&[t[0], t[1], 0, 255])),
                 (GL_ALPHA, _) => src.iter().for_each(|&a| out.extend_from_slice(&[0, 0, 0, a])),
                 _ => unreachable!("Upload::new accepts only the pairs converted here"),
             }
         }
         Ok(out)
     }
+}
+
+/// A GL ES 3.0 sized internal format the replay stores: its base format and, where the sized
+/// format decides it, the storage.
+fn sized_internal_format(internal_format: u32) -> Option<(u32, Option<TextureFormat>)> {
+    Some(match internal_format {
+        // RGBA4, RGB5_A1, RGBA8
+        0x8056..=0x8058 => (GL_RGBA, None),
+        0x881a /* RGBA16F */ => (GL_RGBA, Some(TextureFormat::Rgba16f)),
+        0x8814 /* RGBA32F */ => (GL_RGBA, Some(TextureFormat::Rgba32f)),
+        0x8c43 /* SRGB8_ALPHA8 */ => (GL_RGBA, Some(TextureFormat::Srgb8Alpha8)),
+        0x8051 /* RGB8 */ => (GL_RGB, None),
+        0x8d62 /* RGB565 */ => (GL_RGB, Some(TextureFormat::Rgb565)),
+        0x881b /* RGB16F */ => (GL_RGB, Some(TextureFormat::Rgba16f)),
+        0x8815 /* RGB32F */ => (GL_RGB, Some(TextureFormat::Rgba32f)),
+        0x822b /* RG8 */ => (GL_RG, None),
+        0x8229 /* R8 */ => (GL_RED, None),
+        0x822d /* R16F */ => (GL_RED, Some(TextureFormat::Rgba16f)),
+        0x822f /* RG16F */ => (GL_RG, Some(TextureFormat::Rgba16f)),
+        0x822e /* R32F */ => (GL_RED, Some(TextureFormat::R32f)),
+        0x8230 /* RG32F */ => (GL_RG, Some(TextureFormat::Rgba32f)),
+        0x81a5 /* DEPTH_COMPONENT16 */ => (GL_DEPTH_COMPONENT, Some(TextureFormat::Depth16)),
+        0x81a6 /* DEPTH_COMPONENT24 */ => (GL_DEPTH_COMPONENT, Some(TextureFormat::Depth24)),
+        0x8cac /* DEPTH_COMPONENT32F */ => (GL_DEPTH_COMPONENT, Some(TextureFormat::Depth32f)),
+        0x88f0 /* DEPTH24_STENCIL8 */ => (GL_DEPTH_STENCIL, Some(TextureFormat::Depth24Stencil8)),
+        _ => return None,
+    })
 }
 
 #[cfg(test)]
@@ -154,6 +225,30 @@ mod tests {
         assert_eq!(up.convert(&[7], 1, 1, 1).unwrap(), [7, 7, 7, 255]);
         let up = Upload::new(GL_ALPHA, GL_ALPHA, GL_UNSIGNED_BYTE).unwrap();
         assert_eq!(up.convert(&[7], 1, 1, 1).unwrap(), [0, 0, 0, 7]);
+    }
+
+    #[test]
+    fn gles3_sized_internal_formats_store_as_their_base_or_as_they_say() {
+        let up = Upload::new(0x8058, GL_RGBA, GL_UNSIGNED_BYTE).unwrap();
+        assert_eq!((up.format, up.client_bytes), (TextureFormat::Rgba8, 4));
+        let up = Upload::new(0x8229, GL_RED, GL_UNSIGNED_BYTE).unwrap();
+        assert_eq!(up.convert(&[9, 8, 0, 0, 7, 6], 2, 1, 4).unwrap(), [9, 0, 0, 255, 8, 0, 0, 255]);
+        let up = Upload::new(0x822b, GL_RG, GL_UNSIGNED_BYTE).unwrap();
+        assert_eq!(up.convert(&[9, 8], 1, 1, 4).unwrap(), [9, 8, 0, 255]);
+        assert_eq!(Upload::new(0x8c43, GL_RGBA, GL_UNSIGNED_BYTE).unwrap().format, TextureFormat::Srgb8Alpha8);
+        // Half-float red and red-green: green and blue 0, alpha 1.
+        let up = Upload::new(0x822d, GL_RED, GL_HALF_FLOAT).unwrap();
+        assert_eq!(up.convert(&[0x00, 0x38], 1, 1, 1).unwrap(), [0x00, 0x38, 0, 0, 0, 0, 0x00, 0x3c]);
+        let up = Upload::new(0x822f, GL_RG, GL_HALF_FLOAT).unwrap();
+        assert_eq!(up.convert(&[1, 2, 3, 4], 1, 1, 1).unwrap(), [1, 2, 3, 4, 0, 0, 0x00, 0x3c]);
+        assert_eq!(Upload::new(0x822e, GL_RED, GL_FLOAT).unwrap().format, TextureFormat::R32f);
+        assert_eq!(Upload::new(0x81a6, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT).unwrap().format, TextureFormat::Depth24);
+        assert_eq!(Upload::new(0x81a5, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT).unwrap().format, TextureFormat::Depth16);
+        assert_eq!(Upload::new(0x8cac, GL_DEPTH_COMPONENT, GL_FLOAT).unwrap().format, TextureFormat::Depth32f);
+        // A sized format of another base, and RGB565 from bytes (GL would round to 5/6 bits).
+        assert!(Upload::new(0x8058, GL_RGB, GL_UNSIGNED_BYTE).is_err());
+        assert!(Upload::new(0x8d62, GL_RGB, GL_UNSIGNED_BYTE).unwrap_err().contains("RGB565"));
+        assert_eq!(Upload::new(0x8d62, GL_RGB, GL_UNSIGNED_SHORT_5_6_5).unwrap().format, TextureFormat::Rgb565);
     }
 
     #[test]

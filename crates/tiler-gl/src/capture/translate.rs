@@ -14,8 +14,8 @@ use super::texels::{self, Upload};
 use super::{CaptureError, Replay};
 use crate::bytes::Bytes;
 use crate::call::{
-    AttachmentPoint, BufferSet, Call, Capability, ComponentType, Face, Filter, FramebufferTarget, IndexKind, Mode,
-    SwapBehavior, TextureFormat, Winding, Wrap,
+    AttachmentPoint, BufferSet, Call, Capability, ComponentType, EncodedFormat, Face, Filter, FramebufferTarget,
+    IndexKind, Mode, SwapBehavior, TextureFormat, Winding, Wrap,
 };
 use crate::context::{Context, ContextConfig, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS};
 
@@ -55,6 +55,20 @@ struct Texture {
     /// Its GL format has no alpha (`glCopyTexImage2D` with `GL_RGB`): copies into it get
     /// alpha 1.
     opaque: bool,
+    /// Its GL format has only red (and green) channels (`R8`, `RG8`, `GL_RED`, `GL_RG`): it
+    /// is stored as RGBA8 with green, blue and alpha as GL reads them (0, 0, 1), which holds
+    /// for uploads; rendering or copying into it would write them, so that is refused.
+    red_green: bool,
+    /// `GL_TEXTURE_MAX_LEVEL` (GL's default 1000). At 0 a texture is complete with level 0
+    /// alone and a mipmap minification filter samples level 0 only, so it is sampled with its
+    /// first word (`LINEAR_MIPMAP_*` as `LINEAR`); a level between 0 and the chain's last is
+    /// refused where it is sampled.
+    max_level: u32,
+}
+
+/// Whether a texture of this internal format has only red (and green) channels.
+fn red_green_format(internal_format: u32) -> bool {
+    matches!(internal_format, texels::GL_RED | texels::GL_RG | 0x8229 | 0x822b | 0x822d | 0x822f | 0x8230)
 }
 
 impl Default for Texture {
@@ -68,6 +82,8 @@ impl Default for Texture {
             wrap: [GL_REPEAT; 2],
             cube: false,
             opaque: false,
+            red_green: false,
+            max_level: 1000,
         }
     }
 }
@@ -91,9 +107,19 @@ impl Texture {
             GL_LINEAR => Filter::Linear,
             f => return Err(format!("magnification filter {f:#06x} is not a GL one")),
         };
+        let chain = 32 - self.size.0.max(self.size.1).max(1).leading_zeros();
+        let mipmapped = matches!(self.min, 0x2700..=0x2703);
+        if mipmapped && self.max_level != 0 && self.max_level + 1 < chain {
+            return Err(format!(
+                "GL_TEXTURE_MAX_LEVEL {} of a {}-level chain: only 0 or the whole chain is supported",
+                self.max_level, chain
+            ));
+        }
         let min = match self.min {
             GL_NEAREST => Filter::Nearest,
             GL_LINEAR => Filter::Linear,
+            0x2700 | 0x2702 if self.max_level == 0 => Filter::Nearest,
+            0x2701 | 0x2703 if self.max_level == 0 => Filter::Linear,
             0x2700 => Filter::NearestMipmapNearest,
             0x2701 => Filter::LinearMipmapNearest,
             GL_NEAREST_MIPMAP_LINEAR => Filter::NearestMipmapLinear,
@@ -627,7 +653,9 @@ impl Translator {
                 if encoded::packed_format(*format, *kind).is_some() =>
             {
                 check_2d_level0(*target, 0)?;
-                if *border != 0 || internal_format != format {
+                // The unsized format, or GL ES 3.0's sized RGBA4 / RGB5_A1 of a packed type.
+                let sized = matches!((*internal_format, *kind), (0x8056, 0x8033) | (0x8057, 0x8034));
+                if *border != 0 || (internal_format != format && !sized) {
                     return Err(format!(
                         "border {border} must be 0, internal format {internal_format:#06x} the format"
                     ));
@@ -708,7 +736,18 @@ impl Translator {
                 let t = self.objects()?.textures.get_mut(&name).expect("inserted above");
                 t.id = Some(id);
                 t.upload = Some(upload);
-                t.opaque = matches!(*internal_format, texels::GL_RGB | texels::GL_LUMINANCE | 0x8051 | 0x8d62);
+                t.red_green = red_green_format(*internal_format);
+                t.opaque = matches!(
+                    *internal_format,
+                    texels::GL_RGB
+                        | texels::GL_LUMINANCE
+                        | texels::GL_RED
+                        | texels::GL_RG
+                        | 0x8051
+                        | 0x8d62
+                        | 0x8229
+                        | 0x822b
+                );
                 t.size = (width, height);
                 self.update_sampler(name)?;
             }
@@ -728,7 +767,7 @@ impl Translator {
                     return Err(format!("texture {name} has no storage"));
                 };
                 let upload = Upload::new(*format, *format, *kind)?;
-                if upload.format != stored.format {
+                if !upload.fills(stored.format) {
                     return Err(format!(
                         "texels of format {format:#06x} / type {kind:#06x} into a texture stored as {}",
                         stored.format.name()
@@ -739,9 +778,27 @@ impl Translator {
                 let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
                 self.emit(Call::TexSubImage { id, x, y, width, height, data })?;
             }
+            C::TexStorage2D { target, levels: 1, internal_format: internal @ (0x8056 | 0x8057), width, height } => {
+                // RGBA4 / RGB5_A1 storage, for glTexSubImage2D of packed 16-bit texels: an
+                // encoded level of zeros (GL leaves it undefined), as glTexImage2D without data.
+                check_2d_level0(*target, 0)?;
+                let format = if *internal == 0x8056 { EncodedFormat::Rgba4444 } else { EncodedFormat::Rgba5551 };
+                let (width, height) = size2(*width, *height)?;
+                if self.texture_id(self.bound_texture()?)?.is_some() {
+                    return Err(format!("texture {} already has storage", self.bound_texture()?));
+                }
+                let zeros = Bytes::from(vec![0u8; width as usize * height as usize * 2]);
+                self.encoded_tex_image(0, (width, height), (format, false), zeros)?;
+            }
             C::TexStorage2D { target, levels, internal_format, width, height } => {
                 check_2d_level0(*target, 0)?;
-                let format = renderbuffer_format(*internal_format)?;
+                let red_green = red_green_format(*internal_format);
+                let format = match *internal_format {
+                    0x8229 | 0x822b => TextureFormat::Rgba8,
+                    0x822d | 0x822f => TextureFormat::Rgba16f,
+                    0x8230 => TextureFormat::Rgba32f,
+                    f => renderbuffer_format(f)?,
+                };
                 let (width, height) = size2(*width, *height)?;
                 gles3::check_storage_levels(*levels, width, height)?;
                 let name = self.bound_texture()?;
@@ -755,25 +812,39 @@ impl Translator {
                 t.id = Some(id);
                 t.size = (width, height);
                 t.upload = gles3::storage_upload(format);
+                t.red_green = red_green;
                 self.update_sampler(name)?;
             }
             C::TexParameter { target, pname, params } => {
                 if ![GL_TEXTURE_2D, cube::GL_TEXTURE_CUBE_MAP].contains(target) {
                     return Err(format!("texture target {target:#06x} is not supported (2D and cube maps only)"));
                 }
-                let value = match params {
-                    Params::Int(v) if v.len() == 1 => v[0] as u32,
-                    Params::Float(v) if v.len() == 1 && v[0].fract() == 0.0 && v[0] >= 0.0 => v[0] as u32,
-                    _ => return Err(format!("parameter {pname:#06x}: {params:?} is not a single GL enum")),
+                let number = match params {
+                    Params::Int(v) if v.len() == 1 => v[0] as f64,
+                    Params::Float(v) if v.len() == 1 => f64::from(v[0]),
+                    _ => return Err(format!("parameter {pname:#06x}: {params:?} is not a single value")),
                 };
+                let value = number as u32;
                 let name = if *target == GL_TEXTURE_2D { self.bound_texture()? } else { self.bound_cube()? };
                 let t = self.objects()?.textures.entry(name).or_default();
-                match *pname {
-                    0x2801 => t.min = value,
-                    0x2800 => t.mag = value,
-                    0x2802 => t.wrap[0] = value,
-                    0x2803 => t.wrap[1] = value,
-                    p => return Err(format!("texture parameter {p:#06x} is not supported")),
+                match (*pname, number) {
+                    (0x2801, _) => t.min = value,
+                    (0x2800, _) => t.mag = value,
+                    (0x2802, _) => t.wrap[0] = value,
+                    (0x2803, _) => t.wrap[1] = value,
+                    // GL ES 3.0 parameters apps set to their defaults, or to what changes
+                    // nothing here: WRAP_R (no third coordinate), the compare function (without
+                    // compare mode), the LOD range's defaults, base level 0, identity swizzles.
+                    (0x8072 | 0x884d, _) | (0x813a, -1000.0) | (0x813b, 1000.0) | (0x813c, 0.0) | (0x884c, 0.0) => {}
+                    (0x8e42, 6403.0) | (0x8e43, 6404.0) | (0x8e44, 6405.0) | (0x8e45, 6406.0) => {}
+                    // GL_TEXTURE_MAX_LEVEL (see `Texture::max_level`).
+                    (0x813d, v) if v >= 0.0 => t.max_level = v.min(1000.0) as u32,
+                    (0x884c, _) => {
+                        return Err("GL_TEXTURE_COMPARE_MODE = GL_COMPARE_REF_TO_TEXTURE: depth comparison \
+                                    (sampler2DShadow) is not supported"
+                            .into());
+                    }
+                    (p, v) => return Err(format!("texture parameter {p:#06x} = {v} is not supported")),
                 }
                 self.update_sampler(name)?;
             }
@@ -834,6 +905,7 @@ impl Translator {
                 check_2d_level0(*target, *level)?;
                 let name = self.bound_texture()?;
                 let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
+                self.check_renderable(name)?;
                 let (x_offset, y_offset) = size2(*x_offset, *y_offset)?;
                 let (width, height) = size2(*width, *height)?;
                 let alpha_one = self.objects()?.textures.get(&name).is_some_and(|t| t.opaque);
@@ -879,9 +951,10 @@ impl Translator {
                     0
                 } else {
                     check_2d_level0(*texture_target, *level)?;
+                    self.check_renderable(*texture)?;
                     self.texture_id(*texture)?.ok_or_else(|| format!("texture {texture} has no storage"))?
                 };
-                let samples = (*samples).max(1) as u32;
+                let samples = granted_samples(*samples)?;
                 self.emit(Call::FramebufferTexture { framebuffer, attachment, texture, samples })?;
             }
             C::BindRenderbuffer { renderbuffer, .. } => {
@@ -901,7 +974,7 @@ impl Translator {
                 let format = renderbuffer_format(*internal_format)?;
                 let (width, height) = size2(*width, *height)?;
                 let id = self.fresh_id();
-                let samples = (*samples).max(1) as u32;
+                let samples = granted_samples(*samples)?;
                 self.emit(Call::CreateRenderbuffer { id, width, height, format, samples, transient: false })?;
                 self.objects()?.renderbuffers.insert(name, Some(id));
             }
@@ -1079,6 +1152,7 @@ impl Translator {
                     0x0b44 => Some(Capability::CullFace),
                     0x0c11 => Some(Capability::ScissorTest),
                     0x8037 => Some(Capability::PolygonOffsetFill),
+                    0x8d69 => Some(Capability::PrimitiveRestartFixedIndex),
                     // Dithering may be a no-op in GL; neither llvmpipe nor tiler dithers.
                     0x0bd0 => None,
                     // Off by default; turning them off changes nothing.
@@ -1293,6 +1367,7 @@ impl Translator {
             Capability::CullFace,
             Capability::ScissorTest,
             Capability::PolygonOffsetFill,
+            Capability::PrimitiveRestartFixedIndex,
         ] {
             calls.push(Call::Disable { cap });
         }
@@ -1553,6 +1628,17 @@ impl Translator {
         self.bindings.unpack_alignment
     }
 
+    /// Refuses to render or copy into a red/green texture (see [`Texture::red_green`]).
+    fn check_renderable(&mut self, name: u32) -> Fallible {
+        if self.objects()?.textures.get(&name).is_some_and(|t| t.red_green) {
+            return Err(format!(
+                "texture {name} has only red (and green) channels (R8, RG8): the replay samples those, but rendering \
+                 or copying into one is not supported"
+            ));
+        }
+        Ok(())
+    }
+
     pub(super) fn texture_id(&mut self, name: u32) -> Fallible<Option<u32>> {
         Ok(self.objects()?.textures.get(&name).and_then(|t| t.id))
     }
@@ -1775,6 +1861,18 @@ fn invalidate_point(a: GlEnum, default: bool) -> Fallible<AttachmentPoint> {
         (a, false) => attachment_point(a),
         (a, true) => Err(format!("attachment {a:#06x} is not one of the window's")),
     }
+}
+
+/// The samples a multisampled renderbuffer or render-to-texture gets when the application asks
+/// for `samples`: at least as many, and no more than the next count the implementation
+/// supports (GL ES 3.0 §4.4.2.1), so 0 is one sample, 3 is 4 and 9 is 16. Above the largest
+/// count (16, the context's `GL_MAX_SAMPLES`) GL fails the call, and so does the replay.
+fn granted_samples(samples: i32) -> Fallible<u32> {
+    let supported = tiler::api::image::SUPPORTED_SAMPLE_COUNTS;
+    let asked = samples.max(1) as u32;
+    supported.iter().copied().find(|&n| n >= asked).ok_or_else(|| {
+        format!("{samples} samples: more than GL_MAX_SAMPLES ({})", supported.iter().max().unwrap_or(&1))
+    })
 }
 
 fn renderbuffer_format(f: GlEnum) -> Fallible<TextureFormat> {

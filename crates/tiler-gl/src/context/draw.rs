@@ -130,6 +130,9 @@ impl Context {
         indexed: Option<(IndexKind, u64)>,
         instances: u32,
     ) -> Fallible {
+        if let (true, Some((index_kind, offset))) = (self.state.primitive_restart, indexed) {
+            return self.draw_restarting(mode, first, count, index_kind, offset, instances);
+        }
         let here = self.here;
         if instances > super::instancing::MAX_INSTANCES {
             return Err(format!(
@@ -487,6 +490,60 @@ impl Context {
     }
 
     /// Records a textured rectangle (a blit or a copy) into the open pass.
+    /// An indexed draw with `GL_PRIMITIVE_RESTART_FIXED_INDEX` (GL ES 3.0 §2.8.1): each index
+    /// of the type's largest value (0xFF, 0xFFFF, 0xFFFFFFFF) ends the primitive being
+    /// assembled, and assembly starts anew after it. Each run of indices between restarts is
+    /// drawn as a draw of its own — the same primitives, in the same order, as one draw with
+    /// restarts (a partial primitive at a run's end is dropped, as GL drops it); the report
+    /// counts one draw per run. A draw without a restart index is drawn as it is.
+    fn draw_restarting(
+        &mut self,
+        mode: Mode,
+        first: u32,
+        count: u32,
+        index_kind: IndexKind,
+        offset: u64,
+        instances: u32,
+    ) -> Fallible {
+        let id = self.state.index_buffer;
+        let buffer = self.buffers.get(&id).ok_or("draw_elements with no index buffer bound")?;
+        let size: u64 = match index_kind {
+            IndexKind::UnsignedByte => 1,
+            IndexKind::UnsignedShort => 2,
+            IndexKind::UnsignedInt => 4,
+        };
+        let end = offset.saturating_add(count as u64 * size);
+        // Out-of-range draws are left to `draw`, which says why.
+        let runs = if !offset.is_multiple_of(size) || end > buffer.size {
+            None
+        } else {
+            let data = self.device.buffer_data(buffer.storage).map_err(|e| e.to_string())?;
+            let bytes = &data[offset as usize..end as usize];
+            let restart = |i: &[u8]| i.iter().all(|&b| b == 0xff);
+            let mut runs = Vec::new();
+            let mut start = 0u32;
+            for (i, index) in bytes.chunks_exact(size as usize).enumerate() {
+                if restart(index) {
+                    runs.push((start, i as u32 - start));
+                    start = i as u32 + 1;
+                }
+            }
+            (!runs.is_empty()).then(|| {
+                runs.push((start, count - start));
+                runs
+            })
+        };
+        self.state.primitive_restart = false;
+        let result = match runs {
+            None => self.draw(mode, first, count, Some((index_kind, offset)), instances),
+            Some(runs) => runs.into_iter().filter(|&(_, n)| n > 0).try_for_each(|(start, n)| {
+                self.draw(mode, first, n, Some((index_kind, offset + start as u64 * size)), instances)
+            }),
+        };
+        self.state.primitive_restart = true;
+        result
+    }
+
     pub(crate) fn push_rectangle(&mut self, rect: TexturedRect) -> Fallible {
         let TexturedRect { kind, image, dst, ndc, tex, filter, read_bytes, scissor, alpha_one } = rect;
         let here = self.here;

@@ -136,6 +136,11 @@ impl Context {
         // The display model of the device: scan-out and, if configured, composition.
         let present = self.device.present(color).map_err(|e| e.to_string())?;
         self.frame.context_ledger.merge(&present);
+        if self.config.digest_presented {
+            let rgba = self.surface_rgba8();
+            self.frame.presented_digest =
+                Some(crate::report::picture_digest(self.config.width, self.config.height, &rgba));
+        }
         // The display reads the colour buffer.
         self.consume(color, Slot::Color(0));
         if self.swap_behavior == SwapBehavior::Destroyed {

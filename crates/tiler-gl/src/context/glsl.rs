@@ -431,4 +431,60 @@ impl VertexShader for GenericAttributes {
         }
         self.inner.shade(&input, out);
     }
+
+    /// The batch goes to the GLSL shader whole, so its vertices run side by side in the
+    /// executor's lanes (one dispatch per instruction for the batch, not per vertex).
+    fn shade_batch(&self, inputs: &[VertexInput], outs: &mut [VertexOutput]) {
+        if self.generic.is_empty() {
+            return self.inner.shade_batch(inputs, outs);
+        }
+        let mut batch = [VertexInput::default(); tiler::VERTEX_BATCH];
+        for (chunk, outs) in inputs.chunks(tiler::VERTEX_BATCH).zip(outs.chunks_mut(tiler::VERTEX_BATCH)) {
+            for (input, copy) in chunk.iter().zip(&mut batch) {
+                *copy = *input;
+                for &(location, value) in &self.generic {
+                    copy.attributes[location] = value;
+                }
+            }
+            self.inner.shade_batch(&batch[..chunk.len()], outs);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A batch with generic attributes shades each vertex as `shade` does alone (the core
+    /// hands vertex shaders batches; a wrapper that dropped to one vertex per call cost a
+    /// dispatch per vertex and went unnoticed).
+    #[test]
+    fn generic_attributes_shade_a_batch_as_one_by_one() {
+        let vs = "attribute vec2 p;\nattribute vec4 tint;\nvarying vec4 v;\n\
+                  void main() { v = tint * p.x + vec4(p.y); gl_Position = vec4(p, 0.0, 1.0); }";
+        let fs = "precision mediump float;\nvarying vec4 v;\nvoid main() { gl_FragColor = v; }";
+        let program = Arc::new(CompiledProgram::new(vs, fs, &[("p", 0)]).unwrap());
+        let uniforms = program.new_uniform_values();
+        let (inner, _) = tiler_glsl::shaders(&program, &uniforms, &[], 16);
+        let shader = GenericAttributes { inner, generic: vec![(1, Vec4::new(0.25, 2.0, -1.0, 0.5))] };
+        let inputs: Vec<VertexInput> = (0..11)
+            .map(|i| {
+                let mut input = VertexInput::default();
+                input.attributes[0] = Vec4::new(i as f32 * 0.5, 1.0 - i as f32, 0.0, 1.0);
+                input.attributes[1] = Vec4::splat(99.0);
+                input
+            })
+            .collect();
+        let mut one_by_one = vec![VertexOutput::default(); inputs.len()];
+        for (input, out) in inputs.iter().zip(&mut one_by_one) {
+            shader.shade(input, out);
+        }
+        let mut batched = vec![VertexOutput::default(); inputs.len()];
+        shader.shade_batch(&inputs, &mut batched);
+        for (a, b) in one_by_one.iter().zip(&batched) {
+            assert_eq!(a.position, b.position);
+            assert_eq!(a.varyings[..4], b.varyings[..4]);
+        }
+        assert_eq!(batched[2].varyings[..4], [0.25 - 1.0, 2.0 - 1.0, -1.0 - 1.0, 0.5 - 1.0], "the generic value");
+    }
 }

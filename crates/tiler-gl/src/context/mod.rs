@@ -111,6 +111,12 @@ pub struct ContextConfig {
     /// report; off, a long run keeps only the totals. Not part of a trace.
     #[serde(skip)]
     pub keep_pass_reports: bool,
+    /// Record a digest of the window's picture at each swap in the frame's
+    /// [`FrameRecord::presented_digest`](crate::report::FrameRecord::presented_digest), so
+    /// that two runs can be checked to present the same pictures frame by frame
+    /// (`tiler analyze --devices`, `--what-if`). Not part of a trace.
+    #[serde(skip)]
+    pub digest_presented: bool,
 }
 
 fn default_color_format() -> TextureFormat {
@@ -156,6 +162,7 @@ impl ContextConfig {
             memory_limit: default_memory_limit(),
             device: None,
             keep_pass_reports: false,
+            digest_presented: false,
         }
     }
 
@@ -347,6 +354,8 @@ pub(crate) struct GlState {
     pub depth_mask: bool,
     pub depth_func: CompareOp,
     pub polygon_offset_fill: bool,
+    /// `GL_PRIMITIVE_RESTART_FIXED_INDEX` (see `draw`).
+    pub primitive_restart: bool,
     /// `glPolygonOffset`'s `(factor, units)`.
     pub polygon_offset: (f32, f32),
     pub line_width: f32,
@@ -394,6 +403,7 @@ impl GlState {
             depth_mask: true,
             depth_func: CompareOp::Less,
             polygon_offset_fill: false,
+            primitive_restart: false,
             polygon_offset: (0.0, 0.0),
             line_width: 1.0,
             stencil: [StencilFaceState::KEEP; 2],
@@ -631,14 +641,17 @@ impl Context {
     }
 
     /// Renders whatever is still pending, closes the frame being built (if it did anything),
-    /// and returns everything the context did with the advisor's findings.
+    /// and returns everything the context did with the advisor's findings. The frame records
+    /// move into the report (a run's records, with the core's pass reports when
+    /// [`ContextConfig::keep_pass_reports`], are held once, not copied): [`Context::frames`]
+    /// is empty afterwards.
     ///
     /// # Errors
     /// A pending pass that fails to render.
     pub fn end(&mut self) -> Result<Report, Error> {
         let here = self.here;
         self.end_run().map_err(|message| Error { frame: here.frame, call: here.call, name: "end", message })?;
-        Ok(Report::new(self.config.clone(), self.frames.clone()))
+        Ok(Report::new(self.config.clone(), std::mem::take(&mut self.frames)))
     }
 
     /// Executes one call.
@@ -1033,6 +1046,7 @@ impl Context {
             Capability::CullFace => s.cull_face = on,
             Capability::ScissorTest => s.scissor_test = on,
             Capability::PolygonOffsetFill => s.polygon_offset_fill = on,
+            Capability::PrimitiveRestartFixedIndex => s.primitive_restart = on,
         }
     }
 

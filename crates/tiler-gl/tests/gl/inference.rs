@@ -887,12 +887,70 @@ fn a_multisampled_window_resolves_before_presenting() {
     assert!(report.findings.is_empty(), "{:#?}", report.findings);
 }
 
+/// 16 samples: a multisampled window resolves in the tile, whose 32×32 tiles shrink to 16×16
+/// to hold 16 samples of colour and D24S8 (16 × 8 B × 16 × 16 = 32 KiB of tile memory).
+#[test]
+fn a_sixteen_sample_window_resolves_in_a_shrunk_tile() {
+    let run = |samples| {
+        let mut gl = Context::new(ContextConfig { samples, ..config(64, 64) }).unwrap();
+        geometry(&mut gl, 1, ProgramKind::Solid, &[[-1.0, -1.0, 0.0], [1.0, -0.6, 0.0], [-0.3, 1.0, 0.0]]);
+        clear_all(&mut gl);
+        draw(&mut gl, 3);
+        swap(&mut gl);
+        let image = gl.surface_rgba8();
+        (image, gl.end().unwrap())
+    };
+    let (image, report) = run(16);
+    let p = passes(&report)[0];
+    assert_eq!(p.attachment(Slot::Color(0)).unwrap().samples, 16);
+    assert_eq!(op(p, Slot::Color(0)), (Clear, StoreKind::DontCare));
+    assert_eq!(p.cost.ledger.get(Category::Resolve), COLOR);
+    assert_eq!(store(p), 0, "no sample leaves the tile");
+    assert_eq!((p.cost.tile_width, p.cost.tile_height), (16, 16));
+    // 16 samples give the slanted edges more shades of grey than 4 do.
+    let shades = |image: &[u8]| {
+        image.chunks(4).map(|p| p[0]).filter(|&r| r > 0 && r < 255).collect::<std::collections::BTreeSet<_>>().len()
+    };
+    let (four, _) = run(4);
+    assert!(shades(&image) > shades(&four), "{} shades at 16×, {} at 4×", shades(&image), shades(&four));
+    assert!(report.findings.is_empty(), "{:#?}", report.findings);
+}
+
+/// 16-sample renderbuffers stored at the end of their pass cost every sample: colour
+/// 64 × 64 × 16 × 4 B = 262,144 B and packed D24S8 one 4-byte word per sample, 262,144 B.
+#[test]
+fn sixteen_sample_renderbuffers_store_every_sample() {
+    let mut gl = window();
+    for (id, format) in [(1, TextureFormat::Rgba8), (2, TextureFormat::Depth24Stencil8)] {
+        c(&mut gl, Call::CreateRenderbuffer { id, width: 64, height: 64, format, samples: 16, transient: false });
+    }
+    c(&mut gl, Call::CreateFramebuffer { id: 1 });
+    c(&mut gl, Call::FramebufferRenderbuffer { framebuffer: 1, attachment: AttachmentPoint::Color0, renderbuffer: 1 });
+    c(
+        &mut gl,
+        Call::FramebufferRenderbuffer { framebuffer: 1, attachment: AttachmentPoint::DepthStencil, renderbuffer: 2 },
+    );
+    bind(&mut gl, 1);
+    clear_all(&mut gl);
+    draw(&mut gl, 6);
+    bind(&mut gl, 0);
+    let report = gl.end().unwrap();
+    let p = passes(&report)[0];
+    assert_eq!(p.framebuffer, 1);
+    assert_eq!(op(p, Slot::Color(0)), (Clear, StoreKind::Store));
+    assert_eq!(p.attachment(Slot::Color(0)).unwrap().samples, 16);
+    assert_eq!(store(p), 262_144 + 262_144);
+    assert_eq!(load(p), 0);
+}
+
 /// Seed 001 on a preserved window: the frame clears and redraws only a scissored region. The
 /// pass covers only the box (colour loaded and stored there alone), and the advice keeps
 /// the scissor or uses a tiled region — a full clear would erase the rest of the window.
 #[test]
 fn a_scissored_redraw_of_a_preserved_window_covers_only_the_box() {
-    let mut gl = window();
+    let mut gl = Context::new_recording(config(64, 64)).unwrap();
+    geometry(&mut gl, 1, ProgramKind::Solid, &quad(-1.0, -1.0, 0.0, 0.0, 0.0));
+    set_color(&mut gl, [1.0, 0.0, 0.0, 1.0]);
     c(&mut gl, Call::SwapBehavior { behavior: SwapBehavior::Preserved });
     clear_all(&mut gl);
     draw(&mut gl, 6);
@@ -922,4 +980,14 @@ fn a_scissored_redraw_of_a_preserved_window_covers_only_the_box() {
     assert_eq!(f.len(), 1);
     assert!(f[0].advice.contains("the window is preserved"), "{}", f[0].advice);
     assert!(f[0].advice.starts_with("to redraw only the 16×16 region at (0, 0)"), "{}", f[0].advice);
+    // `--what-if` does not clear without the scissor: that would erase the rest of the window.
+    let frames = gl
+        .recorded_frames()
+        .unwrap()
+        .iter()
+        .map(|calls| tiler_gl::trace::TraceFrame { repeat: 1, calls: calls.clone() });
+    let trace = Trace { description: None, config: gl.config().clone(), frames: frames.collect() };
+    let mut fixer = tiler_gl::advisor::what_if::Fixer::new(&trace).unwrap();
+    let why = fixer.add(f[0], &report).unwrap_err();
+    assert!(why.contains("smaller than the framebuffer"), "{why}");
 }

@@ -8,7 +8,7 @@ pub enum Error {
     #[error("image size {width}×{height} is invalid: {reason}")]
     ImageSize { width: u32, height: u32, reason: String },
 
-    #[error("{samples} samples per pixel is not supported (use 1, 2, 4 or 8)")]
+    #[error("{samples} samples per pixel is not supported (use 1, 2, 4, 8 or 16)")]
     SampleCount { samples: u32 },
 
     #[error("{what}: {reason}")]

@@ -224,6 +224,45 @@ impl Format {
         }))
     }
 
+    /// Whether a resolve averages this format's channels as bytes, exactly: linear 8-bit UNORM.
+    pub fn resolves_as_integers(self) -> bool {
+        matches!(self, Format::Rgba8Unorm | Format::Bgra8Unorm)
+    }
+
+    /// The MSAA resolve of one pixel: its `samples` (each one sample in this format) averaged
+    /// into `out`, in this format. Linear 8-bit UNORM takes, per byte, the byte nearest the
+    /// mean, halves up: `⌊(Σc + n/2) / n⌋`, computed on the integers; other formats the mean
+    /// of the decoded (linear) values, encoded again. The tile's resolve computes exactly this
+    /// (`tile::load_store::apply_resolve`, tested equal), and so must whatever else reads a
+    /// multisampled image as one value per pixel (a GL blit), or pictures differ by the
+    /// rounding of the mean.
+    pub fn resolve_samples<'a>(self, samples: impl ExactSizeIterator<Item = &'a [u8]>, out: &mut [u8]) {
+        let n = samples.len() as u32;
+        debug_assert!(n > 0, "a pixel has at least one sample");
+        let bytes = self.bytes_per_sample();
+        if self.resolves_as_integers() {
+            let mut sums = [0u32; 16];
+            for sample in samples {
+                for (sum, &c) in sums.iter_mut().zip(&sample[..bytes]) {
+                    *sum += c as u32;
+                }
+            }
+            for (out, sum) in out[..bytes].iter_mut().zip(sums) {
+                *out = ((sum + n / 2) / n) as u8;
+            }
+            return;
+        }
+        let mut sum = [0.0f32; 4];
+        for sample in samples {
+            let v = self.decode_color(&sample[..bytes]);
+            for c in 0..4 {
+                sum[c] += v[c];
+            }
+        }
+        let scale = 1.0 / n as f32;
+        self.encode_color(sum.map(|c| c * scale), &mut out[..bytes]);
+    }
+
     /// Unpacks a colour stored in this format; missing channels read as 0 (alpha as 1).
     #[inline]
     pub fn decode_color(self, src: &[u8]) -> [f32; 4] {

@@ -12,7 +12,7 @@ pub const MAX_IMAGE_DIMENSION: u32 = 16384;
 pub const MAX_IMAGE_BYTES: u64 = 1 << 30;
 
 /// The sample counts an image may declare.
-pub const SUPPORTED_SAMPLE_COUNTS: [u32; 4] = [1, 2, 4, 8];
+pub const SUPPORTED_SAMPLE_COUNTS: [u32; 5] = [1, 2, 4, 8, 16];
 
 /// What an image is: its size, format, samples per pixel, and whether it is transient.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -156,5 +156,7 @@ mod tests {
         assert!(ImageDesc::new(16384, 16384, Format::Rgba32Float).validate().is_err());
         assert!(ImageDesc::new(64, 64, Format::Rgba8Unorm).with_samples(3).validate().is_err());
         assert!(ImageDesc::new(1920, 1080, Format::Rgba8Unorm).with_samples(8).validate().is_ok());
+        assert!(ImageDesc::new(1920, 1080, Format::Rgba8Unorm).with_samples(16).validate().is_ok());
+        assert!(ImageDesc::new(64, 64, Format::Rgba8Unorm).with_samples(32).validate().is_err());
     }
 }

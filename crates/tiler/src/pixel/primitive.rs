@@ -204,7 +204,8 @@ struct RasterPlan<'a, F> {
     properties: ShaderProperties,
     varying_count: usize,
     locations: SampleLocations,
-    static_mask: Coverage,
+    /// The pipeline's sample mask: bit `s` set when sample `s` may be written.
+    static_samples: u32,
     sample_shading: bool,
     tests: bool,
     early_tests: bool,
@@ -278,7 +279,7 @@ impl<'a, F: FragmentShader> RasterPlan<'a, F> {
             properties,
             varying_count: desc.varyings.len(),
             locations: target.samples,
-            static_mask: static_sample_mask(desc.multisample.sample_mask, samples),
+            static_samples: desc.multisample.sample_mask,
             sample_shading: desc.multisample.sample_shading && samples > 1,
             tests,
             early_tests,
@@ -289,17 +290,6 @@ impl<'a, F: FragmentShader> RasterPlan<'a, F> {
                 || target.inputs.iter().flatten().any(|s| s.is_external()),
         }
     }
-}
-
-/// A pipeline sample mask as coverage: all lanes of every sample whose bit is set.
-fn static_sample_mask(mask: u32, samples: usize) -> Coverage {
-    let mut c = Coverage::NONE;
-    for s in 0..samples {
-        if mask >> s & 1 != 0 {
-            c.set_sample(s, LaneMask::ALL);
-        }
-    }
-    c
 }
 
 /// One primitive going through the pipeline under its draw's plan (whose fields it
@@ -337,7 +327,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                     let mut masks = [0u64; MAX_SAMPLES];
                     let mut any = 0u64;
                     for (s, mask) in masks[..samples].iter_mut().enumerate() {
-                        if self.static_mask.sample(s).is_empty() {
+                        if self.static_samples >> s & 1 == 0 {
                             continue;
                         }
                         *mask = match (class, &mode) {
@@ -499,11 +489,11 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                 if group_lanes(any, gx, gy).is_empty() {
                     continue;
                 }
-                let mut coverage = Coverage::NONE;
-                for (s, mask) in masks[..samples].iter().enumerate() {
-                    coverage.set_sample(s, group_lanes(*mask, gx, gy));
+                let mut lanes = [0u8; MAX_SAMPLES];
+                for (lanes, mask) in lanes[..samples].iter_mut().zip(masks) {
+                    *lanes = group_lanes(*mask, gx, gy).0;
                 }
-                list[len] = (x + gx, y + gy, coverage);
+                list[len] = (x + gx, y + gy, Coverage::from_samples(lanes));
                 len += 1;
             }
         }

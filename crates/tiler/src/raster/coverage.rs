@@ -13,9 +13,22 @@ use crate::simd::LaneMask;
 /// Side of a coverage block, in pixels. Tiles are multiples of it.
 pub const BLOCK_SIZE: i32 = 8;
 
-/// Which samples of a 4×2 group are covered: byte `s` is the lane mask of sample `s`.
+/// Which samples of a 4×2 group are covered: byte `s` is the lane mask of sample `s`, for up
+/// to [`MAX_SAMPLES`] (16) samples.
+///
+/// One 128-bit word rather than a 64-bit word for 1–8 samples plus a second one for 16: the
+/// word is what every stage passes per group, and a single type keeps one pipeline for every
+/// sample count (no copy per width, and no second monomorphisation of every shader's
+/// pipeline, which is most of the release build's time). Measured with callgrind on
+/// `tiler bench --scene helmet --frames 1 --threads 1` against the 64-bit word: see
+/// docs/benchmarking.md ("16× MSAA").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct Coverage(pub u64);
+pub struct Coverage(pub u128);
+
+/// One bit per byte: a lane mask repeated for every sample.
+const EVERY_SAMPLE: u128 = u128::MAX / 0xff;
+
+const _: () = assert!(MAX_SAMPLES * 8 == u128::BITS as usize, "a byte per sample fills the word");
 
 impl Coverage {
     pub const NONE: Coverage = Coverage(0);
@@ -23,29 +36,41 @@ impl Coverage {
     /// Every lane of every one of `samples` samples.
     #[cfg(test)]
     pub fn full(samples: usize) -> Coverage {
-        Coverage(if samples >= 8 { u64::MAX } else { (1u64 << (8 * samples)) - 1 })
+        Coverage(if samples >= MAX_SAMPLES { u128::MAX } else { (1u128 << (8 * samples)) - 1 })
     }
 
+    /// The coverage whose sample `s` has the lanes `lanes[s]` (the others none).
+    #[inline(always)]
+    pub fn from_samples(lanes: [u8; MAX_SAMPLES]) -> Coverage {
+        Coverage(u128::from_le_bytes(lanes))
+    }
+
+    // Samples are read and written as bytes, not by shifting the word: a shift of a 128-bit
+    // word by a variable amount is several instructions on x86-64 (measured: see the type).
     #[inline(always)]
     pub fn sample(self, s: usize) -> LaneMask {
-        LaneMask((self.0 >> (8 * s)) as u8)
+        LaneMask(self.0.to_le_bytes()[s])
     }
 
     #[inline(always)]
     pub fn set_sample(&mut self, s: usize, lanes: LaneMask) {
-        self.0 = (self.0 & !(0xffu64 << (8 * s))) | ((lanes.0 as u64) << (8 * s));
+        let mut bytes = self.0.to_le_bytes();
+        bytes[s] = lanes.0;
+        self.0 = u128::from_le_bytes(bytes);
     }
 
     /// Only sample `s` of this coverage.
     #[inline(always)]
     pub fn only_sample(self, s: usize) -> Coverage {
-        Coverage(self.0 & (0xffu64 << (8 * s)))
+        let mut bytes = [0u8; MAX_SAMPLES];
+        bytes[s] = self.0.to_le_bytes()[s];
+        Coverage::from_samples(bytes)
     }
 
     /// Lanes with at least one covered sample.
     #[inline(always)]
     pub fn lanes(self) -> LaneMask {
-        let mut v = self.0;
+        let mut v = (self.0 as u64) | (self.0 >> 64) as u64;
         v |= v >> 32;
         v |= v >> 16;
         v |= v >> 8;
@@ -55,7 +80,7 @@ impl Coverage {
     /// Keeps only the given lanes, in every sample.
     #[inline(always)]
     pub fn restrict(self, lanes: LaneMask) -> Coverage {
-        Coverage(self.0 & (lanes.0 as u64 * 0x0101_0101_0101_0101))
+        Coverage(self.0 & (lanes.0 as u128 * EVERY_SAMPLE))
     }
 
     #[inline(always)]
@@ -93,13 +118,14 @@ pub struct PrimitiveCoverage {
 
 impl PrimitiveCoverage {
     pub fn new(edges: &[Edge; 3], locations: &SampleLocations) -> PrimitiveCoverage {
-        let sample_offsets = edges.map(|e| {
-            let mut offsets = [0i64; MAX_SAMPLES];
+        // Filled in place: `edges.map` with an array per edge cost 140 more instructions per
+        // primitive (callgrind, helmet) once the arrays grew to 16 samples.
+        let mut sample_offsets = [[0i64; MAX_SAMPLES]; 3];
+        for (offsets, e) in sample_offsets.iter_mut().zip(edges) {
             for (o, (sx, sy)) in offsets.iter_mut().zip(locations.iter()) {
                 *o = e.a * sx as i64 + e.b * sy as i64;
             }
-            offsets
-        });
+        }
         let (hx0, hy0, hx1, hy1) = locations.hull();
         PrimitiveCoverage { edges: *edges, sample_offsets, hull: (hx0 as i64, hy0 as i64, hx1 as i64, hy1 as i64) }
     }
@@ -246,7 +272,7 @@ mod tests {
             triangle([(0, 0), (4000, 37), (4010, 60)]),
         ];
         for edges in cases {
-            for samples in [1, 2, 4, 8] {
+            for samples in [1, 2, 4, 8, 16] {
                 let cov = PrimitiveCoverage::new(&edges, &SampleLocations::standard(samples));
                 for by in (-8..24).step_by(8) {
                     for bx in (-8..24).step_by(8) {
@@ -307,5 +333,14 @@ mod tests {
         assert_eq!(c.lanes(), LaneMask(0b1000_0011));
         assert_eq!(c.restrict(LaneMask(0b0000_0011)).lanes(), LaneMask(0b0000_0011));
         assert_eq!(Coverage::full(8).count(), 64);
+        assert_eq!(Coverage::full(16).count(), 128);
+        let mut high = Coverage::NONE;
+        high.set_sample(15, LaneMask(0b0100_0000));
+        high.set_sample(9, LaneMask(0b0000_0100));
+        assert_eq!(high.lanes(), LaneMask(0b0100_0100));
+        assert_eq!(high.only_sample(15).count(), 1);
+        assert_eq!(high.sample(15), LaneMask(0b0100_0000));
+        assert!(high.restrict(LaneMask(0b0000_0100)).sample(15).is_empty());
+        assert_eq!(high.restrict(LaneMask(0b0000_0100)).sample(9), LaneMask(0b0000_0100));
     }
 }

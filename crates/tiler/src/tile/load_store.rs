@@ -107,24 +107,8 @@ pub fn tile_start(format: Format, ops: &AttachmentOps) -> TileStart {
 /// The resolve of a pixel whose every sample holds `pattern` (the same arithmetic as
 /// [`apply_resolve`], so a tile resolved either way holds the same bytes).
 pub fn resolved_value(format: Format, samples: usize, pattern: &[u8; 16]) -> [u8; 16] {
-    let bytes = format.bytes_per_sample();
-    if resolves_as_integers(format) {
-        let mut out = [0u8; 16];
-        for (out, &c) in out.iter_mut().zip(&pattern[..bytes]) {
-            *out = integer_mean(c as u32 * samples as u32, samples as u32);
-        }
-        return out;
-    }
-    let v = format.decode_color(&pattern[..bytes]);
-    let mut sum = [0.0f32; 4];
-    for _ in 0..samples {
-        for c in 0..4 {
-            sum[c] += v[c];
-        }
-    }
-    let scale = 1.0 / samples as f32;
     let mut out = [0u8; 16];
-    format.encode_color(sum.map(|c| c * scale), &mut out[..bytes]);
+    format.resolve_samples(std::iter::repeat_n(&pattern[..format.bytes_per_sample()], samples), &mut out);
     out
 }
 
@@ -233,42 +217,30 @@ pub fn apply_resolve(src: &Surface, dst: &mut Surface, rect: &PixelRect) -> u64 
     let format = src.format;
     let bytes = format.bytes_per_sample();
     let samples = src.samples();
-    if resolves_as_integers(format) {
+    if format.resolves_as_integers() {
         resolve_bytes(src, dst, rect);
         return rect.area();
     }
-    let scale = 1.0 / samples as f32;
     for y in rect.y0..rect.y1 {
         for x in rect.x0..rect.x1 {
             let offset = src.offset(x, y);
-            let mut sum = [0.0f32; 4];
-            for s in 0..samples {
-                let v = format.decode_color(&src.plane(s)[offset..offset + bytes]);
-                for c in 0..4 {
-                    sum[c] += v[c];
-                }
-            }
             let out = dst.offset(x, y);
-            format.encode_color(sum.map(|c| c * scale), &mut dst.plane_mut(0)[out..out + bytes]);
+            let pixel = (0..samples).map(|s| &src.plane(s)[offset..offset + bytes]);
+            format.resolve_samples(pixel, &mut dst.plane_mut(0)[out..out + bytes]);
         }
     }
     rect.area()
 }
 
-/// Formats whose channels are bytes that resolve by themselves: linear 8-bit UNORM. Their
-/// mean is computed on the integers, exactly ([`integer_mean`]), a byte at a time across a row.
-fn resolves_as_integers(format: Format) -> bool {
-    matches!(format, Format::Rgba8Unorm | Format::Bgra8Unorm)
-}
-
 /// The mean of `samples` bytes whose sum is `sum`, rounded to nearest, halves up:
-/// `⌊(Σc + n/2) / n⌋`, the byte nearest the mean of the values `c/255` they encode.
+/// `⌊(Σc + n/2) / n⌋`, the byte nearest the mean of the values `c/255` they encode (the rule
+/// of `Format::resolve_samples`).
 #[inline(always)]
 fn integer_mean(sum: u32, samples: u32) -> u8 {
     ((sum + samples / 2) / samples) as u8
 }
 
-/// [`apply_resolve`] of a format that [`resolves_as_integers`]: per row, every sample's bytes
+/// [`apply_resolve`] of a format that `Format::resolves_as_integers`: per row, every sample's bytes
 /// summed into 16-bit lanes, then divided — loops the compiler vectorises.
 fn resolve_bytes(src: &Surface, dst: &mut Surface, rect: &PixelRect) {
     const CHUNK: usize = 512;
@@ -359,7 +331,7 @@ mod resolve_tests {
     #[test]
     fn unorm8_resolves_to_the_nearest_byte_of_the_mean() {
         let (width, height) = (37usize, 5usize);
-        for samples in [2usize, 4, 8] {
+        for samples in [2usize, 4, 8, 16] {
             let mut state = 7u32;
             let mut planes: Vec<Vec<u8>> = (0..samples)
                 .map(|_| {
@@ -393,6 +365,12 @@ mod resolve_tests {
             }
             let pattern = [200, 13, 0, 255, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0];
             assert_eq!(resolved_value(Format::Rgba8Unorm, samples, &pattern)[..4], pattern[..4]);
+            // The row-wise resolve is the per-pixel rule of `Format::resolve_samples`.
+            for i in (0..width * height).map(|p| p * 4) {
+                let mut one = [0u8; 4];
+                Format::Rgba8Unorm.resolve_samples(planes.iter().map(|p| &p[i..i + 4]), &mut one);
+                assert_eq!(one[..], expected[i..i + 4], "{samples} samples, pixel {}", i / 4);
+            }
         }
     }
 }

@@ -95,18 +95,24 @@ fn msaa_resolved_in_the_tile_stores_what_one_sample_stores() {
         device.submit(&pass).unwrap()
     };
     for backend in [Backend::Tbr, Backend::Tbdr] {
-        let (one, four) = (run(backend, 1), run(backend, 4));
+        let one = run(backend, 1);
         assert_eq!(one.ledger.get(Category::TileStore), pixels * 4);
-        assert_eq!(four.ledger.get(Category::TileStore), 0, "the samples never leave the chip");
-        assert_eq!(four.ledger.get(Category::Resolve), pixels * 4);
-        assert_eq!(framebuffer(&four), framebuffer(&one), "{backend}: same bytes as one sample");
+        for samples in [4, 16] {
+            let many = run(backend, samples);
+            assert_eq!(many.ledger.get(Category::TileStore), 0, "the samples never leave the chip");
+            assert_eq!(many.ledger.get(Category::Resolve), pixels * 4);
+            assert_eq!(framebuffer(&many), framebuffer(&one), "{backend}, {samples}×: same bytes as one sample");
+        }
     }
-    // Immediate mode: every framebuffer access is per sample, 4× the single-sample traffic
-    // (seed 000 §23.9), and the resolve reads the 4 samples back and writes 1 on top of it.
-    let (one, four) = (run(Backend::Imr, 1), run(Backend::Imr, 4));
-    let resolve = four.ledger.get(Category::Resolve);
-    assert_eq!(framebuffer(&four) - resolve, 4 * framebuffer(&one));
-    assert_eq!(resolve, pixels * 4 * 5, "read 4 samples, write 1");
+    // Immediate mode: every framebuffer access is per sample, S× the single-sample traffic
+    // (seed 000 §23.9), and the resolve reads the S samples back and writes 1 on top of it.
+    let one = run(Backend::Imr, 1);
+    for samples in [4u64, 16] {
+        let many = run(Backend::Imr, samples as u32);
+        let resolve = many.ledger.get(Category::Resolve);
+        assert_eq!(framebuffer(&many) - resolve, samples * framebuffer(&one));
+        assert_eq!(resolve, pixels * 4 * (samples + 1), "read {samples} samples, write 1");
+    }
 }
 
 #[test]
@@ -147,42 +153,78 @@ fn edges_are_antialiased_with_the_standard_pattern() {
     let size = 32u32;
     // Window coordinates in 1/256 pixel: a long thin triangle with edges at odd slopes.
     let tri: [(i64, i64); 3] = [(300, 500), (7900, 1900), (2100, 7700)];
-    let positions4: Vec<(i64, i64)> = [(96, 32), (224, 96), (32, 160), (160, 224)].to_vec();
-    for backend in Backend::ALL {
-        let mut device = device(backend, 16, 2);
-        let msaa = device.create_image(ImageDesc::new(size, size, Format::Rgba32Float).with_samples(4)).unwrap();
-        let resolve = device.create_image(ImageDesc::new(size, size, Format::Rgba32Float)).unwrap();
-        let verts: Vec<Vertex> = tri
-            .iter()
-            .map(|&(x, y)| {
-                v(
-                    (x as f32 / 256.0) / size as f32 * 2.0 - 1.0,
-                    (y as f32 / 256.0) / size as f32 * 2.0 - 1.0,
-                    0.5,
-                    [1.0; 4],
-                )
-            })
-            .collect();
-        let buffer = device.create_buffer_from(&verts).unwrap();
-        let mut pass = RenderPass::new(RenderPassDesc {
-            color: vec![ColorAttachment::clear_resolve(msaa, [0.0; 4], resolve)],
-            depth_stencil: None,
-            render_area: None,
-        });
-        pass.draw(Draw::new(&pipeline(Solid([1.0; 4]), desc("white")), buffer, 0, 3));
-        device.submit(&pass).unwrap();
-        let data = device.image_data(resolve).unwrap();
-        let mut edge_pixels = 0;
-        for y in 0..size as i64 {
-            for x in 0..size as i64 {
-                let i = (y * size as i64 + x) as usize * 16;
-                let value = f32::from_le_bytes(data[i..i + 4].try_into().unwrap());
-                let covered = analytic_coverage(&tri, x, y, &positions4);
-                assert_eq!(value, covered as f32 / 4.0, "{backend} pixel ({x}, {y})");
-                edge_pixels += (covered > 0 && covered < 4) as u32;
+    // The Vulkan specification's "Standard sample locations", in 1/16 pixel from the
+    // pixel's top-left corner, written out here independently of the rasterizer's table.
+    let positions4 = [(6, 2), (14, 6), (2, 10), (10, 14)];
+    let positions16 = [
+        (9, 9),
+        (7, 5),
+        (5, 10),
+        (12, 7),
+        (3, 6),
+        (10, 13),
+        (13, 11),
+        (11, 3),
+        (6, 14),
+        (8, 1),
+        (4, 2),
+        (2, 12),
+        (0, 8),
+        (15, 4),
+        (14, 15),
+        (1, 0),
+    ];
+    let patterns: [&[(i64, i64)]; 2] = [&positions4, &positions16];
+    for pattern in patterns {
+        let samples = pattern.len() as u32;
+        let positions: Vec<(i64, i64)> = pattern.iter().map(|&(x, y)| (x * 16, y * 16)).collect();
+        for backend in Backend::ALL {
+            for simd in [None, Some(SimdLevel::Baseline)] {
+                let config =
+                    DeviceConfig { backend, tile_width: 16, tile_height: 16, threads: 2, simd, ..Default::default() };
+                let mut device = Device::new(config).unwrap();
+                let msaa =
+                    device.create_image(ImageDesc::new(size, size, Format::Rgba32Float).with_samples(samples)).unwrap();
+                let resolve = device.create_image(ImageDesc::new(size, size, Format::Rgba32Float)).unwrap();
+                let verts: Vec<Vertex> = tri
+                    .iter()
+                    .map(|&(x, y)| {
+                        v(
+                            (x as f32 / 256.0) / size as f32 * 2.0 - 1.0,
+                            (y as f32 / 256.0) / size as f32 * 2.0 - 1.0,
+                            0.5,
+                            [1.0; 4],
+                        )
+                    })
+                    .collect();
+                let buffer = device.create_buffer_from(&verts).unwrap();
+                let mut pass = RenderPass::new(RenderPassDesc {
+                    color: vec![ColorAttachment::clear_resolve(msaa, [0.0; 4], resolve)],
+                    depth_stencil: None,
+                    render_area: None,
+                });
+                pass.draw(Draw::new(&pipeline(Solid([1.0; 4]), desc("white")), buffer, 0, 3));
+                device.submit(&pass).unwrap();
+                let data = device.image_data(resolve).unwrap();
+                let mut edge_pixels = 0;
+                let mut levels = std::collections::BTreeSet::new();
+                for y in 0..size as i64 {
+                    for x in 0..size as i64 {
+                        let i = (y * size as i64 + x) as usize * 16;
+                        let value = f32::from_le_bytes(data[i..i + 4].try_into().unwrap());
+                        let covered = analytic_coverage(&tri, x, y, &positions);
+                        assert_eq!(value, covered as f32 / samples as f32, "{samples}×, {backend} pixel ({x}, {y})");
+                        if covered > 0 && covered < samples as usize {
+                            edge_pixels += 1;
+                            levels.insert(covered);
+                        }
+                    }
+                }
+                assert!(edge_pixels > 40, "the test must cross many edge pixels: {edge_pixels}");
+                // Sixteen samples give the edges more shades than four can.
+                assert!(levels.len() >= if samples == 16 { 10 } else { 3 }, "{samples}×: {levels:?}");
             }
         }
-        assert!(edge_pixels > 40, "the test must cross many edge pixels: {edge_pixels}");
     }
 }
 
@@ -222,7 +264,7 @@ impl FragmentShader for SamplePosition {
     }
 }
 
-/// Writes a sample mask keeping samples 0 and 2 in even columns, 1 and 3 in odd ones.
+/// Writes a sample mask keeping the even samples in even columns, the odd ones in odd columns.
 struct Checkered;
 
 impl FragmentShader for Checkered {
@@ -231,7 +273,7 @@ impl FragmentShader for Checkered {
     }
     #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
-        frag.set_sample_mask(std::array::from_fn(|lane| if lane % 2 == 0 { 0b0101 } else { 0b1010 }));
+        frag.set_sample_mask(std::array::from_fn(|lane| if lane % 2 == 0 { 0x5555 } else { 0xaaaa }));
         frag.set_color(0, frag.smooth_n::<4>(0));
     }
 }
@@ -273,7 +315,8 @@ fn msaa_features(device: &mut Device, samples: u32) -> TestScene {
     per_sample.multisample.sample_shading = true;
     pass.draw(Draw::new(&pipeline(SamplePosition, per_sample), buffer, 180, 60));
     let mut masked = opaque.clone();
-    masked.multisample.sample_mask = 0b0110;
+    // Samples 1 and 2, and 14 and 15 at 16×.
+    masked.multisample.sample_mask = 0xc006;
     pass.draw(Draw::new(&pipeline(FlatColor, masked), buffer, 240, 30));
     pass.draw(Draw::new(&pipeline(Checkered, opaque.clone()), buffer, 270, 30));
     let mut blended = opaque;
@@ -286,8 +329,13 @@ fn msaa_features(device: &mut Device, samples: u32) -> TestScene {
 
 #[test]
 fn every_backend_agrees_at_every_sample_count() {
-    let builders: [fn(&mut Device) -> TestScene; 4] =
-        [|d| msaa_features(d, 1), |d| msaa_features(d, 2), |d| msaa_features(d, 4), |d| msaa_features(d, 8)];
+    let builders: [fn(&mut Device) -> TestScene; 5] = [
+        |d| msaa_features(d, 1),
+        |d| msaa_features(d, 2),
+        |d| msaa_features(d, 4),
+        |d| msaa_features(d, 8),
+        |d| msaa_features(d, 16),
+    ];
     for (i, build) in builders.into_iter().enumerate() {
         let (reference, _) = render_scene(build, Backend::Imr, (32, 32), 1, 64 << 20);
         for backend in Backend::ALL {
@@ -328,6 +376,83 @@ fn the_tile_shrinks_when_attachments_outgrow_tile_memory() {
     assert_eq!(report.tile_bytes, 32 << 10);
     let (reference, _) = render_scene(build, Backend::Imr, (32, 32), 2, 64 << 20);
     assert_eq!(images, reference);
+}
+
+#[test]
+fn sixteen_samples_shrink_the_tile_further() {
+    let build = |device: &mut Device| -> TestScene {
+        let scene = msaa_features(device, 16);
+        TestScene { passes: scene.passes, images: scene.images }
+    };
+    // 16 samples × (4 + 4) bytes × 32×32 = 128 KiB > 32 KiB: halved twice, to 16×16 (32 KiB).
+    let (images, report) = render_scene(build, Backend::Tbdr, (32, 32), 2, 64 << 20);
+    assert_eq!(report.tile_shrunk_from, Some((32, 32)));
+    assert_eq!((report.tile_width, report.tile_height), (16, 16));
+    assert_eq!(report.tile_bytes, 32 << 10);
+    let (reference, _) = render_scene(build, Backend::Imr, (32, 32), 2, 64 << 20);
+    assert_eq!(images, reference);
+}
+
+/// A 40×24 pass at 16 samples that loads and stores everything: an RGBA8 colour attachment
+/// also resolved into a single-sample image, and a packed D24S8 attachment.
+fn sixteen_samples_load_store(device: &mut Device) -> TestScene {
+    let (w, h) = (40, 24);
+    let color = device.create_image(ImageDesc::new(w, h, Format::Rgba8Unorm).with_samples(16)).unwrap();
+    let resolve = device.create_image(ImageDesc::new(w, h, Format::Rgba8Unorm)).unwrap();
+    let ds = device.create_image(ImageDesc::new(w, h, Format::D24UnormS8Uint).with_samples(16)).unwrap();
+    let tris = [
+        v(-1.0, -1.0, 0.5, [1.0, 0.0, 0.0, 1.0]),
+        v(0.9, -0.7, 0.5, [1.0, 0.0, 0.0, 1.0]),
+        v(-0.4, 1.0, 0.5, [1.0, 0.0, 0.0, 1.0]),
+    ];
+    let buffer = device.create_buffer_from(&tris).unwrap();
+    let mut pass = RenderPass::new(RenderPassDesc {
+        color: vec![ColorAttachment {
+            image: color,
+            load: LoadOp::Load,
+            store: StoreOp::Store,
+            resolve: Some(resolve),
+        }],
+        depth_stencil: Some(DepthStencilAttachment {
+            image: ds,
+            depth_load: LoadOp::Load,
+            depth_store: StoreOp::Store,
+            stencil_load: LoadOp::Load,
+            stencil_store: StoreOp::Store,
+        }),
+        render_area: None,
+    });
+    let mut d = desc("tri");
+    d.depth_stencil = DepthStencilState::LESS_WRITE;
+    pass.draw(Draw::new(&pipeline(FlatColor, d), buffer, 0, 3));
+    TestScene { passes: vec![pass], images: vec![color, resolve, ds] }
+}
+
+#[test]
+fn the_ledger_counts_sixteen_samples_by_hand() {
+    // 40×24 = 960 pixels, 16 samples each.
+    // Tile load: colour 960 × 16 × 4 B = 61,440 B; D24S8, both aspects sharing one 32-bit
+    // word per sample, 960 × 16 × 4 B = 61,440 B; in all 122,880 B. The store is the same.
+    // Resolve: one RGBA8 value per pixel, 960 × 4 B = 3,840 B.
+    for backend in [Backend::Tbr, Backend::Tbdr] {
+        for tile in [(16, 16), (64, 64)] {
+            let (_, report) = render_scene(sixteen_samples_load_store, backend, tile, 2, 64 << 20);
+            assert_eq!(report.ledger.get(Category::TileLoad), 122_880, "{backend}, tile {tile:?}");
+            assert_eq!(report.ledger.get(Category::TileStore), 122_880, "{backend}, tile {tile:?}");
+            assert_eq!(report.ledger.get(Category::Resolve), 3_840, "{backend}, tile {tile:?}");
+        }
+    }
+    // Frame data does not depend on the sample count: full-screen quads (their boxes meet
+    // every tile whatever the sample pattern) bin the same at 1 and 16 samples.
+    let frame_data = |samples| {
+        let config = DeviceConfig { tile_memory_bytes: 1 << 20, ..Default::default() };
+        let mut device = Device::new(DeviceConfig { backend: Backend::Tbr, ..config }).unwrap();
+        let (pass, _) = layers_scene(&mut device, (128, 96), 4, false, samples);
+        let report = device.submit(&pass).unwrap();
+        assert_eq!(report.tile_shrunk_from, None);
+        (report.ledger.get(Category::FrameDataWrite), report.ledger.get(Category::FrameDataRead))
+    };
+    assert_eq!(frame_data(16), frame_data(1));
 }
 
 #[test]

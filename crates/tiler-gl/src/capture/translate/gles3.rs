@@ -81,6 +81,9 @@ pub(super) fn storage_upload(format: TextureFormat) -> Option<Upload> {
     let (format, kind) = match format {
         TextureFormat::Rgba8 | TextureFormat::Srgb8Alpha8 => (texels::GL_RGBA, texels::GL_UNSIGNED_BYTE),
         TextureFormat::Rgb565 => (texels::GL_RGB, texels::GL_UNSIGNED_SHORT_5_6_5),
+        TextureFormat::Rgba16f => (texels::GL_RGBA, texels::GL_HALF_FLOAT),
+        TextureFormat::Rgba32f => (texels::GL_RGBA, texels::GL_FLOAT),
+        TextureFormat::R32f => (texels::GL_RED, texels::GL_FLOAT),
         _ => return None,
     };
     Upload::new(format, format, kind).ok()
@@ -298,7 +301,7 @@ impl Translator {
             return Err(format!("texture {name} has no storage"));
         };
         let upload = Upload::new(format, format, kind)?;
-        if upload.format != stored.format {
+        if !upload.fills(stored.format) {
             return Err(format!(
                 "texels of format {format:#06x} / type {kind:#06x} into a texture stored as {}",
                 stored.format.name()
