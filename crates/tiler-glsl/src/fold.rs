@@ -196,7 +196,7 @@ fn remove_overwritten(code: &mut Vec<Inst>) -> bool {
         for block in blocks_mut(inst) {
             removed |= remove_overwritten(block);
         }
-        if nested || !pure(inst) {
+        if nested || !inst.is_straight_line() {
             // Blocks may read anything; jumps end the straight run.
             unread.clear();
             continue;
@@ -393,22 +393,7 @@ fn count_reads(code: &mut [Inst], reads: &mut [u32]) {
     }
 }
 
-/// Whether `inst` only computes registers (no effect but its writes).
-fn pure(inst: &Inst) -> bool {
-    matches!(
-        inst,
-        Inst::Un(..)
-            | Inst::Bin(..)
-            | Inst::Tri(..)
-            | Inst::Store(..)
-            | Inst::StoreIf(..)
-            | Inst::Sample { .. }
-            | Inst::SampleCube { .. }
-            | Inst::Derivative { .. }
-    )
-}
-
-/// Removes pure instructions whose results nothing reads, last first so that a chain goes
+/// Removes straight-line instructions whose results nothing reads, last first so that a chain goes
 /// in one pass, and `if`s left with nothing to do; whether anything went.
 fn remove_dead(code: &mut Vec<Inst>, work_regs: usize, pin: &[bool]) -> bool {
     let mut reads = vec![0u32; work_regs];
@@ -429,7 +414,7 @@ fn sweep(code: &mut Vec<Inst>, reads: &mut [u32], removed: &mut bool) {
         for block in blocks_mut(inst) {
             sweep(block, reads, removed);
         }
-        let dead = if pure(inst) {
+        let dead = if inst.is_straight_line() {
             let mut live = false;
             writes(inst, &mut |r| live |= reads[r as usize] > 0);
             !live

@@ -62,16 +62,7 @@ fn block(code: &mut Vec<Inst>, uses: &Uses) {
     for mut inst in code.drain(..) {
         // Anything but straight-line work (blocks, jumps, and whatever the IR gains later)
         // stops multiplies from moving past it.
-        let flows = !matches!(
-            inst,
-            Inst::Un(..)
-                | Inst::Bin(..)
-                | Inst::Tri(..)
-                | Inst::Store(..)
-                | Inst::StoreIf(..)
-                | Inst::Sample { .. }
-                | Inst::Derivative { .. }
-        );
+        let flows = !inst.is_straight_line();
         for nested in blocks_mut(&mut inst) {
             block(nested, uses);
         }

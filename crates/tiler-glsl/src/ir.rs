@@ -164,6 +164,25 @@ pub enum Inst {
     },
 }
 
+impl Inst {
+    /// Straight-line work: computes registers and has no effect but its writes (no block, no
+    /// jump, no output, no discard). Dead-code removal may drop it when nothing reads its
+    /// result, and multiply fusion may move a product past it.
+    pub fn is_straight_line(&self) -> bool {
+        matches!(
+            self,
+            Inst::Un(..)
+                | Inst::Bin(..)
+                | Inst::Tri(..)
+                | Inst::Store(..)
+                | Inst::StoreIf(..)
+                | Inst::Sample { .. }
+                | Inst::SampleCube { .. }
+                | Inst::Derivative { .. }
+        )
+    }
+}
+
 /// Instructions in `code`, nested blocks included.
 pub fn count_insts(code: &[Inst]) -> usize {
     code.iter()
