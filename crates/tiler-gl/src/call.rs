@@ -589,6 +589,15 @@ pub enum Call<D = Bytes> {
     Finish,
     /// `eglSwapBuffers`: ends the frame. In a trace it is the last call of a frame.
     SwapBuffers,
+    /// Not a GL call: puts back the fixed-function and binding state a context had at some
+    /// point ([`Context::saved_state`](crate::Context::saved_state)), the bound framebuffers
+    /// included. The advisor's what-if uses it to move calls with the state they ran in. It is
+    /// written to JSON without its state and cannot be read back.
+    #[serde(skip_deserializing)]
+    RestoreState {
+        #[serde(skip_serializing)]
+        state: crate::context::SavedState,
+    },
     /// `eglSurfaceAttrib(EGL_SWAP_BEHAVIOR)`.
     SwapBehavior {
         behavior: SwapBehavior,
@@ -746,6 +755,7 @@ impl<D> Call<D> {
             Flush => "flush",
             Finish => "finish",
             SwapBuffers => "swap_buffers",
+            RestoreState { .. } => "restore_state",
             SwapBehavior { .. } => "swap_behavior",
             StartTiling { .. } => "start_tiling",
             EndTiling { .. } => "end_tiling",
@@ -883,6 +893,7 @@ impl<D> Call<D> {
             Flush => Flush,
             Finish => Finish,
             SwapBuffers => SwapBuffers,
+            RestoreState { state } => RestoreState { state },
             SwapBehavior { behavior } => SwapBehavior { behavior },
             StartTiling { x, y, width, height, preserve } => StartTiling { x, y, width, height, preserve },
             EndTiling { store } => EndTiling { store },

@@ -88,7 +88,7 @@ pub use call::{
     FramebufferTarget, GlslSource, IndexKind, Mode, Output, ProgramKind, ProgramSource, SubpassSpec, SwapBehavior,
     TextureFormat, UniformValue, Winding, Wrap,
 };
-pub use context::{Context, ContextConfig, Error};
+pub use context::{Context, ContextConfig, Error, SavedState};
 pub use report::{CallRef, FrameRecord, PassRecord, Report, Slot};
 pub use text::{pass_began, pass_ended, text_report};
 pub use trace::{Limits, Trace, TraceError};

@@ -318,6 +318,10 @@ pub struct PassRecord {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub draw_subpasses: Vec<u32>,
     pub draws: Vec<DrawRecord>,
+    /// Every image the pass's draws sample, and the sources of its blits and copies, in
+    /// order of their ids: what the pass reads besides its attachments.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reads: Vec<ImageId>,
     pub dropped: Vec<Dropped>,
     pub cost: PassCost,
     /// Traffic the context counts itself for this pass (blit and copy source reads, as

@@ -1337,3 +1337,75 @@ fn recorded_capture_calls_replay_and_take_the_advisors_fixes() {
     assert_eq!(Some(saved), finding.cost_bytes);
     assert_eq!(fixed.context.surface_rgba8(), replay.context.surface_rgba8());
 }
+
+/// A shared capture replayed with its calls recorded, as `tiler analyze --what-if` replays it
+/// (every presented frame's digest kept), and the calls as a trace the advisor can edit.
+fn recorded_glmark2(traces: &Path, scene: &str) -> (tiler_gl::trace::Replay, tiler_gl::Trace) {
+    let config = tiler_gl::ContextConfig { digest_presented: true, ..tiler_gl::ContextConfig::new(1, 1) };
+    let options = ReplayOptions { config, record: true, ..ReplayOptions::default() };
+    let path = traces.join(format!("{scene}.trace"));
+    let replay = tiler_gl::capture::replay_file(path, &options, &mut |_| Ok(())).unwrap();
+    let frames = replay.context.recorded_frames().expect("recorded").to_vec();
+    let frames = frames.into_iter().map(|calls| tiler_gl::trace::TraceFrame { repeat: 1, calls }).collect();
+    let trace = tiler_gl::Trace { description: None, config: replay.context.config().clone(), frames };
+    (tiler_gl::trace::Replay { report: replay.report, context: replay.context }, trace)
+}
+
+/// glmark2's shadow scene clears the window, renders the shadow map into framebuffer 1 with a
+/// program and uniforms set while the window was still bound, then binds the window again and
+/// reloads what it cleared: `framebuffer-rebound`. The advisor's fix moves the shadow-map work
+/// (with the state set up for it) before the window's pass, each part in the GL state it ran
+/// in, and in every frame after the first (frame 0 also creates the objects) it saves exactly
+/// the estimate and keeps every picture. The other fixes keep the pictures too.
+#[test]
+fn glmark2_shadow_rebinding_fix_saves_its_estimate() {
+    let Some(traces) = tiler_test_support::traces_dir() else { return };
+    let (run, trace) = recorded_glmark2(&traces.join("glmark2"), "shadow");
+    let picture = run.context.surface_rgba8();
+    let config = run.context.config().clone();
+    let what_if = tiler_gl::advisor::what_if::Run { config: &config, report: &run.report, picture: &picture };
+    let proven = tiler_gl::advisor::what_if::prove(&trace, &what_if, "tbr").unwrap();
+    let mut rebound_later_frames = 0;
+    for (finding, result) in run.report.findings.iter().zip(&proven) {
+        let what = format!("{} ({}): {}", finding.id, finding.location.describe(), result.fix);
+        if !result.applied {
+            continue;
+        }
+        assert_eq!(result.same_picture, Some(true), "{what}");
+        if finding.id == "framebuffer-rebound" && finding.location.frame.is_some_and(|f| f > 0) {
+            rebound_later_frames += 1;
+            assert_eq!(result.measured_bytes, finding.cost_bytes.map(|b| b as i64), "{what}");
+        }
+    }
+    assert_eq!(rebound_later_frames, 5, "one rebinding in each of frames 1 to 5");
+}
+
+/// glmark2's desktop scene blurs by ping-pong: a pass reads what the pass before drew into
+/// another framebuffer and draws into it, then the first framebuffer is bound again to draw
+/// with what the second holds. Those rebindings are needed (the work between reads what the
+/// first binding drew), so `framebuffer-rebound` names none of them; the one it names (the
+/// window, bound again after work that reads nothing the window's pass drew) can be undone.
+#[test]
+fn glmark2_desktop_needed_rebindings_are_not_advised() {
+    let Some(traces) = tiler_test_support::traces_dir() else { return };
+    let (run, _) = recorded_glmark2(&traces.join("glmark2"), "desktop");
+    let passes: Vec<_> = run.report.passes().collect();
+    // The pass between that reads what the earlier binding of the pass's framebuffer drew.
+    let needed_by = |at: usize| -> Option<u32> {
+        let pass = passes[at];
+        let earlier = passes[..at]
+            .iter()
+            .rposition(|p| p.frame == pass.frame && p.framebuffer == pass.framebuffer && p.copy_texture.is_none())?;
+        let drew: Vec<_> = passes[earlier].attachments.iter().map(|a| a.image).collect();
+        passes[earlier + 1..at].iter().find(|b| b.reads.iter().any(|i| drew.contains(i))).map(|b| b.index)
+    };
+    let mut advised = 0;
+    for finding in run.report.findings_with("framebuffer-rebound") {
+        advised += 1;
+        let at = passes.iter().position(|p| Some(p.index as u64) == finding.location.pass).unwrap();
+        assert_eq!(needed_by(at), None, "pass {} is advised to join a binding the work between needed", at);
+    }
+    let needed = (0..passes.len()).filter(|&at| needed_by(at).is_some()).count();
+    assert!(needed >= 6 * 4, "{needed} needed rebindings (four blur ping-pongs a frame)");
+    assert!(advised >= 6, "{advised} framebuffer-rebound findings (the window, bound again, each frame)");
+}

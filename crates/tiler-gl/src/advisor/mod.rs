@@ -6,6 +6,13 @@
 //! bytes the same frame would not move with the fix (the example trace pairs check this). The
 //! rules and their ids are [`RuleId`]s; ids are stable.
 //!
+//! A framebuffer bound again in a frame is `framebuffer-rebound` only when the work between
+//! the two bindings could have gone first: when a pass between reads an image the first
+//! binding drew (a ping-pong blur), draws into one it read, or draws into one it drew too (a
+//! shared depth buffer), the rebinding is needed, and the second binding is judged as a fresh
+//! one (`load-at-pass-start` then speaks of its loads only where its first draw paints over
+//! every pixel: otherwise the frame's own earlier drawing is its starting point).
+//!
 //! | id | rule (seed §) | cost |
 //! |---|---|---|
 //! | `load-at-pass-start` | 001 "How to optimize render passes"; 000 §23.3 | the loads |
@@ -190,6 +197,10 @@ fn advise_counting(config: &ContextConfig, frames: &[FrameRecord]) -> (Vec<Findi
 /// The run's passes, indexed so that a rule finds each pass it compares with in constant
 /// time. Rules reach other passes only through it, and it counts every pass record it hands
 /// out or steps over while being built, so the count bounds the rules' work.
+/// The most passes between two bindings of a framebuffer that [`PassIndex::rebind_needed`]
+/// looks through; with more, the rebinding is taken as needed.
+const MAX_REBIND_SCAN: usize = 16;
+
 pub(crate) struct PassIndex<'a> {
     /// Every pass, in the order rendered.
     passes: Vec<&'a PassRecord>,
@@ -198,6 +209,8 @@ pub(crate) struct PassIndex<'a> {
     /// For each pass, the latest earlier pass of its frame on its framebuffer that is not a
     /// copy's pass.
     same_framebuffer_before: Vec<Option<&'a PassRecord>>,
+    /// The position of that pass.
+    same_framebuffer_before_at: Vec<Option<usize>>,
     /// For each pass and each of its attachments, the bytes later passes sample from the
     /// attachment's image, up to and including the next pass that stores it again.
     reads_until_stored_again: Vec<Vec<u64>>,
@@ -210,15 +223,16 @@ impl<'a> PassIndex<'a> {
         let n = passes.len();
 
         let mut by_number = HashMap::with_capacity(n);
-        let mut latest: HashMap<(u32, u32), &PassRecord> = HashMap::new();
-        let mut same_framebuffer_before = Vec::with_capacity(n);
-        for &pass in &passes {
+        let mut latest: HashMap<(u32, u32), usize> = HashMap::new();
+        let mut same_framebuffer_before_at = Vec::with_capacity(n);
+        for (position, &pass) in passes.iter().enumerate() {
             by_number.entry(pass.index).or_insert(pass);
-            same_framebuffer_before.push(latest.get(&(pass.frame, pass.framebuffer)).copied());
+            same_framebuffer_before_at.push(latest.get(&(pass.frame, pass.framebuffer)).copied());
             if pass.copy_texture.is_none() {
-                latest.insert((pass.frame, pass.framebuffer), pass);
+                latest.insert((pass.frame, pass.framebuffer), position);
             }
         }
+        let same_framebuffer_before = same_framebuffer_before_at.iter().map(|at| at.map(|p| passes[p])).collect();
 
         // Backward: `pending[image]` is what the passes after the current one sample from the
         // image, up to and including the first of them that stores it.
@@ -239,7 +253,14 @@ impl<'a> PassIndex<'a> {
 
         // Built by two sweeps over the passes.
         let handed_out = Cell::new(2 * n as u64);
-        PassIndex { passes, by_number, same_framebuffer_before, reads_until_stored_again, handed_out }
+        PassIndex {
+            passes,
+            by_number,
+            same_framebuffer_before,
+            same_framebuffer_before_at,
+            reads_until_stored_again,
+            handed_out,
+        }
     }
 
     fn hand_out<T>(&self, found: Option<T>) -> Option<T> {
@@ -260,6 +281,38 @@ impl<'a> PassIndex<'a> {
     /// The latest earlier pass of the same frame on the same framebuffer (copies aside).
     fn same_framebuffer_before(&self, position: usize) -> Option<&'a PassRecord> {
         self.hand_out(self.same_framebuffer_before[position])
+    }
+
+    /// Why the work between the pass at `position` and the latest earlier pass of its frame on
+    /// its framebuffer could not have gone before that pass: the first pass between them that
+    /// reads an image the earlier pass wrote, writes one it read, or writes one it wrote too
+    /// (a shared depth buffer, say). `None`: the two could have been one pass.
+    fn rebind_needed(&self, position: usize) -> Option<String> {
+        let before = self.same_framebuffer_before_at[position]?;
+        let earlier = self.passes[before];
+        let written = |p: &PassRecord| -> Vec<ImageId> {
+            p.attachments.iter().flat_map(|a| std::iter::once(a.image).chain(a.resolve)).collect()
+        };
+        let earlier_wrote = written(earlier);
+        let between = &self.passes[before + 1..position];
+        if between.len() > MAX_REBIND_SCAN {
+            self.handed_out.set(self.handed_out.get() + MAX_REBIND_SCAN as u64);
+            return Some(format!("more than {MAX_REBIND_SCAN} passes lie between it and pass {}", earlier.index));
+        }
+        self.handed_out.set(self.handed_out.get() + between.len() as u64);
+        let found = between.iter().find_map(|&between| {
+            let wrote = written(between);
+            if let Some(image) = between.reads.iter().find(|i| earlier_wrote.contains(i)) {
+                Some(format!("pass {} reads {image}, which pass {} drew", between.index, earlier.index))
+            } else if let Some(image) = wrote.iter().find(|i| earlier.reads.contains(i)) {
+                Some(format!("pass {} draws into {image}, which pass {} read", between.index, earlier.index))
+            } else {
+                wrote.iter().find(|i| earlier_wrote.contains(i)).map(|image| {
+                    format!("pass {} draws into {image}, which pass {} drew too", between.index, earlier.index)
+                })
+            }
+        });
+        self.hand_out(found)
     }
 
     /// The pass rendered just before, on any framebuffer.

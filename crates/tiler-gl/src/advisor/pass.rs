@@ -23,16 +23,24 @@ struct PassView<'a> {
     pass: &'a PassRecord,
     /// The latest earlier pass of this frame on this framebuffer.
     same_framebuffer_before: Option<&'a PassRecord>,
+    /// Bound again after an earlier pass of the frame on the same framebuffer ended by an
+    /// unbind, with nothing between that needed the earlier pass done first: the second pass
+    /// reloads what the first stored, and the two could have been one.
+    rebound: bool,
+    /// Bound again after an earlier pass of the frame on the same framebuffer ended by an
+    /// unbind, where the work between needed that pass done first: this pass continues the
+    /// frame's own drawing on the framebuffer.
+    continues: bool,
     /// `the window` or `framebuffer N`.
     fb: String,
 }
 
 impl PassView<'_> {
-    /// Bound again after an earlier pass of the frame on the same framebuffer ended by an
-    /// unbind: the second pass reloads what the first stored.
+    /// See [`PassView::rebound`](field@PassView::rebound). A rebinding the work between
+    /// needed (a ping-pong blur: the pass between reads what the first drew) is a fresh bind:
+    /// its loads are the application's choice.
     fn rebound(&self) -> bool {
-        matches!(self.pass.start, StartCause::Bind | StartCause::NewFrame)
-            && self.same_framebuffer_before.is_some_and(|q| q.end == EndCause::Bind)
+        self.rebound
     }
 
     /// Started by a bind (or a new frame) whose loads the application chose, not a rebind.
@@ -74,12 +82,19 @@ impl PassView<'_> {
 /// Runs every pass rule over the pass at `position`.
 pub(super) fn check(config: &ContextConfig, index: &PassIndex, position: usize, out: &mut Vec<Draft>) {
     let pass = index.at(position);
+    let same_framebuffer_before = index.same_framebuffer_before(position);
+    let bound_again = matches!(pass.start, StartCause::Bind | StartCause::NewFrame)
+        && same_framebuffer_before.is_some_and(|q| q.end == EndCause::Bind);
+    let needed = bound_again && index.rebind_needed(position).is_some();
+    let (rebound, continues) = (bound_again && !needed, needed);
     let view = PassView {
         config,
         index,
         position,
         pass,
-        same_framebuffer_before: index.same_framebuffer_before(position),
+        same_framebuffer_before,
+        rebound,
+        continues,
         fb: framebuffer_name(pass),
     };
     partial_clear(&view, out);
@@ -258,10 +273,16 @@ fn load_at_pass_start(v: &PassView, out: &mut Vec<Draft>) {
     }
     let (pass, fb) = (v.pass, &v.fb);
     let partial_at_start: Vec<Slot> = v.loads_kept_by_partial_clears().concat();
+    // A pass that continues what this frame drew earlier on the framebuffer starts from that
+    // drawing unless its first draw paints over every pixel.
+    let painted_over = !v.continues || first_draw_paints_over(pass);
     let mut loaded = Vec::new();
     let mut cost = 0;
     for a in pass.attachments.iter().filter(|a| a.load == LoadKind::Load && a.role == Role::Attached) {
         if partial_at_start.contains(&a.slot) || (pass.window_preserved && matches!(a.slot, Slot::Color(_))) {
+            continue;
+        }
+        if !painted_over || (v.continues && !matches!(a.slot, Slot::Color(_))) {
             continue;
         }
         loaded.push(a.slot);
@@ -286,6 +307,24 @@ fn load_at_pass_start(v: &PassView, out: &mut Vec<Draft>) {
             ),
         ));
     }
+}
+
+/// Whether the pass's first draw writes every pixel of the pass with colour that does not
+/// depend on what was there: no blending, no discard, no depth or stencil test, a clip
+/// rectangle over the whole area and a fragment for each of its pixels.
+fn first_draw_paints_over(pass: &PassRecord) -> bool {
+    let area = match pass.render_area {
+        Some(r) => r,
+        None => Rect::new(0, 0, pass.width, pass.height),
+    };
+    pass.draws.first().is_some_and(|d| {
+        d.kind == DrawKind::Draw
+            && !d.blend
+            && !d.discards
+            && !d.depth_test
+            && d.clip_rect == area
+            && d.stats.fragments_shaded >= area.area()
+    })
 }
 
 /// The preserved swap behaviour: the window's colour is loaded every frame.

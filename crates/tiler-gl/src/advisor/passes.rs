@@ -180,6 +180,7 @@ fn record(
         dependencies: Vec::new(),
         draw_subpasses: Vec::new(),
         draws,
+        reads: Vec::new(),
         dropped: Vec::new(),
         cost: PassCost::from(report),
         extra: Default::default(),

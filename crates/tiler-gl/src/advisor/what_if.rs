@@ -6,7 +6,10 @@
 //! driver inference as the original: `store-unread` invalidates the attachment before the
 //! call that ends its pass; `load-at-pass-start` clears the loaded attachments right after
 //! the bind; `framebuffer-rebound` moves the other framebuffers' work (the calls between the
-//! two bindings) before the first binding; `flush-mid-pass` moves the flushing call (a read
+//! first binding's last drawing and the second binding) before the first binding's first
+//! drawing, each part run in the GL state it had ([`Call::RestoreState`] with the state a
+//! replay of the original calls had there: GL state is global, and the moved work often uses
+//! a program or uniforms set while the first framebuffer was still bound); `flush-mid-pass` moves the flushing call (a read
 //! of pixels, a flush, a finish) to the end of the pass it cut short — before a swap, after
 //! invalidating the window's depth and stencil, which the swap would throw away anyway;
 //! `unsorted-opaque` reverses the order of the pass's opaque draws (each with the state calls
@@ -22,7 +25,7 @@ use tiler_finding::WhatIf;
 
 use super::{Finding, RuleId};
 use crate::call::{AttachmentPoint, Call};
-use crate::context::ContextConfig;
+use crate::context::{ContextConfig, SavedState};
 use crate::report::{CallRef, PassRecord, Report, Slot, first_different_frame};
 use crate::trace::{Trace, TraceFrame};
 
@@ -126,6 +129,8 @@ struct FrameEdits {
 pub struct Fixer {
     frames: Vec<Vec<Call>>,
     edits: Vec<FrameEdits>,
+    /// The trace's configuration, to replay it for the state at a call.
+    config: ContextConfig,
 }
 
 impl Fixer {
@@ -158,7 +163,7 @@ impl Fixer {
             frames.pop();
         }
         let edits = vec![FrameEdits::default(); frames.len()];
-        Ok(Fixer { frames, edits })
+        Ok(Fixer { frames, edits, config: trace.config.clone() })
     }
 
     fn call(&self, at: CallRef) -> Option<&Call> {
@@ -210,16 +215,35 @@ impl Fixer {
                 if from.frame != to.frame || earlier.started_at.frame != from.frame || from.call >= to.call {
                     return Err("the two bindings are not in one frame".into());
                 }
-                // Before the call that bound the framebuffer the first time (or, bound since an
-                // earlier frame, before the first pass's first call).
-                let frame = &self.frames[from.frame as usize];
-                let bind = (earlier.started_at.call..from.call).rev().find(|&i| {
-                    matches!(frame.get(i as usize), Some(Call::BindFramebuffer { target, framebuffer })
-                        if *framebuffer == earlier.framebuffer && *target != crate::call::FramebufferTarget::Read)
-                });
-                let to_first = CallRef { frame: from.frame, call: bind.unwrap_or(earlier.started_at.call) };
-                self.move_before(from.frame as usize, from.call as usize..to.call as usize, to_first)?;
-                Ok(format!("move calls {}–{} of frame {} before {to_first}", from.call, to.call - 1, from.frame))
+                // Just before the first pass's first drawing: after whatever the calls before
+                // it created (the objects the moved calls use, in a frame that sets up).
+                let first_work = (earlier.started_at.call..from.call)
+                    .find(|&i| self.frames[from.frame as usize].get(i as usize).is_some_and(changes_framebuffer));
+                let to_first = CallRef { frame: from.frame, call: first_work.unwrap_or(earlier.started_at.call) };
+                // The other framebuffers' work moves with what the first pass's binding set up
+                // for it after its last drawing (the program and uniforms of a shadow-map pass,
+                // set while the window was still bound), and each part runs in the GL state it
+                // ran in: GL state is global.
+                let frame = from.frame as usize;
+                let drawn = (earlier.started_at.call as usize..from.call as usize)
+                    .rev()
+                    .find(|&i| self.frames[frame].get(i).is_some_and(changes_framebuffer))
+                    .map_or(to_first.call as usize, |i| i + 1);
+                let tail = CallRef { frame: from.frame, call: drawn as u32 };
+                let [first, moved, after] = self.states_at([to_first, tail, to])?;
+                let range = drawn..to.call as usize;
+                let mut calls = vec![Call::RestoreState { state: moved }];
+                calls.extend(self.frames[frame][range.clone()].iter().cloned());
+                calls.push(Call::RestoreState { state: first });
+                self.move_before_as(frame, range, to_first, calls)?;
+                // The first framebuffer stays bound into the second binding, which continues
+                // its pass.
+                self.before(to, vec![Call::RestoreState { state: after.without_framebuffers() }])?;
+                Ok(format!(
+                    "move calls {drawn}–{} of frame {} before {to_first}, each part in the GL state it had",
+                    to.call - 1,
+                    from.frame
+                ))
             }
             RuleId::FlushMidPass => {
                 let at = finding.location.call_at.map(CallRef::from).ok_or("the finding names no call")?;
@@ -503,16 +527,58 @@ impl Fixer {
     /// Moves calls `range` of `frame` to just before `to` (in the same frame; `to.call` may
     /// be the frame's length: its end).
     fn move_before(&mut self, frame: usize, range: std::ops::Range<usize>, to: CallRef) -> Result<(), String> {
+        let calls = self.frames[frame][range.clone()].to_vec();
+        self.move_before_as(frame, range, to, calls)
+    }
+
+    /// [`Fixer::move_before`], putting `calls` (the moved calls, edited) where they go.
+    fn move_before_as(
+        &mut self,
+        frame: usize,
+        range: std::ops::Range<usize>,
+        to: CallRef,
+        calls: Vec<Call>,
+    ) -> Result<(), String> {
         self.check(to)?;
         let edits = &mut self.edits[frame];
         if edits.moved.iter().any(|m| m.start < range.end && range.start < m.end) || range.contains(&(to.call as usize))
         {
             return Err("the calls are already moved".into());
         }
-        let calls = self.frames[frame][range.clone()].to_vec();
         edits.moved.push(range);
         edits.before.push((to.call as usize, calls));
         Ok(())
+    }
+
+    /// The GL state just before each of `at` (in the order given), from a replay of the
+    /// original calls up to the last of them.
+    fn states_at<const N: usize>(&self, at: [CallRef; N]) -> Result<[SavedState; N], String> {
+        let last = at.iter().copied().max_by_key(|c| (c.frame, c.call)).ok_or("no call")?;
+        let mut gl = crate::Context::new(self.config.clone())?;
+        let mut found: [Option<SavedState>; N] = std::array::from_fn(|_| None);
+        'frames: for (f, calls) in self.frames.iter().enumerate() {
+            for (c, call) in calls.iter().enumerate().chain(std::iter::once((calls.len(), &Call::Finish))) {
+                let here = CallRef { frame: f as u32, call: c as u32 };
+                for (slot, point) in found.iter_mut().zip(&at) {
+                    if *point == here {
+                        *slot = Some(gl.saved_state());
+                    }
+                }
+                if here == last {
+                    break 'frames;
+                }
+                if c == calls.len() {
+                    break;
+                }
+                gl.call(call.clone()).map_err(|e| format!("replaying for the state at {here}: {}", e.message))?;
+            }
+        }
+        let mut states = found.into_iter();
+        let out: [Option<SavedState>; N] = std::array::from_fn(|_| states.next().flatten());
+        if out.iter().any(Option::is_none) {
+            return Err(format!("no call {last} in the trace"));
+        }
+        Ok(out.map(|s| s.expect("checked above")))
     }
 
     /// The trace with every recorded fix applied (each frame once: repeats expanded).
@@ -537,6 +603,30 @@ impl Fixer {
         }
         Trace { description: trace.description.clone(), config: trace.config.clone(), frames }
     }
+}
+
+/// Whether a call draws, clears, invalidates, copies, reads or flushes: work on a framebuffer,
+/// not state.
+fn changes_framebuffer(call: &Call) -> bool {
+    matches!(
+        call,
+        Call::DrawArrays { .. }
+            | Call::DrawElements { .. }
+            | Call::DrawArraysInstanced { .. }
+            | Call::DrawElementsInstanced { .. }
+            | Call::Clear { .. }
+            | Call::Invalidate { .. }
+            | Call::ReadPixels { .. }
+            | Call::BlitFramebuffer { .. }
+            | Call::CopyTexSubImage { .. }
+            | Call::Flush
+            | Call::Finish
+            | Call::BeginPass { .. }
+            | Call::NextSubpass
+            | Call::EndPass
+            | Call::StartTiling { .. }
+            | Call::EndTiling { .. }
+    )
 }
 
 /// The attachment a `store-unread` finding is about: the first of the pass's slots its

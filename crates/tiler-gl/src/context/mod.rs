@@ -320,14 +320,14 @@ pub(crate) struct ImageInfo {
 }
 
 /// Where a vertex attribute reads from.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) enum AttribSource {
     Buffer { buffer: u32, offset: u64 },
     Client { data: Bytes },
 }
 
 /// One attribute of a vertex array object.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Attrib {
     pub enabled: bool,
     pub source: Option<(AttribSource, u32, ComponentType, bool, u32)>,
@@ -339,8 +339,24 @@ impl Attrib {
     const DEFAULT: Attrib = Attrib { enabled: false, source: None, divisor: 0 };
 }
 
+/// A context's fixed-function and binding state at some point ([`Context::saved_state`]),
+/// for [`Call::RestoreState`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SavedState {
+    state: Box<GlState>,
+    /// The bound draw and read framebuffers; `None`: left as they are.
+    framebuffers: Option<(u32, u32)>,
+}
+
+impl SavedState {
+    /// The same state without the framebuffer bindings: restoring it leaves them as they are.
+    pub fn without_framebuffers(self) -> SavedState {
+        SavedState { framebuffers: None, ..self }
+    }
+}
+
 /// The fixed-function and binding state, as GL's context holds it.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) struct GlState {
     pub viewport: [i64; 4],
     pub depth_range: [f32; 2],
@@ -843,15 +859,7 @@ impl Context {
                 self.programs.insert(id, object);
             }
             BindAttribLocation { program, index, name } => self.bind_attrib_location(program, index, name)?,
-            UseProgram { id } => {
-                if id != 0 && !self.programs.contains_key(&id) {
-                    return Err(format!("program {id} does not exist"));
-                }
-                if let Some(doomed) = self.deleted_program.take_if(|d| *d != id) {
-                    self.programs.remove(&doomed);
-                }
-                self.state.program = id;
-            }
+            UseProgram { id } => self.use_program(id)?,
             DeleteProgram { id } => {
                 if !self.programs.contains_key(&id) {
                     return Err(format!("program {id} does not exist"));
@@ -994,6 +1002,7 @@ impl Context {
             Flush => self.flush_open_pass(crate::report::FlushCause::Flush)?,
             Finish => self.finish()?,
             SwapBuffers => self.swap_buffers()?,
+            RestoreState { state } => self.restore_state(state)?,
             SwapBehavior { behavior } => self.swap_behavior = behavior,
             StartTiling { x, y, width, height, preserve } => self.start_tiling([x, y], [width, height], preserve)?,
             EndTiling { store } => self.end_tiling(store)?,
@@ -1494,6 +1503,47 @@ impl Context {
                 self.free_image(samples);
             }
         }
+        Ok(())
+    }
+
+    fn use_program(&mut self, id: u32) -> Fallible {
+        if id != 0 && !self.programs.contains_key(&id) {
+            return Err(format!("program {id} does not exist"));
+        }
+        if let Some(doomed) = self.deleted_program.take_if(|d| *d != id) {
+            self.programs.remove(&doomed);
+        }
+        self.state.program = id;
+        Ok(())
+    }
+
+    /// The fixed-function and binding state now, for a later [`Call::RestoreState`].
+    pub fn saved_state(&self) -> SavedState {
+        SavedState {
+            state: Box::new(self.state.clone()),
+            framebuffers: Some((self.draw_framebuffer, self.read_framebuffer)),
+        }
+    }
+
+    /// Puts back a [`Context::saved_state`]. The bound vertex array object must be the same
+    /// one (the attributes of the others live with them, not in the state); the program in
+    /// use changes as `use_program` would change it, and the draw framebuffer, if the saved
+    /// state has it, as `bind_framebuffer` would (ending the open pass).
+    fn restore_state(&mut self, saved: SavedState) -> Fallible {
+        let state = *saved.state;
+        if state.vertex_array != self.state.vertex_array {
+            return Err(format!(
+                "vertex array object {} is bound, the state put back had {}: the attributes of a vertex array \
+                 object cannot be put back",
+                self.state.vertex_array, state.vertex_array
+            ));
+        }
+        self.use_program(state.program)?;
+        if let Some((draw, read)) = saved.framebuffers {
+            self.bind_framebuffer(FramebufferTarget::Draw, draw)?;
+            self.bind_framebuffer(FramebufferTarget::Read, read)?;
+        }
+        self.state = state;
         Ok(())
     }
 

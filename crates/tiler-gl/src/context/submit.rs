@@ -308,6 +308,11 @@ impl Context {
                 Vec::new()
             },
             draws,
+            reads: {
+                let mut reads: Vec<ImageId> = pass.images_sampled.iter().copied().collect();
+                reads.sort_unstable();
+                reads
+            },
             dropped: std::mem::take(&mut pass.dropped),
             cost: PassCost::from(&report),
             extra,

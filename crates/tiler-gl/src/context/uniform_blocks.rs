@@ -14,7 +14,7 @@ use super::glsl::GlslProgram;
 use super::{Context, Fallible, MAX_UNIFORM_BUFFER_BINDINGS, ProgramObject};
 
 /// What a uniform buffer binding holds.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct UniformBufferBinding {
     buffer: u32,
     offset: u64,

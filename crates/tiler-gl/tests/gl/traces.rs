@@ -764,3 +764,20 @@ fn a_runs_records_are_held_once_and_grow_linearly_small() {
         .collect();
     assert!(per_frame.windows(2).all(|w| w[0] == w[1]), "{per_frame:?}");
 }
+
+/// The what-if's `restore_state` carries a context's state in memory only: a trace holding
+/// one writes it as a bare call (no panic) and reading that back is an error naming it.
+#[test]
+fn a_restore_state_call_is_written_but_not_read_back() {
+    let gl = tiler_gl::Context::new(ContextConfig::new(4, 4)).unwrap();
+    let frames = vec![tiler_gl::trace::TraceFrame {
+        repeat: 1,
+        calls: vec![tiler_gl::Call::RestoreState { state: gl.saved_state() }, tiler_gl::Call::SwapBuffers],
+    }];
+    let trace = Trace { description: None, config: ContextConfig::new(4, 4), frames };
+    assert_eq!(trace.replay().unwrap().report.frames.len(), 1);
+    let json = trace.to_json();
+    assert!(json.contains(r#""call":"restore_state""#), "{json}");
+    let error = Trace::parse(&json, None).unwrap_err().to_string();
+    assert!(error.contains("restore_state"), "{error}");
+}
