@@ -12,7 +12,7 @@ use super::{
     MIPMAPPED_QUAD_BYTES, POST_PROCESS_MAX_DRAWS, PassIndex, RuleId, UNSORTED_OVERDRAW, bytes, framebuffer_name, slots,
 };
 use crate::context::ContextConfig;
-use crate::report::{DrawKind, EndCause, LoadKind, PassRecord, Role, Slot, StartCause, StoreKind};
+use crate::report::{AttachmentRecord, DrawKind, EndCause, LoadKind, PassRecord, Role, Slot, StartCause, StoreKind};
 
 /// What a pass rule sees: the pass, its neighbours in the run, and the configuration.
 struct PassView<'a> {
@@ -235,7 +235,31 @@ fn framebuffer_rebound(v: &PassView, out: &mut Vec<Draft>) {
     }
     let (pass, fb) = (v.pass, &v.fb);
     let q = v.same_framebuffer_before.expect("a rebound pass has a pass before it");
-    let (cost, what) = reload_cost(pass, q);
+    let (mut cost, reloaded) = reload_cost(pass, q);
+    let mut what = Vec::new();
+    if cost > 0 {
+        what.push(format!("pass {} stored {reloaded} and this pass reloads them", q.index));
+    }
+    // What the first pass stored of the aspects this one clears or does not keep: nothing
+    // between read it (or the rebinding would be needed), so in one pass it is never stored.
+    let overwritten: Vec<&AttachmentRecord> = q
+        .attachments
+        .iter()
+        .filter(|e| e.store == StoreKind::Store && e.store_bytes > 0)
+        .filter(|e| pass.attachment(e.slot).is_some_and(|a| a.load != LoadKind::Load))
+        .collect();
+    if !overwritten.is_empty() {
+        let stored: u64 = overwritten.iter().map(|e| e.store_bytes).sum();
+        let aspects: Vec<Slot> = overwritten.iter().map(|e| e.slot).collect();
+        cost += stored;
+        what.push(format!(
+            "pass {} stored {} ({}), which this pass clears or throws away",
+            q.index,
+            slots(&aspects),
+            bytes(stored)
+        ));
+    }
+    let what = what.join("; ");
     if cost > 0 {
         out.push(Draft::about(
             RuleId::FramebufferRebound,
@@ -243,8 +267,8 @@ fn framebuffer_rebound(v: &PassView, out: &mut Vec<Draft>) {
             Some(pass.started_at),
             Cost { bytes: cost, ..Cost::default() },
             format!(
-                "{fb} is bound again at {} after pass {} ended at {}: pass {} stored {what} and this pass reloads them",
-                pass.started_at, q.index, q.ended_at, q.index
+                "{fb} is bound again at {} after pass {} ended at {}: {what}",
+                pass.started_at, q.index, q.ended_at
             ),
             format!(
                 "do everything for {fb} in one binding: render the other framebuffers first (e.g. render-to-texture \
