@@ -380,10 +380,11 @@ pub fn test_block(
     // Hierarchical Z in the tile (`raster::target::DepthBlocks`): a block wholly covered, in
     // every sample, by a primitive of one depth.
     let samples = masks.len();
-    let full_constant = match (surface.block_depth(x, y), depth.constant()) {
-        (Some((index, known)), Some(z)) if samples == surface.samples() && masks.iter().all(|m| *m == u64::MAX) => {
-            Some((index, known, surface.format.depth_bits_lanes(F32x8::splat(z))[0]))
-        }
+    // (The primitive's flatness first: it is two compares, the block's summary a lookup.)
+    let full_constant = match depth.constant() {
+        Some(z) if samples == surface.samples() && masks.iter().all(|m| *m == u64::MAX) => surface
+            .block_depth(x, y)
+            .map(|(index, known)| (index, known, surface.format.depth_bits_lanes(F32x8::splat(z))[0])),
         _ => None,
     };
     let bytes = surface.format.depth_access_bytes(false) as u32;

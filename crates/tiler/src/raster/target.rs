@@ -122,15 +122,16 @@ impl<'a> Surface<'a> {
     #[inline(always)]
     pub fn block_depth(&self, x: i32, y: i32) -> Option<(usize, BlockDepth)> {
         let blocks = self.blocks.as_ref().filter(|b| b.valid)?;
-        let (dx, dy) = (x - self.origin_x, y - self.origin_y);
-        if dx < 0 || dy < 0 || dx % 8 != 0 || dy % 8 != 0 {
+        // Left of or above the origin wraps to a huge offset, which the bounds below reject.
+        let (dx, dy) = (x.wrapping_sub(self.origin_x) as u32, y.wrapping_sub(self.origin_y) as u32);
+        if (dx | dy) & 7 != 0 {
             return None;
         }
-        let column = (dx / 8) as usize;
+        let column = (dx >> 3) as usize;
         if column >= blocks.columns {
             return None;
         }
-        let index = (dy / 8) as usize * blocks.columns + column;
+        let index = (dy >> 3) as usize * blocks.columns + column;
         blocks.states.get(index).map(|state| (index, *state))
     }
 
