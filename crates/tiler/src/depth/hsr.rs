@@ -129,6 +129,14 @@ impl Visibility {
             return;
         }
         let whole_rows = x >= self.origin.0 && x + 8 <= self.origin.0 + self.tile_width as i32;
+        if whole_rows && mask == u64::MAX {
+            // The whole block (the common case of HSR: a primitive covering it and in front).
+            for r in 0..8 {
+                let i = self.index(sample, x, y + r);
+                self.owners[i..i + 8].copy_from_slice(&[entry; 8]);
+            }
+            return;
+        }
         for r in 0..8 {
             let bits = (mask >> (8 * r)) as u8;
             if bits == 0 {

@@ -14,7 +14,7 @@ use crate::api::pipeline::{DepthStencilState, StencilFaceState};
 use crate::ledger::Ledger;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::raster::coverage::Coverage;
-use crate::raster::target::Surface;
+use crate::raster::target::{BlockDepth, Surface};
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask};
 
 /// Tests the covered samples of the group at `(x, y)`, applies the stencil ops and depth
@@ -135,6 +135,15 @@ trait DepthBits {
     fn store(bytes: &mut [u8], bits: u32);
     fn format() -> Format;
 
+    /// Writes depth `bits` to a row of eight stored samples (`8 · BYTES` bytes), leaving any
+    /// stencil bits alone.
+    #[inline(always)]
+    fn fill_row(row: &mut [u8], bits: u32) {
+        for stored in row.chunks_exact_mut(Self::BYTES) {
+            Self::store(stored, bits);
+        }
+    }
+
     /// Tests a whole row of eight stored samples (`row`, `8 · BYTES` bytes) against
     /// `fragment`, writes the passing ones when `write`, and returns which of `covered`
     /// passed. Rows are read and written whole (lanes that do not pass are written back
@@ -193,6 +202,10 @@ impl DepthBits for D24 {
         Format::D24UnormS8Uint
     }
     #[inline(always)]
+    fn fill_row(row: &mut [u8], bits: u32) {
+        fill_words(row, bits, 0x00ff_ffff);
+    }
+    #[inline(always)]
     fn test_row(
         row: &mut [u8],
         fragment: &[u32; 8],
@@ -229,6 +242,17 @@ fn words_row(
     pass
 }
 
+/// [`DepthBits::fill_row`] for depth in the low bits (`depth_mask`) of 32-bit words, whole
+/// words at once (which vectorises), the other bits (stencil) kept.
+#[inline(always)]
+fn fill_words(row: &mut [u8], bits: u32, depth_mask: u32) {
+    let row: &mut [u8; 32] = (&mut row[..32]).try_into().expect("a row of eight words");
+    let words: [u32; 8] = std::array::from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
+    for (c, word) in words.iter().enumerate() {
+        row[4 * c..4 * c + 4].copy_from_slice(&((word & !depth_mask) | bits).to_le_bytes());
+    }
+}
+
 impl DepthBits for D32 {
     const BYTES: usize = 4;
     #[inline(always)]
@@ -251,6 +275,10 @@ impl DepthBits for D32 {
     }
     fn format() -> Format {
         Format::D32Float
+    }
+    #[inline(always)]
+    fn fill_row(row: &mut [u8], bits: u32) {
+        fill_words(row, bits, u32::MAX);
     }
 }
 
@@ -314,6 +342,17 @@ pub fn block_test_applies(surface: &Surface, state: &DepthStencilState, traffic:
 pub trait RowDepths {
     /// The fragment depths of sample `sample` for the block's pixels of row `y`.
     fn row(&self, sample: usize, y: i32) -> F32x8;
+
+    /// `Some(z)` when every row of every sample gives `z` in every lane (up to the sign of a
+    /// zero): the primitive's depth is one value over the block.
+    fn constant(&self) -> Option<f32> {
+        None
+    }
+}
+
+/// The depth bits of one stored sample (`bytes`, `format.bytes_per_sample()` of them).
+pub(crate) fn stored_depth_bits(format: Format, bytes: &[u8]) -> u32 {
+    unpack(format, bytes).0
 }
 
 /// The depth test (and writes) of a whole 8×8 block: `masks[s]` holds the covered pixels of
@@ -338,6 +377,39 @@ pub fn test_block(
 ) {
     use crate::api::pipeline::CompareOp;
     let write = state.depth_write;
+    // Hierarchical Z in the tile (`raster::target::DepthBlocks`): a block wholly covered, in
+    // every sample, by a primitive of one depth.
+    let samples = masks.len();
+    // (The primitive's flatness first: it is two compares, the block's summary a lookup.)
+    let full_constant = match depth.constant() {
+        Some(z) if samples == surface.samples() && masks.iter().all(|m| *m == u64::MAX) => surface
+            .block_depth(x, y)
+            .map(|(index, known)| (index, known, surface.format.depth_bits_lanes(F32x8::splat(z))[0])),
+        _ => None,
+    };
+    let bytes = surface.format.depth_access_bytes(false) as u32;
+    if let Some((index, BlockDepth::Constant(stored), fragment)) = full_constant {
+        // Every sample holds `stored`: one compare decides all of them, with the same
+        // results, writes and counts as testing them one by one.
+        let count = 64 * samples as u64;
+        let written = if state.depth_compare.test(fragment, stored) {
+            if write && fragment != stored {
+                match surface.format {
+                    Format::D16Unorm => fill_block::<D16>(surface, x, y, fragment),
+                    Format::D24UnormS8Uint => fill_block::<D24>(surface, x, y, fragment),
+                    _ => fill_block::<D32>(surface, x, y, fragment),
+                }
+                surface.set_block_depth(index, BlockDepth::Constant(fragment));
+            }
+            if write { count } else { 0 }
+        } else {
+            masks.fill(0);
+            0
+        };
+        traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
+        traffic.accesses(ledger, Aspect::Depth, bytes, written, true);
+        return;
+    }
     macro_rules! run {
         ($d:ty) => {
             match state.depth_compare {
@@ -357,8 +429,16 @@ pub fn test_block(
         Format::D24UnormS8Uint => run!(D24),
         _ => run!(D32),
     };
+    if written > 0 {
+        match full_constant {
+            // Every sample passed and was written with the one fragment depth.
+            Some((index, _, fragment)) if masks.iter().all(|m| *m == u64::MAX) => {
+                surface.set_block_depth(index, BlockDepth::Constant(fragment))
+            }
+            _ => surface.block_written(x, y),
+        }
+    }
     // Depth alone: a packed D24S8 sample moves as a whole word.
-    let bytes = surface.format.depth_access_bytes(false) as u32;
     traffic.accesses(ledger, Aspect::Depth, bytes, tested, false);
     traffic.accesses(ledger, Aspect::Depth, bytes, written, true);
 }
@@ -391,7 +471,8 @@ fn block_rows<D: DepthBits>(
             let z = depth.row(s, y + r);
             let fragment = format.depth_bits_lanes(z);
             let offset = surface.offset(x, y + r);
-            let plane = surface.plane_mut(s);
+            // `test_block` updates the block summary once the block is done.
+            let plane = surface.plane_mut_tracked(s);
             let mut pass = 0u8;
             if whole_rows {
                 pass = D::test_row(&mut plane[offset..offset + 8 * D::BYTES], &fragment, bits, write, &compare);
@@ -419,6 +500,18 @@ fn block_rows<D: DepthBits>(
     (tested, written)
 }
 
+/// Writes depth `bits` to every sample of the 8×8 block at `(x, y)` (wholly in `surface`),
+/// leaving stencil bits alone.
+fn fill_block<D: DepthBits>(surface: &mut Surface, x: i32, y: i32, bits: u32) {
+    let offsets: [usize; 8] = std::array::from_fn(|r| surface.offset(x, y + r as i32));
+    for s in 0..surface.samples() {
+        let plane = surface.plane_mut_tracked(s);
+        for &offset in &offsets {
+            D::fill_row(&mut plane[offset..offset + 8 * D::BYTES], bits);
+        }
+    }
+}
+
 /// Stored depth bits and stencil of one sample.
 #[inline(always)]
 fn unpack(format: Format, bytes: &[u8]) -> (u32, u8) {
@@ -440,5 +533,182 @@ fn pack(format: Format, bytes: &mut [u8], depth: u32, stencil: u8) {
         Format::D24UnormS8Uint => bytes.copy_from_slice(&(depth | (stencil as u32) << 24).to_le_bytes()),
         Format::D32Float => bytes.copy_from_slice(&depth.to_le_bytes()),
         _ => unreachable!("depth write on colour format {format}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::api::pipeline::CompareOp;
+    use crate::raster::PixelRect;
+    use crate::raster::target::DepthBlocks;
+    use proptest::prelude::*;
+
+    /// Fragment depths of a block: one value, or one per sample, row and lane.
+    struct Depths {
+        y0: i32,
+        constant: Option<f32>,
+        lanes: Vec<[f32; 8]>,
+    }
+
+    impl RowDepths for Depths {
+        fn row(&self, sample: usize, y: i32) -> F32x8 {
+            match self.constant {
+                Some(z) => F32x8::splat(z),
+                None => F32x8(self.lanes[sample * 8 + (y - self.y0) as usize]),
+            }
+        }
+        fn constant(&self) -> Option<f32> {
+            self.constant
+        }
+    }
+
+    /// Depths with ties and out-of-range values, so that every compare op sees equal, lesser
+    /// and greater values and the conversion clamps.
+    const DEPTHS: [f32; 8] = [0.0, -0.0, 0.25, 0.5, 0.75, 1.0, 1.5, -2.0];
+
+    #[derive(Clone, Debug)]
+    enum Step {
+        /// Sets every sample's depth to `DEPTHS[depth]` (a clear: the summary restarts).
+        Clear { depth: usize },
+        /// Tests block `block` of the tile.
+        Test { block: usize, compare: usize, write: bool, full: bool, masks: [u64; 4], depth: Depth },
+    }
+
+    #[derive(Clone, Debug)]
+    enum Depth {
+        Constant(usize),
+        Lanes(Vec<usize>),
+    }
+
+    fn step() -> impl Strategy<Value = Step> {
+        let depth = prop_oneof![
+            3 => (0..DEPTHS.len()).prop_map(Depth::Constant),
+            1 => proptest::collection::vec(0..DEPTHS.len(), 4 * 64).prop_map(Depth::Lanes),
+        ];
+        prop_oneof![
+            1 => (0..DEPTHS.len()).prop_map(|depth| Step::Clear { depth }),
+            6 => (0..4usize, 0..8usize, any::<bool>(), prop::bool::weighted(0.8), any::<[u64; 4]>(), depth)
+                .prop_map(|(block, compare, write, full, masks, depth)| Step::Test { block, compare, write, full, masks, depth }),
+        ]
+    }
+
+    const COMPARES: [CompareOp; 8] = [
+        CompareOp::Never,
+        CompareOp::Less,
+        CompareOp::Equal,
+        CompareOp::LessOrEqual,
+        CompareOp::Greater,
+        CompareOp::NotEqual,
+        CompareOp::GreaterOrEqual,
+        CompareOp::Always,
+    ];
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+        /// The per-block depth summary (hierarchical Z in the tile) against per-sample depth
+        /// alone: every block test gives the same passing samples, the same access counts and
+        /// the same stored bytes (stencil bits included), on every depth format.
+        #[test]
+        fn block_constant_depth_matches_per_sample_depth(
+            format in prop_oneof![Just(Format::D16Unorm), Just(Format::D24UnormS8Uint), Just(Format::D32Float)],
+            samples in prop_oneof![Just(1usize), Just(4usize)],
+            initial in proptest::collection::vec(any::<u8>(), 16 * 16 * 4 * 4),
+            steps in proptest::collection::vec(step(), 1..40),
+        ) {
+            // A 16×16 tile at (32, 16): four blocks.
+            let (origin, side) = ((32, 16), 16usize);
+            let rect = PixelRect::new(origin.0, origin.1, origin.0 + side as i32, origin.1 + side as i32);
+            let plane = side * side * format.bytes_per_sample();
+            let mut summarised = initial[..plane * samples].to_vec();
+            let mut reference = summarised.clone();
+            let mut states = vec![BlockDepth::Mixed; 4];
+            let mut with_blocks = Surface::new(format, origin, side, summarised.chunks_mut(plane))
+                .with_blocks(DepthBlocks::new(&mut states, side / 8));
+            with_blocks.start_blocks(&rect, None);
+            let mut per_sample = Surface::new(format, origin, side, reference.chunks_mut(plane));
+            let (mut traffic_a, mut traffic_b) = (FramebufferTraffic::on_chip(), FramebufferTraffic::on_chip());
+            let (mut ledger_a, mut ledger_b) = (Ledger::default(), Ledger::default());
+            for step in steps {
+                match step {
+                    Step::Clear { depth } => {
+                        let bits = format.depth_bits(DEPTHS[depth]);
+                        for surface in [&mut with_blocks, &mut per_sample] {
+                            for s in 0..samples {
+                                for y in rect.y0..rect.y1 {
+                                    let row = surface.row_mut(s, y, rect.x0, rect.x1);
+                                    for stored in row.chunks_exact_mut(format.bytes_per_sample()) {
+                                        let (_, stencil) = unpack(format, stored);
+                                        pack(format, stored, bits, stencil);
+                                    }
+                                }
+                            }
+                        }
+                        with_blocks.start_blocks(&rect, Some(bits));
+                    }
+                    Step::Test { block, compare, write, full, masks, depth } => {
+                        let (x, y) = (origin.0 + 8 * (block % 2) as i32, origin.1 + 8 * (block / 2) as i32);
+                        let state = DepthStencilState {
+                            depth_test: true,
+                            depth_write: write,
+                            depth_compare: COMPARES[compare],
+                            ..DepthStencilState::DISABLED
+                        };
+                        let depths = match depth {
+                            Depth::Constant(i) => Depths { y0: y, constant: Some(DEPTHS[i]), lanes: Vec::new() },
+                            Depth::Lanes(indices) => Depths {
+                                y0: y,
+                                constant: None,
+                                lanes: indices.chunks(8).map(|c| std::array::from_fn(|l| DEPTHS[c[l]])).collect(),
+                            },
+                        };
+                        let mut masks_a: Vec<u64> = (0..samples).map(|s| if full { u64::MAX } else { masks[s] }).collect();
+                        let mut masks_b = masks_a.clone();
+                        prop_assert!(block_test_applies(&with_blocks, &state, &traffic_a));
+                        test_block(&mut with_blocks, x, y, &mut masks_a, &state, &depths, &mut traffic_a, &mut ledger_a);
+                        test_block(&mut per_sample, x, y, &mut masks_b, &state, &depths, &mut traffic_b, &mut ledger_b);
+                        prop_assert_eq!(&masks_a, &masks_b);
+                        prop_assert_eq!(traffic_a.on_chip_bytes, traffic_b.on_chip_bytes);
+                    }
+                }
+                for s in 0..samples {
+                    prop_assert_eq!(with_blocks.plane(s), per_sample.plane(s));
+                }
+            }
+            prop_assert_eq!(ledger_a, ledger_b);
+        }
+    }
+
+    /// A block a flat primitive wholly covers, in front, is decided from the summary: after a
+    /// clear, a nearer quad's depth becomes the block's one value, and a farther one is
+    /// rejected without touching the samples.
+    #[test]
+    fn the_summary_follows_full_blocks_of_one_depth() {
+        let format = Format::D24UnormS8Uint;
+        let rect = PixelRect::new(0, 0, 8, 8);
+        let mut bytes = vec![0u8; 64 * 4];
+        let mut states = vec![BlockDepth::Mixed; 1];
+        let mut surface =
+            Surface::new(format, (0, 0), 8, [&mut bytes[..]]).with_blocks(DepthBlocks::new(&mut states, 1));
+        surface.start_blocks(&rect, Some(format.depth_bits(1.0)));
+        let (mut traffic, mut ledger) = (FramebufferTraffic::on_chip(), Ledger::default());
+        let near = Depths { y0: 0, constant: Some(0.25), lanes: Vec::new() };
+        let mut masks = [u64::MAX];
+        test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &near, &mut traffic, &mut ledger);
+        assert_eq!(masks, [u64::MAX]);
+        assert_eq!(surface.block_depth(0, 0), Some((0, BlockDepth::Constant(format.depth_bits(0.25)))));
+        let far = Depths { y0: 0, constant: Some(0.5), lanes: Vec::new() };
+        test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &far, &mut traffic, &mut ledger);
+        assert_eq!(masks, [0]);
+        // Tested 64 + 64 samples, written 64, four bytes each.
+        assert_eq!(traffic.on_chip_bytes, (64 + 64 + 64) * 4);
+        // A partial block leaves the summary unknown; an untracked write forgets all of it.
+        let mut masks = [1u64];
+        let nearer = Depths { y0: 0, constant: Some(0.125), lanes: Vec::new() };
+        test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &nearer, &mut traffic, &mut ledger);
+        assert_eq!(surface.block_depth(0, 0), Some((0, BlockDepth::Mixed)));
+        surface.start_blocks(&rect, Some(0));
+        let _ = surface.plane_mut(0);
+        assert_eq!(surface.block_depth(0, 0), None);
     }
 }

@@ -907,6 +907,11 @@ impl depth::RowDepths for BlockDepths<'_> {
         };
         self.interpolator.row_depth(self.x, y, dx, dy)
     }
+
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn constant(&self) -> Option<f32> {
+        self.interpolator.constant_depth()
+    }
 }
 
 /// Per-lane sample masks as coverage.

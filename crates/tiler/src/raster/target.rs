@@ -22,6 +22,47 @@ pub struct Surface<'a> {
     /// For an image in external memory: the address of this view's first byte and the bytes
     /// between sample planes (cache models need addresses).
     memory: Option<(u64, u64)>,
+    /// The depth of each 8×8 block of a depth attachment in a tile buffer, when known to be one
+    /// value (see [`DepthBlocks`]); `None` for other views.
+    blocks: Option<DepthBlocks<'a>>,
+}
+
+/// What is known of one 8×8 block of a depth attachment in the tile buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BlockDepth {
+    /// Nothing: the samples may hold different depths (test them one by one).
+    Mixed,
+    /// Every sample of every pixel of the block holds these depth bits (stencil bits aside).
+    Constant(u32),
+}
+
+/// Per-block depth summary of a tile's depth attachment: hierarchical Z in the tile.
+///
+/// The sample bytes stay authoritative — load, store, resolve, input attachments and the
+/// group-by-group tests read them as before, and the ledger counts the modelled GPU's accesses
+/// per sample whatever the host does. The summary only lets a test of a whole covered block by
+/// a primitive of constant depth (`depth::test_block`) decide the block with one compare: all
+/// samples fail (early-Z or HSR rejects the block without reading a sample), or all pass (the
+/// block is filled with one value). So that no writer can leave it stale, every mutable access
+/// to the planes other than the depth tests' own ([`Surface::plane_mut`], [`Surface::row_mut`])
+/// marks the whole summary unknown until the next [`Surface::start_blocks`] (the next tile's
+/// load).
+///
+/// Measured on SCENES.md overdraw (TBDR, 960×540, one thread, callgrind) — see
+/// docs/benchmarking.md, "TBDR overdraw: block-constant depth".
+pub struct DepthBlocks<'a> {
+    states: &'a mut [BlockDepth],
+    /// Blocks per row of the tile.
+    columns: usize,
+    /// Whether `states` describes the planes (false after an untracked write).
+    valid: bool,
+}
+
+impl<'a> DepthBlocks<'a> {
+    /// A summary over `states`, one per block of a tile `columns` blocks wide, not yet valid.
+    pub fn new(states: &'a mut [BlockDepth], columns: usize) -> DepthBlocks<'a> {
+        DepthBlocks { states, columns, valid: false }
+    }
 }
 
 impl<'a> Surface<'a> {
@@ -47,7 +88,85 @@ impl<'a> Surface<'a> {
             stride,
             bytes_per_sample: format.bytes_per_sample(),
             memory: None,
+            blocks: None,
         }
+    }
+
+    /// Gives a tile's depth view its per-block summary (tiles whose width and height are
+    /// multiples of 8, so blocks start at multiples of 8 from the origin).
+    pub fn with_blocks(self, blocks: DepthBlocks<'a>) -> Surface<'a> {
+        debug_assert!(self.format.has_depth());
+        Surface { blocks: Some(blocks), ..self }
+    }
+
+    /// Restarts the block summary after a load of `rect`: blocks wholly inside it hold
+    /// `depth_bits` when every sample was set to them, the others are unknown. No-op for
+    /// views without a summary.
+    pub fn start_blocks(&mut self, rect: &PixelRect, depth_bits: Option<u32>) {
+        let (origin_x, origin_y) = (self.origin_x, self.origin_y);
+        let Some(blocks) = self.blocks.as_mut() else { return };
+        for (i, state) in blocks.states.iter_mut().enumerate() {
+            let x = origin_x + 8 * (i % blocks.columns) as i32;
+            let y = origin_y + 8 * (i / blocks.columns) as i32;
+            let inside = x >= rect.x0 && y >= rect.y0 && x + 8 <= rect.x1 && y + 8 <= rect.y1;
+            *state = match depth_bits {
+                Some(bits) if inside => BlockDepth::Constant(bits),
+                _ => BlockDepth::Mixed,
+            };
+        }
+        blocks.valid = true;
+    }
+
+    /// The index and summary of the block whose top-left pixel is `(x, y)`, when the view
+    /// has a valid summary and that is a block of it.
+    #[inline(always)]
+    pub fn block_depth(&self, x: i32, y: i32) -> Option<(usize, BlockDepth)> {
+        let blocks = self.blocks.as_ref().filter(|b| b.valid)?;
+        // Left of or above the origin wraps to a huge offset, which the bounds below reject.
+        let (dx, dy) = (x.wrapping_sub(self.origin_x) as u32, y.wrapping_sub(self.origin_y) as u32);
+        if (dx | dy) & 7 != 0 {
+            return None;
+        }
+        let column = (dx >> 3) as usize;
+        if column >= blocks.columns {
+            return None;
+        }
+        let index = (dy >> 3) as usize * blocks.columns + column;
+        blocks.states.get(index).map(|state| (index, *state))
+    }
+
+    /// Records what block `index` (from [`Surface::block_depth`]) now holds.
+    #[inline(always)]
+    pub fn set_block_depth(&mut self, index: usize, state: BlockDepth) {
+        if let Some(blocks) = self.blocks.as_mut() {
+            blocks.states[index] = state;
+        }
+    }
+
+    /// Notes that the depth tests wrote samples of the 8×8 block at `(x, y)`: its summary
+    /// becomes unknown (all of it, if that is not a block of the summary).
+    #[inline(always)]
+    pub(crate) fn block_written(&mut self, x: i32, y: i32) {
+        match self.block_depth(x, y) {
+            Some((index, _)) => self.set_block_depth(index, BlockDepth::Mixed),
+            None => self.forget_blocks(),
+        }
+    }
+
+    /// Marks the block summary unknown (until the next [`Surface::start_blocks`]).
+    #[inline(always)]
+    fn forget_blocks(&mut self) {
+        if let Some(blocks) = self.blocks.as_mut() {
+            blocks.valid = false;
+        }
+    }
+
+    /// Plane `sample` for the depth tests, which keep the block summary right themselves: each
+    /// caller sets [`Surface::set_block_depth`] for the blocks it writes, or
+    /// [`Surface::plane_mut`] is the accessor to use.
+    #[inline(always)]
+    pub(crate) fn plane_mut_tracked(&mut self, sample: usize) -> &mut [u8] {
+        self.planes[sample]
     }
 
     /// Gives the view addresses: its first byte is at `base`, planes `plane_bytes` apart.
@@ -84,8 +203,10 @@ impl<'a> Surface<'a> {
         self.planes[sample]
     }
 
+    /// Plane `sample`, to write: the block summary (if any) becomes unknown.
     #[inline(always)]
     pub fn plane_mut(&mut self, sample: usize) -> &mut [u8] {
+        self.forget_blocks();
         self.planes[sample]
     }
 
@@ -98,6 +219,7 @@ impl<'a> Surface<'a> {
 
     #[inline]
     pub fn row_mut(&mut self, sample: usize, y: i32, x0: i32, x1: i32) -> &mut [u8] {
+        self.forget_blocks();
         let start = self.offset(x0, y);
         let len = (x1 - x0) as usize * self.bytes_per_sample;
         &mut self.planes[sample][start..start + len]

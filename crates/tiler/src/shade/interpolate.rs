@@ -70,6 +70,15 @@ impl Interpolator {
         F32x8::splat(row) + (px - self.origin[0]) * self.dz[0]
     }
 
+    /// The depth of every point of a flat depth plane (both gradients zero, as for a quad
+    /// facing the viewer), else `None`. Then [`Interpolator::depth`] and
+    /// [`Interpolator::row_depth`] give `z0` at every position (`z0 ± 0`: the same value, or a
+    /// zero of either sign, which depth conversion makes the same bits).
+    #[inline(always)]
+    pub fn constant_depth(&self) -> Option<f32> {
+        (self.dz[0] == 0.0 && self.dz[1] == 0.0).then_some(self.z0)
+    }
+
     /// Perspective-correct barycentrics `(b1, b2)`.
     #[inline(always)]
     pub fn perspective(&self, l1: F32x8, l2: F32x8) -> (F32x8, F32x8) {

@@ -3,7 +3,7 @@
 
 use crate::api::format::Format;
 use crate::raster::PixelRect;
-use crate::raster::target::Surface;
+use crate::raster::target::{BlockDepth, DepthBlocks, Surface};
 
 /// Storage for one tile of each attachment of a render pass. One per worker thread, reused
 /// from tile to tile.
@@ -11,13 +11,24 @@ pub struct TileBuffer {
     tile_width: usize,
     tile_height: usize,
     attachments: Vec<(Format, usize, Vec<u8>)>,
+    /// Per attachment, the per-8×8-block depth summary of a depth attachment (empty for colour,
+    /// and for tiles whose sides are not multiples of 8): see `raster::target::DepthBlocks`.
+    blocks: Vec<Vec<BlockDepth>>,
 }
 
 impl TileBuffer {
     /// For attachments given as `(format, samples)`.
     pub fn new(tile_width: u32, tile_height: u32, attachments: &[(Format, u32)]) -> TileBuffer {
         let (w, h) = (tile_width as usize, tile_height as usize);
+        let blocks_fit = w % 8 == 0 && h % 8 == 0;
         TileBuffer {
+            blocks: attachments
+                .iter()
+                .map(|&(format, _)| {
+                    let summary = blocks_fit && format.has_depth();
+                    vec![BlockDepth::Mixed; if summary { (w / 8) * (h / 8) } else { 0 }]
+                })
+                .collect(),
             tile_width: w,
             tile_height: h,
             attachments: attachments
@@ -38,11 +49,14 @@ impl TileBuffer {
     pub fn surfaces(&mut self, tile: &PixelRect) -> Vec<Surface<'_>> {
         let plane_pixels = self.tile_width * self.tile_height;
         let stride = self.tile_width;
+        let columns = self.tile_width / 8;
         self.attachments
             .iter_mut()
-            .map(|(format, _samples, data)| {
+            .zip(&mut self.blocks)
+            .map(|((format, _samples, data), blocks)| {
                 let plane_bytes = plane_pixels * format.bytes_per_sample();
-                Surface::new(*format, (tile.x0, tile.y0), stride, data.chunks_mut(plane_bytes))
+                let surface = Surface::new(*format, (tile.x0, tile.y0), stride, data.chunks_mut(plane_bytes));
+                if blocks.is_empty() { surface } else { surface.with_blocks(DepthBlocks::new(blocks, columns)) }
             })
             .collect()
     }

@@ -125,7 +125,13 @@ pub fn apply_load(dst: &mut Surface, src: Option<&Surface>, rect: &PixelRect, op
     let samples = dst.samples();
     let bytes = load_bytes(format, samples, src.is_some(), rect, ops);
     match tile_start(format, ops) {
-        TileStart::Value(pattern) => fill_value(dst, rect, &pattern),
+        TileStart::Value(pattern) => {
+            fill_value(dst, rect, &pattern);
+            if format.has_depth() {
+                let bytes = &pattern[..format.bytes_per_sample()];
+                dst.start_blocks(rect, Some(crate::depth::stored_depth_bits(format, bytes)));
+            }
+        }
         TileStart::Loaded => {
             if let Some(src) = src {
                 copy_rect(dst, src, rect);
@@ -160,6 +166,9 @@ pub fn apply_load(dst: &mut Surface, src: Option<&Surface>, rect: &PixelRect, op
                 }
             }
         }
+    }
+    if !matches!(tile_start(format, ops), TileStart::Value(_)) && format.has_depth() {
+        dst.start_blocks(rect, None);
     }
     bytes
 }
