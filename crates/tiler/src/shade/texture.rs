@@ -239,9 +239,18 @@ pub struct Texture {
     /// its modelled address / 4 and a block is one 64-byte line of the host's caches too — a
     /// quad's footprint reads one or two of them, not rows kilobytes apart. Texels of the
     /// blocks past a level's right or bottom edge are zero and never read.
-    texels: Vec<[u8; 4]>,
+    ///
+    /// Each texel is held decoded for the filter: its four channels as the 16-bit UNORMs the
+    /// filter works on (see the module notes), red and green in the first 32-bit word, blue and
+    /// alpha in the second, each channel in the low half first — a colour channel through
+    /// `color_table`, alpha `c · 257`. So sampling loads two words per texel, whose halves are
+    /// its channels, and decodes nothing (an sRGB texel took three table lookups a read). This is the host's
+    /// layout only: the modelled memory, and so the ledger, hold the texture's RGBA8 (or
+    /// stored-format) bytes, whose addresses the cache model reads.
+    texels: Vec<[u32; 2]>,
     /// UNORM8 → the filter's 16-bit UNORM for the colour channels (see the module notes):
-    /// `c · 257`, or the linear value of sRGB `c` when the texture is sRGB.
+    /// `c · 257`, or the linear value of sRGB `c` when the texture is sRGB. Strictly
+    /// increasing, so a decoded channel gives its byte back ([`Texture::texel_bytes`]).
     color_table: Box<[u16; 256]>,
     /// A cube texture's six faces (`cube`), each a chain laid out as `levels` say, one after
     /// the other `face_bytes` apart in the modelled memory; `None` for a 2D texture.
@@ -420,7 +429,16 @@ impl Texture {
             stored_address += layout.level_bytes(level.width, level.height);
         }
         let last = levels.last().expect("level 0 is there");
-        let mut texels = vec![[0u8; 4]; ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize];
+        let color_table: Box<[u16; 256]> = Box::new(std::array::from_fn(|c| match color_space {
+            ColorSpace::Linear => unorm8_to_unorm16(c as u32) as u16,
+            ColorSpace::Srgb => (srgb8_to_linear(c as u8) as f64 * 65535.0).round() as u16,
+        }));
+        debug_assert!(color_table.windows(2).all(|pair| pair[0] < pair[1]), "the colour table is strictly increasing");
+        let decode = |[r, g, b, a]: [u8; 4]| {
+            let colour = |c: u8| color_table[c as usize] as u32;
+            [colour(r) | colour(g) << 16, colour(b) | unorm8_to_unorm16(a as u32) << 16]
+        };
+        let mut texels = vec![[0u32; 2]; ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize];
         for (level, &start) in levels.iter().zip(starts) {
             let row_texels = level.width as usize;
             for (y, row) in rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels).enumerate()
@@ -428,14 +446,12 @@ impl Texture {
                 // Each block's row of (up to) four texels is contiguous in both layouts.
                 for (block_x, texels_in_block) in row.chunks(BLOCK_TEXELS as usize).enumerate() {
                     let at = level.texel_index(block_x as u32 * BLOCK_TEXELS, y as u32);
-                    texels[at..at + texels_in_block.len()].copy_from_slice(texels_in_block);
+                    for (texel, &rgba) in texels[at..at + texels_in_block.len()].iter_mut().zip(texels_in_block) {
+                        *texel = decode(rgba);
+                    }
                 }
             }
         }
-        let color_table = Box::new(std::array::from_fn(|c| match color_space {
-            ColorSpace::Linear => unorm8_to_unorm16(c as u32) as u16,
-            ColorSpace::Srgb => (srgb8_to_linear(c as u8) as f64 * 65535.0).round() as u16,
-        }));
         Texture {
             id: NEXT_TEXTURE_ID.fetch_add(1, Ordering::Relaxed),
             color_space,
@@ -478,19 +494,32 @@ impl Texture {
     /// The texels of level `level`, row-major (a copy: they are stored in blocks).
     pub fn level_texels(&self, level: usize) -> Vec<[u8; 4]> {
         let l = &self.levels[level];
-        (0..l.height).flat_map(|y| (0..l.width).map(move |x| self.texels[l.texel_index(x, y)])).collect()
+        (0..l.height).flat_map(|y| (0..l.width).map(move |x| self.texel_bytes(l.texel_index(x, y)))).collect()
     }
 
     /// Texel `(x, y)` of level `level` (`x < width`, `y < height` of the level).
     pub fn texel(&self, level: usize, x: u32, y: u32) -> [u8; 4] {
         let l = &self.levels[level];
         debug_assert!(x < l.width && y < l.height);
-        self.texels[l.texel_index(x, y)]
+        self.texel_bytes(l.texel_index(x, y))
     }
 
-    /// Host memory the texels take.
+    /// The RGBA8 bytes of `texels[index]`, given back from its decoded channels: alpha is
+    /// `c · 257`, a colour channel the one byte `color_table` maps to it.
+    fn texel_bytes(&self, index: usize) -> [u8; 4] {
+        let texel = self.texels[index];
+        let channel = |c: u32| texel_channel(texel[c as usize / 2], c) as u16;
+        let colour = |c: u32| {
+            let byte = self.color_table.binary_search(&channel(c));
+            debug_assert!(byte.is_ok(), "a colour channel decoded from a byte");
+            byte.unwrap_or_else(|at| at) as u8
+        };
+        [colour(0), colour(1), colour(2), (channel(3) / 257) as u8]
+    }
+
+    /// Host memory the texels take (8 bytes a texel: decoded for the filter, see `texels`).
     pub fn host_bytes(&self) -> usize {
-        self.texels.len() * 4
+        self.texels.len() * std::mem::size_of::<[u32; 2]>()
     }
 
     /// The modelled address of texel `(x, y)` of `level` (see `texture_cache`): where the
@@ -524,18 +553,15 @@ impl Texture {
         sample_group(simd, self, sampler, u, v, counted, cache)
     }
 
-    /// [`Texture::sample`] with `decode` for the colour channels of texels (byte → 16-bit
-    /// UNORM; alpha is `c · 257`): a kernel per colour space, so that linear textures decode
-    /// with vector arithmetic.
+    /// [`Texture::sample`] for one layout (`STORED`: see `sample_group_body`).
     #[inline(always)]
-    fn sample_decoded<const STORED: bool>(
+    fn sample_layout<const STORED: bool>(
         &self,
         sampler: &Sampler,
         u: F32x8,
         v: F32x8,
         counted: LaneMask,
         cache: &mut TextureCache,
-        decode: impl Fn(u32) -> u32,
     ) -> Vec4x8 {
         let rho_squared = quad_rho_squared(u * self.width() as f32, v * self.height() as f32);
         let lods = if self.plan_ignores_lod(sampler) { [0.0; 2] } else { rho_squared.map(|r| 0.5 * log2(r)) };
@@ -557,7 +583,7 @@ impl Texture {
                 v: reduce_quad(lanes(|i| v.lane(PAIR_LANES[i])), sampler.wrap_v),
                 face_offsets: [0; 8],
             };
-            let rgba = self.sample_pair::<STORED>(sampler, pair, &at, counted, minified_unmipped, cache, &decode);
+            let rgba = self.sample_pair::<STORED>(sampler, pair, &at, counted, minified_unmipped, cache);
             return group_of_pair(rgba);
         }
         let mut quads = [[[0u32; 4]; 4]; 2];
@@ -567,15 +593,8 @@ impl Texture {
                 v: reduce_quad(self::lanes(|i| v.lane(lanes[i])), sampler.wrap_v),
                 face_offsets: [0; 4],
             };
-            quads[quad] = self.sample_quad::<STORED>(
-                sampler,
-                lambdas[quad],
-                &at,
-                counted[quad],
-                minified_unmipped[quad],
-                cache,
-                &decode,
-            );
+            quads[quad] =
+                self.sample_quad::<STORED>(sampler, lambdas[quad], &at, counted[quad], minified_unmipped[quad], cache);
         }
         group_of_quads(quads)
     }
@@ -595,7 +614,6 @@ impl Texture {
         counted: [[bool; 4]; 2],
         minified_unmipped: [bool; 2],
         cache: &mut TextureCache,
-        decode: &impl Fn(u32) -> u32,
     ) -> [[u32; 8]; 4] {
         let line_shift = cache.line_shift();
         // See `sample_quad`.
@@ -614,7 +632,7 @@ impl Texture {
                         cache.note_unmipped(misses);
                     }
                 }
-                self.filter(&near, decode)
+                self.filter(&near)
             }
             PairPlan::Blend { level, filter, weights } => {
                 let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
@@ -628,7 +646,7 @@ impl Texture {
                     }
                     cache.access_quad(first_line, &rows[..near_rows + far_rows], counted);
                 }
-                let (a, b) = (self.filter(&near, decode), self.filter(&far, decode));
+                let (a, b) = (self.filter(&near), self.filter(&far));
                 let weight = lanes::<u32, 8>(|i| weights[i / 4]);
                 std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight[i])))
             }
@@ -651,7 +669,6 @@ impl Texture {
         counted: [bool; 4],
         minified_unmipped: bool,
         cache: &mut TextureCache,
-        decode: &impl Fn(u32) -> u32,
     ) -> [Quad<u32>; 4] {
         let line_shift = cache.line_shift();
         // Texel (x, y)'s modelled address is `id · 2^40` plus an offset below 2^32
@@ -666,7 +683,7 @@ impl Texture {
                 if minified_unmipped && counted.contains(&true) {
                     cache.note_unmipped(misses);
                 }
-                self.filter(&near, decode)
+                self.filter(&near)
             }
             LevelPlan::Blend { level, filter, weight } => {
                 let near = self.footprint::<STORED, 4>(level, filter, sampler, at, line_shift);
@@ -676,7 +693,7 @@ impl Texture {
                 rows[..near_rows.len()].copy_from_slice(near_rows);
                 rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
                 cache.access_quad(first_line, &rows[..near_rows.len() + far_rows.len()], counted);
-                let (a, b) = (self.filter(&near, decode), self.filter(&far, decode));
+                let (a, b) = (self.filter(&near), self.filter(&far));
                 let blend = |c: usize| self::lanes(|i| lerp(a[c][i], b[c][i], weight));
                 [blend(0), blend(1), blend(2), blend(3)]
             }
@@ -685,14 +702,13 @@ impl Texture {
 
     /// [`Texture::sample_lod`] at reduced coordinates `at` (one point in every lane), no cache.
     fn sample_point(&self, sampler: &Sampler, at: &QuadAt, lambda: f32) -> [f32; 4] {
-        let decode = |c: u32| self.color_table[c as usize] as u32;
         let rgba = match self.plan(sampler, lambda + sampler.lod_bias) {
             LevelPlan::Single { level, filter } => {
-                self.filter(&self.footprint::<false, 4>(level, filter, sampler, at, 0), &decode)
+                self.filter(&self.footprint::<false, 4>(level, filter, sampler, at, 0))
             }
             LevelPlan::Blend { level, filter, weight } => {
-                let a = self.filter(&self.footprint::<false, 4>(level, filter, sampler, at, 0), &decode);
-                let b = self.filter(&self.footprint::<false, 4>(level + 1, filter, sampler, at, 0), &decode);
+                let a = self.filter(&self.footprint::<false, 4>(level, filter, sampler, at, 0));
+                let b = self.filter(&self.footprint::<false, 4>(level + 1, filter, sampler, at, 0));
                 std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight)))
             }
         };
@@ -801,24 +817,26 @@ impl Texture {
     }
 
     /// The filtered colour of a footprint's lanes as 16-bit UNORMs, `[channel][lane]` (see the
-    /// module notes for the linear filter's formula), colour channels decoded by `decode`.
+    /// module notes for the linear filter's formula), from the decoded texels (`texels`).
     #[inline(always)]
-    fn filter<const N: usize>(&self, footprint: &Footprint<N>, decode: &impl Fn(u32) -> u32) -> [[u32; N]; 4] {
-        let texels = |corner: usize| lanes(|i| u32::from_le_bytes(self.texels[footprint.texels[corner][i] as usize]));
+    fn filter<const N: usize>(&self, footprint: &Footprint<N>) -> [[u32; N]; 4] {
+        // Word `w` of each lane's texel at `corner`.
+        let words = |corner: usize, w: usize| lanes(|i| self.texels[footprint.texels[corner][i] as usize][w]);
         match footprint.filter {
             Filter::Nearest => {
-                let t = texels(0);
-                let channel = |c: u32| lanes(|i| decode(t[i] >> (8 * c) & 0xff));
-                [channel(0), channel(1), channel(2), lanes(|i| unorm8_to_unorm16(t[i] >> 24))]
+                let t = [words(0, 0), words(0, 1)];
+                let channel = |c: u32| lanes(|i| texel_channel(t[c as usize / 2][i], c));
+                [channel(0), channel(1), channel(2), channel(3)]
             }
             Filter::Linear => {
-                let t = [texels(0), texels(1), texels(2), texels(3)];
+                let rg = [words(0, 0), words(1, 0), words(2, 0), words(3, 0)];
+                let ba = [words(0, 1), words(1, 1), words(2, 1), words(3, 1)];
                 let (alpha, beta) = (&footprint.alpha, &footprint.beta);
                 [
-                    bilinear_channel(&t, 0, alpha, beta, decode),
-                    bilinear_channel(&t, 1, alpha, beta, decode),
-                    bilinear_channel(&t, 2, alpha, beta, decode),
-                    bilinear_channel(&t, 3, alpha, beta, &unorm8_to_unorm16),
+                    bilinear_channel(&rg, 0, alpha, beta),
+                    bilinear_channel(&rg, 1, alpha, beta),
+                    bilinear_channel(&ba, 2, alpha, beta),
+                    bilinear_channel(&ba, 3, alpha, beta),
                 ]
             }
         }
@@ -867,18 +885,18 @@ fn check_size(width: u32, height: u32, format: TexelFormat) -> Result<()> {
     Ok(())
 }
 
-/// Channel `c` of four lanes' bilinear filter: `t` holds the texels `[corner][lane]`,
-/// `decode` turns a channel's byte to a 16-bit UNORM. (Each channel through a function of its
-/// own, not a loop, which LLVM would vectorise across the channels of a texel instead.)
+/// Channel `c` (16-bit UNORM) of a decoded texel's word that holds it (see `Texture::texels`).
 #[inline(always)]
-fn bilinear_channel<const N: usize>(
-    t: &[[u32; N]; 4],
-    c: u32,
-    alpha: &[u32; N],
-    beta: &[u32; N],
-    decode: &impl Fn(u32) -> u32,
-) -> [u32; N] {
-    let corner = |k: usize| lanes::<u32, N>(|i| decode(t[k][i] >> (8 * c) & 0xff));
+fn texel_channel(word: u32, c: u32) -> u32 {
+    (word >> (16 * (c % 2))) & 0xffff
+}
+
+/// Channel `c` of the lanes' bilinear filter: `t` holds the word of the decoded texels with
+/// channel `c`, `[corner][lane]`. (Each channel through a function of its own, not a loop,
+/// which LLVM would vectorise across the channels of a texel instead.)
+#[inline(always)]
+fn bilinear_channel<const N: usize>(t: &[[u32; N]; 4], c: u32, alpha: &[u32; N], beta: &[u32; N]) -> [u32; N] {
+    let corner = |k: usize| lanes::<u32, N>(|i| texel_channel(t[k][i], c));
     let (t00, t10, t01, t11) = (corner(0), corner(1), corner(2), corner(3));
     let top = lanes::<u32, N>(|i| lerp(t00[i], t10[i], alpha[i]));
     let bottom = lanes::<u32, N>(|i| lerp(t01[i], t11[i], alpha[i]));
@@ -933,18 +951,13 @@ fn sample_group_body(
     counted: LaneMask,
     cache: &mut TextureCache,
 ) -> Vec4x8 {
-    // A kernel per colour space, and per layout: RGBA8 finds its lines from the decoded
-    // texels' offsets, other formats from their stored layout (`STORED`), with no branch on
-    // the format in the RGBA8 kernel.
-    let srgb = |c: u32| texture.color_table[c as usize] as u32;
-    match (texture.color_space, texture.format != TexelFormat::Rgba8) {
-        // `color_table` is `unorm8_to_unorm16`.
-        (ColorSpace::Linear, false) => {
-            texture.sample_decoded::<false>(sampler, u, v, counted, cache, unorm8_to_unorm16)
-        }
-        (ColorSpace::Linear, true) => texture.sample_decoded::<true>(sampler, u, v, counted, cache, unorm8_to_unorm16),
-        (ColorSpace::Srgb, false) => texture.sample_decoded::<false>(sampler, u, v, counted, cache, srgb),
-        (ColorSpace::Srgb, true) => texture.sample_decoded::<true>(sampler, u, v, counted, cache, srgb),
+    // A kernel per layout: RGBA8 finds its lines from the decoded texels' offsets, other
+    // formats from their stored layout (`STORED`), with no branch on the format in the RGBA8
+    // kernel. The colour space needs none: the texels are held decoded.
+    if texture.format == TexelFormat::Rgba8 {
+        texture.sample_layout::<false>(sampler, u, v, counted, cache)
+    } else {
+        texture.sample_layout::<true>(sampler, u, v, counted, cache)
     }
 }
 
@@ -1817,7 +1830,7 @@ mod tests {
                 assert_eq!(t.texel(0, x, y), given[(y * width + x) as usize], "{width}×{height} ({x}, {y})");
                 // Stored where its modelled address says.
                 let index = ((t.texel_address(0, x, y) - t.texel_address(0, 0, 0)) / TEXEL_BYTES) as usize;
-                assert_eq!(t.texels[index], given[(y * width + x) as usize]);
+                assert_eq!(t.texel_bytes(index), given[(y * width + x) as usize]);
             }
         }
     }

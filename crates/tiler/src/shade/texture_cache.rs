@@ -213,25 +213,24 @@ impl TextureCache {
     /// again then hits every time and leaves every set as it was. Neighbouring pixels usually
     /// read the same texels' lines: most lanes cost a comparison instead of a tag check per
     /// texel.
+    ///
+    /// The row counts the sampler reads (one texel, four, on one level or two) each get a copy
+    /// with the count known, whose loops the compiler unrolls.
     #[inline]
     pub fn access_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
         debug_assert!(rows.len() <= MAX_LANE_LINES);
-        // The lane read before, and whether its lines fit in their sets: it read no more runs
-        // of a line than the sets have ways (so no more distinct lines either). When they may
-        // not, the next lane is read line by line, repeated or not.
-        let mut previous: Option<(usize, bool)> = None;
-        let (mut reads, mut misses) = (0, 0);
-        for lane in (0..4).filter(|&lane| counted[lane]) {
-            reads += rows.len() as u64;
-            if let Some((before, true)) = previous
-                && rows.iter().all(|row| row[lane] == row[before])
-            {
-                continue;
-            }
-            let (lane_misses, runs) = self.read_lane(first_line, rows, lane);
-            misses += lane_misses;
-            previous = Some((lane, runs <= self.config.ways as usize));
-        }
+        let misses = if let Ok(rows) = <&[[u32; 4]; 4]>::try_from(rows) {
+            self.read_quad(first_line, rows, counted)
+        } else if let Ok(rows) = <&[[u32; 4]; 8]>::try_from(rows) {
+            self.read_quad(first_line, rows, counted)
+        } else if let Ok(rows) = <&[[u32; 4]; 1]>::try_from(rows) {
+            self.read_quad(first_line, rows, counted)
+        } else if let Ok(rows) = <&[[u32; 4]; 2]>::try_from(rows) {
+            self.read_quad(first_line, rows, counted)
+        } else {
+            self.read_quad(first_line, rows, counted)
+        };
+        let reads = counted.iter().filter(|&&counted| counted).count() as u64 * rows.len() as u64;
         self.count(reads, misses);
         #[cfg(feature = "texture-cache-reference")]
         if let Some(reference) = &mut self.reference {
@@ -246,6 +245,27 @@ impl TextureCache {
                 "the texture cache model disagrees with its line-by-line reference"
             );
         }
+    }
+
+    /// [`Self::access_quad`] without counting: returns the misses.
+    #[inline(always)]
+    fn read_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) -> u64 {
+        // The lane read before, and whether its lines fit in their sets: it read no more runs
+        // of a line than the sets have ways (so no more distinct lines either). When they may
+        // not, the next lane is read line by line, repeated or not.
+        let mut previous: Option<(usize, bool)> = None;
+        let mut misses = 0;
+        for lane in (0..4).filter(|&lane| counted[lane]) {
+            if let Some((before, true)) = previous
+                && rows.iter().all(|row| row[lane] == row[before])
+            {
+                continue;
+            }
+            let (lane_misses, runs) = self.read_lane(first_line, rows, lane);
+            misses += lane_misses;
+            previous = Some((lane, runs <= self.config.ways as usize));
+        }
+        misses
     }
 
     /// [`Self::read_lines`] of lane `lane` of `rows` (see [`Self::access_quad`]): returns the
@@ -285,9 +305,16 @@ impl TextureCache {
         if self.lines.is_empty() {
             self.allocate();
         }
-        let ways = self.config.ways as usize;
+        let set = &mut self.lines[first..first + self.config.ways as usize];
+        // The second most recently used line of the set is the common case here: two lines
+        // read in turn (a block and the one below it share a set in textures 256 texels wide
+        // or more).
+        if set.get(1) == Some(&line) {
+            set.swap(0, 1);
+            return true;
+        }
         let mut moving = line;
-        for entry in &mut self.lines[first..first + ways] {
+        for entry in set {
             let was = std::mem::replace(entry, moving);
             if was == line {
                 return true;

@@ -197,7 +197,7 @@ impl Texture {
     pub fn face_texel(&self, face: CubeFace, level: usize, x: u32, y: u32) -> [u8; 4] {
         let l = &self.levels[level];
         debug_assert!(x < l.width && y < l.height);
-        self.texels[self.face_offset(face) as usize / TEXEL_BYTES as usize + l.texel_index(x, y)]
+        self.texel_bytes(self.face_offset(face) as usize / TEXEL_BYTES as usize + l.texel_index(x, y))
     }
 
     /// The modelled address of texel `(x, y)` of `level` of cube face `face` (see
@@ -228,16 +228,14 @@ impl Texture {
         sample_cube_group(simd, self, sampler, direction, counted, cache)
     }
 
-    /// [`Texture::sample_cube`] with `decode` for the colour channels (as
-    /// [`Texture::sample_decoded`]).
+    /// [`Texture::sample_cube`]'s body.
     #[inline(always)]
-    fn sample_cube_decoded(
+    fn sample_cube_quads(
         &self,
         sampler: &Sampler,
         direction: [F32x8; 3],
         counted: LaneMask,
         cache: &mut TextureCache,
-        decode: impl Fn(u32) -> u32,
     ) -> Vec4x8 {
         let sampler = sampler.with_wrap(Wrap::ClampToEdge);
         let size = self.width() as f32;
@@ -248,7 +246,7 @@ impl Texture {
             let at = self.cube_quad_at(x, y, z);
             let counted = lanes.map(|lane| counted.contains(lane));
             let minified_unmipped = sampler.mipmap == MipmapMode::None && lambda > super::UNMIPPED_LOD;
-            quads[quad] = self.sample_quad::<false>(&sampler, lambda, &at, counted, minified_unmipped, cache, &decode);
+            quads[quad] = self.sample_quad::<false>(&sampler, lambda, &at, counted, minified_unmipped, cache);
         }
         group_of_quads(quads)
     }
@@ -299,12 +297,7 @@ fn sample_cube_group_body(
     counted: LaneMask,
     cache: &mut TextureCache,
 ) -> Vec4x8 {
-    match texture.color_space {
-        ColorSpace::Linear => texture.sample_cube_decoded(sampler, direction, counted, cache, unorm8_to_unorm16),
-        ColorSpace::Srgb => {
-            texture.sample_cube_decoded(sampler, direction, counted, cache, |c| texture.color_table[c as usize] as u32)
-        }
-    }
+    texture.sample_cube_quads(sampler, direction, counted, cache)
 }
 
 fn check_cube_size(size: u32) -> Result<()> {
