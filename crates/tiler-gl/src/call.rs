@@ -173,9 +173,18 @@ pub enum Call<D = Bytes> {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         wrap_t: Option<Wrap>,
     },
+    /// Depth comparison of texture `id` (`glTexParameteri` of `GL_TEXTURE_COMPARE_MODE` and
+    /// `GL_TEXTURE_COMPARE_FUNC`): with `compare`, a shadow sampler (`sampler2DShadow`)
+    /// reading the depth texture gets `reference OP depth` per texel, the results filtered
+    /// (see `tiler::depth_compare`); without, it reads the depth. Kept by `tex_parameters`.
+    TexCompare {
+        id: u32,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        compare: Option<CompareOp>,
+    },
     /// A sampler object on texture unit `unit` (`glBindSampler` + `glSamplerParameter*`): the
-    /// unit samples its texture with these parameters (as `tex_parameters` takes them) instead
-    /// of the texture's own.
+    /// unit samples its texture with these parameters (as `tex_parameters` and `tex_compare`
+    /// take them) instead of the texture's own.
     BindSampler {
         unit: u32,
         #[serde(default)]
@@ -186,6 +195,8 @@ pub enum Call<D = Bytes> {
         mag_filter: Option<Filter>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         wrap_t: Option<Wrap>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        compare: Option<CompareOp>,
     },
     /// `glBindSampler(unit, 0)`: the unit samples with its texture's parameters again.
     UnbindSampler {
@@ -679,6 +690,7 @@ impl<D> Call<D> {
             CubeTexImage { .. } => "cube_tex_image",
             CubeTexSubImage { .. } => "cube_tex_sub_image",
             TexParameters { .. } => "tex_parameters",
+            TexCompare { .. } => "tex_compare",
             BindSampler { .. } => "bind_sampler",
             UnbindSampler { .. } => "unbind_sampler",
             GenerateMipmap { .. } => "generate_mipmap",
@@ -801,8 +813,9 @@ impl<D> Call<D> {
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
                 TexParameters { id, filter, wrap, mag_filter, wrap_t }
             }
-            BindSampler { unit, filter, wrap, mag_filter, wrap_t } => {
-                BindSampler { unit, filter, wrap, mag_filter, wrap_t }
+            TexCompare { id, compare } => TexCompare { id, compare },
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare } => {
+                BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare }
             }
             UnbindSampler { unit } => UnbindSampler { unit },
             GenerateMipmap { id } => GenerateMipmap { id },

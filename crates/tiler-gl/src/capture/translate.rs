@@ -64,6 +64,12 @@ struct Texture {
     /// first word (`LINEAR_MIPMAP_*` as `LINEAR`); a level between 0 and the chain's last is
     /// refused where it is sampled.
     max_level: u32,
+    /// `GL_TEXTURE_COMPARE_MODE` is `GL_COMPARE_REF_TO_TEXTURE`.
+    compare_mode: bool,
+    /// `GL_TEXTURE_COMPARE_FUNC` (default `GL_LEQUAL`).
+    compare_func: u32,
+    /// The compare mode or function was set: the context is told (`tex_compare`).
+    compare_set: bool,
 }
 
 /// Whether a texture of this internal format has only red (and green) channels.
@@ -84,6 +90,9 @@ impl Default for Texture {
             opaque: false,
             red_green: false,
             max_level: 1000,
+            compare_mode: false,
+            compare_func: GL_LEQUAL,
+            compare_set: false,
         }
     }
 }
@@ -95,6 +104,7 @@ struct SamplerParameters {
     mag: Filter,
     wrap_s: Wrap,
     wrap_t: Wrap,
+    compare: Option<tiler::CompareOp>,
 }
 
 impl Texture {
@@ -132,8 +142,50 @@ impl Texture {
             GL_MIRRORED_REPEAT => Ok(Wrap::MirroredRepeat),
             w => Err(format!("wrap {w:#06x} is not a GLES wrap")),
         };
-        Ok(SamplerParameters { min, mag, wrap_s: wrap(self.wrap[0])?, wrap_t: wrap(self.wrap[1])? })
+        let compare = match (self.compare_mode, self.compare_func) {
+            (false, _) => None,
+            (true, f) => Some(compare_func(f)?),
+        };
+        Ok(SamplerParameters { min, mag, wrap_s: wrap(self.wrap[0])?, wrap_t: wrap(self.wrap[1])?, compare })
     }
+
+    /// A `GL_TEXTURE_COMPARE_MODE` / `GL_TEXTURE_COMPARE_FUNC` parameter (of a texture or a
+    /// sampler object); `Ok(false)` for any other.
+    fn compare_parameter(&mut self, pname: u32, value: f64) -> Fallible<bool> {
+        match (pname, value) {
+            (GL_TEXTURE_COMPARE_MODE, 0.0) => self.compare_mode = false,
+            (GL_TEXTURE_COMPARE_MODE, v) if v == f64::from(GL_COMPARE_REF_TO_TEXTURE) => self.compare_mode = true,
+            (GL_TEXTURE_COMPARE_MODE, v) => return Err(format!("GL_TEXTURE_COMPARE_MODE {v} is not a GL one")),
+            (GL_TEXTURE_COMPARE_FUNC, v) => {
+                compare_func(v as u32)?;
+                self.compare_func = v as u32;
+            }
+            _ => return Ok(false),
+        }
+        self.compare_set = true;
+        Ok(true)
+    }
+}
+
+const GL_LEQUAL: u32 = 0x0203;
+const GL_TEXTURE_COMPARE_MODE: u32 = 0x884c;
+const GL_TEXTURE_COMPARE_FUNC: u32 = 0x884d;
+const GL_COMPARE_REF_TO_TEXTURE: u32 = 0x884e;
+
+/// A GL comparison function (`GL_NEVER` … `GL_ALWAYS`, 0x0200 to 0x0207).
+fn compare_func(f: u32) -> Fallible<tiler::CompareOp> {
+    use tiler::CompareOp as C;
+    Ok(match f {
+        0x0200 => C::Never,
+        0x0201 => C::Less,
+        0x0202 => C::Equal,
+        GL_LEQUAL => C::LessOrEqual,
+        0x0204 => C::Greater,
+        0x0205 => C::NotEqual,
+        0x0206 => C::GreaterOrEqual,
+        0x0207 => C::Always,
+        f => return Err(format!("comparison function {f:#06x} is not a GL one")),
+    })
 }
 
 #[derive(Clone, Debug, Default)]
@@ -308,6 +360,14 @@ impl Translator {
     /// The frame presented by the last call applied, if it was a swap: (frame index, call).
     pub fn take_presented(&mut self) -> Option<(u32, u64)> {
         self.presented.take()
+    }
+
+    /// The window's picture now (see [`Context::window_snapshot`]) and the frames presented
+    /// before it.
+    pub fn snapshot(&mut self) -> Result<(u32, Vec<u8>), String> {
+        let frames = self.swaps.len() as u32;
+        let ctx = self.ctx.as_mut().ok_or("the capture has made no context yet")?;
+        Ok((frames, ctx.window_snapshot()?))
     }
 
     /// Renders what is pending and returns the run.
@@ -827,23 +887,22 @@ impl Translator {
                 let value = number as u32;
                 let name = if *target == GL_TEXTURE_2D { self.bound_texture()? } else { self.bound_cube()? };
                 let t = self.objects()?.textures.entry(name).or_default();
+                if t.compare_parameter(*pname, number)? {
+                    self.update_sampler(name)?;
+                    return Ok(());
+                }
                 match (*pname, number) {
                     (0x2801, _) => t.min = value,
                     (0x2800, _) => t.mag = value,
                     (0x2802, _) => t.wrap[0] = value,
                     (0x2803, _) => t.wrap[1] = value,
                     // GL ES 3.0 parameters apps set to their defaults, or to what changes
-                    // nothing here: WRAP_R (no third coordinate), the compare function (without
-                    // compare mode), the LOD range's defaults, base level 0, identity swizzles.
-                    (0x8072 | 0x884d, _) | (0x813a, -1000.0) | (0x813b, 1000.0) | (0x813c, 0.0) | (0x884c, 0.0) => {}
+                    // nothing here: WRAP_R (no third coordinate), the LOD range's defaults,
+                    // base level 0, identity swizzles.
+                    (0x8072, _) | (0x813a, -1000.0) | (0x813b, 1000.0) | (0x813c, 0.0) => {}
                     (0x8e42, 6403.0) | (0x8e43, 6404.0) | (0x8e44, 6405.0) | (0x8e45, 6406.0) => {}
                     // GL_TEXTURE_MAX_LEVEL (see `Texture::max_level`).
                     (0x813d, v) if v >= 0.0 => t.max_level = v.min(1000.0) as u32,
-                    (0x884c, _) => {
-                        return Err("GL_TEXTURE_COMPARE_MODE = GL_COMPARE_REF_TO_TEXTURE: depth comparison \
-                                    (sampler2DShadow) is not supported"
-                            .into());
-                    }
                     (p, v) => return Err(format!("texture parameter {p:#06x} = {v} is not supported")),
                 }
                 self.update_sampler(name)?;
@@ -1654,6 +1713,9 @@ impl Translator {
                 mag_filter: Some(p.mag),
                 wrap_t: Some(p.wrap_t),
             })?;
+            if t.compare_set {
+                self.emit(Call::TexCompare { id, compare: p.compare })?;
+            }
         }
         Ok(())
     }
