@@ -603,7 +603,10 @@ static void scene_invalidate(void) {
  * texture, then sampled through sampler2DShadow (LEQUAL against a reference that sweeps
  * across the window), nearest on the left, linear (percentage-closer) on the right, and
  * through textureProj. */
-static void scene_shadow(void) {
+/* The shadow scenes' depth map: a slanted quad and a small triangle in front of it rendered by
+ * a depth-only pass into a 32x32 DEPTH_COMPONENT24 texture (nearest, clamped, LEQUAL compare),
+ * left bound to unit 0. */
+static GLuint render_shadow_map(void) {
     GLuint depth_tex;
     glGenTextures(1, &depth_tex);
     glBindTexture(GL_TEXTURE_2D, depth_tex);
@@ -647,6 +650,11 @@ static void scene_shadow(void) {
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glDisable(GL_DEPTH_TEST);
 
+    return depth_tex;
+}
+
+static void scene_shadow(void) {
+    render_shadow_map();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, W, H);
     GLuint show = program(show_vs,
@@ -669,6 +677,45 @@ static void scene_shadow(void) {
     glScissor(32, 0, 32, 64);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_SCISSOR_TEST);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* A sampler object's depth comparison: textureLod and textureProj on the shadow map, the left
+ * half with the texture's own LEQUAL nearest compare, the right half through a sampler object
+ * comparing GREATER with linear filtering. (llvmpipe's ES 3 context does not expose
+ * GL_EXT_shadow_samplers, so shadow2DEXT is tested in tiler-glsl only.) */
+static void scene_shadow_sampler(void) {
+    render_shadow_map();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, W, H);
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nprecision mediump sampler2DShadow;\n"
+        "in vec2 uv;\nuniform sampler2DShadow shadow;\nout vec4 color;\n"
+        "void main() {\n"
+        "  float reference = 0.9 - uv.x * 0.7;\n"
+        "  float lit = textureLod(shadow, vec3(uv.yx, reference), 0.0);\n"
+        "  float projected = textureProj(shadow, vec4(uv * 3.0, reference * 3.0, 3.0));\n"
+        "  color = vec4(lit, projected, 0.6, 1.0);\n"
+        "}\n");
+    glUseProgram(show);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, 32, 64);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    GLuint sampler;
+    glGenSamplers(1, &sampler);
+    glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_FUNC, GL_GREATER);
+    glBindSampler(0, sampler);
+    glScissor(32, 0, 32, 64);
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     glDisable(GL_SCISSOR_TEST);
     eglSwapBuffers(dpy, surf);
@@ -1048,7 +1095,7 @@ int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3},
         {"objects", scene_objects}, {"mrt", scene_mrt}, {"blit", scene_blit},
-        {"invalidate", scene_invalidate}, {"shadow", scene_shadow}, {"restart", scene_restart},
+        {"invalidate", scene_invalidate}, {"shadow", scene_shadow}, {"shadow-sampler", scene_shadow_sampler}, {"restart", scene_restart},
         {"formats", scene_formats}, {"integer", scene_integer}, {"float-srgb", scene_float_srgb},
         {"readback", scene_readback}, {"feedback", scene_feedback}, {"glsl3-more", scene_glsl3_more}};
     if (argc != 2) die("usage: probe3 SCENE");
