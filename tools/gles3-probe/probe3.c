@@ -721,6 +721,47 @@ static void scene_shadow_sampler(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* GL_RGB10_A2 textures of UNSIGNED_INT_2_10_10_10_REV texels: one by glTexImage2D with data
+ * (left half), one by glTexStorage2D then glTexSubImage2D (right half), both linear. */
+static void scene_rgb10a2(void) {
+    GLuint texels[8 * 8];
+    for (int y = 0; y < 8; y++) {
+        for (int x = 0; x < 8; x++) {
+            GLuint r = (GLuint)(x * 1023 / 7), g = (GLuint)(y * 1023 / 7), b = (GLuint)((x ^ y) * 146), a = 3;
+            texels[y * 8 + x] = r | (g << 10) | (b << 20) | (a << 30);
+        }
+    }
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB10_A2, 8, 8, 0, GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV, texels);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGB10_A2, 8, 8);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 8, 8, GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV, texels);
+    GLuint patch[4] = {1023u | (3u << 30), 1023u << 10 | (3u << 30), 1023u << 20 | (1u << 30), 0};
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 3, 3, 2, 2, GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV, patch);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\nuniform sampler2D tex;\nout vec4 color;\n"
+        "void main() { vec4 t = texture(tex, uv); color = vec4(t.rgb * t.a, 1.0); }\n");
+    glUseProgram(show);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnable(GL_SCISSOR_TEST);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glScissor(0, 0, 32, 64);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glScissor(32, 0, 32, 64);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_SCISSOR_TEST);
+    eglSwapBuffers(dpy, surf);
+}
+
 /* Primitive restart (always on in GL ES 3.0 as GL_PRIMITIVE_RESTART_FIXED_INDEX) with short and
  * byte indices, and glDrawRangeElements. */
 static void scene_restart(void) {
@@ -1095,7 +1136,7 @@ int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3},
         {"objects", scene_objects}, {"mrt", scene_mrt}, {"blit", scene_blit},
-        {"invalidate", scene_invalidate}, {"shadow", scene_shadow}, {"shadow-sampler", scene_shadow_sampler}, {"restart", scene_restart},
+        {"invalidate", scene_invalidate}, {"shadow", scene_shadow}, {"shadow-sampler", scene_shadow_sampler}, {"rgb10a2", scene_rgb10a2}, {"restart", scene_restart},
         {"formats", scene_formats}, {"integer", scene_integer}, {"float-srgb", scene_float_srgb},
         {"readback", scene_readback}, {"feedback", scene_feedback}, {"glsl3-more", scene_glsl3_more}};
     if (argc != 2) die("usage: probe3 SCENE");

@@ -1003,6 +1003,9 @@ impl TextureFormat {
 pub enum EncodedFormat {
     Rgba4444,
     Rgba5551,
+    /// `GL_UNSIGNED_INT_2_10_10_10_REV` texels (`GL_RGB10_A2`).
+    #[serde(rename = "rgb10_a2")]
+    Rgb10A2,
     Etc1Rgb8,
     Etc2Rgb8,
     #[serde(rename = "etc2_rgb8_a1")]
@@ -1066,6 +1069,7 @@ impl EncodedFormat {
         match self {
             EncodedFormat::Rgba4444 => T::Rgba4444,
             EncodedFormat::Rgba5551 => T::Rgba5551,
+            EncodedFormat::Rgb10A2 => T::Rgb10A2,
             EncodedFormat::Etc1Rgb8 => T::Etc1Rgb8,
             EncodedFormat::Etc2Rgb8 => T::Etc2Rgb8,
             EncodedFormat::Etc2Rgb8A1 => T::Etc2Rgb8A1,

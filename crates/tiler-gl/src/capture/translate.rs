@@ -714,7 +714,7 @@ impl Translator {
             {
                 check_2d_level0(*target, 0)?;
                 // The unsized format, or GL ES 3.0's sized RGBA4 / RGB5_A1 of a packed type.
-                let sized = matches!((*internal_format, *kind), (0x8056, 0x8033) | (0x8057, 0x8034));
+                let sized = matches!((*internal_format, *kind), (0x8056, 0x8033) | (0x8057, 0x8034) | (0x8059, 0x8368));
                 if *border != 0 || (internal_format != format && !sized) {
                     return Err(format!(
                         "border {border} must be 0, internal format {internal_format:#06x} the format"
@@ -838,16 +838,26 @@ impl Translator {
                 let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
                 self.emit(Call::TexSubImage { id, x, y, width, height, data })?;
             }
-            C::TexStorage2D { target, levels: 1, internal_format: internal @ (0x8056 | 0x8057), width, height } => {
-                // RGBA4 / RGB5_A1 storage, for glTexSubImage2D of packed 16-bit texels: an
+            C::TexStorage2D {
+                target,
+                levels: 1,
+                internal_format: internal @ (0x8056 | 0x8057 | 0x8059),
+                width,
+                height,
+            } => {
+                // RGBA4 / RGB5_A1 / RGB10_A2 storage, for glTexSubImage2D of packed texels: an
                 // encoded level of zeros (GL leaves it undefined), as glTexImage2D without data.
                 check_2d_level0(*target, 0)?;
-                let format = if *internal == 0x8056 { EncodedFormat::Rgba4444 } else { EncodedFormat::Rgba5551 };
+                let format = match *internal {
+                    0x8056 => EncodedFormat::Rgba4444,
+                    0x8057 => EncodedFormat::Rgba5551,
+                    _ => EncodedFormat::Rgb10A2,
+                };
                 let (width, height) = size2(*width, *height)?;
                 if self.texture_id(self.bound_texture()?)?.is_some() {
                     return Err(format!("texture {} already has storage", self.bound_texture()?));
                 }
-                let zeros = Bytes::from(vec![0u8; width as usize * height as usize * 2]);
+                let zeros = Bytes::from(vec![0u8; width as usize * height as usize * encoded::texel_bytes(format)]);
                 self.encoded_tex_image(0, (width, height), (format, false), zeros)?;
             }
             C::TexStorage2D { target, levels, internal_format, width, height } => {

@@ -11,9 +11,11 @@
 //!
 //! - **RGBA8**: as stored.
 //! - **RGB565, RGBA4444, RGBA5551** (GL's packed 16-bit types, a little-endian `u16`, red in
-//!   the high bits): an `n`-bit channel `c` is `round(255 · c / (2^n − 1))`, the byte an 8-bit
-//!   display shows for the UNORM value `c / (2^n − 1)` that GL samples (for 4 bits that is
-//!   `c · 17` exactly). Missing alpha is 255.
+//!   the high bits) and **RGB10_A2** (`UNSIGNED_INT_2_10_10_10_REV`, a little-endian `u32`,
+//!   red in the low bits): an `n`-bit channel `c` is `round(255 · c / (2^n − 1))`, the byte an
+//!   8-bit display shows for the UNORM value `c / (2^n − 1)` that GL samples (for 4 bits that
+//!   is `c · 17` exactly; 10-bit channels lose their two low bits of precision to the 8-bit
+//!   sampler). Missing alpha is 255.
 //! - **RGBA16F, RGBA32F, R32F** (little-endian halves or floats): each channel clamped to
 //!   `[0, 1]` (NaN to 0) and rounded to the nearest byte, `round(255 · v)` — what llvmpipe's
 //!   8-bit display shows of a float texel sampled with nearest filtering; linear filtering then
@@ -47,6 +49,9 @@ pub enum TexelFormat {
     Rgba4444,
     /// 2 bytes: red, green, blue 5 bits each, red high, alpha the low bit.
     Rgba5551,
+    /// 4 bytes (GL's `RGB10_A2` of `UNSIGNED_INT_2_10_10_10_REV`, a little-endian `u32`): red
+    /// the low 10 bits, then green and blue 10 each, alpha the top 2.
+    Rgb10A2,
     /// 8 bytes: four IEEE halves.
     Rgba16Float,
     /// 16 bytes: four IEEE floats.
@@ -126,6 +131,7 @@ impl TexelFormat {
             TexelFormat::Rgb565 => "RGB565".into(),
             TexelFormat::Rgba4444 => "RGBA4444".into(),
             TexelFormat::Rgba5551 => "RGBA5551".into(),
+            TexelFormat::Rgb10A2 => "RGB10_A2".into(),
             TexelFormat::Rgba16Float => "RGBA16F".into(),
             TexelFormat::Rgba32Float => "RGBA32F".into(),
             TexelFormat::R32Float => "R32F".into(),
@@ -177,7 +183,7 @@ impl TexelFormat {
             texel_bytes: 0,
         };
         match self {
-            TexelFormat::Rgba8 | TexelFormat::R32Float => texels(4),
+            TexelFormat::Rgba8 | TexelFormat::R32Float | TexelFormat::Rgb10A2 => texels(4),
             TexelFormat::Rgb565 | TexelFormat::Rgba4444 | TexelFormat::Rgba5551 => texels(2),
             TexelFormat::Rgba16Float => texels(8),
             TexelFormat::Rgba32Float => texels(16),
@@ -237,6 +243,10 @@ impl TexelFormat {
             TexelFormat::Rgba5551 => texels(2, &|t| {
                 let v = packed(t);
                 [unorm_bits(v >> 11, 5), unorm_bits(v >> 6, 5), unorm_bits(v >> 1, 5), unorm_bits(v, 1)]
+            }),
+            TexelFormat::Rgb10A2 => texels(4, &|t| {
+                let v = u32::from_le_bytes([t[0], t[1], t[2], t[3]]);
+                [unorm_bits(v, 10), unorm_bits(v >> 10, 10), unorm_bits(v >> 20, 10), unorm_bits(v >> 30, 2)]
             }),
             TexelFormat::Rgba16Float => texels(8, &|t| {
                 std::array::from_fn(|c| float_to_unorm8(half::f16::from_le_bytes([t[2 * c], t[2 * c + 1]]).to_f32()))
@@ -325,6 +335,10 @@ mod tests {
         assert_eq!(t, [[255, 130, 8, 255]]);
         let t = TexelFormat::Rgba4444.decode(1, 1, &0xf08fu16.to_le_bytes()).unwrap();
         assert_eq!(t, [[255, 0, 136, 255]]);
+        // Red 1023, green 0, blue 512, alpha 1 (of 3).
+        let v: u32 = 1023 | (512 << 20) | (1 << 30);
+        assert_eq!(TexelFormat::Rgb10A2.decode(1, 1, &v.to_le_bytes()).unwrap(), [[255, 0, 128, 85]]);
+        assert_eq!(TexelFormat::Rgb10A2.layout().texel_bytes, 4);
         let t = TexelFormat::Rgba5551.decode(1, 1, &0xf800u16.to_le_bytes()).unwrap();
         assert_eq!(t, [[255, 0, 0, 0]]);
     }
