@@ -1006,6 +1006,12 @@ pub enum EncodedFormat {
     /// `GL_UNSIGNED_INT_2_10_10_10_REV` texels (`GL_RGB10_A2`).
     #[serde(rename = "rgb10_a2")]
     Rgb10A2,
+    /// `GL_UNSIGNED_INT_10F_11F_11F_REV` texels (`GL_R11F_G11F_B10F`).
+    #[serde(rename = "r11f_g11f_b10f")]
+    R11fG11fB10f,
+    /// `GL_UNSIGNED_INT_5_9_9_9_REV` texels (`GL_RGB9_E5`).
+    #[serde(rename = "rgb9_e5")]
+    Rgb9E5,
     Etc1Rgb8,
     Etc2Rgb8,
     #[serde(rename = "etc2_rgb8_a1")]
@@ -1070,6 +1076,8 @@ impl EncodedFormat {
             EncodedFormat::Rgba4444 => T::Rgba4444,
             EncodedFormat::Rgba5551 => T::Rgba5551,
             EncodedFormat::Rgb10A2 => T::Rgb10A2,
+            EncodedFormat::R11fG11fB10f => T::Rg11B10Float,
+            EncodedFormat::Rgb9E5 => T::Rgb9E5,
             EncodedFormat::Etc1Rgb8 => T::Etc1Rgb8,
             EncodedFormat::Etc2Rgb8 => T::Etc2Rgb8,
             EncodedFormat::Etc2Rgb8A1 => T::Etc2Rgb8A1,

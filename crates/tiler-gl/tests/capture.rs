@@ -1132,6 +1132,11 @@ fn probe_depth_compare_textures_match_llvmpipe() {
 }
 
 #[test]
+fn probe_packed_float_textures_match_llvmpipe() {
+    check_probe_in("gles3-probe", "packed-float");
+}
+
+#[test]
 fn probe_rgb10_a2_textures_match_llvmpipe() {
     check_probe_in("gles3-probe", "rgb10a2");
 }

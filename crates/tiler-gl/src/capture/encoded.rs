@@ -50,13 +50,16 @@ pub(super) fn compressed_format(internal_format: GlEnum) -> Fallible<(EncodedFor
 /// `GL_UNSIGNED_INT_2_10_10_10_REV`.
 const GL_UNSIGNED_INT_2_10_10_10_REV: u32 = 0x8368;
 
-/// The packed type of `glTexImage2D` the context stores as uploaded (4444, 5551, 2_10_10_10),
+/// The packed type of `glTexImage2D` the context stores as uploaded (4444, 5551, 2_10_10_10,
+/// 10F_11F_11F, 5_9_9_9),
 /// if `kind` is one (RGB565 is a texture format of its own).
 pub(super) fn packed_format(format: GlEnum, kind: GlEnum) -> Option<EncodedFormat> {
     match (format, kind) {
         (texels::GL_RGBA, texels::GL_UNSIGNED_SHORT_4_4_4_4) => Some(EncodedFormat::Rgba4444),
         (texels::GL_RGBA, texels::GL_UNSIGNED_SHORT_5_5_5_1) => Some(EncodedFormat::Rgba5551),
         (texels::GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV) => Some(EncodedFormat::Rgb10A2),
+        (texels::GL_RGB, 0x8c3b /* UNSIGNED_INT_10F_11F_11F_REV */) => Some(EncodedFormat::R11fG11fB10f),
+        (texels::GL_RGB, 0x8c3e /* UNSIGNED_INT_5_9_9_9_REV */) => Some(EncodedFormat::Rgb9E5),
         _ => None,
     }
 }

@@ -713,8 +713,12 @@ impl Translator {
                 if encoded::packed_format(*format, *kind).is_some() =>
             {
                 check_2d_level0(*target, 0)?;
-                // The unsized format, or GL ES 3.0's sized RGBA4 / RGB5_A1 of a packed type.
-                let sized = matches!((*internal_format, *kind), (0x8056, 0x8033) | (0x8057, 0x8034) | (0x8059, 0x8368));
+                // The unsized format, or GL ES 3.0's sized RGBA4, RGB5_A1, RGB10_A2,
+                // R11F_G11F_B10F, RGB9_E5 of their packed types.
+                let sized = matches!(
+                    (*internal_format, *kind),
+                    (0x8056, 0x8033) | (0x8057, 0x8034) | (0x8059, 0x8368) | (0x8c3a, 0x8c3b) | (0x8c3d, 0x8c3e)
+                );
                 if *border != 0 || (internal_format != format && !sized) {
                     return Err(format!(
                         "border {border} must be 0, internal format {internal_format:#06x} the format"
@@ -841,17 +845,19 @@ impl Translator {
             C::TexStorage2D {
                 target,
                 levels: 1,
-                internal_format: internal @ (0x8056 | 0x8057 | 0x8059),
+                internal_format: internal @ (0x8056 | 0x8057 | 0x8059 | 0x8c3a | 0x8c3d),
                 width,
                 height,
             } => {
-                // RGBA4 / RGB5_A1 / RGB10_A2 storage, for glTexSubImage2D of packed texels: an
+                // RGBA4 / RGB5_A1 / RGB10_A2 / R11F_G11F_B10F / RGB9_E5 storage, for glTexSubImage2D of packed texels: an
                 // encoded level of zeros (GL leaves it undefined), as glTexImage2D without data.
                 check_2d_level0(*target, 0)?;
                 let format = match *internal {
                     0x8056 => EncodedFormat::Rgba4444,
                     0x8057 => EncodedFormat::Rgba5551,
-                    _ => EncodedFormat::Rgb10A2,
+                    0x8059 => EncodedFormat::Rgb10A2,
+                    0x8c3a => EncodedFormat::R11fG11fB10f,
+                    _ => EncodedFormat::Rgb9E5,
                 };
                 let (width, height) = size2(*width, *height)?;
                 if self.texture_id(self.bound_texture()?)?.is_some() {
