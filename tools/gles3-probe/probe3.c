@@ -603,7 +603,10 @@ static void scene_invalidate(void) {
  * texture, then sampled through sampler2DShadow (LEQUAL against a reference that sweeps
  * across the window), nearest on the left, linear (percentage-closer) on the right, and
  * through textureProj. */
-static void scene_shadow(void) {
+/* The shadow scenes' depth map: a slanted quad and a small triangle in front of it rendered by
+ * a depth-only pass into a 32x32 DEPTH_COMPONENT24 texture (nearest, clamped, LEQUAL compare),
+ * left bound to unit 0. */
+static GLuint render_shadow_map(void) {
     GLuint depth_tex;
     glGenTextures(1, &depth_tex);
     glBindTexture(GL_TEXTURE_2D, depth_tex);
@@ -647,6 +650,11 @@ static void scene_shadow(void) {
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glDisable(GL_DEPTH_TEST);
 
+    return depth_tex;
+}
+
+static void scene_shadow(void) {
+    render_shadow_map();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, W, H);
     GLuint show = program(show_vs,
@@ -669,6 +677,140 @@ static void scene_shadow(void) {
     glScissor(32, 0, 32, 64);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_SCISSOR_TEST);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* A sampler object's depth comparison: textureLod and textureProj on the shadow map, the left
+ * half with the texture's own LEQUAL nearest compare, the right half through a sampler object
+ * comparing GREATER with linear filtering. (llvmpipe's ES 3 context does not expose
+ * GL_EXT_shadow_samplers, so shadow2DEXT is tested in tiler-glsl only.) */
+static void scene_shadow_sampler(void) {
+    render_shadow_map();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, W, H);
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nprecision mediump sampler2DShadow;\n"
+        "in vec2 uv;\nuniform sampler2DShadow shadow;\nout vec4 color;\n"
+        "void main() {\n"
+        "  float reference = 0.9 - uv.x * 0.7;\n"
+        "  float lit = textureLod(shadow, vec3(uv.yx, reference), 0.0);\n"
+        "  float projected = textureProj(shadow, vec4(uv * 3.0, reference * 3.0, 3.0));\n"
+        "  color = vec4(lit, projected, 0.6, 1.0);\n"
+        "}\n");
+    glUseProgram(show);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, 32, 64);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    GLuint sampler;
+    glGenSamplers(1, &sampler);
+    glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_FUNC, GL_GREATER);
+    glBindSampler(0, sampler);
+    glScissor(32, 0, 32, 64);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_SCISSOR_TEST);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* GL_RGB10_A2 textures of UNSIGNED_INT_2_10_10_10_REV texels: one by glTexImage2D with data
+ * (left half), one by glTexStorage2D then glTexSubImage2D (right half), both linear. */
+static void scene_rgb10a2(void) {
+    GLuint texels[8 * 8];
+    for (int y = 0; y < 8; y++) {
+        for (int x = 0; x < 8; x++) {
+            GLuint r = (GLuint)(x * 1023 / 7), g = (GLuint)(y * 1023 / 7), b = (GLuint)((x ^ y) * 146), a = 3;
+            texels[y * 8 + x] = r | (g << 10) | (b << 20) | (a << 30);
+        }
+    }
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB10_A2, 8, 8, 0, GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV, texels);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGB10_A2, 8, 8);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 8, 8, GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV, texels);
+    GLuint patch[4] = {1023u | (3u << 30), 1023u << 10 | (3u << 30), 1023u << 20 | (1u << 30), 0};
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 3, 3, 2, 2, GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV, patch);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\nuniform sampler2D tex;\nout vec4 color;\n"
+        "void main() { vec4 t = texture(tex, uv); color = vec4(t.rgb * t.a, 1.0); }\n");
+    glUseProgram(show);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnable(GL_SCISSOR_TEST);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glScissor(0, 0, 32, 64);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glScissor(32, 0, 32, 64);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_SCISSOR_TEST);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* An unsigned small float of `mbits` mantissa bits (5-bit exponent, bias 15) for v in [0, 2). */
+static GLuint small_float(float v, int mbits) {
+    if (v <= 0.0f) return 0;
+    int e = 15;
+    while (v < 1.0f && e > 1) { v *= 2.0f; e--; }
+    while (v >= 2.0f) { v *= 0.5f; e++; }
+    if (v < 1.0f) return (GLuint)(v * (1 << mbits) * 0.5f + 0.5f); /* denormal at e = 1 */
+    GLuint f = (GLuint)((v - 1.0f) * (1 << mbits) + 0.5f);
+    if (f == (1u << mbits)) { f = 0; e++; }
+    return ((GLuint)e << mbits) | f;
+}
+
+/* Packed float textures: GL_R11F_G11F_B10F by glTexImage2D with data (left half) and GL_RGB9_E5
+ * by glTexStorage2D then glTexSubImage2D (right half), both linear. */
+static void scene_packed_float(void) {
+    GLuint r11[8 * 8], e5[8 * 8];
+    for (int y = 0; y < 8; y++) {
+        for (int x = 0; x < 8; x++) {
+            float r = x / 7.0f, g = y / 7.0f, b = ((x ^ y) & 7) / 7.0f;
+            r11[y * 8 + x] = small_float(r, 6) | (small_float(g, 6) << 11) | (small_float(b, 5) << 22);
+            /* Exponent 15: a mantissa step is 2^-9. */
+            GLuint mr = (GLuint)(r * 511.0f + 0.5f), mg = (GLuint)(g * 511.0f + 0.5f), mb = (GLuint)(b * 511.0f + 0.5f);
+            e5[y * 8 + x] = mr | (mg << 9) | (mb << 18) | (15u << 27);
+        }
+    }
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R11F_G11F_B10F, 8, 8, 0, GL_RGB, GL_UNSIGNED_INT_10F_11F_11F_REV, r11);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGB9_E5, 8, 8);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 8, 8, GL_RGB, GL_UNSIGNED_INT_5_9_9_9_REV, e5);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    GLuint show = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\nuniform sampler2D tex;\nout vec4 color;\n"
+        "void main() { color = texture(tex, uv); }\n");
+    glUseProgram(show);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnable(GL_SCISSOR_TEST);
+    glBindTexture(GL_TEXTURE_2D, tex[0]);
+    glScissor(0, 0, 32, 64);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindTexture(GL_TEXTURE_2D, tex[1]);
+    glScissor(32, 0, 32, 64);
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     glDisable(GL_SCISSOR_TEST);
     eglSwapBuffers(dpy, surf);
@@ -1048,7 +1190,8 @@ int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3},
         {"objects", scene_objects}, {"mrt", scene_mrt}, {"blit", scene_blit},
-        {"invalidate", scene_invalidate}, {"shadow", scene_shadow}, {"restart", scene_restart},
+        {"invalidate", scene_invalidate}, {"shadow", scene_shadow}, {"shadow-sampler", scene_shadow_sampler}, {"rgb10a2", scene_rgb10a2},
+        {"packed-float", scene_packed_float}, {"restart", scene_restart},
         {"formats", scene_formats}, {"integer", scene_integer}, {"float-srgb", scene_float_srgb},
         {"readback", scene_readback}, {"feedback", scene_feedback}, {"glsl3-more", scene_glsl3_more}};
     if (argc != 2) die("usage: probe3 SCENE");

@@ -54,6 +54,14 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "DIR")]
     pub frames: Option<PathBuf>,
 
+    /// With --frames: also write the window's picture after each of these capture calls
+    /// (apitrace call numbers, comma-separated) as DIR/call-NNNNNNNN.png — a frame of a
+    /// capture that renders off-screen or never calls eglSwapBuffers. A snapshot in the middle
+    /// of the window's render pass renders it there, as a glReadPixels would, and the report
+    /// counts it so.
+    #[arg(long, value_delimiter = ',', value_name = "CALL,...", requires = "frames")]
+    pub snapshot: Vec<u64>,
+
     /// Prove the advice: apply each finding's fix to the trace (invalidate before the unbind,
     /// clear after the bind, bind each framebuffer once, read back at the end of the pass),
     /// replay it on each device, and report the bytes it saved beside the estimate and
@@ -62,6 +70,9 @@ pub struct AnalyzeArgs {
     #[arg(long)]
     pub what_if: bool,
 }
+
+/// The most `--snapshot` calls (each writes a PNG of the window).
+const MAX_SNAPSHOTS: usize = 10_000;
 
 /// The window's last picture: width, height, RGBA8 rows top first.
 type Picture = (u32, u32, Vec<u8>);
@@ -111,6 +122,9 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
     let capture = is_capture(&args.trace)?;
     if !capture && args.frames.is_some() {
         bail!("--frames is for apitrace captures; {} is a JSON trace", args.trace.display());
+    }
+    if args.snapshot.len() > MAX_SNAPSHOTS {
+        bail!("--snapshot: {} calls; at most {MAX_SNAPSHOTS}", args.snapshot.len());
     }
     let mut trace = if capture {
         None
@@ -301,9 +315,15 @@ fn replay_capture(
         files::check_dir("--frames", dir)?;
         std::fs::create_dir_all(dir).with_context(|| format!("--frames: creating {}", dir.display()))?;
     }
+    let mut snapshots_written = Vec::new();
     let mut write_frame = |frame: &capture::PresentedFrame| -> std::result::Result<(), String> {
         let Some(dir) = frames_dir else { return Ok(()) };
-        let path = dir.join(format!("frame-{:04}.png", frame.index));
+        let path = if frame.snapshot {
+            snapshots_written.push(frame.call);
+            dir.join(format!("call-{:08}.png", frame.call))
+        } else {
+            dir.join(format!("frame-{:04}.png", frame.index))
+        };
         files::check_png("--frames", &path, inputs)
             .and_then(|()| files::write_png(&path, frame.width, frame.height, frame.rgba))
             .map_err(|e| format!("{e:#}"))
@@ -311,9 +331,17 @@ fn replay_capture(
     let defaults = ReplayOptions::default();
     // The first replay records the calls for `--what-if`.
     let record = args.what_if && write_frames;
-    let options = ReplayOptions { config: configure(defaults.config.clone()), record, ..defaults };
+    let snapshots = if write_frames { args.snapshot.clone() } else { Vec::new() };
+    let options = ReplayOptions { config: configure(defaults.config.clone()), record, snapshots, ..defaults };
     let replay = capture::replay_file(&args.trace, &options, &mut write_frame)
         .with_context(|| format!("replaying {}", args.trace.display()))?;
+    if let Some(missed) = options.snapshots.iter().find(|c| !snapshots_written.contains(c)) {
+        bail!(
+            "--snapshot {missed}: {} has no call {missed} (its calls are numbered 0 to {})",
+            args.trace.display(),
+            replay.calls.saturating_sub(1)
+        );
+    }
     let c = replay.context.config().clone();
     let picture = (c.width, c.height, replay.context.surface_rgba8());
     let recorded = replay.context.recorded_frames().map(<[Vec<tiler_gl::Call>]>::to_vec);

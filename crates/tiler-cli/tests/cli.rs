@@ -410,3 +410,38 @@ fn analyze_what_if_measures_each_fix() {
     let out = tiler(&["analyze", &s(&trace), "--what-if", "--gl-report", &s(&trace)]);
     assert!(!out.status.success(), "an input named as output is refused");
 }
+
+/// `--snapshot` writes the window after the calls it names, mid-frame included: the probe's
+/// shadow scene draws its left half (call 97) and then its right half (call 101) before the
+/// swap (call 103).
+#[test]
+fn analyze_snapshots_the_window_after_given_calls() {
+    let dir = scratch("analyze-snapshot");
+    let frames = dir.join("frames");
+    let trace = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tiler-gl/tests/data/gles3-probe/shadow.trace");
+    let trace = trace.to_str().unwrap();
+    let out = tiler(&["analyze", trace, "--frames", frames.to_str().unwrap(), "--snapshot", "97,101"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut names: Vec<_> =
+        std::fs::read_dir(&frames).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    names.sort();
+    assert_eq!(names, ["call-00000097.png", "call-00000101.png", "frame-0000.png"]);
+    let rgba = |name: &str| image::open(frames.join(name)).unwrap().to_rgba8();
+    let (half, whole, presented) = (rgba("call-00000097.png"), rgba("call-00000101.png"), rgba("frame-0000.png"));
+    assert_eq!((half.width(), half.height()), (64, 64));
+    // The scene's blue is 0.3 wherever it drew; the clear is black.
+    assert!(half.get_pixel(10, 32)[2] > 60 && half.get_pixel(50, 32)[2] == 0);
+    assert!(whole.get_pixel(50, 32)[2] > 60);
+    assert_eq!(whole, presented, "nothing is drawn between call 101 and the swap");
+
+    // A call the capture does not have, and --snapshot without --frames, are errors.
+    let out = tiler(&["analyze", trace, "--frames", frames.to_str().unwrap(), "--snapshot", "5000"]);
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("--snapshot 5000"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = tiler(&["analyze", trace, "--snapshot", "97"]);
+    assert!(!out.status.success());
+}

@@ -173,9 +173,18 @@ pub enum Call<D = Bytes> {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         wrap_t: Option<Wrap>,
     },
+    /// Depth comparison of texture `id` (`glTexParameteri` of `GL_TEXTURE_COMPARE_MODE` and
+    /// `GL_TEXTURE_COMPARE_FUNC`): with `compare`, a shadow sampler (`sampler2DShadow`)
+    /// reading the depth texture gets `reference OP depth` per texel, the results filtered
+    /// (see `tiler::depth_compare`); without, it reads the depth. Kept by `tex_parameters`.
+    TexCompare {
+        id: u32,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        compare: Option<CompareOp>,
+    },
     /// A sampler object on texture unit `unit` (`glBindSampler` + `glSamplerParameter*`): the
-    /// unit samples its texture with these parameters (as `tex_parameters` takes them) instead
-    /// of the texture's own.
+    /// unit samples its texture with these parameters (as `tex_parameters` and `tex_compare`
+    /// take them) instead of the texture's own.
     BindSampler {
         unit: u32,
         #[serde(default)]
@@ -186,6 +195,8 @@ pub enum Call<D = Bytes> {
         mag_filter: Option<Filter>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         wrap_t: Option<Wrap>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        compare: Option<CompareOp>,
     },
     /// `glBindSampler(unit, 0)`: the unit samples with its texture's parameters again.
     UnbindSampler {
@@ -688,6 +699,7 @@ impl<D> Call<D> {
             CubeTexImage { .. } => "cube_tex_image",
             CubeTexSubImage { .. } => "cube_tex_sub_image",
             TexParameters { .. } => "tex_parameters",
+            TexCompare { .. } => "tex_compare",
             BindSampler { .. } => "bind_sampler",
             UnbindSampler { .. } => "unbind_sampler",
             GenerateMipmap { .. } => "generate_mipmap",
@@ -811,8 +823,9 @@ impl<D> Call<D> {
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
                 TexParameters { id, filter, wrap, mag_filter, wrap_t }
             }
-            BindSampler { unit, filter, wrap, mag_filter, wrap_t } => {
-                BindSampler { unit, filter, wrap, mag_filter, wrap_t }
+            TexCompare { id, compare } => TexCompare { id, compare },
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare } => {
+                BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare }
             }
             UnbindSampler { unit } => UnbindSampler { unit },
             GenerateMipmap { id } => GenerateMipmap { id },
@@ -1001,6 +1014,15 @@ impl TextureFormat {
 pub enum EncodedFormat {
     Rgba4444,
     Rgba5551,
+    /// `GL_UNSIGNED_INT_2_10_10_10_REV` texels (`GL_RGB10_A2`).
+    #[serde(rename = "rgb10_a2")]
+    Rgb10A2,
+    /// `GL_UNSIGNED_INT_10F_11F_11F_REV` texels (`GL_R11F_G11F_B10F`).
+    #[serde(rename = "r11f_g11f_b10f")]
+    R11fG11fB10f,
+    /// `GL_UNSIGNED_INT_5_9_9_9_REV` texels (`GL_RGB9_E5`).
+    #[serde(rename = "rgb9_e5")]
+    Rgb9E5,
     Etc1Rgb8,
     Etc2Rgb8,
     #[serde(rename = "etc2_rgb8_a1")]
@@ -1064,6 +1086,9 @@ impl EncodedFormat {
         match self {
             EncodedFormat::Rgba4444 => T::Rgba4444,
             EncodedFormat::Rgba5551 => T::Rgba5551,
+            EncodedFormat::Rgb10A2 => T::Rgb10A2,
+            EncodedFormat::R11fG11fB10f => T::Rg11B10Float,
+            EncodedFormat::Rgb9E5 => T::Rgb9E5,
             EncodedFormat::Etc1Rgb8 => T::Etc1Rgb8,
             EncodedFormat::Etc2Rgb8 => T::Etc2Rgb8,
             EncodedFormat::Etc2Rgb8A1 => T::Etc2Rgb8A1,

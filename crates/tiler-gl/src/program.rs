@@ -288,8 +288,12 @@ enum Texels {
         samples: u32,
         data: Vec<u8>,
     },
-    /// Depths, read as `(z, z, z, 1)`.
-    Depth(Vec<f32>),
+    /// Depths, read as `(z, z, z, 1)`; `fixed_point`: a UNORM depth format (its compares
+    /// clamp the reference to `[0, 1]`).
+    Depth {
+        depths: Vec<f32>,
+        fixed_point: bool,
+    },
     Constant([f32; 4]),
 }
 
@@ -302,12 +306,15 @@ pub struct SamplerState {
     pub mag_filter: Filter,
     pub wrap_s: Wrap,
     pub wrap_t: Wrap,
+    /// Depth comparison (`GL_TEXTURE_COMPARE_MODE` / `FUNC`): what a shadow sampler reading a
+    /// depth texture compares with ([`TextureSnapshot::sample_compare`]).
+    pub compare: Option<tiler::CompareOp>,
 }
 
 impl SamplerState {
     /// One filter (magnifying with its first word) and one wrap for both coordinates.
     pub const fn new(filter: Filter, wrap: Wrap) -> SamplerState {
-        SamplerState { min_filter: filter, mag_filter: filter.base(), wrap_s: wrap, wrap_t: wrap }
+        SamplerState { min_filter: filter, mag_filter: filter.base(), wrap_s: wrap, wrap_t: wrap, compare: None }
     }
 
     /// Whether GL's rules make a texture sampled this way incomplete (it then reads as
@@ -327,9 +334,10 @@ impl TextureSnapshot {
         TextureSnapshot { width, height, texels: Texels::Color { format, samples, data }, alpha_one: false }
     }
 
-    /// A depth image's depths, rows top to bottom.
-    pub fn depth(width: u32, height: u32, depths: Vec<f32>) -> TextureSnapshot {
-        TextureSnapshot { width, height, texels: Texels::Depth(depths), alpha_one: false }
+    /// A depth image's depths, rows top to bottom; `fixed_point`: its format is UNORM (D16,
+    /// D24), not float.
+    pub fn depth(width: u32, height: u32, depths: Vec<f32>, fixed_point: bool) -> TextureSnapshot {
+        TextureSnapshot { width, height, texels: Texels::Depth { depths, fixed_point }, alpha_one: false }
     }
 
     /// One texel of one value: what an unbound unit reads.
@@ -363,7 +371,7 @@ impl TextureSnapshot {
                 format.resolve_samples(pixel, &mut resolved);
                 format.decode_color(&resolved[..bpp])
             }
-            Texels::Depth(depths) => {
+            Texels::Depth { depths, .. } => {
                 let z = depths[index];
                 [z, z, z, 1.0]
             }
@@ -383,12 +391,42 @@ impl TextureSnapshot {
         rgba
     }
 
-    fn sample_texels(&self, s: f32, t: f32, state: SamplerState) -> [f32; 4] {
+    /// A shadow sampler's lookup at `(s, t)` with reference depth `reference`: with the
+    /// state's compare function, each texel's depth compared (`tiler::depth_compare`) and,
+    /// under linear filtering, the four 0/1 results blended with the bilinear weights, as
+    /// llvmpipe does; without one, the depth (red of a colour texture: GL leaves that
+    /// undefined).
+    pub fn sample_compare(&self, s: f32, t: f32, reference: f32, state: SamplerState) -> f32 {
+        let (Some(op), Texels::Depth { fixed_point, .. }) = (state.compare, &self.texels) else {
+            return self.sample(s, t, state)[0];
+        };
+        let depth = |x: i64, y: i64| self.texel(x, y, state)[0];
+        let (u, v) = self.texel_coordinates(s, t);
+        match state.mag_filter.base() {
+            Filter::Nearest => {
+                tiler::depth_compare::compare(op, reference, depth(u.floor() as i64, v.floor() as i64), *fixed_point)
+            }
+            _ => {
+                let (u, v) = (u - 0.5, v - 0.5);
+                let (x0, y0) = (u.floor(), v.floor());
+                let (fx, fy) = (u - x0, v - y0);
+                let (x0, y0) = (x0 as i64, y0 as i64);
+                let texels = [depth(x0, y0), depth(x0 + 1, y0), depth(x0, y0 + 1), depth(x0 + 1, y0 + 1)];
+                tiler::depth_compare::compare_bilinear(op, reference, texels, fx, fy, *fixed_point)
+            }
+        }
+    }
+
+    /// GL texture coordinates `(s, t)` in texels of the snapshot (non-finite ones at 0,
+    /// others kept where the conversions to integers are exact enough).
+    fn texel_coordinates(&self, s: f32, t: f32) -> (f32, f32) {
         let (s, t) = if s.is_finite() && t.is_finite() { (s, t) } else { (0.0, 0.0) };
-        // Keep coordinates in a range where the conversions below are exact enough.
         let (s, t) = (s.clamp(-65536.0, 65536.0), t.clamp(-65536.0, 65536.0));
-        let u = s * self.width as f32;
-        let v = t * self.height as f32;
+        (s * self.width as f32, t * self.height as f32)
+    }
+
+    fn sample_texels(&self, s: f32, t: f32, state: SamplerState) -> [f32; 4] {
+        let (u, v) = self.texel_coordinates(s, t);
         match state.mag_filter.base() {
             Filter::Nearest => self.texel(u.floor() as i64, v.floor() as i64, state),
             _ => {

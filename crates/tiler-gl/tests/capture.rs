@@ -622,7 +622,7 @@ fn mip_levels_uploaded_by_the_application_are_sampled() {
 }
 
 #[test]
-fn max_level_zero_makes_a_mipmap_filter_sample_level_zero_and_compare_mode_is_refused() {
+fn max_level_zero_makes_a_mipmap_filter_sample_level_zero_and_compare_mode_leaves_sampler2d_alone() {
     // A 4×4 texture without levels and a trilinear filter read at level 2: incomplete (black)
     // in GL ES 2.0, but complete with GL_TEXTURE_MAX_LEVEL 0, which samples level 0.
     let capture = |max_level: Option<u64>, compare: bool| {
@@ -670,10 +670,11 @@ fn max_level_zero_makes_a_mipmap_filter_sample_level_zero_and_compare_mode_is_re
     let error = replay(&w).0.err().expect("max level 1 of a 3-level chain");
     assert_eq!(error.call(), Some(draw_call));
     assert!(error.to_string().contains("GL_TEXTURE_MAX_LEVEL 1"), "{error}");
-    let (w, call, _) = capture(Some(0), true);
-    let error = replay(&w).0.err().expect("compare mode");
-    assert_eq!(error.call(), Some(call));
-    assert!(error.to_string().contains("sampler2DShadow"), "{error}");
+    // Compare mode matters to shadow samplers only: a sampler2D reads the texels.
+    let (w, ..) = capture(Some(0), true);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [40, 40, 40, 255]), "compare mode with a sampler2D");
 }
 
 #[test]
@@ -1123,6 +1124,26 @@ fn probe_float_and_srgb_render_targets_match_llvmpipe() {
 #[test]
 fn probe_read_pixels_mid_frame_a_mapped_range_and_a_fence_match_llvmpipe() {
     check_probe_in("gles3-probe", "readback");
+}
+
+#[test]
+fn probe_depth_compare_textures_match_llvmpipe() {
+    check_probe_in("gles3-probe", "shadow");
+}
+
+#[test]
+fn probe_packed_float_textures_match_llvmpipe() {
+    check_probe_in("gles3-probe", "packed-float");
+}
+
+#[test]
+fn probe_rgb10_a2_textures_match_llvmpipe() {
+    check_probe_in("gles3-probe", "rgb10a2");
+}
+
+#[test]
+fn probe_depth_compare_through_a_sampler_object_matches_llvmpipe() {
+    check_probe_in("gles3-probe", "shadow-sampler");
 }
 
 #[test]

@@ -20,7 +20,7 @@ use crate::types::{BOOL, FLOAT, INT, SamplerKind, Scalar, StructType, Type};
 use crate::{Error, Stage};
 
 /// Lines of predefined macros inserted into the source.
-const PREDEFINED_LINES: usize = 2;
+const PREDEFINED_LINES: usize = 3;
 
 /// Instructions a stage may compile to, inlined calls included.
 pub const MAX_INSTRUCTIONS: usize = 1 << 20;
@@ -103,13 +103,35 @@ pub fn compile(stage: Stage, source: &str) -> Result<StageCode, Error> {
     Ok(c.finish())
 }
 
+/// The shadow-sampler extension of GLSL ES 1.00 (`shadow2DEXT`, `shadow2DProjEXT`).
+const SHADOW_SAMPLERS: &str = "GL_EXT_shadow_samplers";
+
 /// The macros an ES compiler predefines, as `#define`s after any `#version` line. The
 /// preprocessor refuses to define names starting `GL_`, so they are renamed in the source
 /// (whole words) to `TILER_…`. Returns the text and the byte offset of the inserted line.
+///
+/// glsl-lang's preprocessor does not know `GL_EXT_shadow_samplers` (whose `shadow2DEXT` the
+/// compiler has) and refuses `#extension` lines that require it, so those lines are emptied
+/// (line numbers stay) and the extension's macro is defined with the others.
 fn with_gl_es_define(source: &str) -> (String, usize) {
+    let source: String = source
+        .split_inclusive('\n')
+        .map(|line| {
+            let t = line.trim_start();
+            if t.starts_with('#') && t[1..].trim_start().starts_with("extension") && t.contains(SHADOW_SAMPLERS) {
+                if line.ends_with('\n') { "\n" } else { "" }
+            } else {
+                line
+            }
+        })
+        .collect();
     let source = &rename_words(
-        source,
-        &[("GL_ES", "TILER_GL_ES"), ("GL_FRAGMENT_PRECISION_HIGH", "TILER_GL_FRAGMENT_PRECISION_HIGH")],
+        &source,
+        &[
+            ("GL_ES", "TILER_GL_ES"),
+            ("GL_FRAGMENT_PRECISION_HIGH", "TILER_GL_FRAGMENT_PRECISION_HIGH"),
+            (SHADOW_SAMPLERS, "TILER_GL_EXT_shadow_samplers"),
+        ],
     );
     let mut at = 0;
     for line in source.split_inclusive('\n') {
@@ -131,7 +153,9 @@ fn with_gl_es_define(source: &str) -> (String, usize) {
         text.push('\n');
     }
     let inserted = text.len();
-    text.push_str("#define TILER_GL_ES 1\n#define TILER_GL_FRAGMENT_PRECISION_HIGH 1\n");
+    text.push_str(
+        "#define TILER_GL_ES 1\n#define TILER_GL_FRAGMENT_PRECISION_HIGH 1\n#define TILER_GL_EXT_shadow_samplers 1\n",
+    );
     text.push_str(&source[at..]);
     (text, inserted)
 }
@@ -492,6 +516,7 @@ impl<'a> Compiler<'a> {
             T::Mat4 | T::Mat44 => Type::Matrix(4),
             T::Sampler2D => Type::Sampler(SamplerKind::Sampler2D),
             T::SamplerCube => Type::Sampler(SamplerKind::SamplerCube),
+            T::Sampler2DShadow => Type::Sampler(SamplerKind::Sampler2DShadow),
             T::Struct(s) => Type::Struct(self.struct_type(s)?),
             T::TypeName(name) => match self.lookup_struct(name.as_str()) {
                 Some(s) => Type::Struct(s),
@@ -2159,7 +2184,7 @@ impl<'a> Compiler<'a> {
                 Ok(Value { ty: BOOL, regs: vec![r] })
             }
             "texture2D" | "texture2DProj" | "texture2DLod" | "texture2DProjLod" | "texture" | "textureProj"
-            | "textureLod" => self.texture(name, args),
+            | "textureLod" | "shadow2DEXT" | "shadow2DProjEXT" => self.texture(name, args),
             "textureCube" | "textureCubeLod" => self.texture_cube(name, args),
             "dFdx" | "dFdy" | "fwidth" => {
                 // OES_standard_derivatives.
@@ -2188,22 +2213,37 @@ impl<'a> Compiler<'a> {
         }
     }
 
+    /// `texture2D`, `texture2DProj`, `texture2DLod`, `texture2DProjLod` and GLSL ES 3.00's
+    /// `texture`, `textureProj`, `textureLod` on a sampler2D; on a sampler2DShadow (and
+    /// `EXT_shadow_samplers`' `shadow2DEXT`, `shadow2DProjEXT`) the coordinates carry the
+    /// reference depth last (`vec3` (s, t, ref), or `vec4` (s, t, ref, q) projected), and the
+    /// result is the compare's float.
     fn texture(&mut self, name: &str, args: Vec<Value>) -> CResult<Value> {
         let proj = name.contains("Proj");
         let explicit = name.ends_with("Lod");
         if args.len() < 2 || args.len() > 3 {
             return self.fail(format!("{name}() takes 2 or 3 arguments"));
         }
-        let slot = match args[0].ty {
-            Type::Sampler(SamplerKind::Sampler2D) => args[0].regs[0] as u16,
+        let shadow_name = name.starts_with("shadow");
+        let (slot, shadow) = match args[0].ty {
+            Type::Sampler(SamplerKind::Sampler2D) if !shadow_name => (args[0].regs[0] as u16, false),
+            Type::Sampler(SamplerKind::Sampler2DShadow) if !name.starts_with("texture2D") => {
+                (args[0].regs[0] as u16, true)
+            }
             Type::Sampler(SamplerKind::SamplerCube) if matches!(name, "texture" | "textureLod") => {
                 // GLSL ES 3.00's `texture`/`textureLod` on a samplerCube.
                 return self.texture_cube(name, args);
             }
+            _ if shadow_name => return self.fail(format!("{name}() needs a sampler2DShadow, not {}", args[0].ty)),
             _ => return self.fail(format!("{name}() needs a sampler2D, not {}", args[0].ty)),
         };
         let coord = self.float_gen(name, args[1].clone())?;
-        let want = if proj { [3, 4].contains(&coord.regs.len()) } else { coord.regs.len() == 2 };
+        let want = match (shadow, proj) {
+            (false, false) => coord.regs.len() == 2,
+            (false, true) => [3, 4].contains(&coord.regs.len()),
+            (true, false) => coord.regs.len() == 3,
+            (true, true) => coord.regs.len() == 4,
+        };
         if !want {
             return self.fail(format!("{name}() coordinates cannot be a {}", coord.ty));
         }
@@ -2212,6 +2252,11 @@ impl<'a> Compiler<'a> {
             (self.bin(BinOp::Div, coord.regs[0], q), self.bin(BinOp::Div, coord.regs[1], q))
         } else {
             (coord.regs[0], coord.regs[1])
+        };
+        let reference = match (shadow, proj) {
+            (false, _) => None,
+            (true, false) => Some(coord.regs[2]),
+            (true, true) => Some(self.bin(BinOp::Div, coord.regs[2], coord.regs[3])),
         };
         let extra = match args.get(2) {
             Some(v) => Some(self.float_gen(name, v.clone())?),
@@ -2230,7 +2275,10 @@ impl<'a> Compiler<'a> {
             (false, Some(_), Stage::Vertex) => return self.fail(format!("{name}() with a bias in a vertex shader")),
         };
         let dst = self.temps(4);
-        self.emit(Inst::Sample { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord: [s, t], lod });
+        self.emit(Inst::Sample { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord: [s, t], lod, reference });
+        if shadow {
+            return Ok(Value { ty: FLOAT, regs: vec![dst[0]] });
+        }
         Ok(Value { ty: Type::vec(4), regs: dst })
     }
 

@@ -22,7 +22,14 @@ pub const MAX_ITERATIONS: u32 = 1 << 16;
 pub trait Env<const W: usize> {
     /// Samples texture slot `slot` at `coord` in the lanes (all `W`; lanes not active have
     /// finite, deterministic coordinates).
-    fn sample(&mut self, slot: usize, coord: [[f32; W]; 2], lod: LodValue<W>) -> [[f32; W]; 4];
+    /// `reference`: a shadow sampler's reference depth (see `ir::Inst::Sample`).
+    fn sample(
+        &mut self,
+        slot: usize,
+        coord: [[f32; W]; 2],
+        lod: LodValue<W>,
+        reference: Option<[f32; W]>,
+    ) -> [[f32; W]; 4];
 
     /// Samples cube texture slot `slot` in the direction `direction` in the lanes (finite, as
     /// `sample`'s coordinates).
@@ -146,9 +153,12 @@ fn registers_mut(code: &mut [Inst], f: &mut impl FnMut(&mut Reg, bool)) {
                 f(dst, true);
                 f(src, false);
             }
-            Inst::Sample { dst, coord, lod, .. } => {
+            Inst::Sample { dst, coord, lod, reference, .. } => {
                 dst.iter_mut().for_each(|d| f(d, true));
                 coord.iter_mut().for_each(|c| f(c, false));
+                if let Some(r) = reference {
+                    f(r, false);
+                }
                 if let Lod::Bias(r) | Lod::Explicit(r) = lod {
                     f(r, false);
                 }
@@ -414,7 +424,7 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     let d = self.env.derivative(v, *axis);
                     self.set(*dst, d);
                 }
-                Inst::Sample { slot, dst, coord, lod } => {
+                Inst::Sample { slot, dst, coord, lod, reference } => {
                     let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
                     let coord = [finite(self.get(coord[0])), finite(self.get(coord[1]))];
                     let lod = match lod {
@@ -422,7 +432,9 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         Lod::Bias(r) => LodValue::Bias(finite(self.get(*r))),
                         Lod::Explicit(r) => LodValue::Explicit(finite(self.get(*r))),
                     };
-                    let texel = self.env.sample(*slot as usize, coord, lod);
+                    // A NaN reference stays NaN: the compare rules say what it gives.
+                    let reference = reference.map(|r| self.get(r));
+                    let texel = self.env.sample(*slot as usize, coord, lod, reference);
                     for (c, &d) in dst.iter().enumerate() {
                         self.set(d, texel[c]);
                     }
@@ -589,7 +601,7 @@ mod tests {
         fn sample_cube(&mut self, _: usize, _: [[f32; W]; 3], _: LodValue<W>) -> [[f32; W]; 4] {
             unreachable!("no textures")
         }
-        fn sample(&mut self, _: usize, _: [[f32; W]; 2], _: LodValue<W>) -> [[f32; W]; 4] {
+        fn sample(&mut self, _: usize, _: [[f32; W]; 2], _: LodValue<W>, _: Option<[f32; W]>) -> [[f32; W]; 4] {
             [[0.0; W]; 4]
         }
     }

@@ -448,7 +448,7 @@ mod tests {
     }
 
     fn sample(dst: [Reg; 4], coord: [Reg; 2]) -> Inst {
-        Inst::Sample { slot: 0, dst, coord, lod: Lod::Implicit }
+        Inst::Sample { slot: 0, dst, coord, lod: Lod::Implicit, reference: None }
     }
 
     #[test]

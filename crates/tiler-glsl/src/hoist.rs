@@ -29,9 +29,12 @@ pub(crate) fn reads_mut(inst: &mut Inst, f: &mut impl FnMut(&mut Reg)) {
         }
         Inst::If(c, _, _) => f(c),
         Inst::Loop { cond: Some(c), .. } => f(c),
-        Inst::Sample { coord, lod, .. } => {
+        Inst::Sample { coord, lod, reference, .. } => {
             f(&mut coord[0]);
             f(&mut coord[1]);
+            if let Some(r) = reference {
+                f(r);
+            }
             if let crate::ir::Lod::Bias(r) | crate::ir::Lod::Explicit(r) = lod {
                 f(r);
             }

@@ -148,12 +148,14 @@ pub enum Inst {
         src: Reg,
         axis: Axis,
     },
-    /// Samples texture slot `slot` at `(s, t)` into four registers.
+    /// Samples texture slot `slot` at `(s, t)` into four registers; with a `reference` depth
+    /// (a shadow sampler), the filtered result of comparing it with the texels, `(r, r, r, 1)`.
     Sample {
         slot: u16,
         dst: [Reg; 4],
         coord: [Reg; 2],
         lod: Lod,
+        reference: Option<Reg>,
     },
     /// Samples cube texture slot `slot` in the direction `(x, y, z)` into four registers.
     SampleCube {

@@ -103,6 +103,15 @@ pub struct UniformValues {
 /// explicit level, or `None` for the base level.
 pub trait TextureSource: Send + Sync + fmt::Debug {
     fn sample(&self, s: f32, t: f32, lod: Option<f32>) -> [f32; 4];
+
+    /// A shadow sampler's lookup (`sampler2DShadow`): the texels compared with `reference`
+    /// by the source's compare function and the results filtered (see
+    /// `tiler::depth_compare`); a source without compare mode returns its depth, red, which
+    /// is what this default does.
+    fn sample_compare(&self, s: f32, t: f32, reference: f32, lod: Option<f32>) -> f32 {
+        let _ = reference;
+        self.sample(s, t, lod)[0]
+    }
 }
 
 /// What a texture unit holds.
@@ -113,7 +122,9 @@ pub enum TextureBinding {
     /// core's v runs down the rows; vertex shaders (level of detail 0) and explicit levels
     /// read through the same filters at that level (not counted).
     Core(Arc<Texture>, Sampler),
-    /// The caller's own sampler.
+    /// The caller's own sampler; shadow samplers read it through
+    /// [`TextureSource::sample_compare`] (a core texture read by a shadow sampler reads as by
+    /// a sampler2D, its red channel the result: GL leaves that undefined).
     Custom(Arc<dyn TextureSource>),
 }
 
@@ -629,16 +640,21 @@ fn lookup_lanes<const W: usize>(
     binding: Option<&TextureBinding>,
     coord: [[f32; W]; 2],
     lod: Option<[f32; W]>,
+    reference: Option<[f32; W]>,
     lanes: usize,
 ) -> [[f32; W]; 4] {
     let mut out = [[0.0; W]; 4];
     for lane in 0..lanes {
         let (s, t) = (coord[0][lane], coord[1][lane]);
         let l = lod.map(|l| l[lane]);
-        let texel = match binding {
-            None => UNBOUND,
-            Some(TextureBinding::Core(texture, sampler)) => core_texel(texture, sampler, s, t, l.unwrap_or(0.0)),
-            Some(TextureBinding::Custom(source)) => source.sample(s, t, l),
+        let texel = match (binding, reference) {
+            (None, _) => UNBOUND,
+            (Some(TextureBinding::Core(texture, sampler)), _) => core_texel(texture, sampler, s, t, l.unwrap_or(0.0)),
+            (Some(TextureBinding::Custom(source)), None) => source.sample(s, t, l),
+            (Some(TextureBinding::Custom(source)), Some(reference)) => {
+                let r = source.sample_compare(s, t, reference[lane], l);
+                [r, r, r, 1.0]
+            }
         };
         for c in 0..4 {
             out[c][lane] = texel[c];
@@ -684,12 +700,13 @@ impl Env<VERTEX_LANES> for VertexEnv<'_> {
         slot: usize,
         coord: [[f32; VERTEX_LANES]; 2],
         lod: LodValue<VERTEX_LANES>,
+        reference: Option<[f32; VERTEX_LANES]>,
     ) -> [[f32; VERTEX_LANES]; 4] {
         let lod = match lod {
             LodValue::Explicit(l) => Some(l),
             _ => None,
         };
-        lookup_lanes(self.slots[slot].as_ref(), coord, lod, self.lanes)
+        lookup_lanes(self.slots[slot].as_ref(), coord, lod, reference, self.lanes)
     }
 
     fn sample_cube(
@@ -721,7 +738,13 @@ impl Env<8> for FragmentEnv<'_, '_> {
         }
     }
 
-    fn sample(&mut self, slot: usize, coord: [[f32; 8]; 2], lod: LodValue<8>) -> [[f32; 8]; 4] {
+    fn sample(
+        &mut self,
+        slot: usize,
+        coord: [[f32; 8]; 2],
+        lod: LodValue<8>,
+        reference: Option<[f32; 8]>,
+    ) -> [[f32; 8]; 4] {
         match (&self.slots[slot], lod) {
             (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit | LodValue::Bias(_)) => {
                 let mut sampler = *sampler;
@@ -734,8 +757,8 @@ impl Env<8> for FragmentEnv<'_, '_> {
                 let texel = self.frag.sample(texture, &sampler, [F32x8(coord[0]), t]);
                 texel.map(|c| c.0)
             }
-            (binding, LodValue::Explicit(l)) => lookup_lanes(binding.as_ref(), coord, Some(l), 8),
-            (binding, _) => lookup_lanes(binding.as_ref(), coord, None, 8),
+            (binding, LodValue::Explicit(l)) => lookup_lanes(binding.as_ref(), coord, Some(l), reference, 8),
+            (binding, _) => lookup_lanes(binding.as_ref(), coord, None, reference, 8),
         }
     }
 

@@ -16,6 +16,9 @@ pub enum Scalar {
 pub enum SamplerKind {
     Sampler2D,
     SamplerCube,
+    /// A depth-compare sampler (`sampler2DShadow`): its lookups take a reference depth and
+    /// return the filtered compare result.
+    Sampler2DShadow,
 }
 
 /// A GLSL type.
@@ -123,6 +126,7 @@ impl fmt::Display for Type {
             Type::Matrix(n) => write!(f, "mat{n}"),
             Type::Sampler(SamplerKind::Sampler2D) => write!(f, "sampler2D"),
             Type::Sampler(SamplerKind::SamplerCube) => write!(f, "samplerCube"),
+            Type::Sampler(SamplerKind::Sampler2DShadow) => write!(f, "sampler2DShadow"),
             Type::Struct(s) => write!(f, "{}", s.name),
             Type::Array(t, n) => write!(f, "{t}[{n}]"),
         }

@@ -1119,3 +1119,73 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
         }
     }
 }
+
+/// A shadow map whose depth is its `s` coordinate, compared `reference ≤ depth`.
+#[derive(Debug)]
+struct RampShadow;
+impl tiler_glsl::TextureSource for RampShadow {
+    fn sample(&self, s: f32, _: f32, _: Option<f32>) -> [f32; 4] {
+        [s, s, s, 1.0]
+    }
+    fn sample_compare(&self, s: f32, _: f32, reference: f32, _: Option<f32>) -> f32 {
+        tiler::depth_compare::compare(tiler::CompareOp::LessOrEqual, reference, s, true)
+    }
+}
+
+#[test]
+fn shadow_lookups_pass_the_reference_depth() {
+    // Every form puts the reference 0.5 (projected: 1.0 / 2.0) against depth s: lit (1) right
+    // of the middle, shadowed (0) left of it.
+    let forms = [
+        ("#version 100\n#extension GL_EXT_shadow_samplers : require\n", "shadow2DEXT(map, vec3(uv, 0.5))"),
+        (
+            "#version 100\n#extension GL_EXT_shadow_samplers : require\n",
+            "shadow2DProjEXT(map, vec4(uv * 2.0, 1.0, 2.0))",
+        ),
+        ("#version 300 es\n", "texture(map, vec3(uv, 0.5))"),
+        ("#version 300 es\n", "textureProj(map, vec4(uv * 2.0, 1.0, 2.0))"),
+        ("#version 300 es\n", "textureLod(map, vec3(uv, 0.5), 0.0)"),
+    ];
+    for (version, lookup) in forms {
+        let es3 = version.contains("300");
+        let (vs, fs) = if es3 {
+            (
+                format!(
+                    "{version}in vec4 position;\nout vec2 uv;\nvoid main() {{ gl_Position = position; uv = position.xy * 0.5 + 0.5; }}"
+                ),
+                format!(
+                    "{version}precision mediump float;\nprecision lowp sampler2DShadow;\nuniform sampler2DShadow map;\nin vec2 uv;\nout vec4 color;\n\
+                     void main() {{ float lit = {lookup}; color = vec4(lit, 0.0, 0.0, 1.0); }}"
+                ),
+            )
+        } else {
+            (
+                format!("{version}{PASS_VS}"),
+                format!(
+                    "{version}precision mediump float;\nuniform sampler2DShadow map;\nvarying vec2 uv;\n\
+                     void main() {{ float lit = {lookup}; gl_FragColor = vec4(lit, 0.0, 0.0, 1.0); }}"
+                ),
+            )
+        };
+        let program = glsl(&vs, &fs);
+        let uniforms = program.new_uniform_values();
+        let textures = [Some(TextureBinding::Custom(Arc::new(RampShadow)))];
+        let (image, _) = render(&glsl_pipeline(&program, &uniforms, &textures));
+        let red = |x: u32| image[((HEIGHT / 2 * WIDTH + x) * 4) as usize];
+        for x in 0..WIDTH {
+            let s = (x as f32 + 0.5) / WIDTH as f32;
+            assert_eq!(red(x), if s >= 0.5 { 255 } else { 0 }, "{lookup} at x {x}");
+        }
+    }
+    // A 2D lookup function on a shadow sampler, and a shadow one on a 2D sampler, are errors.
+    let bad = [
+        "uniform sampler2DShadow map;\nvoid main() { gl_FragColor = texture2D(map, vec2(0.5)); }",
+        "#extension GL_EXT_shadow_samplers : require\nuniform sampler2D map;\nvoid main() { gl_FragColor = vec4(shadow2DEXT(map, vec3(0.5))); }",
+        "#extension GL_EXT_shadow_samplers : require\nuniform sampler2DShadow map;\nvoid main() { gl_FragColor = vec4(shadow2DEXT(map, vec2(0.5))); }",
+    ];
+    for fs in bad {
+        let e = CompiledProgram::new(PASS_VS, &format!("precision mediump float;\n{fs}"), &[]).err();
+        let e = e.unwrap_or_else(|| panic!("compiled: {fs}")).to_string();
+        assert!(e.contains("sampler2D") || e.contains("coordinates"), "{e}");
+    }
+}

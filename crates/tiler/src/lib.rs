@@ -126,6 +126,7 @@ pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
 pub use pass::{Draw, RenderPass};
 pub use pixel::Pipeline;
 pub use shade::ShadeContext;
+pub use shade::depth_compare;
 pub use shade::fragments::{FragmentShader, Fragments};
 pub use shade::texel_format::{ASTC_FOOTPRINTS, StoredLayout, TexelFormat};
 pub use shade::texture::{

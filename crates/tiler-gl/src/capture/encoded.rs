@@ -47,12 +47,19 @@ pub(super) fn compressed_format(internal_format: GlEnum) -> Fallible<(EncodedFor
     })
 }
 
-/// The packed 16-bit type of `glTexImage2D` the context stores as uploaded, if `kind` is one
-/// (RGB565 is a texture format of its own).
+/// `GL_UNSIGNED_INT_2_10_10_10_REV`.
+const GL_UNSIGNED_INT_2_10_10_10_REV: u32 = 0x8368;
+
+/// The packed type of `glTexImage2D` the context stores as uploaded (4444, 5551, 2_10_10_10,
+/// 10F_11F_11F, 5_9_9_9),
+/// if `kind` is one (RGB565 is a texture format of its own).
 pub(super) fn packed_format(format: GlEnum, kind: GlEnum) -> Option<EncodedFormat> {
     match (format, kind) {
         (texels::GL_RGBA, texels::GL_UNSIGNED_SHORT_4_4_4_4) => Some(EncodedFormat::Rgba4444),
         (texels::GL_RGBA, texels::GL_UNSIGNED_SHORT_5_5_5_1) => Some(EncodedFormat::Rgba5551),
+        (texels::GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV) => Some(EncodedFormat::Rgb10A2),
+        (texels::GL_RGB, 0x8c3b /* UNSIGNED_INT_10F_11F_11F_REV */) => Some(EncodedFormat::R11fG11fB10f),
+        (texels::GL_RGB, 0x8c3e /* UNSIGNED_INT_5_9_9_9_REV */) => Some(EncodedFormat::Rgb9E5),
         _ => None,
     }
 }
@@ -70,15 +77,15 @@ fn compressed_bytes(data: &Memory, image_size: i32) -> Fallible<Bytes> {
     Ok(Bytes::from(bytes.as_slice()))
 }
 
-/// Packed 16-bit texels of `width × height`, rows bottom to top each starting at a multiple
-/// of `alignment`, packed tight.
-fn packed_texels(data: &Memory, width: u32, height: u32, alignment: u32) -> Fallible<Bytes> {
+/// Packed texels of `format` (2 or 4 bytes each), `width × height`, rows bottom to top each
+/// starting at a multiple of `alignment`, packed tight.
+fn packed_texels(data: &Memory, format: EncodedFormat, width: u32, height: u32, alignment: u32) -> Fallible<Bytes> {
     let bytes = match data {
         Memory::Client(bytes) => bytes,
         Memory::Null => return Err("no texels (a null pointer) for a packed 16-bit texture".into()),
         Memory::Offset(_) => return Err("texels from a pixel unpack buffer are not supported".into()),
     };
-    let row = width as usize * 2;
+    let row = width as usize * texel_bytes(format);
     let stride = row.div_ceil(alignment.max(1) as usize) * alignment.max(1) as usize;
     let needed = if height == 0 { 0 } else { stride * (height as usize - 1) + row };
     if bytes.len() < needed {
@@ -90,6 +97,11 @@ fn packed_texels(data: &Memory, width: u32, height: u32, alignment: u32) -> Fall
     Ok(Bytes::from(
         (0..height as usize).flat_map(|y| &bytes[y * stride..y * stride + row]).copied().collect::<Vec<u8>>(),
     ))
+}
+
+/// Bytes of one packed texel of `format` (an uncompressed encoded format).
+pub(super) fn texel_bytes(format: EncodedFormat) -> usize {
+    format.texel_format().layout().texel_bytes as usize
 }
 
 impl Translator {
@@ -172,8 +184,8 @@ impl Translator {
     ) -> Fallible {
         let data = match pixels {
             // Storage without texels (GL leaves them undefined): zeros, for glTexSubImage2D.
-            Memory::Null => Bytes::from(vec![0u8; size.0 as usize * size.1 as usize * 2]),
-            _ => packed_texels(pixels, size.0, size.1, self.unpack_alignment())?,
+            Memory::Null => Bytes::from(vec![0u8; size.0 as usize * size.1 as usize * texel_bytes(format)]),
+            _ => packed_texels(pixels, format, size.0, size.1, self.unpack_alignment())?,
         };
         self.encoded_tex_image(level, size, (format, false), data)
     }
@@ -186,7 +198,7 @@ impl Translator {
         format: EncodedFormat,
         pixels: &Memory,
     ) -> Fallible {
-        let data = packed_texels(pixels, width, height, self.unpack_alignment())?;
+        let data = packed_texels(pixels, format, width, height, self.unpack_alignment())?;
         let name = self.bound_texture()?;
         let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
         self.emit(Call::EncodedTexSubImage { id, x, y, width, height, format, data })?;
@@ -216,9 +228,9 @@ mod tests {
     fn packed_rows_drop_their_alignment_and_sizes_are_checked() {
         // 3×2 texels of 2 bytes: rows of 6 bytes, 8 apart with an alignment of 4.
         let data = Memory::Client((0..14u8).collect());
-        let packed = packed_texels(&data, 3, 2, 4).unwrap();
+        let packed = packed_texels(&data, EncodedFormat::Rgba4444, 3, 2, 4).unwrap();
         assert_eq!(&packed[..], &[0, 1, 2, 3, 4, 5, 8, 9, 10, 11, 12, 13]);
-        assert!(packed_texels(&data, 4, 2, 4).is_err());
+        assert!(packed_texels(&data, EncodedFormat::Rgba4444, 4, 2, 4).is_err());
         let e = compressed_bytes(&Memory::Client(vec![0; 15]), 16).unwrap_err();
         assert!(e.contains("image size 16, but 15 bytes"), "{e}");
     }

@@ -96,21 +96,35 @@ pub struct ReplayOptions {
     /// Record the context calls the capture became ([`Context::recorded_frames`] of the
     /// replay's context): a JSON trace of the same frames, which `--what-if` edits.
     pub record: bool,
+    /// Call numbers after which the window's picture is also handed to `on_frame` (as a
+    /// [`PresentedFrame`] with `snapshot` set): a look at a capture that never swaps, or at
+    /// the middle of a frame. A snapshot renders the window's open pass as a `glReadPixels`
+    /// of it would (so the report counts that pass's store, and the load after it).
+    pub snapshots: Vec<u64>,
 }
 
 impl Default for ReplayOptions {
     fn default() -> ReplayOptions {
-        ReplayOptions { config: ContextConfig::new(1, 1), window: None, limits: Limits::default(), record: false }
+        ReplayOptions {
+            config: ContextConfig::new(1, 1),
+            window: None,
+            limits: Limits::default(),
+            record: false,
+            snapshots: Vec::new(),
+        }
     }
 }
 
-/// One presented frame: the window's picture at an `eglSwapBuffers`.
+/// One presented frame: the window's picture at an `eglSwapBuffers`, or after a call of
+/// [`ReplayOptions::snapshots`].
 #[derive(Clone, Debug)]
 pub struct PresentedFrame<'a> {
     /// Frames presented before this one.
     pub index: u32,
-    /// The `eglSwapBuffers` call's number in the capture.
+    /// The `eglSwapBuffers` call's number in the capture (the snapshot's call).
     pub call: u64,
+    /// A snapshot asked for by [`ReplayOptions::snapshots`], not a swap.
+    pub snapshot: bool,
     pub width: u32,
     pub height: u32,
     /// RGBA8, rows top to bottom (the first row is the top of the window).
@@ -213,13 +227,25 @@ pub fn replay_reader<R: Read>(
         let call = call?;
         let sig = call.sig.clone();
         let call = decoder.decode(call)?;
+        let number = call.number;
         calls += 1;
         translator.apply(&call, &sig.name)?;
-        if let Some((index, number)) = translator.take_presented() {
+        if let Some((index, swap)) = translator.take_presented() {
             let ctx = translator.context().expect("a swap needs the context");
             let (width, height) = (ctx.config().width, ctx.config().height);
             let rgba = ctx.surface_rgba8();
-            on_frame(&PresentedFrame { index, call: number, width, height, rgba: &rgba })
+            on_frame(&PresentedFrame { index, call: swap, snapshot: false, width, height, rgba: &rgba })
+                .map_err(|message| CaptureError::Frame { frame: index, call: swap, message })?;
+        }
+        if options.snapshots.contains(&number) {
+            let (index, rgba) = translator.snapshot().map_err(|message| CaptureError::Call {
+                call: number,
+                function: sig.name.to_string(),
+                message: format!("snapshot of the window: {message}"),
+            })?;
+            let ctx = translator.context().expect("a snapshot has a context");
+            let (width, height) = (ctx.config().width, ctx.config().height);
+            on_frame(&PresentedFrame { index, call: number, snapshot: true, width, height, rgba: &rgba })
                 .map_err(|message| CaptureError::Frame { frame: index, call: number, message })?;
         }
     }

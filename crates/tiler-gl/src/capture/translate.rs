@@ -64,6 +64,12 @@ struct Texture {
     /// first word (`LINEAR_MIPMAP_*` as `LINEAR`); a level between 0 and the chain's last is
     /// refused where it is sampled.
     max_level: u32,
+    /// `GL_TEXTURE_COMPARE_MODE` is `GL_COMPARE_REF_TO_TEXTURE`.
+    compare_mode: bool,
+    /// `GL_TEXTURE_COMPARE_FUNC` (default `GL_LEQUAL`).
+    compare_func: u32,
+    /// The compare mode or function was set: the context is told (`tex_compare`).
+    compare_set: bool,
 }
 
 /// Whether a texture of this internal format has only red (and green) channels.
@@ -84,6 +90,9 @@ impl Default for Texture {
             opaque: false,
             red_green: false,
             max_level: 1000,
+            compare_mode: false,
+            compare_func: GL_LEQUAL,
+            compare_set: false,
         }
     }
 }
@@ -95,6 +104,7 @@ struct SamplerParameters {
     mag: Filter,
     wrap_s: Wrap,
     wrap_t: Wrap,
+    compare: Option<tiler::CompareOp>,
 }
 
 impl Texture {
@@ -132,8 +142,50 @@ impl Texture {
             GL_MIRRORED_REPEAT => Ok(Wrap::MirroredRepeat),
             w => Err(format!("wrap {w:#06x} is not a GLES wrap")),
         };
-        Ok(SamplerParameters { min, mag, wrap_s: wrap(self.wrap[0])?, wrap_t: wrap(self.wrap[1])? })
+        let compare = match (self.compare_mode, self.compare_func) {
+            (false, _) => None,
+            (true, f) => Some(compare_func(f)?),
+        };
+        Ok(SamplerParameters { min, mag, wrap_s: wrap(self.wrap[0])?, wrap_t: wrap(self.wrap[1])?, compare })
     }
+
+    /// A `GL_TEXTURE_COMPARE_MODE` / `GL_TEXTURE_COMPARE_FUNC` parameter (of a texture or a
+    /// sampler object); `Ok(false)` for any other.
+    fn compare_parameter(&mut self, pname: u32, value: f64) -> Fallible<bool> {
+        match (pname, value) {
+            (GL_TEXTURE_COMPARE_MODE, 0.0) => self.compare_mode = false,
+            (GL_TEXTURE_COMPARE_MODE, v) if v == f64::from(GL_COMPARE_REF_TO_TEXTURE) => self.compare_mode = true,
+            (GL_TEXTURE_COMPARE_MODE, v) => return Err(format!("GL_TEXTURE_COMPARE_MODE {v} is not a GL one")),
+            (GL_TEXTURE_COMPARE_FUNC, v) => {
+                compare_func(v as u32)?;
+                self.compare_func = v as u32;
+            }
+            _ => return Ok(false),
+        }
+        self.compare_set = true;
+        Ok(true)
+    }
+}
+
+const GL_LEQUAL: u32 = 0x0203;
+const GL_TEXTURE_COMPARE_MODE: u32 = 0x884c;
+const GL_TEXTURE_COMPARE_FUNC: u32 = 0x884d;
+const GL_COMPARE_REF_TO_TEXTURE: u32 = 0x884e;
+
+/// A GL comparison function (`GL_NEVER` … `GL_ALWAYS`, 0x0200 to 0x0207).
+fn compare_func(f: u32) -> Fallible<tiler::CompareOp> {
+    use tiler::CompareOp as C;
+    Ok(match f {
+        0x0200 => C::Never,
+        0x0201 => C::Less,
+        0x0202 => C::Equal,
+        GL_LEQUAL => C::LessOrEqual,
+        0x0204 => C::Greater,
+        0x0205 => C::NotEqual,
+        0x0206 => C::GreaterOrEqual,
+        0x0207 => C::Always,
+        f => return Err(format!("comparison function {f:#06x} is not a GL one")),
+    })
 }
 
 #[derive(Clone, Debug, Default)]
@@ -308,6 +360,14 @@ impl Translator {
     /// The frame presented by the last call applied, if it was a swap: (frame index, call).
     pub fn take_presented(&mut self) -> Option<(u32, u64)> {
         self.presented.take()
+    }
+
+    /// The window's picture now (see [`Context::window_snapshot`]) and the frames presented
+    /// before it.
+    pub fn snapshot(&mut self) -> Result<(u32, Vec<u8>), String> {
+        let frames = self.swaps.len() as u32;
+        let ctx = self.ctx.as_mut().ok_or("the capture has made no context yet")?;
+        Ok((frames, ctx.window_snapshot()?))
     }
 
     /// Renders what is pending and returns the run.
@@ -653,8 +713,12 @@ impl Translator {
                 if encoded::packed_format(*format, *kind).is_some() =>
             {
                 check_2d_level0(*target, 0)?;
-                // The unsized format, or GL ES 3.0's sized RGBA4 / RGB5_A1 of a packed type.
-                let sized = matches!((*internal_format, *kind), (0x8056, 0x8033) | (0x8057, 0x8034));
+                // The unsized format, or GL ES 3.0's sized RGBA4, RGB5_A1, RGB10_A2,
+                // R11F_G11F_B10F, RGB9_E5 of their packed types.
+                let sized = matches!(
+                    (*internal_format, *kind),
+                    (0x8056, 0x8033) | (0x8057, 0x8034) | (0x8059, 0x8368) | (0x8c3a, 0x8c3b) | (0x8c3d, 0x8c3e)
+                );
                 if *border != 0 || (internal_format != format && !sized) {
                     return Err(format!(
                         "border {border} must be 0, internal format {internal_format:#06x} the format"
@@ -778,16 +842,28 @@ impl Translator {
                 let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
                 self.emit(Call::TexSubImage { id, x, y, width, height, data })?;
             }
-            C::TexStorage2D { target, levels: 1, internal_format: internal @ (0x8056 | 0x8057), width, height } => {
-                // RGBA4 / RGB5_A1 storage, for glTexSubImage2D of packed 16-bit texels: an
+            C::TexStorage2D {
+                target,
+                levels: 1,
+                internal_format: internal @ (0x8056 | 0x8057 | 0x8059 | 0x8c3a | 0x8c3d),
+                width,
+                height,
+            } => {
+                // RGBA4 / RGB5_A1 / RGB10_A2 / R11F_G11F_B10F / RGB9_E5 storage, for glTexSubImage2D of packed texels: an
                 // encoded level of zeros (GL leaves it undefined), as glTexImage2D without data.
                 check_2d_level0(*target, 0)?;
-                let format = if *internal == 0x8056 { EncodedFormat::Rgba4444 } else { EncodedFormat::Rgba5551 };
+                let format = match *internal {
+                    0x8056 => EncodedFormat::Rgba4444,
+                    0x8057 => EncodedFormat::Rgba5551,
+                    0x8059 => EncodedFormat::Rgb10A2,
+                    0x8c3a => EncodedFormat::R11fG11fB10f,
+                    _ => EncodedFormat::Rgb9E5,
+                };
                 let (width, height) = size2(*width, *height)?;
                 if self.texture_id(self.bound_texture()?)?.is_some() {
                     return Err(format!("texture {} already has storage", self.bound_texture()?));
                 }
-                let zeros = Bytes::from(vec![0u8; width as usize * height as usize * 2]);
+                let zeros = Bytes::from(vec![0u8; width as usize * height as usize * encoded::texel_bytes(format)]);
                 self.encoded_tex_image(0, (width, height), (format, false), zeros)?;
             }
             C::TexStorage2D { target, levels, internal_format, width, height } => {
@@ -827,23 +903,22 @@ impl Translator {
                 let value = number as u32;
                 let name = if *target == GL_TEXTURE_2D { self.bound_texture()? } else { self.bound_cube()? };
                 let t = self.objects()?.textures.entry(name).or_default();
+                if t.compare_parameter(*pname, number)? {
+                    self.update_sampler(name)?;
+                    return Ok(());
+                }
                 match (*pname, number) {
                     (0x2801, _) => t.min = value,
                     (0x2800, _) => t.mag = value,
                     (0x2802, _) => t.wrap[0] = value,
                     (0x2803, _) => t.wrap[1] = value,
                     // GL ES 3.0 parameters apps set to their defaults, or to what changes
-                    // nothing here: WRAP_R (no third coordinate), the compare function (without
-                    // compare mode), the LOD range's defaults, base level 0, identity swizzles.
-                    (0x8072 | 0x884d, _) | (0x813a, -1000.0) | (0x813b, 1000.0) | (0x813c, 0.0) | (0x884c, 0.0) => {}
+                    // nothing here: WRAP_R (no third coordinate), the LOD range's defaults,
+                    // base level 0, identity swizzles.
+                    (0x8072, _) | (0x813a, -1000.0) | (0x813b, 1000.0) | (0x813c, 0.0) => {}
                     (0x8e42, 6403.0) | (0x8e43, 6404.0) | (0x8e44, 6405.0) | (0x8e45, 6406.0) => {}
                     // GL_TEXTURE_MAX_LEVEL (see `Texture::max_level`).
                     (0x813d, v) if v >= 0.0 => t.max_level = v.min(1000.0) as u32,
-                    (0x884c, _) => {
-                        return Err("GL_TEXTURE_COMPARE_MODE = GL_COMPARE_REF_TO_TEXTURE: depth comparison \
-                                    (sampler2DShadow) is not supported"
-                            .into());
-                    }
                     (p, v) => return Err(format!("texture parameter {p:#06x} = {v} is not supported")),
                 }
                 self.update_sampler(name)?;
@@ -1654,6 +1729,9 @@ impl Translator {
                 mag_filter: Some(p.mag),
                 wrap_t: Some(p.wrap_t),
             })?;
+            if t.compare_set {
+                self.emit(Call::TexCompare { id, compare: p.compare })?;
+            }
         }
         Ok(())
     }

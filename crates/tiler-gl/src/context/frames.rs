@@ -197,6 +197,20 @@ impl Context {
         Ok(())
     }
 
+    /// The window's colour now, RGBA8 rows top first: an open pass drawing into the window
+    /// renders first, as for a `glReadPixels` of it (counted as one: the pass stores, and
+    /// drawing continues in a new pass that loads). For looking at a capture that never
+    /// swaps (`tiler analyze --snapshot`).
+    ///
+    /// # Errors
+    /// Inside an explicit render pass (`begin_pass`), which cannot be split.
+    pub fn window_snapshot(&mut self) -> Result<Vec<u8>, String> {
+        if self.pass.as_ref().is_some_and(|p| p.framebuffer == 0 && p.copy_texture.is_none()) {
+            self.flush_open_pass(FlushCause::ReadPixels)?;
+        }
+        Ok(self.surface_rgba8())
+    }
+
     /// `glReadPixels` of the read framebuffer's first colour attachment.
     pub(crate) fn read_pixels(&mut self, x: i32, y: i32, width: u32, height: u32) -> Fallible<Vec<u8>> {
         let read = self.read_framebuffer;

@@ -264,7 +264,11 @@ impl Context {
                     }
                 }
                 let mut textures: Vec<SampledTexture> = Vec::new();
-                for (name, unit) in p.compiled.sampler_units_of(SamplerKind::Sampler2D, &p.uniforms) {
+                // A shadow sampler reads the unit's 2D texture, which must be a depth one
+                // (GL ES 3.0 §3.8.16 leaves a colour texture's compare undefined).
+                let shadow = p.compiled.sampler_units_of(SamplerKind::Sampler2DShadow, &p.uniforms);
+                let plain = p.compiled.sampler_units_of(SamplerKind::Sampler2D, &p.uniforms);
+                for (name, unit) in shadow.iter().chain(&plain).cloned() {
                     if textures.iter().any(|t| t.unit == unit) {
                         continue;
                     }
@@ -275,6 +279,12 @@ impl Context {
                         ));
                     }
                     let t = self.texture(texture)?;
+                    if shadow.iter().any(|(_, u)| *u == unit) && self.images[&t.image].desc.format.is_color() {
+                        return Err(format!(
+                            "{label}: sampler2DShadow '{name}' reads texture {texture} on unit {unit}, which is not a \
+                             depth texture"
+                        ));
+                    }
                     let (image, sampler, mipmaps) = (t.image, self.unit_sampler(unit, t), t.mipmaps);
                     self.check_has_memory(image, &format!("{label}: sampler '{name}' reads texture {texture}"))?;
                     textures.push(SampledTexture { unit, image, sampler, mipmaps });
@@ -411,6 +421,10 @@ struct SnapshotSource {
 impl TextureSource for SnapshotSource {
     fn sample(&self, s: f32, t: f32, _lod: Option<f32>) -> [f32; 4] {
         self.snapshot.sample(s, t, self.state)
+    }
+
+    fn sample_compare(&self, s: f32, t: f32, reference: f32, _lod: Option<f32>) -> f32 {
+        self.snapshot.sample_compare(s, t, reference, self.state)
     }
 }
 

@@ -287,7 +287,8 @@ pub(crate) struct FramebufferObject {
     pub color: [Option<AttachmentRef>; 4],
     pub depth: Option<AttachmentRef>,
     pub stencil: Option<AttachmentRef>,
-    /// `draw_buffers`: draws write colour attachments `0..n` (`None`: GL's default, 1).
+    /// `draw_buffers`: draws write colour attachments `0..n` (`None`: GL's default, 1; 0:
+    /// none).
     pub draw_buffers: Option<u32>,
 }
 
@@ -743,16 +744,25 @@ impl Context {
                 self.encoded_tex_sub_image(id, (x, y, width, height), format, data)?
             }
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
-                let sampler = sampler_state(filter, wrap, mag_filter, wrap_t)?;
+                let mut sampler = sampler_state(filter, wrap, mag_filter, wrap_t)?;
                 if self.cubes.contains_key(&id) {
+                    sampler.compare = self.cube_mut(id)?.sampler.compare;
                     self.cube_mut(id)?.sampler = sampler;
                 } else {
+                    sampler.compare = self.texture_mut(id)?.sampler.compare;
                     self.texture_mut(id)?.sampler = sampler;
                 }
             }
+            TexCompare { id, compare } => {
+                if self.cubes.contains_key(&id) {
+                    self.cube_mut(id)?.sampler.compare = compare;
+                } else {
+                    self.texture_mut(id)?.sampler.compare = compare;
+                }
+            }
             GenerateMipmap { id } if self.cubes.contains_key(&id) => self.generate_cube_mipmap(id)?,
-            BindSampler { unit, filter, wrap, mag_filter, wrap_t } => {
-                let sampler = sampler_state(filter, wrap, mag_filter, wrap_t)?;
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare } => {
+                let sampler = SamplerState { compare, ..sampler_state(filter, wrap, mag_filter, wrap_t)? };
                 self.bind_sampler(unit, Some(sampler))?;
             }
             UnbindSampler { unit } => self.bind_sampler(unit, None)?,
@@ -834,9 +844,10 @@ impl Context {
             BindFramebuffer { target, framebuffer } => self.bind_framebuffer(target, framebuffer)?,
             DrawBuffers { count } => {
                 let framebuffer = self.draw_framebuffer;
-                let max = if framebuffer == 0 { 1 } else { MAX_DRAW_BUFFERS };
-                if !(1..=max).contains(&count) {
-                    return Err(format!("{count} draw buffers: framebuffer {framebuffer} takes 1 to {max}"));
+                // A framebuffer may write no colour (a depth-only pass); the window writes its one.
+                let (min, max) = if framebuffer == 0 { (1, 1) } else { (0, MAX_DRAW_BUFFERS) };
+                if !(min..=max).contains(&count) {
+                    return Err(format!("{count} draw buffers: framebuffer {framebuffer} takes {min} to {max}"));
                 }
                 self.framebuffers.get_mut(&framebuffer).expect("the bound framebuffer exists").draw_buffers =
                     Some(count);

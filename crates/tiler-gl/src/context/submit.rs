@@ -424,7 +424,8 @@ impl Context {
             Arc::new(TextureSnapshot::color(d.width, d.height, d.format, d.samples, data))
         } else {
             let depths = self.device.read_depth(image).map_err(|e| e.to_string())?;
-            Arc::new(TextureSnapshot::depth(d.width, d.height, depths))
+            let fixed_point = d.format != tiler::Format::D32Float;
+            Arc::new(TextureSnapshot::depth(d.width, d.height, depths, fixed_point))
         };
         cache.insert(image, snapshot.clone());
         Ok(snapshot)

@@ -11,9 +11,13 @@
 //!
 //! - **RGBA8**: as stored.
 //! - **RGB565, RGBA4444, RGBA5551** (GL's packed 16-bit types, a little-endian `u16`, red in
-//!   the high bits): an `n`-bit channel `c` is `round(255 · c / (2^n − 1))`, the byte an 8-bit
-//!   display shows for the UNORM value `c / (2^n − 1)` that GL samples (for 4 bits that is
-//!   `c · 17` exactly). Missing alpha is 255.
+//!   the high bits) and **RGB10_A2** (`UNSIGNED_INT_2_10_10_10_REV`, a little-endian `u32`,
+//!   red in the low bits): an `n`-bit channel `c` is `round(255 · c / (2^n − 1))`, the byte an
+//!   8-bit display shows for the UNORM value `c / (2^n − 1)` that GL samples (for 4 bits that
+//!   is `c · 17` exactly; 10-bit channels lose their two low bits of precision to the 8-bit
+//!   sampler). Missing alpha is 255.
+//! - **R11F_G11F_B10F, RGB9_E5** (GL's packed unsigned floats, a little-endian `u32`): each
+//!   channel decoded to its float and then as RGBA16F below; alpha 255.
 //! - **RGBA16F, RGBA32F, R32F** (little-endian halves or floats): each channel clamped to
 //!   `[0, 1]` (NaN to 0) and rounded to the nearest byte, `round(255 · v)` — what llvmpipe's
 //!   8-bit display shows of a float texel sampled with nearest filtering; linear filtering then
@@ -47,6 +51,15 @@ pub enum TexelFormat {
     Rgba4444,
     /// 2 bytes: red, green, blue 5 bits each, red high, alpha the low bit.
     Rgba5551,
+    /// 4 bytes (GL's `RGB10_A2` of `UNSIGNED_INT_2_10_10_10_REV`, a little-endian `u32`): red
+    /// the low 10 bits, then green and blue 10 each, alpha the top 2.
+    Rgb10A2,
+    /// 4 bytes (GL's `R11F_G11F_B10F` of `UNSIGNED_INT_10F_11F_11F_REV`): unsigned floats,
+    /// red 11 bits (5 exponent, 6 mantissa) low, green 11, blue 10 (5, 5) high.
+    Rg11B10Float,
+    /// 4 bytes (GL's `RGB9_E5` of `UNSIGNED_INT_5_9_9_9_REV`): 9-bit mantissas red (low),
+    /// green, blue and a shared 5-bit exponent (high).
+    Rgb9E5,
     /// 8 bytes: four IEEE halves.
     Rgba16Float,
     /// 16 bytes: four IEEE floats.
@@ -126,6 +139,9 @@ impl TexelFormat {
             TexelFormat::Rgb565 => "RGB565".into(),
             TexelFormat::Rgba4444 => "RGBA4444".into(),
             TexelFormat::Rgba5551 => "RGBA5551".into(),
+            TexelFormat::Rgb10A2 => "RGB10_A2".into(),
+            TexelFormat::Rg11B10Float => "R11F_G11F_B10F".into(),
+            TexelFormat::Rgb9E5 => "RGB9_E5".into(),
             TexelFormat::Rgba16Float => "RGBA16F".into(),
             TexelFormat::Rgba32Float => "RGBA32F".into(),
             TexelFormat::R32Float => "R32F".into(),
@@ -177,7 +193,11 @@ impl TexelFormat {
             texel_bytes: 0,
         };
         match self {
-            TexelFormat::Rgba8 | TexelFormat::R32Float => texels(4),
+            TexelFormat::Rgba8
+            | TexelFormat::R32Float
+            | TexelFormat::Rgb10A2
+            | TexelFormat::Rg11B10Float
+            | TexelFormat::Rgb9E5 => texels(4),
             TexelFormat::Rgb565 | TexelFormat::Rgba4444 | TexelFormat::Rgba5551 => texels(2),
             TexelFormat::Rgba16Float => texels(8),
             TexelFormat::Rgba32Float => texels(16),
@@ -238,6 +258,22 @@ impl TexelFormat {
                 let v = packed(t);
                 [unorm_bits(v >> 11, 5), unorm_bits(v >> 6, 5), unorm_bits(v >> 1, 5), unorm_bits(v, 1)]
             }),
+            TexelFormat::Rgb10A2 => texels(4, &|t| {
+                let v = u32::from_le_bytes([t[0], t[1], t[2], t[3]]);
+                [unorm_bits(v, 10), unorm_bits(v >> 10, 10), unorm_bits(v >> 20, 10), unorm_bits(v >> 30, 2)]
+            }),
+            TexelFormat::Rg11B10Float => texels(4, &|t| {
+                let v = u32::from_le_bytes([t[0], t[1], t[2], t[3]]);
+                let [r, g, b] = [(v, 6), (v >> 11, 6), (v >> 22, 5)].map(|(c, m)| unsigned_float(c, m));
+                [float_to_unorm8(r), float_to_unorm8(g), float_to_unorm8(b), 255]
+            }),
+            TexelFormat::Rgb9E5 => texels(4, &|t| {
+                let v = u32::from_le_bytes([t[0], t[1], t[2], t[3]]);
+                // GL ES 3.0 §3.8.3.2: c = mantissa · 2^(exponent − 15 − 9).
+                let scale = 2f32.powi((v >> 27) as i32 - 24);
+                let [r, g, b] = [v, v >> 9, v >> 18].map(|m| (m & 0x1ff) as f32 * scale);
+                [float_to_unorm8(r), float_to_unorm8(g), float_to_unorm8(b), 255]
+            }),
             TexelFormat::Rgba16Float => texels(8, &|t| {
                 std::array::from_fn(|c| float_to_unorm8(half::f16::from_le_bytes([t[2 * c], t[2 * c + 1]]).to_f32()))
             }),
@@ -262,6 +298,18 @@ fn unorm_bits(v: u32, bits: u32) -> u8 {
 
 /// A float channel as the byte an 8-bit display shows: clamped to `[0, 1]` (NaN to 0),
 /// `round(255 · v)`.
+/// An unsigned small float (GL ES 3.0 §2.1.3, 11- and 10-bit): the low `mantissa_bits` of
+/// `bits` above a 5-bit exponent; denormals below exponent 1, infinity and NaN at 31.
+fn unsigned_float(bits: u32, mantissa_bits: u32) -> f32 {
+    let m = (bits & ((1 << mantissa_bits) - 1)) as f32 / (1 << mantissa_bits) as f32;
+    match (bits >> mantissa_bits) & 0x1f {
+        0 => m * 2f32.powi(-14),
+        31 if m == 0.0 => f32::INFINITY,
+        31 => f32::NAN,
+        e => (1.0 + m) * 2f32.powi(e as i32 - 15),
+    }
+}
+
 fn float_to_unorm8(v: f32) -> u8 {
     if v.is_nan() { 0 } else { (v.clamp(0.0, 1.0) * 255.0).round() as u8 }
 }
@@ -325,6 +373,16 @@ mod tests {
         assert_eq!(t, [[255, 130, 8, 255]]);
         let t = TexelFormat::Rgba4444.decode(1, 1, &0xf08fu16.to_le_bytes()).unwrap();
         assert_eq!(t, [[255, 0, 136, 255]]);
+        // Red 1023, green 0, blue 512, alpha 1 (of 3).
+        let v: u32 = 1023 | (512 << 20) | (1 << 30);
+        assert_eq!(TexelFormat::Rgb10A2.decode(1, 1, &v.to_le_bytes()).unwrap(), [[255, 0, 128, 85]]);
+        assert_eq!(TexelFormat::Rgb10A2.layout().texel_bytes, 4);
+        // 1.0 (exponent 15), 0.5 (14, in green), 0.25 (13, in the 10-bit blue).
+        let v: u32 = (15 << 6) | ((14 << 6) << 11) | ((13 << 5) << 22);
+        assert_eq!(TexelFormat::Rg11B10Float.decode(1, 1, &v.to_le_bytes()).unwrap(), [[255, 128, 64, 255]]);
+        // Exponent 15 (2^-9 per mantissa step): 511 → 0.998, 256 → 0.5, 0.
+        let v: u32 = 511 | (256 << 9) | (15 << 27);
+        assert_eq!(TexelFormat::Rgb9E5.decode(1, 1, &v.to_le_bytes()).unwrap(), [[255, 128, 0, 255]]);
         let t = TexelFormat::Rgba5551.decode(1, 1, &0xf800u16.to_le_bytes()).unwrap();
         assert_eq!(t, [[255, 0, 0, 0]]);
     }

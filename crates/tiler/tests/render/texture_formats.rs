@@ -73,8 +73,11 @@ fn encoded(format: TexelFormat, width: u32, height: u32, seed: u32) -> Vec<u8> {
     }
 }
 
-const FORMATS: [TexelFormat; 13] = [
+const FORMATS: [TexelFormat; 16] = [
     TexelFormat::Rgba8,
+    TexelFormat::Rgb10A2,
+    TexelFormat::Rg11B10Float,
+    TexelFormat::Rgb9E5,
     TexelFormat::Rgb565,
     TexelFormat::Rgba4444,
     TexelFormat::Rgba5551,
@@ -96,7 +99,7 @@ const FORMATS: [TexelFormat; 13] = [
 ///
 /// | format | stored | lines | bytes |
 /// |---|---|---|---|
-/// | RGBA8 | 32·32·4 = 4096 | 64 | 4096 |
+/// | RGBA8, RGB10_A2, R11F_G11F_B10F, RGB9_E5 | 32·32·4 = 4096 | 64 | 4096 |
 /// | RGB565, 4444, 5551 | 2048 | 32 | 2048 |
 /// | RGBA16F | 8192 | 128 | 8192 |
 /// | RGBA32F | 16384 | 256 | 16384 |
@@ -108,7 +111,7 @@ const FORMATS: [TexelFormat; 13] = [
 #[test]
 fn texture_fetch_is_the_stored_lines_of_each_format() {
     let expected = |format: TexelFormat| match format {
-        TexelFormat::Rgba8 => 4096,
+        TexelFormat::Rgba8 | TexelFormat::Rgb10A2 | TexelFormat::Rg11B10Float | TexelFormat::Rgb9E5 => 4096,
         TexelFormat::Rgb565 | TexelFormat::Rgba4444 | TexelFormat::Rgba5551 => 2048,
         TexelFormat::Rgba16Float => 8192,
         TexelFormat::Rgba32Float => 16384,

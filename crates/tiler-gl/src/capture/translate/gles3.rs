@@ -232,12 +232,12 @@ impl Translator {
         }
         let p = self.objects()?.samplers.get(&name).cloned().unwrap_or_default().sampler()?;
         let (filter, wrap, mag_filter, wrap_t) = (p.min, p.wrap_s, Some(p.mag), Some(p.wrap_t));
-        self.emit(Call::BindSampler { unit, filter, wrap, mag_filter, wrap_t })?;
+        self.emit(Call::BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare: p.compare })?;
         Ok(())
     }
 
     /// `glSamplerParameter*`: filters and wraps (`GL_TEXTURE_WRAP_R` is ignored: textures are
-    /// 2D); level-of-detail ranges and comparisons only at their defaults.
+    /// 2D), depth comparison; level-of-detail ranges only at their defaults.
     pub(super) fn sampler_parameter(&mut self, sampler: u32, pname: GlEnum, params: &Params) -> Fallible {
         let value = match params {
             Params::Int(v) if v.len() == 1 => v[0] as f32,
@@ -250,14 +250,23 @@ impl Translator {
             .get_mut(&sampler)
             .ok_or_else(|| format!("sampler {sampler} was not made by glGenSamplers"))?;
         let enumeration = value as u32;
+        if s.compare_parameter(pname, f64::from(value))? {
+            s.sampler()?;
+            for unit in 0..MAX_TEXTURE_UNITS {
+                if self.bindings.samplers[unit as usize] == sampler {
+                    self.emit_unit_sampler(unit)?;
+                }
+            }
+            return Ok(());
+        }
         match (pname, value) {
             (0x2801, _) => s.min = enumeration,
             (0x2800, _) => s.mag = enumeration,
             (0x2802, _) => s.wrap[0] = enumeration,
             (0x2803, _) => s.wrap[1] = enumeration,
             (0x8072, _) => {}
-            // GL_TEXTURE_MIN_LOD / MAX_LOD at -1000 / 1000, GL_TEXTURE_COMPARE_MODE GL_NONE.
-            (0x813a, -1000.0) | (0x813b, 1000.0) | (0x884c, 0.0) => {}
+            // GL_TEXTURE_MIN_LOD / MAX_LOD at -1000 / 1000.
+            (0x813a, -1000.0) | (0x813b, 1000.0) => {}
             (p, v) => return Err(format!("sampler parameter {p:#06x} = {v} is not supported")),
         }
         s.sampler()?;
@@ -323,7 +332,7 @@ impl Translator {
 
     /// `glDrawBuffers`: the window's `GL_BACK`, or a framebuffer's colour attachments in order
     /// (`GL_COLOR_ATTACHMENT0`, `1`, …, then only `GL_NONE`s) — outputs `i` to attachment `i`,
-    /// as the context draws them.
+    /// as the context draws them; none (a shadow map's depth-only pass) writes no colour.
     pub(super) fn draw_buffers(&mut self, buffers: &[GlEnum]) -> Fallible {
         const GL_BACK: GlEnum = 0x0405;
         const GL_COLOR_ATTACHMENT0: GlEnum = 0x8ce0;
@@ -335,7 +344,8 @@ impl Translator {
         }
         let count = buffers.iter().take_while(|&&b| b != 0).count();
         let in_order = (0..).zip(&buffers[..count]).all(|(i, &b)| b == GL_COLOR_ATTACHMENT0 + i);
-        if count == 0 || !in_order || buffers[count..].iter().any(|&b| b != 0) {
+        // No colour at all (`glDrawBuffers(0, NULL)`, or only `GL_NONE`): a depth-only pass.
+        if !in_order || buffers[count..].iter().any(|&b| b != 0) {
             return Err(format!(
                 "draw buffers {buffers:x?}: only colour attachments 0, 1, … in order (then GL_NONE) are supported"
             ));
