@@ -219,6 +219,8 @@ struct Compiler<'a> {
     /// Return-value registers of the functions being inlined.
     returns: Vec<Option<Value>>,
     loops: usize,
+    /// `switch` bodies being compiled (the scope of a `break` when no loop is nearer).
+    switches: usize,
     uniforms: Vec<StageVar>,
     inputs: Vec<StageVar>,
     outputs: Vec<StageVar>,
@@ -268,6 +270,7 @@ impl<'a> Compiler<'a> {
             depth: 0,
             returns: Vec::new(),
             loops: 0,
+            switches: 0,
             uniforms: Vec::new(),
             inputs: Vec::new(),
             outputs: Vec::new(),
@@ -1086,7 +1089,8 @@ impl<'a> Compiler<'a> {
                 self.emit(Inst::If(cond, then, els));
                 Ok(())
             }
-            S::Switch(_) | S::CaseLabel(_) => self.fail("switch is not supported (GLSL ES 1.00 has none)"),
+            S::Switch(sw) => self.switch(sw),
+            S::CaseLabel(_) => self.fail("a case label outside a switch body"),
             S::Iteration(it) => self.iteration(it),
             S::Jump(j) => self.jump(j),
             S::Compound(c) => {
@@ -1096,6 +1100,114 @@ impl<'a> Compiler<'a> {
                 result
             }
         }
+    }
+
+    /// A `switch` (ES 3.00) under lane masks: the selector is compared with every label,
+    /// and each run of statements after a group of labels runs in the lanes that have
+    /// `entered` the switch there or at an earlier group (fall-through); `default` enters
+    /// the lanes no label matches. `break` leaves the [`Inst::Breakable`] that holds the
+    /// body. Checked as GLSL requires: a scalar `int`/`uint` selector, constant labels of
+    /// its type, no label twice, at most one `default`, no statement before the first label.
+    fn switch(&mut self, sw: &ast::SwitchStatement) -> CResult<()> {
+        let selector = self.expr(&sw.head)?;
+        if !matches!(selector.ty, Type::Scalar(Scalar::Int)) {
+            return self.fail(format!("a switch selector must be a scalar int or uint, not {}", selector.ty));
+        }
+        let selector = selector.regs[0];
+        // (labels, whether `default` is among them, statements), in order.
+        struct Group<'s> {
+            labels: Vec<i64>,
+            default: bool,
+            statements: Vec<&'s ast::Statement>,
+        }
+        let mut groups: Vec<Group> = Vec::new();
+        let mut seen: Vec<i64> = Vec::new();
+        let mut has_default = false;
+        for st in &sw.body {
+            let ast::StatementData::CaseLabel(label) = &st.content else {
+                self.at(&st.span);
+                match groups.last_mut() {
+                    Some(g) => g.statements.push(st),
+                    None => return self.fail("a statement before the first case label of a switch"),
+                }
+                continue;
+            };
+            self.at(&st.span);
+            if groups.last().is_none_or(|g| !g.statements.is_empty()) {
+                groups.push(Group { labels: Vec::new(), default: false, statements: Vec::new() });
+            }
+            let group = groups.last_mut().expect("a group was just pushed");
+            match &label.content {
+                ast::CaseLabelData::Def => {
+                    if has_default {
+                        return self.fail("a switch has two default labels");
+                    }
+                    has_default = true;
+                    group.default = true;
+                }
+                ast::CaseLabelData::Case(e) => {
+                    let ty = self.expr(e)?.ty;
+                    let value = self.const_int(e).filter(|_| ty == INT);
+                    let Some(value) = value else {
+                        return self.fail("a case label must be a constant int expression (the selector's type)");
+                    };
+                    if seen.contains(&value) {
+                        return self.fail(format!("case label {value} appears twice in a switch"));
+                    }
+                    seen.push(value);
+                    group.labels.push(value);
+                }
+            }
+        }
+        let matches = |c: &mut Self, labels: &[i64]| -> Option<Reg> {
+            labels.iter().fold(None, |acc, &l| {
+                let k = c.konst(l as f32);
+                let eq = c.bin(BinOp::Eq, selector, k);
+                Some(match acc {
+                    Some(a) => c.bin(BinOp::Or, a, eq),
+                    None => eq,
+                })
+            })
+        };
+        let no_label = if has_default {
+            let all: Vec<i64> = groups.iter().flat_map(|g| g.labels.iter().copied()).collect();
+            let any = matches(self, &all);
+            Some(match any {
+                Some(a) => self.un(UnOp::Not, a),
+                None => self.konst(1.0),
+            })
+        } else {
+            None
+        };
+        let entered = self.temp();
+        let zero = self.konst(0.0);
+        self.emit(Inst::Store(entered, zero));
+        self.switches += 1;
+        self.push_scope();
+        let body = self.block(|c| {
+            for g in &groups {
+                let mut cond = matches(c, &g.labels);
+                if g.default {
+                    let d = no_label.expect("a default label was seen");
+                    cond = Some(match cond {
+                        Some(a) => c.bin(BinOp::Or, a, d),
+                        None => d,
+                    });
+                }
+                if let Some(cond) = cond {
+                    let now = c.bin(BinOp::Or, entered, cond);
+                    c.emit(Inst::Store(entered, now));
+                }
+                let ((), then) = c.block(|c| g.statements.iter().try_for_each(|st| c.statement(st)))?;
+                c.emit(Inst::If(entered, then, Vec::new()));
+            }
+            Ok(())
+        });
+        self.pop_scope();
+        self.switches -= 1;
+        let ((), body) = body?;
+        self.emit(Inst::Breakable(body));
+        Ok(())
     }
 
     fn condition(&mut self, cond: &ast::Condition) -> CResult<Reg> {
@@ -1159,8 +1271,9 @@ impl<'a> Compiler<'a> {
 
     fn jump(&mut self, j: &ast::JumpStatement) -> CResult<()> {
         match &j.content {
-            ast::JumpStatementData::Break | ast::JumpStatementData::Continue if self.loops == 0 => {
-                self.fail("break or continue outside a loop")
+            ast::JumpStatementData::Continue if self.loops == 0 => self.fail("continue outside a loop"),
+            ast::JumpStatementData::Break if self.loops == 0 && self.switches == 0 => {
+                self.fail("break outside a loop or switch")
             }
             ast::JumpStatementData::Break => {
                 self.emit(Inst::Break);
@@ -1660,12 +1773,14 @@ impl<'a> Compiler<'a> {
         let saved_scopes = self.scopes.split_off(1);
         let saved_structs = self.structs.split_off(1);
         let saved_loops = std::mem::take(&mut self.loops);
+        let saved_switches = std::mem::take(&mut self.switches);
         let line = self.line;
         self.depth += 1;
         let result = self.inline_in_globals(name, defs, args);
         self.depth -= 1;
         self.line = line;
         self.loops = saved_loops;
+        self.switches = saved_switches;
         self.scopes.extend(saved_scopes);
         self.structs.extend(saved_structs);
         result

@@ -6,7 +6,8 @@
 //! instruction) is amortised over the lanes; see the crate docs for measured costs.
 //!
 //! Masks: `active` holds the lanes still executing; `break`/`continue` move lanes out of it
-//! into the innermost loop's exit or continue masks, `return` into the innermost call's
+//! into the innermost loop's (or `switch`'s, [`Inst::Breakable`]) exit mask or the loop's
+//! continue mask, `return` into the innermost call's
 //! return mask, `discard` into the discarded mask. After an `if`, the lanes that left neither
 //! branch carry on; after a loop, those that left it by its condition or by `break`.
 //!
@@ -141,7 +142,7 @@ fn registers_mut(code: &mut [Inst], f: &mut impl FnMut(&mut Reg, bool)) {
                 registers_mut(body, f);
                 registers_mut(step, f);
             }
-            Inst::Call(body) => registers_mut(body, f),
+            Inst::Call(body) | Inst::Breakable(body) => registers_mut(body, f),
             Inst::Derivative { dst, src, .. } => {
                 f(dst, true);
                 f(src, false);
@@ -408,6 +409,13 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     N::block(self, body, m);
                     m.active |= m.returned;
                     m.returned = outer;
+                }
+                Inst::Breakable(body) => {
+                    let outer = m.exited;
+                    m.exited = 0;
+                    N::block(self, body, m);
+                    m.active |= m.exited;
+                    m.exited = outer;
                 }
                 Inst::Derivative { dst, src, axis } => {
                     let v = self.get(*src);

@@ -134,6 +134,7 @@ pub enum Inst {
         step: Vec<Inst>,
         test_first: bool,
     },
+    /// Leaves the innermost [`Inst::Loop`] or [`Inst::Breakable`] in the active lanes.
     Break,
     Continue,
     /// Leaves the innermost [`Inst::Call`] (or the shader) in the active lanes.
@@ -141,6 +142,9 @@ pub enum Inst {
     Discard,
     /// An inlined function body: the scope of its `return`s.
     Call(Vec<Inst>),
+    /// A `switch` body: the scope of its `break`s (lanes that break leave it and carry on
+    /// after it; `continue` passes to the enclosing loop).
+    Breakable(Vec<Inst>),
     /// The screen-space derivative of a register along x or y (GL's window axes), from the
     /// lanes of each 2×2 quad (fragment shaders).
     Derivative {
@@ -191,7 +195,7 @@ pub fn count_insts(code: &[Inst]) -> usize {
             Inst::Loop { cond_code, body, step, .. } => {
                 1 + count_insts(cond_code) + count_insts(body) + count_insts(step)
             }
-            Inst::Call(body) => 1 + count_insts(body),
+            Inst::Call(body) | Inst::Breakable(body) => 1 + count_insts(body),
             _ => 1,
         })
         .sum()

@@ -1119,3 +1119,135 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
         }
     }
 }
+
+/// Runs a vertex shader on a batch of vertices (attribute 0 of each; the lanes diverge)
+/// and returns each vertex's first four varyings.
+fn run_vertex_batch(vs: &str, fs: &str, attributes: &[[f32; 4]]) -> Vec<[f32; 4]> {
+    let program = glsl(vs, fs);
+    let (shader, _) = tiler_glsl::shaders(&program, &program.new_uniform_values(), &[], HEIGHT);
+    let inputs: Vec<VertexInput> = attributes
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let mut attributes = [Vec4::ZERO; tiler::MAX_VERTEX_ATTRIBUTES];
+            attributes[0] = Vec4::from_array(*a);
+            VertexInput { attributes, vertex_index: k as u32 }
+        })
+        .collect();
+    let mut outs = vec![VertexOutput::default(); inputs.len()];
+    shader.shade_batch(&inputs, &mut outs);
+    outs.iter().map(|o| <[f32; 4]>::try_from(&o.varyings[..4]).unwrap()).collect()
+}
+
+const PASS_FS_300: &str = "#version 300 es
+precision highp float;
+in vec4 r;
+out vec4 c;
+void main() { c = r; }";
+
+/// `switch` with a selector that differs per lane: fall-through, `default` in the middle,
+/// `break` out of the switch, `continue` through it to the enclosing loop.
+#[test]
+fn switch_falls_through_and_breaks_per_lane() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+void main() {
+    int s = int(a.x);
+    float acc = 0.0;
+    float loops = 0.0;
+    for (int i = 0; i < 3; i++) {
+        switch (s + i) {
+        case 0:
+            acc += 1.0;
+        case 1:
+        case 2:
+            acc += 10.0;
+            break;
+        default:
+            acc += 100.0;
+        case 5:
+            acc += 1000.0;
+            if (a.y > 0.5) break;
+            acc += 10000.0;
+            continue;
+        case 3 + 4:
+            acc += 100000.0;
+        }
+        loops += 1.0;
+    }
+    switch (s) { case 1: loops += 0.5; }
+    r = vec4(acc, loops, 0.0, 0.0);
+    gl_Position = a;
+}";
+    fn expect(s: i32, y: f32) -> [f32; 4] {
+        let (mut acc, mut loops) = (0.0f32, 0.0f32);
+        'each: for i in 0..3 {
+            // The index of the label the switch enters at.
+            let start = match s + i {
+                0 => 0,
+                1 | 2 => 1,
+                5 => 3,
+                7 => 4,
+                _ => 2,
+            };
+            'switch: {
+                if start <= 0 {
+                    acc += 1.0;
+                }
+                if start <= 1 {
+                    acc += 10.0;
+                    break 'switch;
+                }
+                if start <= 2 {
+                    acc += 100.0;
+                }
+                if start <= 3 {
+                    acc += 1000.0;
+                    if y > 0.5 {
+                        break 'switch;
+                    }
+                    acc += 10000.0;
+                    continue 'each;
+                }
+                acc += 100000.0;
+            }
+            loops += 1.0;
+        }
+        if s == 1 {
+            loops += 0.5;
+        }
+        [acc, loops, 0.0, 0.0]
+    }
+    let attributes: Vec<[f32; 4]> = (0..22).map(|k| [(k % 11) as f32 - 2.0, (k / 11) as f32, 0.0, 1.0]).collect();
+    for n in [8, 22] {
+        let got = run_vertex_batch(VS, PASS_FS_300, &attributes[..n]);
+        for (k, a) in attributes[..n].iter().enumerate() {
+            assert_eq!(got[k], expect(a[0] as i32, a[1]), "vertex {k}: selector {}, y {}", a[0], a[1]);
+        }
+    }
+    // What GLSL forbids, each an error naming its line.
+    let body = |b: &str| {
+        format!(
+            "#version 300 es\nin vec4 a;\nout vec4 r;\nvoid main() {{\n  int s = int(a.x);\n  r = a;\n{b}\n  gl_Position = a;\n}}"
+        )
+    };
+    let cases = [
+        ("  switch (s) { case 1: r.x = 1.0; break; case 1: break; }", "twice"),
+        ("  switch (a.x) { case 1: break; }", "selector"),
+        ("  switch (s) { default: r.x = 1.0; default: break; }", "two default"),
+        ("  switch (s) { r.x = 1.0; case 1: break; }", "before the first case"),
+        ("  switch (s) { case int(a.y): break; }", "constant"),
+        ("  switch (s) { case 1.0: break; }", "constant int"),
+        ("  case 1: r.x = 1.0;", "outside a switch"),
+        ("  break;", "break outside"),
+        ("  switch (s) { case 1: continue; }", "continue outside"),
+    ];
+    for (code, word) in cases {
+        let e = CompiledProgram::new(&body(code), PASS_FS_300, &[]).unwrap_err();
+        match &e {
+            Error::Compile { stage: Stage::Vertex, line: 7, message } if message.contains(word) => {}
+            other => panic!("{code}: {other}"),
+        }
+    }
+}
