@@ -8,7 +8,7 @@
 //!
 //! Simplifications, all documented in the crate docs: the operands of `&&`, `||` and `?:`
 //! are all evaluated (then selected per lane); integers may mix with floats (promoted, as in
-//! desktop GLSL); `switch`, bit operations and `%` are rejected.
+//! desktop GLSL, with a conversion instruction since integers are held as their bits).
 
 use std::collections::HashMap;
 use std::sync::Arc;
