@@ -1004,7 +1004,7 @@ impl<'a> Compiler<'a> {
             && v.ty.width().is_some()
             && v.ty.width() == ty.width()
         {
-            return Ok(self.to_float(v));
+            return Ok(self.floated(v));
         }
         self.fail(format!("cannot convert {} to {ty}", v.ty))
     }
@@ -1468,7 +1468,7 @@ impl<'a> Compiler<'a> {
 
     /// An int or uint scalar or vector converted to float, component by component (ints
     /// beside floats are promoted, as desktop GLSL allows); other values unchanged.
-    fn to_float(&mut self, v: Value) -> Value {
+    fn floated(&mut self, v: Value) -> Value {
         match v.ty.scalar() {
             Some(from @ (Scalar::Int | Scalar::UInt)) if v.ty.width().is_some() => {
                 let regs = v.regs.iter().map(|&r| self.convert_component(r, from, Scalar::Float)).collect();
@@ -1481,8 +1481,8 @@ impl<'a> Compiler<'a> {
     /// Ints beside floats become floats.
     fn promote(&mut self, a: Value, b: Value) -> (Value, Value) {
         match (a.ty.scalar(), b.ty.scalar()) {
-            (Some(Scalar::Int | Scalar::UInt), Some(Scalar::Float)) => (self.to_float(a), b),
-            (Some(Scalar::Float), Some(Scalar::Int | Scalar::UInt)) => (a, self.to_float(b)),
+            (Some(Scalar::Int | Scalar::UInt), Some(Scalar::Float)) => (self.floated(a), b),
+            (Some(Scalar::Float), Some(Scalar::Int | Scalar::UInt)) => (a, self.floated(b)),
             _ => (a, b),
         }
     }
@@ -2123,7 +2123,7 @@ impl<'a> Compiler<'a> {
     fn float_gen(&mut self, name: &str, v: Value) -> CResult<Value> {
         match v.ty {
             Type::Scalar(Scalar::Float | Scalar::Int | Scalar::UInt)
-            | Type::Vector(Scalar::Float | Scalar::Int | Scalar::UInt, _) => Ok(self.to_float(v)),
+            | Type::Vector(Scalar::Float | Scalar::Int | Scalar::UInt, _) => Ok(self.floated(v)),
             _ => self.fail(format!("{name}() takes floats or float vectors, not {}", v.ty)),
         }
     }
@@ -2181,7 +2181,8 @@ impl<'a> Compiler<'a> {
             return Ok(None);
         };
         let signed = s == Scalar::Int;
-        let (arity, op): (usize, Box<dyn Fn(&mut Self, &[Reg]) -> Reg>) = match name {
+        type Op<'c> = Box<dyn Fn(&mut Compiler<'c>, &[Reg]) -> Reg>;
+        let (arity, op): (usize, Op<'a>) = match name {
             "abs" if signed => (1, Box::new(|c, r| c.un(UnOp::IAbs, r[0]))),
             "sign" if signed => (1, Box::new(|c, r| c.un(UnOp::ISign, r[0]))),
             "min" => {
@@ -2201,8 +2202,7 @@ impl<'a> Compiler<'a> {
         let ty = args[0].ty.clone();
         let fits = args.len() == arity
             && ty.width().is_some()
-            && args.iter().all(|a| a.ty == ty || (a.ty == Type::Scalar(s) && args[0].ty != a.ty) || a.ty == ty);
-        let fits = fits && args[1..].iter().all(|a| a.ty == ty || a.ty == Type::Scalar(s));
+            && args[1..].iter().all(|a| a.ty == ty || a.ty == Type::Scalar(s));
         if !fits {
             let types: Vec<String> = args.iter().map(|a| a.ty.to_string()).collect();
             return self.fail(format!("no function '{name}({})'", types.join(", ")));
