@@ -8,15 +8,16 @@
 //!
 //! Simplifications, all documented in the crate docs: the operands of `&&`, `||` and `?:`
 //! are all evaluated (then selected per lane); integers may mix with floats (promoted, as in
-//! desktop GLSL); `switch`, bit operations and `%` are rejected.
+//! desktop GLSL, with a conversion instruction since integers are held as their bits).
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use glsl_lang::ast::{self, NodeSpan};
 
+use crate::exec::{int, uint};
 use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
-use crate::types::{BOOL, FLOAT, INT, SamplerKind, Scalar, StructType, Type};
+use crate::types::{BOOL, FLOAT, INT, SamplerKind, Scalar, StructType, Type, UINT};
 use crate::{Error, Stage};
 
 /// Lines of predefined macros inserted into the source.
@@ -243,6 +244,8 @@ struct Compiler<'a> {
     /// Return-value registers of the functions being inlined.
     returns: Vec<Option<Value>>,
     loops: usize,
+    /// `switch` bodies being compiled (the scope of a `break` when no loop is nearer).
+    switches: usize,
     uniforms: Vec<StageVar>,
     inputs: Vec<StageVar>,
     outputs: Vec<StageVar>,
@@ -292,6 +295,7 @@ impl<'a> Compiler<'a> {
             depth: 0,
             returns: Vec::new(),
             loops: 0,
+            switches: 0,
             uniforms: Vec::new(),
             inputs: Vec::new(),
             outputs: Vec::new(),
@@ -416,6 +420,11 @@ impl<'a> Compiler<'a> {
         r
     }
 
+    /// An int constant (its bits; see `ir`).
+    fn konst_int(&mut self, x: i32) -> Reg {
+        self.konst(int(x))
+    }
+
     fn emit(&mut self, inst: Inst) {
         self.emitted += 1;
         self.code.push(inst);
@@ -511,6 +520,10 @@ impl<'a> Compiler<'a> {
             T::IVec2 => Type::Vector(Scalar::Int, 2),
             T::IVec3 => Type::Vector(Scalar::Int, 3),
             T::IVec4 => Type::Vector(Scalar::Int, 4),
+            T::UInt => UINT,
+            T::UVec2 => Type::Vector(Scalar::UInt, 2),
+            T::UVec3 => Type::Vector(Scalar::UInt, 3),
+            T::UVec4 => Type::Vector(Scalar::UInt, 4),
             T::Mat2 | T::Mat22 => Type::Matrix(2),
             T::Mat3 | T::Mat33 => Type::Matrix(3),
             T::Mat4 | T::Mat44 => Type::Matrix(4),
@@ -522,7 +535,7 @@ impl<'a> Compiler<'a> {
                 Some(s) => Type::Struct(s),
                 None => return self.fail(format!("unknown type '{}'", name.as_str())),
             },
-            other => return self.fail(format!("type '{other:?}' is not supported (GLSL ES 1.00 types only)")),
+            other => return self.fail(format!("type '{other:?}' is not supported")),
         };
         self.arrayed(base, spec.array_specifier.as_ref())
     }
@@ -712,7 +725,7 @@ impl<'a> Compiler<'a> {
             ("gl_MaxDrawBuffers", MAX_DRAW_BUFFERS as f32),
         ];
         for (name, v) in consts {
-            let r = self.konst(v);
+            let r = self.konst_int(v as i32);
             self.scopes[0]
                 .insert(name.into(), Symbol { ty: INT, regs: vec![r], writable: false, konst: Some(vec![v]) });
         }
@@ -1006,13 +1019,17 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    /// `v` as type `ty`: equal types, or an int promoted to float.
+    /// `v` as type `ty`: equal types, or an int or uint promoted to float.
     fn convert(&mut self, v: Value, ty: &Type) -> CResult<Value> {
         if v.ty == *ty {
             return Ok(v);
         }
-        if v.ty.scalar() == Some(Scalar::Int) && ty.scalar() == Some(Scalar::Float) && v.ty.width() == ty.width() {
-            return Ok(Value { ty: ty.clone(), regs: v.regs });
+        if v.ty.scalar().is_some_and(Scalar::is_integer)
+            && ty.scalar() == Some(Scalar::Float)
+            && v.ty.width().is_some()
+            && v.ty.width() == ty.width()
+        {
+            return Ok(self.floated(v));
         }
         self.fail(format!("cannot convert {} to {ty}", v.ty))
     }
@@ -1111,7 +1128,8 @@ impl<'a> Compiler<'a> {
                 self.emit(Inst::If(cond, then, els));
                 Ok(())
             }
-            S::Switch(_) | S::CaseLabel(_) => self.fail("switch is not supported (GLSL ES 1.00 has none)"),
+            S::Switch(sw) => self.switch(sw),
+            S::CaseLabel(_) => self.fail("a case label outside a switch body"),
             S::Iteration(it) => self.iteration(it),
             S::Jump(j) => self.jump(j),
             S::Compound(c) => {
@@ -1121,6 +1139,116 @@ impl<'a> Compiler<'a> {
                 result
             }
         }
+    }
+
+    /// A `switch` (ES 3.00) under lane masks: the selector is compared with every label,
+    /// and each run of statements after a group of labels runs in the lanes that have
+    /// `entered` the switch there or at an earlier group (fall-through); `default` enters
+    /// the lanes no label matches. `break` leaves the [`Inst::Breakable`] that holds the
+    /// body. Checked as GLSL requires: a scalar `int`/`uint` selector, constant labels of
+    /// its type, no label twice, at most one `default`, no statement before the first label.
+    fn switch(&mut self, sw: &ast::SwitchStatement) -> CResult<()> {
+        let selector = self.expr(&sw.head)?;
+        if selector.ty != INT && selector.ty != UINT {
+            return self.fail(format!("a switch selector must be a scalar int or uint, not {}", selector.ty));
+        }
+        let (selector, selector_ty) = (selector.regs[0], selector.ty);
+        // (labels, whether `default` is among them, statements), in order.
+        struct Group<'s> {
+            labels: Vec<i64>,
+            default: bool,
+            statements: Vec<&'s ast::Statement>,
+        }
+        let mut groups: Vec<Group> = Vec::new();
+        let mut seen: Vec<i64> = Vec::new();
+        let mut has_default = false;
+        for st in &sw.body {
+            let ast::StatementData::CaseLabel(label) = &st.content else {
+                self.at(&st.span);
+                match groups.last_mut() {
+                    Some(g) => g.statements.push(st),
+                    None => return self.fail("a statement before the first case label of a switch"),
+                }
+                continue;
+            };
+            self.at(&st.span);
+            if groups.last().is_none_or(|g| !g.statements.is_empty()) {
+                groups.push(Group { labels: Vec::new(), default: false, statements: Vec::new() });
+            }
+            let group = groups.last_mut().expect("a group was just pushed");
+            match &label.content {
+                ast::CaseLabelData::Def => {
+                    if has_default {
+                        return self.fail("a switch has two default labels");
+                    }
+                    has_default = true;
+                    group.default = true;
+                }
+                ast::CaseLabelData::Case(e) => {
+                    let ty = self.expr(e)?.ty;
+                    let value = self.const_int(e).filter(|_| ty == selector_ty);
+                    let Some(value) = value else {
+                        return self.fail(format!(
+                            "a case label must be a constant {selector_ty} expression (the selector's type)"
+                        ));
+                    };
+                    if seen.contains(&value) {
+                        return self.fail(format!("case label {value} appears twice in a switch"));
+                    }
+                    seen.push(value);
+                    group.labels.push(value);
+                }
+            }
+        }
+        let matches = |c: &mut Self, labels: &[i64]| -> Option<Reg> {
+            labels.iter().fold(None, |acc, &l| {
+                let k = c.konst_int(l as i32);
+                let eq = c.bin(BinOp::IEq, selector, k);
+                Some(match acc {
+                    Some(a) => c.bin(BinOp::Or, a, eq),
+                    None => eq,
+                })
+            })
+        };
+        let no_label = if has_default {
+            let all: Vec<i64> = groups.iter().flat_map(|g| g.labels.iter().copied()).collect();
+            let any = matches(self, &all);
+            Some(match any {
+                Some(a) => self.un(UnOp::Not, a),
+                None => self.konst(1.0),
+            })
+        } else {
+            None
+        };
+        let entered = self.temp();
+        let zero = self.konst(0.0);
+        self.emit(Inst::Store(entered, zero));
+        self.switches += 1;
+        self.push_scope();
+        let body = self.block(|c| {
+            for g in &groups {
+                let mut cond = matches(c, &g.labels);
+                if g.default {
+                    let d = no_label.expect("a default label was seen");
+                    cond = Some(match cond {
+                        Some(a) => c.bin(BinOp::Or, a, d),
+                        None => d,
+                    });
+                }
+                if let Some(cond) = cond {
+                    let now = c.bin(BinOp::Or, entered, cond);
+                    c.emit(Inst::Store(entered, now));
+                }
+                let ((), then) = c.block(|c| g.statements.iter().try_for_each(|st| c.statement(st)))?;
+                c.emit(Inst::If(entered, then, Vec::new()));
+            }
+            Ok(())
+        });
+        self.pop_scope();
+        self.switches -= 1;
+        let ((), body) = body?;
+        self.emit(Inst::Breakable(body));
+        Ok(())
     }
 
     fn condition(&mut self, cond: &ast::Condition) -> CResult<Reg> {
@@ -1184,8 +1312,9 @@ impl<'a> Compiler<'a> {
 
     fn jump(&mut self, j: &ast::JumpStatement) -> CResult<()> {
         match &j.content {
-            ast::JumpStatementData::Break | ast::JumpStatementData::Continue if self.loops == 0 => {
-                self.fail("break or continue outside a loop")
+            ast::JumpStatementData::Continue if self.loops == 0 => self.fail("continue outside a loop"),
+            ast::JumpStatementData::Break if self.loops == 0 && self.switches == 0 => {
+                self.fail("break outside a loop or switch")
             }
             ast::JumpStatementData::Break => {
                 self.emit(Inst::Break);
@@ -1250,8 +1379,8 @@ impl<'a> Compiler<'a> {
                 let (place, _) = self.place(e)?;
                 Ok(self.read(&place))
             }
-            E::IntConst(i) => Ok(Value { ty: INT, regs: vec![self.konst(*i as f32)] }),
-            E::UIntConst(i) => Ok(Value { ty: INT, regs: vec![self.konst(*i as f32)] }),
+            E::IntConst(i) => Ok(Value { ty: INT, regs: vec![self.konst_int(*i)] }),
+            E::UIntConst(i) => Ok(Value { ty: UINT, regs: vec![self.konst(uint(*i))] }),
             E::BoolConst(b) => Ok(Value { ty: BOOL, regs: vec![self.konst(if *b { 1.0 } else { 0.0 })] }),
             E::FloatConst(f) => Ok(Value { ty: FLOAT, regs: vec![self.konst(*f)] }),
             E::DoubleConst(f) => Ok(Value { ty: FLOAT, regs: vec![self.konst(*f as f32)] }),
@@ -1295,8 +1424,7 @@ impl<'a> Compiler<'a> {
                 }
                 let old = self.read(&place);
                 let copy: Vec<Reg> = old.regs.iter().map(|&r| self.un(UnOp::Mov, r)).collect();
-                let one = self.konst(1.0);
-                let op = if inc { BinOp::Add } else { BinOp::Sub };
+                let (one, op) = self.step_one(&old.ty, inc);
                 let new: Vec<Reg> = copy.iter().map(|&r| self.bin(op, r, one)).collect();
                 self.write(&place, &Value { ty: old.ty.clone(), regs: new });
                 Ok(Value { ty: old.ty, regs: copy })
@@ -1317,8 +1445,7 @@ impl<'a> Compiler<'a> {
                     return self.fail("++/-- needs a writable number");
                 }
                 let old = self.read(&place);
-                let one = self.konst(1.0);
-                let op = if op.content == U::Inc { BinOp::Add } else { BinOp::Sub };
+                let (one, op) = self.step_one(&old.ty, op.content == U::Inc);
                 let new = Value { ty: old.ty.clone(), regs: old.regs.iter().map(|&r| self.bin(op, r, one)).collect() };
                 self.write(&place, &new);
                 Ok(new)
@@ -1335,7 +1462,8 @@ impl<'a> Compiler<'a> {
                 if !v.ty.is_numeric_scalar_or_vector() && !matches!(v.ty, Type::Matrix(_)) {
                     return self.fail(format!("unary - on {}", v.ty));
                 }
-                Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&r| self.un(UnOp::Neg, r)).collect() })
+                let neg = if v.ty.scalar().is_some_and(Scalar::is_integer) { UnOp::INeg } else { UnOp::Neg };
+                Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&r| self.un(neg, r)).collect() })
             }
             U::Not => {
                 let v = self.expr(a)?;
@@ -1344,18 +1472,94 @@ impl<'a> Compiler<'a> {
                 }
                 Ok(Value { ty: BOOL, regs: vec![self.un(UnOp::Not, v.regs[0])] })
             }
-            U::Complement => self.fail("~ is not supported (GLSL ES 1.00 has no bit operations)"),
+            U::Complement => {
+                let v = self.expr(a)?;
+                if !v.ty.scalar().is_some_and(Scalar::is_integer) || v.ty.width().is_none() {
+                    return self.fail(format!("~ takes an integer scalar or vector, not {}", v.ty));
+                }
+                Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&r| self.un(UnOp::BitNot, r)).collect() })
+            }
         }
     }
 
-    /// Ints beside floats become floats (held the same way, so only the type changes).
-    fn promote(&self, a: Value, b: Value) -> (Value, Value) {
-        let float = |v: Value| Value { ty: v.ty.with_scalar(Scalar::Float), regs: v.regs };
+    /// The constant 1 of `ty`'s kind and the add or subtract that steps by it (`++`/`--`).
+    fn step_one(&mut self, ty: &Type, inc: bool) -> (Reg, BinOp) {
+        if ty.scalar().is_some_and(Scalar::is_integer) {
+            (self.konst_int(1), if inc { BinOp::IAdd } else { BinOp::ISub })
+        } else {
+            (self.konst(1.0), if inc { BinOp::Add } else { BinOp::Sub })
+        }
+    }
+
+    /// An int or uint scalar or vector converted to float, component by component (ints
+    /// beside floats are promoted, as desktop GLSL allows); other values unchanged.
+    fn floated(&mut self, v: Value) -> Value {
+        match v.ty.scalar() {
+            Some(from @ (Scalar::Int | Scalar::UInt)) if v.ty.width().is_some() => {
+                let regs = v.regs.iter().map(|&r| self.convert_component(r, from, Scalar::Float)).collect();
+                Value { ty: v.ty.with_scalar(Scalar::Float), regs }
+            }
+            _ => v,
+        }
+    }
+
+    /// Ints beside floats become floats.
+    fn promote(&mut self, a: Value, b: Value) -> (Value, Value) {
         match (a.ty.scalar(), b.ty.scalar()) {
-            (Some(Scalar::Int), Some(Scalar::Float)) if a.ty.width().is_some() => (float(a), b),
-            (Some(Scalar::Float), Some(Scalar::Int)) if b.ty.width().is_some() => (a, float(b)),
+            (Some(Scalar::Int | Scalar::UInt), Some(Scalar::Float)) => (self.floated(a), b),
+            (Some(Scalar::Float), Some(Scalar::Int | Scalar::UInt)) => (a, self.floated(b)),
             _ => (a, b),
         }
+    }
+
+    /// A float comparison's counterpart on scalar kind `s` (ints and uints compare as
+    /// integers; equality of any integer compares bits).
+    fn compare_op(op: BinOp, s: Option<Scalar>) -> BinOp {
+        match (s, op) {
+            (Some(Scalar::Int), BinOp::Lt) => BinOp::ILt,
+            (Some(Scalar::Int), BinOp::Le) => BinOp::ILe,
+            (Some(Scalar::Int), BinOp::Gt) => BinOp::IGt,
+            (Some(Scalar::Int), BinOp::Ge) => BinOp::IGe,
+            (Some(Scalar::UInt), BinOp::Lt) => BinOp::ULt,
+            (Some(Scalar::UInt), BinOp::Le) => BinOp::ULe,
+            (Some(Scalar::UInt), BinOp::Gt) => BinOp::UGt,
+            (Some(Scalar::UInt), BinOp::Ge) => BinOp::UGe,
+            (Some(Scalar::Int | Scalar::UInt), BinOp::Eq) => BinOp::IEq,
+            (Some(Scalar::Int | Scalar::UInt), BinOp::Ne) => BinOp::INe,
+            _ => op,
+        }
+    }
+
+    /// `&`, `|`, `^`, `<<`, `>>` (ES 3.00) on int or uint scalars and vectors; a scalar
+    /// operand beside a vector is applied to each component. The operands of `&`, `|` and
+    /// `^` share a kind; a shift takes its left operand's type, and a count of either kind.
+    fn bit_op(&mut self, op: &ast::BinaryOpData, a: Value, b: Value) -> CResult<Value> {
+        use ast::BinaryOpData as B;
+        let (sa, sb) = (a.ty.scalar(), b.ty.scalar());
+        let integer = |s: Option<Scalar>| s.is_some_and(Scalar::is_integer);
+        let shift = matches!(op, B::LShift | B::RShift);
+        let (wa, wb) = (a.ty.width(), b.ty.width());
+        let ok = integer(sa)
+            && integer(sb)
+            && wa.is_some()
+            && wb.is_some()
+            && (shift || sa == sb)
+            && (wa == wb || wb == Some(1) || (!shift && wa == Some(1)));
+        if !ok {
+            return self.fail(format!("bit operation on {} and {}", a.ty, b.ty));
+        }
+        let bop = match op {
+            B::BitAnd => BinOp::BitAnd,
+            B::BitOr => BinOp::BitOr,
+            B::BitXor => BinOp::BitXor,
+            B::LShift => BinOp::Shl,
+            _ if sa == Some(Scalar::Int) => BinOp::IShr,
+            _ => BinOp::UShr,
+        };
+        let ty = if wa == Some(1) { b.ty.with_scalar(sa.expect("checked")) } else { a.ty.clone() };
+        let at = |v: &Value, i: usize| if v.regs.len() == 1 { v.regs[0] } else { v.regs[i] };
+        let regs = (0..ty.size()).map(|i| self.bin(bop, at(&a, i), at(&b, i))).collect();
+        Ok(Value { ty, regs })
     }
 
     fn binary(&mut self, op: &ast::BinaryOpData, a: Value, b: Value) -> CResult<Value> {
@@ -1380,12 +1584,20 @@ impl<'a> Compiler<'a> {
                 let eq = op == &B::Equal;
                 let cmp = if eq { BinOp::Eq } else { BinOp::Ne };
                 let join = if eq { BinOp::And } else { BinOp::Or };
-                let parts: Vec<Reg> = a.regs.iter().zip(&b.regs).map(|(&x, &y)| self.bin(cmp, x, y)).collect();
+                // Struct and array members each compare by their own kind.
+                let kinds = scalar_kinds(&a.ty);
+                let parts: Vec<Reg> = a
+                    .regs
+                    .iter()
+                    .zip(&b.regs)
+                    .zip(kinds)
+                    .map(|((&x, &y), s)| self.bin(Self::compare_op(cmp, Some(s)), x, y))
+                    .collect();
                 let r = parts[1..].iter().fold(parts[0], |acc, &p| self.bin(join, acc, p));
                 Ok(Value { ty: BOOL, regs: vec![r] })
             }
             B::Lt | B::Gt | B::Lte | B::Gte => {
-                if a.ty != b.ty || !matches!(a.ty, Type::Scalar(Scalar::Float | Scalar::Int)) {
+                if a.ty != b.ty || !matches!(a.ty, Type::Scalar(Scalar::Float | Scalar::Int | Scalar::UInt)) {
                     return self.fail(format!("relational operator on {} and {}", a.ty, b.ty));
                 }
                 let op = match op {
@@ -1394,12 +1606,13 @@ impl<'a> Compiler<'a> {
                     B::Lte => BinOp::Le,
                     _ => BinOp::Ge,
                 };
+                let op = Self::compare_op(op, a.ty.scalar());
                 Ok(Value { ty: BOOL, regs: vec![self.bin(op, a.regs[0], b.regs[0])] })
             }
             B::Add | B::Sub | B::Mult | B::Div => self.arith(op, a, b),
-            B::Mod if a.ty.scalar() == Some(Scalar::Int) => self.arith(op, a, b),
+            B::Mod if a.ty.scalar().is_some_and(Scalar::is_integer) => self.arith(op, a, b),
             B::Mod => self.fail(format!("% takes integers (ES 3.00), not {} and {}; use mod()", a.ty, b.ty)),
-            _ => self.fail("bit operations are not supported (GLSL ES 1.00 has none)"),
+            B::BitOr | B::BitXor | B::BitAnd | B::LShift | B::RShift => self.bit_op(op, a, b),
         }
     }
 
@@ -1425,14 +1638,18 @@ impl<'a> Compiler<'a> {
                 _ => {}
             }
         }
-        let int = a.ty.scalar() == Some(Scalar::Int);
-        let bop = match op {
-            B::Add => BinOp::Add,
-            B::Sub => BinOp::Sub,
-            B::Mult => BinOp::Mul,
-            B::Mod => BinOp::IRem,
-            _ if int => BinOp::IDiv,
-            _ => BinOp::Div,
+        let bop = match (a.ty.scalar(), op) {
+            (Some(Scalar::Float), B::Add) => BinOp::Add,
+            (Some(Scalar::Float), B::Sub) => BinOp::Sub,
+            (Some(Scalar::Float), B::Mult) => BinOp::Mul,
+            (Some(Scalar::Float), _) => BinOp::Div,
+            (_, B::Add) => BinOp::IAdd,
+            (_, B::Sub) => BinOp::ISub,
+            (_, B::Mult) => BinOp::IMul,
+            (Some(Scalar::Int), B::Mod) => BinOp::IRem,
+            (Some(Scalar::Int), _) => BinOp::IDiv,
+            (_, B::Mod) => BinOp::URem,
+            _ => BinOp::UDiv,
         };
         let ty = match (&a.ty, &b.ty) {
             (x, y) if x == y => x.clone(),
@@ -1555,14 +1772,14 @@ impl<'a> Compiler<'a> {
                     return self.fail("samplers can only be indexed by constants");
                 }
                 let i = self.expr(index)?;
-                if i.ty != INT {
-                    return self.fail(format!("index must be an int, not {}", i.ty));
+                if i.ty != INT && i.ty != UINT {
+                    return self.fail(format!("index must be an int or uint, not {}", i.ty));
                 }
                 let mut alts = Vec::new();
                 for (c, r) in &place.alts {
                     for k in 0..n {
-                        let kr = self.konst(k as f32);
-                        let eq = self.bin(BinOp::Eq, i.regs[0], kr);
+                        let kr = self.konst_int(k as i32);
+                        let eq = self.bin(BinOp::IEq, i.regs[0], kr);
                         let cond = match c {
                             Some(c) => self.bin(BinOp::And, *c, eq),
                             None => eq,
@@ -1685,12 +1902,14 @@ impl<'a> Compiler<'a> {
         let saved_scopes = self.scopes.split_off(1);
         let saved_structs = self.structs.split_off(1);
         let saved_loops = std::mem::take(&mut self.loops);
+        let saved_switches = std::mem::take(&mut self.switches);
         let line = self.line;
         self.depth += 1;
         let result = self.inline_in_globals(name, defs, args);
         self.depth -= 1;
         self.line = line;
         self.loops = saved_loops;
+        self.switches = saved_switches;
         self.scopes.extend(saved_scopes);
         self.structs.extend(saved_structs);
         result
@@ -1730,7 +1949,7 @@ impl<'a> Compiler<'a> {
                 && params.iter().zip(&args).all(|((_, ty, dir), (place, _))| {
                     place.ty == *ty
                         || *dir == ParamDir::In
-                            && place.ty.scalar() == Some(Scalar::Int)
+                            && place.ty.scalar().is_some_and(Scalar::is_integer)
                             && ty.scalar() == Some(Scalar::Float)
                             && place.ty.width() == ty.width()
                 });
@@ -1767,6 +1986,7 @@ impl<'a> Compiler<'a> {
                     }
                 } else {
                     let value = self.read(&place);
+                    let value = self.convert(value, &ty)?;
                     for (&d, &s) in regs.iter().zip(&value.regs) {
                         self.emit(Inst::Un(UnOp::Mov, d, s));
                     }
@@ -1805,10 +2025,16 @@ impl<'a> Compiler<'a> {
     }
 
     /// A component converted to scalar kind `to`.
+    /// Bools are 0.0/1.0, so they convert to numbers as floats do; int ↔ uint keeps the
+    /// bits (GLSL's rule).
     fn convert_component(&mut self, r: Reg, from: Scalar, to: Scalar) -> Reg {
         match (from, to) {
-            (Scalar::Float, Scalar::Int) => self.un(UnOp::Trunc, r),
-            (Scalar::Float | Scalar::Int, Scalar::Bool) => self.un(UnOp::ToBool, r),
+            (Scalar::Float | Scalar::Bool, Scalar::Int) => self.un(UnOp::FToI, r),
+            (Scalar::Float | Scalar::Bool, Scalar::UInt) => self.un(UnOp::FToU, r),
+            (Scalar::Int, Scalar::Float) => self.un(UnOp::IToF, r),
+            (Scalar::UInt, Scalar::Float) => self.un(UnOp::UToF, r),
+            (Scalar::Float, Scalar::Bool) => self.un(UnOp::ToBool, r),
+            (Scalar::Int | Scalar::UInt, Scalar::Bool) => self.un(UnOp::IToBool, r),
             _ => r,
         }
     }
@@ -1919,11 +2145,10 @@ fn storage_dir(q: &ast::TypeQualifier) -> ParamDir {
 
 impl<'a> Compiler<'a> {
     /// `v` as a float scalar or vector (ints promoted), or an error naming `name`.
-    fn float_gen(&self, name: &str, v: Value) -> CResult<Value> {
+    fn float_gen(&mut self, name: &str, v: Value) -> CResult<Value> {
         match v.ty {
-            Type::Scalar(Scalar::Float | Scalar::Int) | Type::Vector(Scalar::Float | Scalar::Int, _) => {
-                Ok(Value { ty: v.ty.with_scalar(Scalar::Float), regs: v.regs })
-            }
+            Type::Scalar(Scalar::Float | Scalar::Int | Scalar::UInt)
+            | Type::Vector(Scalar::Float | Scalar::Int | Scalar::UInt, _) => Ok(self.floated(v)),
             _ => self.fail(format!("{name}() takes floats or float vectors, not {}", v.ty)),
         }
     }
@@ -1953,8 +2178,69 @@ impl<'a> Compiler<'a> {
         Ok(Value { ty, regs })
     }
 
-    fn vector_arg(&self, name: &str, v: Value) -> CResult<Value> {
+    fn vector_arg(&mut self, name: &str, v: Value) -> CResult<Value> {
         self.float_gen(name, v)
+    }
+
+    /// The built-ins on integers (ES 3.00): `abs`, `sign`, `min`, `max`, `clamp` on int or
+    /// uint scalars and vectors (a scalar beside a vector applies to each component), and
+    /// the bit casts `floatBitsToInt`/`floatBitsToUint`/`intBitsToFloat`/`uintBitsToFloat`,
+    /// which only relabel the register (see `ir`). `None` when `name` with these arguments is
+    /// not one of them.
+    fn integer_builtin(&mut self, name: &str, args: &[Value]) -> CResult<Option<Value>> {
+        let cast = match name {
+            "floatBitsToInt" => Some((Scalar::Float, Scalar::Int)),
+            "floatBitsToUint" => Some((Scalar::Float, Scalar::UInt)),
+            "intBitsToFloat" => Some((Scalar::Int, Scalar::Float)),
+            "uintBitsToFloat" => Some((Scalar::UInt, Scalar::Float)),
+            _ => None,
+        };
+        if let Some((from, to)) = cast {
+            if args.len() != 1 || args[0].ty.scalar() != Some(from) || args[0].ty.width().is_none() {
+                let types: Vec<String> = args.iter().map(|a| a.ty.to_string()).collect();
+                return self.fail(format!("no function '{name}({})'", types.join(", ")));
+            }
+            return Ok(Some(Value { ty: args[0].ty.with_scalar(to), regs: args[0].regs.clone() }));
+        }
+        let Some(s) = args.first().and_then(|a| a.ty.scalar()).filter(|s| s.is_integer()) else {
+            return Ok(None);
+        };
+        let signed = s == Scalar::Int;
+        type Op<'c> = Box<dyn Fn(&mut Compiler<'c>, &[Reg]) -> Reg>;
+        let (arity, op): (usize, Op<'a>) = match name {
+            "abs" if signed => (1, Box::new(|c, r| c.un(UnOp::IAbs, r[0]))),
+            "sign" if signed => (1, Box::new(|c, r| c.un(UnOp::ISign, r[0]))),
+            "min" => {
+                let op = if signed { BinOp::IMin } else { BinOp::UMin };
+                (2, Box::new(move |c, r| c.bin(op, r[0], r[1])))
+            }
+            "max" => {
+                let op = if signed { BinOp::IMax } else { BinOp::UMax };
+                (2, Box::new(move |c, r| c.bin(op, r[0], r[1])))
+            }
+            "clamp" => {
+                let op = if signed { TriOp::IClamp } else { TriOp::UClamp };
+                (3, Box::new(move |c, r| c.tri(op, r[0], r[1], r[2])))
+            }
+            _ => return Ok(None),
+        };
+        let ty = args[0].ty.clone();
+        let fits = args.len() == arity
+            && ty.width().is_some()
+            && args[1..].iter().all(|a| a.ty == ty || a.ty == Type::Scalar(s));
+        if !fits {
+            let types: Vec<String> = args.iter().map(|a| a.ty.to_string()).collect();
+            return self.fail(format!("no function '{name}({})'", types.join(", ")));
+        }
+        let width = ty.width().expect("checked");
+        let regs = (0..width)
+            .map(|i| {
+                let ops: Vec<Reg> =
+                    args.iter().map(|a| if a.regs.len() == 1 { a.regs[0] } else { a.regs[i] }).collect();
+                op(self, &ops)
+            })
+            .collect();
+        Ok(Some(Value { ty, regs }))
     }
 
     fn length(&mut self, v: &[Reg]) -> Reg {
@@ -1967,6 +2253,9 @@ impl<'a> Compiler<'a> {
         let arity = |c: &Self, want: usize| -> CResult<()> {
             if n == want { Ok(()) } else { c.fail(format!("{name}() takes {want} arguments, {n} given")) }
         };
+        if let Some(v) = self.integer_builtin(name, &args)? {
+            return Ok(v);
+        }
         let unop = match name {
             "radians" => Some(UnOp::Radians),
             "degrees" => Some(UnOp::Degrees),
@@ -2164,6 +2453,7 @@ impl<'a> Compiler<'a> {
                     "equal" => BinOp::Eq,
                     _ => BinOp::Ne,
                 };
+                let op = Self::compare_op(op, a.ty.scalar());
                 let regs = a.regs.iter().zip(&b.regs).map(|(&x, &y)| self.bin(op, x, y)).collect();
                 Ok(Value { ty: a.ty.with_scalar(Scalar::Bool), regs })
             }
@@ -2317,5 +2607,14 @@ impl<'a> Compiler<'a> {
         let direction = [direction.regs[0], direction.regs[1], direction.regs[2]];
         self.emit(Inst::SampleCube { slot, dst: [dst[0], dst[1], dst[2], dst[3]], direction, lod });
         Ok(Value { ty: Type::vec(4), regs: dst })
+    }
+}
+
+/// The scalar kind of each component register of a value of type `ty`.
+fn scalar_kinds(ty: &Type) -> Vec<Scalar> {
+    match ty {
+        Type::Struct(s) => s.fields.iter().flat_map(|(_, t)| scalar_kinds(t)).collect(),
+        Type::Array(t, n) => scalar_kinds(t).repeat(*n),
+        _ => vec![ty.scalar().unwrap_or(Scalar::Float); ty.size()],
     }
 }

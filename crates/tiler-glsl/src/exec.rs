@@ -6,7 +6,8 @@
 //! instruction) is amortised over the lanes; see the crate docs for measured costs.
 //!
 //! Masks: `active` holds the lanes still executing; `break`/`continue` move lanes out of it
-//! into the innermost loop's exit or continue masks, `return` into the innermost call's
+//! into the innermost loop's (or `switch`'s, [`Inst::Breakable`]) exit mask or the loop's
+//! continue mask, `return` into the innermost call's
 //! return mask, `discard` into the discarded mask. After an `if`, the lanes that left neither
 //! branch carry on; after a loop, those that left it by its condition or by `break`.
 //!
@@ -148,7 +149,7 @@ fn registers_mut(code: &mut [Inst], f: &mut impl FnMut(&mut Reg, bool)) {
                 registers_mut(body, f);
                 registers_mut(step, f);
             }
-            Inst::Call(body) => registers_mut(body, f),
+            Inst::Call(body) | Inst::Breakable(body) => registers_mut(body, f),
             Inst::Derivative { dst, src, .. } => {
                 f(dst, true);
                 f(src, false);
@@ -419,6 +420,13 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     m.active |= m.returned;
                     m.returned = outer;
                 }
+                Inst::Breakable(body) => {
+                    let outer = m.exited;
+                    m.exited = 0;
+                    N::block(self, body, m);
+                    m.active |= m.exited;
+                    m.exited = outer;
+                }
                 Inst::Derivative { dst, src, axis } => {
                     let v = self.get(*src);
                     let d = self.env.derivative(v, *axis);
@@ -460,6 +468,24 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
 #[inline(always)]
 fn b(x: bool) -> f32 {
     if x { 1.0 } else { 0.0 }
+}
+
+/// An int's register value (its bits; see `ir`).
+#[inline(always)]
+pub fn int(x: i32) -> f32 {
+    f32::from_bits(x as u32)
+}
+
+/// The int a register holds.
+#[inline(always)]
+pub fn as_int(x: f32) -> i32 {
+    x.to_bits() as i32
+}
+
+/// A uint's register value.
+#[inline(always)]
+pub fn uint(x: u32) -> f32 {
+    f32::from_bits(x)
 }
 
 /// Runs straight-line arithmetic over bank registers (a program instance's hoisted code).
@@ -511,6 +537,16 @@ pub(crate) fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
         UnOp::Radians => |x| x * (std::f32::consts::PI / 180.0),
         UnOp::Degrees => |x| x * (180.0 / std::f32::consts::PI),
         UnOp::ToBool => |x| b(x != 0.0),
+        UnOp::IToBool => |x| b(x.to_bits() != 0),
+        UnOp::INeg => |x| int(as_int(x).wrapping_neg()),
+        UnOp::IAbs => |x| int(as_int(x).wrapping_abs()),
+        UnOp::ISign => |x| int(as_int(x).signum()),
+        UnOp::BitNot => |x| f32::from_bits(!x.to_bits()),
+        UnOp::IToF => |x| as_int(x) as f32,
+        UnOp::UToF => |x| x.to_bits() as f32,
+        // `as` truncates toward zero and saturates, NaN → 0.
+        UnOp::FToI => |x| int(x as i32),
+        UnOp::FToU => |x| f32::from_bits(x as u32),
     };
     a.map(f)
 }
@@ -526,17 +562,56 @@ pub(crate) fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f3
             }
         }};
     }
+    // Integer operations: the registers' bits as i32 or u32.
+    macro_rules! ilanes {
+        ($f:expr) => {{
+            let f = $f;
+            for i in 0..W {
+                out[i] = f(as_int(a[i]), as_int(c[i]));
+            }
+        }};
+    }
+    macro_rules! ulanes {
+        ($f:expr) => {{
+            let f = $f;
+            for i in 0..W {
+                out[i] = f(a[i].to_bits(), c[i].to_bits());
+            }
+        }};
+    }
     match op {
         BinOp::Add => lanes!(|x: f32, y: f32| x + y),
         BinOp::Sub => lanes!(|x: f32, y: f32| x - y),
         BinOp::Mul => lanes!(|x: f32, y: f32| x * y),
         BinOp::Div => lanes!(|x: f32, y: f32| x / y),
-        BinOp::IDiv => lanes!(|x: f32, y: f32| (x / y).trunc()),
-        BinOp::IRem => lanes!(|x: f32, y: f32| {
-            // Ints are held exactly in f32 (`ir`); the casts saturate, and NaN is 0.
-            let (x, y) = (x as i64, y as i64);
-            if y == 0 { 0.0 } else { (x % y) as f32 }
-        }),
+        BinOp::IAdd => ilanes!(|x: i32, y: i32| int(x.wrapping_add(y))),
+        BinOp::ISub => ilanes!(|x: i32, y: i32| int(x.wrapping_sub(y))),
+        BinOp::IMul => ilanes!(|x: i32, y: i32| int(x.wrapping_mul(y))),
+        BinOp::IDiv => ilanes!(|x: i32, y: i32| int(if y == 0 { 0 } else { x.wrapping_div(y) })),
+        BinOp::IRem => ilanes!(|x: i32, y: i32| int(if y == 0 { 0 } else { x.wrapping_rem(y) })),
+        BinOp::UDiv => ulanes!(|x: u32, y: u32| uint(x.checked_div(y).unwrap_or(0))),
+        BinOp::URem => ulanes!(|x: u32, y: u32| uint(x.checked_rem(y).unwrap_or(0))),
+        BinOp::IMin => ilanes!(|x: i32, y: i32| int(x.min(y))),
+        BinOp::IMax => ilanes!(|x: i32, y: i32| int(x.max(y))),
+        BinOp::UMin => ulanes!(|x: u32, y: u32| uint(x.min(y))),
+        BinOp::UMax => ulanes!(|x: u32, y: u32| uint(x.max(y))),
+        BinOp::ILt => ilanes!(|x: i32, y: i32| b(x < y)),
+        BinOp::ILe => ilanes!(|x: i32, y: i32| b(x <= y)),
+        BinOp::IGt => ilanes!(|x: i32, y: i32| b(x > y)),
+        BinOp::IGe => ilanes!(|x: i32, y: i32| b(x >= y)),
+        BinOp::ULt => ulanes!(|x: u32, y: u32| b(x < y)),
+        BinOp::ULe => ulanes!(|x: u32, y: u32| b(x <= y)),
+        BinOp::UGt => ulanes!(|x: u32, y: u32| b(x > y)),
+        BinOp::UGe => ulanes!(|x: u32, y: u32| b(x >= y)),
+        BinOp::IEq => ulanes!(|x: u32, y: u32| b(x == y)),
+        BinOp::INe => ulanes!(|x: u32, y: u32| b(x != y)),
+        BinOp::BitAnd => ulanes!(|x: u32, y: u32| uint(x & y)),
+        BinOp::BitOr => ulanes!(|x: u32, y: u32| uint(x | y)),
+        BinOp::BitXor => ulanes!(|x: u32, y: u32| uint(x ^ y)),
+        // `wrapping_sh*` take the count modulo 32.
+        BinOp::Shl => ulanes!(|x: u32, y: u32| uint(x.wrapping_shl(y))),
+        BinOp::IShr => ulanes!(|x: u32, y: u32| int((x as i32).wrapping_shr(y))),
+        BinOp::UShr => ulanes!(|x: u32, y: u32| uint(x.wrapping_shr(y))),
         BinOp::Mod => lanes!(|x: f32, y: f32| x - y * (x / y).floor()),
         BinOp::Min => lanes!(|x: f32, y: f32| if y < x { y } else { x }),
         BinOp::Max => lanes!(|x: f32, y: f32| if x < y { y } else { x }),
@@ -569,6 +644,8 @@ pub(crate) fn ternary<const W: usize>(op: TriOp, a: [f32; W], b: [f32; W], c: [f
     }
     match op {
         TriOp::Clamp => lanes!(clamp),
+        TriOp::IClamp => lanes!(|x: f32, lo: f32, hi: f32| int(as_int(x).max(as_int(lo)).min(as_int(hi)))),
+        TriOp::UClamp => lanes!(|x: f32, lo: f32, hi: f32| uint(x.to_bits().max(lo.to_bits()).min(hi.to_bits()))),
         TriOp::Mix => lanes!(|x: f32, y: f32, t: f32| x * (1.0 - t) + y * t),
         TriOp::Smoothstep => lanes!(smoothstep),
         TriOp::Select => lanes!(|c: f32, x: f32, y: f32| if c != 0.0 { x } else { y }),

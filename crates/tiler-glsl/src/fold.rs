@@ -165,6 +165,7 @@ fn may_leave(inst: &Inst, in_call: bool) -> bool {
             cond_code.iter().chain(body).chain(step).any(|i| may_leave(i, in_call))
         }
         Inst::Call(body) => body.iter().any(|i| may_leave(i, true)),
+        Inst::Breakable(body) => body.iter().any(|i| may_leave(i, in_call)),
         _ => false,
     }
 }

@@ -66,7 +66,7 @@ pub(crate) fn blocks_mut(inst: &mut Inst) -> Vec<&mut Vec<Inst>> {
     match inst {
         Inst::If(_, a, b) => vec![a, b],
         Inst::Loop { cond_code, body, step, .. } => vec![cond_code, body, step],
-        Inst::Call(body) => vec![body],
+        Inst::Call(body) | Inst::Breakable(body) => vec![body],
         _ => Vec::new(),
     }
 }

@@ -2,9 +2,15 @@
 //!
 //! Every value the compiler handles is a list of component registers: a `vec3` is three
 //! registers, a `mat4` sixteen (column after column), a struct its fields' registers in order,
-//! an array its elements'. Booleans are `0.0`/`1.0` and integers are held exactly in `f32`
-//! (GLSL ES 1.00 requires integers only up to ±2¹⁶, well inside f32's exact 2²⁴), so one
-//! register file serves every type and a later JIT needs only one vector type.
+//! an array its elements'. Booleans are `0.0`/`1.0`; `int` and `uint` are their 32 bits
+//! held in the register (`f32::from_bits(x as u32)`), worked on only by the integer
+//! instructions (`I…`/`U…`, the bit operations and the conversions), which reinterpret the
+//! bits — so one register file serves every type, a move or a select copies any of them,
+//! and a later JIT needs only one vector type. Integer arithmetic wraps (two's
+//! complement); what GLSL leaves undefined is defined here, the same on every backend:
+//! division and remainder by zero give 0 (`i32::MIN / −1` wraps to `i32::MIN`, its
+//! remainder is 0), shift counts are taken modulo 32, and float → integer conversions
+//! truncate and saturate (NaN → 0, negative → 0 for `uint`).
 //!
 //! Registers whose index has [`BANK`] set live in the program instance's read-only bank
 //! (uniforms and constants, splatted across the lanes once per instance); the others are
@@ -48,6 +54,24 @@ pub enum UnOp {
     Degrees,
     /// Float → bool (`x != 0`).
     ToBool,
+    /// Integer (either signedness) → bool (`x != 0`).
+    IToBool,
+    /// Wrapping negation of an int.
+    INeg,
+    /// `abs` of an int (`abs(i32::MIN)` wraps to itself).
+    IAbs,
+    /// `sign` of an int.
+    ISign,
+    /// `~x`.
+    BitNot,
+    /// int → float (rounded to nearest).
+    IToF,
+    /// uint → float (rounded to nearest).
+    UToF,
+    /// float → int: truncated, saturated, NaN → 0.
+    FToI,
+    /// float → uint: truncated, saturated (negative → 0), NaN → 0.
+    FToU,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,11 +80,41 @@ pub enum BinOp {
     Sub,
     Mul,
     Div,
-    /// Integer division: the quotient truncated toward zero.
+    /// Wrapping int (or uint: the same bits) addition, subtraction, multiplication.
+    IAdd,
+    ISub,
+    IMul,
+    /// int division: the quotient truncated toward zero; 0 for a zero divisor.
     IDiv,
-    /// Integer remainder (`%`, ES 3.00): `x − y·(x / y)` with that quotient, computed on
-    /// integers (exact); 0 for a zero divisor, which GLSL leaves undefined.
+    /// int remainder (`%`): `x − y·(x / y)` with that quotient; 0 for a zero divisor.
     IRem,
+    /// uint division and remainder; 0 for a zero divisor.
+    UDiv,
+    URem,
+    IMin,
+    IMax,
+    UMin,
+    UMax,
+    ILt,
+    ILe,
+    IGt,
+    IGe,
+    ULt,
+    ULe,
+    UGt,
+    UGe,
+    /// Equality of integers' bits (either signedness).
+    IEq,
+    INe,
+    BitAnd,
+    BitOr,
+    BitXor,
+    /// `x << (y mod 32)`.
+    Shl,
+    /// int `x >> (y mod 32)`, arithmetic (the sign copied in).
+    IShr,
+    /// uint `x >> (y mod 32)`, logical.
+    UShr,
     /// GLSL `mod`: `x − y·floor(x/y)`.
     Mod,
     Min,
@@ -84,6 +138,9 @@ pub enum BinOp {
 pub enum TriOp {
     /// `clamp(x, lo, hi)` = `min(max(x, lo), hi)`.
     Clamp,
+    /// The same on ints and on uints.
+    IClamp,
+    UClamp,
     /// `mix(x, y, a)` = `x·(1 − a) + y·a`.
     Mix,
     /// `smoothstep(e0, e1, x)`: `t = clamp((x − e0)/(e1 − e0), 0, 1)`, `t·t·(3 − 2t)`.
@@ -134,6 +191,7 @@ pub enum Inst {
         step: Vec<Inst>,
         test_first: bool,
     },
+    /// Leaves the innermost [`Inst::Loop`] or [`Inst::Breakable`] in the active lanes.
     Break,
     Continue,
     /// Leaves the innermost [`Inst::Call`] (or the shader) in the active lanes.
@@ -141,6 +199,9 @@ pub enum Inst {
     Discard,
     /// An inlined function body: the scope of its `return`s.
     Call(Vec<Inst>),
+    /// A `switch` body: the scope of its `break`s (lanes that break leave it and carry on
+    /// after it; `continue` passes to the enclosing loop).
+    Breakable(Vec<Inst>),
     /// The screen-space derivative of a register along x or y (GL's window axes), from the
     /// lanes of each 2×2 quad (fragment shaders).
     Derivative {
@@ -193,7 +254,7 @@ pub fn count_insts(code: &[Inst]) -> usize {
             Inst::Loop { cond_code, body, step, .. } => {
                 1 + count_insts(cond_code) + count_insts(body) + count_insts(step)
             }
-            Inst::Call(body) => 1 + count_insts(body),
+            Inst::Call(body) | Inst::Breakable(body) => 1 + count_insts(body),
             _ => 1,
         })
         .sum()

@@ -32,15 +32,19 @@
 //! (`uniform Name { … } [instance];`, laid out `std140` — `shared` is taken to be the same —
 //! and set from a buffer's bytes with [`CompiledProgram::set_uniform_block`]; see [`std140`]).
 //!
-//! `%` on integers (ES 3.00; any version is accepted, as ints mixing with floats are).
+//! Also from ES 3.00 (any version is accepted): `switch` (fall-through, `break`, per-lane
+//! selectors), 32-bit `int` and `uint`/`uvecN` with `1u` literals, wrapping arithmetic,
+//! `%`, the bit operations and shifts, and the integer built-ins `abs`, `sign`, `min`,
+//! `max`, `clamp` and the bit casts (`floatBitsToInt` …); undefined cases are defined (see
+//! [`ir`]: division by zero gives 0, shift counts are taken modulo 32, float → integer
+//! saturates).
 //!
-//! Not supported (a compile error naming the shader and line): `switch`, bit operations,
-//! `uint` and the other ES 3.00 types beyond ES 1.00's, `flat` (GL takes a flat varying from a
-//! primitive's last vertex, tiler's core from its first), in/out blocks, arrays of uniform
-//! blocks, `packed` and `row_major` blocks. Simplifications: the operands of `&&`, `||` and `?:` are all evaluated
-//! and then selected per lane (a side effect in the untaken one happens); ints mix with
-//! floats (promoted, as desktop GLSL allows); ints are held in f32 (exact to 2²⁴, beyond ES
-//! 1.00's required ±2¹⁶).
+//! Not supported (a compile error naming the shader and line): `flat` (GL takes a flat
+//! varying from a primitive's last vertex, tiler's core from its first) and so integer
+//! varyings, integer attributes, integer colour outputs and integer samplers, in/out blocks,
+//! arrays of uniform blocks, `packed` and `row_major` blocks. Simplifications: the operands
+//! of `&&`, `||` and `?:` are all evaluated and then selected per lane (a side effect in the
+//! untaken one happens); ints and uints mix with floats (converted, as desktop GLSL allows).
 //!
 //! Limits, each a compile error: [`compile::MAX_INSTRUCTIONS`] instructions and
 //! [`compile::MAX_REGISTERS`] registers per stage (inlining can grow code exponentially),

@@ -15,7 +15,7 @@ use tiler::{
 use crate::compile::{StageCode, compile};
 use crate::exec::{Env, Executable, LodValue, run};
 use crate::ir::{Axis, BANK, Reg};
-use crate::types::{SamplerKind, Type};
+use crate::types::{SamplerKind, Scalar, Type};
 use crate::{Error, Stage};
 
 /// A vertex attribute of a linked program.
@@ -220,7 +220,9 @@ impl CompiledProgram {
     }
 
     /// Sets the uniform at `location` from `values` (its components, then the next array
-    /// elements', as `glUniform*v` with a count). Ints and texture units go as floats.
+    /// elements', as `glUniform*v` with a count). Ints, uints and texture units go as floats
+    /// (exact to 2²⁴); an int or uint uniform keeps the integer (truncated, saturated; see
+    /// `ir` for how integers are held).
     ///
     /// # Errors
     /// An unknown location, or more values than the uniform has from that element on.
@@ -243,7 +245,12 @@ impl CompiledProgram {
             )));
         }
         let start = u.offset + element * size;
-        uniforms.values[start..start + values.len()].copy_from_slice(values);
+        let slots = &mut uniforms.values[start..start + values.len()];
+        match u.ty.scalar() {
+            Some(Scalar::Int) => slots.iter_mut().zip(values).for_each(|(s, &v)| *s = crate::exec::int(v as i32)),
+            Some(Scalar::UInt) => slots.iter_mut().zip(values).for_each(|(s, &v)| *s = crate::exec::uint(v as u32)),
+            _ => slots.copy_from_slice(values),
+        }
         Ok(())
     }
 
@@ -812,19 +819,26 @@ impl GlslVertexShader {
                         _ => (0, k),
                     };
                     let loc = attr.location as usize + column;
+                    // The core fetches attributes as floats; an integer attribute takes
+                    // the value's integer (exact to 2²⁴).
                     for (lane, input) in inputs[..lanes].iter().enumerate() {
-                        regs[r as usize][lane] = input.attributes[loc][row];
+                        let x = input.attributes[loc][row];
+                        regs[r as usize][lane] = match var.ty.scalar() {
+                            Some(Scalar::Int) => crate::exec::int(x as i32),
+                            Some(Scalar::UInt) => crate::exec::uint(x as u32),
+                            _ => x,
+                        };
                     }
                 }
             }
-            // Ints are held in f32 (exact to 2²⁴).
+            // Ints are held as their bits (`ir`).
             if let Some(r) = code.vertex_id {
                 for (lane, input) in inputs[..lanes].iter().enumerate() {
-                    regs[r as usize][lane] = input.vertex_index as f32;
+                    regs[r as usize][lane] = crate::exec::int(input.vertex_index as i32);
                 }
             }
             if let Some(r) = code.instance_id {
-                regs[r as usize] = [self.instance as f32; VERTEX_LANES];
+                regs[r as usize] = [crate::exec::int(self.instance as i32); VERTEX_LANES];
             }
             let active = (1u64 << lanes) - 1;
             run(executable, regs, active, &mut VertexEnv { slots: &self.slots, lanes });

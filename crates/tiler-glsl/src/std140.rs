@@ -73,8 +73,8 @@ pub fn read(ty: &Type, bytes: &[u8], out: &mut Vec<f32>) {
                 let w = word(k * N);
                 out.push(match s {
                     Scalar::Float => f32::from_le_bytes(w),
-                    // Ints are held in f32 (exact to 2²⁴), as everywhere in the program.
-                    Scalar::Int => i32::from_le_bytes(w) as f32,
+                    // Integers are held as their bits (`ir`).
+                    Scalar::Int | Scalar::UInt => f32::from_bits(u32::from_le_bytes(w)),
                     Scalar::Bool => f32::from(u8::from(u32::from_le_bytes(w) != 0)),
                 });
             }
@@ -105,6 +105,15 @@ pub fn read(ty: &Type, bytes: &[u8], out: &mut Vec<f32>) {
 
 #[cfg(test)]
 mod tests {
+    trait MapBits {
+        fn map_bits(&self) -> Vec<u32>;
+    }
+    impl MapBits for Vec<f32> {
+        fn map_bits(&self) -> Vec<u32> {
+            self.iter().map(|x| x.to_bits()).collect()
+        }
+    }
+
     use std::sync::Arc;
 
     use super::*;
@@ -162,12 +171,35 @@ mod tests {
         let mut out = Vec::new();
         read(&b, &bytes, &mut out);
         assert_eq!(out.len(), b.size());
-        assert_eq!(
-            out,
-            [
-                1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 0.0, 1.0, 8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 14.0, 15.0, 0.0, 0.0,
-                16.0, 1.0, 0.0, -1.0, -2.0, -3.0
-            ]
-        );
+        let int = crate::exec::int;
+        let want = [
+            1.0,
+            2.0,
+            3.0,
+            4.0,
+            5.0,
+            6.0,
+            7.0,
+            0.0,
+            1.0,
+            8.0,
+            9.0,
+            10.0,
+            11.0,
+            12.0,
+            13.0,
+            14.0,
+            15.0,
+            0.0,
+            0.0,
+            16.0,
+            1.0,
+            0.0,
+            int(-1),
+            int(-2),
+            int(-3),
+        ];
+        // Integers are held as their bits (NaN patterns among them): compare bits.
+        assert_eq!(out.map_bits(), want.map(f32::to_bits).to_vec());
     }
 }

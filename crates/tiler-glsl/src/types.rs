@@ -7,8 +7,18 @@ use std::sync::Arc;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Scalar {
     Float,
+    /// `int`: 32-bit two's complement, its bits held in the register (see `ir`).
     Int,
+    /// `uint` (ES 3.00): 32 bits, held as `int` is.
+    UInt,
     Bool,
+}
+
+impl Scalar {
+    /// `int` or `uint`.
+    pub fn is_integer(self) -> bool {
+        matches!(self, Scalar::Int | Scalar::UInt)
+    }
 }
 
 /// A sampler kind.
@@ -26,7 +36,7 @@ pub enum SamplerKind {
 pub enum Type {
     Void,
     Scalar(Scalar),
-    /// `vecN`, `ivecN`, `bvecN` (N = 2, 3, 4).
+    /// `vecN`, `ivecN`, `uvecN`, `bvecN` (N = 2, 3, 4).
     Vector(Scalar, usize),
     /// `matN` (N = 2, 3, 4), column-major.
     Matrix(usize),
@@ -44,6 +54,7 @@ pub struct StructType {
 
 pub const FLOAT: Type = Type::Scalar(Scalar::Float);
 pub const INT: Type = Type::Scalar(Scalar::Int);
+pub const UINT: Type = Type::Scalar(Scalar::UInt);
 pub const BOOL: Type = Type::Scalar(Scalar::Bool);
 
 impl Type {
@@ -87,7 +98,7 @@ impl Type {
     }
 
     pub fn is_numeric_scalar_or_vector(&self) -> bool {
-        matches!(self, Type::Scalar(Scalar::Float | Scalar::Int) | Type::Vector(Scalar::Float | Scalar::Int, _))
+        matches!(self.scalar(), Some(Scalar::Float | Scalar::Int | Scalar::UInt)) && self.width().is_some()
     }
 
     pub fn is_float_based(&self) -> bool {
@@ -119,9 +130,11 @@ impl fmt::Display for Type {
             Type::Void => write!(f, "void"),
             Type::Scalar(Scalar::Float) => write!(f, "float"),
             Type::Scalar(Scalar::Int) => write!(f, "int"),
+            Type::Scalar(Scalar::UInt) => write!(f, "uint"),
             Type::Scalar(Scalar::Bool) => write!(f, "bool"),
             Type::Vector(Scalar::Float, n) => write!(f, "vec{n}"),
             Type::Vector(Scalar::Int, n) => write!(f, "ivec{n}"),
+            Type::Vector(Scalar::UInt, n) => write!(f, "uvec{n}"),
             Type::Vector(Scalar::Bool, n) => write!(f, "bvec{n}"),
             Type::Matrix(n) => write!(f, "mat{n}"),
             Type::Sampler(SamplerKind::Sampler2D) => write!(f, "sampler2D"),

@@ -1100,9 +1100,9 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
         ),
         (
             Stage::Fragment,
-            "#version 300 es\nprecision mediump float;\nout vec4 c;\nvoid main() {\n  uint u = 1u;\n  c = vec4(1.0);\n}",
-            5,
-            "",
+            "#version 300 es\nprecision mediump float;\nout uvec4 c;\nvoid main() {\n  c = uvec4(1u);\n}",
+            3,
+            "vec4",
         ),
     ];
     for (stage, source, line, word) in cases {
@@ -1188,4 +1188,269 @@ fn shadow_lookups_pass_the_reference_depth() {
         let e = e.unwrap_or_else(|| panic!("compiled: {fs}")).to_string();
         assert!(e.contains("sampler2D") || e.contains("coordinates"), "{e}");
     }
+}
+
+/// Runs a vertex shader on a batch of vertices (attribute 0 of each; the lanes diverge)
+/// and returns each vertex's first four varyings.
+fn run_vertex_batch(vs: &str, fs: &str, attributes: &[[f32; 4]]) -> Vec<[f32; 4]> {
+    let program = glsl(vs, fs);
+    let (shader, _) = tiler_glsl::shaders(&program, &program.new_uniform_values(), &[], HEIGHT);
+    let inputs: Vec<VertexInput> = attributes
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let mut attributes = [Vec4::ZERO; tiler::MAX_VERTEX_ATTRIBUTES];
+            attributes[0] = Vec4::from_array(*a);
+            VertexInput { attributes, vertex_index: k as u32 }
+        })
+        .collect();
+    let mut outs = vec![VertexOutput::default(); inputs.len()];
+    shader.shade_batch(&inputs, &mut outs);
+    outs.iter().map(|o| <[f32; 4]>::try_from(&o.varyings[..4]).unwrap()).collect()
+}
+
+const PASS_FS_300: &str = "#version 300 es
+precision highp float;
+in vec4 r;
+out vec4 c;
+void main() { c = r; }";
+
+/// `switch` with a selector that differs per lane: fall-through, `default` in the middle,
+/// `break` out of the switch, `continue` through it to the enclosing loop.
+#[test]
+fn switch_falls_through_and_breaks_per_lane() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+void main() {
+    int s = int(a.x);
+    float acc = 0.0;
+    float loops = 0.0;
+    for (int i = 0; i < 3; i++) {
+        switch (s + i) {
+        case 0:
+            acc += 1.0;
+        case 1:
+        case 2:
+            acc += 10.0;
+            break;
+        default:
+            acc += 100.0;
+        case 5:
+            acc += 1000.0;
+            if (a.y > 0.5) break;
+            acc += 10000.0;
+            continue;
+        case 3 + 4:
+            acc += 100000.0;
+        }
+        loops += 1.0;
+    }
+    switch (s) { case 1: loops += 0.5; }
+    r = vec4(acc, loops, 0.0, 0.0);
+    gl_Position = a;
+}";
+    fn expect(s: i32, y: f32) -> [f32; 4] {
+        let (mut acc, mut loops) = (0.0f32, 0.0f32);
+        'each: for i in 0..3 {
+            // The index of the label the switch enters at.
+            let start = match s + i {
+                0 => 0,
+                1 | 2 => 1,
+                5 => 3,
+                7 => 4,
+                _ => 2,
+            };
+            'switch: {
+                if start <= 0 {
+                    acc += 1.0;
+                }
+                if start <= 1 {
+                    acc += 10.0;
+                    break 'switch;
+                }
+                if start <= 2 {
+                    acc += 100.0;
+                }
+                if start <= 3 {
+                    acc += 1000.0;
+                    if y > 0.5 {
+                        break 'switch;
+                    }
+                    acc += 10000.0;
+                    continue 'each;
+                }
+                acc += 100000.0;
+            }
+            loops += 1.0;
+        }
+        if s == 1 {
+            loops += 0.5;
+        }
+        [acc, loops, 0.0, 0.0]
+    }
+    let attributes: Vec<[f32; 4]> = (0..22).map(|k| [(k % 11) as f32 - 2.0, (k / 11) as f32, 0.0, 1.0]).collect();
+    for n in [8, 22] {
+        let got = run_vertex_batch(VS, PASS_FS_300, &attributes[..n]);
+        for (k, a) in attributes[..n].iter().enumerate() {
+            assert_eq!(got[k], expect(a[0] as i32, a[1]), "vertex {k}: selector {}, y {}", a[0], a[1]);
+        }
+    }
+    // What GLSL forbids, each an error naming its line.
+    let body = |b: &str| {
+        format!(
+            "#version 300 es\nin vec4 a;\nout vec4 r;\nvoid main() {{\n  int s = int(a.x);\n  r = a;\n{b}\n  gl_Position = a;\n}}"
+        )
+    };
+    let cases = [
+        ("  switch (s) { case 1: r.x = 1.0; break; case 1: break; }", "twice"),
+        ("  switch (a.x) { case 1: break; }", "selector"),
+        ("  switch (s) { default: r.x = 1.0; default: break; }", "two default"),
+        ("  switch (s) { r.x = 1.0; case 1: break; }", "before the first case"),
+        ("  switch (s) { case int(a.y): break; }", "constant"),
+        ("  switch (s) { case 1.0: break; }", "constant int"),
+        ("  case 1: r.x = 1.0;", "outside a switch"),
+        ("  break;", "break outside"),
+        ("  switch (s) { case 1: continue; }", "continue outside"),
+    ];
+    for (code, word) in cases {
+        let e = CompiledProgram::new(&body(code), PASS_FS_300, &[]).unwrap_err();
+        match &e {
+            Error::Compile { stage: Stage::Vertex, line: 7, message } if message.contains(word) => {}
+            other => panic!("{code}: {other}"),
+        }
+    }
+}
+
+/// ES 3.00 integers are 32-bit: wrapping arithmetic, truncating division, the defined
+/// results of what GLSL leaves undefined (division by zero → 0, shift counts modulo 32),
+/// unsigned comparison, bit operations, conversions and bit casts — each lane checked
+/// against Rust's integer arithmetic, bit for bit.
+#[test]
+fn integers_are_exact_32_bit() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+out vec4 q;
+void main() {
+    int x = floatBitsToInt(a.x);
+    int y = floatBitsToInt(a.y);
+    uint u = floatBitsToUint(a.x);
+    uint v = floatBitsToUint(a.y);
+    int sum = x + y, diff = x - y, prod = x * y, quot = x / y, rem = x % y;
+    uint uq = u / v, ur = u % v;
+    int bits = (x & y) ^ (x | 0x0f0) ^ ~y;
+    int shifted = (x << (y & 63)) + (x >> 3) + int(u >> 3u);
+    int cmp = (x < y ? 1 : 0) + (u < v ? 2 : 0) + (x == y ? 4 : 0) + (u >= v ? 8 : 0);
+    ivec2 m = clamp(ivec2(x, y), -100, 100) + abs(ivec2(x, y)) + sign(ivec2(x, y)) + min(ivec2(x), y);
+    uvec2 n = max(uvec2(u, v), 7u) ^ uvec2(1u, 2u);
+    int z = 0;
+    z += x;
+    z *= 3;
+    z <<= 2;
+    z |= 1;
+    z--;
+    r = vec4(intBitsToFloat(sum ^ diff), intBitsToFloat(prod + quot * 7 + rem), uintBitsToFloat(uq + ur * 3u),
+             intBitsToFloat(bits + shifted * 5 + cmp));
+    q = vec4(intBitsToFloat(m.x ^ m.y), uintBitsToFloat(n.x + n.y), float(x) + float(u), intBitsToFloat(z + int(a.z)));
+    gl_Position = vec4(0.0);
+}";
+    fn expect(x: i32, y: i32, w: f32) -> [u32; 8] {
+        let (u, v) = (x as u32, y as u32);
+        let div = |a: i32, b: i32| if b == 0 { 0 } else { a.wrapping_div(b) };
+        let rem = |a: i32, b: i32| if b == 0 { 0 } else { a.wrapping_rem(b) };
+        let (sum, diff, prod) = (x.wrapping_add(y), x.wrapping_sub(y), x.wrapping_mul(y));
+        let (quot, rm) = (div(x, y), rem(x, y));
+        let (uq, ur) = (u.checked_div(v).unwrap_or(0), u.checked_rem(v).unwrap_or(0));
+        let bits = (x & y) ^ (x | 0x0f0) ^ !y;
+        let shifted = x.wrapping_shl((y & 63) as u32).wrapping_add(x >> 3).wrapping_add((u >> 3) as i32);
+        let cmp = i32::from(x < y) + 2 * i32::from(u < v) + 4 * i32::from(x == y) + 8 * i32::from(u >= v);
+        let m =
+            |c: i32| c.clamp(-100, 100).wrapping_add(c.wrapping_abs()).wrapping_add(c.signum()).wrapping_add(x.min(y));
+        let (mx, my) = (m(x), m(y));
+        let n = (u.max(7) ^ 1).wrapping_add(v.max(7) ^ 2);
+        let z = ((x.wrapping_mul(3).wrapping_shl(2)) | 1).wrapping_sub(1);
+        [
+            (sum ^ diff) as u32,
+            prod.wrapping_add(quot.wrapping_mul(7)).wrapping_add(rm) as u32,
+            uq.wrapping_add(ur.wrapping_mul(3)),
+            bits.wrapping_add(shifted.wrapping_mul(5)).wrapping_add(cmp) as u32,
+            (mx ^ my) as u32,
+            n,
+            (x as f32 + u as f32).to_bits(),
+            z.wrapping_add(w as i32) as u32,
+        ]
+    }
+    let pairs: [(i32, i32); 12] = [
+        (7, 2),
+        (-7, 2),
+        (7, -2),
+        (i32::MIN, -1),
+        (i32::MAX, 1),
+        (123_456_789, 0),
+        (-5, 33),
+        (0x7fff_0000, 0x10001),
+        (-1, -1),
+        (16_777_217, 3),
+        (1, 40),
+        (-1_000_000_007, 65_537),
+    ];
+    let attributes: Vec<[f32; 4]> = pairs
+        .iter()
+        .enumerate()
+        .map(|(k, &(x, y))| [f32::from_bits(x as u32), f32::from_bits(y as u32), k as f32 - 5.0, 1.0])
+        .collect();
+    let fs = "#version 300 es\nprecision highp float;\nin vec4 r;\nin vec4 q;\nout vec4 c;\nvoid main() { c = r + q; }";
+    let program = glsl(VS, fs);
+    let (shader, _) = tiler_glsl::shaders(&program, &program.new_uniform_values(), &[], HEIGHT);
+    for chunk in [8, 12] {
+        let inputs: Vec<VertexInput> = attributes[..chunk]
+            .iter()
+            .enumerate()
+            .map(|(k, a)| {
+                let mut attributes = [Vec4::ZERO; tiler::MAX_VERTEX_ATTRIBUTES];
+                attributes[0] = Vec4::from_array(*a);
+                VertexInput { attributes, vertex_index: k as u32 }
+            })
+            .collect();
+        let mut outs = vec![VertexOutput::default(); chunk];
+        shader.shade_batch(&inputs, &mut outs);
+        for (k, out) in outs.iter().enumerate() {
+            let got: Vec<u32> = out.varyings[..8].iter().map(|x| x.to_bits()).collect();
+            let (x, y) = pairs[k];
+            assert_eq!(got, expect(x, y, attributes[k][2]), "x {x}, y {y}");
+        }
+    }
+}
+
+/// `uint` literals, uniforms and `switch` on a uint; int uniforms keep the integer.
+#[test]
+fn uint_uniforms_and_switch() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+uniform uint mode;
+uniform int offset;
+out vec4 r;
+void main() {
+    uint k = mode + uint(int(a.x) + offset);
+    float f = 0.0;
+    switch (k) {
+    case 0u: f = 1.0; break;
+    case 4000000000u: f = 2.0; break;
+    default: f = float(k) / 10.0;
+    }
+    r = vec4(f, float(mode), float(offset), float(k > 3u));
+    gl_Position = a;
+}";
+    let got = run_vertex(VS, PASS_FS_300, [2.0, 0.0, 0.0, 1.0], |p, u| {
+        p.set_uniform(u, p.uniform_location("mode").unwrap(), &[5.0]).unwrap();
+        p.set_uniform(u, p.uniform_location("offset").unwrap(), &[-7.0]).unwrap();
+    });
+    assert_eq!(got, [1.0, 5.0, -7.0, 0.0]);
+    let got = run_vertex(VS, PASS_FS_300, [30.0, 0.0, 0.0, 1.0], |p, u| {
+        p.set_uniform(u, p.uniform_location("mode").unwrap(), &[5.0]).unwrap();
+    });
+    assert_eq!(got, [3.5, 5.0, 0.0, 1.0]);
+    let e = CompiledProgram::new(&VS.replace("case 0u", "case 0"), PASS_FS_300, &[]).unwrap_err();
+    assert!(e.to_string().contains("constant uint"), "{e}");
 }
