@@ -6,7 +6,7 @@ use glam::Vec4;
 use crate::api::pipeline::{MAX_VERTEX_ATTRIBUTES, VertexFormat, VertexInputState};
 use crate::api::render_pass::VertexBufferBinding;
 use crate::api::shader::VertexInput;
-#[cfg(any(test, feature = "vertex-cache-reference"))]
+#[cfg(feature = "vertex-cache-reference")]
 use crate::ledger::cache::CacheModel;
 use crate::ledger::cache::ReadCache;
 
@@ -128,8 +128,8 @@ impl FetchLayout {
 
     /// [`FetchLayout::fetch`] through the general cache model, line by line, as the count was
     /// first written: the reference the read cache is held to (feature
-    /// `vertex-cache-reference`, and this module's tests).
-    #[cfg(any(test, feature = "vertex-cache-reference"))]
+    /// `vertex-cache-reference`).
+    #[cfg(feature = "vertex-cache-reference")]
     pub fn fetch_reference(&self, vertex: u32, cache: &mut CacheModel) -> u64 {
         if !cache.config().is_enabled() {
             return self.attributes.iter().map(|a| a.size).sum();
