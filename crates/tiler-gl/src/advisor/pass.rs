@@ -25,7 +25,8 @@ struct PassView<'a> {
     same_framebuffer_before: Option<&'a PassRecord>,
     /// Bound again after an earlier pass of the frame on the same framebuffer ended by an
     /// unbind, with nothing between that needed the earlier pass done first: the second pass
-    /// reloads what the first stored, and the two could have been one.
+    /// reloads what the first stored, and the two could have been one. A rebinding the work
+    /// between needed (a ping-pong blur) is a fresh bind: its loads are the application's choice.
     rebound: bool,
     /// Bound again after an earlier pass of the frame on the same framebuffer ended by an
     /// unbind, where the work between needed that pass done first: this pass continues the
@@ -36,16 +37,9 @@ struct PassView<'a> {
 }
 
 impl PassView<'_> {
-    /// See [`PassView::rebound`](field@PassView::rebound). A rebinding the work between
-    /// needed (a ping-pong blur: the pass between reads what the first drew) is a fresh bind:
-    /// its loads are the application's choice.
-    fn rebound(&self) -> bool {
-        self.rebound
-    }
-
     /// Started by a bind (or a new frame) whose loads the application chose, not a rebind.
     fn fresh_start(&self) -> bool {
-        matches!(self.pass.start, StartCause::Bind | StartCause::NewFrame) && !self.rebound()
+        matches!(self.pass.start, StartCause::Bind | StartCause::NewFrame) && !self.rebound
     }
 
     /// For each draw, the loads of a fresh pass that a clear-quad at its start kept: the
@@ -230,7 +224,7 @@ fn flush_mid_pass(v: &PassView, out: &mut Vec<Draft>) {
 
 /// The framebuffer was bound again in the same frame: this pass reloads what the last stored.
 fn framebuffer_rebound(v: &PassView, out: &mut Vec<Draft>) {
-    if matches!(v.pass.start, StartCause::AfterFlush { .. }) || !v.rebound() {
+    if matches!(v.pass.start, StartCause::AfterFlush { .. }) || !v.rebound {
         return;
     }
     let (pass, fb) = (v.pass, &v.fb);
@@ -283,7 +277,7 @@ fn framebuffer_rebound(v: &PassView, out: &mut Vec<Draft>) {
 fn loads_chosen(v: &PassView) -> bool {
     match v.pass.start {
         StartCause::AfterFlush { .. } | StartCause::Tiling | StartCause::Copy => false,
-        StartCause::Bind | StartCause::NewFrame => !v.rebound(),
+        StartCause::Bind | StartCause::NewFrame => !v.rebound,
         StartCause::BeginPass => true,
     }
 }

@@ -349,17 +349,9 @@ impl Fixer {
         let first = pass.draws[0].call.call as usize;
         let mut start = first;
         while start > pass.started_at.call as usize + 1
-            && !matches!(
-                calls.get(start - 1),
-                Some(
-                    Call::Clear { .. }
-                        | Call::BindFramebuffer { .. }
-                        | Call::DrawArrays { .. }
-                        | Call::DrawElements { .. }
-                        | Call::DrawArraysInstanced { .. }
-                        | Call::DrawElementsInstanced { .. }
-                )
-            )
+            && !calls
+                .get(start - 1)
+                .is_some_and(|c| is_draw(c) || matches!(c, Call::Clear { .. } | Call::BindFramebuffer { .. }))
         {
             start -= 1;
         }
@@ -605,28 +597,36 @@ impl Fixer {
     }
 }
 
-/// Whether a call draws, clears, invalidates, copies, reads or flushes: work on a framebuffer,
-/// not state.
-fn changes_framebuffer(call: &Call) -> bool {
+/// Whether a call is a draw (of any kind).
+fn is_draw(call: &Call) -> bool {
     matches!(
         call,
         Call::DrawArrays { .. }
             | Call::DrawElements { .. }
             | Call::DrawArraysInstanced { .. }
             | Call::DrawElementsInstanced { .. }
-            | Call::Clear { .. }
-            | Call::Invalidate { .. }
-            | Call::ReadPixels { .. }
-            | Call::BlitFramebuffer { .. }
-            | Call::CopyTexSubImage { .. }
-            | Call::Flush
-            | Call::Finish
-            | Call::BeginPass { .. }
-            | Call::NextSubpass
-            | Call::EndPass
-            | Call::StartTiling { .. }
-            | Call::EndTiling { .. }
     )
+}
+
+/// Whether a call draws, clears, invalidates, copies, reads or flushes: work on a framebuffer,
+/// not state.
+fn changes_framebuffer(call: &Call) -> bool {
+    is_draw(call)
+        || matches!(
+            call,
+            Call::Clear { .. }
+                | Call::Invalidate { .. }
+                | Call::ReadPixels { .. }
+                | Call::BlitFramebuffer { .. }
+                | Call::CopyTexSubImage { .. }
+                | Call::Flush
+                | Call::Finish
+                | Call::BeginPass { .. }
+                | Call::NextSubpass
+                | Call::EndPass
+                | Call::StartTiling { .. }
+                | Call::EndTiling { .. }
+        )
 }
 
 /// The attachment a `store-unread` finding is about: the first of the pass's slots its

@@ -32,8 +32,9 @@ pub enum CompareOp {
 }
 
 impl CompareOp {
+    /// Whether `a OP b` holds (a NaN operand passes `NotEqual` and `Always` only).
     #[inline(always)]
-    pub fn test(self, a: u32, b: u32) -> bool {
+    pub fn test<T: PartialOrd>(self, a: T, b: T) -> bool {
         match self {
             CompareOp::Never => false,
             CompareOp::Less => a < b,

@@ -20,16 +20,7 @@ use crate::api::pipeline::CompareOp;
 #[inline]
 pub fn compare(op: CompareOp, reference: f32, texel: f32, clamp: bool) -> f32 {
     let reference = if clamp { reference.clamp(0.0, 1.0) } else { reference };
-    let pass = match op {
-        CompareOp::Never => false,
-        CompareOp::Less => reference < texel,
-        CompareOp::Equal => reference == texel,
-        CompareOp::LessOrEqual => reference <= texel,
-        CompareOp::Greater => reference > texel,
-        CompareOp::NotEqual => reference != texel,
-        CompareOp::GreaterOrEqual => reference >= texel,
-        CompareOp::Always => true,
-    };
+    let pass = op.test(reference, texel);
     if pass { 1.0 } else { 0.0 }
 }
 
