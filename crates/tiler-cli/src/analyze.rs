@@ -54,11 +54,12 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "DIR")]
     pub frames: Option<PathBuf>,
 
-    /// With --frames: also write the window's picture after each of these capture calls
-    /// (apitrace call numbers, comma-separated) as DIR/call-NNNNNNNN.png — a frame of a
-    /// capture that renders off-screen or never calls eglSwapBuffers. A snapshot in the middle
-    /// of the window's render pass renders it there, as a glReadPixels would, and the report
-    /// counts it so.
+    /// With --frames: also write the picture of the framebuffer bound for drawing after each
+    /// of these capture calls (apitrace call numbers, comma-separated) as
+    /// DIR/call-NNNNNNNN.png — the window, or a framebuffer object's first colour attachment:
+    /// what a render-to-texture pass drew, or a frame of a capture that never calls
+    /// eglSwapBuffers. A snapshot in the middle of a render pass renders it there, as a
+    /// glReadPixels would, and the report counts it so.
     #[arg(long, value_delimiter = ',', value_name = "CALL,...", requires = "frames")]
     pub snapshot: Vec<u64>,
 
@@ -71,7 +72,7 @@ pub struct AnalyzeArgs {
     pub what_if: bool,
 }
 
-/// The most `--snapshot` calls (each writes a PNG of the window).
+/// The most `--snapshot` calls (each writes a PNG).
 const MAX_SNAPSHOTS: usize = 10_000;
 
 /// The window's last picture: width, height, RGBA8 rows top first.

@@ -445,3 +445,23 @@ fn analyze_snapshots_the_window_after_given_calls() {
     let out = tiler(&["analyze", trace, "--snapshot", "97"]);
     assert!(!out.status.success());
 }
+
+/// With a framebuffer object bound, `--snapshot` writes that framebuffer's first colour
+/// attachment, not the window: the probe's blit scene clears texture 1 (32×32, attached to
+/// framebuffer 1) to (0.1, 0.1, 0.4) at call 35 and draws a triangle into it at call 44, while
+/// the window is still black.
+#[test]
+fn analyze_snapshots_the_bound_framebuffer() {
+    let dir = scratch("analyze-snapshot-fbo");
+    let frames = dir.join("frames");
+    let trace = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tiler-gl/tests/data/gles3-probe/blit.trace");
+    let trace = trace.to_str().unwrap();
+    let out = tiler(&["analyze", trace, "--frames", frames.to_str().unwrap(), "--snapshot", "35,44"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let rgba = |name: &str| image::open(frames.join(name)).unwrap().to_rgba8();
+    let (cleared, drawn) = (rgba("call-00000035.png"), rgba("call-00000044.png"));
+    assert_eq!((cleared.width(), cleared.height()), (32, 32), "the texture's size, not the window's");
+    assert!(cleared.pixels().all(|p| p.0 == [26, 26, 102, 255]), "{:?}", cleared.get_pixel(0, 0));
+    let changed = cleared.pixels().zip(drawn.pixels()).filter(|(a, b)| a != b).count();
+    assert!(changed > 32 && changed < 32 * 32, "the triangle covers part of the texture: {changed} pixels");
+}

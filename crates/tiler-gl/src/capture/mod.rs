@@ -238,13 +238,11 @@ pub fn replay_reader<R: Read>(
                 .map_err(|message| CaptureError::Frame { frame: index, call: swap, message })?;
         }
         if options.snapshots.contains(&number) {
-            let (index, rgba) = translator.snapshot().map_err(|message| CaptureError::Call {
+            let (index, width, height, rgba) = translator.snapshot().map_err(|message| CaptureError::Call {
                 call: number,
                 function: sig.name.to_string(),
-                message: format!("snapshot of the window: {message}"),
+                message: format!("snapshot of the bound framebuffer: {message}"),
             })?;
-            let ctx = translator.context().expect("a snapshot has a context");
-            let (width, height) = (ctx.config().width, ctx.config().height);
             on_frame(&PresentedFrame { index, call: number, snapshot: true, width, height, rgba: &rgba })
                 .map_err(|message| CaptureError::Frame { frame: index, call: number, message })?;
         }

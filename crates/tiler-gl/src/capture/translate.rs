@@ -362,12 +362,13 @@ impl Translator {
         self.presented.take()
     }
 
-    /// The window's picture now (see [`Context::window_snapshot`]) and the frames presented
-    /// before it.
-    pub fn snapshot(&mut self) -> Result<(u32, Vec<u8>), String> {
+    /// The picture of the framebuffer bound for drawing now (see [`Context::draw_snapshot`]):
+    /// the frames presented before it, its width, height and RGBA8 rows.
+    pub fn snapshot(&mut self) -> Result<(u32, u32, u32, Vec<u8>), String> {
         let frames = self.swaps.len() as u32;
         let ctx = self.ctx.as_mut().ok_or("the capture has made no context yet")?;
-        Ok((frames, ctx.window_snapshot()?))
+        let (width, height, rgba) = ctx.draw_snapshot()?;
+        Ok((frames, width, height, rgba))
     }
 
     /// Renders what is pending and returns the run.

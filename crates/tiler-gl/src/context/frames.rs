@@ -211,6 +211,34 @@ impl Context {
         Ok(self.surface_rgba8())
     }
 
+    /// The picture of the framebuffer bound for drawing now, RGBA8 rows top first, with its
+    /// width and height: the window (as [`Context::window_snapshot`]) or a framebuffer
+    /// object's first colour attachment (its resolved image when it is multisampled). An open
+    /// pass drawing into it renders first, as for a `glReadPixels`. For `tiler analyze
+    /// --snapshot`: what a render-to-texture pass has drawn so far.
+    ///
+    /// # Errors
+    /// Inside an explicit render pass; a framebuffer object without a colour attachment.
+    pub fn draw_snapshot(&mut self) -> Result<(u32, u32, Vec<u8>), String> {
+        let fb = self.draw_framebuffer;
+        if fb == 0 {
+            let (width, height) = (self.config.width, self.config.height);
+            return Ok((width, height, self.window_snapshot()?));
+        }
+        let source = self.targets(fb)?;
+        let image = source
+            .color
+            .first()
+            .ok_or_else(|| format!("framebuffer {fb} has no colour attachment to show"))?
+            .readable();
+        self.check_has_memory(image, &format!("snapshot of framebuffer {fb}'s color0"))?;
+        if self.pass.as_ref().is_some_and(|p| p.framebuffer == fb && p.copy_texture.is_none()) {
+            self.flush_open_pass(FlushCause::ReadPixels)?;
+        }
+        let rgba = self.device.read_rgba8(image).map_err(|e| e.to_string())?;
+        Ok((source.width, source.height, rgba))
+    }
+
     /// `glReadPixels` of the read framebuffer's first colour attachment.
     pub(crate) fn read_pixels(&mut self, x: i32, y: i32, width: u32, height: u32) -> Fallible<Vec<u8>> {
         let read = self.read_framebuffer;
