@@ -10,7 +10,7 @@
 //! are all evaluated (then selected per lane); integers may mix with floats (promoted, as in
 //! desktop GLSL, with a conversion instruction since integers are held as their bits).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
 use glsl_lang::ast::{self, NodeSpan};
@@ -199,6 +199,69 @@ impl LineMap {
 
 type CResult<T> = Result<T, (u32, String)>;
 
+/// A precision qualifier as the compiler uses it (GLSL ES 1.00 §4.5, 3.00 §4.5): `lowp` is
+/// computed as `mediump` is, and `None` is what constants (and values made only from them)
+/// have — they take the precision of what they meet.
+///
+/// **Lowering.** An operation on floats whose operands include a `mediump` (or `lowp`) value
+/// and no `highp` one is computed in IEEE binary16: its operands are rounded to binary16
+/// ([`UnOp::Half`]) and so is its result. That is what mobile GPUs do with `mediump` (Mali,
+/// Adreno and PowerVR have binary16 ALUs), and what Mesa does too: its GLSL compiler lowers
+/// such expressions to 16 bits when the driver has binary16 arithmetic, llvmpipe among them
+/// (`lower_precision.cpp`: an expression tree is lowered when none of its leaves is `highp` and
+/// one is `mediump`/`lowp`; constants and unqualified temporaries are neutral; a texture
+/// lookup has its sampler's precision, a user function's result its declared precision).
+/// Noise shaders (glmark2's terrain) hash lattice cells on values a binary16 rounding moves, so
+/// without this the pictures differ in whole cells. Integers are not narrowed (llvmpipe also
+/// computes `mediump int` in 16 bits; tiler keeps 32).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
+enum Prec {
+    #[default]
+    None,
+    Medium,
+    High,
+}
+
+/// The default precisions of a scope (`precision mediump float;` …): float, int, samplers.
+#[derive(Clone, Copy, Debug)]
+struct Defaults {
+    float: Prec,
+    int: Prec,
+    sampler: Prec,
+}
+
+fn prec_of_qualifier(q: &ast::PrecisionQualifier) -> Prec {
+    match q.content {
+        ast::PrecisionQualifierData::High => Prec::High,
+        ast::PrecisionQualifierData::Medium | ast::PrecisionQualifierData::Low => Prec::Medium,
+    }
+}
+
+/// The precision qualifier written in `q`, if any.
+fn written_prec(q: Option<&ast::TypeQualifier>) -> Option<Prec> {
+    q?.qualifiers.iter().find_map(|spec| match &spec.content {
+        ast::TypeQualifierSpecData::Precision(p) => Some(prec_of_qualifier(p)),
+        _ => None,
+    })
+}
+
+/// Whether a unary operation on binary16 operands gives a binary16 value (no rounding needed).
+fn exact_on_halves(op: UnOp) -> bool {
+    matches!(
+        op,
+        UnOp::Mov
+            | UnOp::Neg
+            | UnOp::Abs
+            | UnOp::Sign
+            | UnOp::Floor
+            | UnOp::Ceil
+            | UnOp::Fract
+            | UnOp::Trunc
+            | UnOp::Round
+            | UnOp::Half
+    )
+}
+
 /// A value: its type and component registers.
 #[derive(Clone, Debug)]
 struct Value {
@@ -273,6 +336,20 @@ struct Compiler<'a> {
     names_point: bool,
     /// Instructions emitted so far.
     emitted: usize,
+    /// The precision of registers that have one other than [`Prec::None`]: variables (their
+    /// declared precision) and results of operations (see [`Prec`]).
+    precision: HashMap<Reg, Prec>,
+    /// Work registers known to hold binary16 values (results of lowered operations), which a
+    /// lowered operation need not round again. Only registers written once are entered.
+    halves: HashSet<Reg>,
+    /// Default precisions, one entry per scope (as `scopes`).
+    defaults: Vec<Defaults>,
+    /// The precision of each sampler slot's lookups.
+    sampler_precision: HashMap<u16, Prec>,
+    /// Register → its binary16 rounding computed earlier in the current straight run of code
+    /// (a varying read by several `mediump` operations is rounded once). Emptied at block
+    /// boundaries and when the register is written.
+    rounded: HashMap<Reg, Reg>,
 }
 
 fn err<T>(line: u32, message: impl Into<String>) -> CResult<T> {
@@ -317,6 +394,17 @@ impl<'a> Compiler<'a> {
             reads_frag_coord: false,
             names_point: false,
             emitted: 0,
+            precision: HashMap::new(),
+            halves: HashSet::new(),
+            // GLSL ES: a vertex shader's floats and ints are highp unless declared otherwise;
+            // a fragment shader has no default float precision (the source must give one;
+            // tiler takes highp) and mediump ints; samplers are lowp in both.
+            defaults: vec![match stage {
+                Stage::Vertex => Defaults { float: Prec::High, int: Prec::High, sampler: Prec::Medium },
+                Stage::Fragment => Defaults { float: Prec::High, int: Prec::Medium, sampler: Prec::Medium },
+            }],
+            sampler_precision: HashMap::new(),
+            rounded: HashMap::new(),
         }
     }
 
@@ -427,6 +515,14 @@ impl<'a> Compiler<'a> {
 
     fn emit(&mut self, inst: Inst) {
         self.emitted += 1;
+        if !self.rounded.is_empty() {
+            if !inst.is_straight_line() {
+                self.rounded.clear();
+            }
+            crate::hoist::writes(&inst, &mut |r| {
+                self.rounded.remove(&r);
+            });
+        }
         self.code.push(inst);
     }
 
@@ -444,27 +540,207 @@ impl<'a> Compiler<'a> {
     }
 
     fn un(&mut self, op: UnOp, a: Reg) -> Reg {
+        let prec = self.prec(a);
+        if op == UnOp::Mov {
+            let d = self.temp();
+            self.emit(Inst::Un(op, d, a));
+            let half = self.halves.contains(&a);
+            return self.lowered_result(d, prec, false, half);
+        }
+        let float_in = !matches!(
+            op,
+            UnOp::Not | UnOp::IToBool | UnOp::INeg | UnOp::IAbs | UnOp::ISign | UnOp::BitNot | UnOp::IToF | UnOp::UToF
+        );
+        let float_out = !matches!(
+            op,
+            UnOp::Not
+                | UnOp::ToBool
+                | UnOp::IToBool
+                | UnOp::INeg
+                | UnOp::IAbs
+                | UnOp::ISign
+                | UnOp::BitNot
+                | UnOp::FToI
+                | UnOp::FToU
+        );
+        let lower = prec == Prec::Medium;
+        let a = if lower && float_in { self.halved(a) } else { a };
         let d = self.temp();
         self.emit(Inst::Un(op, d, a));
-        d
+        let exact = float_in && exact_on_halves(op);
+        self.lowered_result(d, prec, lower && float_out && !exact, lower && float_out && exact)
     }
 
     fn bin(&mut self, op: BinOp, a: Reg, b: Reg) -> Reg {
+        use BinOp as B;
+        let prec = self.prec(a).max(self.prec(b));
+        let lower = prec == Prec::Medium
+            && matches!(
+                op,
+                B::Add
+                    | B::Sub
+                    | B::Mul
+                    | B::Div
+                    | B::Mod
+                    | B::Min
+                    | B::Max
+                    | B::Pow
+                    | B::Atan2
+                    | B::Step
+                    | B::Lt
+                    | B::Le
+                    | B::Gt
+                    | B::Ge
+                    | B::Eq
+                    | B::Ne
+            );
+        let (a, b) = if lower { (self.halved(a), self.halved(b)) } else { (a, b) };
         let d = self.temp();
         self.emit(Inst::Bin(op, d, a, b));
-        d
+        let float_out = !matches!(op, B::Lt | B::Le | B::Gt | B::Ge | B::Eq | B::Ne);
+        let exact = matches!(op, B::Min | B::Max | B::Step);
+        self.lowered_result(d, prec, lower && float_out && !exact, lower && float_out && exact)
     }
 
     fn tri(&mut self, op: TriOp, a: Reg, b: Reg, c: Reg) -> Reg {
+        if op == TriOp::Select {
+            // Picks one of two values: their precision, and a binary16 value if both are.
+            let d = self.temp();
+            self.emit(Inst::Tri(op, d, a, b, c));
+            let prec = self.prec(b).max(self.prec(c));
+            let halves = self.halves.contains(&b) && self.halves.contains(&c);
+            return self.lowered_result(d, prec, false, halves);
+        }
+        let prec = self.prec(a).max(self.prec(b)).max(self.prec(c));
+        let lower = prec == Prec::Medium;
+        let (a, b, c) = if lower { (self.halved(a), self.halved(b), self.halved(c)) } else { (a, b, c) };
         let d = self.temp();
         self.emit(Inst::Tri(op, d, a, b, c));
+        self.lowered_result(d, prec, lower, false)
+    }
+
+    // ---- precision ----
+
+    /// The precision of a register (see [`Prec`]).
+    fn prec(&self, r: Reg) -> Prec {
+        self.precision.get(&r).copied().unwrap_or_default()
+    }
+
+    /// Gives the registers of a declared variable (or parameter, or return value) its
+    /// precision. They may be written again, so they are not known binary16 values.
+    fn set_prec(&mut self, regs: &[Reg], prec: Prec) {
+        for &r in regs {
+            self.halves.remove(&r);
+            match prec {
+                Prec::None => self.precision.remove(&r),
+                p => self.precision.insert(r, p),
+            };
+        }
+    }
+
+    /// `r` as an operand of a lowered operation: rounded to binary16 (a constant at compile
+    /// time), unless it already holds a binary16 value.
+    fn halved(&mut self, r: Reg) -> Reg {
+        if self.halves.contains(&r) {
+            return r;
+        }
+        if r & BANK != 0 {
+            let value = self.bank[(r & !BANK) as usize];
+            if self.consts.get(&value.to_bits()) == Some(&r) {
+                return self.konst(half::f16::from_f32(value).to_f32());
+            }
+        }
+        if let Some(&d) = self.rounded.get(&r) {
+            return d;
+        }
+        let d = self.temp();
+        self.emit(Inst::Un(UnOp::Half, d, r));
+        self.halves.insert(d);
+        self.rounded.insert(r, d);
         d
+    }
+
+    /// Records the precision of an operation's result `d`, rounding it to binary16 first when
+    /// `round`; `half` says it is a binary16 value without rounding.
+    fn lowered_result(&mut self, d: Reg, prec: Prec, round: bool, half: bool) -> Reg {
+        let d = if round {
+            let h = self.temp();
+            self.emit(Inst::Un(UnOp::Half, h, d));
+            self.halves.insert(h);
+            h
+        } else {
+            if half {
+                self.halves.insert(d);
+            }
+            d
+        };
+        if prec != Prec::None {
+            self.precision.insert(d, prec);
+        }
+        d
+    }
+
+    /// The precision a declaration of type `ty` gets: the qualifier written, else the
+    /// scope's default for the type (bools have none).
+    fn declared_prec(&self, q: Option<&ast::TypeQualifier>, ty: &Type) -> Prec {
+        if let Some(p) = written_prec(q) {
+            return p;
+        }
+        let defaults = *self.defaults.last().expect("a scope");
+        let mut ty = ty;
+        while let Type::Array(t, _) = ty {
+            ty = t;
+        }
+        match ty {
+            Type::Sampler(_) => defaults.sampler,
+            Type::Struct(_) => defaults.float,
+            _ => match ty.scalar() {
+                Some(Scalar::Float) => defaults.float,
+                Some(Scalar::Int | Scalar::UInt) => defaults.int,
+                _ => Prec::None,
+            },
+        }
+    }
+
+    /// Gives the variable just declared as `name` its precision: its registers', or for
+    /// samplers their lookups'.
+    fn declared(&mut self, name: &str, prec: Prec) {
+        let Some(symbol) = self.lookup(name) else { return };
+        let (ty, regs) = (symbol.ty.clone(), symbol.regs.clone());
+        let mut base = &ty;
+        while let Type::Array(t, _) = base {
+            base = t;
+        }
+        match base {
+            Type::Sampler(_) => {
+                for r in regs {
+                    self.sampler_precision.insert(r as u16, prec);
+                }
+            }
+            // Samplers in a struct: their slots are not registers.
+            _ if ty.contains_sampler() => {}
+            _ => self.set_prec(&regs, prec),
+        }
+    }
+
+    /// `precision q type;`: the default for the rest of the scope.
+    fn default_precision(&mut self, q: &ast::PrecisionQualifier, spec: &ast::TypeSpecifier) {
+        use ast::TypeSpecifierNonArrayData as T;
+        let p = prec_of_qualifier(q);
+        let defaults = self.defaults.last_mut().expect("a scope");
+        match &spec.ty.content {
+            T::Float => defaults.float = p,
+            T::Int | T::UInt => defaults.int = p,
+            _ => defaults.sampler = p,
+        }
     }
 
     /// Runs `f` collecting what it emits into a separate block.
     fn block<T>(&mut self, f: impl FnOnce(&mut Self) -> CResult<T>) -> CResult<(T, Vec<Inst>)> {
         let saved = std::mem::take(&mut self.code);
+        self.rounded.clear();
         let result = f(self);
+        self.rounded.clear();
         let code = std::mem::replace(&mut self.code, saved);
         Ok((result?, code))
     }
@@ -494,11 +770,14 @@ impl<'a> Compiler<'a> {
     fn push_scope(&mut self) {
         self.scopes.push(HashMap::new());
         self.structs.push(HashMap::new());
+        let inner = *self.defaults.last().expect("a scope");
+        self.defaults.push(inner);
     }
 
     fn pop_scope(&mut self) {
         self.scopes.pop();
         self.structs.pop();
+        self.defaults.pop();
     }
 
     // ---- types ----
@@ -697,6 +976,8 @@ impl<'a> Compiler<'a> {
                     "gl_FragCoord".into(),
                     Symbol { ty: Type::vec(4), regs: coord.clone(), writable: false, konst: None },
                 );
+                // Mesa declares gl_FragCoord highp (ES 1.00 says mediump).
+                self.set_prec(&coord, Prec::High);
                 self.frag_coord = Some(four(coord));
                 let facing = self.temp();
                 self.scopes[0].insert(
@@ -710,6 +991,7 @@ impl<'a> Compiler<'a> {
                     "gl_PointCoord".into(),
                     Symbol { ty: Type::vec(2), regs: coord.clone(), writable: false, konst: None },
                 );
+                self.set_prec(&coord, Prec::Medium);
                 self.point_coord = Some([coord[0], coord[1]]);
                 self.frag_color = Some(four(var(self, "gl_FragColor", Type::vec(4), true)));
             }
@@ -749,7 +1031,11 @@ impl<'a> Compiler<'a> {
     fn declaration(&mut self, d: &ast::Declaration, global: bool) -> CResult<()> {
         self.at(&d.span);
         match &d.content {
-            ast::DeclarationData::FunctionPrototype(_) | ast::DeclarationData::Precision(..) => Ok(()),
+            ast::DeclarationData::FunctionPrototype(_) => Ok(()),
+            ast::DeclarationData::Precision(q, spec) => {
+                self.default_precision(q, spec);
+                Ok(())
+            }
             ast::DeclarationData::Invariant(_) => Ok(()),
             ast::DeclarationData::TypeOnly(_) => Ok(()),
             ast::DeclarationData::Block(b) => self.uniform_block(b),
@@ -771,14 +1057,21 @@ impl<'a> Compiler<'a> {
                     );
                 }
                 let location = location_of(head.ty.qualifier.as_ref(), self);
+                // A `const` is a constant: neutral, as Mesa propagates it.
+                let prec = match storage {
+                    Storage::Const => Prec::None,
+                    _ => self.declared_prec(head.ty.qualifier.as_ref(), &base),
+                };
                 if let Some(name) = &head.name {
                     let ty = self.arrayed(base.clone(), head.array_specifier.as_ref())?;
                     self.variable(name.as_str(), ty, storage, location, head.initializer.as_ref(), global)?;
+                    self.declared(name.as_str(), prec);
                 }
                 for tail in &list.tail {
                     self.at(&tail.span);
                     let ty = self.arrayed(base.clone(), tail.ident.array_spec.as_ref())?;
                     self.variable(tail.ident.ident.as_str(), ty, storage, None, tail.initializer.as_ref(), global)?;
+                    self.declared(tail.ident.ident.as_str(), prec);
                 }
                 Ok(())
             }
@@ -1664,13 +1957,34 @@ impl<'a> Compiler<'a> {
     }
 
     /// `a · b`, summed in component order.
+    /// `Σ a[i]·b[i]`, in order. Lowered to binary16 (see [`Prec`]), the operands are rounded
+    /// and the sum is rounded once at the end, its products and partial sums kept in single
+    /// precision: what llvmpipe computes for a `mediump` `dot` (measured: `dot((1, e, e, 0),
+    /// (1, 1, 1, 1))` with `e = 3·2⁻¹¹` gives `1 + 6·2⁻¹¹`, where rounding each addition would
+    /// give `1 + 8·2⁻¹¹`), while its written-out multiply-adds round every operation.
     fn dot(&mut self, a: &[Reg], b: &[Reg]) -> Reg {
-        let mut acc = self.bin(BinOp::Mul, a[0], b[0]);
-        for i in 1..a.len() {
-            let p = self.bin(BinOp::Mul, a[i], b[i]);
-            acc = self.bin(BinOp::Add, acc, p);
+        let prec = a.iter().chain(b).map(|&r| self.prec(r)).max().unwrap_or_default();
+        if prec != Prec::Medium {
+            let mut acc = self.bin(BinOp::Mul, a[0], b[0]);
+            for i in 1..a.len() {
+                let p = self.bin(BinOp::Mul, a[i], b[i]);
+                acc = self.bin(BinOp::Add, acc, p);
+            }
+            return acc;
         }
-        acc
+        let raw = |c: &mut Self, op, x, y| {
+            let d = c.temp();
+            c.emit(Inst::Bin(op, d, x, y));
+            d
+        };
+        let (a0, b0) = (self.halved(a[0]), self.halved(b[0]));
+        let mut acc = raw(self, BinOp::Mul, a0, b0);
+        for i in 1..a.len() {
+            let (ai, bi) = (self.halved(a[i]), self.halved(b[i]));
+            let p = raw(self, BinOp::Mul, ai, bi);
+            acc = raw(self, BinOp::Add, acc, p);
+        }
+        self.lowered_result(acc, prec, true, false)
     }
 
     /// `M · v` for an n×n column-major matrix: row r is `Σ_c m[c][r]·v[c]`, summed over c in
@@ -1901,6 +2215,7 @@ impl<'a> Compiler<'a> {
         // Functions see the globals only.
         let saved_scopes = self.scopes.split_off(1);
         let saved_structs = self.structs.split_off(1);
+        let saved_defaults = self.defaults.split_off(1);
         let saved_loops = std::mem::take(&mut self.loops);
         let saved_switches = std::mem::take(&mut self.switches);
         let line = self.line;
@@ -1912,6 +2227,7 @@ impl<'a> Compiler<'a> {
         self.switches = saved_switches;
         self.scopes.extend(saved_scopes);
         self.structs.extend(saved_structs);
+        self.defaults.extend(saved_defaults);
         result
     }
 
@@ -1943,10 +2259,11 @@ impl<'a> Compiler<'a> {
                     Some(d) => d,
                     None => ParamDir::In,
                 };
-                params.push((id.map(|i| i.ident.as_str().to_string()), ty, dir));
+                let prec = self.declared_prec(q.as_ref(), &ty);
+                params.push((id.map(|i| i.ident.as_str().to_string()), ty, dir, prec));
             }
             let fits = params.len() == args.len()
-                && params.iter().zip(&args).all(|((_, ty, dir), (place, _))| {
+                && params.iter().zip(&args).all(|((_, ty, dir, _), (place, _))| {
                     place.ty == *ty
                         || *dir == ParamDir::In
                             && place.ty.scalar().is_some_and(Scalar::is_integer)
@@ -1964,6 +2281,7 @@ impl<'a> Compiler<'a> {
             return self.fail(format!("no function '{name}({})'", types.join(", ")));
         };
         let ret_ty = self.type_of(&def.prototype.ty.ty)?;
+        let ret_prec = self.declared_prec(def.prototype.ty.qualifier.as_ref(), &ret_ty);
         self.line = line;
         self.push_scope();
         let mut copy_out = Vec::new();
@@ -1971,7 +2289,7 @@ impl<'a> Compiler<'a> {
         if ret_ty.contains_sampler() {
             return self.fail(format!("function '{name}' cannot return a sampler"));
         }
-        for ((pname, ty, dir), (place, writable)) in params.into_iter().zip(args) {
+        for ((pname, ty, dir, prec), (place, writable)) in params.into_iter().zip(args) {
             if ty.contains_sampler() && dir != ParamDir::In {
                 return self.fail(format!("a sampler parameter of '{name}' must be 'in'"));
             }
@@ -1999,6 +2317,9 @@ impl<'a> Compiler<'a> {
                 }
                 copy_out.push((place, Value { ty: ty.clone(), regs: regs.clone() }));
             }
+            if !ty.contains_sampler() {
+                self.set_prec(&regs, prec);
+            }
             if let Some(pname) = pname {
                 // Sampler "registers" are slot numbers: never written.
                 let writable = !ty.contains_sampler();
@@ -2010,6 +2331,7 @@ impl<'a> Compiler<'a> {
             for &r in &regs {
                 self.emit(Inst::Un(UnOp::Mov, r, zero));
             }
+            self.set_prec(&regs, ret_prec);
             Value { ty: ret_ty.clone(), regs }
         });
         self.returns.push(ret.clone());
@@ -2486,6 +2808,9 @@ impl<'a> Compiler<'a> {
                     let derivative = |c: &mut Self, axis| {
                         let dst = c.temp();
                         c.emit(Inst::Derivative { dst, src: r[0], axis });
+                        // Derivatives stay in single precision (Mesa does not lower them
+                        // without binary16 derivatives, which llvmpipe lacks).
+                        c.set_prec(&[dst], Prec::High);
                         dst
                     };
                     match name {
@@ -2566,6 +2891,8 @@ impl<'a> Compiler<'a> {
         };
         let dst = self.temps(4);
         self.emit(Inst::Sample { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord: [s, t], lod, reference });
+        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
+        self.set_prec(&dst, prec);
         if shadow {
             return Ok(Value { ty: FLOAT, regs: vec![dst[0]] });
         }
@@ -2606,6 +2933,8 @@ impl<'a> Compiler<'a> {
         let dst = self.temps(4);
         let direction = [direction.regs[0], direction.regs[1], direction.regs[2]];
         self.emit(Inst::SampleCube { slot, dst: [dst[0], dst[1], dst[2], dst[3]], direction, lod });
+        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
+        self.set_prec(&dst, prec);
         Ok(Value { ty: Type::vec(4), regs: dst })
     }
 }

@@ -547,8 +547,41 @@ pub(crate) fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
         // `as` truncates toward zero and saturates, NaN → 0.
         UnOp::FToI => |x| int(x as i32),
         UnOp::FToU => |x| f32::from_bits(x as u32),
+        UnOp::Half => {
+            let mut out = a;
+            for x in &mut out {
+                *x = round_half(*x);
+            }
+            return out;
+        }
     };
     a.map(f)
+}
+
+/// `x` rounded to the nearest IEEE binary16 value (ties to even), as an `f32`: ±∞ beyond
+/// the largest (65504), binary16's subnormals below 2⁻¹⁴, NaN and ∞ kept. The same value as
+/// `half::f16::from_f32(x).to_f32()` (tested), without the conversion's feature detection per
+/// call.
+#[inline(always)]
+pub(crate) fn round_half(x: f32) -> f32 {
+    // Branch-free, so that eight lanes compile to vector code.
+    let bits = x.to_bits();
+    let sign = bits & 0x8000_0000;
+    let abs = bits & 0x7fff_ffff;
+    // Keep 10 of the 23 fraction bits, rounding to nearest even; a carry moves the exponent.
+    // 2¹⁶ and beyond (65520 rounds there) are out of range: ∞.
+    let normal = (abs + 0xfff + ((abs >> 13) & 1)) & !0x1fff;
+    let normal = if normal >= 0x4780_0000 { 0x7f80_0000 } else { normal };
+    // Below 2⁻¹⁴ binary16 steps by 2⁻²⁴: adding ½ (whose ulp is 2⁻²⁴) rounds to it.
+    let subnormal = ((f32::from_bits(abs) + 0.5) - 0.5).to_bits();
+    let r = if abs >= 0x7f80_0000 {
+        abs
+    } else if abs < 0x3880_0000 {
+        subnormal
+    } else {
+        normal
+    };
+    f32::from_bits(r | sign)
 }
 
 #[inline(always)]
@@ -729,6 +762,32 @@ mod tests {
 
     /// The AVX2 and baseline interpreters give the same bits.
     #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn round_half_is_binary16_rounding() {
+        // Every 251st bit pattern, and the edges: around 2⁻¹⁴, 2⁻²⁴, 65504, ties.
+        let edges = [
+            0x3880_0000u32,
+            0x387f_ffff,
+            0x3380_0000,
+            0x3300_0000,
+            0x3300_0001,
+            0x477f_e000,
+            0x477f_efff,
+            0x477f_f000,
+            0x4780_0000,
+            0x3f80_1000,
+            0x3f80_3000,
+            0x7fc0_0000,
+            0x7f80_0000,
+        ];
+        for bits in (0..=u32::MAX).step_by(251).chain(edges).chain(edges.map(|b| b | 0x8000_0000)) {
+            let x = f32::from_bits(bits);
+            let want = half::f16::from_f32(x).to_f32();
+            let got = super::round_half(x);
+            assert!(got.to_bits() == want.to_bits() || got.is_nan() && want.is_nan(), "{bits:#x}: {got} {want}");
+        }
+    }
+
     #[test]
     fn avx2_matches_baseline() {
         if !std::arch::is_x86_feature_detected!("avx2") {

@@ -259,6 +259,8 @@ struct Folder<'a, 'b> {
     defined: Vec<bool>,
     /// Work register → the register (or constant) that replaces it.
     replaced: Vec<Option<Reg>>,
+    /// Work register written once, by arithmetic, already passed → the instruction.
+    defs: HashMap<Reg, Inst>,
     changed: bool,
 }
 
@@ -292,7 +294,9 @@ impl Folder<'_, '_> {
                 if let Some(x) = k(a) {
                     return Some(self.constants.reg(unary(op, lanes(x))[0]));
                 }
-                (op == UnOp::Mov).then_some(a)
+                // Rounding to binary16 twice is rounding once.
+                let rounded = op == UnOp::Half && matches!(self.def(a), Some(Inst::Un(UnOp::Half, ..)));
+                (op == UnOp::Mov || rounded).then_some(a)
             }
             Inst::Bin(op, _, a, b) => {
                 if let (Some(x), Some(y)) = (k(a), k(b)) {
@@ -326,10 +330,66 @@ impl Folder<'_, '_> {
         }
     }
 
+    /// The arithmetic instruction that computed `r`, if it is written once and still holds it.
+    fn def(&self, r: Reg) -> Option<Inst> {
+        if r & BANK != 0 || !self.stable(r) {
+            return None;
+        }
+        self.defs.get(&r).cloned()
+    }
+
+    /// `op` of a constant and a non-constant register that holds its value: (constant,
+    /// register).
+    fn constant_and_other(&self, a: Reg, b: Reg) -> Option<(f32, Reg)> {
+        match (self.constants.value(a), self.constants.value(b)) {
+            (Some(x), None) if self.stable(b) => Some((x, b)),
+            (None, Some(y)) if self.stable(a) => Some((y, a)),
+            _ => None,
+        }
+    }
+
+    /// Reassociates constants in a chain of multiplications or additions so they fold
+    /// together, as NIR's inexact rules do (`~fmul #a (fmul b #c) → fmul (fmul a c) b`, the
+    /// same for `fadd`): `(y · c₁) · c₂` becomes `y · (c₁ · c₂)`. In a binary16 chain (see
+    /// `compile`'s precision lowering) the inner result is rounded (`half`) before the outer
+    /// operation, and the folded constant is rounded too, as NIR folds 16-bit constants.
+    /// Not exact: `glmark2`'s terrain noise computes `p · (1/7) · (1/7)` and takes its floor,
+    /// which lands on the other side of an integer for some `p` unless it is reassociated as
+    /// Mesa does.
+    fn reassociate(&mut self, inst: &Inst) -> Option<Inst> {
+        let Inst::Bin(op @ (BinOp::Mul | BinOp::Add), d, a, b) = *inst else { return None };
+        let (outer, x) = self.constant_and_other(a, b)?;
+        let (inner_def, half) = match self.def(x)? {
+            Inst::Un(UnOp::Half, _, t) => (self.def(t)?, true),
+            other => (other, false),
+        };
+        let Inst::Bin(inner_op, _, p, q) = inner_def else { return None };
+        let (inner, y) = self.constant_and_other(p, q)?;
+        if inner_op != op {
+            return None;
+        }
+        // In a binary16 chain the inner operation's operands are binary16 values; a single
+        // precision product rounded to binary16 as the operand of a lowered operation is a
+        // conversion between the two, which NIR does not reassociate across.
+        let y_is_half = matches!(self.def(y), Some(Inst::Un(UnOp::Half, ..)));
+        if half != y_is_half {
+            return None;
+        }
+        let mut c = binary(op, [inner], [outer])[0];
+        if half {
+            c = unary(UnOp::Half, [c])[0];
+        }
+        Some(Inst::Bin(op, d, y, self.constants.reg(c)))
+    }
+
     fn block(&mut self, code: &mut Vec<Inst>) {
         let mut kept = Vec::with_capacity(code.len());
         for mut inst in code.drain(..) {
             reads_mut(&mut inst, &mut |r| *r = self.resolve(*r));
+            if let Some(re) = self.reassociate(&inst) {
+                inst = re;
+                self.changed = true;
+            }
             let dst = match inst {
                 Inst::Un(_, d, _) | Inst::Bin(_, d, _, _) | Inst::Tri(_, d, _, _, _) => Some(d),
                 _ => None,
@@ -348,6 +408,11 @@ impl Folder<'_, '_> {
                 self.block(block);
             }
             writes(&inst, &mut |r| self.defined[r as usize] = true);
+            if let Some(d) = dst
+                && self.writes.count[d as usize] == 1
+            {
+                self.defs.insert(d, inst.clone());
+            }
             kept.push(inst);
         }
         *code = kept;
@@ -374,6 +439,7 @@ fn fold(code: &mut Vec<Inst>, work_regs: usize, constants: &mut Constants<'_>, p
         writes: w,
         defined: vec![false; work_regs],
         replaced: vec![None; work_regs],
+        defs: HashMap::new(),
         changed: false,
     };
     folder.block(code);

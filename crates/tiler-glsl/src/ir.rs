@@ -72,6 +72,10 @@ pub enum UnOp {
     FToI,
     /// float → uint: truncated, saturated (negative → 0), NaN → 0.
     FToU,
+    /// Rounds to the nearest IEEE binary16 value (ties to even; beyond ±65504 to ±∞), held
+    /// as `f32`: what a `mediump`/`lowp` operation does to its operands and its result (see
+    /// `compile`'s precision lowering).
+    Half,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,6 +1,9 @@
 //! GLSL programs rendered through `tiler::Device`, compared bit for bit with Rust shaders doing
 //! the same arithmetic; vertex-stage math checked against Rust f32 directly; compile errors;
 //! introspection.
+//!
+//! The fragment shaders compared with Rust `f32` code declare `highp` floats: a `mediump`
+//! operation is computed in binary16 (see `compile::Prec`), which the `mediump_*` tests check.
 
 // The native shaders loop over lanes by index, as the per-lane arithmetic reads best.
 #![allow(clippy::needless_range_loop)]
@@ -96,7 +99,7 @@ fn assert_same(glsl: &[u8], native: &[u8], min_distinct: usize) {
 #[test]
 fn varying_gradient_matches_native() {
     const FS: &str = "
-precision mediump float;
+precision highp float;
 varying vec2 uv;
 void main() {
     gl_FragColor = vec4(uv, fract(uv.x * 37.0), 1.0);
@@ -153,7 +156,7 @@ fn checker_texture() -> Arc<Texture> {
 #[test]
 fn texture_sample_matches_native_with_the_same_traffic() {
     const FS: &str = "
-precision mediump float;
+precision highp float;
 uniform sampler2D tex;
 uniform vec4 tint;
 varying vec2 uv;
@@ -456,7 +459,7 @@ fn compile_errors_name_the_shader_and_line() {
         other => panic!("{other:?}"),
     }
     let vs_ok = "attribute vec4 p; void main() { gl_Position = p; }";
-    let fs_bad = "precision mediump float;\n\nvoid main() {\n  vec3 c = vec2(1.0);\n  gl_FragColor = vec4(c, 1.0);\n}";
+    let fs_bad = "precision highp float;\n\nvoid main() {\n  vec3 c = vec2(1.0);\n  gl_FragColor = vec4(c, 1.0);\n}";
     let e = CompiledProgram::new(vs_ok, fs_bad, &[]).unwrap_err();
     assert!(matches!(e, Error::Compile { stage: Stage::Fragment, line: 4, .. }), "{e}");
     assert!(e.to_string().starts_with("fragment shader, line 4:"), "{e}");
@@ -482,7 +485,8 @@ fn compile_errors_name_the_shader_and_line() {
     let e = CompiledProgram::new(vs_bias, fs_ok, &[]).unwrap_err();
     assert!(e.to_string().contains("bias in a vertex shader"), "{e}");
     // GL_ES is predefined.
-    let fs_es = "#ifdef GL_ES\nprecision mediump float;\n#else\n#error not ES\n#endif\nvoid main() { gl_FragColor = vec4(1.0); }";
+    let fs_es =
+        "#ifdef GL_ES\nprecision highp float;\n#else\n#error not ES\n#endif\nvoid main() { gl_FragColor = vec4(1.0); }";
     CompiledProgram::new(vs_ok, fs_es, &[]).unwrap();
     // Recursion cannot inline forever.
     let fs_rec = "float f(float x) { return f(x); }\nvoid main() { gl_FragColor = vec4(f(1.0)); }";
@@ -504,7 +508,7 @@ varying vec3 n;
 varying float unused_by_fs;
 void main() { gl_Position = mvp * position; n = normal + offsets[1] + vec3(twist[0], s.a); unused_by_fs = 1.0; }";
     const FS: &str = "
-precision mediump float;
+precision highp float;
 uniform sampler2D tex;
 uniform vec3 offsets[4];
 varying vec3 n;
@@ -596,7 +600,7 @@ void main() { gl_Position = first; r = vec4(second, first.zw); c = m * vec2(1.0,
 fn derivatives_match_native_with_gl_y_up() {
     const FS: &str = "
 #extension GL_OES_standard_derivatives : enable
-precision mediump float;
+precision highp float;
 varying vec2 uv;
 void main() {
     gl_FragColor = vec4(dFdx(uv.x) * 20.0, dFdy(uv.y) * 12.0, fwidth(uv.x * uv.y) * 10.0, 1.0);
@@ -658,7 +662,7 @@ void main() {
     gl_Position = position;
 }";
     const FS: &str = "
-precision mediump float;
+precision highp float;
 uniform sampler2D probe;
 varying vec4 fetched;
 void main() {
@@ -696,7 +700,9 @@ fn texture_cube_matches_native_with_the_same_traffic() {
     // varying), sampled with a bias through a samplerCube uniform on unit 1 beside a 2D
     // texture on unit 0: the same pixels and texture bytes as a Rust shader calling the core.
     const FS: &str = "
-precision mediump float;
+precision highp float;
+precision highp samplerCube;
+precision highp sampler2D;
 uniform sampler2D plain;
 uniform samplerCube env;
 uniform float bias;
@@ -748,7 +754,7 @@ void main() {
     level1 = textureCubeLod(env, vec3(0.1, -1.0, 0.1), 1.0);
     gl_Position = position;
 }";
-    const FS: &str = "precision mediump float;\nvarying vec4 base;\nvarying vec4 level1;\n\
+    const FS: &str = "precision highp float;\nvarying vec4 base;\nvarying vec4 level1;\n\
                       void main() { gl_FragColor = base + level1; }";
     let program = glsl(VS, FS);
     let uniforms = program.new_uniform_values();
@@ -789,7 +795,7 @@ void main() {
     level1 = texture2DLod(height, vec2(0.0, 0.0), 1.0);
     gl_Position = position;
 }";
-    const FS: &str = "precision mediump float;\nvarying vec4 fetched;\nvarying vec4 level1;\n\
+    const FS: &str = "precision highp float;\nvarying vec4 fetched;\nvarying vec4 level1;\n\
                       void main() { gl_FragColor = fetched + level1; }";
     let program = glsl(VS, FS);
     let mut uniforms = program.new_uniform_values();
@@ -849,7 +855,8 @@ fn hostile_programs_fail_cleanly() {
 #[test]
 fn lookups_weighted_by_a_constant_zero_are_not_fetched() {
     const KERNEL: &str = "
-precision mediump float;
+precision highp float;
+precision highp sampler2D;
 const float K0 = 0.0;
 const float K1 = 1.0;
 const float Step = 0.0625;
@@ -862,7 +869,8 @@ void main() {
     gl_FragColor = vec4(result.xyz, 1.0);
 }";
     const SINGLE: &str = "
-precision mediump float;
+precision highp float;
+precision highp sampler2D;
 uniform sampler2D tex;
 varying vec2 uv;
 void main() { gl_FragColor = vec4(texture2D(tex, uv).xyz, 1.0); }";
@@ -991,7 +999,7 @@ void main() {
     else { v = vec4(-sum, position.w * position.w + position.z, 0.0, 1.0); }
     gl_Position = vec4(position.xy * 0.1, sum, 1.0);
 }";
-    let program = glsl(VS, "precision mediump float;\nvarying vec4 v;\nvoid main() { gl_FragColor = v; }");
+    let program = glsl(VS, "precision highp float;\nvarying vec4 v;\nvoid main() { gl_FragColor = v; }");
     let (vs, _) = tiler_glsl::shaders(&program, &program.new_uniform_values(), &[], HEIGHT);
     let inputs: Vec<VertexInput> = (0..11)
         .map(|k| {
@@ -1036,7 +1044,7 @@ void main() {
     gl_Position = placed;
 }";
     const FS: &str = "#version 300 es
-precision mediump float;
+precision highp float;
 in vec4 ids;
 in vec2 passed;
 layout(location = 0) out vec4 color;
@@ -1075,7 +1083,7 @@ void main() {
     gl_Position = a;
 }";
     const FS: &str = "#version 300 es
-precision mediump float;
+precision highp float;
 in vec4 r;
 out vec4 c;
 void main() { c = r; }";
@@ -1088,7 +1096,7 @@ void main() { c = r; }";
 #[test]
 fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
     let vs = "#version 300 es\nin vec4 p;\nout vec4 v;\nvoid main() { v = p; gl_Position = p; }";
-    let fs = "#version 300 es\nprecision mediump float;\nin vec4 v;\nout vec4 c;\nvoid main() { c = v; }";
+    let fs = "#version 300 es\nprecision highp float;\nin vec4 v;\nout vec4 c;\nvoid main() { c = v; }";
     CompiledProgram::new(vs, fs, &[]).unwrap();
     let cases = [
         // flat: GL's provoking vertex is the last, tiler's the first.
@@ -1100,7 +1108,7 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
         ),
         (
             Stage::Fragment,
-            "#version 300 es\nprecision mediump float;\nout uvec4 c;\nvoid main() {\n  c = uvec4(1u);\n}",
+            "#version 300 es\nprecision highp float;\nout uvec4 c;\nvoid main() {\n  c = uvec4(1u);\n}",
             3,
             "vec4",
         ),
@@ -1154,7 +1162,7 @@ fn shadow_lookups_pass_the_reference_depth() {
                     "{version}in vec4 position;\nout vec2 uv;\nvoid main() {{ gl_Position = position; uv = position.xy * 0.5 + 0.5; }}"
                 ),
                 format!(
-                    "{version}precision mediump float;\nprecision lowp sampler2DShadow;\nuniform sampler2DShadow map;\nin vec2 uv;\nout vec4 color;\n\
+                    "{version}precision highp float;\nprecision lowp sampler2DShadow;\nuniform sampler2DShadow map;\nin vec2 uv;\nout vec4 color;\n\
                      void main() {{ float lit = {lookup}; color = vec4(lit, 0.0, 0.0, 1.0); }}"
                 ),
             )
@@ -1162,7 +1170,7 @@ fn shadow_lookups_pass_the_reference_depth() {
             (
                 format!("{version}{PASS_VS}"),
                 format!(
-                    "{version}precision mediump float;\nuniform sampler2DShadow map;\nvarying vec2 uv;\n\
+                    "{version}precision highp float;\nuniform sampler2DShadow map;\nvarying vec2 uv;\n\
                      void main() {{ float lit = {lookup}; gl_FragColor = vec4(lit, 0.0, 0.0, 1.0); }}"
                 ),
             )
@@ -1184,7 +1192,7 @@ fn shadow_lookups_pass_the_reference_depth() {
         "#extension GL_EXT_shadow_samplers : require\nuniform sampler2DShadow map;\nvoid main() { gl_FragColor = vec4(shadow2DEXT(map, vec2(0.5))); }",
     ];
     for fs in bad {
-        let e = CompiledProgram::new(PASS_VS, &format!("precision mediump float;\n{fs}"), &[]).err();
+        let e = CompiledProgram::new(PASS_VS, &format!("precision highp float;\n{fs}"), &[]).err();
         let e = e.unwrap_or_else(|| panic!("compiled: {fs}")).to_string();
         assert!(e.contains("sampler2D") || e.contains("coordinates"), "{e}");
     }
@@ -1453,4 +1461,60 @@ void main() {
     assert_eq!(got, [3.5, 5.0, 0.0, 1.0]);
     let e = CompiledProgram::new(&VS.replace("case 0u", "case 0"), PASS_FS_300, &[]).unwrap_err();
     assert!(e.to_string().contains("constant uint"), "{e}");
+}
+
+/// `mediump` arithmetic is computed in binary16, `highp` in single precision, and the
+/// precision of an operation is that of its operands (a `highp` one wins, constants have
+/// none), as Mesa lowers it for llvmpipe — each expected value below is what llvmpipe 22.3
+/// computed for the same expression (read back as float bits from a probe shader).
+#[test]
+fn mediump_arithmetic_is_binary16() {
+    const VS: &str = "
+precision mediump float;
+attribute vec4 a;
+varying vec4 r0;
+varying vec4 r1;
+highp float exact(highp float x, highp float y) { return x + y; }
+void main() {
+    mediump vec4 m = a;
+    highp vec4 h = a;
+    mediump float seventh = 1.0 / 7.0;
+    mediump float e3 = 3.0 * m.y;
+    r0 = vec4(m.x + m.y, h.x + m.y, seventh * m.x, exact(m.x, m.y));
+    // dot rounds once; written-out additions round each time.
+    mediump vec4 v = vec4(m.x, e3, e3, 0.0);
+    // p · (1/7) · (1/7) is reassociated to p · (1/7 · 1/7), as NIR does: 147 → 2.99….
+    mediump float p = 146.0 + m.x;
+    r1 = vec4(dot(v, vec4(1.0)), (m.x + e3) + e3, floor(p * seventh * seventh), m.z * m.z);
+    gl_Position = a;
+}";
+    const FS: &str = "precision mediump float;
+varying vec4 r0; varying vec4 r1;
+void main() { gl_FragColor = r0 + r1; }";
+    let e = 2f32.powi(-11);
+    let got = run_vertex(VS, FS, [1.0, e, 0.1, 1.0], |_, _| {});
+    let want = [
+        1.0,           // 1 + 2⁻¹¹ is a tie in binary16: even, 1
+        1.0 + e,       // a highp operand: single precision
+        0.142_822_27,  // 1/7 in binary16
+        1.0 + e,       // a highp parameter: single precision
+        1.0 + 6.0 * e, // dot: one rounding
+        1.0 + 8.0 * e, // two additions: 1 + 3·2⁻¹¹ → 1 + 4·2⁻¹¹ (tie, even), then again
+        2.0,           // floor(147 · round16(round16(1/7)²)) = floor(2.998)
+        half(half(0.1) * half(0.1)),
+    ];
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&got), bits(&want), "got {got:?}\nwant {want:?}");
+
+    // The same source with highp floats computes everything in single precision.
+    let highp = VS.replace("precision mediump float;", "precision highp float;").replace("mediump ", "highp ");
+    let got = run_vertex(&highp, FS, [1.0, e, 0.1, 1.0], |_, _| {});
+    assert_eq!(got[0], 1.0 + e);
+    assert_eq!(got[2], 1.0 / 7.0);
+    assert_eq!(got[4], 1.0 + 6.0 * e);
+    assert_eq!(got[7], 0.1 * 0.1);
+}
+
+fn half(x: f32) -> f32 {
+    half::f16::from_f32(x).to_f32()
 }

@@ -465,7 +465,28 @@ impl Translator {
                 }
                 self.window_surface = Some(*surface);
             }
-            C::CreatePbufferSurface { .. } => return Err("pbuffer surfaces are not supported".into()),
+            C::CreatePbufferSurface { surface, attribs, .. } => {
+                // A program without a window (headless, `EGL_PLATFORM_SURFACELESS_MESA`) draws
+                // into a pbuffer: it is the default framebuffer, sized by its attributes.
+                if self.window_surface.is_some_and(|s| s != *surface) {
+                    return Err("a second surface (window or pbuffer) is not supported".into());
+                }
+                const EGL_HEIGHT: i64 = 0x3056;
+                const EGL_WIDTH: i64 = 0x3057;
+                let attrib = |name: i64| {
+                    attribs.chunks_exact(2).find(|kv| kv[0] == name).map_or(Ok(0), |kv| {
+                        u32::try_from(kv[1]).map_err(|_| format!("pbuffer attribute {name:#x} = {} is negative", kv[1]))
+                    })
+                };
+                let (width, height) = (attrib(EGL_WIDTH)?, attrib(EGL_HEIGHT)?);
+                if width == 0 || height == 0 {
+                    return Err(format!("a pbuffer of {width}×{height} pixels has nothing to draw into"));
+                }
+                if self.ctx.is_none() && self.window.is_none() {
+                    self.window = Some((width, height));
+                }
+                self.window_surface = Some(*surface);
+            }
             C::DestroySurface { .. } => {}
             C::SurfaceAttrib { attribute, value, .. } => {
                 const EGL_SWAP_BEHAVIOR: i64 = 0x3093;

@@ -13,7 +13,7 @@ const BACKENDS: [Backend; 3] = [Backend::Tbr, Backend::Tbdr, Backend::Imr];
 const SOLID_VS: &str = "attribute vec4 position;
 uniform mat4 mvp;
 void main() { gl_Position = mvp * position; }";
-const SOLID_FS: &str = "precision mediump float;
+const SOLID_FS: &str = "precision highp float;
 uniform vec4 color;
 void main() { gl_FragColor = color; }";
 
@@ -22,7 +22,7 @@ attribute vec4 color;
 uniform mat4 mvp;
 varying vec4 v_color;
 void main() { v_color = color; gl_Position = mvp * position; }";
-const VERTEX_COLOR_FS: &str = "precision mediump float;
+const VERTEX_COLOR_FS: &str = "precision highp float;
 uniform float alpha_cutoff;
 varying vec4 v_color;
 void main() {
@@ -38,7 +38,7 @@ uniform mat4 mvp;
 uniform mat3 normal_matrix;
 varying vec3 v_normal;
 void main() { v_normal = normal_matrix * normal; gl_Position = mvp * position; }";
-const LAMBERT_FS: &str = "precision mediump float;
+const LAMBERT_FS: &str = "precision highp float;
 uniform vec4 color;
 uniform vec3 light;
 varying vec3 v_normal;
@@ -53,7 +53,8 @@ attribute vec2 texcoord;
 uniform mat4 mvp;
 varying vec2 v_uv;
 void main() { v_uv = texcoord; gl_Position = mvp * position; }";
-const TEXTURED_FS: &str = "precision mediump float;
+const TEXTURED_FS: &str = "precision highp float;
+precision highp sampler2D;
 uniform sampler2D tex;
 uniform vec4 color;
 uniform float alpha_cutoff;
@@ -232,8 +233,10 @@ fn max_difference(a: &[u8], b: &[u8]) -> u8 {
 /// The GLSL versions do the same arithmetic in the same order as the built-ins (`mvp *
 /// position` and `normal_matrix * normal` expand as glam's column sums, `normalize` and `dot`
 /// as tiler's `normalize3` and `dot3`, the texture goes through the same core sampler), so
-/// the pictures are equal bit for bit on every backend. The `composite` built-in reads an
-/// input attachment, which GLSL ES 1.00 cannot express.
+/// the pictures are equal bit for bit on every backend. They declare `highp` floats and
+/// samplers, as the built-ins compute in single precision (a `mediump` operation is computed
+/// in binary16). The `composite` built-in reads an input attachment, which GLSL ES 1.00
+/// cannot express.
 #[test]
 fn builtin_programs_in_glsl_draw_the_same_pictures() {
     for backend in BACKENDS {
