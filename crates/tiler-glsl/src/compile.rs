@@ -604,12 +604,14 @@ impl<'a> Compiler<'a> {
 
     fn tri(&mut self, op: TriOp, a: Reg, b: Reg, c: Reg) -> Reg {
         if op == TriOp::Select {
-            // Picks one of two values: their precision, and a binary16 value if both are.
+            // Picks one of two values (`?:`): lowered, it picks between their binary16
+            // roundings (llvmpipe returns `c ? n : …` of a mediump `n = 1.0 / 7.0` as
+            // 0.142822266).
+            let prec = self.prec(b).max(self.prec(c));
+            let (b, c) = if prec == Prec::Medium { (self.halved(b), self.halved(c)) } else { (b, c) };
             let d = self.temp();
             self.emit(Inst::Tri(op, d, a, b, c));
-            let prec = self.prec(b).max(self.prec(c));
-            let halves = self.halves.contains(&b) && self.halves.contains(&c);
-            return self.lowered_result(d, prec, false, halves);
+            return self.lowered_result(d, prec, false, prec == Prec::Medium);
         }
         let prec = self.prec(a).max(self.prec(b)).max(self.prec(c));
         let lower = prec == Prec::Medium;
