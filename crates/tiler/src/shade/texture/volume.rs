@@ -153,7 +153,9 @@ mod tests {
     /// Slice `k` of `w × h`: texel `(x, y)` is `(16 x, 16 y, 40 k, 255)`.
     fn volume(w: u32, h: u32, d: u32) -> Texture {
         let texels: Vec<u8> = (0..d)
-            .flat_map(|k| (0..w * h).flat_map(move |p| [(16 * (p % w)) as u8, (16 * (p / w)) as u8, (40 * k) as u8, 255]))
+            .flat_map(|k| {
+                (0..w * h).flat_map(move |p| [(16 * (p % w)) as u8, (16 * (p / w)) as u8, (40 * k) as u8, 255])
+            })
             .collect();
         Texture::volume_from_rgba8(w, h, d, &texels, ColorSpace::Linear).unwrap()
     }
