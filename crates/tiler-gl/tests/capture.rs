@@ -1430,3 +1430,15 @@ fn glmark2_desktop_needed_rebindings_are_not_advised() {
     assert!(needed >= 6 * 4, "{needed} needed rebindings (four blur ping-pongs a frame)");
     assert!(advised >= 6, "{advised} framebuffer-rebound findings (the window, bound again, each frame)");
 }
+
+// ---- Probe scenes of the tex3d branch: 2-D array and 3-D textures.
+
+#[test]
+fn probe_2d_array_textures_match_llvmpipe() {
+    check_probe_in("gles3-probe", "array");
+}
+
+#[test]
+fn probe_3d_textures_match_llvmpipe() {
+    check_probe_in("gles3-probe", "volume");
+}
