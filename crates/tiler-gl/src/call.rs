@@ -1365,7 +1365,9 @@ impl Filter {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LayeredTarget {
+    #[serde(rename = "2d_array")]
     Array2D,
+    #[serde(rename = "3d")]
     Texture3D,
 }
 

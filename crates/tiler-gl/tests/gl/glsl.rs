@@ -1125,4 +1125,12 @@ void main() { color = texture(volume, vec3(0.5, 0.5, r)); }";
     assert!(error.contains("memory limit"), "{error}");
     c(&mut gl, Call::DeleteTexture { id: 5 });
     c(&mut gl, big(6));
+
+    // The calls' names in a JSON trace.
+    let bind: Call<Vec<u8>> =
+        serde_json::from_str(r#"{"call": "bind_layered_texture", "unit": 1, "target": "3d", "texture": 3}"#).unwrap();
+    assert_eq!(bind, Call::BindLayeredTexture { unit: 1, target: LayeredTarget::Texture3D, texture: 3 });
+    let wrap: Call<Vec<u8>> =
+        serde_json::from_str(r#"{"call": "tex_wrap_r", "id": 3, "wrap": "mirrored_repeat"}"#).unwrap();
+    assert_eq!(wrap, Call::TexWrapR { id: 3, wrap: Wrap::MirroredRepeat });
 }
