@@ -11,9 +11,10 @@
 //!   `γ = ⌊256 · frac(r · d − ½)⌋` by the filter's `lerp` (as llvmpipe filters RGBA8 volumes in
 //!   fixed point: bilinear in each slice, then across). `WRAP_R` (the sampler's `wrap_w`)
 //!   wraps the slice index as `s` and `t` are wrapped.
-//! - **Mip maps**: level 0 only. The context refuses to make a 3-D texture's mip chain, and a
-//!   mipmap minification filter on a 3-D texture without levels leaves it incomplete (GL ES
-//!   3.0 §3.8.13), so a volume is only ever sampled at level 0.
+//! - **Mip maps**: level 0 only. The GL context refuses to make a 3-D texture's mip chain and
+//!   to sample one with a mipmap minification filter (GL would find it incomplete, §3.8.13),
+//!   so a volume is only ever sampled at level 0 (a sampler whose mipmap mode is not `None`
+//!   reads level 0 here, as the 2D sampler does for a texture without levels).
 //!
 //! Both slices' texels are read through the texture-cache model (the ledger's `texture
 //! fetch`), slice `k0`'s footprint and then `k0 + 1`'s.
