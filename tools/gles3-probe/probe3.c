@@ -1186,6 +1186,115 @@ static void scene_glsl3_more(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* ---- Scenes of the tex3d branch: 2-D array and 3-D textures. ---- */
+
+/* Layer k of w x h x d: texel (x, y) = (x * 255 / (w - 1), y * 255 / (h - 1), 60 k, 255),
+ * with a checker of the layer's own in alpha-free blue. */
+static unsigned char *layered_texels(int w, int h, int d) {
+    unsigned char *t = malloc((size_t)w * h * d * 4);
+    for (int k = 0; k < d; k++)
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                unsigned char *p = t + (((size_t)k * h + y) * w + x) * 4;
+                p[0] = (unsigned char)(x * 255 / (w - 1));
+                p[1] = (unsigned char)(y * 255 / (h - 1));
+                p[2] = (unsigned char)((60 * k + ((x / 2 + y / 2) % 2) * 40) % 256);
+                p[3] = 255;
+            }
+    return t;
+}
+
+/* 2-D array textures: a 16x16x4 array by glTexImage3D with a glTexSubImage3D patch in
+ * layer 2, mip-mapped by glGenerateMipmap and minified trilinear with the layer changing
+ * across the window (top half, `texture`); an 8x8x3 array by glTexStorage3D filled by
+ * glTexSubImage3D, read by `textureLod` at level 0 with nearest filtering (bottom half). */
+static void scene_array(void) {
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    unsigned char *texels = layered_texels(16, 16, 4);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, tex[0]);
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, 16, 16, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    unsigned char patch[4 * 4 * 4];
+    for (int i = 0; i < 16; i++) {
+        patch[i * 4] = 255;
+        patch[i * 4 + 1] = 0;
+        patch[i * 4 + 2] = 255;
+        patch[i * 4 + 3] = 255;
+    }
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 6, 6, 2, 4, 4, 1, GL_RGBA, GL_UNSIGNED_BYTE, patch);
+    glGenerateMipmap(GL_TEXTURE_2D_ARRAY);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, tex[1]);
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA8, 8, 8, 3);
+    unsigned char *small = layered_texels(8, 8, 3);
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, 8, 8, 3, GL_RGBA, GL_UNSIGNED_BYTE, small);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    GLuint p = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\n"
+        "uniform mediump sampler2DArray big;\nuniform mediump sampler2DArray small;\nout vec4 color;\n"
+        "void main() {\n"
+        "  if (uv.y > 0.5) color = texture(big, vec3(uv * 5.0, uv.x * 3.0 + 0.2));\n"
+        "  else color = textureLod(small, vec3(uv.x * 1.3 - 0.1, uv.y * 2.0, uv.x * 2.6 - 0.2), 0.0);\n"
+        "}\n");
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "big"), 0);
+    glUniform1i(glGetUniformLocation(p, "small"), 1);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+    free(texels);
+    free(small);
+}
+
+/* 3-D textures: an 8x8x8 texture by glTexStorage3D + glTexSubImage3D, linear in all three
+ * coordinates with WRAP_R repeat (left half), a 4x4x6 one by glTexImage3D, nearest, WRAP_R
+ * clamp-to-edge and mirrored S (right half); r runs across the window past [0, 1]. */
+static void scene_volume(void) {
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    unsigned char *texels = layered_texels(8, 8, 8);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_3D, tex[0]);
+    glTexStorage3D(GL_TEXTURE_3D, 1, GL_RGBA8, 8, 8, 8);
+    glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, 0, 8, 8, 8, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_REPEAT);
+    unsigned char *small = layered_texels(4, 4, 6);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_3D, tex[1]);
+    glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA8, 4, 4, 6, 0, GL_RGBA, GL_UNSIGNED_BYTE, small);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_MIRRORED_REPEAT);
+    GLuint p = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\n"
+        "uniform mediump sampler3D smooth_volume;\nuniform mediump sampler3D blocky;\nout vec4 color;\n"
+        "void main() {\n"
+        "  vec3 c = vec3(uv.y * 1.1, uv.x * 0.7 + 0.05, uv.x * 1.7 + uv.y * 0.45 - 0.3);\n"
+        "  if (uv.x < 0.5) color = texture(smooth_volume, c);\n"
+        "  else color = texture(blocky, c * vec3(1.6, 1.0, 1.0));\n"
+        "}\n");
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "smooth_volume"), 0);
+    glUniform1i(glGetUniformLocation(p, "blocky"), 1);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+    free(texels);
+    free(small);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3},
@@ -1193,7 +1302,9 @@ int main(int argc, char **argv) {
         {"invalidate", scene_invalidate}, {"shadow", scene_shadow}, {"shadow-sampler", scene_shadow_sampler}, {"rgb10a2", scene_rgb10a2},
         {"packed-float", scene_packed_float}, {"restart", scene_restart},
         {"formats", scene_formats}, {"integer", scene_integer}, {"float-srgb", scene_float_srgb},
-        {"readback", scene_readback}, {"feedback", scene_feedback}, {"glsl3-more", scene_glsl3_more}};
+        {"readback", scene_readback}, {"feedback", scene_feedback}, {"glsl3-more", scene_glsl3_more},
+        /* tex3d */
+        {"array", scene_array}, {"volume", scene_volume}};
     if (argc != 2) die("usage: probe3 SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

@@ -159,6 +159,40 @@ pub enum Call<D = Bytes> {
         height: u32,
         data: D,
     },
+    /// Level 0 of 2-D array or 3-D texture `id` (`glTexImage3D` or `glTexStorage3D` on
+    /// `GL_TEXTURE_2D_ARRAY` / `GL_TEXTURE_3D`), creating it when `id` is new: `depth`
+    /// layers (slices) of `width × height` RGBA8 (or sRGB8_alpha8) texels one after the
+    /// other, each's rows bottom to top (GL's `t = 0` first), zeros without `data`.
+    /// `tex_parameters`, `tex_wrap_r`, `generate_mipmap` (2-D arrays only: a 3-D texture's
+    /// mip chain is refused) and `delete_texture` take them too.
+    LayeredTexImage {
+        id: u32,
+        target: LayeredTarget,
+        width: u32,
+        height: u32,
+        depth: u32,
+        format: TextureFormat,
+        #[serde(default = "none", skip_serializing_if = "Option::is_none")]
+        data: Option<D>,
+    },
+    /// Overwrites a box of level 0 of a 2-D array or 3-D texture (`glTexSubImage3D`): layers
+    /// `z .. z + depth`, rows bottom to top.
+    LayeredTexSubImage {
+        id: u32,
+        x: u32,
+        y: u32,
+        z: u32,
+        width: u32,
+        height: u32,
+        depth: u32,
+        data: D,
+    },
+    /// `GL_TEXTURE_WRAP_R` of 3-D texture `id` (kept by `tex_parameters`; 2-D arrays take it
+    /// and do not read it).
+    TexWrapR {
+        id: u32,
+        wrap: Wrap,
+    },
     /// Sampling state of a texture (`glTexParameteri` for the filters and wraps): `filter`
     /// minifies and `wrap` wraps s; `mag_filter` (default: `filter`'s first word) magnifies and
     /// `wrap_t` (default: `wrap`) wraps t.
@@ -496,6 +530,14 @@ pub enum Call<D = Bytes> {
         unit: u32,
         texture: u32,
     },
+    /// `glActiveTexture` + `glBindTexture(GL_TEXTURE_2D_ARRAY | GL_TEXTURE_3D)`: a unit holds
+    /// one texture of each target, `sampler2DArray` / `sampler3D` uniforms read those; 0
+    /// unbinds.
+    BindLayeredTexture {
+        unit: u32,
+        target: LayeredTarget,
+        texture: u32,
+    },
 
     /// `glUniformBlockBinding`: uniform block `block` (by name) of GLSL program `program`
     /// reads the buffer bound at uniform buffer binding `binding` (initially 0).
@@ -698,6 +740,9 @@ impl<D> Call<D> {
             TexSubImage { .. } => "tex_sub_image",
             CubeTexImage { .. } => "cube_tex_image",
             CubeTexSubImage { .. } => "cube_tex_sub_image",
+            LayeredTexImage { .. } => "layered_tex_image",
+            LayeredTexSubImage { .. } => "layered_tex_sub_image",
+            TexWrapR { .. } => "tex_wrap_r",
             TexParameters { .. } => "tex_parameters",
             TexCompare { .. } => "tex_compare",
             BindSampler { .. } => "bind_sampler",
@@ -754,6 +799,7 @@ impl<D> Call<D> {
             BindUniformBuffer { .. } => "bind_uniform_buffer",
             BindTexture { .. } => "bind_texture",
             BindCubeTexture { .. } => "bind_cube_texture",
+            BindLayeredTexture { .. } => "bind_layered_texture",
             DrawArrays { .. } => "draw_arrays",
             DrawElements { .. } => "draw_elements",
             DrawArraysInstanced { .. } => "draw_arrays_instanced",
@@ -807,6 +853,13 @@ impl<D> Call<D> {
             CubeTexSubImage { id, face, x, y, width, height, data } => {
                 CubeTexSubImage { id, face, x, y, width, height, data: f(data)? }
             }
+            LayeredTexImage { id, target, width, height, depth, format, data } => {
+                LayeredTexImage { id, target, width, height, depth, format, data: data.map(&mut f).transpose()? }
+            }
+            LayeredTexSubImage { id, x, y, z, width, height, depth, data } => {
+                LayeredTexSubImage { id, x, y, z, width, height, depth, data: f(data)? }
+            }
+            TexWrapR { id, wrap } => TexWrapR { id, wrap },
             EncodedTexImage { id, level, width, height, format, srgb, data } => {
                 EncodedTexImage { id, level, width, height, format, srgb, data: f(data)? }
             }
@@ -887,6 +940,7 @@ impl<D> Call<D> {
             BindUniformBuffer { binding, buffer, offset, size } => BindUniformBuffer { binding, buffer, offset, size },
             BindTexture { unit, texture } => BindTexture { unit, texture },
             BindCubeTexture { unit, texture } => BindCubeTexture { unit, texture },
+            BindLayeredTexture { unit, target, texture } => BindLayeredTexture { unit, target, texture },
             DrawArrays { mode, first, count } => DrawArrays { mode, first, count },
             DrawElements { mode, count, index_type, offset } => DrawElements { mode, count, index_type, offset },
             DrawArraysInstanced { mode, first, count, instances } => {
@@ -1303,6 +1357,31 @@ impl Filter {
             Filter::Nearest | Filter::Linear => None,
             Filter::NearestMipmapNearest | Filter::LinearMipmapNearest => Some(Filter::Nearest),
             Filter::NearestMipmapLinear | Filter::LinearMipmapLinear => Some(Filter::Linear),
+        }
+    }
+}
+
+/// The target of a layered texture: `GL_TEXTURE_2D_ARRAY` or `GL_TEXTURE_3D`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LayeredTarget {
+    #[serde(rename = "2d_array")]
+    Array2D,
+    #[serde(rename = "3d")]
+    Texture3D,
+}
+
+impl LayeredTarget {
+    /// Its place in a unit's layered bindings.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// As GL names it.
+    pub fn name(self) -> &'static str {
+        match self {
+            LayeredTarget::Array2D => "2-D array",
+            LayeredTarget::Texture3D => "3-D",
         }
     }
 }

@@ -1430,3 +1430,62 @@ fn glmark2_desktop_needed_rebindings_are_not_advised() {
     assert!(needed >= 6 * 4, "{needed} needed rebindings (four blur ping-pongs a frame)");
     assert!(advised >= 6, "{advised} framebuffer-rebound findings (the window, bound again, each frame)");
 }
+
+// ---- Probe scenes of the tex3d branch: 2-D array and 3-D textures.
+
+#[test]
+fn probe_2d_array_textures_match_llvmpipe() {
+    check_probe_in("gles3-probe", "array");
+}
+
+#[test]
+fn probe_3d_textures_match_llvmpipe() {
+    check_probe_in("gles3-probe", "volume");
+}
+
+/// A 2-D array texture (name 9) of two 1×1 layers made by `glTexImage3D` at `level`, then
+/// `glFramebufferTextureLayer` of it: returns the capture and the two calls' numbers.
+fn array_capture(level: u64) -> (Writer, [u64; 2]) {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(9)]))], None, false);
+    let array = e("GL_TEXTURE_2D_ARRAY", 0x8c1a);
+    w.call("glBindTexture", &[("target", array.clone()), ("texture", W::UInt(9))], None, false);
+    let image = [
+        ("target", array),
+        ("level", W::UInt(level)),
+        ("internalformat", e("GL_RGBA8", 0x8058)),
+        ("width", W::UInt(1)),
+        ("height", W::UInt(1)),
+        ("depth", W::UInt(2)),
+        ("border", W::UInt(0)),
+        ("format", e("GL_RGBA", 0x1908)),
+        ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+        ("pixels", W::Blob(vec![10, 20, 30, 255, 40, 50, 60, 255])),
+    ];
+    let upload = w.call("glTexImage3D", &image, None, false);
+    let layer = [
+        ("target", e("GL_FRAMEBUFFER", 0x8d40)),
+        ("attachment", e("GL_COLOR_ATTACHMENT0", 0x8ce0)),
+        ("texture", W::UInt(9)),
+        ("level", W::UInt(0)),
+        ("layer", W::UInt(1)),
+    ];
+    let attach = w.call("glFramebufferTextureLayer", &layer, None, false);
+    swap(&mut w);
+    (w, [upload, attach])
+}
+
+#[test]
+fn array_uploads_above_level_0_and_rendering_into_a_layer_are_errors_naming_the_call() {
+    let (w, [upload, _]) = array_capture(1);
+    let error = replay(&w).0.err().expect("level 1 of an array");
+    assert_eq!(error.call(), Some(upload));
+    assert!(error.to_string().contains("mip level 1 of a 2-D array texture"), "{error}");
+    let (w, [_, attach]) = array_capture(0);
+    let error = replay(&w).0.err().expect("rendering into a layer");
+    assert_eq!(error.call(), Some(attach));
+    let message = error.to_string();
+    assert!(message.contains("glFramebufferTextureLayer") && message.contains("layer 1 of texture 9"), "{message}");
+}

@@ -811,6 +811,8 @@ impl<'a> Compiler<'a> {
             T::Sampler2D => Type::Sampler(SamplerKind::Sampler2D),
             T::SamplerCube => Type::Sampler(SamplerKind::SamplerCube),
             T::Sampler2DShadow => Type::Sampler(SamplerKind::Sampler2DShadow),
+            T::Sampler2DArray => Type::Sampler(SamplerKind::Sampler2DArray),
+            T::Sampler3D => Type::Sampler(SamplerKind::Sampler3D),
             T::Struct(s) => Type::Struct(self.struct_type(s)?),
             T::TypeName(name) => match self.lookup_struct(name.as_str()) {
                 Some(s) => Type::Struct(s),
@@ -2851,6 +2853,11 @@ impl<'a> Compiler<'a> {
                 // GLSL ES 3.00's `texture`/`textureLod` on a samplerCube.
                 return self.texture_cube(name, args);
             }
+            Type::Sampler(SamplerKind::Sampler2DArray | SamplerKind::Sampler3D)
+                if matches!(name, "texture" | "textureLod" | "textureProj") =>
+            {
+                return self.texture_layered(name, args);
+            }
             _ if shadow_name => return self.fail(format!("{name}() needs a sampler2DShadow, not {}", args[0].ty)),
             _ => return self.fail(format!("{name}() needs a sampler2D, not {}", args[0].ty)),
         };
@@ -2935,6 +2942,58 @@ impl<'a> Compiler<'a> {
         let dst = self.temps(4);
         let direction = [direction.regs[0], direction.regs[1], direction.regs[2]];
         self.emit(Inst::SampleCube { slot, dst: [dst[0], dst[1], dst[2], dst[3]], direction, lod });
+        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
+        self.set_prec(&dst, prec);
+        Ok(Value { ty: Type::vec(4), regs: dst })
+    }
+}
+
+impl Compiler<'_> {
+    /// GLSL ES 3.00's `texture(s, vec3 [, bias])`, `textureLod(s, vec3, lod)` on a
+    /// `sampler2DArray` (`(s, t, layer)`) or `sampler3D` (`(s, t, r)`), and `textureProj(s,
+    /// vec4 [, bias])` on a `sampler3D` (`(s, t, r) / q`); a vertex shader's `texture` reads
+    /// level 0 (`λ = 0`), as for 2D.
+    fn texture_layered(&mut self, name: &str, args: Vec<Value>) -> CResult<Value> {
+        let explicit = name.ends_with("Lod");
+        let proj = name == "textureProj";
+        if args.len() < 2 || args.len() > 3 {
+            return self.fail(format!("{name}() takes 2 or 3 arguments"));
+        }
+        let kind = match args[0].ty {
+            Type::Sampler(kind @ (SamplerKind::Sampler2DArray | SamplerKind::Sampler3D)) => kind,
+            _ => return self.fail(format!("{name}() needs a sampler2DArray or sampler3D, not {}", args[0].ty)),
+        };
+        if proj && kind == SamplerKind::Sampler2DArray {
+            return self.fail(format!("{name}() has no sampler2DArray form"));
+        }
+        let slot = args[0].regs[0] as u16;
+        let coord = self.float_gen(name, args[1].clone())?;
+        if coord.regs.len() != if proj { 4 } else { 3 } {
+            return self.fail(format!("{name}({}) coordinates cannot be a {}", args[0].ty, coord.ty));
+        }
+        let coord = if proj {
+            let q = coord.regs[3];
+            [0, 1, 2].map(|c| self.bin(BinOp::Div, coord.regs[c], q))
+        } else {
+            [coord.regs[0], coord.regs[1], coord.regs[2]]
+        };
+        let extra = match args.get(2) {
+            Some(v) => Some(self.float_gen(name, v.clone())?),
+            None => None,
+        };
+        if extra.as_ref().is_some_and(|v| v.ty != FLOAT) {
+            return self.fail(format!("{name}(): bias or level must be a float"));
+        }
+        let lod = match (explicit, extra.map(|v| v.regs[0]), self.stage) {
+            (true, Some(l), _) => Lod::Explicit(l),
+            (true, None, _) => return self.fail(format!("{name}() needs a level")),
+            (false, None, Stage::Fragment) => Lod::Implicit,
+            (false, Some(b), Stage::Fragment) => Lod::Bias(b),
+            (false, None, Stage::Vertex) => Lod::Explicit(self.konst(0.0)),
+            (false, Some(_), Stage::Vertex) => return self.fail(format!("{name}() with a bias in a vertex shader")),
+        };
+        let dst = self.temps(4);
+        self.emit(Inst::SampleLayered { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord, lod });
         let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
         self.set_prec(&dst, prec);
         Ok(Value { ty: Type::vec(4), regs: dst })

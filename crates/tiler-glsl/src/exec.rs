@@ -36,6 +36,13 @@ pub trait Env<const W: usize> {
     /// `sample`'s coordinates).
     fn sample_cube(&mut self, slot: usize, direction: [[f32; W]; 3], lod: LodValue<W>) -> [[f32; W]; 4];
 
+    /// Samples 2-D array or 3-D texture slot `slot` at `coord` (`(s, t, layer)` or
+    /// `(s, t, r)`, finite) in the lanes; without such textures, opaque black.
+    fn sample_layered(&mut self, slot: usize, coord: [[f32; W]; 3], lod: LodValue<W>) -> [[f32; W]; 4] {
+        let _ = (slot, coord, lod);
+        [[0.0; W], [0.0; W], [0.0; W], [1.0; W]]
+    }
+
     /// The derivative of `v` along `axis` (zero where lanes are not pixels of quads).
     fn derivative(&mut self, v: [f32; W], axis: Axis) -> [f32; W] {
         let _ = (v, axis);
@@ -164,7 +171,7 @@ fn registers_mut(code: &mut [Inst], f: &mut impl FnMut(&mut Reg, bool)) {
                     f(r, false);
                 }
             }
-            Inst::SampleCube { dst, direction, lod, .. } => {
+            Inst::SampleCube { dst, direction, lod, .. } | Inst::SampleLayered { dst, coord: direction, lod, .. } => {
                 dst.iter_mut().for_each(|d| f(d, true));
                 direction.iter_mut().for_each(|c| f(c, false));
                 if let Lod::Bias(r) | Lod::Explicit(r) = lod {
@@ -456,6 +463,19 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         Lod::Explicit(r) => LodValue::Explicit(finite(self.get(*r))),
                     };
                     let texel = self.env.sample_cube(*slot as usize, direction, lod);
+                    for (c, &d) in dst.iter().enumerate() {
+                        self.set(d, texel[c]);
+                    }
+                }
+                Inst::SampleLayered { slot, dst, coord, lod } => {
+                    let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
+                    let coord = coord.map(|r| finite(self.get(r)));
+                    let lod = match lod {
+                        Lod::Implicit => LodValue::Implicit,
+                        Lod::Bias(r) => LodValue::Bias(finite(self.get(*r))),
+                        Lod::Explicit(r) => LodValue::Explicit(finite(self.get(*r))),
+                    };
+                    let texel = self.env.sample_layered(*slot as usize, coord, lod);
                     for (c, &d) in dst.iter().enumerate() {
                         self.set(d, texel[c]);
                     }

@@ -134,8 +134,15 @@ fn coalesce_block(code: &mut Vec<Inst>, reads: &[u32], w: &Writes, pin: &[bool])
             moves[i] = true;
             continue;
         }
-        if matches!(inst, Inst::Un(..) | Inst::Bin(..) | Inst::Tri(..) | Inst::Sample { .. } | Inst::SampleCube { .. })
-        {
+        if matches!(
+            inst,
+            Inst::Un(..)
+                | Inst::Bin(..)
+                | Inst::Tri(..)
+                | Inst::Sample { .. }
+                | Inst::SampleCube { .. }
+                | Inst::SampleLayered { .. }
+        ) {
             writes(inst, &mut |r| {
                 computed.insert(r, i);
             });
@@ -144,7 +151,7 @@ fn coalesce_block(code: &mut Vec<Inst>, reads: &[u32], w: &Writes, pin: &[bool])
     for (at, t, p) in renames {
         match &mut code[at] {
             Inst::Un(_, d, _) | Inst::Bin(_, d, _, _) | Inst::Tri(_, d, _, _, _) if *d == t => *d = p,
-            Inst::Sample { dst, .. } | Inst::SampleCube { dst, .. } => {
+            Inst::Sample { dst, .. } | Inst::SampleCube { dst, .. } | Inst::SampleLayered { dst, .. } => {
                 dst.iter_mut().filter(|d| **d == t).for_each(|d| *d = p);
             }
             _ => unreachable!("a computed register's instruction writes it"),
@@ -239,6 +246,7 @@ fn count_writes(code: &mut [Inst], w: &mut Writes) {
                 | Inst::Tri(..)
                 | Inst::Sample { .. }
                 | Inst::SampleCube { .. }
+                | Inst::SampleLayered { .. }
                 | Inst::Derivative { .. }
         );
         writes(inst, &mut |r| {

@@ -39,7 +39,7 @@ pub(crate) fn reads_mut(inst: &mut Inst, f: &mut impl FnMut(&mut Reg)) {
                 f(r);
             }
         }
-        Inst::SampleCube { direction, lod, .. } => {
+        Inst::SampleLayered { coord: direction, lod, .. } | Inst::SampleCube { direction, lod, .. } => {
             direction.iter_mut().for_each(&mut *f);
             if let crate::ir::Lod::Bias(r) | crate::ir::Lod::Explicit(r) = lod {
                 f(r);
@@ -55,7 +55,9 @@ pub(crate) fn writes(inst: &Inst, f: &mut impl FnMut(Reg)) {
     match inst {
         Inst::Un(_, d, _) | Inst::Bin(_, d, _, _) | Inst::Tri(_, d, _, _, _) => f(*d),
         Inst::Store(d, _) | Inst::StoreIf(d, _, _) => f(*d),
-        Inst::Sample { dst, .. } | Inst::SampleCube { dst, .. } => dst.iter().for_each(|&d| f(d)),
+        Inst::Sample { dst, .. } | Inst::SampleCube { dst, .. } | Inst::SampleLayered { dst, .. } => {
+            dst.iter().for_each(|&d| f(d))
+        }
         Inst::Derivative { dst, .. } => f(*dst),
         _ => {}
     }

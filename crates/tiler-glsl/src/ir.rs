@@ -229,6 +229,14 @@ pub enum Inst {
         direction: [Reg; 3],
         lod: Lod,
     },
+    /// Samples a 2-D array (`(s, t, layer)`) or 3-D (`(s, t, r)`) texture slot `slot` into
+    /// four registers.
+    SampleLayered {
+        slot: u16,
+        dst: [Reg; 4],
+        coord: [Reg; 3],
+        lod: Lod,
+    },
 }
 
 impl Inst {
@@ -245,6 +253,7 @@ impl Inst {
                 | Inst::StoreIf(..)
                 | Inst::Sample { .. }
                 | Inst::SampleCube { .. }
+                | Inst::SampleLayered { .. }
                 | Inst::Derivative { .. }
         )
     }

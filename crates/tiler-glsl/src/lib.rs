@@ -39,6 +39,9 @@
 //! [`ir`]: division by zero gives 0, shift counts are taken modulo 32, float → integer
 //! saturates).
 //!
+//! ES 3.00's `sampler2DArray` and `sampler3D` (core 2-D array and 3-D textures) take
+//! `texture` (with a bias), `textureLod` and, on a `sampler3D`, `textureProj`, in both stages.
+//!
 //! Not supported (a compile error naming the shader and line): `flat` (GL takes a flat
 //! varying from a primitive's last vertex, tiler's core from its first) and so integer
 //! varyings, integer attributes, integer colour outputs and integer samplers, in/out blocks,

@@ -8,8 +8,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec4;
 use tiler::{
-    F32x8, FragmentShader, Fragments, Interpolation, LaneMask, Pipeline, PipelineDesc, Sampler, ShaderProperties,
-    Texture, VertexInput, VertexOutput, VertexShader,
+    F32x8, FragmentShader, Fragments, Interpolation, LaneMask, LayeredKind, Pipeline, PipelineDesc, Sampler,
+    ShaderProperties, Texture, VertexInput, VertexOutput, VertexShader,
 };
 
 use crate::compile::{StageCode, compile};
@@ -695,6 +695,34 @@ fn cube_lookup_lanes<const W: usize>(
     out
 }
 
+/// A 2-D array or 3-D texture's lanes at explicit levels of detail (`None`: level 0), through
+/// the core's own filter arithmetic, not counted in the ledger. Anything but a core layered
+/// texture reads opaque black, as an incomplete texture does.
+fn layered_lookup_lanes<const W: usize>(
+    binding: Option<&TextureBinding>,
+    coord: [[f32; W]; 3],
+    lod: Option<[f32; W]>,
+    lanes: usize,
+) -> [[f32; W]; 4] {
+    let mut out = [[0.0; W]; 4];
+    for lane in 0..lanes {
+        let at = coord.map(|c| c[lane]);
+        let lambda = lod.map_or(0.0, |l| l[lane]);
+        let texel = match binding {
+            Some(TextureBinding::Core(texture, sampler)) => match texture.layered() {
+                Some((LayeredKind::Array, _)) => texture.sample_array_lod(sampler, at, lambda),
+                Some((LayeredKind::Volume, _)) => texture.sample_volume_lod(sampler, at, lambda),
+                None => UNBOUND,
+            },
+            _ => UNBOUND,
+        };
+        for c in 0..4 {
+            out[c][lane] = texel[c];
+        }
+    }
+    out
+}
+
 struct VertexEnv<'a> {
     slots: &'a [Option<TextureBinding>],
     /// The lanes holding vertices of the batch (the first ones).
@@ -727,6 +755,19 @@ impl Env<VERTEX_LANES> for VertexEnv<'_> {
             _ => None,
         };
         cube_lookup_lanes(self.slots[slot].as_ref(), direction, lod, self.lanes)
+    }
+
+    fn sample_layered(
+        &mut self,
+        slot: usize,
+        coord: [[f32; VERTEX_LANES]; 3],
+        lod: LodValue<VERTEX_LANES>,
+    ) -> [[f32; VERTEX_LANES]; 4] {
+        let lod = match lod {
+            LodValue::Explicit(l) => Some(l),
+            _ => None,
+        };
+        layered_lookup_lanes(self.slots[slot].as_ref(), coord, lod, self.lanes)
     }
 }
 
@@ -785,6 +826,30 @@ impl Env<8> for FragmentEnv<'_, '_> {
             }
             (binding, LodValue::Explicit(l)) => cube_lookup_lanes(binding.as_ref(), direction, Some(l), 8),
             (binding, _) => cube_lookup_lanes(binding.as_ref(), direction, None, 8),
+        }
+    }
+
+    /// Coordinates are GL's: a core layered texture's rows are in GL's order (`t = 0`
+    /// first), as a cube face's, so nothing is flipped.
+    fn sample_layered(&mut self, slot: usize, coord: [[f32; 8]; 3], lod: LodValue<8>) -> [[f32; 8]; 4] {
+        match (&self.slots[slot], lod) {
+            (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit | LodValue::Bias(_))
+                if texture.layered().is_some() =>
+            {
+                let mut sampler = *sampler;
+                if let LodValue::Bias(b) = lod {
+                    // As for 2D: the group's first lane's bias stands for all.
+                    sampler.lod_bias += b[0];
+                }
+                let coord = coord.map(F32x8);
+                let texel = match texture.layered() {
+                    Some((LayeredKind::Volume, _)) => self.frag.sample_volume(texture, &sampler, coord),
+                    _ => self.frag.sample_array(texture, &sampler, coord),
+                };
+                texel.map(|c| c.0)
+            }
+            (binding, LodValue::Explicit(l)) => layered_lookup_lanes(binding.as_ref(), coord, Some(l), 8),
+            (binding, _) => layered_lookup_lanes(binding.as_ref(), coord, None, 8),
         }
     }
 }

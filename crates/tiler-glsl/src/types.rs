@@ -29,6 +29,10 @@ pub enum SamplerKind {
     /// A depth-compare sampler (`sampler2DShadow`): its lookups take a reference depth and
     /// return the filtered compare result.
     Sampler2DShadow,
+    /// `sampler2DArray`: lookups take `(s, t, layer)`.
+    Sampler2DArray,
+    /// `sampler3D`: lookups take `(s, t, r)`.
+    Sampler3D,
 }
 
 /// A GLSL type.
@@ -140,6 +144,8 @@ impl fmt::Display for Type {
             Type::Sampler(SamplerKind::Sampler2D) => write!(f, "sampler2D"),
             Type::Sampler(SamplerKind::SamplerCube) => write!(f, "samplerCube"),
             Type::Sampler(SamplerKind::Sampler2DShadow) => write!(f, "sampler2DShadow"),
+            Type::Sampler(SamplerKind::Sampler2DArray) => write!(f, "sampler2DArray"),
+            Type::Sampler(SamplerKind::Sampler3D) => write!(f, "sampler3D"),
             Type::Struct(s) => write!(f, "{}", s.name),
             Type::Array(t, n) => write!(f, "{t}[{n}]"),
         }

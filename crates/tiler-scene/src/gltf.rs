@@ -929,6 +929,7 @@ fn gltf_sampler(sampler: &gltf::texture::Sampler<'_>) -> Sampler {
         mipmap,
         wrap_u: wrap(sampler.wrap_s()),
         wrap_v: wrap(sampler.wrap_t()),
+        wrap_w: tiler::Wrap::Repeat,
         lod_bias: 0.0,
     }
 }

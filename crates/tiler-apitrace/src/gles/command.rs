@@ -282,6 +282,50 @@ pub enum Command {
         width: i32,
         height: i32,
     },
+    /// `glTexImage3D` (2-D array and 3-D textures).
+    TexImage3D {
+        target: GlEnum,
+        level: i32,
+        internal_format: GlEnum,
+        width: i32,
+        height: i32,
+        depth: i32,
+        border: i32,
+        format: GlEnum,
+        kind: GlEnum,
+        pixels: Memory,
+    },
+    /// `glTexSubImage3D`.
+    TexSubImage3D {
+        target: GlEnum,
+        level: i32,
+        x_offset: i32,
+        y_offset: i32,
+        z_offset: i32,
+        width: i32,
+        height: i32,
+        depth: i32,
+        format: GlEnum,
+        kind: GlEnum,
+        pixels: Memory,
+    },
+    /// `glTexStorage3D`.
+    TexStorage3D {
+        target: GlEnum,
+        levels: i32,
+        internal_format: GlEnum,
+        width: i32,
+        height: i32,
+        depth: i32,
+    },
+    /// `glFramebufferTextureLayer`.
+    FramebufferTextureLayer {
+        target: GlEnum,
+        attachment: GlEnum,
+        texture: u32,
+        level: i32,
+        layer: i32,
+    },
     /// `glTexParameter{i,f}[v]`.
     TexParameter {
         target: GlEnum,

@@ -598,7 +598,7 @@ fn sync_objects_are_ignored_and_a_client_wait_is_a_finish() {
 fn calls_of_unmodelled_features_and_of_desktop_gl_say_so() {
     for (function, says) in [
         ("glBeginTransformFeedback", "transform feedback"),
-        ("glTexImage3D", "3-D and 2-D array textures"),
+        ("glCompressedTexImage3D", "compressed 3-D and 2-D array textures"),
         ("glCreateProgramObjectARB", "desktop OpenGL"),
         ("glBegin", "desktop OpenGL"),
     ] {

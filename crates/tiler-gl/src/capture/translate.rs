@@ -2,6 +2,7 @@
 //! [`crate::capture`] for the rules.
 
 mod cube;
+mod layered;
 
 use std::collections::HashMap;
 
@@ -52,6 +53,10 @@ struct Texture {
     wrap: [u32; 2],
     /// Bound to `GL_TEXTURE_CUBE_MAP` (its target from then on).
     cube: bool,
+    /// Bound to `GL_TEXTURE_2D_ARRAY` or `GL_TEXTURE_3D` (its target from then on).
+    layered: Option<crate::call::LayeredTarget>,
+    /// `GL_TEXTURE_WRAP_R` (default `GL_REPEAT`).
+    wrap_r: u32,
     /// Its GL format has no alpha (`glCopyTexImage2D` with `GL_RGB`): copies into it get
     /// alpha 1.
     opaque: bool,
@@ -87,6 +92,8 @@ impl Default for Texture {
             mag: GL_LINEAR,
             wrap: [GL_REPEAT; 2],
             cube: false,
+            layered: None,
+            wrap_r: GL_REPEAT,
             opaque: false,
             red_green: false,
             max_level: 1000,
@@ -248,6 +255,8 @@ struct Bindings {
     textures: [u32; MAX_TEXTURE_UNITS as usize],
     /// Each unit's `GL_TEXTURE_CUBE_MAP` binding.
     cube_textures: [u32; MAX_TEXTURE_UNITS as usize],
+    /// Each unit's `GL_TEXTURE_2D_ARRAY` and `GL_TEXTURE_3D` bindings (`LayeredTarget::index`).
+    layered_textures: [[u32; 2]; MAX_TEXTURE_UNITS as usize],
     array_buffer: u32,
     element_buffer: u32,
     renderbuffer: u32,
@@ -280,6 +289,7 @@ impl Default for Bindings {
             active_unit: 0,
             textures: [0; MAX_TEXTURE_UNITS as usize],
             cube_textures: [0; MAX_TEXTURE_UNITS as usize],
+            layered_textures: [[0; 2]; MAX_TEXTURE_UNITS as usize],
             array_buffer: 0,
             element_buffer: 0,
             renderbuffer: 0,
@@ -436,7 +446,7 @@ impl Translator {
 
     fn command(&mut self, command: &Command, fake: bool) -> Fallible {
         use Command as C;
-        if self.cube_command(command)? {
+        if self.cube_command(command)? || self.layered_command(command)? {
             return Ok(());
         }
         match command {
@@ -700,7 +710,10 @@ impl Translator {
                     if let Some(Texture { id: Some(id), .. }) = self.objects()?.textures.remove(&name) {
                         self.emit(Call::DeleteTexture { id })?;
                     }
-                    for bound in self.bindings.textures.iter_mut().chain(&mut self.bindings.cube_textures) {
+                    let layered = self.bindings.layered_textures.as_flattened_mut();
+                    for bound in
+                        self.bindings.textures.iter_mut().chain(&mut self.bindings.cube_textures).chain(layered)
+                    {
                         if *bound == name {
                             *bound = 0;
                         }
@@ -723,8 +736,10 @@ impl Translator {
                     0
                 } else {
                     let t = self.objects()?.textures.entry(*texture).or_default();
-                    if t.cube {
-                        return Err(format!("texture {texture} is a cube map: binding it as 2D is a GL error"));
+                    if t.cube || t.layered.is_some() {
+                        return Err(format!(
+                            "texture {texture} is a cube map, 2-D array or 3-D texture: binding it as 2D is a GL error"
+                        ));
                     }
                     t.id.unwrap_or(0)
                 };
@@ -914,8 +929,12 @@ impl Translator {
                 self.update_sampler(name)?;
             }
             C::TexParameter { target, pname, params } => {
-                if ![GL_TEXTURE_2D, cube::GL_TEXTURE_CUBE_MAP].contains(target) {
-                    return Err(format!("texture target {target:#06x} is not supported (2D and cube maps only)"));
+                if ![GL_TEXTURE_2D, cube::GL_TEXTURE_CUBE_MAP, layered::GL_TEXTURE_2D_ARRAY, layered::GL_TEXTURE_3D]
+                    .contains(target)
+                {
+                    return Err(format!(
+                        "texture target {target:#06x} is not supported (2D, cube map, 2-D array and 3-D only)"
+                    ));
                 }
                 let number = match params {
                     Params::Int(v) if v.len() == 1 => v[0] as f64,
@@ -923,7 +942,11 @@ impl Translator {
                     _ => return Err(format!("parameter {pname:#06x}: {params:?} is not a single value")),
                 };
                 let value = number as u32;
-                let name = if *target == GL_TEXTURE_2D { self.bound_texture()? } else { self.bound_cube()? };
+                let name = match layered::layered_target(*target) {
+                    Some(layered) => self.bound_layered(layered)?,
+                    None if *target == GL_TEXTURE_2D => self.bound_texture()?,
+                    None => self.bound_cube()?,
+                };
                 let t = self.objects()?.textures.entry(name).or_default();
                 if t.compare_parameter(*pname, number)? {
                     self.update_sampler(name)?;
@@ -934,10 +957,12 @@ impl Translator {
                     (0x2800, _) => t.mag = value,
                     (0x2802, _) => t.wrap[0] = value,
                     (0x2803, _) => t.wrap[1] = value,
+                    // WRAP_R: a 3-D texture's third coordinate (2D and cube textures keep it
+                    // and do not read it).
+                    (0x8072, _) => t.wrap_r = value,
                     // GL ES 3.0 parameters apps set to their defaults, or to what changes
-                    // nothing here: WRAP_R (no third coordinate), the LOD range's defaults,
-                    // base level 0, identity swizzles.
-                    (0x8072, _) | (0x813a, -1000.0) | (0x813b, 1000.0) | (0x813c, 0.0) => {}
+                    // nothing here: the LOD range's defaults, base level 0, identity swizzles.
+                    (0x813a, -1000.0) | (0x813b, 1000.0) | (0x813c, 0.0) => {}
                     (0x8e42, 6403.0) | (0x8e43, 6404.0) | (0x8e44, 6405.0) | (0x8e45, 6406.0) => {}
                     // GL_TEXTURE_MAX_LEVEL (see `Texture::max_level`).
                     (0x813d, v) if v >= 0.0 => t.max_level = v.min(1000.0) as u32,
@@ -1753,6 +1778,10 @@ impl Translator {
             })?;
             if t.compare_set {
                 self.emit(Call::TexCompare { id, compare: p.compare })?;
+            }
+            if t.layered.is_some() {
+                let wrap = layered::wrap_r(t.wrap_r)?;
+                self.emit(Call::TexWrapR { id, wrap })?;
             }
         }
         Ok(())

@@ -27,7 +27,7 @@ use tiler_glsl::{
 };
 
 use super::{Context, Fallible, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS, ProgramObject};
-use crate::call::{GlslSource, ProgramKind, UniformValue};
+use crate::call::{GlslSource, LayeredTarget, ProgramKind, UniformValue};
 use crate::program::{ProgramTexture, SamplerState, TextureSnapshot, Uniforms, program_pipeline};
 
 /// A GLSL program object.
@@ -164,8 +164,8 @@ pub(crate) enum ProgramDraw {
         /// Disabled attribute locations the program reads, and their generic values (and
         /// per-instance attributes, their instance's values: `instancing.rs`).
         generic: Vec<(u32, [f32; 4])>,
-        /// The units `samplerCube` uniforms read and their cube textures as they were at the
-        /// draw (`None`: incomplete).
+        /// The units `samplerCube`, `sampler2DArray` and `sampler3D` uniforms read and their
+        /// core textures as they were at the draw (`None`: an incomplete cube).
         cubes: Vec<(u32, Option<CoreCube>)>,
         /// `gl_InstanceID`.
         instance: u32,
@@ -300,6 +300,27 @@ impl Context {
                         ));
                     }
                     cubes.push((unit, self.cube_binding(unit, &format!("{label}: sampler '{name}'"))?));
+                }
+                // 2-D array and 3-D textures go with the cubes: core textures bound by unit.
+                let mut layered_units: Vec<(u32, SamplerKind)> = Vec::new();
+                for (kind, target) in [
+                    (SamplerKind::Sampler2DArray, LayeredTarget::Array2D),
+                    (SamplerKind::Sampler3D, LayeredTarget::Texture3D),
+                ] {
+                    for (name, unit) in p.compiled.sampler_units_of(kind, &p.uniforms) {
+                        if layered_units.contains(&(unit, kind)) {
+                            continue;
+                        }
+                        if cubes.iter().any(|(u, _)| *u == unit) || textures.iter().any(|t| t.unit == unit) {
+                            return Err(format!(
+                                "{label}: sampler '{name}' ({kind:?}) and a sampler of another type both read \
+                                 texture unit {unit} (a GL error)"
+                            ));
+                        }
+                        let what = format!("{label}: sampler '{name}'");
+                        cubes.push((unit, Some(self.layered_binding(unit, target, &what)?)));
+                        layered_units.push((unit, kind));
+                    }
                 }
                 let mut uniforms = p.uniforms.clone();
                 let uniform_buffers = self.read_uniform_blocks(&label, p, &mut uniforms)?;

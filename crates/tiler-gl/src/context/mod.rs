@@ -17,6 +17,7 @@ mod explicit;
 mod frames;
 mod glsl;
 mod instancing;
+mod layered;
 mod pass;
 mod sampler_objects;
 mod submit;
@@ -401,6 +402,9 @@ pub(crate) struct GlState {
     pub textures: [u32; MAX_TEXTURE_UNITS as usize],
     /// Each unit's cube texture (`bind_cube_texture`), read by `samplerCube` uniforms.
     pub cube_textures: [u32; MAX_TEXTURE_UNITS as usize],
+    /// Each unit's 2-D array and 3-D textures (`bind_layered_texture`, by
+    /// `LayeredTarget::index`), read by `sampler2DArray` and `sampler3D` uniforms.
+    pub layered_textures: [[u32; 2]; MAX_TEXTURE_UNITS as usize],
     pub program: u32,
 }
 
@@ -440,6 +444,7 @@ impl GlState {
             unit_samplers: [None; MAX_TEXTURE_UNITS as usize],
             textures: [0; MAX_TEXTURE_UNITS as usize],
             cube_textures: [0; MAX_TEXTURE_UNITS as usize],
+            layered_textures: [[0; 2]; MAX_TEXTURE_UNITS as usize],
             program: 0,
         }
     }
@@ -471,6 +476,8 @@ pub struct Context {
     pub(crate) buffers: BTreeMap<u32, BufferObject>,
     pub(crate) textures: BTreeMap<u32, TextureObject>,
     pub(crate) cubes: BTreeMap<u32, cube::CubeObject>,
+    /// 2-D array and 3-D textures (`layered.rs`).
+    pub(crate) layered: BTreeMap<u32, layered::LayeredObject>,
     pub(crate) renderbuffers: BTreeMap<u32, RenderbufferObject>,
     pub(crate) framebuffers: BTreeMap<u32, FramebufferObject>,
     pub(crate) programs: BTreeMap<u32, ProgramObject>,
@@ -576,6 +583,7 @@ impl Context {
             buffers: BTreeMap::new(),
             textures: BTreeMap::new(),
             cubes: BTreeMap::new(),
+            layered: BTreeMap::new(),
             renderbuffers: BTreeMap::new(),
             framebuffers,
             programs: BTreeMap::new(),
@@ -711,7 +719,11 @@ impl Context {
                 self.copy_buffer_sub_data(src, dst, src_offset, dst_offset, size)?;
             }
             CreateTexture { id, width, height, format, data, transient } => {
-                if id == 0 || self.textures.contains_key(&id) || self.cubes.contains_key(&id) {
+                if id == 0
+                    || self.textures.contains_key(&id)
+                    || self.cubes.contains_key(&id)
+                    || self.layered.contains_key(&id)
+                {
                     return Err(name_taken("texture", id));
                 }
                 if transient && data.is_some() {
@@ -737,6 +749,13 @@ impl Context {
             CubeTexSubImage { id, face, x, y, width, height, data } => {
                 self.cube_tex_sub_image(id, face, x, y, width, height, data)?;
             }
+            LayeredTexImage { id, target, width, height, depth, format, data } => {
+                self.layered_tex_image(id, target, (width, height, depth), format, data)?;
+            }
+            LayeredTexSubImage { id, x, y, z, width, height, depth, data } => {
+                self.layered_tex_sub_image(id, (x, y, z), (width, height, depth), data)?;
+            }
+            TexWrapR { id, wrap } => self.layered_mut(id)?.wrap_r = wrap,
             EncodedTexImage { id, level, width, height, format, srgb, data } => {
                 self.encoded_tex_image(id, level, (width, height), format, srgb, data)?
             }
@@ -745,7 +764,10 @@ impl Context {
             }
             TexParameters { id, filter, wrap, mag_filter, wrap_t } => {
                 let mut sampler = sampler_state(filter, wrap, mag_filter, wrap_t)?;
-                if self.cubes.contains_key(&id) {
+                if self.layered.contains_key(&id) {
+                    sampler.compare = self.layered_mut(id)?.sampler.compare;
+                    self.layered_mut(id)?.sampler = sampler;
+                } else if self.cubes.contains_key(&id) {
                     sampler.compare = self.cube_mut(id)?.sampler.compare;
                     self.cube_mut(id)?.sampler = sampler;
                 } else {
@@ -754,13 +776,16 @@ impl Context {
                 }
             }
             TexCompare { id, compare } => {
-                if self.cubes.contains_key(&id) {
+                if self.layered.contains_key(&id) {
+                    self.layered_mut(id)?.sampler.compare = compare;
+                } else if self.cubes.contains_key(&id) {
                     self.cube_mut(id)?.sampler.compare = compare;
                 } else {
                     self.texture_mut(id)?.sampler.compare = compare;
                 }
             }
             GenerateMipmap { id } if self.cubes.contains_key(&id) => self.generate_cube_mipmap(id)?,
+            GenerateMipmap { id } if self.layered.contains_key(&id) => self.generate_layered_mipmap(id)?,
             BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare } => {
                 let sampler = SamplerState { compare, ..sampler_state(filter, wrap, mag_filter, wrap_t)? };
                 self.bind_sampler(unit, Some(sampler))?;
@@ -788,6 +813,7 @@ impl Context {
             }
             TexImageLevel { id, level, width, height, data } => self.tex_image_level(id, level, width, height, data)?,
             DeleteTexture { id } if self.cubes.contains_key(&id) => self.delete_cube(id),
+            DeleteTexture { id } if self.layered.contains_key(&id) => self.delete_layered(id),
             DeleteTexture { id } => self.delete_texture(id)?,
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
                 if id == 0 || self.renderbuffers.contains_key(&id) {
@@ -995,6 +1021,7 @@ impl Context {
                 self.state.textures[unit as usize] = texture;
             }
             BindCubeTexture { unit, texture } => self.bind_cube_texture(unit, texture)?,
+            BindLayeredTexture { unit, target, texture } => self.bind_layered_texture(unit, target, texture)?,
             DrawArrays { mode, first, count } => self.draw(mode, first, count, None, 1)?,
             DrawElements { mode, count, index_type, offset } => {
                 self.draw(mode, 0, count, Some((index_type, offset)), 1)?;

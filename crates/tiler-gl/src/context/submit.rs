@@ -455,6 +455,8 @@ pub(crate) fn core_sampler(sampler: SamplerState, mipmaps: bool) -> tiler::Sampl
         mipmap,
         wrap_u: core_wrap(sampler.wrap_s),
         wrap_v: core_wrap(sampler.wrap_t),
+        // GL's default `WRAP_R`; a 3-D texture's own is set where it is bound.
+        wrap_w: tiler::Wrap::Repeat,
         lod_bias: 0.0,
     }
 }

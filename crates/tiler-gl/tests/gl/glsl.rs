@@ -1021,3 +1021,119 @@ void main() { gl_FragColor = textureCubeLod(env, vec3(0.1, -0.2, -1.0), lod); }"
         serde_json::from_str(r#"{"call": "bind_cube_texture", "unit": 1, "texture": 3}"#).unwrap();
     assert_eq!(bind, Call::BindCubeTexture { unit: 1, texture: 3 });
 }
+
+// ---- tex3d: 2-D array and 3-D textures through calls.
+
+/// A 3-D texture through calls: created, a slice replaced by `layered_tex_sub_image`, bound,
+/// sampled at a slice by a `sampler3D` with `tex_wrap_r`; what tiler refuses (a 3-D mip chain,
+/// a mipmap minification filter on one, a wrong size of texels, another target's binding) is
+/// refused naming what, and the texels count against the memory limit until deleted.
+#[test]
+fn layered_textures_are_created_uploaded_sampled_and_refused_by_name() {
+    const FS: &str = "#version 300 es
+precision mediump float;
+uniform mediump sampler3D volume;
+uniform float r;
+out vec4 color;
+void main() { color = texture(volume, vec3(0.5, 0.5, r)); }";
+    let slices = |d: u32| -> Vec<u8> { (0..d).flat_map(|k| [40 * k as u8, 0, 0, 255].repeat(4)).collect() };
+    let volume = |depth: u32| Call::LayeredTexImage {
+        id: 3,
+        target: LayeredTarget::Texture3D,
+        width: 2,
+        height: 2,
+        depth,
+        format: TextureFormat::Rgba8,
+        data: Some(Bytes::from(slices(depth))),
+    };
+    let setup = |gl: &mut Context, filter: Filter, wrap_r: Wrap| {
+        c(gl, volume(4));
+        c(gl, Call::TexParameters { id: 3, filter, wrap: Wrap::ClampToEdge, mag_filter: None, wrap_t: None });
+        c(gl, Call::TexWrapR { id: 3, wrap: wrap_r });
+        c(gl, Call::BindLayeredTexture { unit: 1, target: LayeredTarget::Texture3D, texture: 3 });
+        use_glsl(gl, 1, FS);
+        c(gl, Call::Uniform { name: "volume".into(), value: UniformValue::Int(1) });
+    };
+    let red_at = |r: f32, wrap_r: Wrap, sub: bool| {
+        let mut gl = screen();
+        setup(&mut gl, Filter::Nearest, wrap_r);
+        if sub {
+            let data = Bytes::from([200u8, 0, 0, 255].repeat(4));
+            let sub = Call::LayeredTexSubImage { id: 3, x: 0, y: 0, z: 2, width: 2, height: 2, depth: 1, data };
+            c(&mut gl, sub);
+        }
+        c(&mut gl, Call::Uniform { name: "r".into(), value: UniformValue::Float(r) });
+        draw(&mut gl, 3);
+        c(&mut gl, Call::Finish);
+        pixel(&gl.surface_rgba8(), 16, 8, 8)[0]
+    };
+    // Slice ⌊r · 4⌋; WRAP_R repeat takes r mod 1, clamp-to-edge the last slice.
+    assert_eq!(red_at(0.6, Wrap::Repeat, false), 80);
+    assert_eq!(red_at(1.3, Wrap::Repeat, false), 40);
+    assert_eq!(red_at(1.3, Wrap::ClampToEdge, false), 120);
+    assert_eq!(red_at(0.6, Wrap::Repeat, true), 200);
+
+    // Refused, naming what.
+    let mut gl = screen();
+    setup(&mut gl, Filter::Linear, Wrap::Repeat);
+    let error = gl.call(Call::GenerateMipmap { id: 3 }).unwrap_err().to_string();
+    assert!(error.contains("3-D texture 3") && error.contains("not supported"), "{error}");
+    let mipmapped = Call::TexParameters {
+        id: 3,
+        filter: Filter::LinearMipmapLinear,
+        wrap: Wrap::Repeat,
+        mag_filter: None,
+        wrap_t: None,
+    };
+    c(&mut gl, mipmapped);
+    let error = gl.call(Call::DrawArrays { mode: Mode::Triangles, first: 0, count: 3 }).unwrap_err().to_string();
+    assert!(error.contains("sampler 'volume'") && error.contains("mipmap"), "{error}");
+    let mut short = volume(4);
+    if let Call::LayeredTexImage { data, .. } = &mut short {
+        *data = Some(Bytes::from(slices(3)));
+    }
+    let error = gl.call(short).unwrap_err().to_string();
+    assert!(error.contains("3-D texture 3") && error.contains("needs 64"), "{error}");
+    let error = gl
+        .call(Call::BindLayeredTexture { unit: 0, target: LayeredTarget::Array2D, texture: 3 })
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("texture 3 is a 3-D texture"), "{error}");
+    let sub = Call::LayeredTexSubImage {
+        id: 3,
+        x: 1,
+        y: 0,
+        z: 3,
+        width: 2,
+        height: 2,
+        depth: 1,
+        data: Bytes::from(vec![0; 16]),
+    };
+    let error = gl.call(sub).unwrap_err().to_string();
+    assert!(error.contains("outside"), "{error}");
+
+    // Texels count against the memory limit until the texture is deleted.
+    let mut gl = Context::new(ContextConfig { memory_limit: 1 << 20, ..ContextConfig::new(16, 16) }).unwrap();
+    let big = |id: u32| Call::LayeredTexImage {
+        id,
+        target: LayeredTarget::Array2D,
+        width: 256,
+        height: 256,
+        depth: 3,
+        format: TextureFormat::Rgba8,
+        data: None,
+    };
+    c(&mut gl, big(5));
+    let error = gl.call(big(6)).unwrap_err().to_string();
+    assert!(error.contains("memory limit"), "{error}");
+    c(&mut gl, Call::DeleteTexture { id: 5 });
+    c(&mut gl, big(6));
+
+    // The calls' names in a JSON trace.
+    let bind: Call<Vec<u8>> =
+        serde_json::from_str(r#"{"call": "bind_layered_texture", "unit": 1, "target": "3d", "texture": 3}"#).unwrap();
+    assert_eq!(bind, Call::BindLayeredTexture { unit: 1, target: LayeredTarget::Texture3D, texture: 3 });
+    let wrap: Call<Vec<u8>> =
+        serde_json::from_str(r#"{"call": "tex_wrap_r", "id": 3, "wrap": "mirrored_repeat"}"#).unwrap();
+    assert_eq!(wrap, Call::TexWrapR { id: 3, wrap: Wrap::MirroredRepeat });
+}

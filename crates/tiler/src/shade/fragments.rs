@@ -186,6 +186,18 @@ impl<'a> Fragments<'a> {
         texture.sample_cube(self.simd, sampler, direction, self.covered.quads(), &mut self.context.texture_cache)
     }
 
+    /// Samples 2-D array texture `texture` at `(s, t, layer)` with `sampler`, as
+    /// [`Fragments::sample`] samples a 2D one (rows in GL's order: `t = 0` is row 0).
+    pub fn sample_array(&mut self, texture: &Texture, sampler: &Sampler, coord: [F32x8; 3]) -> Vec4x8 {
+        texture.sample_array(self.simd, sampler, coord, self.covered.quads(), &mut self.context.texture_cache)
+    }
+
+    /// Samples 3-D texture `texture` at `(s, t, r)` with `sampler`, as [`Fragments::sample`]
+    /// samples a 2D one (rows in GL's order: `t = 0` is row 0).
+    pub fn sample_volume(&mut self, texture: &Texture, sampler: &Sampler, coord: [F32x8; 3]) -> Vec4x8 {
+        texture.sample_volume(self.simd, sampler, coord, self.covered.quads(), &mut self.context.texture_cache)
+    }
+
     /// Per-tile state shaders may use (texture caches and their counters).
     #[inline(always)]
     pub fn context(&mut self) -> &mut ShadeContext {

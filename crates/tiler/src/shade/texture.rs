@@ -43,10 +43,13 @@
 //! so a lane's result depends only on its quad's inputs: every backend, tile size, thread
 //! count and SIMD level samples the same values.
 
+mod array;
 mod cube;
+mod volume;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+pub use array::{LayeredKind, MAX_ARRAY_LAYERS, MAX_VOLUME_DIMENSION};
 pub use cube::{CubeFace, MAX_CUBE_DIMENSION, cube_face_coordinates};
 
 use super::texel_format::{StoredLayout, TexelFormat};
@@ -147,6 +150,8 @@ pub struct Sampler {
     pub mipmap: MipmapMode,
     pub wrap_u: Wrap,
     pub wrap_v: Wrap,
+    /// The third coordinate's wrap (GL's `WRAP_R`): read by 3-D textures only.
+    pub wrap_w: Wrap,
     /// Added to the computed level of detail.
     pub lod_bias: f32,
 }
@@ -160,6 +165,7 @@ impl Sampler {
         mipmap: MipmapMode::Linear,
         wrap_u: Wrap::Repeat,
         wrap_v: Wrap::Repeat,
+        wrap_w: Wrap::Repeat,
         lod_bias: 0.0,
     };
     /// Bilinear on level 0, clamped to the edges.
@@ -169,6 +175,7 @@ impl Sampler {
         mipmap: MipmapMode::None,
         wrap_u: Wrap::ClampToEdge,
         wrap_v: Wrap::ClampToEdge,
+        wrap_w: Wrap::ClampToEdge,
         lod_bias: 0.0,
     };
     /// Nearest texel of level 0, repeat.
@@ -178,6 +185,7 @@ impl Sampler {
         mipmap: MipmapMode::None,
         wrap_u: Wrap::Repeat,
         wrap_v: Wrap::Repeat,
+        wrap_w: Wrap::Repeat,
         lod_bias: 0.0,
     };
 
@@ -255,6 +263,8 @@ pub struct Texture {
     /// A cube texture's six faces (`cube`), each a chain laid out as `levels` say, one after
     /// the other `face_bytes` apart in the modelled memory; `None` for a 2D texture.
     face_bytes: Option<u32>,
+    /// A 2-D array's layers or a 3-D texture's slices (`array`, `volume`); `None` otherwise.
+    layers: Option<array::Layers>,
 }
 
 /// The level of detail (bias included) above which a quad read from level 0 without mip maps
@@ -461,6 +471,7 @@ impl Texture {
             texels,
             color_table,
             face_bytes: None,
+            layers: None,
         }
     }
 
@@ -2004,6 +2015,7 @@ mod tests {
                 mipmap,
                 wrap_u,
                 wrap_v,
+                wrap_w: wrap_v,
                 lod_bias,
             },
         )
