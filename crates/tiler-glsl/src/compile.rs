@@ -47,6 +47,8 @@ pub struct StageVar {
     pub regs: Vec<Reg>,
     /// `layout(location = n)`, if given (ES 3.00).
     pub location: Option<u32>,
+    /// A varying qualified `flat` (ES 3.00): the provoking vertex's value, its bits copied.
+    pub flat: bool,
 }
 
 /// One compiled shader stage.
@@ -763,37 +765,31 @@ impl<'a> Compiler<'a> {
                     (Storage::Out, Stage::Fragment) => Storage::FragOut,
                     (s, _) => s,
                 };
-                if is_flat(head.ty.qualifier.as_ref()) {
-                    // GL's provoking vertex is a primitive's last, tiler's (Vulkan's) its first.
-                    return self.fail(
-                        "flat varyings are not supported (GL takes them from a primitive's last vertex, tiler \
-                         from its first)",
-                    );
+                let flat = is_flat(head.ty.qualifier.as_ref());
+                if flat && storage != Storage::Varying {
+                    // GLSL ES 3.00 §4.3.9: interpolation qualifiers only on vertex outputs and
+                    // fragment inputs.
+                    return self.fail("'flat' qualifies only vertex shader outputs and fragment shader inputs");
                 }
                 let location = location_of(head.ty.qualifier.as_ref(), self);
+                let var = VarDecl { storage, location, flat, global };
                 if let Some(name) = &head.name {
                     let ty = self.arrayed(base.clone(), head.array_specifier.as_ref())?;
-                    self.variable(name.as_str(), ty, storage, location, head.initializer.as_ref(), global)?;
+                    self.variable(name.as_str(), ty, var, head.initializer.as_ref())?;
                 }
                 for tail in &list.tail {
                     self.at(&tail.span);
                     let ty = self.arrayed(base.clone(), tail.ident.array_spec.as_ref())?;
-                    self.variable(tail.ident.ident.as_str(), ty, storage, None, tail.initializer.as_ref(), global)?;
+                    let var = VarDecl { location: None, ..var };
+                    self.variable(tail.ident.ident.as_str(), ty, var, tail.initializer.as_ref())?;
                 }
                 Ok(())
             }
         }
     }
 
-    fn variable(
-        &mut self,
-        name: &str,
-        ty: Type,
-        storage: Storage,
-        location: Option<u32>,
-        init: Option<&ast::Initializer>,
-        global: bool,
-    ) -> CResult<()> {
+    fn variable(&mut self, name: &str, ty: Type, var: VarDecl, init: Option<&ast::Initializer>) -> CResult<()> {
+        let VarDecl { storage, location, flat, global } = var;
         if ty == Type::Void {
             return self.fail(format!("'{name}' declared void"));
         }
@@ -815,7 +811,13 @@ impl<'a> Compiler<'a> {
                 interface(self, "uniform")?;
                 let regs = self.uniform_regs(&ty);
                 let index = self.uniforms.len();
-                self.uniforms.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location });
+                self.uniforms.push(StageVar {
+                    name: name.into(),
+                    ty: ty.clone(),
+                    regs: regs.clone(),
+                    location,
+                    flat: false,
+                });
                 for (k, &r) in regs.iter().enumerate() {
                     if r & BANK == 0 {
                         // A sampler component: its "register" is its slot.
@@ -831,17 +833,33 @@ impl<'a> Compiler<'a> {
                     return self.fail(format!("attribute '{name}' must be a float, vector or matrix"));
                 }
                 let regs = self.temps(ty.size());
-                self.inputs.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location });
+                self.inputs.push(StageVar {
+                    name: name.into(),
+                    ty: ty.clone(),
+                    regs: regs.clone(),
+                    location,
+                    flat: false,
+                });
                 self.declare(name, Symbol { ty, regs, writable: false, konst: None })
             }
             Storage::Attribute => self.fail(format!("attribute '{name}' in a fragment shader")),
             Storage::Varying => {
                 interface(self, "varying")?;
-                if !ty.is_float_based() {
-                    return self.fail(format!("varying '{name}' must be float-based, not {ty}"));
+                let element = match &ty {
+                    Type::Array(t, _) => t,
+                    t => t,
+                };
+                let integer = element.scalar().is_some_and(Scalar::is_integer) && element.width().is_some();
+                if integer && !flat {
+                    // GLSL ES 3.00 §4.3.4, §4.3.6: integer vertex outputs and fragment inputs
+                    // must be qualified flat.
+                    return self.fail(format!("integer varying '{name}' ({ty}) must be qualified 'flat'"));
+                }
+                if !(ty.is_float_based() || integer) {
+                    return self.fail(format!("varying '{name}' must be float-based or integer, not {ty}"));
                 }
                 let regs = self.temps(ty.size());
-                let var = StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location };
+                let var = StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location, flat };
                 let writable = stage == Stage::Vertex;
                 if writable {
                     let zero = self.konst(0.0);
@@ -866,7 +884,13 @@ impl<'a> Compiler<'a> {
                 for &r in &regs {
                     self.emit(Inst::Un(UnOp::Mov, r, zero));
                 }
-                self.outputs.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location });
+                self.outputs.push(StageVar {
+                    name: name.into(),
+                    ty: ty.clone(),
+                    regs: regs.clone(),
+                    location,
+                    flat: false,
+                });
                 self.declare(name, Symbol { ty, regs, writable: true, konst: None })
             }
             Storage::In | Storage::Out => self.fail(format!("'{name}': in/out at global scope resolve per stage")),
@@ -946,7 +970,13 @@ impl<'a> Compiler<'a> {
         let block = Arc::new(StructType { name: name.to_string(), fields });
         let ty = Type::Struct(block.clone());
         let regs = self.uniform_regs(&ty);
-        self.uniforms.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location: None });
+        self.uniforms.push(StageVar {
+            name: name.into(),
+            ty: ty.clone(),
+            regs: regs.clone(),
+            location: None,
+            flat: false,
+        });
         self.blocks.push(name.to_string());
         match &b.identifier {
             Some(instance) => self.declare(instance.ident.as_str(), Symbol { ty, regs, writable: false, konst: None }),
@@ -1065,6 +1095,15 @@ fn storage_of(q: Option<&ast::TypeQualifier>) -> Storage {
         }
     }
     storage
+}
+
+/// How a global or local variable is declared, besides its name and type.
+#[derive(Clone, Copy)]
+struct VarDecl {
+    storage: Storage,
+    location: Option<u32>,
+    flat: bool,
+    global: bool,
 }
 
 /// Whether a declaration is qualified `flat` (ES 3.00).

@@ -1091,11 +1091,17 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
     let fs = "#version 300 es\nprecision mediump float;\nin vec4 v;\nout vec4 c;\nvoid main() { c = v; }";
     CompiledProgram::new(vs, fs, &[]).unwrap();
     let cases = [
-        // flat: GL's provoking vertex is the last, tiler's the first.
+        // Integer varyings must be flat (GLSL ES 3.00 §4.3.6).
         (
             Stage::Vertex,
-            "#version 300 es\nin vec4 p;\nflat out vec4 v;\nvoid main() { v = p; gl_Position = p; }",
-            3,
+            "#version 300 es\nin vec4 p;\nout vec4 v;\nout uint u;\nvoid main() { v = p; gl_Position = p; }",
+            4,
+            "flat",
+        ),
+        (
+            Stage::Vertex,
+            "#version 300 es\nflat in vec4 p;\nout vec4 v;\nvoid main() { v = p; gl_Position = p; }",
+            2,
             "flat",
         ),
         (
@@ -1118,6 +1124,60 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
             other => panic!("{other:?}"),
         }
     }
+}
+
+/// `flat` varyings, float and integer: a strip of two triangles (three vertices each pass on
+/// their index in bits that are a NaN as floats, and as a float), each triangle coloured by
+/// its last vertex (GL's provoking vertex); qualifiers that differ between the stages do not link.
+#[test]
+fn flat_varyings_come_from_the_last_vertex_bit_for_bit() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+flat out uint bits;
+flat out float f;
+out vec2 uv;
+void main() {
+    bits = 0xffc01200u + uint(gl_VertexID);
+    f = float(gl_VertexID);
+    uv = a.xy;
+    gl_Position = a;
+}";
+    const FS: &str = "#version 300 es
+precision highp float;
+flat in uint bits;
+flat in float f;
+in vec2 uv;
+out vec4 c;
+void main() { c = vec4(float(bits - 0xffc01200u) / 255.0, f / 255.0, (bits >> 24) == 255u ? 1.0 : 0.0, 1.0); }";
+    let program = glsl(VS, FS);
+    let pipeline = tiler_glsl::pipeline(
+        &program,
+        &program.new_uniform_values(),
+        &[],
+        HEIGHT,
+        PipelineDesc { topology: tiler::Topology::TriangleStrip, ..desc() },
+    )
+    .unwrap();
+    let mut device = Device::new(DeviceConfig::default()).unwrap();
+    let color = device.create_image(ImageDesc::new(WIDTH, HEIGHT, Format::Rgba8Unorm)).unwrap();
+    // A strip over the screen: triangle 0 (0, 1, 2) on the left, 1 (1, 3, 2) on the right.
+    let vertices: [[f32; 4]; 4] =
+        [[-1.0, -1.0, 0.0, 1.0], [-1.0, 1.0, 0.0, 1.0], [1.0, -1.0, 0.0, 1.0], [1.0, 1.0, 0.0, 1.0]];
+    let buffer = device.create_buffer_from(&vertices).unwrap();
+    let mut pass = RenderPass::new(RenderPassDesc {
+        color: vec![ColorAttachment::clear_store(color, [0.0; 4])],
+        depth_stencil: None,
+        render_area: None,
+    });
+    pass.draw(Draw::new(&pipeline, buffer, 0, 4));
+    device.submit(&pass).unwrap();
+    let image = device.read_rgba8(color).unwrap();
+    let pixel = |x: u32, y: u32| &image[((y * WIDTH + x) * 4) as usize..][..4];
+    assert_eq!(pixel(2, HEIGHT / 2), [2, 2, 255, 255], "triangle 0 takes vertex 2");
+    assert_eq!(pixel(WIDTH - 3, HEIGHT / 2), [3, 3, 255, 255], "triangle 1 takes vertex 3");
+    let smooth_fs = FS.replace("flat in float f", "in float f");
+    let e = CompiledProgram::new(VS, &smooth_fs, &[]).unwrap_err();
+    assert!(e.to_string().contains("'f' is flat in the vertex shader and smooth"), "{e}");
 }
 
 /// A shadow map whose depth is its `s` coordinate, compared `reference ≤ depth`.

@@ -354,6 +354,8 @@ impl Context {
                         cube.clone().map(|(texture, sampler)| TextureBinding::Core(texture, sampler));
                 }
                 desc.varyings = program.pipeline_varyings();
+                // GL ES 3.0 §2.18: flat varyings come from each primitive's last vertex.
+                desc.provoking_vertex = tiler::ProvokingVertex::Last;
                 if desc.topology == tiler::Topology::PointList {
                     desc.point_size_varying = program.point_size_varying();
                     desc.point_coord_varying = program.point_coord_varying();
