@@ -2241,6 +2241,9 @@ impl<'a> Compiler<'a> {
             }
             return Ok(Some(Value { ty: args[0].ty.with_scalar(to), regs: args[0].regs.clone() }));
         }
+        if let Some(v) = self.packing_builtin(name, args)? {
+            return Ok(Some(v));
+        }
         let Some(s) = args.first().and_then(|a| a.ty.scalar()).filter(|s| s.is_integer()) else {
             return Ok(None);
         };
@@ -2280,6 +2283,78 @@ impl<'a> Compiler<'a> {
             })
             .collect();
         Ok(Some(Value { ty, regs }))
+    }
+
+    /// The packing built-ins of ES 3.00 §8.4, as integer and float instructions:
+    /// `packUnorm2x16(v)` = `round(clamp(v, 0, 1)·65535)` in the low and high 16 bits,
+    /// `packSnorm2x16(v)` = `round(clamp(v, −1, 1)·32767)` as 16-bit two's complement,
+    /// `packHalf2x16(v)` the half floats' bits (nearest, ties to even); the unpacks invert
+    /// them (`unpackUnorm2x16` = `f / 65535`, `unpackSnorm2x16` = `clamp(f / 32767, −1, 1)`).
+    /// `round` rounds halves away from zero (GLSL leaves the direction to the implementation).
+    fn packing_builtin(&mut self, name: &str, args: &[Value]) -> CResult<Option<Value>> {
+        let pack = matches!(name, "packUnorm2x16" | "packSnorm2x16" | "packHalf2x16");
+        let unpack = matches!(name, "unpackUnorm2x16" | "unpackSnorm2x16" | "unpackHalf2x16");
+        if !pack && !unpack {
+            return Ok(None);
+        }
+        let wanted = if pack { Type::vec(2) } else { UINT };
+        if args.len() != 1 || args[0].ty != wanted {
+            let types: Vec<String> = args.iter().map(|a| a.ty.to_string()).collect();
+            return self.fail(format!("no function '{name}({})'", types.join(", ")));
+        }
+        let regs = args[0].regs.clone();
+        let sixteen = self.konst_int(16);
+        let low_mask = self.konst(f32::from_bits(0xffff));
+        if pack {
+            let halves: Vec<Reg> = regs
+                .iter()
+                .map(|&x| match name {
+                    "packHalf2x16" => self.un(UnOp::FToHalf, x),
+                    "packUnorm2x16" => {
+                        let (zero, one, scale) = (self.konst(0.0), self.konst(1.0), self.konst(65535.0));
+                        let c = self.tri(TriOp::Clamp, x, zero, one);
+                        let m = self.bin(BinOp::Mul, c, scale);
+                        let r = self.un(UnOp::Round, m);
+                        self.un(UnOp::FToU, r)
+                    }
+                    _ => {
+                        let (lo, one, scale) = (self.konst(-1.0), self.konst(1.0), self.konst(32767.0));
+                        let c = self.tri(TriOp::Clamp, x, lo, one);
+                        let m = self.bin(BinOp::Mul, c, scale);
+                        let r = self.un(UnOp::Round, m);
+                        let i = self.un(UnOp::FToI, r);
+                        self.bin(BinOp::BitAnd, i, low_mask)
+                    }
+                })
+                .collect();
+            let high = self.bin(BinOp::Shl, halves[1], sixteen);
+            let packed = self.bin(BinOp::BitOr, halves[0], high);
+            return Ok(Some(Value { ty: UINT, regs: vec![packed] }));
+        }
+        let p = regs[0];
+        let high = self.bin(BinOp::UShr, p, sixteen);
+        let low = self.bin(BinOp::BitAnd, p, low_mask);
+        let out = [low, high]
+            .iter()
+            .map(|&h| match name {
+                "unpackHalf2x16" => self.un(UnOp::HalfToF, h),
+                "unpackUnorm2x16" => {
+                    let f = self.un(UnOp::UToF, h);
+                    let scale = self.konst(65535.0);
+                    self.bin(BinOp::Div, f, scale)
+                }
+                _ => {
+                    // Sign-extended: shifted to the top, then arithmetically back.
+                    let top = self.bin(BinOp::Shl, h, sixteen);
+                    let i = self.bin(BinOp::IShr, top, sixteen);
+                    let f = self.un(UnOp::IToF, i);
+                    let (scale, lo, one) = (self.konst(32767.0), self.konst(-1.0), self.konst(1.0));
+                    let q = self.bin(BinOp::Div, f, scale);
+                    self.tri(TriOp::Clamp, q, lo, one)
+                }
+            })
+            .collect();
+        Ok(Some(Value { ty: Type::vec(2), regs: out }))
     }
 
     fn length(&mut self, v: &[Reg]) -> Reg {

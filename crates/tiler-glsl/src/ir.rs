@@ -72,6 +72,11 @@ pub enum UnOp {
     FToI,
     /// float → uint: truncated, saturated (negative → 0), NaN → 0.
     FToU,
+    /// float → the bits of the nearest half float, in the low 16 bits of a uint
+    /// (`packHalf2x16`).
+    FToHalf,
+    /// The half float in the low 16 bits of a uint → float (`unpackHalf2x16`).
+    HalfToF,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

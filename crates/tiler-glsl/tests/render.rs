@@ -1514,3 +1514,30 @@ void main() {
     let e = CompiledProgram::new(&VS.replace("case 0u", "case 0"), PASS_FS_300, &[]).unwrap_err();
     assert!(e.to_string().contains("constant uint"), "{e}");
 }
+
+/// The packing built-ins (ES 3.00 §8.4) to the bit: unorm rounds and clamps, snorm is 16-bit
+/// two's complement, half floats are IEEE binary16; unpacking inverts them; a wrong argument
+/// type is a compile error naming the function.
+#[test]
+fn packing_functions_give_the_bits_es_3_00_defines() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+void main() {
+    r.x = uintBitsToFloat(packUnorm2x16(a.xy));
+    r.y = uintBitsToFloat(packSnorm2x16(vec2(a.z, -2.0)));
+    r.z = uintBitsToFloat(packHalf2x16(vec2(a.w, -2.5)));
+    uint u = floatBitsToUint(r.x);
+    r.w = unpackHalf2x16(floatBitsToUint(r.z)).y + unpackSnorm2x16(floatBitsToUint(r.y)).y * 10.0
+        + unpackUnorm2x16(u).y * 100.0 + unpackSnorm2x16(floatBitsToUint(r.y)).x * 1000.0;
+    gl_Position = a;
+}";
+    let out = run_vertex(VS, PASS_FS_300, [0.5, 1.5, -0.25, 1.0], |_, _| {});
+    assert_eq!(out[0].to_bits(), 0xffff_8000, "round(0.5·65535) = 32768, 1.5 clamps to 65535");
+    assert_eq!(out[1].to_bits(), 0x8001_e000, "−0.25 → −8192, −2 clamps to −32767");
+    assert_eq!(out[2].to_bits(), 0xc100_3c00, "1.0 and −2.5 as half floats");
+    assert_eq!(out[3], -2.5 - 10.0 + 100.0 + (-8192.0f32 / 32767.0) * 1000.0);
+    let bad = VS.replace("packUnorm2x16(a.xy)", "packUnorm2x16(a.xyz)");
+    let e = CompiledProgram::new(&bad, PASS_FS_300, &[]).unwrap_err();
+    assert!(matches!(&e, Error::Compile { line: 5, message, .. } if message.contains("packUnorm2x16(vec3)")), "{e}");
+}
