@@ -89,8 +89,11 @@ pub struct StageCode {
 
 /// Compiles one stage's source.
 pub fn compile(stage: Stage, source: &str) -> Result<StageCode, Error> {
+    let aliased = crate::nested_macros::alias_nested_calls(source);
+    let source = aliased.as_ref().map_or(source, |(text, _)| text.as_str());
     let (text, inserted_at) = with_gl_es_define(source);
-    let lines = LineMap::new(&text, inserted_at);
+    let mut lines = LineMap::new(&text, inserted_at);
+    lines.original = aliased.map(|(_, original)| original);
     let unit = <ast::TranslationUnit as glsl_lang::parse::Parse>::parse::<crate::guard::CappedLexer>(text.as_str())
         .map_err(|e| {
             let offset = u32::from(e.pos().start()) as usize;
@@ -183,19 +186,26 @@ fn rename_words(text: &str, renames: &[(&str, &str)]) -> String {
 struct LineMap {
     starts: Vec<usize>,
     inserted_at: usize,
+    /// The application's line of each line of the source before the predefined lines went in,
+    /// when lines were added to it (see `nested_macros`).
+    original: Option<Vec<u32>>,
 }
 
 impl LineMap {
     fn new(text: &str, inserted_at: usize) -> LineMap {
         let mut starts = vec![0];
         starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        LineMap { starts, inserted_at }
+        LineMap { starts, inserted_at, original: None }
     }
 
     fn line(&self, offset: usize) -> u32 {
         let line = self.starts.partition_point(|&s| s <= offset);
         let inserted_line = self.starts.partition_point(|&s| s <= self.inserted_at);
-        (if line > inserted_line { line - PREDEFINED_LINES } else { line }) as u32
+        let line = (if line > inserted_line { line - PREDEFINED_LINES } else { line }) as u32;
+        match &self.original {
+            Some(original) => (line as usize).checked_sub(1).and_then(|i| original.get(i)).copied().unwrap_or(line),
+            None => line,
+        }
     }
 }
 

@@ -120,6 +120,7 @@ mod fuse;
 pub mod guard;
 mod hoist;
 pub mod ir;
+mod nested_macros;
 mod program;
 pub mod std140;
 pub mod types;

@@ -1541,3 +1541,23 @@ void main() {
     let e = CompiledProgram::new(&bad, PASS_FS_300, &[]).unwrap_err();
     assert!(matches!(&e, Error::Compile { line: 5, message, .. } if message.contains("packUnorm2x16(vec3)")), "{e}");
 }
+
+/// A function-like macro invoked in another's arguments expands (glsl-lang-pp alone leaves
+/// the inner one a call), and an error after the aliases it takes names the application's line.
+#[test]
+fn nested_macro_invocations_expand_and_errors_keep_their_lines() {
+    const VS: &str = "#version 300 es
+#define D(x) ((x) * 2.0)
+#define F(x, y) (D(x) + (y))
+in vec4 a;
+out vec4 r;
+void main() {
+    r = vec4(D(D(a.x)), F(D(a.y), D(D(D(1.0)))), D(F(1.0, D(a.z))), 0.0);
+    gl_Position = a;
+}";
+    let out = run_vertex(VS, PASS_FS_300, [1.5, 0.25, 3.0, 1.0], |_, _| {});
+    assert_eq!(out, [6.0, 1.0 + 8.0, 2.0 * (2.0 + 6.0), 0.0]);
+    let bad = VS.replace("    gl_Position = a;", "    gl_Position = undeclared;");
+    let e = CompiledProgram::new(&bad, PASS_FS_300, &[]).unwrap_err();
+    assert!(matches!(&e, Error::Compile { line: 8, .. }), "{e}");
+}
