@@ -1713,6 +1713,35 @@ impl<'a> Compiler<'a> {
     }
 
     /// `a · b`, summed in component order.
+    /// The determinant of a square matrix given by rows, by cofactor expansion along the
+    /// first row.
+    fn determinant(&mut self, rows: &[Vec<Reg>]) -> Reg {
+        let n = rows.len();
+        if n == 1 {
+            return rows[0][0];
+        }
+        if n == 2 {
+            let a = self.bin(BinOp::Mul, rows[0][0], rows[1][1]);
+            let b = self.bin(BinOp::Mul, rows[0][1], rows[1][0]);
+            return self.bin(BinOp::Sub, a, b);
+        }
+        let mut acc = None;
+        for j in 0..n {
+            let minor: Vec<Vec<Reg>> = rows[1..]
+                .iter()
+                .map(|row| row.iter().enumerate().filter(|(k, _)| *k != j).map(|(_, &r)| r).collect())
+                .collect();
+            let d = self.determinant(&minor);
+            let term = self.bin(BinOp::Mul, rows[0][j], d);
+            acc = Some(match acc {
+                None => term,
+                Some(a) if j % 2 == 1 => self.bin(BinOp::Sub, a, term),
+                Some(a) => self.bin(BinOp::Add, a, term),
+            });
+        }
+        acc.expect("n > 2")
+    }
+
     fn dot(&mut self, a: &[Reg], b: &[Reg]) -> Reg {
         let mut acc = self.bin(BinOp::Mul, a[0], b[0]);
         for i in 1..a.len() {
@@ -2552,6 +2581,34 @@ impl<'a> Compiler<'a> {
                     return self.fail("matrixCompMult() takes two matrices of one size");
                 }
                 let regs = args[0].regs.iter().zip(&args[1].regs).map(|(&a, &b)| self.bin(BinOp::Mul, a, b)).collect();
+                Ok(Value { ty: args[0].ty.clone(), regs })
+            }
+            "determinant" | "inverse" => {
+                arity(self, 1)?;
+                let Type::Matrix(m) = args[0].ty else { return self.fail(format!("{name}() takes a matrix")) };
+                // rows[r][c] = element (row r, column c); the value is column-major.
+                let rows: Vec<Vec<Reg>> = (0..m).map(|r| (0..m).map(|c| args[0].regs[c * m + r]).collect()).collect();
+                let det = self.determinant(&rows);
+                if name == "determinant" {
+                    return Ok(Value { ty: FLOAT, regs: vec![det] });
+                }
+                // The adjugate over the determinant (GLSL leaves a singular matrix undefined:
+                // here its entries are infinities or NaNs).
+                let one = self.konst(1.0);
+                let inv = self.bin(BinOp::Div, one, det);
+                let mut regs = vec![0; m * m];
+                for r in 0..m {
+                    for c in 0..m {
+                        // Entry (r, c) is the cofactor of (c, r).
+                        let minor: Vec<Vec<Reg>> = (0..m)
+                            .filter(|&i| i != c)
+                            .map(|i| (0..m).filter(|&j| j != r).map(|j| rows[i][j]).collect())
+                            .collect();
+                        let d = self.determinant(&minor);
+                        let v = self.bin(BinOp::Mul, d, inv);
+                        regs[c * m + r] = if (r + c) % 2 == 1 { self.un(UnOp::Neg, v) } else { v };
+                    }
+                }
                 Ok(Value { ty: args[0].ty.clone(), regs })
             }
             "transpose" => {

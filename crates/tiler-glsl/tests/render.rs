@@ -1561,3 +1561,32 @@ void main() {
     let e = CompiledProgram::new(&bad, PASS_FS_300, &[]).unwrap_err();
     assert!(matches!(&e, Error::Compile { line: 8, .. }), "{e}");
 }
+
+/// `determinant` and `inverse` (ES 3.00) on mat2, mat3 and mat4: the inverse times the matrix
+/// is the identity within rounding, and the determinants are the hand-computed ones.
+#[test]
+fn inverse_and_determinant_of_every_square_size() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+void main() {
+    mat2 m2 = mat2(a.x, 1.0, 2.0, 3.0);
+    mat3 m3 = mat3(2.0, 0.0, 1.0, 1.0, a.y, 0.0, 0.0, 1.0, 4.0);
+    mat4 m4 = mat4(a.z, 1.0, 0.0, 2.0, 0.0, 3.0, 1.0, 0.0, 1.0, 0.0, 2.0, 1.0, 0.0, 2.0, 0.0, 1.0);
+    mat4 e4 = inverse(m4) * m4 - mat4(1.0);
+    mat3 e3 = m3 * inverse(m3) - mat3(1.0);
+    mat2 e2 = inverse(m2) * m2 - mat2(1.0);
+    float err = 0.0;
+    for (int i = 0; i < 4; i++) { err = max(err, max(max(abs(e4[i].x), abs(e4[i].y)), max(abs(e4[i].z), abs(e4[i].w)))); }
+    for (int i = 0; i < 3; i++) { err = max(err, max(max(abs(e3[i].x), abs(e3[i].y)), abs(e3[i].z))); }
+    for (int i = 0; i < 2; i++) { err = max(err, max(abs(e2[i].x), abs(e2[i].y))); }
+    r = vec4(determinant(m2), determinant(m3), determinant(m4), err);
+    gl_Position = a;
+}";
+    let out = run_vertex(VS, PASS_FS_300, [4.0, 5.0, 2.0, 1.0], |_, _| {});
+    // m2 = [[4, 2], [1, 3]] (rows): 12 − 2. m3 rows [[2, 1, 0], [0, 5, 1], [1, 0, 4]]:
+    // 2·20 − 1·(0 − 1) + 0 = 41. m4 (columns (2,1,0,2), (0,3,1,0), (1,0,2,1), (0,2,0,1)): 13 by
+    // cofactor expansion.
+    assert_eq!(out[..3], [10.0, 41.0, 13.0]);
+    assert!(out[3] < 1e-5, "inverse · m differs from the identity by {}", out[3]);
+}
