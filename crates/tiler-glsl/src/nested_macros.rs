@@ -93,7 +93,7 @@ fn scan(source: &str, mut rename: impl FnMut(usize, usize, &str)) -> Vec<(String
     // Each definition's parameters and body, "(x) body".
     let mut definitions: Vec<(String, String)> = Vec::new();
     let mut needed: Vec<(String, usize)> = Vec::new();
-    let mut need = |needed: &mut Vec<(String, usize)>, name: &str, depth: usize| {
+    let need = |needed: &mut Vec<(String, usize)>, name: &str, depth: usize| {
         if !needed.iter().any(|(n, k)| n == name && *k == depth) {
             needed.push((name.to_string(), depth));
         }

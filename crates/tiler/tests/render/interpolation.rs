@@ -89,7 +89,6 @@ fn flat_varyings_take_the_provoking_vertex() {
     // Flat value of vertex i: 100 + i, and a NaN whose payload is i.
     let vertex =
         |x: f32, y: f32, z: f32, i: u32| v(x, y, z, [100.0 + i as f32, f32::from_bits(0x7fc0_1200 + i), 0.0, 1.0]);
-    // (topology, vertices, provoking, [(NDC point inside triangle, expected vertex)]).
     let strip = [(-1.0, -1.0), (-1.0, 1.0), (0.0, -1.0), (0.0, 1.0), (1.0, -1.0), (1.0, 1.0)];
     let fan = [(0.0, 0.0), (-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
     let list = [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
@@ -97,7 +96,9 @@ fn flat_varyings_take_the_provoking_vertex() {
         let (x, y) = tri.iter().fold((0.0, 0.0), |(x, y), &k| (x + pts[k].0, y + pts[k].1));
         (x / 3.0, y / 3.0)
     };
-    let cases: Vec<(Topology, Vec<Vertex>, ProvokingVertex, Vec<((f32, f32), u32)>)> = vec![
+    // (topology, vertices, provoking vertex, points inside triangles with the vertex each takes).
+    type Case = (Topology, Vec<Vertex>, ProvokingVertex, Vec<((f32, f32), u32)>);
+    let cases: Vec<Case> = vec![
         (
             Topology::TriangleStrip,
             strip.iter().enumerate().map(|(i, p)| vertex(p.0, p.1, 0.5, i as u32)).collect(),
