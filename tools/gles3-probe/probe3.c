@@ -1186,6 +1186,110 @@ static void scene_glsl3_more(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* ---- scenes added by the glsl4 work (flat varyings, switch, integer arithmetic) ---- */
+
+/* flat varyings: a vec4 colour, an int and a uint passed flat (GL's provoking vertex is each
+ * primitive's last: strips and fans too), over a strip (left), a fan (middle), a list (right)
+ * and a list triangle whose last vertex lies beyond the far plane, so it is clipped away. */
+static void scene_flat(void) {
+    GLuint p = program(
+        "#version 300 es\n"
+        "layout(location = 0) in vec3 position;\n"
+        "layout(location = 1) in vec4 color;\n"
+        "flat out vec4 v_color;\n"
+        "flat out int v_id;\n"
+        "flat out uint v_bits;\n"
+        "out float v_smooth;\n"
+        "void main() {\n"
+        "  v_color = color;\n"
+        "  v_id = gl_VertexID * 3 - 7;\n"
+        "  v_bits = 0x9E3779B9u * uint(gl_VertexID + 1);\n"
+        "  v_smooth = color.r;\n"
+        "  gl_Position = vec4(position, 1.0);\n"
+        "}\n",
+        "#version 300 es\n"
+        "precision highp float;\nprecision highp int;\n"
+        "flat in vec4 v_color;\n"
+        "flat in int v_id;\n"
+        "flat in uint v_bits;\n"
+        "in float v_smooth;\n"
+        "out vec4 color;\n"
+        "void main() {\n"
+        "  float id = float(v_id + 7) / 48.0;\n"
+        "  float bits = float(v_bits >> 24) / 255.0;\n"
+        "  color = vec4(v_color.r * 0.5 + id, v_color.g * 0.5 + bits * 0.5, v_color.b, 1.0);\n"
+        "  if (v_smooth > 2.0) color = vec4(1.0);\n"
+        "}\n");
+    glUseProgram(p);
+    /* x, y, z, then r, g, b, a per vertex. */
+    const float v[] = {
+        /* strip, 6 vertices: 4 triangles in x in [-1, -0.4] */
+        -1.0f, -0.9f, 0.0f, 1, 0, 0, 1, -1.0f, 0.9f, 0.0f, 0, 1, 0, 1, -0.8f, -0.9f, 0.0f, 0, 0, 1, 1,
+        -0.8f, 0.9f, 0.0f, 1, 1, 0, 1, -0.4f, -0.9f, 0.0f, 0, 1, 1, 1, -0.4f, 0.9f, 0.0f, 1, 0, 1, 1,
+        /* fan, 5 vertices: 3 triangles around (0, 0) */
+        -0.1f, 0.0f, 0.0f, 0.2f, 0.2f, 0.2f, 1, -0.3f, -0.9f, 0.0f, 1, 0.5f, 0, 1, 0.2f, -0.9f, 0.0f, 0, 0.5f, 1, 1,
+        0.2f, 0.9f, 0.0f, 0.5f, 1, 0, 1, -0.3f, 0.9f, 0.0f, 1, 1, 1, 1,
+        /* list, 2 triangles */
+        0.3f, -0.9f, 0.0f, 1, 0, 0, 1, 0.9f, -0.9f, 0.0f, 0, 1, 0, 1, 0.3f, -0.1f, 0.0f, 0, 0, 1, 1,
+        0.9f, -0.9f, 0.0f, 0.5f, 0, 0, 1, 0.9f, -0.1f, 0.0f, 0, 0.5f, 0, 1, 0.3f, -0.1f, 0.0f, 0, 0.8f, 0.8f, 1,
+        /* a triangle whose last vertex is beyond the far plane (clipped) */
+        0.3f, 0.1f, 0.0f, 1, 1, 0, 1, 0.9f, 0.1f, 0.0f, 0, 1, 1, 1, 0.6f, 0.9f, 3.0f, 1, 0.3f, 0.6f, 1,
+    };
+    GLuint vao;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    buffer(GL_ARRAY_BUFFER, sizeof v, v);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), (void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 7 * sizeof(float), (void *)(3 * sizeof(float)));
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 6);
+    glDrawArrays(GL_TRIANGLE_FAN, 6, 5);
+    glDrawArrays(GL_TRIANGLES, 11, 9);
+    eglSwapBuffers(dpy, surf);
+}
+
+/* switch and 32-bit integer arithmetic: a per-pixel hash (wrapping uint multiply, xor,
+ * shifts), int division and remainder of non-negative values, min/max/clamp/abs on ints,
+ * bitwise not, uint compares above 2^31, int<->float conversions, selected by a switch with
+ * fall-through and a default in the middle; all defined by GLSL ES 3.00. */
+static void scene_int_switch(void) {
+    GLuint p = program(show_vs,
+        "#version 300 es\n"
+        "precision highp float;\nprecision highp int;\n"
+        "in vec2 uv;\n"
+        "uniform uint seed;\n"
+        "out vec4 color;\n"
+        "uint hash(uint x) {\n"
+        "  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;\n"
+        "  return x;\n"
+        "}\n"
+        "void main() {\n"
+        "  ivec2 p = ivec2(gl_FragCoord.xy);\n"
+        "  int cell = (p.x / 8) + (p.y / 8) * 8;\n"
+        "  uint h = hash(uint(p.x) | (uint(p.y) << 8) | (seed << 16));\n"
+        "  vec3 c = vec3(0.0);\n"
+        "  switch (cell % 7) {\n"
+        "    case 0: c = vec3(float(h & 255u), float((h >> 8) & 255u), float(h >> 24)) / 255.0; break;\n"
+        "    case 1: c.r = float(p.x * 37 % 64) / 63.0;\n"
+        "    case 2: c.g = float(clamp(p.y * 5 - 40, 0, 255)) / 255.0; break;\n"
+        "    default: c = vec3(float(~h >> 30) / 3.0, float(h > 0x80000000u), 0.5); break;\n"
+        "    case 3: { int a = abs(p.x - 32) * 7 / 3; c = vec3(float(min(a, 60)) / 60.0, float(max(a - 20, 0)) / 60.0, 0.2); break; }\n"
+        "    case 4: c = vec3(float(uint(p.x) * 0xFFFFFFF1u >> 26) / 63.0, float(int(uv.x * 100.0) % 10) / 9.0, float((h >> 3) % 32u) / 31.0);\n"
+        "  }\n"
+        "  color = vec4(c, 1.0);\n"
+        "}\n");
+    glUseProgram(p);
+    glUniform1ui(glGetUniformLocation(p, "seed"), 0xBEEFu);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+}
+
 /* ---- Scenes of the tex3d branch: 2-D array and 3-D textures. ---- */
 
 /* Layer k of w x h x d: texel (x, y) = (x * 255 / (w - 1), y * 255 / (h - 1), 60 k, 255),
@@ -1304,7 +1408,9 @@ int main(int argc, char **argv) {
         {"formats", scene_formats}, {"integer", scene_integer}, {"float-srgb", scene_float_srgb},
         {"readback", scene_readback}, {"feedback", scene_feedback}, {"glsl3-more", scene_glsl3_more},
         /* tex3d */
-        {"array", scene_array}, {"volume", scene_volume}};
+        {"array", scene_array}, {"volume", scene_volume},
+        /* glsl4 */
+        {"flat", scene_flat}, {"int-switch", scene_int_switch}};
     if (argc != 2) die("usage: probe3 SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

@@ -1540,6 +1540,15 @@ pub enum UniformValue {
     IVec3([i32; 3]),
     #[serde(rename = "ivec4")]
     IVec4([i32; 4]),
+    /// `glUniform*ui` (ES 3.00).
+    #[serde(rename = "uint")]
+    UInt(u32),
+    #[serde(rename = "uvec2")]
+    UVec2([u32; 2]),
+    #[serde(rename = "uvec3")]
+    UVec3([u32; 3]),
+    #[serde(rename = "uvec4")]
+    UVec4([u32; 4]),
     /// Column-major, as `glUniformMatrix2fv` with `transpose = GL_FALSE`.
     Mat2([f32; 4]),
     /// Column-major.
@@ -1559,6 +1568,10 @@ impl UniformValue {
             UniformValue::IVec2(_) => "ivec2",
             UniformValue::IVec3(_) => "ivec3",
             UniformValue::IVec4(_) => "ivec4",
+            UniformValue::UInt(_) => "uint",
+            UniformValue::UVec2(_) => "uvec2",
+            UniformValue::UVec3(_) => "uvec3",
+            UniformValue::UVec4(_) => "uvec4",
             UniformValue::Mat2(_) => "mat2",
             UniformValue::Mat3(_) => "mat3",
             UniformValue::Mat4(_) => "mat4",
@@ -1576,6 +1589,10 @@ impl UniformValue {
             UniformValue::IVec2(v) => v.iter().map(|&c| c as f32).collect(),
             UniformValue::IVec3(v) => v.iter().map(|&c| c as f32).collect(),
             UniformValue::IVec4(v) => v.iter().map(|&c| c as f32).collect(),
+            UniformValue::UInt(v) => vec![*v as f32],
+            UniformValue::UVec2(v) => v.iter().map(|&c| c as f32).collect(),
+            UniformValue::UVec3(v) => v.iter().map(|&c| c as f32).collect(),
+            UniformValue::UVec4(v) => v.iter().map(|&c| c as f32).collect(),
             UniformValue::Mat2(v) => v.to_vec(),
             UniformValue::Mat3(v) => v.to_vec(),
             UniformValue::Mat4(v) => v.to_vec(),

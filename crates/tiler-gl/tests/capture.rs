@@ -1152,6 +1152,18 @@ fn probe_transform_feedback_fails_naming_the_call_and_the_feature() {
     assert!(error.contains("glTransformFeedbackVaryings") && error.contains("transform feedback"), "{error}");
 }
 
+// ---- glsl4's probe scenes ----
+
+#[test]
+fn probe_flat_varyings_take_the_last_vertex_as_llvmpipe_does() {
+    check_probe_in("gles3-probe", "flat");
+}
+
+#[test]
+fn probe_switch_and_integer_arithmetic_match_llvmpipe() {
+    check_probe_in("gles3-probe", "int-switch");
+}
+
 /// A program whose fragment shader reads uniform block `Colors` (with `uniform_array_capture`'s
 /// full-window triangle).
 fn uniform_block_capture(before_draw: impl FnOnce(&mut Writer)) -> (Writer, u64) {

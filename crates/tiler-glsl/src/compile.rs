@@ -47,6 +47,8 @@ pub struct StageVar {
     pub regs: Vec<Reg>,
     /// `layout(location = n)`, if given (ES 3.00).
     pub location: Option<u32>,
+    /// A varying qualified `flat` (ES 3.00): the provoking vertex's value, its bits copied.
+    pub flat: bool,
 }
 
 /// One compiled shader stage.
@@ -87,8 +89,11 @@ pub struct StageCode {
 
 /// Compiles one stage's source.
 pub fn compile(stage: Stage, source: &str) -> Result<StageCode, Error> {
+    let aliased = crate::nested_macros::alias_nested_calls(source);
+    let source = aliased.as_ref().map_or(source, |(text, _)| text.as_str());
     let (text, inserted_at) = with_gl_es_define(source);
-    let lines = LineMap::new(&text, inserted_at);
+    let mut lines = LineMap::new(&text, inserted_at);
+    lines.original = aliased.map(|(_, original)| original);
     let unit = <ast::TranslationUnit as glsl_lang::parse::Parse>::parse::<crate::guard::CappedLexer>(text.as_str())
         .map_err(|e| {
             let offset = u32::from(e.pos().start()) as usize;
@@ -181,19 +186,26 @@ fn rename_words(text: &str, renames: &[(&str, &str)]) -> String {
 struct LineMap {
     starts: Vec<usize>,
     inserted_at: usize,
+    /// The application's line of each line of the source before the predefined lines went in,
+    /// when lines were added to it (see `nested_macros`).
+    original: Option<Vec<u32>>,
 }
 
 impl LineMap {
     fn new(text: &str, inserted_at: usize) -> LineMap {
         let mut starts = vec![0];
         starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        LineMap { starts, inserted_at }
+        LineMap { starts, inserted_at, original: None }
     }
 
     fn line(&self, offset: usize) -> u32 {
         let line = self.starts.partition_point(|&s| s <= offset);
         let inserted_line = self.starts.partition_point(|&s| s <= self.inserted_at);
-        (if line > inserted_line { line - PREDEFINED_LINES } else { line }) as u32
+        let line = (if line > inserted_line { line - PREDEFINED_LINES } else { line }) as u32;
+        match &self.original {
+            Some(original) => (line as usize).checked_sub(1).and_then(|i| original.get(i)).copied().unwrap_or(line),
+            None => line,
+        }
     }
 }
 
@@ -549,7 +561,15 @@ impl<'a> Compiler<'a> {
         }
         let float_in = !matches!(
             op,
-            UnOp::Not | UnOp::IToBool | UnOp::INeg | UnOp::IAbs | UnOp::ISign | UnOp::BitNot | UnOp::IToF | UnOp::UToF
+            UnOp::Not
+                | UnOp::IToBool
+                | UnOp::INeg
+                | UnOp::IAbs
+                | UnOp::ISign
+                | UnOp::BitNot
+                | UnOp::IToF
+                | UnOp::UToF
+                | UnOp::HalfToF
         );
         let float_out = !matches!(
             op,
@@ -562,6 +582,7 @@ impl<'a> Compiler<'a> {
                 | UnOp::BitNot
                 | UnOp::FToI
                 | UnOp::FToU
+                | UnOp::FToHalf
         );
         let lower = prec == Prec::Medium;
         let a = if lower && float_in { self.halved(a) } else { a };
@@ -1053,12 +1074,11 @@ impl<'a> Compiler<'a> {
                     (Storage::Out, Stage::Fragment) => Storage::FragOut,
                     (s, _) => s,
                 };
-                if is_flat(head.ty.qualifier.as_ref()) {
-                    // GL's provoking vertex is a primitive's last, tiler's (Vulkan's) its first.
-                    return self.fail(
-                        "flat varyings are not supported (GL takes them from a primitive's last vertex, tiler \
-                         from its first)",
-                    );
+                let flat = is_flat(head.ty.qualifier.as_ref());
+                if flat && storage != Storage::Varying {
+                    // GLSL ES 3.00 §4.3.9: interpolation qualifiers only on vertex outputs and
+                    // fragment inputs.
+                    return self.fail("'flat' qualifies only vertex shader outputs and fragment shader inputs");
                 }
                 let location = location_of(head.ty.qualifier.as_ref(), self);
                 // A `const` is a constant: neutral, as Mesa propagates it.
@@ -1066,15 +1086,17 @@ impl<'a> Compiler<'a> {
                     Storage::Const => Prec::None,
                     _ => self.declared_prec(head.ty.qualifier.as_ref(), &base),
                 };
+                let var = VarDecl { storage, location, flat, global };
                 if let Some(name) = &head.name {
                     let ty = self.arrayed(base.clone(), head.array_specifier.as_ref())?;
-                    self.variable(name.as_str(), ty, storage, location, head.initializer.as_ref(), global)?;
+                    self.variable(name.as_str(), ty, var, head.initializer.as_ref())?;
                     self.declared(name.as_str(), prec);
                 }
                 for tail in &list.tail {
                     self.at(&tail.span);
                     let ty = self.arrayed(base.clone(), tail.ident.array_spec.as_ref())?;
-                    self.variable(tail.ident.ident.as_str(), ty, storage, None, tail.initializer.as_ref(), global)?;
+                    let var = VarDecl { location: None, ..var };
+                    self.variable(tail.ident.ident.as_str(), ty, var, tail.initializer.as_ref())?;
                     self.declared(tail.ident.ident.as_str(), prec);
                 }
                 Ok(())
@@ -1082,15 +1104,8 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    fn variable(
-        &mut self,
-        name: &str,
-        ty: Type,
-        storage: Storage,
-        location: Option<u32>,
-        init: Option<&ast::Initializer>,
-        global: bool,
-    ) -> CResult<()> {
+    fn variable(&mut self, name: &str, ty: Type, var: VarDecl, init: Option<&ast::Initializer>) -> CResult<()> {
+        let VarDecl { storage, location, flat, global } = var;
         if ty == Type::Void {
             return self.fail(format!("'{name}' declared void"));
         }
@@ -1112,7 +1127,13 @@ impl<'a> Compiler<'a> {
                 interface(self, "uniform")?;
                 let regs = self.uniform_regs(&ty);
                 let index = self.uniforms.len();
-                self.uniforms.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location });
+                self.uniforms.push(StageVar {
+                    name: name.into(),
+                    ty: ty.clone(),
+                    regs: regs.clone(),
+                    location,
+                    flat: false,
+                });
                 for (k, &r) in regs.iter().enumerate() {
                     if r & BANK == 0 {
                         // A sampler component: its "register" is its slot.
@@ -1128,17 +1149,33 @@ impl<'a> Compiler<'a> {
                     return self.fail(format!("attribute '{name}' must be a float, vector or matrix"));
                 }
                 let regs = self.temps(ty.size());
-                self.inputs.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location });
+                self.inputs.push(StageVar {
+                    name: name.into(),
+                    ty: ty.clone(),
+                    regs: regs.clone(),
+                    location,
+                    flat: false,
+                });
                 self.declare(name, Symbol { ty, regs, writable: false, konst: None })
             }
             Storage::Attribute => self.fail(format!("attribute '{name}' in a fragment shader")),
             Storage::Varying => {
                 interface(self, "varying")?;
-                if !ty.is_float_based() {
-                    return self.fail(format!("varying '{name}' must be float-based, not {ty}"));
+                let element = match &ty {
+                    Type::Array(t, _) => t,
+                    t => t,
+                };
+                let integer = element.scalar().is_some_and(Scalar::is_integer) && element.width().is_some();
+                if integer && !flat {
+                    // GLSL ES 3.00 §4.3.4, §4.3.6: integer vertex outputs and fragment inputs
+                    // must be qualified flat.
+                    return self.fail(format!("integer varying '{name}' ({ty}) must be qualified 'flat'"));
+                }
+                if !(ty.is_float_based() || integer) {
+                    return self.fail(format!("varying '{name}' must be float-based or integer, not {ty}"));
                 }
                 let regs = self.temps(ty.size());
-                let var = StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location };
+                let var = StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location, flat };
                 let writable = stage == Stage::Vertex;
                 if writable {
                     let zero = self.konst(0.0);
@@ -1163,7 +1200,13 @@ impl<'a> Compiler<'a> {
                 for &r in &regs {
                     self.emit(Inst::Un(UnOp::Mov, r, zero));
                 }
-                self.outputs.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location });
+                self.outputs.push(StageVar {
+                    name: name.into(),
+                    ty: ty.clone(),
+                    regs: regs.clone(),
+                    location,
+                    flat: false,
+                });
                 self.declare(name, Symbol { ty, regs, writable: true, konst: None })
             }
             Storage::In | Storage::Out => self.fail(format!("'{name}': in/out at global scope resolve per stage")),
@@ -1243,7 +1286,13 @@ impl<'a> Compiler<'a> {
         let block = Arc::new(StructType { name: name.to_string(), fields });
         let ty = Type::Struct(block.clone());
         let regs = self.uniform_regs(&ty);
-        self.uniforms.push(StageVar { name: name.into(), ty: ty.clone(), regs: regs.clone(), location: None });
+        self.uniforms.push(StageVar {
+            name: name.into(),
+            ty: ty.clone(),
+            regs: regs.clone(),
+            location: None,
+            flat: false,
+        });
         self.blocks.push(name.to_string());
         match &b.identifier {
             Some(instance) => self.declare(instance.ident.as_str(), Symbol { ty, regs, writable: false, konst: None }),
@@ -1362,6 +1411,15 @@ fn storage_of(q: Option<&ast::TypeQualifier>) -> Storage {
         }
     }
     storage
+}
+
+/// How a global or local variable is declared, besides its name and type.
+#[derive(Clone, Copy)]
+struct VarDecl {
+    storage: Storage,
+    location: Option<u32>,
+    flat: bool,
+    global: bool,
 }
 
 /// Whether a declaration is qualified `flat` (ES 3.00).
@@ -1960,7 +2018,35 @@ impl<'a> Compiler<'a> {
         Ok(Value { ty, regs })
     }
 
-    /// `a · b`, summed in component order.
+    /// The determinant of a square matrix given by rows, by cofactor expansion along the
+    /// first row.
+    fn determinant(&mut self, rows: &[Vec<Reg>]) -> Reg {
+        let n = rows.len();
+        if n == 1 {
+            return rows[0][0];
+        }
+        if n == 2 {
+            let a = self.bin(BinOp::Mul, rows[0][0], rows[1][1]);
+            let b = self.bin(BinOp::Mul, rows[0][1], rows[1][0]);
+            return self.bin(BinOp::Sub, a, b);
+        }
+        let mut acc = None;
+        for j in 0..n {
+            let minor: Vec<Vec<Reg>> = rows[1..]
+                .iter()
+                .map(|row| row.iter().enumerate().filter(|(k, _)| *k != j).map(|(_, &r)| r).collect())
+                .collect();
+            let d = self.determinant(&minor);
+            let term = self.bin(BinOp::Mul, rows[0][j], d);
+            acc = Some(match acc {
+                None => term,
+                Some(a) if j % 2 == 1 => self.bin(BinOp::Sub, a, term),
+                Some(a) => self.bin(BinOp::Add, a, term),
+            });
+        }
+        acc.expect("n > 2")
+    }
+
     /// `Σ a[i]·b[i]`, in order. Lowered to binary16 (see [`Prec`]), the operands are rounded
     /// and the sum is rounded once at the end, its products and partial sums kept in single
     /// precision: what llvmpipe computes for a `mediump` `dot` (measured: `dot((1, e, e, 0),
@@ -2528,6 +2614,9 @@ impl<'a> Compiler<'a> {
             }
             return Ok(Some(Value { ty: args[0].ty.with_scalar(to), regs: args[0].regs.clone() }));
         }
+        if let Some(v) = self.packing_builtin(name, args)? {
+            return Ok(Some(v));
+        }
         let Some(s) = args.first().and_then(|a| a.ty.scalar()).filter(|s| s.is_integer()) else {
             return Ok(None);
         };
@@ -2567,6 +2656,78 @@ impl<'a> Compiler<'a> {
             })
             .collect();
         Ok(Some(Value { ty, regs }))
+    }
+
+    /// The packing built-ins of ES 3.00 §8.4, as integer and float instructions:
+    /// `packUnorm2x16(v)` = `round(clamp(v, 0, 1)·65535)` in the low and high 16 bits,
+    /// `packSnorm2x16(v)` = `round(clamp(v, −1, 1)·32767)` as 16-bit two's complement,
+    /// `packHalf2x16(v)` the half floats' bits (nearest, ties to even); the unpacks invert
+    /// them (`unpackUnorm2x16` = `f / 65535`, `unpackSnorm2x16` = `clamp(f / 32767, −1, 1)`).
+    /// `round` rounds halves away from zero (GLSL leaves the direction to the implementation).
+    fn packing_builtin(&mut self, name: &str, args: &[Value]) -> CResult<Option<Value>> {
+        let pack = matches!(name, "packUnorm2x16" | "packSnorm2x16" | "packHalf2x16");
+        let unpack = matches!(name, "unpackUnorm2x16" | "unpackSnorm2x16" | "unpackHalf2x16");
+        if !pack && !unpack {
+            return Ok(None);
+        }
+        let wanted = if pack { Type::vec(2) } else { UINT };
+        if args.len() != 1 || args[0].ty != wanted {
+            let types: Vec<String> = args.iter().map(|a| a.ty.to_string()).collect();
+            return self.fail(format!("no function '{name}({})'", types.join(", ")));
+        }
+        let regs = args[0].regs.clone();
+        let sixteen = self.konst_int(16);
+        let low_mask = self.konst(f32::from_bits(0xffff));
+        if pack {
+            let halves: Vec<Reg> = regs
+                .iter()
+                .map(|&x| match name {
+                    "packHalf2x16" => self.un(UnOp::FToHalf, x),
+                    "packUnorm2x16" => {
+                        let (zero, one, scale) = (self.konst(0.0), self.konst(1.0), self.konst(65535.0));
+                        let c = self.tri(TriOp::Clamp, x, zero, one);
+                        let m = self.bin(BinOp::Mul, c, scale);
+                        let r = self.un(UnOp::Round, m);
+                        self.un(UnOp::FToU, r)
+                    }
+                    _ => {
+                        let (lo, one, scale) = (self.konst(-1.0), self.konst(1.0), self.konst(32767.0));
+                        let c = self.tri(TriOp::Clamp, x, lo, one);
+                        let m = self.bin(BinOp::Mul, c, scale);
+                        let r = self.un(UnOp::Round, m);
+                        let i = self.un(UnOp::FToI, r);
+                        self.bin(BinOp::BitAnd, i, low_mask)
+                    }
+                })
+                .collect();
+            let high = self.bin(BinOp::Shl, halves[1], sixteen);
+            let packed = self.bin(BinOp::BitOr, halves[0], high);
+            return Ok(Some(Value { ty: UINT, regs: vec![packed] }));
+        }
+        let p = regs[0];
+        let high = self.bin(BinOp::UShr, p, sixteen);
+        let low = self.bin(BinOp::BitAnd, p, low_mask);
+        let out = [low, high]
+            .iter()
+            .map(|&h| match name {
+                "unpackHalf2x16" => self.un(UnOp::HalfToF, h),
+                "unpackUnorm2x16" => {
+                    let f = self.un(UnOp::UToF, h);
+                    let scale = self.konst(65535.0);
+                    self.bin(BinOp::Div, f, scale)
+                }
+                _ => {
+                    // Sign-extended: shifted to the top, then arithmetically back.
+                    let top = self.bin(BinOp::Shl, h, sixteen);
+                    let i = self.bin(BinOp::IShr, top, sixteen);
+                    let f = self.un(UnOp::IToF, i);
+                    let (scale, lo, one) = (self.konst(32767.0), self.konst(-1.0), self.konst(1.0));
+                    let q = self.bin(BinOp::Div, f, scale);
+                    self.tri(TriOp::Clamp, q, lo, one)
+                }
+            })
+            .collect();
+        Ok(Some(Value { ty: Type::vec(2), regs: out }))
     }
 
     fn length(&mut self, v: &[Reg]) -> Reg {
@@ -2754,6 +2915,34 @@ impl<'a> Compiler<'a> {
                     return self.fail("matrixCompMult() takes two matrices of one size");
                 }
                 let regs = args[0].regs.iter().zip(&args[1].regs).map(|(&a, &b)| self.bin(BinOp::Mul, a, b)).collect();
+                Ok(Value { ty: args[0].ty.clone(), regs })
+            }
+            "determinant" | "inverse" => {
+                arity(self, 1)?;
+                let Type::Matrix(m) = args[0].ty else { return self.fail(format!("{name}() takes a matrix")) };
+                // rows[r][c] = element (row r, column c); the value is column-major.
+                let rows: Vec<Vec<Reg>> = (0..m).map(|r| (0..m).map(|c| args[0].regs[c * m + r]).collect()).collect();
+                let det = self.determinant(&rows);
+                if name == "determinant" {
+                    return Ok(Value { ty: FLOAT, regs: vec![det] });
+                }
+                // The adjugate over the determinant (GLSL leaves a singular matrix undefined:
+                // here its entries are infinities or NaNs).
+                let one = self.konst(1.0);
+                let inv = self.bin(BinOp::Div, one, det);
+                let mut regs = vec![0; m * m];
+                for r in 0..m {
+                    for c in 0..m {
+                        // Entry (r, c) is the cofactor of (c, r).
+                        let minor: Vec<Vec<Reg>> = (0..m)
+                            .filter(|&i| i != c)
+                            .map(|i| (0..m).filter(|&j| j != r).map(|j| rows[i][j]).collect())
+                            .collect();
+                        let d = self.determinant(&minor);
+                        let v = self.bin(BinOp::Mul, d, inv);
+                        regs[c * m + r] = if (r + c) % 2 == 1 { self.un(UnOp::Neg, v) } else { v };
+                    }
+                }
                 Ok(Value { ty: args[0].ty.clone(), regs })
             }
             "transpose" => {

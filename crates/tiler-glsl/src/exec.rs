@@ -574,6 +574,8 @@ pub(crate) fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
             }
             return out;
         }
+        UnOp::FToHalf => |x| f32::from_bits(u32::from(half::f16::from_f32(x).to_bits())),
+        UnOp::HalfToF => |x| half::f16::from_bits(x.to_bits() as u16).to_f32(),
     };
     a.map(f)
 }

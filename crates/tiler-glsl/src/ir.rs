@@ -76,6 +76,11 @@ pub enum UnOp {
     /// as `f32`: what a `mediump`/`lowp` operation does to its operands and its result (see
     /// `compile`'s precision lowering).
     Half,
+    /// float → the bits of the nearest half float, in the low 16 bits of a uint
+    /// (`packHalf2x16`).
+    FToHalf,
+    /// The half float in the low 16 bits of a uint → float (`unpackHalf2x16`).
+    HalfToF,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -123,6 +123,7 @@ mod fuse;
 pub mod guard;
 mod hoist;
 pub mod ir;
+mod nested_macros;
 mod program;
 pub mod std140;
 pub mod types;

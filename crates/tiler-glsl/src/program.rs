@@ -34,6 +34,8 @@ pub struct VaryingInfo {
     pub ty: Type,
     /// Its first float in [`VertexOutput::varyings`]; it takes `ty.size()` floats.
     pub first: usize,
+    /// Qualified `flat`: the provoking vertex's value (every integer varying is).
+    pub flat: bool,
 }
 
 /// An active uniform as GL introspection lists it: arrays of basic types are one entry
@@ -301,9 +303,15 @@ impl CompiledProgram {
             .collect()
     }
 
-    /// The pipeline's varyings: one smooth varying per float.
+    /// The pipeline's varyings: one per float, flat for `flat` varyings, else smooth (the
+    /// hidden ones too). GL takes flat values from a primitive's last vertex: the pipeline
+    /// needs `ProvokingVertex::Last`.
     pub fn pipeline_varyings(&self) -> Vec<Interpolation> {
-        vec![Interpolation::Perspective; self.varying_floats]
+        let mut out = vec![Interpolation::Perspective; self.varying_floats];
+        for v in self.varyings.iter().filter(|v| v.flat) {
+            out[v.first..v.first + v.ty.size()].fill(Interpolation::Flat);
+        }
+        out
     }
 
     /// The varying holding each vertex's `gl_PointSize`, if the vertex shader names it.
@@ -380,7 +388,16 @@ fn link_varyings(vertex: &StageCode, fragment: &StageCode) -> Result<(Vec<Varyin
                 v.name, vs.ty, v.ty
             )));
         }
-        out.push(VaryingInfo { name: v.name.clone(), ty: v.ty.clone(), first: next });
+        if vs.flat != v.flat {
+            // GLSL ES 3.00 §4.3.9: the stages' interpolation qualifiers must match.
+            return Err(Error::Link(format!(
+                "varying '{}' is {} in the vertex shader and {} in the fragment shader",
+                v.name,
+                if vs.flat { "flat" } else { "smooth" },
+                if v.flat { "flat" } else { "smooth" }
+            )));
+        }
+        out.push(VaryingInfo { name: v.name.clone(), ty: v.ty.clone(), first: next, flat: v.flat });
         next += v.ty.size();
     }
     let mut hidden = |needed: bool, floats: usize| {
@@ -520,8 +537,13 @@ pub fn shaders(
             (vs.regs.clone(), v.first)
         })
         .collect();
-    let inputs: Vec<(Vec<Reg>, usize)> =
-        program.fragment.inputs.iter().zip(&program.varyings).map(|(input, v)| (input.regs.clone(), v.first)).collect();
+    let inputs: Vec<(Vec<Reg>, usize, bool)> = program
+        .fragment
+        .inputs
+        .iter()
+        .zip(&program.varyings)
+        .map(|(input, v)| (input.regs.clone(), v.first, v.flat))
+        .collect();
     (
         GlslVertexShader {
             program: program.clone(),
@@ -554,6 +576,7 @@ pub fn pipeline(
     mut desc: PipelineDesc,
 ) -> tiler::Result<Pipeline> {
     desc.varyings = program.pipeline_varyings();
+    desc.provoking_vertex = tiler::ProvokingVertex::Last;
     let (vs, fs) = shaders(program, uniforms, textures, framebuffer_height);
     Pipeline::new(vs, fs, desc)
 }
@@ -590,7 +613,8 @@ pub struct GlslFragmentShader {
     bank: Vec<[f32; 8]>,
     slots: Vec<Option<TextureBinding>>,
     /// Each fragment varying's registers and first float.
-    inputs: Vec<(Vec<Reg>, usize)>,
+    /// Each varying's registers, first float and whether it is flat.
+    inputs: Vec<(Vec<Reg>, usize, bool)>,
     height: f32,
 }
 
@@ -938,9 +962,10 @@ impl FragmentShader for GlslFragmentShader {
         FRAGMENT_WORK.with_borrow_mut(|file| {
             let executable = &self.program.fragment_executable;
             let regs = file.load(self.id, executable, &self.bank);
-            for (vregs, first) in &self.inputs {
+            for (vregs, first, flat) in &self.inputs {
                 for (k, &r) in vregs.iter().enumerate() {
-                    regs[r as usize] = frag.smooth(first + k).0;
+                    // A flat value is copied, so an integer's bits arrive as they left.
+                    regs[r as usize] = if *flat { [frag.flat(first + k); 8] } else { frag.smooth(first + k).0 };
                 }
             }
             if let Some(fc) = code.frag_coord {

@@ -1099,11 +1099,17 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
     let fs = "#version 300 es\nprecision highp float;\nin vec4 v;\nout vec4 c;\nvoid main() { c = v; }";
     CompiledProgram::new(vs, fs, &[]).unwrap();
     let cases = [
-        // flat: GL's provoking vertex is the last, tiler's the first.
+        // Integer varyings must be flat (GLSL ES 3.00 §4.3.6).
         (
             Stage::Vertex,
-            "#version 300 es\nin vec4 p;\nflat out vec4 v;\nvoid main() { v = p; gl_Position = p; }",
-            3,
+            "#version 300 es\nin vec4 p;\nout vec4 v;\nout uint u;\nvoid main() { v = p; gl_Position = p; }",
+            4,
+            "flat",
+        ),
+        (
+            Stage::Vertex,
+            "#version 300 es\nflat in vec4 p;\nout vec4 v;\nvoid main() { v = p; gl_Position = p; }",
+            2,
             "flat",
         ),
         (
@@ -1126,6 +1132,60 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
             other => panic!("{other:?}"),
         }
     }
+}
+
+/// `flat` varyings, float and integer: a strip of two triangles (three vertices each pass on
+/// their index in bits that are a NaN as floats, and as a float), each triangle coloured by
+/// its last vertex (GL's provoking vertex); qualifiers that differ between the stages do not link.
+#[test]
+fn flat_varyings_come_from_the_last_vertex_bit_for_bit() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+flat out uint bits;
+flat out float f;
+out vec2 uv;
+void main() {
+    bits = 0xffc01200u + uint(gl_VertexID);
+    f = float(gl_VertexID);
+    uv = a.xy;
+    gl_Position = a;
+}";
+    const FS: &str = "#version 300 es
+precision highp float;
+flat in uint bits;
+flat in float f;
+in vec2 uv;
+out vec4 c;
+void main() { c = vec4(float(bits - 0xffc01200u) / 255.0, f / 255.0, (bits >> 24) == 255u ? 1.0 : 0.0, 1.0); }";
+    let program = glsl(VS, FS);
+    let pipeline = tiler_glsl::pipeline(
+        &program,
+        &program.new_uniform_values(),
+        &[],
+        HEIGHT,
+        PipelineDesc { topology: tiler::Topology::TriangleStrip, ..desc() },
+    )
+    .unwrap();
+    let mut device = Device::new(DeviceConfig::default()).unwrap();
+    let color = device.create_image(ImageDesc::new(WIDTH, HEIGHT, Format::Rgba8Unorm)).unwrap();
+    // A strip over the screen: triangle 0 (0, 1, 2) on the left, 1 (1, 3, 2) on the right.
+    let vertices: [[f32; 4]; 4] =
+        [[-1.0, -1.0, 0.0, 1.0], [-1.0, 1.0, 0.0, 1.0], [1.0, -1.0, 0.0, 1.0], [1.0, 1.0, 0.0, 1.0]];
+    let buffer = device.create_buffer_from(&vertices).unwrap();
+    let mut pass = RenderPass::new(RenderPassDesc {
+        color: vec![ColorAttachment::clear_store(color, [0.0; 4])],
+        depth_stencil: None,
+        render_area: None,
+    });
+    pass.draw(Draw::new(&pipeline, buffer, 0, 4));
+    device.submit(&pass).unwrap();
+    let image = device.read_rgba8(color).unwrap();
+    let pixel = |x: u32, y: u32| &image[((y * WIDTH + x) * 4) as usize..][..4];
+    assert_eq!(pixel(2, HEIGHT / 2), [2, 2, 255, 255], "triangle 0 takes vertex 2");
+    assert_eq!(pixel(WIDTH - 3, HEIGHT / 2), [3, 3, 255, 255], "triangle 1 takes vertex 3");
+    let smooth_fs = FS.replace("flat in float f", "in float f");
+    let e = CompiledProgram::new(VS, &smooth_fs, &[]).unwrap_err();
+    assert!(e.to_string().contains("'f' is flat in the vertex shader and smooth"), "{e}");
 }
 
 /// A shadow map whose depth is its `s` coordinate, compared `reference ≤ depth`.
@@ -1622,4 +1682,80 @@ void main() {
     assert_eq!(&out.varyings[4..8], &array.layer_texel(2, 1, 1, 2).map(|c| c as f32 / 255.0));
     // (0.25, 0.25, 0.625): slice ⌊2.5⌋ = 2, texel (1, 1).
     assert_eq!(&out.varyings[8..12], &[16.0 / 255.0, 16.0 / 255.0, 80.0 / 255.0, 1.0]);
+}
+
+/// The packing built-ins (ES 3.00 §8.4) to the bit: unorm rounds and clamps, snorm is 16-bit
+/// two's complement, half floats are IEEE binary16; unpacking inverts them; a wrong argument
+/// type is a compile error naming the function.
+#[test]
+fn packing_functions_give_the_bits_es_3_00_defines() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+void main() {
+    r.x = uintBitsToFloat(packUnorm2x16(a.xy));
+    r.y = uintBitsToFloat(packSnorm2x16(vec2(a.z, -2.0)));
+    r.z = uintBitsToFloat(packHalf2x16(vec2(a.w, -2.5)));
+    uint u = floatBitsToUint(r.x);
+    r.w = unpackHalf2x16(floatBitsToUint(r.z)).y + unpackSnorm2x16(floatBitsToUint(r.y)).y * 10.0
+        + unpackUnorm2x16(u).y * 100.0 + unpackSnorm2x16(floatBitsToUint(r.y)).x * 1000.0;
+    gl_Position = a;
+}";
+    let out = run_vertex(VS, PASS_FS_300, [0.5, 1.5, -0.25, 1.0], |_, _| {});
+    assert_eq!(out[0].to_bits(), 0xffff_8000, "round(0.5·65535) = 32768, 1.5 clamps to 65535");
+    assert_eq!(out[1].to_bits(), 0x8001_e000, "−0.25 → −8192, −2 clamps to −32767");
+    assert_eq!(out[2].to_bits(), 0xc100_3c00, "1.0 and −2.5 as half floats");
+    assert_eq!(out[3], -2.5 - 10.0 + 100.0 + (-8192.0f32 / 32767.0) * 1000.0);
+    let bad = VS.replace("packUnorm2x16(a.xy)", "packUnorm2x16(a.xyz)");
+    let e = CompiledProgram::new(&bad, PASS_FS_300, &[]).unwrap_err();
+    assert!(matches!(&e, Error::Compile { line: 5, message, .. } if message.contains("packUnorm2x16(vec3)")), "{e}");
+}
+
+/// A function-like macro invoked in another's arguments expands (glsl-lang-pp alone leaves
+/// the inner one a call), and an error after the aliases it takes names the application's line.
+#[test]
+fn nested_macro_invocations_expand_and_errors_keep_their_lines() {
+    const VS: &str = "#version 300 es
+#define D(x) ((x) * 2.0)
+#define F(x, y) (D(x) + (y))
+in vec4 a;
+out vec4 r;
+void main() {
+    r = vec4(D(D(a.x)), F(D(a.y), D(D(D(1.0)))), D(F(1.0, D(a.z))), 0.0);
+    gl_Position = a;
+}";
+    let out = run_vertex(VS, PASS_FS_300, [1.5, 0.25, 3.0, 1.0], |_, _| {});
+    assert_eq!(out, [6.0, 1.0 + 8.0, 2.0 * (2.0 + 6.0), 0.0]);
+    let bad = VS.replace("    gl_Position = a;", "    gl_Position = undeclared;");
+    let e = CompiledProgram::new(&bad, PASS_FS_300, &[]).unwrap_err();
+    assert!(matches!(&e, Error::Compile { line: 8, .. }), "{e}");
+}
+
+/// `determinant` and `inverse` (ES 3.00) on mat2, mat3 and mat4: the inverse times the matrix
+/// is the identity within rounding, and the determinants are the hand-computed ones.
+#[test]
+fn inverse_and_determinant_of_every_square_size() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+void main() {
+    mat2 m2 = mat2(a.x, 1.0, 2.0, 3.0);
+    mat3 m3 = mat3(2.0, 0.0, 1.0, 1.0, a.y, 0.0, 0.0, 1.0, 4.0);
+    mat4 m4 = mat4(a.z, 1.0, 0.0, 2.0, 0.0, 3.0, 1.0, 0.0, 1.0, 0.0, 2.0, 1.0, 0.0, 2.0, 0.0, 1.0);
+    mat4 e4 = inverse(m4) * m4 - mat4(1.0);
+    mat3 e3 = m3 * inverse(m3) - mat3(1.0);
+    mat2 e2 = inverse(m2) * m2 - mat2(1.0);
+    float err = 0.0;
+    for (int i = 0; i < 4; i++) { err = max(err, max(max(abs(e4[i].x), abs(e4[i].y)), max(abs(e4[i].z), abs(e4[i].w)))); }
+    for (int i = 0; i < 3; i++) { err = max(err, max(max(abs(e3[i].x), abs(e3[i].y)), abs(e3[i].z))); }
+    for (int i = 0; i < 2; i++) { err = max(err, max(abs(e2[i].x), abs(e2[i].y))); }
+    r = vec4(determinant(m2), determinant(m3), determinant(m4), err);
+    gl_Position = a;
+}";
+    let out = run_vertex(VS, PASS_FS_300, [4.0, 5.0, 2.0, 1.0], |_, _| {});
+    // m2 = [[4, 2], [1, 3]] (rows): 12 − 2. m3 rows [[2, 1, 0], [0, 5, 1], [1, 0, 4]]:
+    // 2·20 − 1·(0 − 1) + 0 = 41. m4 (columns (2,1,0,2), (0,3,1,0), (1,0,2,1), (0,2,0,1)): 13 by
+    // cofactor expansion.
+    assert_eq!(out[..3], [10.0, 41.0, 13.0]);
+    assert!(out[3] < 1e-5, "inverse · m differs from the identity by {}", out[3]);
 }

@@ -99,7 +99,7 @@ pub use api::image::{ImageDesc, ImageId, MAX_IMAGE_BYTES, MAX_IMAGE_DIMENSION};
 pub use api::pipeline::{
     BlendComponent, BlendFactor, BlendOp, BlendState, ColorTargetState, CompareOp, CullMode, DepthBias,
     DepthStencilState, FrontFace, Interpolation, MAX_COLOR_ATTACHMENTS, MAX_VARYINGS, MAX_VERTEX_ATTRIBUTES,
-    PipelineDesc, StencilFaceState, StencilOp, Topology, VertexAttribute, VertexBinding, VertexFormat,
+    PipelineDesc, ProvokingVertex, StencilFaceState, StencilOp, Topology, VertexAttribute, VertexBinding, VertexFormat,
     VertexInputState,
 };
 pub use api::render_pass::{

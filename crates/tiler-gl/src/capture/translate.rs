@@ -2066,6 +2066,16 @@ mod glsl {
                     _ => Err(unsupported()),
                 })
                 .collect::<Fallible<_>>()?,
+            GlUniform::UInt { components, values } => values
+                .chunks_exact(per(usize::from(*components), values.len())?)
+                .map(|v| match *v {
+                    [x] => Ok(UniformValue::UInt(x)),
+                    [x, y] => Ok(UniformValue::UVec2([x, y])),
+                    [x, y, z] => Ok(UniformValue::UVec3([x, y, z])),
+                    [x, y, z, w] => Ok(UniformValue::UVec4([x, y, z, w])),
+                    _ => Err(unsupported()),
+                })
+                .collect::<Fallible<_>>()?,
             GlUniform::Matrix { columns, rows, transpose, values } if columns == rows && (2..=4).contains(columns) => {
                 let n = usize::from(*columns);
                 values

@@ -100,6 +100,24 @@ impl GlslProgram {
         if !value.is_finite() {
             return Err(format!("uniform '{name}' has a non-finite value {value:?}"));
         }
+        // Values travel to the program as floats: integers are exact to 2²⁴.
+        let integer = matches!(
+            value,
+            UniformValue::Int(_)
+                | UniformValue::IVec2(_)
+                | UniformValue::IVec3(_)
+                | UniformValue::IVec4(_)
+                | UniformValue::UInt(_)
+                | UniformValue::UVec2(_)
+                | UniformValue::UVec3(_)
+                | UniformValue::UVec4(_)
+        );
+        if let Some(big) = value.components().iter().find(|c| integer && c.abs() > (1 << 24) as f32) {
+            return Err(format!(
+                "uniform '{name}' set to {big}: not supported: integer uniforms beyond ±2^24 (they reach the \
+                 shader as floats)"
+            ));
+        }
         if let (Type::Sampler(_), UniformValue::Int(unit)) = (&info.ty, value)
             && !(0..MAX_TEXTURE_UNITS as i32).contains(&unit)
         {
@@ -121,18 +139,21 @@ fn uniform_names(program: &CompiledProgram) -> Vec<String> {
 /// The floats `value` stores into a uniform of type `ty` under `glUniform*`'s rules, or
 /// `None` when that call cannot set it: `glUniform{1,2,3,4}f` sets float and bool scalars
 /// and vectors of its size, `glUniform{1,2,3,4}i` int and bool ones and (`1i`) samplers,
+/// `glUniform{1,2,3,4}ui` uint and bool ones,
 /// `glUniformMatrixNfv` `matN`. Bools store 1 or 0, as the compiler's `true` and `false`.
 fn uniform_components(ty: &Type, value: UniformValue) -> Option<Vec<f32>> {
     use UniformValue as V;
     let components = value.components();
     let floats = matches!(value, V::Float(_) | V::Vec2(_) | V::Vec3(_) | V::Vec4(_));
     let ints = matches!(value, V::Int(_) | V::IVec2(_) | V::IVec3(_) | V::IVec4(_));
+    let uints = matches!(value, V::UInt(_) | V::UVec2(_) | V::UVec3(_) | V::UVec4(_));
     let matrix = matches!(value, V::Mat2(_) | V::Mat3(_) | V::Mat4(_));
     let same_size = ty.size() == components.len();
     match ty {
         Type::Scalar(Scalar::Float) | Type::Vector(Scalar::Float, _) if floats && same_size => Some(components),
         Type::Scalar(Scalar::Int) | Type::Vector(Scalar::Int, _) if ints && same_size => Some(components),
-        Type::Scalar(Scalar::Bool) | Type::Vector(Scalar::Bool, _) if (floats || ints) && same_size => {
+        Type::Scalar(Scalar::UInt) | Type::Vector(Scalar::UInt, _) if uints && same_size => Some(components),
+        Type::Scalar(Scalar::Bool) | Type::Vector(Scalar::Bool, _) if (floats || ints || uints) && same_size => {
             Some(components.into_iter().map(|c| if c != 0.0 { 1.0 } else { 0.0 }).collect())
         }
         Type::Matrix(_) if matrix && same_size => Some(components),
@@ -375,6 +396,8 @@ impl Context {
                         cube.clone().map(|(texture, sampler)| TextureBinding::Core(texture, sampler));
                 }
                 desc.varyings = program.pipeline_varyings();
+                // GL ES 3.0 §2.18: flat varyings come from each primitive's last vertex.
+                desc.provoking_vertex = tiler::ProvokingVertex::Last;
                 if desc.topology == tiler::Topology::PointList {
                     desc.point_size_varying = program.point_size_varying();
                     desc.point_coord_varying = program.point_coord_varying();

@@ -409,6 +409,31 @@ void main() {
     c(&mut gl, Call::BindAttribLocation { program: 3, index: 0, name: "position".into() });
 }
 
+/// `glUniform*ui` sets uint uniforms (not int or float ones), and an integer uniform beyond
+/// what a float holds exactly is refused by name rather than rounded.
+#[test]
+fn uint_uniforms_are_set_and_big_integers_refused() {
+    let mut gl = screen();
+    let vs = "#version 300 es\nin vec2 p;\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); }";
+    let fs = "#version 300 es\nprecision highp float;\nuniform uint u;\nuniform ivec2 i;\nout vec4 c;\n\
+              void main() { c = vec4(float(u % 256u) / 255.0, float(i.y) / 255.0, 0.0, 1.0); }";
+    c(&mut gl, Call::CreateProgram { id: 1, program: glsl(vs, fs) });
+    c(&mut gl, Call::BindAttribLocation { program: 1, index: 0, name: "p".into() });
+    c(&mut gl, Call::UseProgram { id: 1 });
+    uniform(&mut gl, "u", UniformValue::UInt(0x1234));
+    uniform(&mut gl, "i", UniformValue::IVec2([0, 128]));
+    for (name, value) in [("u", UniformValue::Int(3)), ("i", UniformValue::UVec2([1, 2]))] {
+        let e = gl.call(Call::Uniform { name: name.into(), value }).unwrap_err().to_string();
+        assert!(e.contains("cannot set"), "{name}: {e}");
+    }
+    let e = gl.call(Call::Uniform { name: "u".into(), value: UniformValue::UInt(0xA5A5_A5A5) }).unwrap_err();
+    assert!(e.to_string().contains("beyond ±2^24"), "{e}");
+    draw(&mut gl, 3);
+    swap(&mut gl);
+    gl.end().unwrap();
+    assert_eq!(pixel(&gl.surface_rgba8(), 16, 5, 5), [0x34, 128, 0, 255]);
+}
+
 #[test]
 fn a_disabled_attribute_reads_its_generic_value() {
     let mut gl = screen();

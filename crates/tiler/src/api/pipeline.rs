@@ -295,8 +295,25 @@ pub enum Interpolation {
     Perspective,
     /// Linear in screen space (GLSL `noperspective`).
     Linear,
-    /// The provoking (first) vertex's value everywhere (GLSL `flat`).
+    /// The provoking vertex's value everywhere (GLSL `flat`; see [`ProvokingVertex`]). The
+    /// value is copied, never computed with, so any 32 bits (an integer's) arrive unchanged.
     Flat,
+}
+
+/// Which vertex of a primitive gives its `flat` varyings.
+///
+/// Vulkan's default is the first (`VK_PROVOKING_VERTEX_MODE_FIRST_VERTEX_EXT`): triangle `t`
+/// of a list takes vertex `3t`, of a strip `t`, of a fan `t + 1`; segment `s` of a line list
+/// `2s`, of a strip or loop `s`. OpenGL ES takes the last (ES 3.0 §2.18, table 2.12): `3t + 2`,
+/// `t + 2` for strips and fans alike, `2s + 1`, `s + 1`. A point is its own provoking vertex.
+/// The core's native users keep the first (their scenes were written for it); the GL context
+/// picks the last.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProvokingVertex {
+    #[default]
+    First,
+    Last,
 }
 
 /// How a vertex attribute is stored in its buffer; it is fetched as a 4-component float
@@ -442,6 +459,9 @@ pub struct PipelineDesc {
     /// The first of two varyings a point's corners set to GL's `gl_PointCoord`: (0, 0) at its
     /// top-left, (1, 1) at its bottom-right.
     pub point_coord_varying: Option<usize>,
+    /// The vertex whose values `Interpolation::Flat` varyings take.
+    #[serde(default)]
+    pub provoking_vertex: ProvokingVertex,
 }
 
 /// A depth offset per triangle, computed in setup (GL ES 2.0 §3.5.2):
@@ -487,6 +507,7 @@ impl PipelineDesc {
             line_width: 1.0,
             point_size_varying: None,
             point_coord_varying: None,
+            provoking_vertex: ProvokingVertex::First,
         }
     }
 

@@ -1,7 +1,7 @@
 //! Primitive assembly: which positions of the vertex (or index) stream form each triangle or
 //! line segment. A segment is drawn as two triangles, so line topologies count two per segment.
 
-use crate::api::pipeline::Topology;
+use crate::api::pipeline::{ProvokingVertex, Topology};
 
 /// Triangles formed by `count` vertices.
 pub fn triangle_count(topology: Topology, count: u32) -> u32 {
@@ -49,6 +49,19 @@ pub fn triangle(topology: Topology, t: u32) -> [u32; 3] {
     }
 }
 
+/// Which of [`triangle`]'s three positions is the provoking vertex (see [`ProvokingVertex`]):
+/// the first is always 0; the last stream position is `3t + 2` or `t + 2`, which odd strip
+/// triangles and fans hold at 1.
+#[inline]
+pub fn provoking_corner(topology: Topology, t: u32, provoking: ProvokingVertex) -> usize {
+    match (provoking, topology) {
+        (ProvokingVertex::First, _) => 0,
+        (ProvokingVertex::Last, Topology::TriangleStrip) if !t.is_multiple_of(2) => 1,
+        (ProvokingVertex::Last, Topology::TriangleFan) => 1,
+        (ProvokingVertex::Last, _) => 2,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -60,6 +73,21 @@ mod tests {
         assert_eq!(triangle_count(Topology::TriangleStrip, 5), 3);
         assert_eq!(triangle_count(Topology::TriangleList, 7), 2);
         assert_eq!(triangle(Topology::TriangleFan, 2), [3, 4, 0]);
+    }
+
+    /// GL's last vertex is the highest stream position of each triangle (ES 3.0 table 2.12:
+    /// `3t + 2` for lists, `t + 2` for strips and fans); Vulkan's first is `triangle`'s first.
+    #[test]
+    fn provoking_corners_name_gl_and_vulkan_vertices() {
+        for topology in [Topology::TriangleList, Topology::TriangleStrip, Topology::TriangleFan] {
+            for t in 0..6 {
+                let positions = triangle(topology, t);
+                let last = positions[provoking_corner(topology, t, ProvokingVertex::Last)];
+                let expected = if topology == Topology::TriangleList { 3 * t + 2 } else { t + 2 };
+                assert_eq!(last, expected, "{topology:?} triangle {t}");
+                assert_eq!(provoking_corner(topology, t, ProvokingVertex::First), 0);
+            }
+        }
     }
 
     #[test]

@@ -96,8 +96,8 @@ pub struct ClippedPolygon {
 }
 
 /// Clips a triangle against the planes in `planes` (an OR of outcodes). Flat varyings of every
-/// output vertex take the provoking vertex's (`triangle[0]`) value. Returns `None` when
-/// nothing is left.
+/// output vertex are copies of `triangle[0]`'s (the caller puts the provoking vertex's values
+/// there), never interpolated. Returns `None` when nothing is left.
 pub fn clip_triangle(
     volume: &ClipVolume,
     triangle: [ClipVertex; 3],

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 use crate::api::buffer::BufferId;
 use crate::api::error::{Error, Result};
 use crate::api::pipeline::PipelineDesc;
-use crate::api::pipeline::{CullMode, MAX_VARYINGS, Topology};
+use crate::api::pipeline::{CullMode, Interpolation, MAX_VARYINGS, ProvokingVertex, Topology};
 use crate::api::render_pass::{IndexBufferBinding, IndexType, Rect, VertexBufferBinding, Viewport};
 use crate::geometry::primitive::Primitive;
 use crate::ledger::cache::{CacheConfig, ReadCache};
@@ -91,6 +91,8 @@ pub struct DrawGeometry<'a> {
     pub fetch: std::sync::Arc<FetchLayout>,
     /// Bytes of indices fetched.
     pub index_fetch_bytes: u64,
+    /// Bit `i` set when varying `i` is `Interpolation::Flat`.
+    flat_varyings: u32,
 }
 
 /// What the pass around a draw looks like.
@@ -328,6 +330,7 @@ pub fn prepare_draw<'a>(
         vertex_fetch_bytes,
         fetch: std::sync::Arc::new(fetch),
         index_fetch_bytes,
+        flat_varyings: flat_mask(&desc.varyings),
     })
 }
 
@@ -441,6 +444,25 @@ fn post_transform_fetch(indices: impl Iterator<Item = u32>, entries: u32, mut mi
         next = if next + 1 == ring.len() { 0 } else { next + 1 };
     }
     misses
+}
+
+/// Bit `i` for each flat varying `i` (`MAX_VARYINGS` fits: checked by the pipeline).
+fn flat_mask(varyings: &[Interpolation]) -> u32 {
+    const _: () = assert!(MAX_VARYINGS <= 32);
+    varyings.iter().enumerate().filter(|(_, m)| **m == Interpolation::Flat).fold(0, |mask, (i, _)| mask | 1 << i)
+}
+
+/// Gives the flat varyings (bits of `mask`) of every vertex the provoking vertex's values, as
+/// copies: an integer's bits stay as they are.
+fn copy_flat(vertices: &mut [ClipVertex], provoking: &[f32; MAX_VARYINGS], mask: u32) {
+    for v in vertices {
+        let mut bits = mask;
+        while bits != 0 {
+            let i = bits.trailing_zeros() as usize;
+            v.varyings[i] = provoking[i];
+            bits &= bits - 1;
+        }
+    }
 }
 
 /// The pixels whose centres lie inside a viewport, after checking its limits.
@@ -588,13 +610,28 @@ impl DrawGeometry<'_> {
         }
         let planes = codes[0] | codes[1] | codes[2];
         let ids = slots.map(|s| s as u32);
-        if planes == 0 {
+        if self.flat_varyings == 0 && planes == 0 {
             let varyings = slots.map(|s| self.vertices.varyings_of(s));
             let outcome = setup_triangle(params, positions, varyings, ids, &mut batch.primitives, &mut batch.varyings);
             count_outcome(&mut batch.counters, outcome);
             return;
         }
-        let triangle = [0, 1, 2].map(|i| ClipVertex::new(positions[i], self.vertices.varyings_of(slots[i])));
+        let mut triangle = [0, 1, 2].map(|i| ClipVertex::new(positions[i], self.vertices.varyings_of(slots[i])));
+        if self.flat_varyings != 0 {
+            // Every vertex carries the provoking vertex's flat values, so setup (which keeps
+            // vertex 0's first) and the clipper (which copies vertex 0's) pass them on.
+            let corner = assemble::provoking_corner(self.desc.topology, t, self.desc.provoking_vertex);
+            let provoking = triangle[corner].varyings;
+            copy_flat(&mut triangle, &provoking, self.flat_varyings);
+            if planes == 0 {
+                let n = self.vertices.varying_count;
+                let varyings = [0, 1, 2].map(|i| &triangle[i].varyings[..n]);
+                let outcome =
+                    setup_triangle(params, positions, varyings, ids, &mut batch.primitives, &mut batch.varyings);
+                count_outcome(&mut batch.counters, outcome);
+                return;
+            }
+        }
         self.clip_and_set_up(triangle, planes, ids, params, volume, batch);
     }
 
@@ -615,7 +652,16 @@ impl DrawGeometry<'_> {
         } else {
             let slots = assemble::segment(self.desc.topology, t / 2, self.count).map(|p| self.slot(p));
             let [a, b] = slots.map(vertex);
-            (line::parallelogram(a, b, self.desc.line_width, half, n), [0, 1, 1, 0].map(|i| slots[i] as u32))
+            let mut corners = line::parallelogram(a, b, self.desc.line_width, half, n);
+            if let Some(corners) = corners.as_mut().filter(|_| self.flat_varyings != 0) {
+                // The segment's provoking endpoint, copied over what clipping computed.
+                let provoking = match self.desc.provoking_vertex {
+                    ProvokingVertex::First => a.varyings,
+                    ProvokingVertex::Last => b.varyings,
+                };
+                copy_flat(corners, &provoking, self.flat_varyings);
+            }
+            (corners, [0, 1, 1, 0].map(|i| slots[i] as u32))
         };
         let Some(corners) = corners else {
             batch.counters.triangles_clip_rejected += 1;

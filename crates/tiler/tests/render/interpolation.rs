@@ -78,3 +78,89 @@ fn smooth_linear_and_flat_varyings() {
         }
     }
 }
+
+/// GL's provoking vertex (`ProvokingVertex::Last`) on lists, strips, fans and a clipped
+/// triangle, on every backend, two tile sizes and two thread counts: each triangle's flat
+/// varyings are its last vertex's (ES 3.0 table 2.12), copied bit for bit (one carries a NaN
+/// payload, as an integer varying's bits may be), and Vulkan's first where asked.
+#[test]
+fn flat_varyings_take_the_provoking_vertex() {
+    let size = 64u32;
+    // Flat value of vertex i: 100 + i, and a NaN whose payload is i.
+    let vertex =
+        |x: f32, y: f32, z: f32, i: u32| v(x, y, z, [100.0 + i as f32, f32::from_bits(0x7fc0_1200 + i), 0.0, 1.0]);
+    let strip = [(-1.0, -1.0), (-1.0, 1.0), (0.0, -1.0), (0.0, 1.0), (1.0, -1.0), (1.0, 1.0)];
+    let fan = [(0.0, 0.0), (-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    let list = [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    let centroid = |pts: &[(f32, f32)], tri: [usize; 3]| {
+        let (x, y) = tri.iter().fold((0.0, 0.0), |(x, y), &k| (x + pts[k].0, y + pts[k].1));
+        (x / 3.0, y / 3.0)
+    };
+    // (topology, vertices, provoking vertex, points inside triangles with the vertex each takes).
+    type Case = (Topology, Vec<Vertex>, ProvokingVertex, Vec<((f32, f32), u32)>);
+    let cases: Vec<Case> = vec![
+        (
+            Topology::TriangleStrip,
+            strip.iter().enumerate().map(|(i, p)| vertex(p.0, p.1, 0.5, i as u32)).collect(),
+            ProvokingVertex::Last,
+            (0..4).map(|t| (centroid(&strip, [t, t + 1, t + 2]), t as u32 + 2)).collect(),
+        ),
+        (
+            Topology::TriangleStrip,
+            strip.iter().enumerate().map(|(i, p)| vertex(p.0, p.1, 0.5, i as u32)).collect(),
+            ProvokingVertex::First,
+            (0..4).map(|t| (centroid(&strip, [t, t + 1, t + 2]), t as u32)).collect(),
+        ),
+        (
+            Topology::TriangleFan,
+            fan.iter().enumerate().map(|(i, p)| vertex(p.0, p.1, 0.5, i as u32)).collect(),
+            ProvokingVertex::Last,
+            (0..3).map(|t| (centroid(&fan, [0, t + 1, t + 2]), t as u32 + 2)).collect(),
+        ),
+        (
+            Topology::TriangleList,
+            list.iter().enumerate().map(|(i, p)| vertex(p.0, p.1, 0.5, i as u32)).collect(),
+            ProvokingVertex::Last,
+            vec![(centroid(&list, [0, 1, 2]), 2), (centroid(&list, [3, 4, 5]), 5)],
+        ),
+        (
+            // The last vertex is behind the near plane: clipping keeps its values.
+            Topology::TriangleList,
+            vec![vertex(-1.0, -1.0, 0.5, 0), vertex(1.0, -1.0, 0.5, 1), vertex(0.0, 1.0, -1.5, 2)],
+            ProvokingVertex::Last,
+            vec![((0.0, -0.9), 2)],
+        ),
+    ];
+    for (topology, verts, provoking, probes) in cases {
+        let mut first: Option<Vec<u8>> = None;
+        for backend in Backend::ALL {
+            for (tile, threads) in [(16, 1), (32, 2)] {
+                let mut device = device(backend, tile, threads);
+                let color = device.create_image(ImageDesc::new(size, size, Format::Rgba32Float)).unwrap();
+                let buffer = device.create_buffer_from(&verts).unwrap();
+                let mut d = desc("flat");
+                d.topology = topology;
+                d.varyings = vec![Interpolation::Flat; 4];
+                d.provoking_vertex = provoking;
+                let mut pass = color_pass(color, None);
+                pass.draw(Draw::new(&pipeline(FlatColor, d), buffer, 0, verts.len() as u32));
+                device.submit(&pass).unwrap();
+                let data = device.image_data(color).unwrap();
+                for &((x, y), k) in &probes {
+                    let (px, py) = (((x + 1.0) / 2.0 * size as f32) as u32, ((y + 1.0) / 2.0 * size as f32) as u32);
+                    let at = |c: usize| {
+                        let o = ((py * size + px) * 16) as usize + 4 * c;
+                        u32::from_le_bytes(data[o..o + 4].try_into().unwrap())
+                    };
+                    let what = format!("{topology:?} {provoking:?} {backend} tile {tile} at ({px}, {py})");
+                    assert_eq!(f32::from_bits(at(0)), 100.0 + k as f32, "{what}");
+                    assert_eq!(at(1), 0x7fc0_1200 + k, "{what}: the NaN's payload");
+                }
+                match &first {
+                    None => first = Some(data.to_vec()),
+                    Some(bytes) => assert!(*bytes == data, "{topology:?} {backend} tile {tile}: other bytes"),
+                }
+            }
+        }
+    }
+}
