@@ -29,14 +29,10 @@
 //! texture caches of mobile GPUs (Mali-G7x: 16 KiB per core; Adreno 6xx: 8–16 KiB).
 
 use crate::api::error::{Error, Result};
-use crate::simd::{LANES, sign_bits};
 
 /// The most lines one lane of a quad reads ([`TextureCache::access_quad`]): four texels on
 /// each of two levels.
 pub const MAX_LANE_LINES: usize = 8;
-
-/// The most lanes read together ([`TextureCache::access_lanes`]): a pair of quads.
-pub const MAX_LANES: usize = 8;
 
 /// The shape of the texture cache.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -208,52 +204,37 @@ impl TextureCache {
     /// Reads the lines of a quad's `counted` lanes, lane after lane, each lane `k` reading
     /// `rows[0][k]`, `rows[1][k]`, … in order (a row per texel a lane reads: the corners of its
     /// footprint on a level, level after level): the same as [`TextureCache::access_lines`] of
-    /// each lane's lines in turn. [`TextureCache::access_lanes`] of four lanes.
-    #[inline]
-    pub fn access_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
-        self.access_lanes(first_line, rows, counted);
-    }
-
-    /// Reads the lines of `L` lanes (a quad's four, or a pair of quads' eight: quad 0's lanes,
-    /// then quad 1's), `counted` lanes only, lane after lane, each lane `k` reading
-    /// `rows[0][k]`, `rows[1][k]`, … in order: the same as [`TextureCache::access_lines`] of
-    /// each lane's lines in turn, at the cost of a tag check per *distinct* line.
+    /// each lane's lines in turn, with one comparison for a lane that reads what the lane
+    /// before it read.
     ///
-    /// Why that is exact, while no set receives more of the distinct lines than it has ways
-    /// (checked; otherwise the reads are made one run at a time, [`Self::read_runs`]): a line
-    /// read for the first time finds its set as the reads before left it, and reads of lines
-    /// already read since (repeats) only reorder lines that are in front of it, so whether it
-    /// hits depends only on the first reads before it — the distinct lines read once each, in
-    /// the order of their first reads, hit and miss as the reads do. A repeated read always
-    /// hits: since its line's last read, at most `ways − 1` other lines of its set were read,
-    /// each moving it back one place at most. Evictions happen only at misses, and take the
-    /// least recently used line of the set, in both orders the same line that was in the set
-    /// before the group. What differs is only the order of the group's lines in front of each
-    /// set: reads leave them in the order of their *last* reads, so when that differs from the
-    /// order of first reads among the lines of a set, they are read once more (all hits) in the
-    /// order of their last reads.
+    /// Why that is exact: once a run of lines has been read, each of its lines is among the
+    /// run's lines at the front of its set, in the order of their last reads — as long as no
+    /// set holds more of the run's lines than it has ways, none falls out. Reading the same run
+    /// again then hits every time and leaves every set as it was. Neighbouring pixels usually
+    /// read the same texels' lines: most lanes cost a comparison instead of a tag check per
+    /// texel.
     ///
     /// The row counts the sampler reads (one texel, four, on one level or two) each get a copy
     /// with the count known, whose loops the compiler unrolls.
     #[inline]
-    pub fn access_lanes<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) {
-        debug_assert!(rows.len() <= MAX_LANE_LINES && L <= MAX_LANES);
-        let misses = if let Ok(rows) = <&[[u32; L]; 4]>::try_from(rows) {
-            self.read_lanes(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; L]; 8]>::try_from(rows) {
-            self.read_lanes(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; L]; 1]>::try_from(rows) {
-            self.read_lanes(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; L]; 2]>::try_from(rows) {
-            self.read_lanes(first_line, rows, counted)
+    pub fn access_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
+        debug_assert!(rows.len() <= MAX_LANE_LINES);
+        let misses = if let Ok(rows) = <&[[u32; 4]; 4]>::try_from(rows) {
+            self.read_quad(first_line, rows, counted)
+        } else if let Ok(rows) = <&[[u32; 4]; 8]>::try_from(rows) {
+            self.read_quad(first_line, rows, counted)
+        } else if let Ok(rows) = <&[[u32; 4]; 1]>::try_from(rows) {
+            self.read_quad(first_line, rows, counted)
+        } else if let Ok(rows) = <&[[u32; 4]; 2]>::try_from(rows) {
+            self.read_quad(first_line, rows, counted)
         } else {
-            self.read_runs(first_line, rows, counted)
+            self.read_quad(first_line, rows, counted)
         };
         let reads = counted.iter().filter(|&&counted| counted).count() as u64 * rows.len() as u64;
         self.count(reads, misses);
         #[cfg(feature = "texture-cache-reference")]
         if let Some(reference) = &mut self.reference {
-            for lane in (0..L).filter(|&lane| counted[lane]) {
+            for lane in (0..4).filter(|&lane| counted[lane]) {
                 for row in rows {
                     reference.access((first_line + row[lane] as u64) << reference.line_shift);
                 }
@@ -266,96 +247,41 @@ impl TextureCache {
         }
     }
 
-    /// [`Self::access_lanes`] of `R` rows without counting: returns the misses.
+    /// [`Self::access_quad`] without counting: returns the misses.
     #[inline(always)]
-    fn read_lanes<const L: usize, const R: usize>(
-        &mut self,
-        first_line: u64,
-        rows: &[[u32; L]; R],
-        counted: [bool; L],
-    ) -> u64 {
-        // The reads in their order, lane after lane (read `R · lane + row`), and those made.
-        let mut reads = [0u32; MAX_LANE_LINES * MAX_LANES];
-        for (lane, reads) in reads.chunks_exact_mut(R).take(L).enumerate() {
-            for (read, row) in reads.iter_mut().zip(rows) {
-                *read = row[lane];
-            }
-        }
-        let mut made = 0u64;
-        for (lane, &counted) in counted.iter().enumerate() {
-            made |= (counted as u64 * ((1u64 << R) - 1)) << (R * lane);
-        }
-        // The distinct lines in the order of their first reads, each with its last read: the
-        // first read not yet accounted for is the first read of a new line.
-        let mut lines = [0u32; MAX_LANE_LINES * MAX_LANES];
-        let mut last = [0u32; MAX_LANE_LINES * MAX_LANES];
-        let mut distinct = 0;
-        let mut left = made;
-        while left != 0 {
-            let line = reads[left.trailing_zeros() as usize];
-            // Eight reads compared at a time (the padding past `R · L` is masked off).
-            let mut same = 0u64;
-            for (chunk, reads) in reads.chunks_exact(LANES).take((R * L).div_ceil(LANES)).enumerate() {
-                let equal: [i32; LANES] = std::array::from_fn(|i| -((reads[i] == line) as i32));
-                same |= (sign_bits(equal) as u64) << (LANES * chunk);
-            }
-            same &= made;
-            lines[distinct] = line;
-            last[distinct] = 63 - same.leading_zeros();
-            distinct += 1;
-            left &= !same;
-        }
-        let (lines, last) = (&lines[..distinct], &last[..distinct]);
-        let set_mask = self.set_mask;
-        let set = |line: u32| (first_line + line as u64) & set_mask;
-        let ways = self.config.ways as usize;
-        if distinct > ways
-            && lines.iter().any(|&line| lines.iter().filter(|&&other| set(other) == set(line)).count() > ways)
-        {
-            return self.read_runs(first_line, rows, counted);
-        }
+    fn read_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) -> u64 {
+        // The lane read before, and whether its lines fit in their sets: it read no more runs
+        // of a line than the sets have ways (so no more distinct lines either). When they may
+        // not, the next lane is read line by line, repeated or not.
+        let mut previous: Option<(usize, bool)> = None;
         let mut misses = 0;
-        for &line in lines {
-            misses += !self.access_line(first_line + line as u64) as u64;
-        }
-        // Lines of a set first read in another order than last read: read again in the order
-        // of their last reads.
-        let reordered = (1..distinct).any(|k| (0..k).any(|j| last[j] > last[k] && set(lines[j]) == set(lines[k])));
-        if reordered {
-            let mut order = [0u8; MAX_LANE_LINES * MAX_LANES];
-            for (k, order) in order[..distinct].iter_mut().enumerate() {
-                *order = k as u8;
+        for lane in (0..4).filter(|&lane| counted[lane]) {
+            if let Some((before, true)) = previous
+                && rows.iter().all(|row| row[lane] == row[before])
+            {
+                continue;
             }
-            order[..distinct].sort_unstable_by_key(|&k| last[k as usize]);
-            for &k in &order[..distinct] {
-                self.access_line(first_line + lines[k as usize] as u64);
-            }
+            let (lane_misses, runs) = self.read_lane(first_line, rows, lane);
+            misses += lane_misses;
+            previous = Some((lane, runs <= self.config.ways as usize));
         }
         misses
     }
 
-    /// [`Self::read_lanes`] one run of a line at a time: returns the misses.
-    #[inline(never)]
-    fn read_runs<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) -> u64 {
-        let mut misses = 0;
-        for lane in (0..L).filter(|&lane| counted[lane]) {
-            misses += self.read_lane(first_line, rows, lane);
-        }
-        misses
-    }
-
-    /// [`Self::read_lines`] of lane `lane` of `rows`: returns the misses.
+    /// [`Self::read_lines`] of lane `lane` of `rows` (see [`Self::access_quad`]): returns the
+    /// misses and the runs of a line read.
     #[inline(always)]
-    fn read_lane<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], lane: usize) -> u64 {
-        let (mut previous, mut misses) = (None, 0);
+    fn read_lane(&mut self, first_line: u64, rows: &[[u32; 4]], lane: usize) -> (u64, usize) {
+        let (mut previous, mut misses, mut runs) = (None, 0, 0);
         for row in rows {
             let line = row[lane];
             if previous != Some(line) {
                 misses += !self.access_line(first_line + line as u64) as u64;
+                runs += 1;
                 previous = Some(line);
             }
         }
-        misses
+        (misses, runs)
     }
 
     /// Reads line `line`; returns whether it hit (uncounted: the callers count). The hit on
@@ -523,42 +449,36 @@ mod tests {
             }
         }
 
-        /// A quad's (or a pair of quads') lanes read a tag check per distinct line count and
-        /// leave the cache exactly as the reads of an address in each line, one by one: lanes
-        /// repeated or not, counted or not, lines of a set read in changing orders, more lines
-        /// of a set than it has ways.
+        /// A quad's lanes read with one comparison for a lane that repeats the one before
+        /// count and leave the cache exactly as the reads of an address in each line, one by
+        /// one: lanes repeated or not, counted or not, more lines of a set than it has ways.
         #[test]
-        fn access_lanes_is_access_of_each(
+        fn access_quad_is_access_of_each(
             shape in prop::sample::select(vec![(256u32, 64u32, 1u32), (1024, 64, 4), (512, 16, 2), (256, 4, 64), (16384, 64, 4)]),
             quads in prop::collection::vec(
                 (
                     0u64..3,
-                    any::<bool>(),
                     prop::sample::select(vec![1usize, 2, 4, 8]),
-                    prop::collection::vec(prop_oneof![3 => 0u32..6, 1 => 0u32..200, 1 => (0u32..4).prop_map(|k| k * 64)], 16),
-                    prop::collection::vec(any::<bool>(), 8),
-                    prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 8),
+                    prop::collection::vec(prop_oneof![3 => 0u32..6, 1 => 0u32..200], 8),
+                    prop::collection::vec(any::<bool>(), 4),
+                    prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 4),
                 ),
                 1..40,
             ),
         ) {
             let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
             let (mut together, mut one_by_one) = (TextureCache::new(config), TextureCache::new(config));
-            for (texture, pair, per_lane, lines, repeats, counted) in quads {
+            for (texture, per_lane, lines, repeats, counted) in quads {
                 let first_line = texture << 30;
                 // Lane k repeats lane k − 1 when `repeats[k]`, else takes lines of its own.
-                let mut lanes = [[0u32; MAX_LANE_LINES]; MAX_LANES];
+                let mut lanes = [[0u32; MAX_LANE_LINES]; 4];
                 for (k, &repeat) in repeats.iter().enumerate() {
-                    lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + 3 * k) % 16]) };
+                    lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + k) % 8]) };
                 }
-                if pair {
-                    let rows: Vec<[u32; 8]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
-                    together.access_lanes(first_line, &rows, std::array::from_fn(|k| counted[k]));
-                } else {
-                    let rows: Vec<[u32; 4]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
-                    together.access_quad(first_line, &rows, std::array::from_fn(|k| counted[k]));
-                }
-                for k in (0..if pair { 8 } else { 4 }).filter(|&k| counted[k]) {
+                let rows: Vec<[u32; 4]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
+                let counted: [bool; 4] = std::array::from_fn(|k| counted[k]);
+                together.access_quad(first_line, &rows, counted);
+                for k in (0..4).filter(|&k| counted[k]) {
                     for &line in &lanes[k][..per_lane] {
                         one_by_one.access((first_line + line as u64) << one_by_one.line_shift());
                     }
