@@ -613,8 +613,8 @@ impl Texture {
     /// Both quads of a group read on the same level(s) with the same filter (`pair`): their
     /// eight lanes' footprints and filter computed side by side ([`PAIR_LANES`] order), eight
     /// lanes per operation where [`Texture::sample_quad`] does four. The cache model reads
-    /// quad 0's lines, then quad 1's, each as [`Texture::sample_quad`] reads them, so counts
-    /// and cache state are the same; per lane the arithmetic is the same, so the values too.
+    /// quad 0's lines, then quad 1's, each in the order [`Texture::sample_quad`] reads them,
+    /// so counts and cache state are the same; per lane the arithmetic is the same, so the values too.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)] // one group's inputs; a struct would only rename them
     fn sample_pair<const STORED: bool>(
@@ -631,32 +631,34 @@ impl Texture {
         let first_line = (self.id << 40) >> line_shift;
         // Quad `quad`'s half of a row of eight lanes.
         let half = |row: &[u32; 8], quad: usize| -> [u32; 4] { std::array::from_fn(|i| row[4 * quad + i]) };
+        // Both quads' lanes, read together: quad 0's, then quad 1's ([`PAIR_LANES`]).
+        let counted_pair: [bool; 8] = std::array::from_fn(|i| counted[i / 4][i % 4]);
         match pair {
             PairPlan::Single { level, filter } => {
                 let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
                 let near_rows = near.rows();
-                for quad in 0..2 {
-                    let rows: [[u32; 4]; 4] = near.lines.each_ref().map(|row| half(row, quad));
-                    let misses = cache.misses();
-                    cache.access_quad(first_line, &rows[..near_rows.len()], counted[quad]);
-                    if minified_unmipped[quad] && counted[quad].contains(&true) {
-                        cache.note_unmipped(misses);
+                if minified_unmipped.contains(&true) {
+                    for quad in 0..2 {
+                        let rows: [[u32; 4]; 4] = near.lines.each_ref().map(|row| half(row, quad));
+                        let misses = cache.misses();
+                        cache.access_quad(first_line, &rows[..near_rows.len()], counted[quad]);
+                        if minified_unmipped[quad] && counted[quad].contains(&true) {
+                            cache.note_unmipped(misses);
+                        }
                     }
+                } else {
+                    cache.access_lanes(first_line, near_rows, counted_pair);
                 }
                 self.filter(&near)
             }
             PairPlan::Blend { level, filter, weights } => {
                 let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
                 let far = self.footprint::<STORED, 8>(level + 1, filter, sampler, at, line_shift);
-                let (near_rows, far_rows) = (near.rows().len(), far.rows().len());
-                for (quad, counted) in counted.into_iter().enumerate() {
-                    let mut rows = [[0; 4]; MAX_LANE_LINES];
-                    for (row, line) in rows.iter_mut().zip(near.lines[..near_rows].iter().chain(&far.lines[..far_rows]))
-                    {
-                        *row = half(line, quad);
-                    }
-                    cache.access_quad(first_line, &rows[..near_rows + far_rows], counted);
-                }
+                let (near_rows, far_rows) = (near.rows(), far.rows());
+                let mut rows = [[0; 8]; MAX_LANE_LINES];
+                rows[..near_rows.len()].copy_from_slice(near_rows);
+                rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
+                cache.access_lanes(first_line, &rows[..near_rows.len() + far_rows.len()], counted_pair);
                 let (a, b) = (self.filter(&near), self.filter(&far));
                 let weight = lanes::<u32, 8>(|i| weights[i / 4]);
                 std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight[i])))

@@ -218,14 +218,21 @@ impl TextureCache {
     /// with the count known, whose loops the compiler unrolls.
     #[inline]
     pub fn access_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
+        self.access_lanes(first_line, rows, counted);
+    }
+
+    /// [`TextureCache::access_quad`] of `L` lanes: a quad's four, or a pair of quads' eight
+    /// (quad 0's lanes, then quad 1's), the same reads in the same order.
+    #[inline]
+    pub fn access_lanes<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) {
         debug_assert!(rows.len() <= MAX_LANE_LINES);
-        let misses = if let Ok(rows) = <&[[u32; 4]; 4]>::try_from(rows) {
+        let misses = if let Ok(rows) = <&[[u32; L]; 4]>::try_from(rows) {
             self.read_quad(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; 4]; 8]>::try_from(rows) {
+        } else if let Ok(rows) = <&[[u32; L]; 8]>::try_from(rows) {
             self.read_quad(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; 4]; 1]>::try_from(rows) {
+        } else if let Ok(rows) = <&[[u32; L]; 1]>::try_from(rows) {
             self.read_quad(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; 4]; 2]>::try_from(rows) {
+        } else if let Ok(rows) = <&[[u32; L]; 2]>::try_from(rows) {
             self.read_quad(first_line, rows, counted)
         } else {
             self.read_quad(first_line, rows, counted)
@@ -234,7 +241,7 @@ impl TextureCache {
         self.count(reads, misses);
         #[cfg(feature = "texture-cache-reference")]
         if let Some(reference) = &mut self.reference {
-            for lane in (0..4).filter(|&lane| counted[lane]) {
+            for lane in (0..L).filter(|&lane| counted[lane]) {
                 for row in rows {
                     reference.access((first_line + row[lane] as u64) << reference.line_shift);
                 }
@@ -247,15 +254,15 @@ impl TextureCache {
         }
     }
 
-    /// [`Self::access_quad`] without counting: returns the misses.
+    /// [`Self::access_lanes`] without counting: returns the misses.
     #[inline(always)]
-    fn read_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) -> u64 {
+    fn read_quad<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) -> u64 {
         // The lane read before, and whether its lines fit in their sets: it read no more runs
         // of a line than the sets have ways (so no more distinct lines either). When they may
         // not, the next lane is read line by line, repeated or not.
         let mut previous: Option<(usize, bool)> = None;
         let mut misses = 0;
-        for lane in (0..4).filter(|&lane| counted[lane]) {
+        for lane in (0..L).filter(|&lane| counted[lane]) {
             if let Some((before, true)) = previous
                 && rows.iter().all(|row| row[lane] == row[before])
             {
@@ -271,7 +278,7 @@ impl TextureCache {
     /// [`Self::read_lines`] of lane `lane` of `rows` (see [`Self::access_quad`]): returns the
     /// misses and the runs of a line read.
     #[inline(always)]
-    fn read_lane(&mut self, first_line: u64, rows: &[[u32; 4]], lane: usize) -> (u64, usize) {
+    fn read_lane<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], lane: usize) -> (u64, usize) {
         let (mut previous, mut misses, mut runs) = (None, 0, 0);
         for row in rows {
             let line = row[lane];
@@ -449,36 +456,43 @@ mod tests {
             }
         }
 
-        /// A quad's lanes read with one comparison for a lane that repeats the one before
-        /// count and leave the cache exactly as the reads of an address in each line, one by
-        /// one: lanes repeated or not, counted or not, more lines of a set than it has ways.
+        /// A quad's (or a pair of quads') lanes read with one comparison for a lane that
+        /// repeats the one before count and leave the cache exactly as the reads of an address
+        /// in each line, one by one: lanes repeated or not, counted or not, more lines of a set
+        /// than it has ways (lines 64 apart share a set in every shape but the fully
+        /// associative one).
         #[test]
-        fn access_quad_is_access_of_each(
+        fn access_lanes_is_access_of_each(
             shape in prop::sample::select(vec![(256u32, 64u32, 1u32), (1024, 64, 4), (512, 16, 2), (256, 4, 64), (16384, 64, 4)]),
             quads in prop::collection::vec(
                 (
                     0u64..3,
+                    any::<bool>(),
                     prop::sample::select(vec![1usize, 2, 4, 8]),
-                    prop::collection::vec(prop_oneof![3 => 0u32..6, 1 => 0u32..200], 8),
-                    prop::collection::vec(any::<bool>(), 4),
-                    prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 4),
+                    prop::collection::vec(prop_oneof![3 => 0u32..6, 1 => 0u32..200, 1 => (0u32..4).prop_map(|k| k * 64)], 16),
+                    prop::collection::vec(any::<bool>(), 8),
+                    prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 8),
                 ),
                 1..40,
             ),
         ) {
             let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
             let (mut together, mut one_by_one) = (TextureCache::new(config), TextureCache::new(config));
-            for (texture, per_lane, lines, repeats, counted) in quads {
+            for (texture, pair, per_lane, lines, repeats, counted) in quads {
                 let first_line = texture << 30;
                 // Lane k repeats lane k − 1 when `repeats[k]`, else takes lines of its own.
-                let mut lanes = [[0u32; MAX_LANE_LINES]; 4];
+                let mut lanes = [[0u32; MAX_LANE_LINES]; 8];
                 for (k, &repeat) in repeats.iter().enumerate() {
-                    lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + k) % 8]) };
+                    lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + 3 * k) % 16]) };
                 }
-                let rows: Vec<[u32; 4]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
-                let counted: [bool; 4] = std::array::from_fn(|k| counted[k]);
-                together.access_quad(first_line, &rows, counted);
-                for k in (0..4).filter(|&k| counted[k]) {
+                if pair {
+                    let rows: Vec<[u32; 8]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
+                    together.access_lanes(first_line, &rows, std::array::from_fn(|k| counted[k]));
+                } else {
+                    let rows: Vec<[u32; 4]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
+                    together.access_quad(first_line, &rows, std::array::from_fn(|k| counted[k]));
+                }
+                for k in (0..if pair { 8 } else { 4 }).filter(|&k| counted[k]) {
                     for &line in &lanes[k][..per_lane] {
                         one_by_one.access((first_line + line as u64) << one_by_one.line_shift());
                     }
