@@ -135,11 +135,11 @@ trait DepthBits {
     fn store(bytes: &mut [u8], bits: u32);
     fn format() -> Format;
 
-    /// Writes depth `bits` to a row of eight stored samples (`8 · BYTES` bytes), leaving any
-    /// stencil bits alone.
+    /// Writes depth `bits` to a row of eight stored samples (the first `8 · BYTES` bytes of
+    /// `row`), leaving any stencil bits alone.
     #[inline(always)]
     fn fill_row(row: &mut [u8], bits: u32) {
-        for stored in row.chunks_exact_mut(Self::BYTES) {
+        for stored in row[..8 * Self::BYTES].chunks_exact_mut(Self::BYTES) {
             Self::store(stored, bits);
         }
     }
@@ -247,10 +247,22 @@ fn words_row(
 #[inline(always)]
 fn fill_words(row: &mut [u8], bits: u32, depth_mask: u32) {
     let row: &mut [u8; 32] = (&mut row[..32]).try_into().expect("a row of eight words");
-    let words: [u32; 8] = std::array::from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
-    for (c, word) in words.iter().enumerate() {
-        row[4 * c..4 * c + 4].copy_from_slice(&((word & !depth_mask) | bits).to_le_bytes());
+    if depth_mask == u32::MAX {
+        *row = words_bytes([bits; 8]);
+        return;
     }
+    let words: [u32; 8] = std::array::from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
+    *row = words_bytes(words.map(|word| (word & !depth_mask) | bits));
+}
+
+/// Eight words as their 32 little-endian bytes.
+#[inline(always)]
+fn words_bytes(words: [u32; 8]) -> [u8; 32] {
+    let mut bytes = [0u8; 32];
+    for (chunk, word) in bytes.chunks_exact_mut(4).zip(words) {
+        chunk.copy_from_slice(&word.to_le_bytes());
+    }
+    bytes
 }
 
 impl DepthBits for D32 {
@@ -501,13 +513,18 @@ fn block_rows<D: DepthBits>(
 }
 
 /// Writes depth `bits` to every sample of the 8×8 block at `(x, y)` (wholly in `surface`),
-/// leaving stencil bits alone.
+/// leaving stencil bits alone. Inlined into the caller's instruction set: each row is one
+/// 16- or 32-byte read, mask and write.
+#[inline(always)]
 fn fill_block<D: DepthBits>(surface: &mut Surface, x: i32, y: i32, bits: u32) {
-    let offsets: [usize; 8] = std::array::from_fn(|r| surface.offset(x, y + r as i32));
+    let first = surface.offset(x, y);
+    let pitch = surface.offset(x, y + 1) - first;
     for s in 0..surface.samples() {
         let plane = surface.plane_mut_tracked(s);
-        for &offset in &offsets {
-            D::fill_row(&mut plane[offset..offset + 8 * D::BYTES], bits);
+        // One bounds check for the block's eight rows.
+        let block = &mut plane[first..first + 7 * pitch + 8 * D::BYTES];
+        for row in block.chunks_mut(pitch) {
+            D::fill_row(row, bits);
         }
     }
 }
