@@ -384,11 +384,6 @@ pub trait RowDepths {
     }
 }
 
-/// The fewest covered samples of a block for which [`test_block`] bounds a sloped primitive's
-/// depths to decide from the block's range (fewer are tested one by one, and the block's range
-/// becomes unknown if they write).
-const MIN_BOUNDED_SAMPLES: u32 = 16;
-
 /// The range of the depth bits of `bounds` (see [`RowDepths::bounds`]): depth conversion is
 /// monotonic, so it holds every converted depth they bound.
 #[inline(always)]
@@ -462,12 +457,7 @@ pub fn test_block(
         (None, _) => None,
         // (The lanes' conversion: the scalar one saturates, which costs more.)
         (Some(_), Some(z)) => Some(BlockDepth::constant(format.depth_bits_lanes(F32x8::splat(z))[0])),
-        // A sloped primitive's bounds cost about as much as testing a few rows: not worth it
-        // for a sliver (tris: +1.2% with them for every block, measured).
-        (Some(_), None) if masks.iter().map(|m| m.count_ones()).sum::<u32>() >= MIN_BOUNDED_SAMPLES => {
-            bits_range(format, depth.bounds(x, y))
-        }
-        (Some(_), None) => None,
+        (Some(_), None) => bits_range(format, depth.bounds(x, y)),
     };
     if let (Some((index, stored)), Some(fragment)) = (summary, fragment) {
         match decide(state.depth_compare, fragment, stored) {
