@@ -130,13 +130,23 @@ impl Visibility {
         }
         let whole_rows = x >= self.origin.0 && x + 8 <= self.origin.0 + self.tile_width as i32;
         if whole_rows && mask == u64::MAX {
-            // The whole block (the common case of HSR: a primitive covering it and in front).
+            // The whole block (the common case of HSR: a primitive covering it and in front):
+            // one bounds check, then eight row stores. (Inlined into the pixel pipeline, this
+            // made the overdraw shader's loop spill: +3% on front to back, measured.)
+            let (first, pitch) = (self.index(sample, x, y), self.tile_width);
+            let block = &mut self.owners[first..first + 7 * pitch + 8];
             for r in 0..8 {
-                let i = self.index(sample, x, y + r);
-                self.owners[i..i + 8].copy_from_slice(&[entry; 8]);
+                let row: &mut [u32; 8] = (&mut block[r * pitch..][..8]).try_into().expect("eight owners");
+                *row = [entry; 8];
             }
             return;
         }
+        self.claim_partial(sample, x, y, mask, entry, whole_rows);
+    }
+
+    /// [`Visibility::claim_block`] for a block not wholly covered or not wholly in the tile.
+    #[inline(never)]
+    fn claim_partial(&mut self, sample: usize, x: i32, y: i32, mask: u64, entry: u32, whole_rows: bool) {
         for r in 0..8 {
             let bits = (mask >> (8 * r)) as u8;
             if bits == 0 {

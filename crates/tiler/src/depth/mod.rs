@@ -10,6 +10,7 @@
 pub mod hsr;
 
 use crate::api::format::Format;
+use crate::api::pipeline::CompareOp;
 use crate::api::pipeline::{DepthStencilState, StencilFaceState};
 use crate::ledger::Ledger;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
@@ -43,11 +44,14 @@ pub fn test_group(
     if !stencil_test && !traffic.needs_addresses() {
         let write = state.depth_test && state.depth_write;
         let compare = if state.depth_test { state.depth_compare } else { crate::api::pipeline::CompareOp::Always };
-        let (passed, tested, written) = match format {
+        let (passed, tested, written, written_depths) = match format {
             Format::D16Unorm => depth_only::<D16>(surface, x, y, coverage, compare, write, &depth),
             Format::D24UnormS8Uint => depth_only::<D24>(surface, x, y, coverage, compare, write, &depth),
             _ => depth_only::<D32>(surface, x, y, coverage, compare, write, &depth),
         };
+        if written > 0 {
+            surface.group_written(x, y, written_depths);
+        }
         // Depth alone: a packed D24S8 sample moves as a whole word.
         let bytes = format.depth_access_bytes(false) as u32;
         if state.depth_test {
@@ -61,6 +65,8 @@ pub fn test_group(
     // its 4 bytes, an aspect alone costs all of them (`Format::depth_access_bytes`).
     let depth_read_bytes = format.depth_access_bytes(stencil_test) as u32;
     let stencil_read_bytes = format.stencil_access_bytes(state.depth_test) as u32;
+    // The depth bits written, for the block summary (`min > max`: none).
+    let mut written_depths = BlockDepth { min: u32::MAX, max: 0 };
     for s in 0..surface.samples() {
         let lanes = coverage.sample(s);
         if lanes.is_empty() {
@@ -81,7 +87,8 @@ pub fn test_group(
                 traffic.access(ledger, Aspect::Stencil, address, stencil_read_bytes, false);
             }
             let offset = surface.offset(px, py);
-            let bytes = &mut surface.plane_mut(s)[offset..offset + format.bytes_per_sample()];
+            // The block summary is widened by what is written, below.
+            let bytes = &mut surface.plane_mut_tracked(s)[offset..offset + format.bytes_per_sample()];
             let (stored_depth, stored_stencil) = unpack(format, bytes);
             let stencil_pass = !stencil_test
                 || face
@@ -115,6 +122,7 @@ pub fn test_group(
             }
             if depth_written {
                 new_depth = fragment_depth;
+                written_depths = written_depths.union(BlockDepth::constant(fragment_depth));
                 let bytes = format.depth_access_bytes(stencil_written) as u32;
                 traffic.access(ledger, Aspect::Depth, address, bytes, true);
             }
@@ -123,6 +131,9 @@ pub fn test_group(
             }
         }
         passed.set_sample(s, LaneMask(pass));
+    }
+    if written_depths.min <= written_depths.max {
+        surface.group_written(x, y, written_depths);
     }
     passed
 }
@@ -135,11 +146,11 @@ trait DepthBits {
     fn store(bytes: &mut [u8], bits: u32);
     fn format() -> Format;
 
-    /// Writes depth `bits` to a row of eight stored samples (`8 · BYTES` bytes), leaving any
-    /// stencil bits alone.
+    /// Writes depth `bits` to a row of eight stored samples (the first `8 · BYTES` bytes of
+    /// `row`), leaving any stencil bits alone.
     #[inline(always)]
     fn fill_row(row: &mut [u8], bits: u32) {
-        for stored in row.chunks_exact_mut(Self::BYTES) {
+        for stored in row[..8 * Self::BYTES].chunks_exact_mut(Self::BYTES) {
             Self::store(stored, bits);
         }
     }
@@ -247,10 +258,22 @@ fn words_row(
 #[inline(always)]
 fn fill_words(row: &mut [u8], bits: u32, depth_mask: u32) {
     let row: &mut [u8; 32] = (&mut row[..32]).try_into().expect("a row of eight words");
-    let words: [u32; 8] = std::array::from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
-    for (c, word) in words.iter().enumerate() {
-        row[4 * c..4 * c + 4].copy_from_slice(&((word & !depth_mask) | bits).to_le_bytes());
+    if depth_mask == u32::MAX {
+        *row = words_bytes([bits; 8]);
+        return;
     }
+    let words: [u32; 8] = std::array::from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
+    *row = words_bytes(words.map(|word| (word & !depth_mask) | bits));
+}
+
+/// Eight words as their 32 little-endian bytes.
+#[inline(always)]
+fn words_bytes(words: [u32; 8]) -> [u8; 32] {
+    let mut bytes = [0u8; 32];
+    for (chunk, word) in bytes.chunks_exact_mut(4).zip(words) {
+        chunk.copy_from_slice(&word.to_le_bytes());
+    }
+    bytes
 }
 
 impl DepthBits for D32 {
@@ -284,21 +307,23 @@ impl DepthBits for D32 {
 
 /// The depth test without stencil, for the common case: per sample, the two rows of four
 /// pixels of the group are tested against their stored depths, and passing samples written.
-/// Returns the samples that passed, and how many were tested and written.
+/// Returns the samples that passed, how many were tested and written, and the range of the
+/// depth bits written (meaningful when some were).
 #[inline(always)]
 fn depth_only<D: DepthBits>(
     surface: &mut Surface,
     x: i32,
     y: i32,
     coverage: Coverage,
-    compare: crate::api::pipeline::CompareOp,
+    compare: CompareOp,
     write: bool,
     depth: &impl Fn(usize) -> F32x8,
-) -> (Coverage, u64, u64) {
+) -> (Coverage, u64, u64, BlockDepth) {
     let format = D::format();
     let rows = [surface.offset(x, y), surface.offset(x, y + 1)];
     let mut passed = coverage;
     let (mut tested, mut written) = (0, 0);
+    let mut written_depths = BlockDepth { min: u32::MAX, max: 0 };
     for s in 0..surface.samples() {
         let lanes = coverage.sample(s);
         if lanes.is_empty() {
@@ -306,7 +331,8 @@ fn depth_only<D: DepthBits>(
         }
         let z = depth(s);
         let fragment = format.depth_bits_lanes(z);
-        let plane = surface.plane_mut(s);
+        // The caller widens the block summary by `written_depths`.
+        let plane = surface.plane_mut_tracked(s);
         let mut pass = 0u8;
         for lane in 0..LANES {
             if !lanes.contains(lane) {
@@ -318,6 +344,7 @@ fn depth_only<D: DepthBits>(
                 pass |= 1 << lane;
                 if write {
                     D::store(stored, fragment[lane]);
+                    written_depths = written_depths.union(BlockDepth::constant(fragment[lane]));
                 }
             }
         }
@@ -325,7 +352,7 @@ fn depth_only<D: DepthBits>(
         written += if write { pass.count_ones() as u64 } else { 0 };
         passed.set_sample(s, LaneMask(pass));
     }
-    (passed, tested, written)
+    (passed, tested, written, written_depths)
 }
 
 /// Whether [`test_block`] can run the tests of `state` on `surface`: a depth test without a
@@ -347,6 +374,49 @@ pub trait RowDepths {
     /// zero): the primitive's depth is one value over the block.
     fn constant(&self) -> Option<f32> {
         None
+    }
+
+    /// Depths bounding every lane of every row of every sample of the block at `(x, y)` from
+    /// both sides (each of those depths lies between the least and the greatest lane, and none
+    /// is NaN), or `None` when not known. [`RowDepths::constant`]'s value by default.
+    fn bounds(&self, _x: i32, _y: i32) -> Option<F32x8> {
+        self.constant().map(F32x8::splat)
+    }
+}
+
+/// The range of the depth bits of `bounds` (see [`RowDepths::bounds`]): depth conversion is
+/// monotonic, so it holds every converted depth they bound.
+#[inline(always)]
+fn bits_range(format: Format, bounds: Option<F32x8>) -> Option<BlockDepth> {
+    let bounds = bounds?;
+    let bits = format.depth_bits_lanes(bounds);
+    Some(BlockDepth { min: bits.into_iter().min().unwrap_or(0), max: bits.into_iter().max().unwrap_or(u32::MAX) })
+}
+
+/// Decides a depth compare for every sample at once from the range of the fragment depths
+/// (`fragment`) and of the stored ones (`stored`): `Some(true)` when every sample passes,
+/// `Some(false)` when every sample fails, `None` when the ranges cannot tell.
+#[inline(always)]
+fn decide(compare: CompareOp, fragment: BlockDepth, stored: BlockDepth) -> Option<bool> {
+    let (f, s) = (fragment, stored);
+    let disjoint = || f.max < s.min || f.min > s.max;
+    let one_value = || f.min == f.max && s.min == s.max && f.min == s.min;
+    match compare {
+        CompareOp::Never => Some(false),
+        CompareOp::Always => Some(true),
+        CompareOp::Less if f.max < s.min => Some(true),
+        CompareOp::Less if f.min >= s.max => Some(false),
+        CompareOp::LessOrEqual if f.max <= s.min => Some(true),
+        CompareOp::LessOrEqual if f.min > s.max => Some(false),
+        CompareOp::Greater if f.min > s.max => Some(true),
+        CompareOp::Greater if f.max <= s.min => Some(false),
+        CompareOp::GreaterOrEqual if f.min >= s.max => Some(true),
+        CompareOp::GreaterOrEqual if f.max < s.min => Some(false),
+        CompareOp::Equal if disjoint() => Some(false),
+        CompareOp::Equal if one_value() => Some(true),
+        CompareOp::NotEqual if disjoint() => Some(true),
+        CompareOp::NotEqual if one_value() => Some(false),
+        _ => None,
     }
 }
 
@@ -375,40 +445,55 @@ pub fn test_block(
     traffic: &mut FramebufferTraffic,
     ledger: &mut Ledger,
 ) {
-    use crate::api::pipeline::CompareOp;
     let write = state.depth_write;
-    // Hierarchical Z in the tile (`raster::target::DepthBlocks`): a block wholly covered, in
-    // every sample, by a primitive of one depth.
+    let format = surface.format;
+    let bytes = format.depth_access_bytes(false) as u32;
+    // Hierarchical Z in the tile (`raster::target::DepthBlocks`): the range of the stored
+    // depths of the block against the range of the primitive's depths over it.
     let samples = masks.len();
-    // (The primitive's flatness first: it is two compares, the block's summary a lookup.)
-    let full_constant = match depth.constant() {
-        Some(z) if samples == surface.samples() && masks.iter().all(|m| *m == u64::MAX) => surface
-            .block_depth(x, y)
-            .map(|(index, known)| (index, known, surface.format.depth_bits_lanes(F32x8::splat(z))[0])),
-        _ => None,
+    let summary = surface.block_depth(x, y);
+    // (No closures here: they would be compiled for the baseline instruction set.)
+    let fragment = match (summary, depth.constant()) {
+        (None, _) => None,
+        // (The lanes' conversion: the scalar one saturates, which costs more.)
+        (Some(_), Some(z)) => Some(BlockDepth::constant(format.depth_bits_lanes(F32x8::splat(z))[0])),
+        (Some(_), None) => bits_range(format, depth.bounds(x, y)),
     };
-    let bytes = surface.format.depth_access_bytes(false) as u32;
-    if let Some((index, BlockDepth::Constant(stored), fragment)) = full_constant {
-        // Every sample holds `stored`: one compare decides all of them, with the same
-        // results, writes and counts as testing them one by one.
-        let count = 64 * samples as u64;
-        let written = if state.depth_compare.test(fragment, stored) {
-            if write && fragment != stored {
-                match surface.format {
-                    Format::D16Unorm => fill_block::<D16>(surface, x, y, fragment),
-                    Format::D24UnormS8Uint => fill_block::<D24>(surface, x, y, fragment),
-                    _ => fill_block::<D32>(surface, x, y, fragment),
+    if let (Some((index, stored)), Some(fragment)) = (summary, fragment) {
+        match decide(state.depth_compare, fragment, stored) {
+            // Every covered sample fails, or passes without a write: one compare, the same
+            // results and counts as testing them one by one.
+            Some(pass) if !pass || !write => {
+                let count: u64 = masks.iter().map(|m| m.count_ones() as u64).sum();
+                if !pass {
+                    masks.fill(0);
                 }
-                surface.set_block_depth(index, BlockDepth::Constant(fragment));
+                traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
+                traffic.accesses(ledger, Aspect::Depth, bytes, 0, true);
+                return;
             }
-            if write { count } else { 0 }
-        } else {
-            masks.fill(0);
-            0
-        };
-        traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
-        traffic.accesses(ledger, Aspect::Depth, bytes, written, true);
-        return;
+            // Every sample passes and takes the primitive's one depth: one fill.
+            Some(_)
+                if fragment.min == fragment.max
+                    && samples == surface.samples()
+                    && masks.iter().all(|m| *m == u64::MAX) =>
+            {
+                let value = fragment.min;
+                if stored.value() != Some(value) {
+                    match format {
+                        Format::D16Unorm => fill_block::<D16>(surface, x, y, value),
+                        Format::D24UnormS8Uint => fill_block::<D24>(surface, x, y, value),
+                        _ => fill_block::<D32>(surface, x, y, value),
+                    }
+                    surface.set_block_depth(index, fragment);
+                }
+                let count = 64 * samples as u64;
+                traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
+                traffic.accesses(ledger, Aspect::Depth, bytes, count, true);
+                return;
+            }
+            _ => {}
+        }
     }
     macro_rules! run {
         ($d:ty) => {
@@ -430,12 +515,14 @@ pub fn test_block(
         _ => run!(D32),
     };
     if written > 0 {
-        match full_constant {
-            // Every sample passed and was written with the one fragment depth.
-            Some((index, _, fragment)) if masks.iter().all(|m| *m == u64::MAX) => {
-                surface.set_block_depth(index, BlockDepth::Constant(fragment))
+        match (summary, fragment) {
+            // Every sample passed and was written: the block holds the primitive's depths.
+            (Some((index, _)), Some(fragment))
+                if samples == surface.samples() && masks.iter().all(|m| *m == u64::MAX) =>
+            {
+                surface.set_block_depth(index, fragment)
             }
-            _ => surface.block_written(x, y),
+            _ => surface.block_written(x, y, fragment),
         }
     }
     // Depth alone: a packed D24S8 sample moves as a whole word.
@@ -501,13 +588,18 @@ fn block_rows<D: DepthBits>(
 }
 
 /// Writes depth `bits` to every sample of the 8×8 block at `(x, y)` (wholly in `surface`),
-/// leaving stencil bits alone.
+/// leaving stencil bits alone. Inlined into the caller's instruction set: each row is one
+/// 16- or 32-byte read, mask and write.
+#[inline(always)]
 fn fill_block<D: DepthBits>(surface: &mut Surface, x: i32, y: i32, bits: u32) {
-    let offsets: [usize; 8] = std::array::from_fn(|r| surface.offset(x, y + r as i32));
+    let first = surface.offset(x, y);
+    let pitch = surface.offset(x, y + 1) - first;
     for s in 0..surface.samples() {
         let plane = surface.plane_mut_tracked(s);
-        for &offset in &offsets {
-            D::fill_row(&mut plane[offset..offset + 8 * D::BYTES], bits);
+        // One bounds check for the block's eight rows.
+        let block = &mut plane[first..first + 7 * pitch + 8 * D::BYTES];
+        for row in block.chunks_mut(pitch) {
+            D::fill_row(row, bits);
         }
     }
 }
@@ -539,29 +631,56 @@ fn pack(format: Format, bytes: &mut [u8], depth: u32, stencil: u8) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::api::pipeline::CompareOp;
+    use crate::api::pipeline::{StencilFaceState, StencilOp};
     use crate::raster::PixelRect;
     use crate::raster::target::DepthBlocks;
+    use crate::shade::interpolate::Interpolator;
     use proptest::prelude::*;
 
-    /// Fragment depths of a block: one value, or one per sample, row and lane.
+    /// Fragment depths of a block: one value, one per sample, row and lane (no bounds), or a
+    /// depth plane sampled at each sample's offset within the pixel.
     struct Depths {
+        x: i32,
         y0: i32,
         constant: Option<f32>,
         lanes: Vec<[f32; 8]>,
+        plane: Option<Interpolator>,
+    }
+
+    /// Offsets of the samples within the pixel for the plane depths (sample 0 at the centre).
+    const SAMPLE_OFFSETS: [(f32, f32); 4] = [(0.5, 0.5), (0.375, 0.125), (0.875, 0.375), (0.125, 0.625)];
+
+    impl Depths {
+        fn sample_offset(&self, sample: usize) -> (f32, f32) {
+            SAMPLE_OFFSETS[sample]
+        }
     }
 
     impl RowDepths for Depths {
         fn row(&self, sample: usize, y: i32) -> F32x8 {
-            match self.constant {
-                Some(z) => F32x8::splat(z),
-                None => F32x8(self.lanes[sample * 8 + (y - self.y0) as usize]),
+            match (self.constant, &self.plane) {
+                (Some(z), _) => F32x8::splat(z),
+                (None, Some(plane)) => {
+                    let (dx, dy) = self.sample_offset(sample);
+                    plane.row_depth(self.x, y, dx, dy)
+                }
+                (None, None) => F32x8(self.lanes[sample * 8 + (y - self.y0) as usize]),
             }
         }
         fn constant(&self) -> Option<f32> {
             self.constant
         }
+        fn bounds(&self, x: i32, y: i32) -> Option<F32x8> {
+            match (self.constant, &self.plane) {
+                (Some(z), _) => Some(F32x8::splat(z)),
+                (None, Some(plane)) => plane.depth_corners(x, y, [0.125, 0.875], [0.125, 0.625]),
+                (None, None) => None,
+            }
+        }
     }
+
+    /// Gradients of the plane depths: flat, tiny, ordinary, steep, and not finite.
+    const GRADIENTS: [f32; 10] = [0.0, -0.0, 1e-6, -1e-6, 0.01, -0.03, 0.2, 1e30, f32::INFINITY, f32::NAN];
 
     /// Depths with ties and out-of-range values, so that every compare op sees equal, lesser
     /// and greater values and the conversion clamps.
@@ -573,23 +692,64 @@ mod tests {
         Clear { depth: usize },
         /// Tests block `block` of the tile.
         Test { block: usize, compare: usize, write: bool, full: bool, masks: [u64; 4], depth: Depth },
+        /// Tests one 4×2 group of the tile (`test_group`: late tests, discard, stencil), with
+        /// a stencil test (that writes) when `stencil` and the format has stencil.
+        Group { group: usize, compare: usize, write: bool, stencil: Option<(usize, u8)>, lanes: [u8; 4], depth: Depth },
     }
 
     #[derive(Clone, Debug)]
     enum Depth {
         Constant(usize),
         Lanes(Vec<usize>),
+        /// A plane: depth `DEPTHS[z0]` at `origin`, gradients `GRADIENTS[dz]`.
+        Plane {
+            origin: (i8, i8),
+            z0: usize,
+            dz: (usize, usize),
+        },
+    }
+
+    impl Depth {
+        fn depths(&self, x: i32, y0: i32) -> Depths {
+            match self {
+                Depth::Constant(i) => Depths { x, y0, constant: Some(DEPTHS[*i]), lanes: Vec::new(), plane: None },
+                Depth::Lanes(indices) => Depths {
+                    x,
+                    y0,
+                    constant: None,
+                    lanes: indices.chunks(8).map(|c| std::array::from_fn(|l| DEPTHS[c[l]])).collect(),
+                    plane: None,
+                },
+                Depth::Plane { origin, z0, dz } => Depths {
+                    x,
+                    y0,
+                    constant: None,
+                    lanes: Vec::new(),
+                    plane: Some(Interpolator::depth_plane(
+                        [origin.0 as f32 + 40.0, origin.1 as f32 + 24.0],
+                        DEPTHS[*z0],
+                        [GRADIENTS[dz.0], GRADIENTS[dz.1]],
+                    )),
+                },
+            }
+        }
     }
 
     fn step() -> impl Strategy<Value = Step> {
-        let depth = prop_oneof![
-            3 => (0..DEPTHS.len()).prop_map(Depth::Constant),
-            1 => proptest::collection::vec(0..DEPTHS.len(), 4 * 64).prop_map(Depth::Lanes),
-        ];
+        let depth = || {
+            prop_oneof![
+                3 => (0..DEPTHS.len()).prop_map(Depth::Constant),
+                1 => proptest::collection::vec(0..DEPTHS.len(), 4 * 64).prop_map(Depth::Lanes),
+                3 => (any::<(i8, i8)>(), 0..DEPTHS.len(), (0..GRADIENTS.len(), 0..GRADIENTS.len()))
+                    .prop_map(|(origin, z0, dz)| Depth::Plane { origin, z0, dz }),
+            ]
+        };
         prop_oneof![
             1 => (0..DEPTHS.len()).prop_map(|depth| Step::Clear { depth }),
-            6 => (0..4usize, 0..8usize, any::<bool>(), prop::bool::weighted(0.8), any::<[u64; 4]>(), depth)
+            6 => (0..4usize, 0..8usize, any::<bool>(), prop::bool::weighted(0.6), any::<[u64; 4]>(), depth())
                 .prop_map(|(block, compare, write, full, masks, depth)| Step::Test { block, compare, write, full, masks, depth }),
+            2 => (0..32usize, 0..8usize, any::<bool>(), proptest::option::of((0..8usize, any::<u8>())), any::<[u8; 4]>(), depth())
+                .prop_map(|(group, compare, write, stencil, lanes, depth)| Step::Group { group, compare, write, stencil, lanes, depth }),
         ]
     }
 
@@ -622,7 +782,7 @@ mod tests {
             let plane = side * side * format.bytes_per_sample();
             let mut summarised = initial[..plane * samples].to_vec();
             let mut reference = summarised.clone();
-            let mut states = vec![BlockDepth::Mixed; 4];
+            let mut states = vec![BlockDepth::UNKNOWN; 4];
             let mut with_blocks = Surface::new(format, origin, side, summarised.chunks_mut(plane))
                 .with_blocks(DepthBlocks::new(&mut states, side / 8));
             with_blocks.start_blocks(&rect, None);
@@ -654,20 +814,54 @@ mod tests {
                             depth_compare: COMPARES[compare],
                             ..DepthStencilState::DISABLED
                         };
-                        let depths = match depth {
-                            Depth::Constant(i) => Depths { y0: y, constant: Some(DEPTHS[i]), lanes: Vec::new() },
-                            Depth::Lanes(indices) => Depths {
-                                y0: y,
-                                constant: None,
-                                lanes: indices.chunks(8).map(|c| std::array::from_fn(|l| DEPTHS[c[l]])).collect(),
-                            },
-                        };
+                        let depths = depth.depths(x, y);
                         let mut masks_a: Vec<u64> = (0..samples).map(|s| if full { u64::MAX } else { masks[s] }).collect();
                         let mut masks_b = masks_a.clone();
                         prop_assert!(block_test_applies(&with_blocks, &state, &traffic_a));
                         test_block(&mut with_blocks, x, y, &mut masks_a, &state, &depths, &mut traffic_a, &mut ledger_a);
                         test_block(&mut per_sample, x, y, &mut masks_b, &state, &depths, &mut traffic_b, &mut ledger_b);
                         prop_assert_eq!(&masks_a, &masks_b);
+                        prop_assert_eq!(traffic_a.on_chip_bytes, traffic_b.on_chip_bytes);
+                    }
+                    Step::Group { group, compare, write, stencil, lanes, depth } => {
+                        // Groups of 4×2 pixels, four across and eight down the tile.
+                        let (x, y) = (origin.0 + 4 * (group % 4) as i32, origin.1 + 2 * (group / 4) as i32);
+                        let face = match stencil {
+                            Some((op, reference)) => StencilFaceState {
+                                compare: COMPARES[op],
+                                fail_op: StencilOp::Invert,
+                                depth_fail_op: StencilOp::IncrementAndWrap,
+                                pass_op: StencilOp::Replace,
+                                reference,
+                                ..StencilFaceState::KEEP
+                            },
+                            None => StencilFaceState::KEEP,
+                        };
+                        let state = DepthStencilState {
+                            depth_test: true,
+                            depth_write: write,
+                            depth_compare: COMPARES[compare],
+                            stencil_test: stencil.is_some(),
+                            front: face,
+                            back: face,
+                        };
+                        let depths = depth.depths(x & !7, y & !7);
+                        let at = |s: usize| match (&depths.plane, depths.constant) {
+                            (_, Some(z)) => F32x8::splat(z),
+                            (Some(plane), None) => {
+                                let (dx, dy) = depths.sample_offset(s);
+                                let (px, py) = Interpolator::positions(x, y, dx, dy);
+                                plane.depth(px, py)
+                            }
+                            (None, None) => F32x8(depths.lanes[s * 8 + (y & 7) as usize]),
+                        };
+                        let mut coverage = Coverage::NONE;
+                        for (s, bits) in lanes.iter().enumerate().take(samples) {
+                            coverage.set_sample(s, LaneMask(*bits));
+                        }
+                        let a = test_group(&mut with_blocks, x, y, coverage, &state, true, at, &mut traffic_a, &mut ledger_a);
+                        let b = test_group(&mut per_sample, x, y, coverage, &state, true, at, &mut traffic_b, &mut ledger_b);
+                        prop_assert_eq!(a, b);
                         prop_assert_eq!(traffic_a.on_chip_bytes, traffic_b.on_chip_bytes);
                     }
                 }
@@ -687,26 +881,61 @@ mod tests {
         let format = Format::D24UnormS8Uint;
         let rect = PixelRect::new(0, 0, 8, 8);
         let mut bytes = vec![0u8; 64 * 4];
-        let mut states = vec![BlockDepth::Mixed; 1];
+        let mut states = vec![BlockDepth::UNKNOWN; 1];
         let mut surface =
             Surface::new(format, (0, 0), 8, [&mut bytes[..]]).with_blocks(DepthBlocks::new(&mut states, 1));
         surface.start_blocks(&rect, Some(format.depth_bits(1.0)));
         let (mut traffic, mut ledger) = (FramebufferTraffic::on_chip(), Ledger::default());
-        let near = Depths { y0: 0, constant: Some(0.25), lanes: Vec::new() };
+        let near = Depths { x: 0, y0: 0, constant: Some(0.25), lanes: Vec::new(), plane: None };
         let mut masks = [u64::MAX];
         test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &near, &mut traffic, &mut ledger);
         assert_eq!(masks, [u64::MAX]);
-        assert_eq!(surface.block_depth(0, 0), Some((0, BlockDepth::Constant(format.depth_bits(0.25)))));
-        let far = Depths { y0: 0, constant: Some(0.5), lanes: Vec::new() };
+        assert_eq!(surface.block_depth(0, 0), Some((0, BlockDepth::constant(format.depth_bits(0.25)))));
+        let far = Depths { x: 0, y0: 0, constant: Some(0.5), lanes: Vec::new(), plane: None };
         test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &far, &mut traffic, &mut ledger);
         assert_eq!(masks, [0]);
         // Tested 64 + 64 samples, written 64, four bytes each.
         assert_eq!(traffic.on_chip_bytes, (64 + 64 + 64) * 4);
-        // A partial block leaves the summary unknown; an untracked write forgets all of it.
+        // A partial block widens the range by what it wrote.
         let mut masks = [1u64];
-        let nearer = Depths { y0: 0, constant: Some(0.125), lanes: Vec::new() };
+        let nearer = Depths { x: 0, y0: 0, constant: Some(0.125), lanes: Vec::new(), plane: None };
         test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &nearer, &mut traffic, &mut ledger);
-        assert_eq!(surface.block_depth(0, 0), Some((0, BlockDepth::Mixed)));
+        let range = BlockDepth { min: format.depth_bits(0.125), max: format.depth_bits(0.25) };
+        assert_eq!(surface.block_depth(0, 0), Some((0, range)));
+        // A sloped primitive wholly behind the range is rejected from it, covering the block or
+        // not, without reading a sample: the bytes stay as they are.
+        let before = surface.plane(0).to_vec();
+        let behind = Interpolator::depth_plane([0.0, 0.0], 0.3, [0.01, 0.02]);
+        let sloped = Depths { x: 0, y0: 0, constant: None, lanes: Vec::new(), plane: Some(behind) };
+        for covered in [u64::MAX, 0x00ff_ff00] {
+            let mut masks = [covered];
+            test_block(
+                &mut surface,
+                0,
+                0,
+                &mut masks,
+                &DepthStencilState::LESS_WRITE,
+                &sloped,
+                &mut traffic,
+                &mut ledger,
+            );
+            assert_eq!(masks, [0]);
+        }
+        assert_eq!(surface.plane(0), &before[..]);
+        // One in front over the whole block passes and leaves the block the range of its
+        // corners (those `Depths::bounds` gives, for any of the four samples' offsets).
+        let front = Interpolator::depth_plane([0.0, 0.0], 0.01, [0.001, 0.002]);
+        let sloped = Depths { x: 0, y0: 0, constant: None, lanes: Vec::new(), plane: Some(front) };
+        let mut masks = [u64::MAX];
+        test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &sloped, &mut traffic, &mut ledger);
+        assert_eq!(masks, [u64::MAX]);
+        let corners = front.depth_corners(0, 0, [0.125, 0.875], [0.125, 0.625]).unwrap();
+        assert_eq!(surface.block_depth(0, 0).map(|(i, b)| (i, Some(b))), Some((0, bits_range(format, Some(corners)))));
+        assert_eq!(
+            stored_depth_bits(format, &surface.plane(0)[..4]),
+            format.depth_bits(0.01 + 0.5 * 0.001 + 0.5 * 0.002)
+        );
+        // An untracked write forgets all of the summary.
         surface.start_blocks(&rect, Some(0));
         let _ = surface.plane_mut(0);
         assert_eq!(surface.block_depth(0, 0), None);

@@ -912,6 +912,27 @@ impl depth::RowDepths for BlockDepths<'_> {
     fn constant(&self) -> Option<f32> {
         self.interpolator.constant_depth()
     }
+
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn bounds(&self, x: i32, y: i32) -> Option<F32x8> {
+        if let Some(z) = self.interpolator.constant_depth() {
+            return Some(F32x8::splat(z));
+        }
+        // The offsets `row` uses, least and greatest over the samples.
+        let (dx, dy) = if self.locations.count() > 1 {
+            let scale = crate::raster::fixed::SUBPIXEL_SCALE as f32;
+            let (mut dx, mut dy) = ([f32::INFINITY, f32::NEG_INFINITY], [f32::INFINITY, f32::NEG_INFINITY]);
+            for s in 0..self.locations.count() {
+                let (sx, sy) = self.locations.offset(s);
+                let (sx, sy) = (sx as f32 / scale, sy as f32 / scale);
+                (dx, dy) = ([dx[0].min(sx), dx[1].max(sx)], [dy[0].min(sy), dy[1].max(sy)]);
+            }
+            (dx, dy)
+        } else {
+            ([0.5; 2], [0.5; 2])
+        };
+        self.interpolator.depth_corners(x, y, dx, dy)
+    }
 }
 
 /// Per-lane sample masks as coverage.

@@ -27,26 +27,49 @@ pub struct Surface<'a> {
     blocks: Option<DepthBlocks<'a>>,
 }
 
-/// What is known of one 8×8 block of a depth attachment in the tile buffer.
+/// What is known of one 8×8 block of a depth attachment in the tile buffer: every sample of
+/// every pixel of the block holds depth bits in `min..=max` (stencil bits aside). The bounds
+/// need not be tight; `min == max` means the block holds that one value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BlockDepth {
-    /// Nothing: the samples may hold different depths (test them one by one).
-    Mixed,
-    /// Every sample of every pixel of the block holds these depth bits (stencil bits aside).
-    Constant(u32),
+pub struct BlockDepth {
+    pub min: u32,
+    pub max: u32,
+}
+
+impl BlockDepth {
+    /// Nothing known: the samples may hold any depth (test them one by one).
+    pub const UNKNOWN: BlockDepth = BlockDepth { min: 0, max: u32::MAX };
+
+    /// Every sample holds `bits`.
+    pub const fn constant(bits: u32) -> BlockDepth {
+        BlockDepth { min: bits, max: bits }
+    }
+
+    /// The one value every sample holds, if the bounds say so.
+    pub fn value(self) -> Option<u32> {
+        (self.min == self.max).then_some(self.min)
+    }
+
+    /// Bounds holding both `self`'s values and `other`'s.
+    #[inline(always)]
+    pub fn union(self, other: BlockDepth) -> BlockDepth {
+        BlockDepth { min: self.min.min(other.min), max: self.max.max(other.max) }
+    }
 }
 
 /// Per-block depth summary of a tile's depth attachment: hierarchical Z in the tile.
 ///
 /// The sample bytes stay authoritative — load, store, resolve, input attachments and the
 /// group-by-group tests read them as before, and the ledger counts the modelled GPU's accesses
-/// per sample whatever the host does. The summary only lets a test of a whole covered block by
-/// a primitive of constant depth (`depth::test_block`) decide the block with one compare: all
-/// samples fail (early-Z or HSR rejects the block without reading a sample), or all pass (the
-/// block is filled with one value). So that no writer can leave it stale, every mutable access
-/// to the planes other than the depth tests' own ([`Surface::plane_mut`], [`Surface::row_mut`])
-/// marks the whole summary unknown until the next [`Surface::start_blocks`] (the next tile's
-/// load).
+/// per sample whatever the host does. The summary (a range of stored depths per block) only
+/// lets a block test (`depth::test_block`) decide with one compare of the primitive's depth
+/// range over the block against the block's: all covered samples fail (early-Z or HSR rejects
+/// them without reading a sample), or all pass (a covering primitive of one depth fills the
+/// block with one value). The depth tests keep the ranges right as they write (a block test or
+/// a group test widens its block's range by what it wrote); so that no other writer can leave
+/// it stale, every other mutable access to the planes ([`Surface::plane_mut`],
+/// [`Surface::row_mut`]) marks the whole summary unknown until the next
+/// [`Surface::start_blocks`] (the next tile's load).
 ///
 /// Measured on SCENES.md overdraw (TBDR, 960×540, one thread, callgrind) — see
 /// docs/benchmarking.md, "TBDR overdraw: block-constant depth".
@@ -110,8 +133,8 @@ impl<'a> Surface<'a> {
             let y = origin_y + 8 * (i / blocks.columns) as i32;
             let inside = x >= rect.x0 && y >= rect.y0 && x + 8 <= rect.x1 && y + 8 <= rect.y1;
             *state = match depth_bits {
-                Some(bits) if inside => BlockDepth::Constant(bits),
-                _ => BlockDepth::Mixed,
+                Some(bits) if inside => BlockDepth::constant(bits),
+                _ => BlockDepth::UNKNOWN,
             };
         }
         blocks.valid = true;
@@ -143,13 +166,33 @@ impl<'a> Surface<'a> {
         }
     }
 
-    /// Notes that the depth tests wrote samples of the 8×8 block at `(x, y)`: its summary
-    /// becomes unknown (all of it, if that is not a block of the summary).
+    /// Notes that the depth tests wrote samples of the 8×8 block at `(x, y)`, with depth bits
+    /// within `written` (`None`: not known): its range widens to hold them (the whole summary
+    /// becomes unknown if that is not a block of it).
     #[inline(always)]
-    pub(crate) fn block_written(&mut self, x: i32, y: i32) {
+    pub(crate) fn block_written(&mut self, x: i32, y: i32, written: Option<BlockDepth>) {
         match self.block_depth(x, y) {
-            Some((index, _)) => self.set_block_depth(index, BlockDepth::Mixed),
+            Some((index, known)) => {
+                self.set_block_depth(index, written.map_or(BlockDepth::UNKNOWN, |w| known.union(w)))
+            }
             None => self.forget_blocks(),
+        }
+    }
+
+    /// Notes that the depth tests wrote depth bits within `written` to samples of the 4×2 group
+    /// at `(x, y)`: the range of the block holding it widens to hold them (the whole summary
+    /// becomes unknown if the group is not inside one block of it).
+    #[inline(always)]
+    pub(crate) fn group_written(&mut self, x: i32, y: i32, written: BlockDepth) {
+        let (origin_x, origin_y) = (self.origin_x, self.origin_y);
+        let Some(blocks) = self.blocks.as_mut().filter(|b| b.valid) else { return };
+        let (dx, dy) = (x.wrapping_sub(origin_x) as u32, y.wrapping_sub(origin_y) as u32);
+        let column = (dx >> 3) as usize;
+        let index = (dy >> 3) as usize * blocks.columns + column;
+        if dx & 7 <= 4 && dy & 7 <= 6 && column < blocks.columns && index < blocks.states.len() {
+            blocks.states[index] = blocks.states[index].union(written);
+        } else {
+            blocks.valid = false;
         }
     }
 

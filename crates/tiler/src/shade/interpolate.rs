@@ -79,6 +79,35 @@ impl Interpolator {
         (self.dz[0] == 0.0 && self.dz[1] == 0.0).then_some(self.z0)
     }
 
+    /// Depths bounding [`Interpolator::row_depth`] over the rows `y..y + 8`, pixels
+    /// `x..x + 8` and offsets within each pixel in `dx[0]..=dx[1]`, `dy[0]..=dy[1]`: its value
+    /// at the four corners (lanes 0–3; the others repeat lane 0), computed with the same
+    /// operations. Each operation rounds monotonically in each operand, so every depth it
+    /// gives in that range lies between the corners' least and greatest. `None` when a
+    /// gradient or a corner is not finite (then a depth inside could be NaN).
+    #[inline(always)]
+    pub fn depth_corners(&self, x: i32, y: i32, dx: [f32; 2], dy: [f32; 2]) -> Option<F32x8> {
+        if !(self.dz[0].is_finite() && self.dz[1].is_finite()) {
+            return None;
+        }
+        let row = |y: i32, dy: f32| (y as f32 + dy - self.origin[1]) * self.dz[1] + self.z0;
+        let column = |x: i32, dx: f32| ((x as f32 + dx) - self.origin[0]) * self.dz[0];
+        let rows = [row(y, dy[0]), row(y + 7, dy[1])];
+        let columns = [column(x, dx[0]), column(x + 7, dx[1])];
+        let corners = [rows[0] + columns[0], rows[0] + columns[1], rows[1] + columns[0], rows[1] + columns[1]];
+        corners
+            .iter()
+            .all(|z| z.is_finite())
+            .then(|| F32x8(std::array::from_fn(|i| corners[if i < 4 { i } else { 0 }])))
+    }
+
+    /// An interpolator of depth alone: `z0` at `origin`, gradients `dz` (for tests of the
+    /// depth paths).
+    #[cfg(test)]
+    pub(crate) fn depth_plane(origin: [f32; 2], z0: f32, dz: [f32; 2]) -> Interpolator {
+        Interpolator { origin, l1: [0.0; 2], l2: [0.0; 2], z0, dz, q: [1.0; 3] }
+    }
+
     /// Perspective-correct barycentrics `(b1, b2)`.
     #[inline(always)]
     pub fn perspective(&self, l1: F32x8, l2: F32x8) -> (F32x8, F32x8) {

@@ -26,7 +26,7 @@ impl TileBuffer {
                 .iter()
                 .map(|&(format, _)| {
                     let summary = blocks_fit && format.has_depth();
-                    vec![BlockDepth::Mixed; if summary { (w / 8) * (h / 8) } else { 0 }]
+                    vec![BlockDepth::UNKNOWN; if summary { (w / 8) * (h / 8) } else { 0 }]
                 })
                 .collect(),
             tile_width: w,
