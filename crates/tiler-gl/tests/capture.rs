@@ -1501,3 +1501,40 @@ fn array_uploads_above_level_0_and_rendering_into_a_layer_are_errors_naming_the_
     let message = error.to_string();
     assert!(message.contains("glFramebufferTextureLayer") && message.contains("layer 1 of texture 9"), "{message}");
 }
+
+/// `tools/float-probe`'s `precision.frag`, recorded on llvmpipe (a headless program drawing into
+/// a pbuffer, which tiler takes as its window): each pixel holds the bits of one float, a
+/// `mediump` or `highp` expression per column. tiler computes llvmpipe's bits exactly but for
+/// two binary16 ulps where llvmpipe's `inversesqrt` (an approximation refined by one Newton
+/// step) rounds the other way (`normalize` and `inversesqrt` of the last row).
+#[test]
+fn float_probe_precision_is_llvmpipes_to_the_bit() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/float-probe");
+    let expected = std::fs::read_to_string(dir.join("precision.txt")).unwrap();
+    let expected: Vec<Vec<u32>> =
+        expected.lines().map(|l| l.split_whitespace().map(|w| u32::from_str_radix(w, 16).unwrap()).collect()).collect();
+    let options = ReplayOptions { snapshots: vec![29], ..ReplayOptions::default() };
+    let mut frames = Vec::new();
+    tiler_gl::capture::replay_file(dir.join("precision.trace"), &options, &mut |f| {
+        frames.push((f.width, f.height, f.rgba.to_vec()));
+        Ok(())
+    })
+    .unwrap();
+    let (w, h, rgba) = &frames[0];
+    assert_eq!((*w, *h), (64, 64), "the pbuffer's size");
+    let known = [(3, 6), (3, 8)];
+    let mut differ = Vec::new();
+    for (y, row) in expected.iter().enumerate() {
+        for (x, &want) in row.iter().enumerate() {
+            // Rows top first in the snapshot; the probe printed from y = 0 (the bottom) up.
+            let at = ((*h as usize - 1 - y) * *w as usize + x) * 4;
+            let got = u32::from_be_bytes(rgba[at..at + 4].try_into().unwrap());
+            if got != want {
+                differ.push((y, x, f32::from_bits(got), f32::from_bits(want)));
+            }
+        }
+    }
+    let unexpected: Vec<_> = differ.iter().filter(|(y, x, ..)| !known.contains(&(*y, *x))).collect();
+    assert!(unexpected.is_empty(), "differ from llvmpipe (y, x, tiler, llvmpipe): {unexpected:?}");
+    assert_eq!(differ.len(), known.len(), "the known differences are still there: {differ:?}");
+}

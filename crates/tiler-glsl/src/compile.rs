@@ -595,6 +595,11 @@ impl<'a> Compiler<'a> {
     fn bin(&mut self, op: BinOp, a: Reg, b: Reg) -> Reg {
         use BinOp as B;
         let prec = self.prec(a).max(self.prec(b));
+        if let (Some(x), Some(y)) = (self.constant(a), self.constant(b)) {
+            // Constants only (no precision): folded now, with the executor's arithmetic, as
+            // `fold` would later; a variable initialised so is then seen to be a constant.
+            return self.konst(crate::exec::binary(op, [x], [y])[0]);
+        }
         let lower = prec == Prec::Medium
             && matches!(
                 op,
@@ -640,6 +645,15 @@ impl<'a> Compiler<'a> {
         let d = self.temp();
         self.emit(Inst::Tri(op, d, a, b, c));
         self.lowered_result(d, prec, lower, false)
+    }
+
+    /// The value of `r` if it is a compile-time constant of the bank.
+    fn constant(&self, r: Reg) -> Option<f32> {
+        if r & BANK == 0 {
+            return None;
+        }
+        let value = self.bank[(r & !BANK) as usize];
+        (self.consts.get(&value.to_bits()) == Some(&r)).then_some(value)
     }
 
     // ---- precision ----
@@ -1086,7 +1100,7 @@ impl<'a> Compiler<'a> {
                     Storage::Const => Prec::None,
                     _ => self.declared_prec(head.ty.qualifier.as_ref(), &base),
                 };
-                let var = VarDecl { storage, location, flat, global };
+                let var = VarDecl { storage, location, flat, global, prec };
                 if let Some(name) = &head.name {
                     let ty = self.arrayed(base.clone(), head.array_specifier.as_ref())?;
                     self.variable(name.as_str(), ty, var, head.initializer.as_ref())?;
@@ -1105,7 +1119,7 @@ impl<'a> Compiler<'a> {
     }
 
     fn variable(&mut self, name: &str, ty: Type, var: VarDecl, init: Option<&ast::Initializer>) -> CResult<()> {
-        let VarDecl { storage, location, flat, global } = var;
+        let VarDecl { storage, location, flat, global, prec } = var;
         if ty == Type::Void {
             return self.fail(format!("'{name}' declared void"));
         }
@@ -1232,7 +1246,15 @@ impl<'a> Compiler<'a> {
                             v.regs
                         } else {
                             let regs = self.temps(ty.size());
+                            // A `mediump` float initialised with a constant holds it in
+                            // binary16: llvmpipe reads `mediump float n = 1.0 / 7.0` back as
+                            // 0.142822266 even where only single precision uses it.
+                            let round = !is_const && prec == Prec::Medium && ty.scalar() == Some(Scalar::Float);
                             for (&d, &s) in regs.iter().zip(&v.regs) {
+                                let s = match self.constant(s) {
+                                    Some(x) if round => self.konst(crate::exec::round_half(x)),
+                                    _ => s,
+                                };
                                 self.emit(Inst::Un(UnOp::Mov, d, s));
                             }
                             regs
@@ -1420,6 +1442,8 @@ struct VarDecl {
     location: Option<u32>,
     flat: bool,
     global: bool,
+    /// The declared precision (see [`Prec`]).
+    prec: Prec,
 }
 
 /// Whether a declaration is qualified `flat` (ES 3.00).
@@ -2833,6 +2857,17 @@ impl<'a> Compiler<'a> {
             "normalize" => {
                 arity(self, 1)?;
                 let v = self.vector_arg(name, args[0].clone())?;
+                if v.regs.iter().map(|&r| self.prec(r)).max() == Some(Prec::Medium) {
+                    // Binary16: Mesa's `v · inversesqrt(dot(v, v))`, rounded as llvmpipe
+                    // rounds it. Single precision keeps `v / length(v)`, the native shaders'
+                    // `normalize3` (their pictures are compared bit for bit).
+                    let d = self.dot(&v.regs, &v.regs);
+                    let r = self.un(UnOp::InverseSqrt, d);
+                    return Ok(Value {
+                        ty: v.ty.clone(),
+                        regs: v.regs.iter().map(|&c| self.bin(BinOp::Mul, c, r)).collect(),
+                    });
+                }
                 let len = self.length(&v.regs);
                 Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&r| self.bin(BinOp::Div, r, len)).collect() })
             }
