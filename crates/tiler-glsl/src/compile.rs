@@ -2558,6 +2558,20 @@ impl<'a> Compiler<'a> {
                 comps.truncate(n * n);
                 Ok(Value { ty, regs: comps })
             }
+            Type::Array(elem, n) => {
+                // ES 3.00 §5.4.4: one argument per element, of the element's type.
+                if args.len() != *n {
+                    return self.fail(format!("{ty} needs {n} elements, {} given", args.len()));
+                }
+                let mut regs = Vec::with_capacity(ty.size());
+                for v in args {
+                    if v.ty != **elem {
+                        return self.fail(format!("{ty}: an element of type {}", v.ty));
+                    }
+                    regs.extend(v.regs);
+                }
+                Ok(Value { ty, regs })
+            }
             _ => self.fail(format!("cannot construct a {ty}")),
         }
     }

@@ -1759,3 +1759,26 @@ void main() {
     assert_eq!(out[..3], [10.0, 41.0, 13.0]);
     assert!(out[3] < 1e-5, "inverse · m differs from the identity by {}", out[3]);
 }
+
+/// ES 3.00 array constructors (§5.4.4), of scalars and of structs, in initialisers and
+/// expressions; a wrong count or element type is an error naming the line.
+#[test]
+fn array_constructors_build_arrays_of_scalars_and_structs() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+struct Light { vec3 color; float power; };
+void main() {
+    float w[3] = float[3](1.0, a.x, 3.0);
+    Light lights[2] = Light[2](Light(vec3(0.5), 2.0), Light(a.xyz, a.w));
+    float s = 0.0;
+    for (int i = 0; i < 2; i++) s += lights[i].power * lights[i].color.y;
+    r = vec4(w[1] + w[2], s, float[2](4.0, 5.0)[1], lights[1].color.z);
+    gl_Position = a;
+}";
+    let out = run_vertex(VS, PASS_FS_300, [0.25, 0.5, 0.75, 2.0], |_, _| {});
+    assert_eq!(out[..4], [0.25 + 3.0, 2.0 * 0.5 + 2.0 * 0.5, 5.0, 0.75]);
+    let wrong = VS.replace("float[3](1.0, a.x, 3.0)", "float[3](1.0, a.x)");
+    let e = CompiledProgram::new(&wrong, PASS_FS_300, &[]).unwrap_err();
+    assert!(e.to_string().contains("line 6") && e.to_string().contains("3 elements, 2 given"), "{e}");
+}
