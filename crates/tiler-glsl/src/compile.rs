@@ -3075,6 +3075,26 @@ impl<'a> Compiler<'a> {
     /// `EXT_shadow_samplers`' `shadow2DEXT`, `shadow2DProjEXT`) the coordinates carry the
     /// reference depth last (`vec3` (s, t, ref), or `vec4` (s, t, ref, q) projected), and the
     /// result is the compare's float.
+    /// A lookup's level of detail from its optional third argument: a level (`…Lod`), a bias
+    /// (fragment shaders), else the quad's derivatives (fragment) or level 0 (vertex).
+    fn lookup_lod(&mut self, name: &str, explicit: bool, extra: Option<&Value>) -> CResult<Lod> {
+        let extra = match extra {
+            Some(v) => Some(self.float_gen(name, v.clone())?),
+            None => None,
+        };
+        if extra.as_ref().is_some_and(|v| v.ty != FLOAT) {
+            return self.fail(format!("{name}(): bias or level must be a float"));
+        }
+        Ok(match (explicit, extra.map(|v| v.regs[0]), self.stage) {
+            (true, Some(l), _) => Lod::Explicit(l),
+            (true, None, _) => return self.fail(format!("{name}() needs a level")),
+            (false, None, Stage::Fragment) => Lod::Implicit,
+            (false, Some(b), Stage::Fragment) => Lod::Bias(b),
+            (false, None, Stage::Vertex) => Lod::Explicit(self.konst(0.0)),
+            (false, Some(_), Stage::Vertex) => return self.fail(format!("{name}() with a bias in a vertex shader")),
+        })
+    }
+
     fn texture(&mut self, name: &str, args: Vec<Value>) -> CResult<Value> {
         let proj = name.contains("Proj");
         let explicit = name.ends_with("Lod");
@@ -3120,22 +3140,7 @@ impl<'a> Compiler<'a> {
             (true, false) => Some(coord.regs[2]),
             (true, true) => Some(self.bin(BinOp::Div, coord.regs[2], coord.regs[3])),
         };
-        let extra = match args.get(2) {
-            Some(v) => Some(self.float_gen(name, v.clone())?),
-            None => None,
-        };
-        if extra.as_ref().is_some_and(|v| v.ty != FLOAT) {
-            return self.fail(format!("{name}(): bias or level must be a float"));
-        }
-        let extra = extra.map(|v| v.regs[0]);
-        let lod = match (explicit, extra, self.stage) {
-            (true, Some(l), _) => Lod::Explicit(l),
-            (true, None, _) => return self.fail(format!("{name}() needs a level")),
-            (false, None, Stage::Fragment) => Lod::Implicit,
-            (false, Some(b), Stage::Fragment) => Lod::Bias(b),
-            (false, None, Stage::Vertex) => Lod::Explicit(self.konst(0.0)),
-            (false, Some(_), Stage::Vertex) => return self.fail(format!("{name}() with a bias in a vertex shader")),
-        };
+        let lod = self.lookup_lod(name, explicit, args.get(2))?;
         let dst = self.temps(4);
         self.emit(Inst::Sample { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord: [s, t], lod, reference });
         let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
@@ -3162,21 +3167,7 @@ impl<'a> Compiler<'a> {
         if direction.regs.len() != 3 {
             return self.fail(format!("{name}() takes a vec3 direction, not a {}", direction.ty));
         }
-        let extra = match args.get(2) {
-            Some(v) => Some(self.float_gen(name, v.clone())?),
-            None => None,
-        };
-        if extra.as_ref().is_some_and(|v| v.ty != FLOAT) {
-            return self.fail(format!("{name}(): bias or level must be a float"));
-        }
-        let lod = match (explicit, extra.map(|v| v.regs[0]), self.stage) {
-            (true, Some(l), _) => Lod::Explicit(l),
-            (true, None, _) => return self.fail(format!("{name}() needs a level")),
-            (false, None, Stage::Fragment) => Lod::Implicit,
-            (false, Some(b), Stage::Fragment) => Lod::Bias(b),
-            (false, None, Stage::Vertex) => Lod::Explicit(self.konst(0.0)),
-            (false, Some(_), Stage::Vertex) => return self.fail(format!("{name}() with a bias in a vertex shader")),
-        };
+        let lod = self.lookup_lod(name, explicit, args.get(2))?;
         let dst = self.temps(4);
         let direction = [direction.regs[0], direction.regs[1], direction.regs[2]];
         self.emit(Inst::SampleCube { slot, dst: [dst[0], dst[1], dst[2], dst[3]], direction, lod });
@@ -3215,21 +3206,7 @@ impl Compiler<'_> {
         } else {
             [coord.regs[0], coord.regs[1], coord.regs[2]]
         };
-        let extra = match args.get(2) {
-            Some(v) => Some(self.float_gen(name, v.clone())?),
-            None => None,
-        };
-        if extra.as_ref().is_some_and(|v| v.ty != FLOAT) {
-            return self.fail(format!("{name}(): bias or level must be a float"));
-        }
-        let lod = match (explicit, extra.map(|v| v.regs[0]), self.stage) {
-            (true, Some(l), _) => Lod::Explicit(l),
-            (true, None, _) => return self.fail(format!("{name}() needs a level")),
-            (false, None, Stage::Fragment) => Lod::Implicit,
-            (false, Some(b), Stage::Fragment) => Lod::Bias(b),
-            (false, None, Stage::Vertex) => Lod::Explicit(self.konst(0.0)),
-            (false, Some(_), Stage::Vertex) => return self.fail(format!("{name}() with a bias in a vertex shader")),
-        };
+        let lod = self.lookup_lod(name, explicit, args.get(2))?;
         let dst = self.temps(4);
         self.emit(Inst::SampleLayered { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord, lod });
         let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
