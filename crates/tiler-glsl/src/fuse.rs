@@ -3,13 +3,19 @@
 //! register file. `dot`, matrix products and weighted sums (a convolution's
 //! `texel * weight + sum`) are chains of these.
 //!
+//! Before that, an add, subtract, multiply or divide whose only use is its rounding to
+//! binary16 (a `mediump` operation, see `compile`'s precision lowering) becomes one
+//! instruction that rounds its result ([`BinOp::AddHalf`] …), and a rounded multiply whose
+//! only use is a rounded add one [`TriOp::MulAddHalf`]: a `mediump` weighted sum then costs
+//! what a `highp` one does.
+//!
 //! The fused instruction still rounds the product and then the sum (it is not an FMA), so
 //! results stay bit for bit those of the two instructions. A pair fuses when the product's
 //! register is written only by the multiply, read only by an add later in the same block, and
 //! not part of the stage's interface (see [`block`] for what may come between).
 
 use crate::hoist::{blocks_mut, reads_mut, writes};
-use crate::ir::{BANK, BinOp, Inst, Reg, TriOp};
+use crate::ir::{BANK, BinOp, Inst, Reg, TriOp, UnOp};
 
 /// Reads and writes of each work register, nested blocks and the interface included.
 struct Uses {
@@ -48,7 +54,54 @@ pub fn fuse(code: &mut Vec<Inst>, work_regs: usize, pinned: &[Reg]) {
             uses.reads[r as usize] += 2;
         }
     }
+    halves(code, &uses);
     block(code, &uses);
+}
+
+/// The operation that also rounds its result to binary16, for the float operations that have
+/// one.
+fn rounded(op: BinOp) -> Option<BinOp> {
+    match op {
+        BinOp::Add => Some(BinOp::AddHalf),
+        BinOp::Sub => Some(BinOp::SubHalf),
+        BinOp::Mul => Some(BinOp::MulHalf),
+        BinOp::Div => Some(BinOp::DivHalf),
+        _ => None,
+    }
+}
+
+/// Folds each rounding to binary16 into the operation it rounds when that result has no
+/// other use: the operation moves down to the rounding (as a multiply moves to its add in
+/// [`block`]) and writes the rounding's register.
+fn halves(code: &mut Vec<Inst>, uses: &Uses) {
+    let mut out: Vec<Option<Inst>> = Vec::with_capacity(code.len());
+    // Operations that may still move: (result, rounded operation, operands, index in `out`).
+    let mut pending: Vec<(Reg, BinOp, [Reg; 2], usize)> = Vec::new();
+    for mut inst in code.drain(..) {
+        let flows = !inst.is_straight_line();
+        for nested in blocks_mut(&mut inst) {
+            halves(nested, uses);
+        }
+        if flows {
+            pending.clear();
+        }
+        if let Inst::Un(UnOp::Half, d, x) = inst
+            && let Some(at) = pending.iter().rposition(|p| p.0 == x)
+        {
+            let (_, op, [a, b], index) = pending.swap_remove(at);
+            out[index] = None;
+            inst = Inst::Bin(op, d, a, b);
+        }
+        writes(&inst, &mut |w| pending.retain(|p| p.2[0] != w && p.2[1] != w));
+        if let Inst::Bin(op, t, a, b) = inst
+            && let Some(op) = rounded(op)
+            && uses.single(t)
+        {
+            pending.push((t, op, [a, b], out.len()));
+        }
+        out.push(Some(inst));
+    }
+    *code = out.into_iter().flatten().collect();
 }
 
 /// Fuses within `code` and its nested blocks. A multiply moves down to its add, so it pairs
@@ -57,8 +110,8 @@ pub fn fuse(code: &mut Vec<Inst>, work_regs: usize, pinned: &[Reg]) {
 /// adds).
 fn block(code: &mut Vec<Inst>, uses: &Uses) {
     let mut out: Vec<Option<Inst>> = Vec::with_capacity(code.len());
-    // Multiplies that may still move: (product, factors, index in `out`).
-    let mut pending: Vec<(Reg, [Reg; 2], usize)> = Vec::new();
+    // Multiplies that may still move: (product, factors, index in `out`, rounded to binary16).
+    let mut pending: Vec<(Reg, [Reg; 2], usize, bool)> = Vec::new();
     for mut inst in code.drain(..) {
         // Anything but straight-line work (blocks, jumps, and whatever the IR gains later)
         // stops multiplies from moving past it.
@@ -70,19 +123,22 @@ fn block(code: &mut Vec<Inst>, uses: &Uses) {
             pending.clear();
         }
         // The latest product read, so that a sum of two keeps the first in place.
-        if let Inst::Bin(BinOp::Add, d, x, y) = inst
-            && let Some(at) = pending.iter().rposition(|p| p.0 == x || p.0 == y)
+        // A rounded product pairs with a rounded sum only, a plain one with a plain one.
+        if let Inst::Bin(add @ (BinOp::Add | BinOp::AddHalf), d, x, y) = inst
+            && let half = add == BinOp::AddHalf
+            && let Some(at) = pending.iter().rposition(|p| (p.0 == x || p.0 == y) && p.3 == half)
         {
-            let (t, [a, b], index) = pending.swap_remove(at);
+            let (t, [a, b], index, _) = pending.swap_remove(at);
             let addend = if x == t { y } else { x };
             out[index] = None;
-            inst = Inst::Tri(TriOp::MulAdd, d, a, b, addend);
+            let op = if half { TriOp::MulAddHalf } else { TriOp::MulAdd };
+            inst = Inst::Tri(op, d, a, b, addend);
         }
         writes(&inst, &mut |w| pending.retain(|p| p.1[0] != w && p.1[1] != w));
-        if let Inst::Bin(BinOp::Mul, t, a, b) = inst
+        if let Inst::Bin(mul @ (BinOp::Mul | BinOp::MulHalf), t, a, b) = inst
             && uses.single(t)
         {
-            pending.push((t, [a, b], out.len()));
+            pending.push((t, [a, b], out.len(), mul == BinOp::MulHalf));
         }
         out.push(Some(inst));
     }
@@ -168,5 +224,58 @@ mod tests {
                 Inst::Bin(BinOp::Add, 5, 2, 1),
             ]
         );
+    }
+
+    #[test]
+    fn roundings_fold_into_the_operations_they_round_and_rounded_pairs_fuse() {
+        // r5 = half(half(half(r0)·r1) + r2), as `mediump` lowers `t * w + sum`; r6 = half(r0 − r1)
+        // read twice stays apart from its rounding's other use.
+        let mut code = vec![
+            Inst::Un(UnOp::Half, 3, 0),
+            Inst::Bin(BinOp::Mul, 4, 3, 1),
+            Inst::Un(UnOp::Half, 7, 4),
+            Inst::Bin(BinOp::Add, 8, 7, 2),
+            Inst::Un(UnOp::Half, 5, 8),
+            Inst::Bin(BinOp::Sub, 9, 0, 1),
+            Inst::Un(UnOp::Half, 6, 9),
+            Inst::Store(10, 9),
+        ];
+        fuse(&mut code, 11, &[5, 6, 10]);
+        assert_eq!(
+            code,
+            vec![
+                Inst::Un(UnOp::Half, 3, 0),
+                Inst::Tri(TriOp::MulAddHalf, 5, 3, 1, 2),
+                Inst::Bin(BinOp::Sub, 9, 0, 1),
+                Inst::Un(UnOp::Half, 6, 9),
+                Inst::Store(10, 9),
+            ]
+        );
+        // A rounded product does not pair with a plain sum.
+        let mut mixed =
+            vec![Inst::Bin(BinOp::Mul, 2, 0, 1), Inst::Un(UnOp::Half, 3, 2), Inst::Bin(BinOp::Add, 4, 3, 0)];
+        fuse(&mut mixed, 5, &[4]);
+        assert_eq!(mixed, vec![Inst::Bin(BinOp::MulHalf, 3, 0, 1), Inst::Bin(BinOp::Add, 4, 3, 0)]);
+    }
+
+    #[test]
+    fn fused_roundings_compute_the_same_bits() {
+        use crate::exec::{binary, round_half, ternary, unary};
+        let xs: [f32; 8] = [0.1, -3.7, 1.0e-6, 65519.0, 7.0e4, -0.0, 1.0 / 3.0, 2049.5];
+        let ys: [f32; 8] = [0.7, 0.001, -5.5, 1.0, 2.0, 3.0, 1.0e-3, -1.25];
+        let zs: [f32; 8] = [0.25, 1.0e5, -0.5, 2.0e-5, 9.0, -7.0, 0.3, 11.0];
+        for (plain, half) in [
+            (BinOp::Add, BinOp::AddHalf),
+            (BinOp::Sub, BinOp::SubHalf),
+            (BinOp::Mul, BinOp::MulHalf),
+            (BinOp::Div, BinOp::DivHalf),
+        ] {
+            let two = unary(UnOp::Half, binary(plain, xs, ys));
+            assert_eq!(binary(half, xs, ys).map(f32::to_bits), two.map(f32::to_bits), "{half:?}");
+        }
+        let product = binary(BinOp::MulHalf, xs, ys);
+        let two = binary(BinOp::AddHalf, product, zs);
+        assert_eq!(ternary(TriOp::MulAddHalf, xs, ys, zs).map(f32::to_bits), two.map(f32::to_bits));
+        assert_eq!(round_half(1.0 / 3.0), 0.333_251_95);
     }
 }

@@ -141,6 +141,12 @@ pub enum BinOp {
     And,
     Or,
     Xor,
+    /// `Add`, `Sub`, `Mul` and `Div` with the result rounded to binary16 ([`UnOp::Half`]): a
+    /// `mediump` operation and the rounding of its result in one instruction (see `fuse`).
+    AddHalf,
+    SubHalf,
+    MulHalf,
+    DivHalf,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -159,6 +165,9 @@ pub enum TriOp {
     /// `a·b + c`, rounded after the product and after the sum (not fused): a multiply and an
     /// add in one instruction (see `fuse`).
     MulAdd,
+    /// `a·b + c` with the product and the sum each rounded to binary16: a `mediump`
+    /// multiply-add, the same bits as `MulHalf` then `AddHalf` (see `fuse`).
+    MulAddHalf,
 }
 
 /// A window axis.
