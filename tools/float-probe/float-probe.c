@@ -43,7 +43,10 @@ int main(int argc, char **argv) {
     EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, context_attribs);
     eglMakeCurrent(dpy, surface, surface, ctx);
 
-    const char *vs = "#version 300 es\nin vec2 p;\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); }\n";
+    /* `v` is a varying with irregular slopes, for shaders that probe interpolation. */
+    const char *vs = "#version 300 es\nin vec2 p;\nin float w;\nout highp vec2 v;\n"
+                     "void main() { v = p * vec2(0.3183099, 0.2718282) + vec2(0.1234567, 0.7654321);\n"
+                     "  gl_Position = vec4(p * w, 0.0, w); }\n";
     const char *fs = slurp(argv[1]);
     GLuint v = glCreateShader(GL_VERTEX_SHADER), f = glCreateShader(GL_FRAGMENT_SHADER);
     glShaderSource(v, 1, &vs, NULL);
@@ -57,9 +60,27 @@ int main(int argc, char **argv) {
     glAttachShader(program, v);
     glAttachShader(program, f);
     glBindAttribLocation(program, 0, "p");
+    glBindAttribLocation(program, 1, "w");
     glLinkProgram(program);
     glUseProgram(program);
-    static const float triangle[] = {-1, -1, 3, -1, -1, 3};
+    /* The triangle covering the window; FLOAT_PROBE_TRIANGLE="x0 y0 x1 y1 x2 y2" (clip
+     * coordinates) draws another, e.g. one inside the window, which llvmpipe does not clip. */
+    static float triangle[] = {-1, -1, 3, -1, -1, 3};
+    const char *custom = getenv("FLOAT_PROBE_TRIANGLE");
+    if (custom && sscanf(custom, "%f %f %f %f %f %f", &triangle[0], &triangle[1], &triangle[2], &triangle[3],
+                         &triangle[4], &triangle[5]) != 6) {
+        fprintf(stderr, "FLOAT_PROBE_TRIANGLE: six numbers expected\n");
+        return 2;
+    }
+    /* Each vertex's clip w (1 unless FLOAT_PROBE_W="w0 w1 w2"): perspective interpolation. */
+    static float clip_w[] = {1, 1, 1};
+    const char *custom_w = getenv("FLOAT_PROBE_W");
+    if (custom_w && sscanf(custom_w, "%f %f %f", &clip_w[0], &clip_w[1], &clip_w[2]) != 3) {
+        fprintf(stderr, "FLOAT_PROBE_W: three numbers expected\n");
+        return 2;
+    }
+    glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, 0, clip_w);
+    glEnableVertexAttribArray(1);
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, triangle);
     glEnableVertexAttribArray(0);
     glViewport(0, 0, 64, 64);

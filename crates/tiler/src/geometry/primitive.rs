@@ -9,7 +9,8 @@ use crate::raster::edge::Edge;
 /// Vertices are ordered so the signed area is positive (vertex 0 is the provoking vertex).
 /// Interpolation uses screen-space barycentrics `λ1, λ2` of vertices 1 and 2, as planes
 /// relative to vertex 0's window position `origin`:
-/// `λk(x, y) = lk[0]·(x − origin.x) + lk[1]·(y − origin.y)`.
+/// `λk(x, y) = lk[0]·(x − origin.x) + lk[1]·(y − origin.y)`. The planes come from the window
+/// positions before they are snapped to the sub-pixel grid (the edges use the snapped ones).
 /// Depth is `z[0] + λ1·z[1] + λ2·z[2]` (linear in screen space, Vulkan); varyings are
 /// perspective-correct through `q = 1/w` of each vertex.
 #[derive(Clone, Copy, Debug)]

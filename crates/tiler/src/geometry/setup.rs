@@ -116,6 +116,10 @@ pub fn setup_triangle(
 ) -> SetupOutcome {
     let vp = &params.viewport;
     let mut window = [(SubPixel::default(), SubPixel::default()); 3];
+    // The window positions before snapping: the interpolation planes come from these (as in
+    // Mesa's llvmpipe, whose attribute planes use the float positions; coverage uses the
+    // snapped ones), so a varying does not move by the snapping error (up to 1/512 pixel).
+    let mut exact = [(0.0f64, 0.0f64); 3];
     let mut z = [0.0f64; 3];
     let mut q = [0.0f64; 3];
     for i in 0..3 {
@@ -124,6 +128,7 @@ pub fn setup_triangle(
         let (x, y) =
             (vp.origin_x + vp.half_width * (p.x as f64 * inv_w), vp.origin_y + vp.half_height * (p.y as f64 * inv_w));
         window[i] = (SubPixel::from_window(x), SubPixel::from_window(y));
+        exact[i] = (x, y);
         z[i] = vp.depth_offset + vp.depth_scale * (p.z as f64 * inv_w);
         q[i] = inv_w;
     }
@@ -162,11 +167,20 @@ pub fn setup_triangle(
         return SetupOutcome::Degenerate;
     }
 
-    let scale = SUBPIXEL_SCALE as f64;
-    let area = area2.abs() as f64 / (scale * scale);
-    let e1 = ((p[1].0.raw() - p[0].0.raw()) as f64 / scale, (p[1].1.raw() - p[0].1.raw()) as f64 / scale);
-    let e2 = ((p[2].0.raw() - p[0].0.raw()) as f64 / scale, (p[2].1.raw() - p[0].1.raw()) as f64 / scale);
     let [o0, o1, o2] = order;
+    let mut q_at = order.map(|i| exact[i]);
+    let edge = |q: &[(f64, f64); 3], k: usize| (q[k].0 - q[0].0, q[k].1 - q[0].1);
+    let (mut e1, mut e2) = (edge(&q_at, 1), edge(&q_at, 2));
+    // Twice the signed area of the ordered vertices (the planes below hold for either sign).
+    // A sliver whose unsnapped area vanishes while its snapped one does not takes the snapped
+    // positions.
+    let mut area = e1.0 * e2.1 - e1.1 * e2.0;
+    if area == 0.0 || !area.is_finite() {
+        q_at = p.map(|(x, y)| (x.to_pixels(), y.to_pixels()));
+        (e1, e2) = (edge(&q_at, 1), edge(&q_at, 2));
+        let scale = SUBPIXEL_SCALE as f64;
+        area = area2.abs() as f64 / (scale * scale);
+    }
     // Depth is z0 + λ1·(z1 − z0) + λ2·(z2 − z0); its slopes follow from the λ planes.
     let (dz1, dz2) = (z[o1] - z[o0], z[o2] - z[o0]);
     let (dz_dx, dz_dy) = ((e2.1 * dz1 - e1.1 * dz2) / area, (e1.0 * dz2 - e2.0 * dz1) / area);
@@ -178,7 +192,7 @@ pub fn setup_triangle(
     primitives.push(Primitive {
         edges,
         bbox,
-        origin: [p[0].0.to_pixels() as f32, p[0].1.to_pixels() as f32],
+        origin: [q_at[0].0 as f32, q_at[0].1 as f32],
         l1: [(e2.1 / area) as f32, (-e2.0 / area) as f32],
         l2: [(-e1.1 / area) as f32, (e1.0 / area) as f32],
         z: [z0 as f32, dz1 as f32, dz2 as f32],
