@@ -640,6 +640,7 @@ pub(crate) fn binary<const W: usize>(op: BinOp, a: [f32; W], c: [f32; W]) -> [f3
         BinOp::SubHalf => lanes!(|x: f32, y: f32| round_half(x - y)),
         BinOp::MulHalf => lanes!(|x: f32, y: f32| round_half(x * y)),
         BinOp::DivHalf => lanes!(|x: f32, y: f32| round_half(x / y)),
+        BinOp::HalfMulHalf => lanes!(|x: f32, y: f32| round_half(round_half(x) * y)),
         BinOp::Sub => lanes!(|x: f32, y: f32| x - y),
         BinOp::Mul => lanes!(|x: f32, y: f32| x * y),
         BinOp::Div => lanes!(|x: f32, y: f32| x / y),
@@ -710,6 +711,9 @@ pub(crate) fn ternary<const W: usize>(op: TriOp, a: [f32; W], b: [f32; W], c: [f
         TriOp::Select => lanes!(|c: f32, x: f32, y: f32| if c != 0.0 { x } else { y }),
         TriOp::MulAdd => lanes!(|x: f32, y: f32, z: f32| x * y + z),
         TriOp::MulAddHalf => lanes!(|x: f32, y: f32, z: f32| round_half(round_half(x * y) + z)),
+        TriOp::HalfMulAddHalf => {
+            lanes!(|x: f32, y: f32, z: f32| round_half(round_half(round_half(x) * y) + z))
+        }
     }
     out
 }

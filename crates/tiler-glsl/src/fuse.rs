@@ -55,6 +55,7 @@ pub fn fuse(code: &mut Vec<Inst>, work_regs: usize, pinned: &[Reg]) {
         }
     }
     halves(code, &uses);
+    rounded_factors(code, &uses);
     block(code, &uses);
 }
 
@@ -104,14 +105,49 @@ fn halves(code: &mut Vec<Inst>, uses: &Uses) {
     *code = out.into_iter().flatten().collect();
 }
 
+/// Folds the rounding of a factor into the rounded multiply that is its only use
+/// ([`BinOp::HalfMulHalf`]): a texel or a varying weighted in `mediump` is rounded, then
+/// multiplied and rounded again. The factor's read moves down to the multiply.
+fn rounded_factors(code: &mut Vec<Inst>, uses: &Uses) {
+    let mut out: Vec<Option<Inst>> = Vec::with_capacity(code.len());
+    // Roundings that may still move: (result, rounded register, index in `out`).
+    let mut pending: Vec<(Reg, Reg, usize)> = Vec::new();
+    for mut inst in code.drain(..) {
+        let flows = !inst.is_straight_line();
+        for nested in blocks_mut(&mut inst) {
+            rounded_factors(nested, uses);
+        }
+        if flows {
+            pending.clear();
+        }
+        if let Inst::Bin(BinOp::MulHalf, d, a, b) = inst
+            && let Some(at) = pending.iter().rposition(|p| p.0 == a || p.0 == b)
+        {
+            let (t, x, index) = pending.swap_remove(at);
+            let other = if a == t { b } else { a };
+            out[index] = None;
+            inst = Inst::Bin(BinOp::HalfMulHalf, d, x, other);
+        }
+        writes(&inst, &mut |w| pending.retain(|p| p.1 != w));
+        if let Inst::Un(UnOp::Half, t, x) = inst
+            && uses.single(t)
+        {
+            pending.push((t, x, out.len()));
+        }
+        out.push(Some(inst));
+    }
+    *code = out.into_iter().flatten().collect();
+}
+
 /// Fuses within `code` and its nested blocks. A multiply moves down to its add, so it pairs
 /// with an add later in the same block as long as nothing between writes its operands and no
 /// nested block or jump comes between (`a * b + c` on vectors is four multiplies, then four
 /// adds).
 fn block(code: &mut Vec<Inst>, uses: &Uses) {
     let mut out: Vec<Option<Inst>> = Vec::with_capacity(code.len());
-    // Multiplies that may still move: (product, factors, index in `out`, rounded to binary16).
-    let mut pending: Vec<(Reg, [Reg; 2], usize, bool)> = Vec::new();
+    // Multiplies that may still move: (product, factors, index in `out`, the fused operation
+    // it makes with a rounded add if it is a rounded multiply).
+    let mut pending: Vec<(Reg, [Reg; 2], usize, Option<TriOp>)> = Vec::new();
     for mut inst in code.drain(..) {
         // Anything but straight-line work (blocks, jumps, and whatever the IR gains later)
         // stops multiplies from moving past it.
@@ -126,19 +162,23 @@ fn block(code: &mut Vec<Inst>, uses: &Uses) {
         // A rounded product pairs with a rounded sum only, a plain one with a plain one.
         if let Inst::Bin(add @ (BinOp::Add | BinOp::AddHalf), d, x, y) = inst
             && let half = add == BinOp::AddHalf
-            && let Some(at) = pending.iter().rposition(|p| (p.0 == x || p.0 == y) && p.3 == half)
+            && let Some(at) = pending.iter().rposition(|p| (p.0 == x || p.0 == y) && p.3.is_some() == half)
         {
-            let (t, [a, b], index, _) = pending.swap_remove(at);
+            let (t, [a, b], index, rounded) = pending.swap_remove(at);
             let addend = if x == t { y } else { x };
             out[index] = None;
-            let op = if half { TriOp::MulAddHalf } else { TriOp::MulAdd };
-            inst = Inst::Tri(op, d, a, b, addend);
+            inst = Inst::Tri(rounded.unwrap_or(TriOp::MulAdd), d, a, b, addend);
         }
         writes(&inst, &mut |w| pending.retain(|p| p.1[0] != w && p.1[1] != w));
-        if let Inst::Bin(mul @ (BinOp::Mul | BinOp::MulHalf), t, a, b) = inst
+        if let Inst::Bin(mul @ (BinOp::Mul | BinOp::MulHalf | BinOp::HalfMulHalf), t, a, b) = inst
             && uses.single(t)
         {
-            pending.push((t, [a, b], out.len(), mul == BinOp::MulHalf));
+            let rounded = match mul {
+                BinOp::MulHalf => Some(TriOp::MulAddHalf),
+                BinOp::HalfMulHalf => Some(TriOp::HalfMulAddHalf),
+                _ => None,
+            };
+            pending.push((t, [a, b], out.len(), rounded));
         }
         out.push(Some(inst));
     }
@@ -244,8 +284,7 @@ mod tests {
         assert_eq!(
             code,
             vec![
-                Inst::Un(UnOp::Half, 3, 0),
-                Inst::Tri(TriOp::MulAddHalf, 5, 3, 1, 2),
+                Inst::Tri(TriOp::HalfMulAddHalf, 5, 0, 1, 2),
                 Inst::Bin(BinOp::Sub, 9, 0, 1),
                 Inst::Un(UnOp::Half, 6, 9),
                 Inst::Store(10, 9),
@@ -256,6 +295,15 @@ mod tests {
             vec![Inst::Bin(BinOp::Mul, 2, 0, 1), Inst::Un(UnOp::Half, 3, 2), Inst::Bin(BinOp::Add, 4, 3, 0)];
         fuse(&mut mixed, 5, &[4]);
         assert_eq!(mixed, vec![Inst::Bin(BinOp::MulHalf, 3, 0, 1), Inst::Bin(BinOp::Add, 4, 3, 0)]);
+        // A factor's rounding stays where its register is stored to before the multiply.
+        let mut stored = vec![
+            Inst::Un(UnOp::Half, 2, 0),
+            Inst::Store(0, 1),
+            Inst::Bin(BinOp::Mul, 3, 1, 2),
+            Inst::Un(UnOp::Half, 4, 3),
+        ];
+        fuse(&mut stored, 5, &[4]);
+        assert_eq!(stored, vec![Inst::Un(UnOp::Half, 2, 0), Inst::Store(0, 1), Inst::Bin(BinOp::MulHalf, 4, 1, 2)]);
     }
 
     #[test]
@@ -276,6 +324,11 @@ mod tests {
         let product = binary(BinOp::MulHalf, xs, ys);
         let two = binary(BinOp::AddHalf, product, zs);
         assert_eq!(ternary(TriOp::MulAddHalf, xs, ys, zs).map(f32::to_bits), two.map(f32::to_bits));
+        let factor = unary(UnOp::Half, xs);
+        let product = binary(BinOp::MulHalf, factor, ys);
+        assert_eq!(binary(BinOp::HalfMulHalf, xs, ys).map(f32::to_bits), product.map(f32::to_bits));
+        let three = binary(BinOp::AddHalf, product, zs);
+        assert_eq!(ternary(TriOp::HalfMulAddHalf, xs, ys, zs).map(f32::to_bits), three.map(f32::to_bits));
         assert_eq!(round_half(1.0 / 3.0), 0.333_251_95);
     }
 }

@@ -147,6 +147,9 @@ pub enum BinOp {
     SubHalf,
     MulHalf,
     DivHalf,
+    /// `MulHalf` of the first operand rounded to binary16 first: a `mediump` product of a
+    /// value that is not binary16 yet (a texel, a varying).
+    HalfMulHalf,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -168,6 +171,8 @@ pub enum TriOp {
     /// `a·b + c` with the product and the sum each rounded to binary16: a `mediump`
     /// multiply-add, the same bits as `MulHalf` then `AddHalf` (see `fuse`).
     MulAddHalf,
+    /// `MulAddHalf` with the first factor rounded to binary16 first (see `BinOp::HalfMulHalf`).
+    HalfMulAddHalf,
 }
 
 /// A window axis.

@@ -1000,16 +1000,3 @@ const _: () = {
     send_sync::<CompiledProgram>();
     send_sync::<GlslFragmentShader>();
 };
-
-#[cfg(test)]
-mod dump_tmp {
-    #[test]
-    fn dump_blur() {
-        let fs = std::fs::read_to_string("/tmp/mr/tex.frag").unwrap();
-        let vs = "attribute vec2 position; attribute vec2 texcoord; varying vec2 TextureCoord; varying vec4 Color; void main() { gl_Position = vec4(position, 0.0, 1.0); TextureCoord = texcoord; Color = vec4(1.0); }";
-        let p = super::CompiledProgram::new(vs, &fs, &[]).unwrap();
-        for i in &p.fragment.code {
-            println!("{i:?}");
-        }
-    }
-}
