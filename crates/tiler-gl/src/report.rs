@@ -260,6 +260,8 @@ pub struct PassCost {
     pub tile_height: u32,
     pub tiles_x: u32,
     pub tiles_y: u32,
+    /// Tile memory one tile of the pass needs: every attachment at every sample (tilers).
+    pub tile_bytes: u64,
     /// Memory the pass's transient attachments did not need (tilers, when they never
     /// spilled to memory through an incremental render or a subpass split).
     pub transient_bytes_saved: u64,
@@ -277,6 +279,7 @@ impl From<&PassReport> for PassCost {
             tile_height: r.tile_height,
             tiles_x: r.tiles_x,
             tiles_y: r.tiles_y,
+            tile_bytes: r.tile_bytes,
             transient_bytes_saved: r.transient_bytes_saved,
             transaction_elimination_saved: r.transaction_elimination_saved,
         }

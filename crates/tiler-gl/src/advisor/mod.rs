@@ -33,6 +33,7 @@
 //! | `subpass-split` | 002 "Optimizing for TBR", "Best Practices for TBR" | the split's stores and reloads |
 //! | `draws-discarded` (info) | 000 §23.10 | — |
 //! | `minified-without-mipmaps` | 004 §24.3.4, §24.3.5 | the minified quads' texture fetch less `MIPMAPPED_QUAD_BYTES` a quad |
+//! | `tile-memory-overflow` | 000 §23.1, §23.9; 001 | — (the ledger is a lower bound: the pass did not fit on chip) |
 //!
 //! # Priced for the device
 //!

@@ -106,6 +106,41 @@ pub(super) fn check(config: &ContextConfig, index: &PassIndex, position: usize, 
     draws_discarded(&view, out);
     msaa_stored(&view, out);
     minified_without_mipmaps(&view, out);
+    tile_memory_overflow(&view, out);
+}
+
+/// A pass whose attachments do not fit the tile memory even in the smallest tile.
+fn tile_memory_overflow(v: &PassView, out: &mut Vec<Draft>) {
+    let (pass, fb) = (v.pass, &v.fb);
+    let memory = v.config.device_config().tile_memory_bytes;
+    let cost = &pass.cost;
+    if !v.config.backend.is_tiler() || cost.tile_bytes <= memory {
+        return;
+    }
+    let pixels = cost.tile_width as u64 * cost.tile_height as u64;
+    let per_pixel = cost.tile_bytes / pixels.max(1);
+    out.push(Draft::about(
+        RuleId::TileMemoryOverflow,
+        pass,
+        None,
+        Cost::default(),
+        format!(
+            "pass {} on {fb} holds {per_pixel} bytes per pixel ({} attachment(s) at {} sample(s)): even the smallest tile, {}×{}, \
+             needs {}, more than the {} of tile memory, so no tile of this GPU holds it; tiler rendered it in an \
+             oversized tile, and a GPU would store and reload it through memory or refuse the framebuffer, so its \
+             real cost is higher than this ledger",
+            pass.index,
+            pass.attachments.len(),
+            pass.samples,
+            cost.tile_width,
+            cost.tile_height,
+            bytes(cost.tile_bytes),
+            bytes(memory),
+        ),
+        "use fewer or narrower attachments (RGBA8 rather than RGBA16F or RGBA32F, a packed depth format) or fewer \
+         samples, or split the pass"
+            .to_string(),
+    ));
 }
 
 /// Textures read from level 0 while drawn much smaller than they are.

@@ -28,6 +28,7 @@ pub enum RuleId {
     SubpassSplit,
     DrawsDiscarded,
     MinifiedWithoutMipmaps,
+    TileMemoryOverflow,
 }
 
 /// What the seed documents say about a rule.
@@ -44,7 +45,7 @@ pub struct RuleInfo {
 
 impl RuleId {
     /// Every rule, in the order of the advisor's table.
-    pub const ALL: [RuleId; 20] = [
+    pub const ALL: [RuleId; 21] = [
         RuleId::LoadAtPassStart,
         RuleId::PartialClear,
         RuleId::FramebufferRebound,
@@ -65,6 +66,7 @@ impl RuleId {
         RuleId::SubpassSplit,
         RuleId::DrawsDiscarded,
         RuleId::MinifiedWithoutMipmaps,
+        RuleId::TileMemoryOverflow,
     ];
 
     /// The stable id of the rule's findings.
@@ -238,6 +240,12 @@ impl RuleId {
                 seed: "004",
                 section: "004 §24.3.4, §24.3.5",
                 text: "Give textures that are drawn smaller than they are mip maps and a mipmapped minification filter: read from level 0, neighbouring pixels fall on different cache lines and almost every texel is fetched from memory, while a smaller level hits in the texture cache.",
+            },
+            RuleId::TileMemoryOverflow => RuleInfo {
+                name: "tile-memory-overflow",
+                seed: "000, 001",
+                section: "000 §23.1, §23.9; 001 \"How to optimize render passes\"",
+                text: "Keep a pass's attachments, at every sample, within the tile memory: a GPU shrinks the tile to fit them, and where even its smallest tile cannot hold them the pass cannot stay on chip.",
             },
         }
     }

@@ -99,6 +99,25 @@ fn the_msaa_pair_at_sixteen_samples() {
     assert_eq!(bad.report.totals.ledger.total() - good.report.totals.ledger.total(), reported);
 }
 
+/// A pass whose attachments do not fit the tile memory even in an 8×8 tile is reported (the
+/// msaa pair's good form, 4 samples of RGBA8 colour and depth, on a device with 1 KiB of tile
+/// memory: 8 × 8 × 4 × 8 = 2,048 bytes); with the default 32 KiB it fits and is not.
+#[test]
+fn attachments_beyond_the_tile_memory_are_reported() {
+    let mut trace = Trace::read(&traces().join("msaa-good.json")).unwrap();
+    let device = tiler::DeviceConfig { tile_memory_bytes: 1024, ..trace.config.device.clone().unwrap_or_default() };
+    trace.config.device = Some(device);
+    let small = trace.replay_with(Limits { threads: Some(1), ..Limits::default() }).unwrap();
+    let overflows: Vec<_> = small.report.findings_with("tile-memory-overflow").collect();
+    assert!(!overflows.is_empty(), "{:#?}", small.report.findings);
+    let f = overflows[0];
+    assert!(f.message.contains("the smallest tile, 8×8, needs 2048 B, more than the 1024 B"), "{}", f.message);
+    let default = replay("msaa-good.json");
+    assert_eq!(default.report.findings_with("tile-memory-overflow").count(), 0);
+    // The picture is the same: tiler renders the pass in the oversized tile.
+    assert_eq!(small.context.surface_rgba8(), default.context.surface_rgba8());
+}
+
 /// On an immediate-mode GPU the pairs about loads, stores, flushes and frame data cost the
 /// same in both forms, and the advisor reports none of them there: what remains (stalls,
 /// copies, shading order) still differs by exactly what it reports.
