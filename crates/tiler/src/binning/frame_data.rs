@@ -305,13 +305,13 @@ impl FrameData {
 mod tests {
     use super::*;
     use crate::raster::PixelRect;
+    use crate::raster::fixed::SubPixel;
 
     fn primitive(bbox: PixelRect) -> Primitive {
-        let edge = crate::raster::edge::Edge { a: 0, b: 0, c: 0 };
+        let corner = (SubPixel(bbox.x0 * 256), SubPixel(bbox.y0 * 256));
         Primitive {
-            edges: [edge; 3],
+            window: [corner; 3],
             bbox,
-            origin: [0.0; 2],
             l1: [0.0; 2],
             l2: [0.0; 2],
             z: [0.0; 3],

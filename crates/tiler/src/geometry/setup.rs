@@ -9,7 +9,6 @@ use crate::api::pipeline::{CullMode, DepthBias, FrontFace};
 use crate::api::render_pass::Viewport;
 use crate::geometry::primitive::Primitive;
 use crate::raster::PixelRect;
-use crate::raster::edge::Edge;
 use crate::raster::fixed::{SUBPIXEL_SCALE, SubPixel};
 use crate::raster::samples::SampleLocations;
 
@@ -153,7 +152,6 @@ pub fn setup_triangle(
     // Keep vertex 0 (the provoking vertex) first; swap 1 and 2 to make the area positive.
     let order = if area2 > 0 { [0, 1, 2] } else { [0, 2, 1] };
     let p = order.map(|i| window[i]);
-    let edges = [Edge::new(p[0], p[1]), Edge::new(p[1], p[2]), Edge::new(p[2], p[0])];
 
     let Some(bbox) = sample_bbox(&p, &params.samples).map(|b| b.intersect(&params.clip_rect)) else {
         return SetupOutcome::Degenerate;
@@ -176,9 +174,8 @@ pub fn setup_triangle(
         out_varyings.extend_from_slice(varyings[i]);
     }
     primitives.push(Primitive {
-        edges,
+        window: p,
         bbox,
-        origin: [p[0].0.to_pixels() as f32, p[0].1.to_pixels() as f32],
         l1: [(e2.1 / area) as f32, (-e2.0 / area) as f32],
         l2: [(-e1.1 / area) as f32, (e1.0 / area) as f32],
         z: [z0 as f32, dz1 as f32, dz2 as f32],
@@ -284,7 +281,7 @@ mod tests {
         let p = prims[0];
         // Vertices 1 and 2 are at window (62.5, 42.5) and (55, 80), in either order: check λ at both.
         let at = |x: f32, y: f32| {
-            let (dx, dy) = (x - p.origin[0], y - p.origin[1]);
+            let (dx, dy) = (x - p.origin()[0], y - p.origin()[1]);
             (p.l1[0] * dx + p.l1[1] * dy, p.l2[0] * dx + p.l2[1] * dy)
         };
         let (a, b) = at(62.5, 42.5);

@@ -208,7 +208,7 @@ pub fn rasterize<F: FragmentShader>(
             plan: &plan,
             primitive,
             varyings: &run.varyings[start..start + 3 * plan.varying_count],
-            coverage: PrimitiveCoverage::new(&primitive.edges, &target.samples),
+            coverage: PrimitiveCoverage::new(&primitive.edges(), &target.samples),
             interpolator: Interpolator::new(primitive),
             entry: run.first_entry + position as u32,
         };

@@ -26,7 +26,7 @@ impl Interpolator {
     pub fn new(p: &Primitive) -> Interpolator {
         // The depth plane from the barycentric planes: z = z0 + λ1·(z1 − z0) + λ2·(z2 − z0).
         let dz = [0, 1].map(|axis| p.l1[axis] * p.z[1] + p.l2[axis] * p.z[2]);
-        Interpolator { origin: p.origin, l1: p.l1, l2: p.l2, z0: p.z[0], dz, q: p.q }
+        Interpolator { origin: p.origin(), l1: p.l1, l2: p.l2, z0: p.z[0], dz, q: p.q }
     }
 
     /// Window positions of the lanes of the group at `(x, y)`, offset within each pixel by
