@@ -143,7 +143,7 @@ fn setup(c: &mut Criterion) {
 fn walk_blocks(primitives: &[Primitive], locations: &SampleLocations) -> (u64, u64) {
     let (mut covered, mut blocks) = (0u64, 0u64);
     for primitive in primitives {
-        let coverage = PrimitiveCoverage::new(&primitive.edges, locations);
+        let coverage = PrimitiveCoverage::new(&primitive.edges(), locations);
         let rect = primitive.bbox;
         let mut by = rect.y0 & !(BLOCK_SIZE - 1);
         while by < rect.y1 {

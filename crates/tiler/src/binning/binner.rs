@@ -75,5 +75,5 @@ fn covers_tile(p: &Primitive, grid: &TileGrid, tx: u32, ty: u32, hull: (i32, i32
     let y0 = SubPixel::pixel_corner(r.y0) + hy0 as i64;
     let x1 = SubPixel::pixel_corner(r.x1 - 1) + hx1 as i64;
     let y1 = SubPixel::pixel_corner(r.y1 - 1) + hy1 as i64;
-    p.edges.iter().all(|e| e.max_over(x0, y0, x1, y1) >= 0)
+    p.edges().iter().all(|e| e.max_over(x0, y0, x1, y1) >= 0)
 }

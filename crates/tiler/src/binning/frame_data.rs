@@ -48,6 +48,31 @@ pub const fn record_bytes(varyings: usize, shading: VertexShading) -> u64 {
     }
 }
 
+/// The state record of primitives by index (see [`FrameData::state_cursor`]).
+#[derive(Clone, Copy)]
+pub struct StateCursor<'a> {
+    starts: &'a [u32],
+    /// The state of the last primitive asked about.
+    current: usize,
+}
+
+impl StateCursor<'_> {
+    /// The state record of the primitive at `index`: a step or two forward from the last
+    /// answer when indices ascend, a binary search otherwise.
+    #[inline]
+    pub fn state_of(&mut self, index: u32) -> u32 {
+        let starts = self.starts;
+        let here = starts.get(self.current).is_some_and(|&start| start <= index);
+        let ahead = starts.get(self.current + 1).is_some_and(|&start| start <= index);
+        if here && ahead {
+            self.current += starts[self.current + 1..].partition_point(|&start| start <= index);
+        } else if !here {
+            self.current = starts.partition_point(|&start| start <= index).saturating_sub(1);
+        }
+        self.current as u32
+    }
+}
+
 /// What every primitive of a draw shares.
 #[derive(Clone, Debug)]
 pub struct StateRecord {
@@ -84,6 +109,11 @@ pub struct FrameData {
     pub(super) primitives: Vec<Primitive>,
     pub(super) varyings: Vec<f32>,
     pub(super) states: Vec<StateRecord>,
+    /// The first primitive of each state record: primitives are appended under the latest
+    /// state, so state `s` holds primitives `state_starts[s]..state_starts[s + 1]`, and a
+    /// tile finds the state of a list entry here without reading its record (the records are
+    /// what a tile misses the caches on: see docs/benchmarking.md, "Primitive records").
+    state_starts: Vec<u32>,
     /// One polygon list per tile, row-major; entries are primitive indices in submission order.
     pub(super) lists: Vec<Vec<u32>>,
     pub(super) bytes: FrameDataBytes,
@@ -106,6 +136,7 @@ impl FrameData {
             primitives: Vec::new(),
             varyings: Vec::new(),
             states: Vec::new(),
+            state_starts: Vec::new(),
             bytes: FrameDataBytes::default(),
             binned: 0,
             unbinned_bound: 0,
@@ -165,6 +196,7 @@ impl FrameData {
         self.primitives.clear();
         self.varyings.clear();
         self.states.clear();
+        self.state_starts.clear();
         for list in &mut self.lists {
             list.clear();
         }
@@ -207,6 +239,7 @@ impl FrameData {
     /// Counts their modelled record bytes.
     pub fn append(&mut self, primitives: &[Primitive], varyings: &[f32], state: u32, varying_count: usize) {
         let Some(first) = primitives.first() else { return };
+        assert_eq!(state as usize + 1, self.states.len(), "primitives are appended under the latest state record");
         let modelled = record_bytes(varying_count, self.vertex_shading);
         let first_varying = first.varyings as usize;
         let base = self.varyings.len() as u32;
@@ -226,6 +259,7 @@ impl FrameData {
     /// Adds a state record and returns its index.
     pub fn push_state(&mut self, state: StateRecord) -> u32 {
         self.states.push(state);
+        self.state_starts.push(self.primitives.len() as u32);
         self.bytes.state_records += STATE_RECORD_BYTES;
         (self.states.len() - 1) as u32
     }
@@ -235,27 +269,28 @@ impl FrameData {
     /// ledger's `FrameDataRead`, counted by the tile task).
     pub fn bytes_read_by(&self, list: &[u32]) -> u64 {
         let mut bytes = list.len() as u64 * POLYGON_LIST_ENTRY_BYTES;
+        let mut states = self.state_cursor();
         let mut last_state = u32::MAX;
         for &entry in list {
-            let primitive = &self.primitives[entry as usize];
-            if primitive.state != last_state {
+            let state = states.state_of(entry);
+            if state != last_state {
                 bytes += STATE_RECORD_BYTES;
-                last_state = primitive.state;
+                last_state = state;
             }
-            bytes += self.primitive_bytes(primitive);
+            bytes += self.state_record_bytes(state);
         }
         bytes
     }
 
-    /// Modelled bytes of a primitive record.
-    pub fn primitive_bytes(&self, primitive: &Primitive) -> u64 {
-        record_bytes(self.states[primitive.state as usize].varying_count as usize, self.vertex_shading)
+    /// Modelled bytes of a primitive record under state record `state`.
+    fn state_record_bytes(&self, state: u32) -> u64 {
+        record_bytes(self.states[state as usize].varying_count as usize, self.vertex_shading)
     }
 
-    /// The subpass of the primitive at `index`.
-    #[inline]
-    pub fn subpass_of(&self, index: u32) -> u32 {
-        self.states[self.primitives[index as usize].state as usize].subpass
+    /// Finds the state record of primitives by index, fastest for ascending indices (a tile's
+    /// list), without reading their records.
+    pub fn state_cursor(&self) -> StateCursor<'_> {
+        StateCursor { starts: &self.state_starts, current: 0 }
     }
 
     /// Bytes of host memory the frame data occupies.
@@ -270,13 +305,14 @@ impl FrameData {
 mod tests {
     use super::*;
     use crate::raster::PixelRect;
+    use crate::raster::fixed::SubPixel;
 
     fn primitive(bbox: PixelRect) -> Primitive {
-        let edge = crate::raster::edge::Edge { a: 0, b: 0, c: 0 };
+        let corner = (SubPixel(bbox.x0 * 256), SubPixel(bbox.y0 * 256));
         Primitive {
-            edges: [edge; 3],
+            window: [corner; 3],
             bbox,
-            origin: [0.0; 2],
+            origin: [bbox.x0 as f32, bbox.y0 as f32],
             l1: [0.0; 2],
             l2: [0.0; 2],
             z: [0.0; 3],
@@ -318,5 +354,35 @@ mod tests {
         assert_eq!(frame.fitting(&batch[2..], 0), 0, "full");
         frame.clear();
         assert_eq!(frame.fitting(&batch, 0), 3);
+    }
+
+    #[test]
+    fn the_state_of_a_primitive_comes_from_the_state_starts() {
+        let grid = TileGrid::new(64, 64, 32, 32);
+        let mut frame = FrameData::new(grid, VertexShading::Once, u64::MAX);
+        let one = primitive(PixelRect::new(0, 0, 8, 8));
+        // States with 3, 1, 0 (pushed, never used) and 5 primitives.
+        let mut expected = Vec::new();
+        for (draw, count) in [3usize, 1, 0, 5].into_iter().enumerate() {
+            let state = frame.push_state(StateRecord {
+                draw: draw as u32,
+                varying_count: 0,
+                hsr: HsrMode::Deferred { claims: true },
+                fetch: Default::default(),
+                subpass: draw as u32 / 2,
+            });
+            frame.append(&vec![one; count], &[], state, 0);
+            expected.extend(std::iter::repeat_n(state, count));
+        }
+        assert_eq!(frame.primitives().iter().map(|p| p.state).collect::<Vec<_>>(), expected);
+        // Ascending (a tile's list), with jumps over several states, and out of order.
+        for order in [vec![0, 1, 2, 3, 4, 5, 6, 7, 8], vec![0, 8], vec![2, 4, 8], vec![8, 3, 0, 5, 1, 4]] {
+            let mut cursor = frame.state_cursor();
+            for index in order {
+                assert_eq!(cursor.state_of(index), expected[index as usize], "primitive {index}");
+            }
+        }
+        // Modelled bytes read: three state changes, six records of 56 bytes and six entries.
+        assert_eq!(frame.bytes_read_by(&[0, 1, 2, 3, 4, 8]), 3 * STATE_RECORD_BYTES + 6 * (56 + 4));
     }
 }

@@ -610,9 +610,25 @@ impl DrawGeometry<'_> {
         }
         let planes = codes[0] | codes[1] | codes[2];
         let ids = slots.map(|s| s as u32);
-        if self.flat_varyings == 0 && planes == 0 {
+        if planes == 0 {
             let varyings = slots.map(|s| self.vertices.varyings_of(s));
+            let first = batch.varyings.len();
             let outcome = setup_triangle(params, positions, varyings, ids, &mut batch.primitives, &mut batch.varyings);
+            if self.flat_varyings != 0 && outcome == SetupOutcome::Primitive {
+                // Every vertex takes the provoking vertex's flat values: patched in the three
+                // vertices setup appended, rather than copied into `ClipVertex`es first (three
+                // 144-byte copies a triangle, measured on tris: docs/benchmarking.md).
+                let corner = assemble::provoking_corner(self.desc.topology, t, self.desc.provoking_vertex);
+                let provoking = self.vertices.varyings_of(slots[corner]);
+                for vertex in batch.varyings[first..].chunks_exact_mut(self.vertices.varying_count) {
+                    let mut bits = self.flat_varyings;
+                    while bits != 0 {
+                        let i = bits.trailing_zeros() as usize;
+                        vertex[i] = provoking[i];
+                        bits &= bits - 1;
+                    }
+                }
+            }
             count_outcome(&mut batch.counters, outcome);
             return;
         }
@@ -623,14 +639,6 @@ impl DrawGeometry<'_> {
             let corner = assemble::provoking_corner(self.desc.topology, t, self.desc.provoking_vertex);
             let provoking = triangle[corner].varyings;
             copy_flat(&mut triangle, &provoking, self.flat_varyings);
-            if planes == 0 {
-                let n = self.vertices.varying_count;
-                let varyings = [0, 1, 2].map(|i| &triangle[i].varyings[..n]);
-                let outcome =
-                    setup_triangle(params, positions, varyings, ids, &mut batch.primitives, &mut batch.varyings);
-                count_outcome(&mut batch.counters, outcome);
-                return;
-            }
         }
         self.clip_and_set_up(triangle, planes, ids, params, volume, batch);
     }

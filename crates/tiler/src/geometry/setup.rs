@@ -9,7 +9,6 @@ use crate::api::pipeline::{CullMode, DepthBias, FrontFace};
 use crate::api::render_pass::Viewport;
 use crate::geometry::primitive::Primitive;
 use crate::raster::PixelRect;
-use crate::raster::edge::Edge;
 use crate::raster::fixed::{SUBPIXEL_SCALE, SubPixel};
 use crate::raster::samples::SampleLocations;
 
@@ -158,7 +157,6 @@ pub fn setup_triangle(
     // Keep vertex 0 (the provoking vertex) first; swap 1 and 2 to make the area positive.
     let order = if area2 > 0 { [0, 1, 2] } else { [0, 2, 1] };
     let p = order.map(|i| window[i]);
-    let edges = [Edge::new(p[0], p[1]), Edge::new(p[1], p[2]), Edge::new(p[2], p[0])];
 
     let Some(bbox) = sample_bbox(&p, &params.samples).map(|b| b.intersect(&params.clip_rect)) else {
         return SetupOutcome::Degenerate;
@@ -190,7 +188,7 @@ pub fn setup_triangle(
         out_varyings.extend_from_slice(varyings[i]);
     }
     primitives.push(Primitive {
-        edges,
+        window: p,
         bbox,
         origin: [q_at[0].0 as f32, q_at[0].1 as f32],
         l1: [(e2.1 / area) as f32, (-e2.0 / area) as f32],

@@ -164,6 +164,12 @@ struct ShadeOutput {
     sample_mask: [u32; 8],
 }
 
+/// How many list entries ahead [`rasterize`] prefetches primitive records.
+const PREFETCH_RECORDS: usize = 8;
+/// How many list entries ahead [`rasterize`] prefetches varyings (their records were
+/// prefetched `PREFETCH_RECORDS - PREFETCH_VARYINGS` entries earlier).
+const PREFETCH_VARYINGS: usize = 4;
+
 /// Rasterizes the primitives of `run` into `target`, in order, running the part of the
 /// pipeline `mode` says. What depends only on the draw and the target is worked out once.
 #[cfg_attr(not(debug_assertions), inline(always))]
@@ -179,6 +185,19 @@ pub fn rasterize<F: FragmentShader>(
     let count = run.indices.map_or(run.primitives.len(), <[u32]>::len);
     for position in 0..count {
         let index = run.indices.map_or(position, |indices| indices[position] as usize);
+        if let Some(indices) = run.indices {
+            // A tile's entries name records far apart: fetch the records a few entries ahead,
+            // and the varyings of nearer ones (whose records arrived already), so the misses
+            // overlap instead of each stalling its primitive (docs/benchmarking.md,
+            // "Primitive records").
+            if let Some(&ahead) = indices.get(position + PREFETCH_RECORDS) {
+                crate::simd::prefetch(&run.primitives[ahead as usize], std::mem::size_of::<Primitive>());
+            }
+            if let Some(&near) = indices.get(position + PREFETCH_VARYINGS) {
+                let offset = run.primitives[near as usize].varyings as usize;
+                crate::simd::prefetch(run.varyings.as_ptr().wrapping_add(offset), 12 * plan.varying_count);
+            }
+        }
         let primitive = &run.primitives[index];
         let rect = primitive.bbox.intersect(&target.clip);
         if rect.is_empty() {
@@ -189,7 +208,7 @@ pub fn rasterize<F: FragmentShader>(
             plan: &plan,
             primitive,
             varyings: &run.varyings[start..start + 3 * plan.varying_count],
-            coverage: PrimitiveCoverage::new(&primitive.edges, &target.samples),
+            coverage: PrimitiveCoverage::new(&primitive.edges(), &target.samples),
             interpolator: Interpolator::new(primitive),
             entry: run.first_entry + position as u32,
         };

@@ -11,30 +11,31 @@ use crate::raster::PixelRect;
 use crate::raster::target::RenderTarget;
 
 /// Runs of list positions that are consecutive and whose primitives share a state record
-/// (one draw), from `positions` (ascending): `(first, count)`. Every walk over a tile's list
+/// (one draw), from `positions` (ascending): `(first, count, state)`. The states come from
+/// the frame data's state starts, not the primitive records (a cache miss each). Every walk over a tile's list
 /// by draw goes through here: the whole list in order ([`render_in_order`], HSR's pass one) or
 /// the positions that own samples after HSR's pass one (`shade_segment`).
 fn draw_runs<'a>(
     positions: impl Iterator<Item = usize> + 'a,
     list: &'a [u32],
     frame: &'a FrameData,
-) -> impl Iterator<Item = (usize, usize)> + 'a {
-    let state_of = move |position: usize| frame.primitives()[list[position] as usize].state;
+) -> impl Iterator<Item = (usize, usize, u32)> + 'a {
+    let mut states = frame.state_cursor();
     let mut positions = positions.peekable();
     std::iter::from_fn(move || {
         let first = positions.next()?;
-        let state = state_of(first);
+        let state = states.state_of(list[first]);
         let mut count = 1;
-        while positions.next_if(|&p| p == first + count && state_of(p) == state).is_some() {
+        while positions.next_if(|&p| p == first + count && states.state_of(list[p]) == state).is_some() {
             count += 1;
         }
-        Some((first, count))
+        Some((first, count, state))
     })
 }
 
 /// Hands the run `first..first + count` of `list` (one draw's primitives) to its pipeline.
 fn rasterize_run(
-    (first, count): (usize, usize),
+    (first, count, state): (usize, usize, u32),
     list: &[u32],
     frame: &FrameData,
     draws: &[Draw],
@@ -42,7 +43,7 @@ fn rasterize_run(
     tally: &mut FragmentTally,
     mode: &mut Mode,
 ) {
-    let state = &frame.states()[frame.primitives()[list[first] as usize].state as usize];
+    let state = &frame.states()[state as usize];
     tally.draw = state.draw as usize;
     let run = PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[first..first + count], first as u32);
     draws[state.draw as usize].pipeline.object.rasterize(&run, target, tally, mode);
@@ -73,8 +74,8 @@ pub fn render_hsr(
 ) {
     let mut segment: Option<usize> = None;
     for run in draw_runs(0..list.len(), list, frame) {
-        let (first, _) = run;
-        match frame.states()[frame.primitives()[list[first] as usize].state as usize].hsr {
+        let (first, _, state) = run;
+        match frame.states()[state as usize].hsr {
             HsrMode::Deferred { claims } => {
                 if segment.is_none() {
                     visibility.reset(tile);

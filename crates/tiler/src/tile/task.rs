@@ -248,8 +248,12 @@ fn render_tile(
     let shaded_before = result.tally.counters.fragments_shaded;
     let mut start = 0;
     while start < list.len() {
-        let subpass = frame.subpass_of(list[start]);
-        let run = list[start..].iter().take_while(|&&e| frame.subpass_of(e) == subpass).count();
+        let mut states = frame.state_cursor();
+        let subpass = frame.states()[states.state_of(list[start]) as usize].subpass;
+        let run = list[start..]
+            .iter()
+            .take_while(|&&e| frame.states()[states.state_of(e) as usize].subpass == subpass)
+            .count();
         let entries = &list[start..start + run];
         let mut target = RenderTarget::for_subpass(
             &mut surfaces,
