@@ -564,12 +564,9 @@ impl Texture {
         sample_group(simd, self, sampler, u, v, counted, cache)
     }
 
-    /// [`Texture::sample`] for one layout (`STORED`: see `sample_group_body`) and one kind of
-    /// sampler (`KIND`, one of [`SamplerKind`]'s values): for a kind other than
-    /// [`SamplerKind::General`] the sampler *is* that kind's, so every choice on its state
-    /// (wraps, filters, mip mode, bias) is made when this is compiled.
+    /// [`Texture::sample`] for one layout (`STORED`: see `sample_group_body`).
     #[inline(always)]
-    fn sample_layout<const STORED: bool, const KIND: u8>(
+    fn sample_layout<const STORED: bool>(
         &self,
         sampler: &Sampler,
         u: F32x8,
@@ -577,7 +574,6 @@ impl Texture {
         counted: LaneMask,
         cache: &mut TextureCache,
     ) -> Vec4x8 {
-        let sampler = SamplerKind::constant(KIND).unwrap_or(sampler);
         let rho_squared = quad_rho_squared(u * self.width() as f32, v * self.height() as f32);
         // Arrays of two written out, not `map`ped: `map` is a function of its own that LLVM may
         // keep out of line, compiled for the baseline instruction set (see `lanes`).
@@ -984,65 +980,11 @@ fn sample_group_body(
 ) -> Vec4x8 {
     // A kernel per layout: RGBA8 finds its lines from the decoded texels' offsets, other
     // formats from their stored layout (`STORED`), with no branch on the format in the RGBA8
-    // kernel. The colour space needs none: the texels are held decoded. RGBA8 has a kernel
-    // per common sampler too ([`SamplerKind`]), with no branch on the sampler's state.
+    // kernel. The colour space needs none: the texels are held decoded.
     if texture.format == TexelFormat::Rgba8 {
-        match SamplerKind::of(sampler) {
-            SamplerKind::TrilinearRepeat => {
-                texture.sample_layout::<false, { SamplerKind::TrilinearRepeat as u8 }>(sampler, u, v, counted, cache)
-            }
-            SamplerKind::BilinearClamp => {
-                texture.sample_layout::<false, { SamplerKind::BilinearClamp as u8 }>(sampler, u, v, counted, cache)
-            }
-            SamplerKind::General => {
-                texture.sample_layout::<false, { SamplerKind::General as u8 }>(sampler, u, v, counted, cache)
-            }
-        }
+        texture.sample_layout::<false>(sampler, u, v, counted, cache)
     } else {
-        texture.sample_layout::<true, { SamplerKind::General as u8 }>(sampler, u, v, counted, cache)
-    }
-}
-
-/// The samplers 2D RGBA8 sampling has a kernel of its own for ([`Texture::sample_layout`]):
-/// SCENES.md's trilinear repeat (every glTF texture) and bilinear clamp-to-edge without mip
-/// maps (what GL applications set for their 2D images); any other is `General`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u8)]
-enum SamplerKind {
-    General,
-    TrilinearRepeat,
-    BilinearClamp,
-}
-
-impl SamplerKind {
-    /// The kind of `sampler`: a special kind only if 2D sampling with that kind's sampler gives
-    /// the same as with `sampler` (the third coordinate's wrap is not read; the bias must be
-    /// `+0` to the bit, so that no sign of zero could be told apart).
-    #[inline(always)]
-    fn of(sampler: &Sampler) -> SamplerKind {
-        let same_2d = |kind: &Sampler| {
-            Sampler { wrap_w: kind.wrap_w, ..*sampler } == *kind
-                && sampler.lod_bias.to_bits() == kind.lod_bias.to_bits()
-        };
-        if same_2d(&Sampler::TRILINEAR_REPEAT) {
-            SamplerKind::TrilinearRepeat
-        } else if same_2d(&Sampler::BILINEAR_CLAMP) {
-            SamplerKind::BilinearClamp
-        } else {
-            SamplerKind::General
-        }
-    }
-
-    /// The sampler of kind `kind` (a `SamplerKind as u8`), `None` for `General`.
-    #[inline(always)]
-    const fn constant(kind: u8) -> Option<&'static Sampler> {
-        if kind == SamplerKind::TrilinearRepeat as u8 {
-            Some(&Sampler::TRILINEAR_REPEAT)
-        } else if kind == SamplerKind::BilinearClamp as u8 {
-            Some(&Sampler::BILINEAR_CLAMP)
-        } else {
-            None
-        }
+        texture.sample_layout::<true>(sampler, u, v, counted, cache)
     }
 }
 
@@ -2085,7 +2027,7 @@ mod tests {
         let wrap = || prop::sample::select(vec![Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat]);
         let mipmap = prop::sample::select(vec![MipmapMode::None, MipmapMode::Nearest, MipmapMode::Linear]);
         let lod_bias = prop_oneof![3 => Just(0.0f32), 1 => -4.0f32..4.0];
-        let any = (filter(), filter(), mipmap, wrap(), wrap(), lod_bias).prop_map(
+        (filter(), filter(), mipmap, wrap(), wrap(), lod_bias).prop_map(
             |(mag_filter, min_filter, mipmap, wrap_u, wrap_v, lod_bias)| Sampler {
                 mag_filter,
                 min_filter,
@@ -2095,35 +2037,7 @@ mod tests {
                 wrap_w: wrap_v,
                 lod_bias,
             },
-        );
-        // The samplers with kernels of their own (`SamplerKind`), often enough to be tried in
-        // every run.
-        prop_oneof![
-            4 => any,
-            1 => Just(Sampler::TRILINEAR_REPEAT),
-            1 => Just(Sampler { wrap_w: Wrap::MirroredRepeat, ..Sampler::BILINEAR_CLAMP }),
-        ]
-    }
-
-    #[test]
-    fn sampler_kinds_are_the_samplers_they_name_and_nothing_else() {
-        assert_eq!(SamplerKind::of(&Sampler::TRILINEAR_REPEAT), SamplerKind::TrilinearRepeat);
-        assert_eq!(SamplerKind::of(&Sampler::BILINEAR_CLAMP), SamplerKind::BilinearClamp);
-        // The third coordinate's wrap is not read by 2D sampling.
-        let clamp_w = Sampler { wrap_w: Wrap::ClampToEdge, ..Sampler::TRILINEAR_REPEAT };
-        assert_eq!(SamplerKind::of(&clamp_w), SamplerKind::TrilinearRepeat);
-        for other in [
-            Sampler::NEAREST_REPEAT,
-            Sampler { lod_bias: -0.0, ..Sampler::TRILINEAR_REPEAT },
-            Sampler { lod_bias: 0.5, ..Sampler::TRILINEAR_REPEAT },
-            Sampler { wrap_v: Wrap::ClampToEdge, ..Sampler::TRILINEAR_REPEAT },
-            Sampler { mag_filter: Filter::Nearest, ..Sampler::TRILINEAR_REPEAT },
-            Sampler { mipmap: MipmapMode::Nearest, ..Sampler::TRILINEAR_REPEAT },
-            Sampler { wrap_u: Wrap::MirroredRepeat, ..Sampler::BILINEAR_CLAMP },
-            Sampler { min_filter: Filter::Nearest, ..Sampler::BILINEAR_CLAMP },
-        ] {
-            assert_eq!(SamplerKind::of(&other), SamplerKind::General, "{other:?}");
-        }
+        )
     }
 
     /// A texture of random texels: any texel read in the wrong place shows. Mostly RGBA8;
