@@ -568,7 +568,6 @@ impl Texture {
     #[inline(always)]
     fn sample_layout<const STORED: bool>(
         &self,
-        simd: SimdSupport,
         sampler: &Sampler,
         u: F32x8,
         v: F32x8,
@@ -603,7 +602,7 @@ impl Texture {
                 v: reduce_quad(lanes(|i| v.lane(PAIR_LANES[i])), sampler.wrap_v),
                 face_offsets: [0; 8],
             };
-            let rgba = self.sample_pair::<STORED>(simd, sampler, pair, &at, counted, minified_unmipped, cache);
+            let rgba = self.sample_pair::<STORED>(sampler, pair, &at, counted, minified_unmipped, cache);
             return group_of_pair(rgba);
         }
         let mut quads = [[[0u32; 4]; 4]; 2];
@@ -628,7 +627,6 @@ impl Texture {
     #[allow(clippy::too_many_arguments)] // one group's inputs; a struct would only rename them
     fn sample_pair<const STORED: bool>(
         &self,
-        simd: SimdSupport,
         sampler: &Sampler,
         pair: PairPlan,
         at: &QuadAt<8>,
@@ -659,7 +657,7 @@ impl Texture {
                 } else {
                     cache.access_lanes(first_line, near_rows, counted_pair);
                 }
-                self.filter_pair(simd, &near)
+                self.filter(&near)
             }
             PairPlan::Blend { level, filter, weights } => {
                 let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
@@ -669,7 +667,7 @@ impl Texture {
                 rows[..near_rows.len()].copy_from_slice(near_rows);
                 rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
                 cache.access_lanes(first_line, &rows[..near_rows.len() + far_rows.len()], counted_pair);
-                let (a, b) = (self.filter_pair(simd, &near), self.filter_pair(simd, &far));
+                let (a, b) = (self.filter(&near), self.filter(&far));
                 let weight = lanes::<u32, 8>(|i| weights[i / 4]);
                 let blend = |c: usize| lanes(|i| lerp(a[c][i], b[c][i], weight[i]));
                 [blend(0), blend(1), blend(2), blend(3)]
@@ -849,105 +847,26 @@ impl Texture {
     /// module notes for the linear filter's formula), from the decoded texels (`texels`).
     #[inline(always)]
     fn filter<const N: usize>(&self, footprint: &Footprint<N>) -> [[u32; N]; 4] {
-        let load = |corner: usize| {
-            let word = |w: usize| lanes(|i| self.texels[footprint.texels[corner][i] as usize][w]);
-            [word(0), word(1)]
-        };
-        let words = match footprint.filter {
-            Filter::Nearest => [load(0), [[0; N]; 2], [[0; N]; 2], [[0; N]; 2]],
-            Filter::Linear => [load(0), load(1), load(2), load(3)],
-        };
-        filter_loaded(footprint, &words)
-    }
-
-    /// [`Texture::filter`] of a pair's eight lanes, the texels read with AVX2 gathers when
-    /// `simd` runs them (eight scalar loads and inserts a word of a corner otherwise): the
-    /// same words, so the same values.
-    #[inline(always)]
-    fn filter_pair(&self, simd: SimdSupport, footprint: &Footprint<8>) -> [[u32; 8]; 4] {
-        #[cfg(target_arch = "x86_64")]
-        if simd.level() == crate::simd::SimdLevel::Avx2 {
-            let corners = match footprint.filter {
-                Filter::Nearest => 1,
-                Filter::Linear => 4,
-            };
-            let largest = footprint.texels[..corners].iter().flatten().fold(0, |m, &t| m.max(t));
-            if (largest as usize) < self.texels.len() {
-                let mut words = [[[0; 8]; 2]; 4];
-                for (corner, words) in words.iter_mut().enumerate().take(corners) {
-                    // SAFETY: `simd` is of level `Avx2`, which exists only when this processor
-                    // runs AVX2 (`SimdSupport`); every index of the first `corners` corners,
-                    // those `filter_loaded` reads, was checked just above to be below
-                    // `texels.len()`.
-                    *words = unsafe { gather_texels(&self.texels, &footprint.texels[corner]) };
-                }
-                return filter_loaded(footprint, &words);
+        // Word `w` of each lane's texel at `corner`.
+        let words = |corner: usize, w: usize| lanes(|i| self.texels[footprint.texels[corner][i] as usize][w]);
+        match footprint.filter {
+            Filter::Nearest => {
+                let t = [words(0, 0), words(0, 1)];
+                let channel = |c: u32| lanes(|i| texel_channel(t[c as usize / 2][i], c));
+                [channel(0), channel(1), channel(2), channel(3)]
+            }
+            Filter::Linear => {
+                let rg = [words(0, 0), words(1, 0), words(2, 0), words(3, 0)];
+                let ba = [words(0, 1), words(1, 1), words(2, 1), words(3, 1)];
+                let (alpha, beta) = (&footprint.alpha, &footprint.beta);
+                [
+                    bilinear_channel(&rg, 0, alpha, beta),
+                    bilinear_channel(&rg, 1, alpha, beta),
+                    bilinear_channel(&ba, 2, alpha, beta),
+                    bilinear_channel(&ba, 3, alpha, beta),
+                ]
             }
         }
-        let _ = simd;
-        self.filter(footprint)
-    }
-}
-
-/// The filter of [`Texture::filter`] on the words of the decoded texels at the footprint's
-/// corners (`[corner][word][lane]`): nearest filtering reads corner 0 only, linear all four.
-#[inline(always)]
-fn filter_loaded<const N: usize>(footprint: &Footprint<N>, words: &[[[u32; N]; 2]; 4]) -> [[u32; N]; 4] {
-    match footprint.filter {
-        Filter::Nearest => {
-            let t = words[0];
-            let channel = |c: u32| lanes(|i| texel_channel(t[c as usize / 2][i], c));
-            [channel(0), channel(1), channel(2), channel(3)]
-        }
-        Filter::Linear => {
-            let corners = words;
-            let rg = [corners[0][0], corners[1][0], corners[2][0], corners[3][0]];
-            let ba = [corners[0][1], corners[1][1], corners[2][1], corners[3][1]];
-            let (alpha, beta) = (&footprint.alpha, &footprint.beta);
-            [
-                bilinear_channel(&rg, 0, alpha, beta),
-                bilinear_channel(&rg, 1, alpha, beta),
-                bilinear_channel(&ba, 2, alpha, beta),
-                bilinear_channel(&ba, 3, alpha, beta),
-            ]
-        }
-    }
-}
-
-/// The decoded texels `texels[index[i]]` of eight lanes as their two words, `[word][lane]`:
-/// two AVX2 gathers of four 8-byte texels (lanes 0, 1, 4, 5 and 2, 3, 6, 7, so that one shuffle
-/// per word puts the lanes back in order).
-///
-/// # Safety
-///
-/// The processor runs AVX2, and every `index[i] < texels.len()`.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-unsafe fn gather_texels(texels: &[[u32; 2]], index: &[u32; 8]) -> [[u32; 8]; 2] {
-    use std::arch::x86_64::{
-        __m256i, _mm_setr_epi32, _mm256_castps_si256, _mm256_castsi256_ps, _mm256_i32gather_epi64, _mm256_shuffle_ps,
-        _mm256_storeu_si256,
-    };
-    // Indices are below `texels.len()`, which is below 2^31 (8-byte texels fill at most the
-    // address space's half), so they are positive as the gather's signed offsets; the gather
-    // scales them by 8 in 64 bits. Each reads the 8 bytes of `texels[index[i]]`, inside the slice.
-    let base = texels.as_ptr().cast::<i64>();
-    // SAFETY: the caller promises AVX2 and indices in bounds (see above); the stores write 32
-    // bytes into arrays of eight `u32`.
-    unsafe {
-        let at = |a: usize, b: usize, c: usize, d: usize| {
-            _mm_setr_epi32(index[a] as i32, index[b] as i32, index[c] as i32, index[d] as i32)
-        };
-        let low = _mm256_castsi256_ps(_mm256_i32gather_epi64::<8>(base, at(0, 1, 4, 5)));
-        let high = _mm256_castsi256_ps(_mm256_i32gather_epi64::<8>(base, at(2, 3, 6, 7)));
-        // Per 128-bit half: words 0 and 2 of `low`, then of `high` (each texel's first word),
-        // or words 1 and 3 (its second).
-        let first = _mm256_castps_si256(_mm256_shuffle_ps::<0b10_00_10_00>(low, high));
-        let second = _mm256_castps_si256(_mm256_shuffle_ps::<0b11_01_11_01>(low, high));
-        let mut words = [[0u32; 8]; 2];
-        _mm256_storeu_si256(words[0].as_mut_ptr().cast::<__m256i>(), first);
-        _mm256_storeu_si256(words[1].as_mut_ptr().cast::<__m256i>(), second);
-        words
     }
 }
 
@@ -1051,7 +970,7 @@ per_simd_level! {
 
 #[inline(always)]
 fn sample_group_body(
-    simd: SimdSupport,
+    _simd: SimdSupport,
     texture: &Texture,
     sampler: &Sampler,
     u: F32x8,
@@ -1063,9 +982,9 @@ fn sample_group_body(
     // formats from their stored layout (`STORED`), with no branch on the format in the RGBA8
     // kernel. The colour space needs none: the texels are held decoded.
     if texture.format == TexelFormat::Rgba8 {
-        texture.sample_layout::<false>(simd, sampler, u, v, counted, cache)
+        texture.sample_layout::<false>(sampler, u, v, counted, cache)
     } else {
-        texture.sample_layout::<true>(simd, sampler, u, v, counted, cache)
+        texture.sample_layout::<true>(sampler, u, v, counted, cache)
     }
 }
 
