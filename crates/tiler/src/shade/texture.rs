@@ -847,8 +847,29 @@ impl Texture {
     /// module notes for the linear filter's formula), from the decoded texels (`texels`).
     #[inline(always)]
     fn filter<const N: usize>(&self, footprint: &Footprint<N>) -> [[u32; N]; 4] {
-        // Word `w` of each lane's texel at `corner`.
-        let words = |corner: usize, w: usize| lanes(|i| self.texels[footprint.texels[corner][i] as usize][w]);
+        // One bounds check for the footprint's texels (the largest index of the corners the
+        // filter reads), not one per texel read: 64 compares and branches a trilinear pair.
+        let corners = match footprint.filter {
+            Filter::Nearest => 1,
+            Filter::Linear => 4,
+        };
+        let largest = footprint.texels[..corners].iter().flatten().fold(0, |m, &t| m.max(t));
+        assert!(
+            (largest as usize) < self.texels.len(),
+            "texel {largest} of a footprint outside the texture's {} texels",
+            self.texels.len()
+        );
+        // Word `w` of each lane's texel at `corner` (only the first `corners` are read).
+        let words = |corner: usize, w: usize| {
+            lanes(|i| {
+                let index = footprint.texels[corner][i] as usize;
+                debug_assert!(corner < corners);
+                // SAFETY: `corner` is one of the first `corners` (the match below reads corner
+                // 0 for nearest filtering, corners 0 to 3 for linear), whose indices are all at
+                // most `largest`, which the assertion above holds below `texels.len()`.
+                unsafe { self.texels.get_unchecked(index)[w] }
+            })
+        };
         match footprint.filter {
             Filter::Nearest => {
                 let t = [words(0, 0), words(0, 1)];
