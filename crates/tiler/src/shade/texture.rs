@@ -847,26 +847,22 @@ impl Texture {
     /// module notes for the linear filter's formula), from the decoded texels (`texels`).
     #[inline(always)]
     fn filter<const N: usize>(&self, footprint: &Footprint<N>) -> [[u32; N]; 4] {
-        // One bounds check for the footprint's texels (the largest index of the corners the
-        // filter reads), not one per texel read: 64 compares and branches a trilinear pair.
-        let corners = match footprint.filter {
-            Filter::Nearest => 1,
-            Filter::Linear => 4,
-        };
-        let largest = footprint.texels[..corners].iter().flatten().fold(0, |m, &t| m.max(t));
+        // One bounds check for the footprint's texels (the largest index of its four corners;
+        // a nearest footprint's four are its one texel), not one per texel read: 64 compares
+        // and branches a trilinear pair.
+        let largest = footprint.texels.iter().flatten().fold(0, |m, &t| m.max(t));
         assert!(
             (largest as usize) < self.texels.len(),
             "texel {largest} of a footprint outside the texture's {} texels",
             self.texels.len()
         );
-        // Word `w` of each lane's texel at `corner` (only the first `corners` are read).
+        // Word `w` of each lane's texel at `corner`.
         let words = |corner: usize, w: usize| {
             lanes(|i| {
                 let index = footprint.texels[corner][i] as usize;
-                debug_assert!(corner < corners);
-                // SAFETY: `corner` is one of the first `corners` (the match below reads corner
-                // 0 for nearest filtering, corners 0 to 3 for linear), whose indices are all at
-                // most `largest`, which the assertion above holds below `texels.len()`.
+                // SAFETY: `index` is one of the footprint's texel indices (the indexing above
+                // panics for a corner past the fourth), all at most `largest`, which the
+                // assertion above holds below `texels.len()`.
                 unsafe { self.texels.get_unchecked(index)[w] }
             })
         };
