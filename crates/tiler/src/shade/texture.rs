@@ -575,7 +575,13 @@ impl Texture {
         cache: &mut TextureCache,
     ) -> Vec4x8 {
         let rho_squared = quad_rho_squared(u * self.width() as f32, v * self.height() as f32);
-        let lods = if self.plan_ignores_lod(sampler) { [0.0; 2] } else { rho_squared.map(|r| 0.5 * log2(r)) };
+        // Arrays of two written out, not `map`ped: `map` is a function of its own that LLVM may
+        // keep out of line, compiled for the baseline instruction set (see `lanes`).
+        let lods = if self.plan_ignores_lod(sampler) {
+            [0.0; 2]
+        } else {
+            [0.5 * log2(rho_squared[0]), 0.5 * log2(rho_squared[1])]
+        };
         // Minified more than 2× (`λ > UNMIPPED_LOD`) without mip maps, told from `ρ²` so that
         // samplers whose plan ignores the level of detail need no logarithm.
         let unmipped = sampler.mipmap == MipmapMode::None;
@@ -585,9 +591,11 @@ impl Texture {
             4f32.powf(UNMIPPED_LOD - sampler.lod_bias)
         };
         let lambdas = [lods[0] + sampler.lod_bias, lods[1] + sampler.lod_bias];
-        let plans = lambdas.map(|lambda| self.plan(sampler, lambda));
-        let counted = QUAD_LANES.map(|lanes| lanes.map(|lane| counted.contains(lane)));
-        let minified_unmipped = rho_squared.map(|rho_squared| unmipped && rho_squared > unmipped_rho_squared);
+        let plans = [self.plan(sampler, lambdas[0]), self.plan(sampler, lambdas[1])];
+        let counted_quad = |quad: usize| lanes(|i| counted.contains(QUAD_LANES[quad][i]));
+        let counted = [counted_quad(0), counted_quad(1)];
+        let minified = |quad: usize| unmipped && rho_squared[quad] > unmipped_rho_squared;
+        let minified_unmipped = [minified(0), minified(1)];
         if let Some(pair) = PairPlan::of(plans) {
             let at = QuadAt {
                 u: reduce_quad(lanes(|i| u.lane(PAIR_LANES[i])), sampler.wrap_u),
@@ -630,9 +638,9 @@ impl Texture {
         // See `sample_quad`.
         let first_line = (self.id << 40) >> line_shift;
         // Quad `quad`'s half of a row of eight lanes.
-        let half = |row: &[u32; 8], quad: usize| -> [u32; 4] { std::array::from_fn(|i| row[4 * quad + i]) };
+        let half = |row: &[u32; 8], quad: usize| -> [u32; 4] { lanes(|i| row[4 * quad + i]) };
         // Both quads' lanes, read together: quad 0's, then quad 1's ([`PAIR_LANES`]).
-        let counted_pair: [bool; 8] = std::array::from_fn(|i| counted[i / 4][i % 4]);
+        let counted_pair: [bool; 8] = lanes(|i| counted[i / 4][i % 4]);
         match pair {
             PairPlan::Single { level, filter } => {
                 let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
@@ -661,7 +669,8 @@ impl Texture {
                 cache.access_lanes(first_line, &rows[..near_rows.len() + far_rows.len()], counted_pair);
                 let (a, b) = (self.filter(&near), self.filter(&far));
                 let weight = lanes::<u32, 8>(|i| weights[i / 4]);
-                std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight[i])))
+                let blend = |c: usize| lanes(|i| lerp(a[c][i], b[c][i], weight[i]));
+                [blend(0), blend(1), blend(2), blend(3)]
             }
         }
     }
@@ -752,6 +761,7 @@ impl Texture {
 
     /// The levels and filter for a level of detail `lambda` (GL §8.14–8.15, see the module
     /// notes). A NaN level of detail magnifies.
+    #[inline(always)]
     fn plan(&self, sampler: &Sampler, lambda: f32) -> LevelPlan {
         if lambda.is_nan() || lambda <= sampler.magnification_limit() {
             return LevelPlan::Single { level: 0, filter: sampler.mag_filter };
@@ -809,14 +819,18 @@ impl Texture {
         let offset = |(cx, cy): (usize, usize)| {
             lanes::<u32, N>(|i| at.face_offsets[i] + row_offsets[cy][i] + column_offsets[cx][i])
         };
-        let texel = |corner| offset(corner).map(|offset| offset / TEXEL_BYTES as u32);
+        let texel = |corner| {
+            let offset = offset(corner);
+            lanes(|i| offset[i] / TEXEL_BYTES as u32)
+        };
         // An RGBA8 texture is stored as it is decoded; any other format (`STORED`) where its
         // layout says.
         let line = |(cx, cy): (usize, usize)| {
             if STORED {
                 lanes(|i| (l.stored_offset(&self.layout, x[cx][i], y[cy][i]) >> line_shift) as u32)
             } else {
-                offset((cx, cy)).map(|offset| offset >> line_shift)
+                let offset = offset((cx, cy));
+                lanes(|i| offset[i] >> line_shift)
             }
         };
         let corners = [(0, 0), (1, 0), (0, 1), (1, 1)];
@@ -833,8 +847,25 @@ impl Texture {
     /// module notes for the linear filter's formula), from the decoded texels (`texels`).
     #[inline(always)]
     fn filter<const N: usize>(&self, footprint: &Footprint<N>) -> [[u32; N]; 4] {
+        // One bounds check for the footprint's texels (the largest index of its four corners;
+        // a nearest footprint's four are its one texel), not one per texel read: 64 compares
+        // and branches a trilinear pair.
+        let largest = footprint.texels.iter().flatten().fold(0, |m, &t| m.max(t));
+        assert!(
+            (largest as usize) < self.texels.len(),
+            "texel {largest} of a footprint outside the texture's {} texels",
+            self.texels.len()
+        );
         // Word `w` of each lane's texel at `corner`.
-        let words = |corner: usize, w: usize| lanes(|i| self.texels[footprint.texels[corner][i] as usize][w]);
+        let words = |corner: usize, w: usize| {
+            lanes(|i| {
+                let index = footprint.texels[corner][i] as usize;
+                // SAFETY: `index` is one of the footprint's texel indices (the indexing above
+                // panics for a corner past the fourth), all at most `largest`, which the
+                // assertion above holds below `texels.len()`.
+                unsafe { self.texels.get_unchecked(index)[w] }
+            })
+        };
         match footprint.filter {
             Filter::Nearest => {
                 let t = [words(0, 0), words(0, 1)];
@@ -1019,7 +1050,8 @@ const PAIR_LANES: [usize; 8] = [0, 1, 4, 5, 2, 3, 6, 7];
 /// group's lanes, converted eight lanes at a time.
 #[inline(always)]
 fn group_of_pair(rgba: [[u32; 8]; 4]) -> Vec4x8 {
-    rgba.map(|channel| F32x8(std::array::from_fn(|lane| unorm16_to_f32(channel[PAIR_LANES[lane]]))))
+    let channel = |c: usize| F32x8(lanes(|lane| unorm16_to_f32(rgba[c][PAIR_LANES[lane]])));
+    [channel(0), channel(1), channel(2), channel(3)]
 }
 
 /// Four lanes of a quad, in [`QUAD_LANES`] order.
@@ -1204,11 +1236,12 @@ fn quad_lods(s: F32x8, t: F32x8) -> [f32; 2] {
 /// and in y, `s`, `t` in texels of level 0 ([`quad_lods`] is `½ · log2` of it).
 #[inline]
 pub fn quad_rho_squared(s: F32x8, t: F32x8) -> [f32; 2] {
-    QUAD_LANES.map(|[tl, tr, bl, _]| {
+    let quad = |[tl, tr, bl, _]: [usize; 4]| {
         let (dsdx, dtdx) = (s.lane(tr) - s.lane(tl), t.lane(tr) - t.lane(tl));
         let (dsdy, dtdy) = (s.lane(bl) - s.lane(tl), t.lane(bl) - t.lane(tl));
         (dsdx * dsdx + dtdx * dtdx).max(dsdy * dsdy + dtdy * dtdy)
-    })
+    };
+    [quad(QUAD_LANES[0]), quad(QUAD_LANES[1])]
 }
 
 /// `log2(x)` from basic IEEE operations (no platform `log2f`, whose last bit may differ
@@ -1216,6 +1249,7 @@ pub fn quad_rho_squared(s: F32x8, t: F32x8) -> [f32; 2] {
 /// series `log2(m) = 2/ln 2 · (z + z³/3 + z⁵/5 + z⁷/7 + z⁹/9)`, `z = (m − 1)/(m + 1)`, in double
 /// precision (`|z| ≤ 0.172`: the next term is below 1e-9). `log2(0)` and NaN or negative
 /// inputs give −∞, `log2(∞)` gives ∞.
+#[inline(always)]
 pub fn log2(x: f32) -> f32 {
     if x.is_nan() || x <= 0.0 {
         return f32::NEG_INFINITY;
@@ -1365,7 +1399,7 @@ fn linear_texels<const N: usize>(r: [f32; N], n: u32, wrap: Wrap) -> ([[u32; N];
             lanes(|i| mirror(if i0[i] + 1 == 2 * n { 0 } else { i0[i] + 1 })),
         ),
     };
-    ([x0.map(|x| x as u32), x1.map(|x| x as u32)], alpha)
+    ([lanes(|i| x0[i] as u32), lanes(|i| x1[i] as u32)], alpha)
 }
 
 #[cfg(test)]
