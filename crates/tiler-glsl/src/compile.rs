@@ -226,6 +226,16 @@ type CResult<T> = Result<T, (u32, String)>;
 /// Noise shaders (glmark2's terrain) hash lattice cells on values a binary16 rounding moves, so
 /// without this the pictures differ in whole cells. Integers are not narrowed (llvmpipe also
 /// computes `mediump int` in 16 bits; tiler keeps 32).
+///
+/// **Single-precision roots.** A `mediump` variable assigned a single-precision value (a
+/// `highp` expression) holds it unrounded, and a `mediump` operation all of whose operands
+/// are such variables is computed in single precision, unrounded, unless its result is in
+/// turn an operand of a lowered operation, which then takes it in binary16
+/// ([`Compiler::single`]). Measured on llvmpipe (tools/float-probe/experiments): for such
+/// `m`, `u`, `m * u`, `m + u`, `sqrt(m)` and `1.0 / m` are single precision while `m - 0.2`,
+/// `(m + u) + u` and `m * 3.0 + u` are binary16 — in Mesa the lowered tree's leaves are
+/// conversions that may keep 32 bits, and a tree of one operation on such leaves keeps them.
+/// Inputs, uniforms, texels and constants are binary16 leaves.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
 enum Prec {
     #[default]
@@ -354,6 +364,16 @@ struct Compiler<'a> {
     /// Work registers known to hold binary16 values (results of lowered operations), which a
     /// lowered operation need not round again. Only registers written once are entered.
     halves: HashSet<Reg>,
+    /// `mediump` variables whose current value was computed in single precision (by a
+    /// `highp` operation, or one of [`Compiler::single`]), not written since.
+    holds_single: HashSet<Reg>,
+    /// `holds_single` as it was at the end of the block [`Compiler::block`] compiled last
+    /// (a function body's, which an inlined call continues from).
+    block_end_singles: HashSet<Reg>,
+    /// `mediump` operations computed in single precision because none of their operands is a
+    /// binary16 value (see [`Prec`]), with how to compute them in binary16 should a lowered
+    /// operation take them as an operand.
+    single: HashMap<Reg, Recipe>,
     /// Default precisions, one entry per scope (as `scopes`).
     defaults: Vec<Defaults>,
     /// The precision of each sampler slot's lookups.
@@ -408,6 +428,9 @@ impl<'a> Compiler<'a> {
             emitted: 0,
             precision: HashMap::new(),
             halves: HashSet::new(),
+            holds_single: HashSet::new(),
+            block_end_singles: HashSet::new(),
+            single: HashMap::new(),
             // GLSL ES: a vertex shader's floats and ints are highp unless declared otherwise;
             // a fragment shader has no default float precision (the source must give one;
             // tiler takes highp) and mediump ints; samplers are lowp in both.
@@ -527,6 +550,36 @@ impl<'a> Compiler<'a> {
 
     fn emit(&mut self, inst: Inst) {
         self.emitted += 1;
+        match &inst {
+            // An inlined call ran its body once: what the body left holds after it.
+            Inst::Call(_) => self.holds_single = std::mem::take(&mut self.block_end_singles),
+            // After a branch or a loop, a variable written inside holds one of several values
+            // (a phi in Mesa, of single precision).
+            _ if !inst.is_straight_line() => {
+                let mut written = Vec::new();
+                written_within(&inst, &mut written);
+                for r in written {
+                    self.holds_single.remove(&r);
+                }
+            }
+            Inst::Store(d, s) | Inst::Un(UnOp::Mov, d, s) => {
+                if self.is_single(*s) {
+                    self.holds_single.insert(*d);
+                } else {
+                    self.holds_single.remove(d);
+                }
+            }
+            _ => crate::hoist::writes(&inst, &mut |r| {
+                self.holds_single.remove(&r);
+            }),
+        }
+        if !self.single.is_empty() {
+            if !inst.is_straight_line() {
+                self.single.clear();
+            } else {
+                crate::hoist::writes(&inst, &mut |w| self.single.retain(|&d, recipe| d != w && !recipe.reads(w)));
+            }
+        }
         if !self.rounded.is_empty() {
             if !inst.is_straight_line() {
                 self.rounded.clear();
@@ -585,6 +638,39 @@ impl<'a> Compiler<'a> {
                 | UnOp::FToHalf
         );
         let lower = prec == Prec::Medium;
+        if lower && float_in && float_out && !self.lowers(&[a]) {
+            return self.single_precision(Recipe::Un(op, a), prec);
+        }
+        self.un_at(op, a, prec, lower)
+    }
+
+    /// [`Compiler::un`] with the lowering decided.
+    fn un_at(&mut self, op: UnOp, a: Reg, prec: Prec, lower: bool) -> Reg {
+        let float_in = !matches!(
+            op,
+            UnOp::Not
+                | UnOp::IToBool
+                | UnOp::INeg
+                | UnOp::IAbs
+                | UnOp::ISign
+                | UnOp::BitNot
+                | UnOp::IToF
+                | UnOp::UToF
+                | UnOp::HalfToF
+        );
+        let float_out = !matches!(
+            op,
+            UnOp::Not
+                | UnOp::ToBool
+                | UnOp::IToBool
+                | UnOp::INeg
+                | UnOp::IAbs
+                | UnOp::ISign
+                | UnOp::BitNot
+                | UnOp::FToI
+                | UnOp::FToU
+                | UnOp::FToHalf
+        );
         let a = if lower && float_in { self.halved(a) } else { a };
         let d = self.temp();
         self.emit(Inst::Un(op, d, a));
@@ -620,6 +706,17 @@ impl<'a> Compiler<'a> {
                     | B::Eq
                     | B::Ne
             );
+        // `1.0 / x` is Mesa's `rcp(x)`: the constant is not an operand.
+        let operands: &[Reg] = if op == B::Div && self.constant(a) == Some(1.0) { &[b] } else { &[a, b] };
+        if lower && !self.lowers(operands) {
+            return self.single_precision(Recipe::Bin(op, a, b), prec);
+        }
+        self.bin_at(op, a, b, prec, lower)
+    }
+
+    /// [`Compiler::bin`] with the lowering decided.
+    fn bin_at(&mut self, op: BinOp, a: Reg, b: Reg, prec: Prec, lower: bool) -> Reg {
+        use BinOp as B;
         let (a, b) = if lower { (self.halved(a), self.halved(b)) } else { (a, b) };
         let d = self.temp();
         self.emit(Inst::Bin(op, d, a, b));
@@ -634,17 +731,57 @@ impl<'a> Compiler<'a> {
             // roundings (llvmpipe returns `c ? n : …` of a mediump `n = 1.0 / 7.0` as
             // 0.142822266).
             let prec = self.prec(b).max(self.prec(c));
-            let (b, c) = if prec == Prec::Medium { (self.halved(b), self.halved(c)) } else { (b, c) };
-            let d = self.temp();
-            self.emit(Inst::Tri(op, d, a, b, c));
-            return self.lowered_result(d, prec, false, prec == Prec::Medium);
+            if prec == Prec::Medium && !self.lowers(&[b, c]) {
+                return self.single_precision(Recipe::Tri(op, a, b, c), prec);
+            }
+            return self.tri_at(op, a, b, c, prec, prec == Prec::Medium);
         }
         let prec = self.prec(a).max(self.prec(b)).max(self.prec(c));
         let lower = prec == Prec::Medium;
+        if lower && !self.lowers(&[a, b, c]) {
+            return self.single_precision(Recipe::Tri(op, a, b, c), prec);
+        }
+        self.tri_at(op, a, b, c, prec, lower)
+    }
+
+    /// [`Compiler::tri`] with the lowering decided.
+    fn tri_at(&mut self, op: TriOp, a: Reg, b: Reg, c: Reg, prec: Prec, lower: bool) -> Reg {
+        if op == TriOp::Select {
+            let (b, c) = if lower { (self.halved(b), self.halved(c)) } else { (b, c) };
+            let d = self.temp();
+            self.emit(Inst::Tri(op, d, a, b, c));
+            return self.lowered_result(d, prec, false, lower);
+        }
         let (a, b, c) = if lower { (self.halved(a), self.halved(b), self.halved(c)) } else { (a, b, c) };
         let d = self.temp();
         self.emit(Inst::Tri(op, d, a, b, c));
         self.lowered_result(d, prec, lower, false)
+    }
+
+    /// Whether `r` holds a value computed in single precision: a `highp` result, one of
+    /// [`Compiler::single`], or a variable last stored from one of those.
+    fn is_single(&self, r: Reg) -> bool {
+        self.prec(r) == Prec::High || self.single.contains_key(&r) || self.holds_single.contains(&r)
+    }
+
+    /// Whether a `mediump` operation on `operands` is lowered to binary16: unless every
+    /// operand is a `mediump` variable holding a single-precision value (see [`Prec`]).
+    fn lowers(&self, operands: &[Reg]) -> bool {
+        operands.iter().any(|&r| self.single.contains_key(&r) || !self.holds_single.contains(&r))
+    }
+
+    /// A `mediump` operation none of whose operands is a binary16 value, computed in single
+    /// precision (see [`Prec`]); [`Compiler::halved`] computes it in binary16 if a lowered
+    /// operation takes it as an operand.
+    fn single_precision(&mut self, recipe: Recipe, prec: Prec) -> Reg {
+        let d = match &recipe {
+            Recipe::Un(op, a) => self.un_at(*op, *a, prec, false),
+            Recipe::Bin(op, a, b) => self.bin_at(*op, *a, *b, prec, false),
+            Recipe::Tri(op, a, b, c) => self.tri_at(*op, *a, *b, *c, prec, false),
+            Recipe::Dot(a, b) => self.dot_at(a, b, prec, false),
+        };
+        self.single.insert(d, recipe);
+        d
     }
 
     /// The value of `r` if it is a compile-time constant of the bank.
@@ -667,7 +804,15 @@ impl<'a> Compiler<'a> {
     /// precision. They may be written again, so they are not known binary16 values.
     fn set_prec(&mut self, regs: &[Reg], prec: Prec) {
         for &r in regs {
+            // A `mediump` variable given a single-precision value holds it (an assignment ends
+            // Mesa's lowered tree) until written again.
             self.halves.remove(&r);
+            let single = self.single.remove(&r).is_some() || self.prec(r) == Prec::High;
+            if single && prec == Prec::Medium {
+                self.holds_single.insert(r);
+            } else {
+                self.holds_single.remove(&r);
+            }
             match prec {
                 Prec::None => self.precision.remove(&r),
                 p => self.precision.insert(r, p),
@@ -687,6 +832,27 @@ impl<'a> Compiler<'a> {
                 return self.konst(half::f16::from_f32(value).to_f32());
             }
         }
+        if let Some(&d) = self.rounded.get(&r) {
+            return d;
+        }
+        if let Some(recipe) = self.single.get(&r).cloned() {
+            // Taken by a lowered operation: computed in binary16 after all.
+            let prec = Prec::Medium;
+            let d = match recipe {
+                Recipe::Un(op, a) => self.un_at(op, a, prec, true),
+                Recipe::Bin(op, a, b) => self.bin_at(op, a, b, prec, true),
+                Recipe::Tri(op, a, b, c) => self.tri_at(op, a, b, c, prec, true),
+                Recipe::Dot(a, b) => self.dot_at(&a, &b, prec, true),
+            };
+            let d = if self.halves.contains(&d) { d } else { self.halved_plain(d) };
+            self.rounded.insert(r, d);
+            return d;
+        }
+        self.halved_plain(r)
+    }
+
+    /// `r` rounded to binary16 by an instruction (shared within a straight run).
+    fn halved_plain(&mut self, r: Reg) -> Reg {
         if let Some(&d) = self.rounded.get(&r) {
             return d;
         }
@@ -776,7 +942,12 @@ impl<'a> Compiler<'a> {
     fn block<T>(&mut self, f: impl FnOnce(&mut Self) -> CResult<T>) -> CResult<(T, Vec<Inst>)> {
         let saved = std::mem::take(&mut self.code);
         self.rounded.clear();
+        self.single.clear();
+        // Each block starts from what holds before it (the two branches of an `if` alike).
+        let before = self.holds_single.clone();
         let result = f(self);
+        self.block_end_singles = std::mem::replace(&mut self.holds_single, before);
+        self.single.clear();
         self.rounded.clear();
         let code = std::mem::replace(&mut self.code, saved);
         Ok((result?, code))
@@ -2078,7 +2249,32 @@ impl<'a> Compiler<'a> {
     /// give `1 + 8·2⁻¹¹`), while its written-out multiply-adds round every operation.
     fn dot(&mut self, a: &[Reg], b: &[Reg]) -> Reg {
         let prec = a.iter().chain(b).map(|&r| self.prec(r)).max().unwrap_or_default();
-        if prec != Prec::Medium {
+        if prec == Prec::Medium {
+            let operands: Vec<Reg> = a.iter().chain(b).copied().collect();
+            if !self.lowers(&operands) {
+                return self.single_precision(Recipe::Dot(a.to_vec(), b.to_vec()), prec);
+            }
+        }
+        self.dot_at(a, b, prec, prec == Prec::Medium)
+    }
+
+    /// [`Compiler::dot`] with the lowering decided.
+    fn dot_at(&mut self, a: &[Reg], b: &[Reg], prec: Prec, lower: bool) -> Reg {
+        if !lower {
+            let raw = |c: &mut Self, op, x, y| {
+                let d = c.temp();
+                c.emit(Inst::Bin(op, d, x, y));
+                d
+            };
+            if prec == Prec::Medium {
+                // Single precision throughout, every product and sum.
+                let mut acc = raw(self, BinOp::Mul, a[0], b[0]);
+                for i in 1..a.len() {
+                    let p = raw(self, BinOp::Mul, a[i], b[i]);
+                    acc = raw(self, BinOp::Add, acc, p);
+                }
+                return self.lowered_result(acc, prec, false, false);
+            }
             let mut acc = self.bin(BinOp::Mul, a[0], b[0]);
             for i in 1..a.len() {
                 let p = self.bin(BinOp::Mul, a[i], b[i]);
@@ -3221,5 +3417,41 @@ fn scalar_kinds(ty: &Type) -> Vec<Scalar> {
         Type::Struct(s) => s.fields.iter().flat_map(|(_, t)| scalar_kinds(t)).collect(),
         Type::Array(t, n) => scalar_kinds(t).repeat(*n),
         _ => vec![ty.scalar().unwrap_or(Scalar::Float); ty.size()],
+    }
+}
+
+/// A `mediump` operation computed in single precision, to compute again in binary16.
+#[derive(Clone, Debug)]
+enum Recipe {
+    Un(UnOp, Reg),
+    Bin(BinOp, Reg, Reg),
+    Tri(TriOp, Reg, Reg, Reg),
+    Dot(Vec<Reg>, Vec<Reg>),
+}
+
+impl Recipe {
+    fn reads(&self, r: Reg) -> bool {
+        match self {
+            Recipe::Un(_, a) => *a == r,
+            Recipe::Bin(_, a, b) => *a == r || *b == r,
+            Recipe::Tri(_, a, b, c) => *a == r || *b == r || *c == r,
+            Recipe::Dot(a, b) => a.contains(&r) || b.contains(&r),
+        }
+    }
+}
+
+/// Registers an instruction writes, its nested blocks' writes included.
+fn written_within(inst: &Inst, out: &mut Vec<Reg>) {
+    crate::hoist::writes(inst, &mut |r| out.push(r));
+    let nested: Vec<&Vec<Inst>> = match inst {
+        Inst::If(_, a, b) => vec![a, b],
+        Inst::Loop { cond_code, body, step, .. } => vec![cond_code, body, step],
+        Inst::Call(body) | Inst::Breakable(body) => vec![body],
+        _ => Vec::new(),
+    };
+    for block in nested {
+        for inst in block {
+            written_within(inst, out);
+        }
     }
 }
