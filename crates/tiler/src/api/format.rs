@@ -50,7 +50,8 @@ pub enum Format {
 }
 
 /// An integer colour format: `channels` (1, 2 or 4: red, red-green, RGBA) of `bits` (8, 16
-/// or 32) each, little-endian, channel after channel, signed or not.
+/// or 32) each, little-endian, channel after channel, signed or not. (A vertex attribute's
+/// integers, `VertexFormat::Int`, may have 3 channels.)
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct IntFormat {
     pub channels: u8,

@@ -237,7 +237,8 @@ impl<'a, F: FragmentShader> RasterPlan<'a, F> {
                 if state.write_mask != ColorWrites::NONE && mask[..bytes].iter().any(|b| *b != 0) {
                     // GL ES 3.0 §4.1.7: blending is off for an integer attachment; its values
                     // are stored as the shader gives them.
-                    let state = ColorTargetState { blend: if format.is_integer() { None } else { state.blend }, ..*state };
+                    let state =
+                        ColorTargetState { blend: if format.is_integer() { None } else { state.blend }, ..*state };
                     colors[i] = Some(ColorPlan { state, mask, partial: mask[..bytes].iter().any(|b| *b != 0xff) });
                 }
             }

@@ -94,7 +94,13 @@ impl IntegerTexture {
     /// # Errors
     /// A zero or too large size, no level or more than the chain has, a level's data of the
     /// wrong length, or levels below 0 of a 3-D texture.
-    pub fn new(format: IntFormat, kind: IntegerKind, width: u32, height: u32, given: &[&[u8]]) -> Result<IntegerTexture> {
+    pub fn new(
+        format: IntFormat,
+        kind: IntegerKind,
+        width: u32,
+        height: u32,
+        given: &[&[u8]],
+    ) -> Result<IntegerTexture> {
         let what = format!("{} texture", format.name());
         let count = match kind {
             IntegerKind::Flat => 1,
