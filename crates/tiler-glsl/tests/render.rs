@@ -1114,7 +1114,7 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
         ),
         (
             Stage::Fragment,
-            "#version 300 es\nprecision highp float;\nout uvec4 c;\nvoid main() {\n  c = uvec4(1u);\n}",
+            "#version 300 es\nprecision highp float;\nout vec2 c;\nvoid main() {\n  c = vec2(1.0);\n}",
             3,
             "vec4",
         ),
