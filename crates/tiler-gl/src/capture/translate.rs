@@ -15,9 +15,8 @@ use super::texels::{self, Upload};
 use super::{CaptureError, Replay};
 use crate::bytes::Bytes;
 use crate::call::{
-    ClearColorValue,
-    AttachmentPoint, BufferSet, Call, Capability, ComponentType, EncodedFormat, Face, Filter, FramebufferTarget,
-    IndexKind, Mode, SwapBehavior, TextureFormat, Winding, Wrap,
+    AttachmentPoint, BufferSet, Call, Capability, ClearColorValue, ComponentType, EncodedFormat, Face, Filter,
+    FramebufferTarget, IndexKind, Mode, SwapBehavior, TextureFormat, Winding, Wrap,
 };
 use crate::context::{Context, ContextConfig, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS};
 
@@ -1366,8 +1365,8 @@ impl Translator {
                 use tiler_apitrace::gles::ClearValue as V;
                 let call = match (*buffer, value) {
                     (0x1800, value) => {
-                        let draw_buffer =
-                            u32::try_from(*draw_buffer).map_err(|_| format!("draw buffer {draw_buffer} is negative"))?;
+                        let draw_buffer = u32::try_from(*draw_buffer)
+                            .map_err(|_| format!("draw buffer {draw_buffer} is negative"))?;
                         let value = match value {
                             V::Float(v) => ClearColorValue::Float(*v),
                             V::Int(v) => ClearColorValue::Int(*v),
@@ -1382,7 +1381,9 @@ impl Translator {
                         Call::ClearBufferDepthStencil { depth: Some(*depth), stencil: Some(*stencil as u8) }
                     }
                     (buffer, value) => {
-                        return Err(format!("glClearBuffer of buffer {buffer:#06x} with {value:?} is not a valid call"));
+                        return Err(format!(
+                            "glClearBuffer of buffer {buffer:#06x} with {value:?} is not a valid call"
+                        ));
                     }
                 };
                 self.emit(call)?;

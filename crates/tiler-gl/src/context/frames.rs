@@ -339,6 +339,13 @@ impl Context {
             return Ok(());
         }
         let desc = self.images[&image].desc;
+        let to_integer = self.ensure_pass()?.targets.color.first().is_some_and(|c| c.format.format().is_integer());
+        if desc.format.is_integer() || to_integer {
+            return Err(format!(
+                "blit_framebuffer from framebuffer {read} ({}): blits of integer colour buffers are not supported",
+                desc.format
+            ));
+        }
         let read_bytes = source_pixels * desc.samples as u64 * desc.format.bytes_per_sample() as u64;
         let targets = self.ensure_pass()?.targets.clone();
         let (dw, dh) = (targets.width as f32, targets.height as f32);

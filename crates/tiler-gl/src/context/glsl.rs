@@ -369,12 +369,7 @@ impl Context {
     /// texture of the sampler's signedness, one level, nearest filters (GL ES 3.0 §3.8.13: a
     /// linear filter makes an integer texture incomplete). 2-D array and 3-D integer textures
     /// are refused.
-    fn integer_samplers(
-        &self,
-        label: &str,
-        p: &GlslProgram,
-        textures: &mut Vec<SampledTexture>,
-    ) -> Fallible {
+    fn integer_samplers(&self, label: &str, p: &GlslProgram, textures: &mut Vec<SampledTexture>) -> Fallible {
         use tiler_glsl::IntegerShape;
         for shape in [IntegerShape::Flat, IntegerShape::Array, IntegerShape::Volume] {
             for unsigned in [false, true] {
