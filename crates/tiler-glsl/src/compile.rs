@@ -3273,7 +3273,7 @@ impl Compiler<'_> {
         let slot = args[0].regs[0] as u16;
         let dims = if kind == SamplerKind::SamplerCube || kind == SamplerKind::Sampler2DShadow {
             if !size {
-                return self.fail(format!("{name}() has no {} form", args[0].ty));
+                return self.fail(format!("no {name}() for a {}", args[0].ty));
             }
             2
         } else {

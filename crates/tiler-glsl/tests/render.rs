@@ -1875,3 +1875,33 @@ void main() {
     }
     assert!(report.ledger.get(Category::TextureFetch) > 0, "texel fetches are counted");
 }
+
+/// `texelFetch`/`textureSize` where GLSL ES 3.00 has no such form, or with arguments of the
+/// wrong type, are compile errors naming the line; `textureSize` of every sampler type links.
+#[test]
+fn texel_fetch_misuse_is_a_compile_error_naming_the_line() {
+    let vs = "#version 300 es\nin vec4 p;\nvoid main() { gl_Position = p; }";
+    let all = "#version 300 es\nprecision highp float;\nuniform sampler2D a;\nuniform samplerCube b;\n\
+               uniform highp sampler2DShadow c;\nuniform highp sampler2DArray d;\nuniform highp sampler3D e;\n\
+               uniform highp isampler2D f;\nuniform highp usampler2DArray g;\nuniform highp isampler3D h;\n\
+               out vec4 o;\nvoid main() {\n  ivec2 s = textureSize(a, 0) + textureSize(b, 0) + textureSize(c, 0) \
+               + textureSize(f, 0);\n  ivec3 t = textureSize(d, 0) + textureSize(e, 0) + textureSize(g, 0) + \
+               textureSize(h, 0);\n  o = vec4(s.xyxy) + vec4(t.xyzx) + texelFetch(d, t, 1) + texelFetch(e, t, 0) + \
+               vec4(texelFetch(g, t, 0)) + vec4(texture(f, vec2(0.5)));\n}";
+    CompiledProgram::new(vs, all, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let cases = [
+        ("uniform samplerCube s;", "texelFetch(s, ivec2(0), 0)", "no texelFetch"),
+        ("uniform sampler2D s;", "texelFetch(s, vec2(0.0), 0)", "ivec2"),
+        ("uniform highp sampler2DArray s;", "texelFetch(s, ivec2(0), 0)", "ivec3"),
+        ("uniform sampler2D s;", "vec4(textureSize(s, 0.0), 0.0, 0.0)", "int"),
+    ];
+    for (uniform, call, word) in cases {
+        let fs = format!(
+            "#version 300 es\nprecision highp float;\n{uniform}\nout vec4 o;\nvoid main() {{\n  o = {call};\n}}"
+        );
+        match CompiledProgram::new(vs, &fs, &[]).unwrap_err() {
+            Error::Compile { stage: Stage::Fragment, line: 6, message } => assert!(message.contains(word), "{message}"),
+            other => panic!("{call}: {other:?}"),
+        }
+    }
+}
