@@ -655,6 +655,17 @@ pub enum Call<D = Bytes> {
         #[serde(default)]
         stencil: Option<u8>,
     },
+    /// `glReadPixels(GL_RGBA_INTEGER, GL_INT or GL_UNSIGNED_INT)` of an integer colour
+    /// attachment 0 (`signed` must match its format): 16 bytes a pixel, the four channels'
+    /// 32-bit little-endian integers (missing ones 0, alpha 1), rows bottom to top.
+    ReadPixelsInteger {
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+        #[serde(default)]
+        signed: bool,
+    },
     /// `glReadPixels` of colour attachment 0 of the read framebuffer, as RGBA8, rows bottom
     /// to top. Synchronous: the CPU waits for the result.
     ReadPixels {
@@ -860,6 +871,7 @@ impl<D> Call<D> {
             Clear { .. } => "clear",
             Invalidate { .. } => "invalidate",
             ReadPixels { .. } => "read_pixels",
+            ReadPixelsInteger { .. } => "read_pixels_integer",
             BlitFramebuffer { .. } => "blit_framebuffer",
             CopyTexSubImage { .. } => "copy_tex_sub_image",
             Flush => "flush",
@@ -1014,6 +1026,7 @@ impl<D> Call<D> {
             Clear { color, depth, stencil } => Clear { color, depth, stencil },
             Invalidate { attachments } => Invalidate { attachments },
             ReadPixels { x, y, width, height } => ReadPixels { x, y, width, height },
+            ReadPixelsInteger { x, y, width, height, signed } => ReadPixelsInteger { x, y, width, height, signed },
             BlitFramebuffer { src, dst, filter } => BlitFramebuffer { src, dst, filter },
             CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one } => {
                 CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one }

@@ -1153,11 +1153,19 @@ impl Translator {
                 }
             }
             C::ReadPixels { x, y, width, height, format, kind, .. } => {
-                if (*format, *kind) != (texels::GL_RGBA, texels::GL_UNSIGNED_BYTE) {
-                    return Err(format!("reading format {format:#06x} / type {kind:#06x}: only RGBA bytes"));
-                }
                 let (width, height) = size2(*width, *height)?;
-                self.emit(Call::ReadPixels { x: *x, y: *y, width, height })?;
+                let (x, y) = (*x, *y);
+                self.emit(match (*format, *kind) {
+                    (texels::GL_RGBA, texels::GL_UNSIGNED_BYTE) => Call::ReadPixels { x, y, width, height },
+                    (texels::GL_RGBA_INTEGER, texels::GL_INT | texels::GL_UNSIGNED_INT) => {
+                        Call::ReadPixelsInteger { x, y, width, height, signed: *kind == texels::GL_INT }
+                    }
+                    _ => {
+                        return Err(format!(
+                            "reading format {format:#06x} / type {kind:#06x}: only RGBA bytes and RGBA_INTEGER ints"
+                        ));
+                    }
+                })?;
             }
 
             // ---- shaders and programs ----------------------------------------------------------

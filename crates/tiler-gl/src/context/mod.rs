@@ -1076,7 +1076,12 @@ impl Context {
             }
             Clear { color, depth, stencil } => self.clear(BufferSet { color, depth, stencil })?,
             Invalidate { attachments } => self.invalidate(&attachments)?,
-            ReadPixels { x, y, width, height } => return self.read_pixels(x, y, width, height).map(Output::Pixels),
+            ReadPixels { x, y, width, height } => {
+                return self.read_pixels(x, y, width, height, None).map(Output::Pixels);
+            }
+            ReadPixelsInteger { x, y, width, height, signed } => {
+                return self.read_pixels(x, y, width, height, Some(signed)).map(Output::Pixels);
+            }
             BlitFramebuffer { src, dst, filter } => self.blit(src, dst, filter)?,
             CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one } => {
                 self.copy_tex_sub_image(texture, [x_offset, y_offset], [x, y], [width, height], alpha_one)?;

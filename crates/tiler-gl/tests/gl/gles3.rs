@@ -253,8 +253,18 @@ void main() {
     c(&mut gl, filter(Filter::Nearest));
     c(&mut gl, draw);
     swap(&mut gl);
-    gl.end().unwrap();
     let rgba = gl.surface_rgba8();
+    // glReadPixels of the integer buffer as RGBA_INTEGER / UNSIGNED_INT; as bytes or as INT
+    // it is GL_INVALID_OPERATION.
+    bind(&mut gl, 5);
+    let read = |signed| Call::ReadPixelsInteger { x: 3, y: 0, width: 2, height: 1, signed };
+    let Output::Pixels(ints) = c(&mut gl, read(false)) else { panic!("pixels") };
+    let words: Vec<u32> = ints.chunks_exact(4).map(|b| u32::from_le_bytes(b.try_into().unwrap())).collect();
+    assert_eq!(words, [0x1234_5678 + 3, 0, 0, 1, 0xdead_beef, 0, 0, 1]);
+    assert!(gl.call(read(true)).unwrap_err().message.contains("INVALID_OPERATION"));
+    let bytes = Call::ReadPixels { x: 0, y: 0, width: 1, height: 1 };
+    assert!(gl.call(bytes).unwrap_err().message.contains("INVALID_OPERATION"));
+    gl.end().unwrap();
     for x in 0..8 {
         let want = if x < 4 { [(0x78 + x) as u8, 0x12, 0, 255] } else { [0xef, 0xde, 0, 255] };
         assert_eq!(pixel(&rgba, 8, x, 3), want, "pixel {x}");
