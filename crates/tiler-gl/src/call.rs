@@ -490,6 +490,37 @@ pub enum Call<D = Bytes> {
         index: u32,
         value: [f32; 4],
     },
+    /// `glVertexAttribIPointer` with a buffer: as `vertex_attrib_pointer`, the integers kept
+    /// as integers for an `int`/`uint` attribute (`type` an integer type).
+    VertexAttribIPointer {
+        index: u32,
+        buffer: u32,
+        size: u32,
+        #[serde(rename = "type")]
+        component: ComponentType,
+        #[serde(default)]
+        stride: u32,
+        #[serde(default)]
+        offset: u64,
+    },
+    /// `glVertexAttribIPointer` into a client-side array (see `vertex_attrib_array`).
+    VertexAttribIArray {
+        index: u32,
+        size: u32,
+        #[serde(rename = "type")]
+        component: ComponentType,
+        #[serde(default)]
+        stride: u32,
+        data: D,
+    },
+    /// `glVertexAttribI4i[v]` (`signed`) / `I4ui[v]`: a disabled integer attribute's generic
+    /// value, its 32-bit patterns (an `int`'s two's complement).
+    VertexAttribI {
+        index: u32,
+        value: [u32; 4],
+        #[serde(default)]
+        signed: bool,
+    },
     DisableVertexAttrib {
         index: u32,
     },
@@ -607,6 +638,33 @@ pub enum Call<D = Bytes> {
     /// `glInvalidateFramebuffer` / `glDiscardFramebufferEXT` on the draw framebuffer.
     Invalidate {
         attachments: Vec<AttachmentPoint>,
+    },
+    /// `glClearBuffer{f,i,ui}v(GL_COLOR, draw_buffer, value)`: colour attachment
+    /// `draw_buffer` of the draw framebuffer's draw buffers cleared to `value`, which must
+    /// match its format (floats for fixed-point and float formats, ints or uints for integer
+    /// ones), under the scissor and the colour write mask as `clear` is.
+    ClearBufferColor {
+        draw_buffer: u32,
+        value: ClearColorValue,
+    },
+    /// `glClearBufferfv(GL_DEPTH)`, `glClearBufferiv(GL_STENCIL)`, `glClearBufferfi`: the
+    /// depth and/or the stencil cleared to these values, as `clear` does with them.
+    ClearBufferDepthStencil {
+        #[serde(default)]
+        depth: Option<f32>,
+        #[serde(default)]
+        stencil: Option<u8>,
+    },
+    /// `glReadPixels(GL_RGBA_INTEGER, GL_INT or GL_UNSIGNED_INT)` of an integer colour
+    /// attachment 0 (`signed` must match its format): 16 bytes a pixel, the four channels'
+    /// 32-bit little-endian integers (missing ones 0, alpha 1), rows bottom to top.
+    ReadPixelsInteger {
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+        #[serde(default)]
+        signed: bool,
     },
     /// `glReadPixels` of colour attachment 0 of the read framebuffer, as RGBA8, rows bottom
     /// to top. Synchronous: the CPU waits for the result.
@@ -789,6 +847,11 @@ impl<D> Call<D> {
             VertexAttribArray { .. } => "vertex_attrib_array",
             EnableVertexAttrib { .. } => "enable_vertex_attrib",
             VertexAttrib { .. } => "vertex_attrib",
+            VertexAttribIPointer { .. } => "vertex_attrib_i_pointer",
+            VertexAttribIArray { .. } => "vertex_attrib_i_array",
+            VertexAttribI { .. } => "vertex_attrib_i",
+            ClearBufferColor { .. } => "clear_buffer_color",
+            ClearBufferDepthStencil { .. } => "clear_buffer_depth_stencil",
             DisableVertexAttrib { .. } => "disable_vertex_attrib",
             BindIndexBuffer { .. } => "bind_index_buffer",
             VertexAttribDivisor { .. } => "vertex_attrib_divisor",
@@ -808,6 +871,7 @@ impl<D> Call<D> {
             Clear { .. } => "clear",
             Invalidate { .. } => "invalidate",
             ReadPixels { .. } => "read_pixels",
+            ReadPixelsInteger { .. } => "read_pixels_integer",
             BlitFramebuffer { .. } => "blit_framebuffer",
             CopyTexSubImage { .. } => "copy_tex_sub_image",
             Flush => "flush",
@@ -868,6 +932,9 @@ impl<D> Call<D> {
             }
             VertexAttribArray { index, size, component, normalized, stride, data } => {
                 VertexAttribArray { index, size, component, normalized, stride, data: f(data)? }
+            }
+            VertexAttribIArray { index, size, component, stride, data } => {
+                VertexAttribIArray { index, size, component, stride, data: f(data)? }
             }
             DeleteBuffer { id } => DeleteBuffer { id },
             CopyBufferSubData { src, dst, src_offset, dst_offset, size } => {
@@ -930,6 +997,12 @@ impl<D> Call<D> {
             }
             EnableVertexAttrib { index } => EnableVertexAttrib { index },
             VertexAttrib { index, value } => VertexAttrib { index, value },
+            VertexAttribIPointer { index, buffer, size, component, stride, offset } => {
+                VertexAttribIPointer { index, buffer, size, component, stride, offset }
+            }
+            VertexAttribI { index, value, signed } => VertexAttribI { index, value, signed },
+            ClearBufferColor { draw_buffer, value } => ClearBufferColor { draw_buffer, value },
+            ClearBufferDepthStencil { depth, stencil } => ClearBufferDepthStencil { depth, stencil },
             DisableVertexAttrib { index } => DisableVertexAttrib { index },
             BindIndexBuffer { buffer } => BindIndexBuffer { buffer },
             VertexAttribDivisor { index, divisor } => VertexAttribDivisor { index, divisor },
@@ -953,6 +1026,7 @@ impl<D> Call<D> {
             Clear { color, depth, stencil } => Clear { color, depth, stencil },
             Invalidate { attachments } => Invalidate { attachments },
             ReadPixels { x, y, width, height } => ReadPixels { x, y, width, height },
+            ReadPixelsInteger { x, y, width, height, signed } => ReadPixelsInteger { x, y, width, height, signed },
             BlitFramebuffer { src, dst, filter } => BlitFramebuffer { src, dst, filter },
             CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one } => {
                 CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one }
@@ -972,6 +1046,15 @@ impl<D> Call<D> {
             QueryResult { id } => QueryResult { id },
         })
     }
+}
+
+/// The value of a `glClearBuffer*v` of a colour buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClearColorValue {
+    Float([f32; 4]),
+    Int([i32; 4]),
+    Uint([u32; 4]),
 }
 
 /// What a call returns.
@@ -1006,6 +1089,8 @@ pub enum TextureFormat {
     Depth32f,
     Depth24Stencil8,
     Stencil8,
+    /// GL ES 3.0's integer formats (`rgba8ui`, `r32i`, …).
+    Int(tiler::IntFormat),
 }
 
 impl TextureFormat {
@@ -1022,6 +1107,7 @@ impl TextureFormat {
             TextureFormat::Depth16 => Format::D16Unorm,
             TextureFormat::Depth24 | TextureFormat::Depth24Stencil8 | TextureFormat::Stencil8 => Format::D24UnormS8Uint,
             TextureFormat::Depth32f => Format::D32Float,
+            TextureFormat::Int(f) => Format::Int(f),
         }
     }
 
@@ -1055,6 +1141,7 @@ impl TextureFormat {
             TextureFormat::Depth32f => "depth32f",
             TextureFormat::Depth24Stencil8 => "depth24_stencil8",
             TextureFormat::Stencil8 => "stencil8",
+            TextureFormat::Int(f) => f.name(),
         }
     }
 }
@@ -1315,6 +1402,8 @@ pub enum ComponentType {
     Short,
     UnsignedShort,
     UnsignedInt,
+    /// `GL_INT` (integer attributes only).
+    Int,
 }
 
 /// Index types. tiler fetches shorts and ints; bytes are widened to shorts at each draw.

@@ -84,9 +84,9 @@ pub mod trace;
 pub use advisor::{Finding, RuleId, Severity};
 pub use bytes::Bytes;
 pub use call::{
-    AttachmentPoint, BufferSet, Call, Capability, ComponentType, CubeFace, DependencySpec, EncodedFormat, Face, Filter,
-    FramebufferTarget, GlslSource, IndexKind, LayeredTarget, Mode, Output, ProgramKind, ProgramSource, SubpassSpec,
-    SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
+    AttachmentPoint, BufferSet, Call, Capability, ClearColorValue, ComponentType, CubeFace, DependencySpec,
+    EncodedFormat, Face, Filter, FramebufferTarget, GlslSource, IndexKind, LayeredTarget, Mode, Output, ProgramKind,
+    ProgramSource, SubpassSpec, SwapBehavior, TextureFormat, UniformValue, Winding, Wrap,
 };
 pub use context::{Context, ContextConfig, Error, SavedState};
 pub use report::{CallRef, FrameRecord, PassRecord, Report, Slot};

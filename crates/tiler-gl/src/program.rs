@@ -379,6 +379,23 @@ impl TextureSnapshot {
         }
     }
 
+    /// `texelFetch` of level 0 (a snapshot has one): texel `(x, y)`, `y` from GL's first row
+    /// (the bottom), `None` out of range (a constant snapshot, an incomplete texture, has no
+    /// texels: `None` too).
+    pub fn fetch(&self, x: i32, y: i32, level: i32) -> Option<[f32; 4]> {
+        if level != 0 || matches!(self.texels, Texels::Constant(_)) {
+            return None;
+        }
+        if !(0..self.width as i64).contains(&(x as i64)) || !(0..self.height as i64).contains(&(y as i64)) {
+            return None;
+        }
+        let mut rgba = self.texel(x as i64, y as i64, SamplerState::new(Filter::Nearest, Wrap::ClampToEdge));
+        if self.alpha_one {
+            rgba[3] = 1.0;
+        }
+        Some(rgba)
+    }
+
     /// Samples at GL texture coordinates `(s, t)`: nearest takes the texel containing the
     /// point; linear blends the four around it, texel centres at half-integers. A snapshot has
     /// one level and no derivatives, so it filters as GL magnifies (a level of detail of 0,

@@ -1164,6 +1164,13 @@ fn probe_switch_and_integer_arithmetic_match_llvmpipe() {
     check_probe_in("gles3-probe", "int-switch");
 }
 
+// ---- integer textures and render targets ----
+
+#[test]
+fn probe_integer_targets_attributes_and_texel_fetch_match_llvmpipe() {
+    check_probe_in("gles3-probe", "integer");
+}
+
 /// A program whose fragment shader reads uniform block `Colors` (with `uniform_array_capture`'s
 /// full-window triangle).
 fn uniform_block_capture(before_draw: impl FnOnce(&mut Writer)) -> (Writer, u64) {

@@ -17,7 +17,7 @@ use glsl_lang::ast::{self, NodeSpan};
 
 use crate::exec::{int, uint};
 use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
-use crate::types::{BOOL, FLOAT, INT, SamplerKind, Scalar, StructType, Type, UINT};
+use crate::types::{BOOL, FLOAT, INT, IntegerShape, SamplerKind, Scalar, StructType, Type, UINT};
 use crate::{Error, Stage};
 
 /// Lines of predefined macros inserted into the source.
@@ -1019,6 +1019,15 @@ impl<'a> Compiler<'a> {
             T::Sampler2DShadow => Type::Sampler(SamplerKind::Sampler2DShadow),
             T::Sampler2DArray => Type::Sampler(SamplerKind::Sampler2DArray),
             T::Sampler3D => Type::Sampler(SamplerKind::Sampler3D),
+            T::ISampler2D | T::USampler2D | T::ISampler2DArray | T::USampler2DArray | T::ISampler3D | T::USampler3D => {
+                let shape = match &spec.ty.content {
+                    T::ISampler2D | T::USampler2D => IntegerShape::Flat,
+                    T::ISampler2DArray | T::USampler2DArray => IntegerShape::Array,
+                    _ => IntegerShape::Volume,
+                };
+                let unsigned = matches!(&spec.ty.content, T::USampler2D | T::USampler2DArray | T::USampler3D);
+                Type::Sampler(SamplerKind::Integer { shape, unsigned })
+            }
             T::Struct(s) => Type::Struct(self.struct_type(s)?),
             T::TypeName(name) => match self.lookup_struct(name.as_str()) {
                 Some(s) => Type::Struct(s),
@@ -1330,8 +1339,12 @@ impl<'a> Compiler<'a> {
             }
             Storage::Attribute if stage == Stage::Vertex => {
                 interface(self, "attribute")?;
-                if !ty.is_float_based() || matches!(ty, Type::Array(..)) {
-                    return self.fail(format!("attribute '{name}' must be a float, vector or matrix"));
+                // GLSL ES 3.00 §4.3.4: `int`/`uint` scalars and vectors too (their registers get
+                // the bits `glVertexAttribIPointer` fetches).
+                let integer = ty.scalar().is_some_and(Scalar::is_integer) && ty.width().is_some();
+                if !(ty.is_float_based() || integer) || matches!(ty, Type::Array(..)) {
+                    return self
+                        .fail(format!("attribute '{name}' must be a float, vector or matrix, or an integer vector"));
                 }
                 let regs = self.temps(ty.size());
                 self.inputs.push(StageVar {
@@ -1375,10 +1388,13 @@ impl<'a> Compiler<'a> {
             }
             Storage::FragOut => {
                 interface(self, "output")?;
-                if !matches!(&ty, Type::Vector(Scalar::Float, 4))
-                    && !matches!(&ty, Type::Array(t, _) if **t == Type::vec(4))
-                {
-                    return self.fail(format!("fragment output '{name}' must be a vec4 (or an array of them)"));
+                // An `ivec4`/`uvec4` output's registers hold its integers' bits, which an integer
+                // attachment stores as they are (`tiler::IntFormat`).
+                let four = |t: &Type| matches!(t, Type::Vector(Scalar::Float | Scalar::Int | Scalar::UInt, 4));
+                if !four(&ty) && !matches!(&ty, Type::Array(t, _) if four(t)) {
+                    return self.fail(format!(
+                        "fragment output '{name}' must be a vec4, ivec4 or uvec4 (or an array of them)"
+                    ));
                 }
                 let regs = self.temps(ty.size());
                 let zero = self.konst(0.0);
@@ -3236,6 +3252,7 @@ impl<'a> Compiler<'a> {
             "texture2D" | "texture2DProj" | "texture2DLod" | "texture2DProjLod" | "texture" | "textureProj"
             | "textureLod" | "shadow2DEXT" | "shadow2DProjEXT" => self.texture(name, args),
             "textureCube" | "textureCubeLod" => self.texture_cube(name, args),
+            "texelFetch" | "textureSize" => self.texel_fetch(name, args),
             "dFdx" | "dFdy" | "fwidth" => {
                 // OES_standard_derivatives.
                 arity(self, 1)?;
@@ -3312,6 +3329,12 @@ impl<'a> Compiler<'a> {
             {
                 return self.texture_layered(name, args);
             }
+            Type::Sampler(SamplerKind::Integer { shape, .. }) if matches!(name, "texture" | "textureLod") => {
+                if shape != IntegerShape::Flat {
+                    return self.texture_layered(name, args);
+                }
+                (args[0].regs[0] as u16, false)
+            }
             _ if shadow_name => return self.fail(format!("{name}() needs a sampler2DShadow, not {}", args[0].ty)),
             _ => return self.fail(format!("{name}() needs a sampler2D, not {}", args[0].ty)),
         };
@@ -3339,12 +3362,12 @@ impl<'a> Compiler<'a> {
         let lod = self.lookup_lod(name, explicit, args.get(2))?;
         let dst = self.temps(4);
         self.emit(Inst::Sample { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord: [s, t], lod, reference });
-        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-        self.set_prec(&dst, prec);
         if shadow {
+            let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
+            self.set_prec(&dst, prec);
             return Ok(Value { ty: FLOAT, regs: vec![dst[0]] });
         }
-        Ok(Value { ty: Type::vec(4), regs: dst })
+        Ok(self.texel_value(&args[0].ty, slot, dst))
     }
 
     /// `textureCube(samplerCube, vec3 [, bias])`, `textureCubeLod(samplerCube, vec3, lod)` (and
@@ -3386,6 +3409,10 @@ impl Compiler<'_> {
         }
         let kind = match args[0].ty {
             Type::Sampler(kind @ (SamplerKind::Sampler2DArray | SamplerKind::Sampler3D)) => kind,
+            Type::Sampler(SamplerKind::Integer { shape: IntegerShape::Array, .. }) if !proj => {
+                SamplerKind::Sampler2DArray
+            }
+            Type::Sampler(SamplerKind::Integer { shape: IntegerShape::Volume, .. }) => SamplerKind::Sampler3D,
             _ => return self.fail(format!("{name}() needs a sampler2DArray or sampler3D, not {}", args[0].ty)),
         };
         if proj && kind == SamplerKind::Sampler2DArray {
@@ -3405,9 +3432,69 @@ impl Compiler<'_> {
         let lod = self.lookup_lod(name, explicit, args.get(2))?;
         let dst = self.temps(4);
         self.emit(Inst::SampleLayered { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord, lod });
-        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
+        Ok(self.texel_value(&args[0].ty, slot, dst))
+    }
+
+    /// A lookup's four result registers as the value the sampler `sampler` gives: a `vec4` at
+    /// the sampler's precision, or an integer sampler's `ivec4`/`uvec4` (whose registers hold
+    /// the integers' bits, never rounded).
+    fn texel_value(&mut self, sampler: &Type, slot: u16, dst: Vec<Reg>) -> Value {
+        let result = match sampler {
+            Type::Sampler(kind) => kind.result(),
+            _ => Scalar::Float,
+        };
+        let prec = match result {
+            Scalar::Float => self.sampler_precision.get(&slot).copied().unwrap_or_default(),
+            _ => Prec::High,
+        };
         self.set_prec(&dst, prec);
-        Ok(Value { ty: Type::vec(4), regs: dst })
+        Value { ty: Type::Vector(result, 4), regs: dst }
+    }
+
+    /// GLSL ES 3.00's `texelFetch(sampler, ivec P, int lod)` (texel `P` of level `lod`, no
+    /// filter; `P` an `ivec3` with the layer or slice for a 2-D array or 3-D sampler) and
+    /// `textureSize(sampler, int lod)` (an `ivec2`, or `ivec3` with the layers or depth), on
+    /// every sampler type tiler has but those GLSL gives no `texelFetch`: samplerCube and
+    /// sampler2DShadow have `textureSize` only.
+    fn texel_fetch(&mut self, name: &str, args: Vec<Value>) -> CResult<Value> {
+        let size = name == "textureSize";
+        let want = if size { 2 } else { 3 };
+        if args.len() != want {
+            return self.fail(format!("{name}() takes {want} arguments"));
+        }
+        let kind = match args[0].ty {
+            Type::Sampler(kind) => kind,
+            _ => return self.fail(format!("{name}() needs a sampler, not {}", args[0].ty)),
+        };
+        let slot = args[0].regs[0] as u16;
+        let dims = if kind == SamplerKind::SamplerCube || kind == SamplerKind::Sampler2DShadow {
+            if !size {
+                return self.fail(format!("no {name}() for a {}", args[0].ty));
+            }
+            2
+        } else {
+            kind.dimensions()
+        };
+        let level = args.last().expect("2 or 3 arguments");
+        if level.ty != INT {
+            return self.fail(format!("{name}(): the level must be an int, not {}", level.ty));
+        }
+        let level = level.regs[0];
+        let dst = self.temps(4);
+        let dst4 = [dst[0], dst[1], dst[2], dst[3]];
+        if size {
+            self.emit(Inst::Fetch { slot, dst: dst4, coord: [level; 3], level, size: true });
+            self.set_prec(&dst, Prec::High);
+            return Ok(Value { ty: Type::Vector(Scalar::Int, dims), regs: dst[..dims].to_vec() });
+        }
+        let coord = &args[1];
+        if coord.ty != Type::Vector(Scalar::Int, dims) {
+            return self.fail(format!("{name}({}) takes ivec{dims} coordinates, not {}", args[0].ty, coord.ty));
+        }
+        let zero = self.konst_int(0);
+        let coord = [coord.regs[0], coord.regs[1], if dims == 3 { coord.regs[2] } else { zero }];
+        self.emit(Inst::Fetch { slot, dst: dst4, coord, level, size: false });
+        Ok(self.texel_value(&args[0].ty, slot, dst))
     }
 }
 

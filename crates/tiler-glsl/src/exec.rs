@@ -43,6 +43,20 @@ pub trait Env<const W: usize> {
         [[0.0; W], [0.0; W], [0.0; W], [1.0; W]]
     }
 
+    /// `texelFetch` of slot `slot` (see `ir::Inst::Fetch`): texel `coord` of level `level` in
+    /// the lanes, out of range `(0, 0, 0, 0)`; without textures, zeros.
+    fn fetch(&mut self, slot: usize, coord: [[i32; W]; 3], level: [i32; W]) -> [[f32; W]; 4] {
+        let _ = (slot, coord, level);
+        [[0.0; W]; 4]
+    }
+
+    /// `textureSize` of slot `slot` at level `level`: width, height, layers; without
+    /// textures, zeros.
+    fn size(&mut self, slot: usize, level: [i32; W]) -> [[i32; W]; 3] {
+        let _ = (slot, level);
+        [[0; W]; 3]
+    }
+
     /// The derivative of `v` along `axis` (zero where lanes are not pixels of quads).
     fn derivative(&mut self, v: [f32; W], axis: Axis) -> [f32; W] {
         let _ = (v, axis);
@@ -177,6 +191,11 @@ fn registers_mut(code: &mut [Inst], f: &mut impl FnMut(&mut Reg, bool)) {
                 if let Lod::Bias(r) | Lod::Explicit(r) = lod {
                     f(r, false);
                 }
+            }
+            Inst::Fetch { dst, coord, level, .. } => {
+                dst.iter_mut().for_each(|d| f(d, true));
+                coord.iter_mut().for_each(|c| f(c, false));
+                f(level, false);
             }
             Inst::Break | Inst::Continue | Inst::Return | Inst::Discard => {}
         }
@@ -465,6 +484,22 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     let texel = self.env.sample_cube(*slot as usize, direction, lod);
                     for (c, &d) in dst.iter().enumerate() {
                         self.set(d, texel[c]);
+                    }
+                }
+                Inst::Fetch { slot, dst, coord, level, size } => {
+                    let ints = |v: [f32; W]| v.map(|x| x.to_bits() as i32);
+                    let level = ints(self.get(*level));
+                    if *size {
+                        let size = self.env.size(*slot as usize, level);
+                        for (c, &d) in dst.iter().enumerate() {
+                            self.set(d, size.get(c).map_or([0.0; W], |v| v.map(int)));
+                        }
+                    } else {
+                        let coord = coord.map(|r| ints(self.get(r)));
+                        let texel = self.env.fetch(*slot as usize, coord, level);
+                        for (c, &d) in dst.iter().enumerate() {
+                            self.set(d, texel[c]);
+                        }
                     }
                 }
                 Inst::SampleLayered { slot, dst, coord, lod } => {

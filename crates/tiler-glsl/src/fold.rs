@@ -142,6 +142,7 @@ fn coalesce_block(code: &mut Vec<Inst>, reads: &[u32], w: &Writes, pin: &[bool])
                 | Inst::Sample { .. }
                 | Inst::SampleCube { .. }
                 | Inst::SampleLayered { .. }
+                | Inst::Fetch { .. }
         ) {
             writes(inst, &mut |r| {
                 computed.insert(r, i);
@@ -151,7 +152,10 @@ fn coalesce_block(code: &mut Vec<Inst>, reads: &[u32], w: &Writes, pin: &[bool])
     for (at, t, p) in renames {
         match &mut code[at] {
             Inst::Un(_, d, _) | Inst::Bin(_, d, _, _) | Inst::Tri(_, d, _, _, _) if *d == t => *d = p,
-            Inst::Sample { dst, .. } | Inst::SampleCube { dst, .. } | Inst::SampleLayered { dst, .. } => {
+            Inst::Sample { dst, .. }
+            | Inst::SampleCube { dst, .. }
+            | Inst::SampleLayered { dst, .. }
+            | Inst::Fetch { dst, .. } => {
                 dst.iter_mut().filter(|d| **d == t).for_each(|d| *d = p);
             }
             _ => unreachable!("a computed register's instruction writes it"),
@@ -247,6 +251,7 @@ fn count_writes(code: &mut [Inst], w: &mut Writes) {
                 | Inst::Sample { .. }
                 | Inst::SampleCube { .. }
                 | Inst::SampleLayered { .. }
+                | Inst::Fetch { .. }
                 | Inst::Derivative { .. }
         );
         writes(inst, &mut |r| {

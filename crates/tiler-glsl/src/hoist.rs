@@ -45,6 +45,10 @@ pub(crate) fn reads_mut(inst: &mut Inst, f: &mut impl FnMut(&mut Reg)) {
                 f(r);
             }
         }
+        Inst::Fetch { coord, level, .. } => {
+            coord.iter_mut().for_each(&mut *f);
+            f(level);
+        }
         Inst::Derivative { src, .. } => f(src),
         _ => {}
     }
@@ -55,9 +59,10 @@ pub(crate) fn writes(inst: &Inst, f: &mut impl FnMut(Reg)) {
     match inst {
         Inst::Un(_, d, _) | Inst::Bin(_, d, _, _) | Inst::Tri(_, d, _, _, _) => f(*d),
         Inst::Store(d, _) | Inst::StoreIf(d, _, _) => f(*d),
-        Inst::Sample { dst, .. } | Inst::SampleCube { dst, .. } | Inst::SampleLayered { dst, .. } => {
-            dst.iter().for_each(|&d| f(d))
-        }
+        Inst::Sample { dst, .. }
+        | Inst::SampleCube { dst, .. }
+        | Inst::SampleLayered { dst, .. }
+        | Inst::Fetch { dst, .. } => dst.iter().for_each(|&d| f(d)),
         Inst::Derivative { dst, .. } => f(*dst),
         _ => {}
     }

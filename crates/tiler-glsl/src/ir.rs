@@ -256,6 +256,17 @@ pub enum Inst {
         coord: [Reg; 3],
         lod: Lod,
     },
+    /// `texelFetch` (`size` false): texel `coord` (ints `x`, `y` and a layer or slice, 0 for a
+    /// 2D texture) of level `level` of slot `slot`, unfiltered, into four registers (floats, or
+    /// an integer texture's ints); `textureSize` (`size` true): level `level`'s width, height
+    /// and layers (ints) into the first three (`coord` then reads `level` and is ignored).
+    Fetch {
+        slot: u16,
+        dst: [Reg; 4],
+        coord: [Reg; 3],
+        level: Reg,
+        size: bool,
+    },
 }
 
 impl Inst {
@@ -273,6 +284,7 @@ impl Inst {
                 | Inst::Sample { .. }
                 | Inst::SampleCube { .. }
                 | Inst::SampleLayered { .. }
+                | Inst::Fetch { .. }
                 | Inst::Derivative { .. }
         )
     }

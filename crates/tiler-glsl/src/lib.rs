@@ -132,7 +132,7 @@ pub use program::{
     AttributeInfo, CompiledProgram, GlslFragmentShader, GlslVertexShader, TextureBinding, TextureSource,
     UniformBlockInfo, UniformInfo, UniformValues, VaryingInfo, pipeline, shaders,
 };
-pub use types::{SamplerKind, Scalar, StructType, Type};
+pub use types::{IntegerShape, SamplerKind, Scalar, StructType, Type};
 
 /// A shader stage.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -8,8 +8,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec4;
 use tiler::{
-    F32x8, FragmentShader, Fragments, Interpolation, LaneMask, LayeredKind, Pipeline, PipelineDesc, Sampler,
-    ShaderProperties, Texture, VertexInput, VertexOutput, VertexShader,
+    F32x8, FragmentShader, Fragments, IntegerTexture, Interpolation, LaneMask, LayeredKind, Pipeline, PipelineDesc,
+    Sampler, ShaderProperties, Texture, VertexInput, VertexOutput, VertexShader,
 };
 
 use crate::compile::{StageCode, compile};
@@ -114,6 +114,20 @@ pub trait TextureSource: Send + Sync + fmt::Debug {
         let _ = reference;
         self.sample(s, t, lod)[0]
     }
+
+    /// `texelFetch`: texel `(x, y)` (row 0 the first uploaded) of level `level`; `None` out of
+    /// range (it reads zeros) — and for a source without texel reads, which this default is.
+    fn fetch(&self, x: i32, y: i32, level: i32) -> Option<[f32; 4]> {
+        let _ = (x, y, level);
+        None
+    }
+
+    /// `textureSize` at level `level`: width and height, zeros for a level it lacks (and for
+    /// a source that does not say, which this default is).
+    fn size(&self, level: i32) -> [u32; 2] {
+        let _ = level;
+        [0; 2]
+    }
 }
 
 /// What a texture unit holds.
@@ -128,6 +142,79 @@ pub enum TextureBinding {
     /// [`TextureSource::sample_compare`] (a core texture read by a shadow sampler reads as by
     /// a sampler2D, its red channel the result: GL leaves that undefined).
     Custom(Arc<dyn TextureSource>),
+    /// An integer texture (`isampler2D`, `usampler2D`, …): `texelFetch` reads it by texel,
+    /// `texture` its nearest texel of level 0 with the sampler's wraps (GL never filters
+    /// integers); fragment shaders' reads are counted in the texture-cache model.
+    Integer(Arc<IntegerTexture>, Sampler),
+}
+
+/// An integer texel's channels as a shader's registers hold them (their bits).
+fn integer_texel(texel: [u32; 4]) -> [f32; 4] {
+    texel.map(f32::from_bits)
+}
+
+/// `texelFetch` of lanes `0..lanes` one by one, not counted in the ledger (the others, and
+/// every lane of an unbound unit, read zeros; a cube has no texel fetch).
+fn fetch_lanes<const W: usize>(
+    binding: Option<&TextureBinding>,
+    coord: [[i32; W]; 3],
+    level: [i32; W],
+    lanes: usize,
+) -> [[f32; W]; 4] {
+    let mut out = [[0.0; W]; 4];
+    for lane in 0..lanes {
+        let at = coord.map(|c| c[lane]);
+        let texel = match binding {
+            Some(TextureBinding::Core(texture, _)) => texture.fetch(level[lane], at).map(|(v, _)| v),
+            Some(TextureBinding::Integer(texture, _)) => texture.fetch(level[lane], at).map(|(v, _)| integer_texel(v)),
+            Some(TextureBinding::Custom(source)) if at[2] == 0 => source.fetch(at[0], at[1], level[lane]),
+            _ => None,
+        };
+        for c in 0..4 {
+            out[c][lane] = texel.map_or(0.0, |t| t[c]);
+        }
+    }
+    out
+}
+
+/// `textureSize` of every lane: width, height and layers (1 for a 2D or cube texture), zeros
+/// for an unbound unit or a level the texture lacks.
+fn size_lanes<const W: usize>(binding: Option<&TextureBinding>, level: [i32; W]) -> [[i32; W]; 3] {
+    let mut out = [[0; W]; 3];
+    for (lane, &level) in level.iter().enumerate() {
+        let size = match binding {
+            Some(TextureBinding::Core(texture, _)) => texture.size(level),
+            Some(TextureBinding::Integer(texture, _)) => texture.size(level),
+            Some(TextureBinding::Custom(source)) => match source.size(level) {
+                [0, _] | [_, 0] => [0; 3],
+                [w, h] => [w, h, 1],
+            },
+            None => [0; 3],
+        };
+        for c in 0..3 {
+            out[c][lane] = size[c] as i32;
+        }
+    }
+    out
+}
+
+/// An integer texture's nearest texels at GL's `coord` (`(s, t)` or `(s, t, r)`, see
+/// `IntegerTexture::nearest`) in lanes `0..lanes`, as texel coordinates of level 0.
+fn integer_nearest<const W: usize, const N: usize>(
+    texture: &IntegerTexture,
+    sampler: &Sampler,
+    coord: [[f32; W]; N],
+    lanes: usize,
+) -> [[i32; W]; 3] {
+    let mut out = [[0; W]; 3];
+    for lane in 0..lanes {
+        let at = std::array::from_fn(|c| if c < N { coord[c][lane] } else { 0.0 });
+        let texel = texture.nearest(sampler, at);
+        for c in 0..3 {
+            out[c][lane] = texel[c];
+        }
+    }
+    out
 }
 
 impl CompiledProgram {
@@ -552,6 +639,7 @@ pub fn shaders(
             slots: vslots,
             outputs,
             instance: 0,
+            bit_attributes: 0,
         },
         GlslFragmentShader {
             program: program.clone(),
@@ -577,7 +665,8 @@ pub fn pipeline(
 ) -> tiler::Result<Pipeline> {
     desc.varyings = program.pipeline_varyings();
     desc.provoking_vertex = tiler::ProvokingVertex::Last;
-    let (vs, fs) = shaders(program, uniforms, textures, framebuffer_height);
+    let (mut vs, fs) = shaders(program, uniforms, textures, framebuffer_height);
+    vs.set_integer_attributes(&desc.vertex_input, 0);
     Pipeline::new(vs, fs, desc)
 }
 
@@ -595,6 +684,9 @@ pub struct GlslVertexShader {
     outputs: Vec<(Vec<Reg>, usize)>,
     /// `gl_InstanceID`.
     instance: u32,
+    /// Bit `l`: attribute location `l` arrives as integer bits (`VertexFormat::Int`), not as
+    /// a float whose value an integer attribute takes.
+    bit_attributes: u32,
 }
 
 impl GlslVertexShader {
@@ -602,6 +694,19 @@ impl GlslVertexShader {
     /// 0 unless set).
     pub fn set_instance(&mut self, instance: u32) {
         self.instance = instance;
+    }
+
+    /// Tells the shader which attribute locations `input` fetches as integers
+    /// (`VertexFormat::Int`, GL's `glVertexAttribIPointer`): an integer attribute there takes
+    /// the bits as they are (exact over 32 bits); elsewhere it takes a float's value.
+    /// `also` adds locations (a disabled attribute's integer generic value, say).
+    pub fn set_integer_attributes(&mut self, input: &tiler::VertexInputState, also: u32) {
+        self.bit_attributes = also;
+        for a in &input.attributes {
+            if matches!(a.format, tiler::VertexFormat::Int(_)) && a.location < 32 {
+                self.bit_attributes |= 1 << a.location;
+            }
+        }
     }
 }
 
@@ -681,6 +786,10 @@ fn lookup_lanes<const W: usize>(
         let texel = match (binding, reference) {
             (None, _) => UNBOUND,
             (Some(TextureBinding::Core(texture, sampler)), _) => core_texel(texture, sampler, s, t, l.unwrap_or(0.0)),
+            (Some(TextureBinding::Integer(texture, sampler)), _) => {
+                let at = texture.nearest(sampler, [s, t, 0.0]);
+                texture.fetch(0, at).map_or([0.0; 4], |(v, _)| integer_texel(v))
+            }
             (Some(TextureBinding::Custom(source)), None) => source.sample(s, t, l),
             (Some(TextureBinding::Custom(source)), Some(reference)) => {
                 let r = source.sample_compare(s, t, reference[lane], l);
@@ -738,6 +847,9 @@ fn layered_lookup_lanes<const W: usize>(
                 Some((LayeredKind::Volume, _)) => texture.sample_volume_lod(sampler, at, lambda),
                 None => UNBOUND,
             },
+            Some(TextureBinding::Integer(texture, sampler)) => {
+                texture.fetch(0, texture.nearest(sampler, at)).map_or([0.0; 4], |(v, _)| integer_texel(v))
+            }
             _ => UNBOUND,
         };
         for c in 0..4 {
@@ -793,6 +905,19 @@ impl Env<VERTEX_LANES> for VertexEnv<'_> {
         };
         layered_lookup_lanes(self.slots[slot].as_ref(), coord, lod, self.lanes)
     }
+
+    fn fetch(
+        &mut self,
+        slot: usize,
+        coord: [[i32; VERTEX_LANES]; 3],
+        level: [i32; VERTEX_LANES],
+    ) -> [[f32; VERTEX_LANES]; 4] {
+        fetch_lanes(self.slots[slot].as_ref(), coord, level, self.lanes)
+    }
+
+    fn size(&mut self, slot: usize, level: [i32; VERTEX_LANES]) -> [[i32; VERTEX_LANES]; 3] {
+        size_lanes(self.slots[slot].as_ref(), level)
+    }
 }
 
 struct FragmentEnv<'a, 'f> {
@@ -818,6 +943,10 @@ impl Env<8> for FragmentEnv<'_, '_> {
         reference: Option<[f32; 8]>,
     ) -> [[f32; 8]; 4] {
         match (&self.slots[slot], lod) {
+            (Some(TextureBinding::Integer(texture, sampler)), _) => {
+                let at = integer_nearest(texture, sampler, coord, 8);
+                self.frag.fetch_integer(texture, [0; 8], at).map(|c| c.map(f32::from_bits))
+            }
             (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit | LodValue::Bias(_)) => {
                 let mut sampler = *sampler;
                 if let LodValue::Bias(b) = lod {
@@ -857,6 +986,10 @@ impl Env<8> for FragmentEnv<'_, '_> {
     /// first), as a cube face's, so nothing is flipped.
     fn sample_layered(&mut self, slot: usize, coord: [[f32; 8]; 3], lod: LodValue<8>) -> [[f32; 8]; 4] {
         match (&self.slots[slot], lod) {
+            (Some(TextureBinding::Integer(texture, sampler)), _) => {
+                let at = integer_nearest(texture, sampler, coord, 8);
+                self.frag.fetch_integer(texture, [0; 8], at).map(|c| c.map(f32::from_bits))
+            }
             (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit | LodValue::Bias(_))
                 if texture.layered().is_some() =>
             {
@@ -875,6 +1008,24 @@ impl Env<8> for FragmentEnv<'_, '_> {
             (binding, LodValue::Explicit(l)) => layered_lookup_lanes(binding.as_ref(), coord, Some(l), 8),
             (binding, _) => layered_lookup_lanes(binding.as_ref(), coord, None, 8),
         }
+    }
+
+    /// Texel reads of core and integer textures go through the texture-cache model (every
+    /// quad with a covered pixel); a caller's source is read as in a vertex shader.
+    fn fetch(&mut self, slot: usize, coord: [[i32; 8]; 3], level: [i32; 8]) -> [[f32; 8]; 4] {
+        match &self.slots[slot] {
+            Some(TextureBinding::Core(texture, _)) if !texture.is_cube() => {
+                self.frag.fetch(texture, level, coord).map(|c| c.0)
+            }
+            Some(TextureBinding::Integer(texture, _)) => {
+                self.frag.fetch_integer(texture, level, coord).map(|c| c.map(f32::from_bits))
+            }
+            binding => fetch_lanes(binding.as_ref(), coord, level, 8),
+        }
+    }
+
+    fn size(&mut self, slot: usize, level: [i32; 8]) -> [[i32; 8]; 3] {
+        size_lanes(self.slots[slot].as_ref(), level)
     }
 }
 
@@ -909,10 +1060,13 @@ impl GlslVertexShader {
                     };
                     let loc = attr.location as usize + column;
                     // The core fetches attributes as floats; an integer attribute takes
-                    // the value's integer (exact to 2²⁴).
+                    // the value's integer (exact to 2²⁴), or the bits of one fetched as
+                    // integers (`set_integer_attributes`).
+                    let bits = self.bit_attributes & (1 << loc) != 0;
                     for (lane, input) in inputs[..lanes].iter().enumerate() {
                         let x = input.attributes[loc][row];
                         regs[r as usize][lane] = match var.ty.scalar() {
+                            Some(Scalar::Int | Scalar::UInt) if bits => x,
                             Some(Scalar::Int) => crate::exec::int(x as i32),
                             Some(Scalar::UInt) => crate::exec::uint(x as u32),
                             _ => x,

@@ -33,6 +33,42 @@ pub enum SamplerKind {
     Sampler2DArray,
     /// `sampler3D`: lookups take `(s, t, r)`.
     Sampler3D,
+    /// `isampler2D`, `usampler2D`, `isampler2DArray`, …: an integer texture's sampler of
+    /// shape `shape` (`Sampler2D`, `Sampler2DArray` or `Sampler3D`), reading `int`s or `uint`s.
+    Integer {
+        shape: IntegerShape,
+        unsigned: bool,
+    },
+}
+
+/// The shapes integer samplers come in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum IntegerShape {
+    Flat,
+    Array,
+    Volume,
+}
+
+impl SamplerKind {
+    /// The scalar of its lookups' results: `float`, or `int`/`uint` for an integer sampler.
+    pub fn result(self) -> Scalar {
+        match self {
+            SamplerKind::Integer { unsigned: true, .. } => Scalar::UInt,
+            SamplerKind::Integer { unsigned: false, .. } => Scalar::Int,
+            _ => Scalar::Float,
+        }
+    }
+
+    /// Components of its texel coordinates (`texelFetch`, `textureSize`): 2, or 3 for a
+    /// layered one.
+    pub fn dimensions(self) -> usize {
+        match self {
+            SamplerKind::Sampler2DArray
+            | SamplerKind::Sampler3D
+            | SamplerKind::Integer { shape: IntegerShape::Array | IntegerShape::Volume, .. } => 3,
+            _ => 2,
+        }
+    }
 }
 
 /// A GLSL type.
@@ -146,6 +182,14 @@ impl fmt::Display for Type {
             Type::Sampler(SamplerKind::Sampler2DShadow) => write!(f, "sampler2DShadow"),
             Type::Sampler(SamplerKind::Sampler2DArray) => write!(f, "sampler2DArray"),
             Type::Sampler(SamplerKind::Sampler3D) => write!(f, "sampler3D"),
+            Type::Sampler(SamplerKind::Integer { shape, unsigned }) => {
+                let shape = match shape {
+                    IntegerShape::Flat => "2D",
+                    IntegerShape::Array => "2DArray",
+                    IntegerShape::Volume => "3D",
+                };
+                write!(f, "{}sampler{shape}", if *unsigned { "u" } else { "i" })
+            }
             Type::Struct(s) => write!(f, "{}", s.name),
             Type::Array(t, n) => write!(f, "{t}[{n}]"),
         }

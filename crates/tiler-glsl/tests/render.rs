@@ -1114,7 +1114,7 @@ fn es300_features_tiler_lacks_are_compile_errors_naming_the_line() {
         ),
         (
             Stage::Fragment,
-            "#version 300 es\nprecision highp float;\nout uvec4 c;\nvoid main() {\n  c = uvec4(1u);\n}",
+            "#version 300 es\nprecision highp float;\nout vec2 c;\nvoid main() {\n  c = vec2(1.0);\n}",
             3,
             "vec4",
         ),
@@ -1781,4 +1781,127 @@ void main() {
     let wrong = VS.replace("float[3](1.0, a.x, 3.0)", "float[3](1.0, a.x)");
     let e = CompiledProgram::new(&wrong, PASS_FS_300, &[]).unwrap_err();
     assert!(e.to_string().contains("line 6") && e.to_string().contains("3 elements, 2 given"), "{e}");
+}
+
+/// GLSL ES 3.00's `texelFetch` and `textureSize` on a float (RGBA8) and an integer texture, an
+/// integer attribute (`VertexFormat::Int`, as `glVertexAttribIPointer` fetches) passed `flat`,
+/// and a `uvec4` output stored as its bits in an RGBA32UI attachment: every pixel holds exactly
+/// the integers the rules give (out-of-range fetches read zeros), and the fragment shader's
+/// texel reads are counted as texture fetch.
+#[test]
+fn texel_fetch_texture_size_and_integer_outputs_are_exact() {
+    const VS: &str = "#version 300 es
+in vec4 position;
+in uvec4 code;
+flat out uvec4 v_code;
+void main() { v_code = code; gl_Position = position; }";
+    const FS: &str = "#version 300 es
+precision highp float;
+precision highp int;
+uniform highp sampler2D tex;
+uniform highp isampler2D ints;
+flat in uvec4 v_code;
+layout(location = 0) out uvec4 o;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    ivec2 s0 = textureSize(tex, 0);
+    ivec2 s1 = textureSize(tex, 1);
+    ivec2 si = textureSize(ints, 0);
+    vec4 t = texelFetch(tex, p, 0);
+    ivec4 i = texelFetch(ints, p, 0);
+    uint sizes = uint(s0.x | s0.y << 4 | s1.x << 8 | s1.y << 12 | si.x << 16 | si.y << 20 | textureSize(tex, 9).x << 24);
+    o = uvec4(uint(t.g * 255.0 + 0.5) | uint(i.x) << 8, uint(i.y), sizes, v_code.x + v_code.w);
+}";
+    let program = glsl(VS, FS);
+    let mut uniforms = program.new_uniform_values();
+    let (tw, th) = (5u32, 3u32);
+    let rgba: Vec<u8> = (0..tw * th).flat_map(|i| [0, (i * 13 + 7) as u8, 0, 255]).collect();
+    let tex = Texture::from_rgba8(tw, th, &rgba, ColorSpace::Linear, MipChain::Box).unwrap();
+    let int_format = tiler::IntFormat { channels: 2, bits: 16, signed: true };
+    let (iw, ih) = (7u32, 2u32);
+    let texels: Vec<u8> = (0..iw * ih)
+        .flat_map(|i| [(i as i16 * 3 - 10).to_le_bytes(), (-(i as i16) * 1000).to_le_bytes()].concat())
+        .collect();
+    let ints = tiler::IntegerTexture::new(int_format, tiler::IntegerKind::Flat, iw, ih, &[&texels]).unwrap();
+    for (name, unit) in [("tex", 0.0), ("ints", 1.0)] {
+        program.set_uniform(&mut uniforms, program.uniform_location(name).unwrap(), &[unit]).unwrap();
+    }
+    let textures = [
+        Some(TextureBinding::Core(Arc::new(tex), Sampler::NEAREST_REPEAT)),
+        Some(TextureBinding::Integer(Arc::new(ints), Sampler::NEAREST_REPEAT)),
+    ];
+    let code_format = tiler::IntFormat { channels: 4, bits: 16, signed: false };
+    let input = VertexInputState::interleaved(&[VertexFormat::Float32x4, VertexFormat::Int(code_format)]);
+    let desc = PipelineDesc::new("integer", input);
+    let pipeline = tiler_glsl::pipeline(&program, &uniforms, &textures, HEIGHT, desc).unwrap();
+    let mut device = Device::new(DeviceConfig::default()).unwrap();
+    let format = Format::Int(tiler::IntFormat { channels: 4, bits: 32, signed: false });
+    let color = device.create_image(ImageDesc::new(WIDTH, HEIGHT, format)).unwrap();
+    let mut vertices = Vec::new();
+    for p in [[-1.0f32, -1.0, 0.25, 1.0], [3.0, -1.0, 0.25, 1.0], [-1.0, 3.0, 0.25, 1.0]] {
+        vertices.extend(p.iter().flat_map(|c| c.to_le_bytes()));
+        // The provoking (last) vertex's code reaches every pixel: 40000 + 60000 (a sum past
+        // 16 bits, so the attribute was not narrowed).
+        vertices.extend([40000u16, 1, 2, 60000].iter().flat_map(|c| c.to_le_bytes()));
+    }
+    let buffer = device.create_buffer(&vertices).unwrap();
+    let clear = [7u32, 0, 0, 0].map(f32::from_bits);
+    let mut pass = RenderPass::new(RenderPassDesc {
+        color: vec![ColorAttachment::clear_store(color, clear)],
+        depth_stencil: None,
+        render_area: None,
+    });
+    pass.draw(Draw::new(&pipeline, buffer, 0, 3));
+    let report = device.submit(&pass).unwrap();
+    let data = device.image_data(color).unwrap();
+    let sizes = 5 | 3 << 4 | 2 << 8 | 1 << 12 | 7 << 16 | 2 << 20;
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let at = ((y * WIDTH + x) * 16) as usize;
+            let got: [u32; 4] =
+                std::array::from_fn(|c| u32::from_le_bytes(data[at + 4 * c..at + 4 * c + 4].try_into().unwrap()));
+            // GL's row y is tiler's row HEIGHT − 1 − y; texel rows are GL's.
+            let gl_y = HEIGHT - 1 - y;
+            let green = if x < tw && gl_y < th { (gl_y * tw + x) * 13 + 7 } else { 0 };
+            let (ix, iy) = if x < iw && gl_y < ih {
+                let i = (gl_y * iw + x) as i32;
+                (i * 3 - 10, -i * 1000)
+            } else {
+                (0, 0)
+            };
+            let want = [(green & 0xff) | (ix as u32) << 8, iy as u32, sizes, 100_000];
+            assert_eq!(got, want, "pixel ({x}, {y})");
+        }
+    }
+    assert!(report.ledger.get(Category::TextureFetch) > 0, "texel fetches are counted");
+}
+
+/// `texelFetch`/`textureSize` where GLSL ES 3.00 has no such form, or with arguments of the
+/// wrong type, are compile errors naming the line; `textureSize` of every sampler type links.
+#[test]
+fn texel_fetch_misuse_is_a_compile_error_naming_the_line() {
+    let vs = "#version 300 es\nin vec4 p;\nvoid main() { gl_Position = p; }";
+    let all = "#version 300 es\nprecision highp float;\nuniform sampler2D a;\nuniform samplerCube b;\n\
+               uniform highp sampler2DShadow c;\nuniform highp sampler2DArray d;\nuniform highp sampler3D e;\n\
+               uniform highp isampler2D f;\nuniform highp usampler2DArray g;\nuniform highp isampler3D h;\n\
+               out vec4 o;\nvoid main() {\n  ivec2 s = textureSize(a, 0) + textureSize(b, 0) + textureSize(c, 0) \
+               + textureSize(f, 0);\n  ivec3 t = textureSize(d, 0) + textureSize(e, 0) + textureSize(g, 0) + \
+               textureSize(h, 0);\n  o = vec4(s.xyxy) + vec4(t.xyzx) + texelFetch(d, t, 1) + texelFetch(e, t, 0) + \
+               vec4(texelFetch(g, t, 0)) + vec4(texture(f, vec2(0.5)));\n}";
+    CompiledProgram::new(vs, all, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let cases = [
+        ("uniform samplerCube s;", "texelFetch(s, ivec2(0), 0)", "no texelFetch"),
+        ("uniform sampler2D s;", "texelFetch(s, vec2(0.0), 0)", "ivec2"),
+        ("uniform highp sampler2DArray s;", "texelFetch(s, ivec2(0), 0)", "ivec3"),
+        ("uniform sampler2D s;", "vec4(textureSize(s, 0.0), 0.0, 0.0)", "int"),
+    ];
+    for (uniform, call, word) in cases {
+        let fs = format!(
+            "#version 300 es\nprecision highp float;\n{uniform}\nout vec4 o;\nvoid main() {{\n  o = {call};\n}}"
+        );
+        match CompiledProgram::new(vs, &fs, &[]).unwrap_err() {
+            Error::Compile { stage: Stage::Fragment, line: 6, message } => assert!(message.contains(word), "{message}"),
+            other => panic!("{call}: {other:?}"),
+        }
+    }
 }

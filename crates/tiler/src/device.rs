@@ -149,10 +149,13 @@ impl Device {
     pub fn read_rgba8(&self, id: ImageId) -> Result<Vec<u8>> {
         let image = self.image(id)?;
         let d = image.desc;
-        if !d.format.is_color() || d.transient {
+        if !d.format.is_color() || d.format.is_integer() || d.transient {
             return Err(Error::invalid(
                 id.to_string(),
-                format!("cannot read a {} image as colour", if d.transient { "transient" } else { d.format.name() }),
+                format!(
+                    "cannot read a {} image as 8-bit colour",
+                    if d.transient { "transient" } else { d.format.name() }
+                ),
             ));
         }
         let pixels = d.width as usize * d.height as usize;

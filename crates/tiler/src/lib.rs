@@ -94,7 +94,7 @@ pub(crate) mod tile;
 
 pub use api::buffer::BufferId;
 pub use api::error::{Error, Result};
-pub use api::format::{ColorWrites, Format};
+pub use api::format::{ColorWrites, Format, IntFormat};
 pub use api::image::{ImageDesc, ImageId, MAX_IMAGE_BYTES, MAX_IMAGE_DIMENSION};
 pub use api::pipeline::{
     BlendComponent, BlendFactor, BlendOp, BlendState, ColorTargetState, CompareOp, CullMode, DepthBias,
@@ -130,8 +130,8 @@ pub use shade::depth_compare;
 pub use shade::fragments::{FragmentShader, Fragments};
 pub use shade::texel_format::{ASTC_FOOTPRINTS, StoredLayout, TexelFormat};
 pub use shade::texture::{
-    ColorSpace, CubeFace, Filter, LayeredKind, MAX_ARRAY_LAYERS, MAX_CUBE_DIMENSION, MAX_TEXTURE_DIMENSION,
-    MAX_VOLUME_DIMENSION, MipChain, MipmapMode, Sampler, Texture, Wrap, cube_face_coordinates,
+    ColorSpace, CubeFace, Filter, IntegerKind, IntegerTexture, LayeredKind, MAX_ARRAY_LAYERS, MAX_CUBE_DIMENSION,
+    MAX_TEXTURE_DIMENSION, MAX_VOLUME_DIMENSION, MipChain, MipmapMode, Sampler, Texture, Wrap, cube_face_coordinates,
 };
 pub use shade::texture_cache::TextureCacheConfig;
 pub use simd::{F32x8, LaneMask, SimdLevel, SimdSupport, Vec4x8};

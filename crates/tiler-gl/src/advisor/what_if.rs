@@ -249,7 +249,13 @@ impl Fixer {
                 let at = finding.location.call_at.map(CallRef::from).ok_or("the finding names no call")?;
                 if !matches!(
                     self.call(at),
-                    Some(Call::ReadPixels { .. } | Call::Flush | Call::Finish | Call::QueryResult { .. })
+                    Some(
+                        Call::ReadPixels { .. }
+                            | Call::ReadPixelsInteger { .. }
+                            | Call::Flush
+                            | Call::Finish
+                            | Call::QueryResult { .. }
+                    )
                 ) {
                     return Err("only a read_pixels, query_result, flush or finish is moved".into());
                 }
@@ -349,9 +355,16 @@ impl Fixer {
         let first = pass.draws[0].call.call as usize;
         let mut start = first;
         while start > pass.started_at.call as usize + 1
-            && !calls
-                .get(start - 1)
-                .is_some_and(|c| is_draw(c) || matches!(c, Call::Clear { .. } | Call::BindFramebuffer { .. }))
+            && !calls.get(start - 1).is_some_and(|c| {
+                is_draw(c)
+                    || matches!(
+                        c,
+                        Call::Clear { .. }
+                            | Call::ClearBufferColor { .. }
+                            | Call::ClearBufferDepthStencil { .. }
+                            | Call::BindFramebuffer { .. }
+                    )
+            })
         {
             start -= 1;
         }
@@ -615,8 +628,11 @@ fn changes_framebuffer(call: &Call) -> bool {
         || matches!(
             call,
             Call::Clear { .. }
+                | Call::ClearBufferColor { .. }
+                | Call::ClearBufferDepthStencil { .. }
                 | Call::Invalidate { .. }
                 | Call::ReadPixels { .. }
+                | Call::ReadPixelsInteger { .. }
                 | Call::BlitFramebuffer { .. }
                 | Call::CopyTexSubImage { .. }
                 | Call::Flush

@@ -23,6 +23,13 @@ pub(crate) const GL_FLOAT: u32 = 0x1406;
 /// `OES_texture_half_float`'s type (GL ES 3.0's `GL_HALF_FLOAT` is `0x140b`).
 pub(crate) const GL_HALF_FLOAT_OES: u32 = 0x8d61;
 pub(crate) const GL_HALF_FLOAT: u32 = 0x140b;
+pub(crate) const GL_BYTE: u32 = 0x1400;
+pub(crate) const GL_SHORT: u32 = 0x1402;
+pub(crate) const GL_INT: u32 = 0x1404;
+pub(crate) const GL_RED_INTEGER: u32 = 0x8d94;
+pub(crate) const GL_RG_INTEGER: u32 = 0x8228;
+pub(crate) const GL_RGB_INTEGER: u32 = 0x8d98;
+pub(crate) const GL_RGBA_INTEGER: u32 = 0x8d99;
 
 /// How a `(format, type)` pair is stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,6 +48,9 @@ impl Upload {
         // GLES 2.0: the internal format is the format. GL ES 3.0 also takes a sized internal
         // format of the format's base (its table 3.2, `RGBA8` for `RGBA`, `DEPTH_COMPONENT24`
         // for `DEPTH_COMPONENT`, …); the sized ones the replay stores are listed in `sized`.
+        if let Some(upload) = integer_upload(internal_format, format, kind)? {
+            return Ok(upload);
+        }
         let sized = sized_internal_format(internal_format);
         let internal_ok = internal_format == format || sized.is_some_and(|(base, _)| base == format);
         if !internal_ok {
@@ -122,6 +132,19 @@ impl Upload {
         let mut out = Vec::with_capacity(width as usize * height as usize * out_bytes);
         for y in 0..height as usize {
             let src = &data[y * stride..y * stride + row];
+            if let TextureFormat::Int(f) = self.format {
+                if self.client_bytes == f.bytes() {
+                    out.extend_from_slice(src);
+                } else {
+                    // RGB integers are stored as RGBA with alpha the integer 1 (what GL reads).
+                    let one = &1u32.to_le_bytes()[..f.bits as usize / 8];
+                    src.chunks_exact(self.client_bytes).for_each(|t| {
+                        out.extend_from_slice(t);
+                        out.extend_from_slice(one);
+                    });
+                }
+                continue;
+            }
             match (self.format_enum, self.kind) {
                 (_, GL_UNSIGNED_SHORT_5_6_5)
                 | (GL_RGBA, GL_UNSIGNED_BYTE | GL_HALF_FLOAT_OES | GL_HALF_FLOAT | GL_FLOAT)
@@ -162,6 +185,103 @@ impl Upload {
         }
         Ok(out)
     }
+}
+
+/// A GL ES 3.0 integer internal format (`GL_RGBA8UI`, `GL_R32I`, … table 3.13): channels,
+/// bits, signed. RGB ones are stored with an alpha channel (`integer_storage`).
+pub(crate) fn integer_internal_format(internal_format: u32) -> Option<(u8, u8, bool)> {
+    Some(match internal_format {
+        0x8d70 => (4, 32, false),
+        0x8d71 => (3, 32, false),
+        0x8d76 => (4, 16, false),
+        0x8d77 => (3, 16, false),
+        0x8d7c => (4, 8, false),
+        0x8d7d => (3, 8, false),
+        0x8d82 => (4, 32, true),
+        0x8d83 => (3, 32, true),
+        0x8d88 => (4, 16, true),
+        0x8d89 => (3, 16, true),
+        0x8d8e => (4, 8, true),
+        0x8d8f => (3, 8, true),
+        0x8231 => (1, 8, true),
+        0x8232 => (1, 8, false),
+        0x8233 => (1, 16, true),
+        0x8234 => (1, 16, false),
+        0x8235 => (1, 32, true),
+        0x8236 => (1, 32, false),
+        0x8237 => (2, 8, true),
+        0x8238 => (2, 8, false),
+        0x8239 => (2, 16, true),
+        0x823a => (2, 16, false),
+        0x823b => (2, 32, true),
+        0x823c => (2, 32, false),
+        _ => return None,
+    })
+}
+
+/// How the context stores an integer format of `channels` (3 is stored as 4, alpha 1).
+pub(crate) fn integer_storage((channels, bits, signed): (u8, u8, bool)) -> TextureFormat {
+    TextureFormat::Int(tiler::IntFormat { channels: if channels == 3 { 4 } else { channels }, bits, signed })
+}
+
+/// The client format and type of texels that fill an integer texture stored as `format`.
+pub(crate) fn integer_client(format: tiler::IntFormat) -> (u32, u32) {
+    let base = match format.channels {
+        1 => GL_RED_INTEGER,
+        2 => GL_RG_INTEGER,
+        _ => GL_RGBA_INTEGER,
+    };
+    let kind = match (format.bits, format.signed) {
+        (8, true) => GL_BYTE,
+        (8, false) => GL_UNSIGNED_BYTE,
+        (16, true) => GL_SHORT,
+        (16, false) => GL_UNSIGNED_SHORT,
+        (_, true) => GL_INT,
+        (_, false) => GL_UNSIGNED_INT,
+    };
+    (base, kind)
+}
+
+/// The upload of integer texels (`*_INTEGER` formats, GL ES 3.0 table 3.2): `None` for
+/// other formats; an integer internal format with a format or type it does not take is an
+/// error.
+fn integer_upload(internal_format: u32, format: u32, kind: u32) -> Result<Option<Upload>, String> {
+    let internal = integer_internal_format(internal_format);
+    let channels = match format {
+        GL_RED_INTEGER => 1,
+        GL_RG_INTEGER => 2,
+        GL_RGB_INTEGER => 3,
+        GL_RGBA_INTEGER => 4,
+        _ if internal.is_some() => {
+            return Err(format!(
+                "integer internal format {internal_format:#06x} with format {format:#06x} (an *_INTEGER format is \
+                 needed)"
+            ));
+        }
+        _ => return Ok(None),
+    };
+    let (bits, signed) = match kind {
+        GL_BYTE => (8, true),
+        GL_UNSIGNED_BYTE => (8, false),
+        GL_SHORT => (16, true),
+        GL_UNSIGNED_SHORT => (16, false),
+        GL_INT => (32, true),
+        GL_UNSIGNED_INT => (32, false),
+        _ => return Err(format!("integer texels of type {kind:#06x} (byte, short or int types only)")),
+    };
+    let given = (channels, bits, signed);
+    if internal_format != format && internal != Some(given) {
+        return Err(format!(
+            "internal format {internal_format:#06x} from format {format:#06x} / type {kind:#06x}: not a combination \
+             GL ES 3.0 takes (table 3.2)"
+        ));
+    }
+    Ok(Some(Upload {
+        format: integer_storage(given),
+        client_bytes: channels as usize * bits as usize / 8,
+        format_enum: format,
+        kind,
+    }))
 }
 
 /// A GL ES 3.0 sized internal format the replay stores: its base format and, where the sized

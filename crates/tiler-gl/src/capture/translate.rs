@@ -15,8 +15,8 @@ use super::texels::{self, Upload};
 use super::{CaptureError, Replay};
 use crate::bytes::Bytes;
 use crate::call::{
-    AttachmentPoint, BufferSet, Call, Capability, ComponentType, EncodedFormat, Face, Filter, FramebufferTarget,
-    IndexKind, Mode, SwapBehavior, TextureFormat, Winding, Wrap,
+    AttachmentPoint, BufferSet, Call, Capability, ClearColorValue, ComponentType, EncodedFormat, Face, Filter,
+    FramebufferTarget, IndexKind, Mode, SwapBehavior, TextureFormat, Winding, Wrap,
 };
 use crate::context::{Context, ContextConfig, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS};
 
@@ -617,9 +617,6 @@ impl Translator {
                 })?;
             }
             C::VertexAttribPointer { index, size, kind, normalized, stride, pointer, integer } => {
-                if *integer {
-                    return Err("integer vertex attributes are not supported".into());
-                }
                 let slot = attrib_slot(*index)?;
                 let component = component_type(*kind)?;
                 let size = u32::try_from(*size).map_err(|_| format!("size {size} is negative"))?;
@@ -634,18 +631,18 @@ impl Translator {
                         Memory::Offset(offset) => *offset,
                         Memory::Client(_) => return Err("a buffer offset was expected".into()),
                     };
-                    self.emit(Call::VertexAttribPointer {
-                        index,
-                        buffer,
-                        size,
-                        component,
-                        normalized,
-                        stride,
-                        offset,
+                    self.emit(if *integer {
+                        Call::VertexAttribIPointer { index, buffer, size, component, stride, offset }
+                    } else {
+                        Call::VertexAttribPointer { index, buffer, size, component, normalized, stride, offset }
                     })?;
                 } else if let Memory::Client(bytes) = pointer {
                     let data = Bytes::from(bytes.as_slice());
-                    self.emit(Call::VertexAttribArray { index, size, component, normalized, stride, data })?;
+                    self.emit(if *integer {
+                        Call::VertexAttribIArray { index, size, component, stride, data }
+                    } else {
+                        Call::VertexAttribArray { index, size, component, normalized, stride, data }
+                    })?;
                 } else if fake {
                     return Err("a client-side array without its bytes".into());
                 } else {
@@ -1156,11 +1153,19 @@ impl Translator {
                 }
             }
             C::ReadPixels { x, y, width, height, format, kind, .. } => {
-                if (*format, *kind) != (texels::GL_RGBA, texels::GL_UNSIGNED_BYTE) {
-                    return Err(format!("reading format {format:#06x} / type {kind:#06x}: only RGBA bytes"));
-                }
                 let (width, height) = size2(*width, *height)?;
-                self.emit(Call::ReadPixels { x: *x, y: *y, width, height })?;
+                let (x, y) = (*x, *y);
+                self.emit(match (*format, *kind) {
+                    (texels::GL_RGBA, texels::GL_UNSIGNED_BYTE) => Call::ReadPixels { x, y, width, height },
+                    (texels::GL_RGBA_INTEGER, texels::GL_INT | texels::GL_UNSIGNED_INT) => {
+                        Call::ReadPixelsInteger { x, y, width, height, signed: *kind == texels::GL_INT }
+                    }
+                    _ => {
+                        return Err(format!(
+                            "reading format {format:#06x} / type {kind:#06x}: only RGBA bytes and RGBA_INTEGER ints"
+                        ));
+                    }
+                })?;
             }
 
             // ---- shaders and programs ----------------------------------------------------------
@@ -1363,6 +1368,33 @@ impl Translator {
             }
             C::ClearStencil { stencil } => {
                 self.emit(Call::ClearStencil { stencil: *stencil as u8 })?;
+            }
+            C::ClearBuffer { buffer, draw_buffer, value } => {
+                use tiler_apitrace::gles::ClearValue as V;
+                let call = match (*buffer, value) {
+                    (0x1800, value) => {
+                        let draw_buffer = u32::try_from(*draw_buffer)
+                            .map_err(|_| format!("draw buffer {draw_buffer} is negative"))?;
+                        let value = match value {
+                            V::Float(v) => ClearColorValue::Float(*v),
+                            V::Int(v) => ClearColorValue::Int(*v),
+                            V::UInt(v) => ClearColorValue::Uint(*v),
+                            V::DepthStencil { .. } => return Err("glClearBufferfi of GL_COLOR".into()),
+                        };
+                        Call::ClearBufferColor { draw_buffer, value }
+                    }
+                    (0x1801, V::Float(v)) => Call::ClearBufferDepthStencil { depth: Some(v[0]), stencil: None },
+                    (0x1802, V::Int(v)) => Call::ClearBufferDepthStencil { depth: None, stencil: Some(v[0] as u8) },
+                    (0x84f9, V::DepthStencil { depth, stencil }) => {
+                        Call::ClearBufferDepthStencil { depth: Some(*depth), stencil: Some(*stencil as u8) }
+                    }
+                    (buffer, value) => {
+                        return Err(format!(
+                            "glClearBuffer of buffer {buffer:#06x} with {value:?} is not a valid call"
+                        ));
+                    }
+                };
+                self.emit(call)?;
             }
             C::PolygonOffset { factor, units } => {
                 self.emit(Call::PolygonOffset { factor: *factor, units: *units })?;
@@ -1903,6 +1935,7 @@ fn component_type(kind: GlEnum) -> Fallible<ComponentType> {
         0x1402 => ComponentType::Short,
         0x1403 => ComponentType::UnsignedShort,
         0x1405 => ComponentType::UnsignedInt,
+        0x1404 => ComponentType::Int,
         k => return Err(format!("vertex component type {k:#06x} is not supported")),
     })
 }
@@ -2018,6 +2051,9 @@ fn renderbuffer_format(f: GlEnum) -> Fallible<TextureFormat> {
         0x8cac => TextureFormat::Depth32f,
         0x88f0 => TextureFormat::Depth24Stencil8,
         0x8d48 => TextureFormat::Stencil8,
+        f if texels::integer_internal_format(f).is_some() => {
+            texels::integer_storage(texels::integer_internal_format(f).expect("matched"))
+        }
         f => return Err(format!("internal format {f:#06x} is not supported")),
     })
 }

@@ -72,8 +72,31 @@ pub(crate) struct PendingDraw {
 ///
 /// # Errors
 /// Combinations tiler cannot fetch.
-pub(crate) fn vertex_format(size: u32, component: ComponentType, normalized: bool) -> Fallible<VertexFormat> {
+pub(crate) fn vertex_format(
+    size: u32,
+    component: ComponentType,
+    normalized: bool,
+    integer: bool,
+) -> Fallible<VertexFormat> {
     use ComponentType::*;
+    if integer {
+        // `glVertexAttribIPointer`: the integers as they are (`VertexFormat::Int`).
+        let (bits, signed) = match component {
+            Byte => (8, true),
+            UnsignedByte => (8, false),
+            Short => (16, true),
+            UnsignedShort => (16, false),
+            Int => (32, true),
+            UnsignedInt => (32, false),
+            Float | HalfFloat => {
+                return Err(format!("glVertexAttribIPointer of {component:?}: integer attributes take integer types"));
+            }
+        };
+        if !(1..=4).contains(&size) {
+            return Err(format!("integer vertex attributes of {size} components (1 to 4)"));
+        }
+        return Ok(VertexFormat::Int(tiler::IntFormat { channels: size as u8, bits, signed }));
+    }
     Ok(match (component, size, normalized) {
         (Float, 1, _) => VertexFormat::Float32,
         (Float, 2, _) => VertexFormat::Float32x2,
@@ -210,14 +233,15 @@ impl Context {
                 per_instance.push(self.instanced_attribute(&program, index, name, instances)?);
                 continue;
             }
-            let Some((source, size, component, normalized, stride)) = attrib.source.clone().filter(|_| attrib.enabled)
+            let Some((source, size, component, normalized, stride, integer)) =
+                attrib.source.clone().filter(|_| attrib.enabled)
             else {
                 return Err(format!(
                     "program '{}' reads attribute {index} ({name}), which is not enabled with a pointer",
                     program.label
                 ));
             };
-            let format = vertex_format(size, component, normalized)?;
+            let format = vertex_format(size, component, normalized, integer)?;
             let stride = if stride == 0 { format.size_bytes() } else { stride };
             if stride < format.size_bytes() {
                 return Err(format!(

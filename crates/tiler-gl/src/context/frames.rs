@@ -239,8 +239,17 @@ impl Context {
         Ok((source.width, source.height, rgba))
     }
 
-    /// `glReadPixels` of the read framebuffer's first colour attachment.
-    pub(crate) fn read_pixels(&mut self, x: i32, y: i32, width: u32, height: u32) -> Fallible<Vec<u8>> {
+    /// `glReadPixels` of the read framebuffer's first colour attachment: RGBA8, or with
+    /// `integer` (`Some(signed)`, `GL_RGBA_INTEGER` of `GL_INT` or `GL_UNSIGNED_INT`) an integer
+    /// attachment's four channels as 32-bit little-endian integers (missing ones 0, alpha 1).
+    pub(crate) fn read_pixels(
+        &mut self,
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+        integer: Option<bool>,
+    ) -> Fallible<Vec<u8>> {
         let read = self.read_framebuffer;
         let source = self.targets(read)?;
         let image = source
@@ -249,6 +258,22 @@ impl Context {
             .ok_or_else(|| format!("framebuffer {read} has no colour attachment to read"))?
             .readable();
         self.check_has_memory(image, &format!("read_pixels of framebuffer {read}'s color0"))?;
+        let format = self.images[&image].desc.format;
+        match (format, integer) {
+            (tiler::Format::Int(f), Some(signed)) if f.signed == signed => {}
+            (f, None) if !f.is_integer() => {}
+            (f, integer) => {
+                return Err(format!(
+                    "read_pixels of framebuffer {read}'s color0 ({f}) as {}: GL ES 3.0 reads an integer buffer as \
+                     RGBA_INTEGER of its signedness's INT type, and others as RGBA bytes (GL_INVALID_OPERATION)",
+                    match integer {
+                        Some(true) => "RGBA_INTEGER / INT",
+                        Some(false) => "RGBA_INTEGER / UNSIGNED_INT",
+                        None => "RGBA / UNSIGNED_BYTE",
+                    }
+                ));
+            }
+        }
         if self.images[&image].desc.samples > 1 {
             return Err(format!(
                 "framebuffer {read} is multisampled (GL_INVALID_OPERATION): blit it to a single-sampled framebuffer first"
@@ -273,8 +298,20 @@ impl Context {
         self.consume(image, Slot::Color(0));
         let frame = self.here.frame;
         self.images.get_mut(&image).expect("attached").last_use = Some(frame);
-        let rgba = self.device.read_rgba8(image).map_err(|e| e.to_string())?;
         let w = source.width as usize;
+        if let tiler::Format::Int(f) = format {
+            let data = self.device.image_data(image).map_err(|e| e.to_string())?;
+            let mut out = Vec::with_capacity(width as usize * height as usize * 16);
+            for r in 0..height as usize {
+                let row = source.height as usize - 1 - (y as usize + r);
+                for px in row * w + x as usize..row * w + x as usize + width as usize {
+                    let texel = f.unpack(&data[px * f.bytes()..(px + 1) * f.bytes()]);
+                    out.extend(texel.iter().flat_map(|c| c.to_le_bytes()));
+                }
+            }
+            return Ok(out);
+        }
+        let rgba = self.device.read_rgba8(image).map_err(|e| e.to_string())?;
         let mut out = Vec::with_capacity(width as usize * height as usize * 4);
         for r in 0..height as usize {
             let row = source.height as usize - 1 - (y as usize + r);
@@ -339,6 +376,13 @@ impl Context {
             return Ok(());
         }
         let desc = self.images[&image].desc;
+        let to_integer = self.ensure_pass()?.targets.color.first().is_some_and(|c| c.format.format().is_integer());
+        if desc.format.is_integer() || to_integer {
+            return Err(format!(
+                "blit_framebuffer from framebuffer {read} ({}): blits of integer colour buffers are not supported",
+                desc.format
+            ));
+        }
         let read_bytes = source_pixels * desc.samples as u64 * desc.format.bytes_per_sample() as u64;
         let targets = self.ensure_pass()?.targets.clone();
         let (dw, dh) = (targets.width as f32, targets.height as f32);

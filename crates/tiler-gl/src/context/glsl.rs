@@ -300,6 +300,13 @@ impl Context {
                         ));
                     }
                     let t = self.texture(texture)?;
+                    if self.images[&t.image].desc.format.is_integer() {
+                        return Err(format!(
+                            "{label}: sampler '{name}' reads integer texture {texture} ({}) on unit {unit}: integer \
+                             textures are read by isampler/usampler (GL leaves this undefined)",
+                            self.images[&t.image].desc.format
+                        ));
+                    }
                     if shadow.iter().any(|(_, u)| *u == unit) && self.images[&t.image].desc.format.is_color() {
                         return Err(format!(
                             "{label}: sampler2DShadow '{name}' reads texture {texture} on unit {unit}, which is not a \
@@ -310,6 +317,7 @@ impl Context {
                     self.check_has_memory(image, &format!("{label}: sampler '{name}' reads texture {texture}"))?;
                     textures.push(SampledTexture { unit, image, sampler, mipmaps });
                 }
+                self.integer_samplers(&label, p, &mut textures)?;
                 let mut cubes: Vec<(u32, Option<CoreCube>)> = Vec::new();
                 for (name, unit) in p.compiled.sampler_units_of(SamplerKind::SamplerCube, &p.uniforms) {
                     if cubes.iter().any(|(u, _)| *u == unit) {
@@ -357,6 +365,77 @@ impl Context {
         }
     }
 
+    /// The 2D textures of a program's `isampler2D`/`usampler2D` samplers, checked: an integer
+    /// texture of the sampler's signedness, one level, nearest filters (GL ES 3.0 §3.8.13: a
+    /// linear filter makes an integer texture incomplete). 2-D array and 3-D integer textures
+    /// are refused.
+    fn integer_samplers(&self, label: &str, p: &GlslProgram, textures: &mut Vec<SampledTexture>) -> Fallible {
+        use tiler_glsl::IntegerShape;
+        for shape in [IntegerShape::Flat, IntegerShape::Array, IntegerShape::Volume] {
+            for unsigned in [false, true] {
+                let kind = SamplerKind::Integer { shape, unsigned };
+                for (name, unit) in p.compiled.sampler_units_of(kind, &p.uniforms) {
+                    let what = format!("{label}: {} '{name}' on unit {unit}", Type::Sampler(kind));
+                    if shape != IntegerShape::Flat {
+                        return Err(format!("{what}: 2-D array and 3-D integer textures are not supported"));
+                    }
+                    if let Some(other) = textures.iter().find(|t| t.unit == unit) {
+                        if !self.images[&other.image].desc.format.is_integer() {
+                            return Err(format!("{what}: a sampler of another type reads the same unit (a GL error)"));
+                        }
+                        continue;
+                    }
+                    let texture = self.state.textures.get(unit as usize).copied().unwrap_or(0);
+                    if texture == 0 {
+                        return Err(format!("{what}: the unit has no texture"));
+                    }
+                    let t = self.texture(texture)?;
+                    let format = self.images[&t.image].desc.format;
+                    match format {
+                        tiler::Format::Int(f) if f.signed != unsigned => {}
+                        _ => {
+                            return Err(format!(
+                                "{what} reads texture {texture} ({format}), not an {} integer texture (GL leaves \
+                                 that undefined)",
+                                if unsigned { "unsigned" } else { "signed" }
+                            ));
+                        }
+                    }
+                    let sampler = self.unit_sampler(unit, t);
+                    let nearest = |f: crate::call::Filter| {
+                        matches!(f, crate::call::Filter::Nearest | crate::call::Filter::NearestMipmapNearest)
+                    };
+                    if !nearest(sampler.min_filter) || !nearest(sampler.mag_filter) {
+                        return Err(format!(
+                            "{what}: texture {texture} ({format}) is filtered {:?}/{:?}; an integer texture with a \
+                             linear filter is incomplete (GL ES 3.0 §3.8.13): set NEAREST",
+                            sampler.min_filter, sampler.mag_filter
+                        ));
+                    }
+                    if t.mipmaps {
+                        return Err(format!("{what}: mip-mapped integer textures are not supported"));
+                    }
+                    self.check_has_memory(t.image, &format!("{what} reads texture {texture}"))?;
+                    textures.push(SampledTexture { unit, image: t.image, sampler, mipmaps: false });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// An integer image as a GLSL integer texture: its rows (tiler's, top first) turned into
+    /// GL's (the first uploaded, the bottom, first).
+    fn integer_texture(&self, image: ImageId, sampler: SamplerState) -> Fallible<TextureBinding> {
+        let d = self.images[&image].desc;
+        let tiler::Format::Int(format) = d.format else { unreachable!("checked by integer_samplers") };
+        let data = self.device.image_data(image).map_err(|e| e.to_string())?;
+        let row = d.width as usize * format.bytes();
+        let rows: Vec<u8> = data[..row * d.height as usize].chunks_exact(row).rev().flatten().copied().collect();
+        let texture = tiler::IntegerTexture::new(format, tiler::IntegerKind::Flat, d.width, d.height, &[&rows])
+            .map_err(|e| e.to_string())?;
+        Ok(TextureBinding::Integer(Arc::new(texture), super::submit::core_sampler(sampler, false)))
+    }
+
     /// The pipeline of a gathered draw of a program, its textures made once per submission
     /// (`snapshots`, `cores`); `framebuffer_height` gives GLSL's `gl_FragCoord` its y up.
     ///
@@ -382,6 +461,10 @@ impl Context {
             ProgramDraw::Glsl { program, uniforms, generic, cubes, instance } => {
                 let mut units: Vec<Option<TextureBinding>> = vec![None; MAX_TEXTURE_UNITS as usize];
                 for t in textures {
+                    if self.images[&t.image].desc.format.is_integer() {
+                        units[t.unit as usize] = Some(self.integer_texture(t.image, t.sampler)?);
+                        continue;
+                    }
                     units[t.unit as usize] =
                         Some(match self.program_texture(snapshots, cores, t.image, t.sampler, t.mipmaps)? {
                             ProgramTexture::Core(texture, sampler) => TextureBinding::Core(texture, sampler),
@@ -404,6 +487,7 @@ impl Context {
                 }
                 let (mut vertex, fragment) = tiler_glsl::shaders(program, uniforms, &units, framebuffer_height);
                 vertex.set_instance(*instance);
+                vertex.set_integer_attributes(&desc.vertex_input, 0);
                 let generic = generic.iter().map(|(l, v)| (*l as usize, Vec4::from_array(*v))).collect();
                 Ok(Pipeline::new(GenericAttributes { inner: vertex, generic }, fragment, desc))
             }
@@ -469,6 +553,17 @@ impl TextureSource for SnapshotSource {
 
     fn sample_compare(&self, s: f32, t: f32, reference: f32, _lod: Option<f32>) -> f32 {
         self.snapshot.sample_compare(s, t, reference, self.state)
+    }
+
+    fn fetch(&self, x: i32, y: i32, level: i32) -> Option<[f32; 4]> {
+        self.snapshot.fetch(x, y, level)
+    }
+
+    fn size(&self, level: i32) -> [u32; 2] {
+        match level {
+            0 => [self.snapshot.width, self.snapshot.height],
+            _ => [0; 2],
+        }
     }
 }
 

@@ -66,10 +66,10 @@ impl Context {
                 attrib.divisor
             ));
         }
-        let Some((source, size, component, normalized, stride)) = attrib.source.clone() else {
+        let Some((source, size, component, normalized, stride, integer)) = attrib.source.clone() else {
             return Err(format!("program '{label}' reads attribute {index} ({name}), which has no pointer"));
         };
-        let format = vertex_format(size, component, normalized)?;
+        let format = vertex_format(size, component, normalized, integer)?;
         let stride = if stride == 0 { format.size_bytes() } else { stride };
         let divisor = attrib.divisor;
         let elements = instances.div_ceil(divisor) as u64;

@@ -332,7 +332,9 @@ pub(crate) enum AttribSource {
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Attrib {
     pub enabled: bool,
-    pub source: Option<(AttribSource, u32, ComponentType, bool, u32)>,
+    /// Where, how many components of what type, normalized, the stride, and whether the
+    /// integers are kept (`glVertexAttribIPointer`).
+    pub source: Option<(AttribSource, u32, ComponentType, bool, u32, bool)>,
     /// `glVertexAttribDivisor`: 0 per vertex, `n` once every `n` instances.
     pub divisor: u32,
 }
@@ -965,9 +967,39 @@ impl Context {
                 if !self.buffers.contains_key(&buffer) {
                     return Err(format!("buffer {buffer} does not exist"));
                 }
-                crate::context::draw::vertex_format(size, component, normalized)?;
+                crate::context::draw::vertex_format(size, component, normalized, false)?;
                 self.state.attribs[index as usize].source =
-                    Some((AttribSource::Buffer { buffer, offset }, size, component, normalized, stride));
+                    Some((AttribSource::Buffer { buffer, offset }, size, component, normalized, stride, false));
+            }
+            VertexAttribIPointer { index, buffer, size, component, stride, offset } => {
+                self.attrib_index(index)?;
+                if !self.buffers.contains_key(&buffer) {
+                    return Err(format!("buffer {buffer} does not exist"));
+                }
+                crate::context::draw::vertex_format(size, component, false, true)?;
+                self.state.attribs[index as usize].source =
+                    Some((AttribSource::Buffer { buffer, offset }, size, component, false, stride, true));
+            }
+            VertexAttribI { index, value, signed } => {
+                // Held as the value's float (exact to 2²⁴): an integer attribute takes a
+                // generic value's integer back (`tiler_glsl`).
+                self.attrib_index(index)?;
+                let floats = value.map(|v| if signed { v as i32 as f32 } else { v as f32 });
+                if floats.iter().any(|f| f.abs() > (1 << 24) as f32) {
+                    return Err(format!(
+                        "vertex attribute {index}: generic integer value {value:?} is beyond 2^24, which the context \
+                         holds exactly"
+                    ));
+                }
+                self.state.generic[index as usize] = floats;
+            }
+            ClearBufferColor { draw_buffer, value } => self.clear_buffer_color(draw_buffer, value)?,
+            ClearBufferDepthStencil { depth, stencil } => {
+                if depth.is_some_and(|d| !d.is_finite()) {
+                    return Err(format!("clear depth {depth:?} is not finite"));
+                }
+                let depth = depth.map(|d| d.clamp(0.0, 1.0));
+                self.clear_with(pass::ClearRequest { color: None, depth, stencil })?;
             }
             VertexAttribArray { index, size, component, normalized, stride, data } => {
                 self.attrib_index(index)?;
@@ -978,9 +1010,21 @@ impl Context {
                         self.state.vertex_array
                     ));
                 }
-                crate::context::draw::vertex_format(size, component, normalized)?;
+                crate::context::draw::vertex_format(size, component, normalized, false)?;
                 self.state.attribs[index as usize].source =
-                    Some((AttribSource::Client { data }, size, component, normalized, stride));
+                    Some((AttribSource::Client { data }, size, component, normalized, stride, false));
+            }
+            VertexAttribIArray { index, size, component, stride, data } => {
+                self.attrib_index(index)?;
+                if self.state.vertex_array != 0 {
+                    return Err(format!(
+                        "client-side arrays need the default vertex array, but vertex array {} is bound (GL ES 3.0                          §2.9.6)",
+                        self.state.vertex_array
+                    ));
+                }
+                crate::context::draw::vertex_format(size, component, false, true)?;
+                self.state.attribs[index as usize].source =
+                    Some((AttribSource::Client { data }, size, component, false, stride, true));
             }
             EnableVertexAttrib { index } => {
                 self.attrib_index(index)?;
@@ -1032,7 +1076,12 @@ impl Context {
             }
             Clear { color, depth, stencil } => self.clear(BufferSet { color, depth, stencil })?,
             Invalidate { attachments } => self.invalidate(&attachments)?,
-            ReadPixels { x, y, width, height } => return self.read_pixels(x, y, width, height).map(Output::Pixels),
+            ReadPixels { x, y, width, height } => {
+                return self.read_pixels(x, y, width, height, None).map(Output::Pixels);
+            }
+            ReadPixelsInteger { x, y, width, height, signed } => {
+                return self.read_pixels(x, y, width, height, Some(signed)).map(Output::Pixels);
+            }
             BlitFramebuffer { src, dst, filter } => self.blit(src, dst, filter)?,
             CopyTexSubImage { texture, x_offset, y_offset, x, y, width, height, alpha_one } => {
                 self.copy_tex_sub_image(texture, [x_offset, y_offset], [x, y], [width, height], alpha_one)?;

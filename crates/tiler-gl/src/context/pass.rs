@@ -279,11 +279,32 @@ impl Context {
 
     /// `glClear`.
     pub(crate) fn clear(&mut self, buffers: BufferSet) -> Fallible {
+        let s = &self.state;
+        let request = ClearRequest {
+            color: buffers.color.then_some((None, s.clear_color)),
+            depth: buffers.depth.then_some(s.clear_depth),
+            stencil: buffers.stencil.then_some(s.clear_stencil),
+        };
+        self.clear_with(request)
+    }
+
+    /// `glClearBuffer*`: one colour attachment (`color.0`, `None`: every one) and/or depth
+    /// and stencil, to the values given, as `glClear` clears (the same load-op inference). A
+    /// colour value is given as its bits for an integer attachment (see `tiler::IntFormat`).
+    pub(crate) fn clear_with(&mut self, request: ClearRequest) -> Fallible {
         let here = self.here;
         let s = &self.state;
         let (scissor_test, scissor, color_mask, depth_mask, stencil_mask) =
             (s.scissor_test, s.scissor, s.color_mask, s.depth_mask, s.stencil[0].write_mask);
-        let (clear_color, clear_depth, clear_stencil) = (s.clear_color, s.clear_depth, s.clear_stencil);
+        let clear_color = request.color.map_or([0.0; 4], |(_, c)| c);
+        let clear_depth = request.depth.unwrap_or(s.clear_depth);
+        let clear_stencil = request.stencil.unwrap_or(s.clear_stencil);
+        let color_target = request.color.and_then(|(t, _)| t);
+        let buffers = BufferSet {
+            color: request.color.is_some(),
+            depth: request.depth.is_some(),
+            stencil: request.stencil.is_some(),
+        };
         let mut queries = std::mem::take(&mut self.queries);
         let result = (|| {
             let pass = self.ensure_pass()?;
@@ -298,8 +319,8 @@ impl Context {
             let mut effects: Vec<(Slot, Option<Vec<String>>)> = Vec::new();
             for a in pass.attached() {
                 let (requested, mask_full, mask_none, mask_what) = match a.slot {
-                    Slot::Color(_) => (
-                        buffers.color,
+                    Slot::Color(i) => (
+                        buffers.color && color_target.is_none_or(|t| t == i),
                         color_mask.iter().all(|m| *m),
                         color_mask.iter().all(|m| !*m),
                         "the colour write mask",
@@ -394,7 +415,12 @@ impl Context {
             let stencil = quad_slots.contains(&Slot::Stencil);
             let mut desc = PipelineDesc::new("clear-quad", VertexInputState::default());
             let mask = if color { color_writes(color_mask) } else { ColorWrites::NONE };
-            desc.color_targets = vec![ColorTargetState { blend: None, write_mask: mask }; pass.targets.color.len()];
+            desc.color_targets = (0..pass.targets.color.len())
+                .map(|i| ColorTargetState {
+                    blend: None,
+                    write_mask: if quad_slots.contains(&Slot::Color(i as u8)) { mask } else { ColorWrites::NONE },
+                })
+                .collect();
             desc.depth_stencil = DepthStencilState {
                 depth_test: depth,
                 depth_write: depth,
@@ -438,6 +464,33 @@ impl Context {
         })();
         self.queries = queries;
         result
+    }
+
+    /// `glClearBuffer*v` of one colour buffer: `draw_buffer` must be one of the framebuffer's
+    /// draw buffers, and `value` of its kind (GL ES 3.0 §4.2.3 leaves a mismatch undefined:
+    /// refused).
+    pub(crate) fn clear_buffer_color(&mut self, draw_buffer: u32, value: crate::call::ClearColorValue) -> Fallible {
+        use crate::call::ClearColorValue as V;
+        let framebuffer = self.draw_framebuffer;
+        let draw_buffers = self.framebuffers.get(&framebuffer).map_or(1, |fb| fb.draw_buffers.unwrap_or(1));
+        if draw_buffer >= draw_buffers {
+            // GL: a draw buffer set to NONE is not cleared.
+            return Ok(());
+        }
+        let format = self.ensure_pass()?.targets.color.get(draw_buffer as usize).map(|t| t.format.format());
+        let Some(format) = format else { return Ok(()) };
+        let bits = match (value, format) {
+            (V::Float(v), f) if !f.is_integer() => super::finite4("clear colour", v)?,
+            (V::Int(v), tiler::Format::Int(f)) if f.signed => v.map(|c| f32::from_bits(c as u32)),
+            (V::Uint(v), tiler::Format::Int(f)) if !f.signed => v.map(f32::from_bits),
+            (value, f) => {
+                return Err(format!(
+                    "glClearBuffer of draw buffer {draw_buffer} ({f}) with {value:?}: the value's type does not match                      the format (GL leaves that undefined)"
+                ));
+            }
+        };
+        let color = Some((Some(draw_buffer as u8), bits));
+        self.clear_with(ClearRequest { color, depth: None, stencil: None })
     }
 
     /// `glInvalidateFramebuffer`.
@@ -567,4 +620,13 @@ fn restore_store(a: &mut PassAspect, here: CallRef) {
         a.store = StoreKind::Store;
         a.store_reason = format!("cleared at {here} after being invalidated");
     }
+}
+
+/// What a clear clears, with its values: the colour attachment (`None`: every one) and its
+/// value, the depth, the stencil.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ClearRequest {
+    pub color: Option<(Option<u8>, [f32; 4])>,
+    pub depth: Option<f32>,
+    pub stencil: Option<u8>,
 }

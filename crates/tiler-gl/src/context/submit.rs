@@ -348,6 +348,9 @@ impl Context {
             return Ok(ProgramTexture::Snapshot(Arc::new(TextureSnapshot::constant([0.0, 0.0, 0.0, 1.0])), sampler));
         }
         let d = self.images[&image].desc;
+        if d.format.is_integer() {
+            return Err(format!("{image} ({}) is an integer texture: only isampler/usampler read it", d.format));
+        }
         // RGBA8 as it is; RGB565 and float images (with every value in [0, 1], which 8 bits
         // hold) decoded, modelled in their own format; others (HDR floats, depth) snapshots.
         let (color_space, own_format) = match d.format {

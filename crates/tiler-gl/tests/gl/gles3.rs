@@ -182,3 +182,91 @@ fn vertex_arrays_keep_their_attributes_and_index_buffer() {
     c(&mut gl, Call::BindVertexArray { id: 7 });
     assert!(gl.call(indexed).unwrap_err().message.contains("no index buffer"));
 }
+
+/// An `R32UI` target written through a `uvec4` output from a `glVertexAttribIPointer`
+/// attribute of 32-bit integers beyond 2²⁴ (kept exactly) after `glClearBufferuiv`, then read
+/// by a `usampler2D`'s `texelFetch` into the window; what GL calls undefined or incomplete is
+/// an error naming it.
+#[test]
+fn integer_targets_attributes_and_fetches_are_exact_and_misuse_is_an_error() {
+    const WRITE_VS: &str = "#version 300 es
+layout(location = 0) in vec2 position;
+layout(location = 1) in uint code;
+flat out uint v_code;
+void main() { v_code = code; gl_Position = vec4(position, 0.0, 1.0); }";
+    const WRITE_FS: &str = "#version 300 es
+precision highp int;
+flat in uint v_code;
+layout(location = 0) out uvec4 o;
+void main() { o = uvec4(v_code + uint(gl_FragCoord.x), 0u, 0u, 0u); }";
+    const SHOW_FS: &str = "#version 300 es
+precision highp float;
+precision highp int;
+uniform highp usampler2D codes;
+out vec4 color;
+void main() {
+    uint v = texelFetch(codes, ivec2(gl_FragCoord.xy), 0).r;
+    // 0x1234_5678 + x drawn, 0xdead_beef cleared: tell them apart by their low bytes.
+    color = vec4(float(v & 0xffu) / 255.0, float((v >> 24) & 0xffu) / 255.0, 0.0, 1.0);
+}";
+    let mut gl = context(8, 8);
+    let r32ui = TextureFormat::Int(tiler::IntFormat { channels: 1, bits: 32, signed: false });
+    c(&mut gl, Call::CreateTexture { id: 5, width: 8, height: 8, format: r32ui, data: None, transient: false });
+    c(&mut gl, Call::CreateFramebuffer { id: 5 });
+    let attach =
+        Call::FramebufferTexture { framebuffer: 5, attachment: AttachmentPoint::Color0, texture: 5, samples: 1 };
+    c(&mut gl, attach);
+    bind(&mut gl, 5);
+    // A float clear value for an integer buffer: GL leaves it undefined.
+    let float_clear = Call::ClearBufferColor { draw_buffer: 0, value: ClearColorValue::Float([0.0; 4]) };
+    assert!(gl.call(float_clear).unwrap_err().message.contains("does not match"));
+    c(&mut gl, Call::ClearBufferColor { draw_buffer: 0, value: ClearColorValue::Uint([0xdead_beef, 0, 0, 0]) });
+    // The left half of the window.
+    let triangle = [[-1.0f32, -1.0], [0.0, -1.0], [-1.0, 3.0], [0.0, 3.0]];
+    c(&mut gl, Call::CreateBuffer { id: 1, data: Bytes::from_slice(&triangle) });
+    c(&mut gl, Call::CreateBuffer { id: 2, data: Bytes::from_slice(&[0x1234_5678u32; 4]) });
+    c(&mut gl, Call::CreateProgram { id: 1, program: glsl(WRITE_VS, WRITE_FS) });
+    c(&mut gl, Call::UseProgram { id: 1 });
+    c(&mut gl, pointer(0, 1, 2));
+    c(&mut gl, Call::EnableVertexAttrib { index: 0 });
+    let ipointer =
+        |component| Call::VertexAttribIPointer { index: 1, buffer: 2, size: 1, component, stride: 0, offset: 0 };
+    assert!(gl.call(ipointer(ComponentType::Float)).unwrap_err().message.contains("integer types"));
+    c(&mut gl, ipointer(ComponentType::UnsignedInt));
+    c(&mut gl, Call::EnableVertexAttrib { index: 1 });
+    c(&mut gl, Call::DrawArrays { mode: Mode::TriangleStrip, first: 0, count: 4 });
+    bind(&mut gl, 0);
+    c(&mut gl, Call::CreateProgram { id: 2, program: glsl(WRITE_VS, SHOW_FS) });
+    c(&mut gl, Call::UseProgram { id: 2 });
+    c(&mut gl, Call::Uniform { name: "codes".into(), value: UniformValue::Int(0) });
+    c(&mut gl, Call::BindTexture { unit: 0, texture: 5 });
+    let whole = [[-1.0f32, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]];
+    c(&mut gl, Call::CreateBuffer { id: 3, data: Bytes::from_slice(&whole) });
+    c(&mut gl, pointer(0, 3, 2));
+    // A linear filter leaves an integer texture incomplete.
+    let filter =
+        |filter| Call::TexParameters { id: 5, filter, wrap: Wrap::ClampToEdge, mag_filter: None, wrap_t: None };
+    c(&mut gl, filter(Filter::Linear));
+    let draw = Call::DrawArrays { mode: Mode::TriangleStrip, first: 0, count: 4 };
+    let error = gl.call(draw.clone()).unwrap_err();
+    assert!(error.message.contains("incomplete") && error.message.contains("'codes'"), "{error}");
+    c(&mut gl, filter(Filter::Nearest));
+    c(&mut gl, draw);
+    swap(&mut gl);
+    let rgba = gl.surface_rgba8();
+    // glReadPixels of the integer buffer as RGBA_INTEGER / UNSIGNED_INT; as bytes or as INT
+    // it is GL_INVALID_OPERATION.
+    bind(&mut gl, 5);
+    let read = |signed| Call::ReadPixelsInteger { x: 3, y: 0, width: 2, height: 1, signed };
+    let Output::Pixels(ints) = c(&mut gl, read(false)) else { panic!("pixels") };
+    let words: Vec<u32> = ints.chunks_exact(4).map(|b| u32::from_le_bytes(b.try_into().unwrap())).collect();
+    assert_eq!(words, [0x1234_5678 + 3, 0, 0, 1, 0xdead_beef, 0, 0, 1]);
+    assert!(gl.call(read(true)).unwrap_err().message.contains("INVALID_OPERATION"));
+    let bytes = Call::ReadPixels { x: 0, y: 0, width: 1, height: 1 };
+    assert!(gl.call(bytes).unwrap_err().message.contains("INVALID_OPERATION"));
+    gl.end().unwrap();
+    for x in 0..8 {
+        let want = if x < 4 { [(0x78 + x) as u8, 0x12, 0, 255] } else { [0xef, 0xde, 0, 255] };
+        assert_eq!(pixel(&rgba, 8, x, 3), want, "pixel {x}");
+    }
+}

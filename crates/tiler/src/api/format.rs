@@ -9,6 +9,15 @@
 //! float → UNORM is `round(clamp(f, 0, 1) · (2^b − 1))`, rounding half up, NaN → 0;
 //! UNORM → float is `c / (2^b − 1)`. sRGB uses the piecewise sRGB transfer function.
 //! Half floats round to nearest even.
+//!
+//! Integer formats ([`IntFormat`], GL ES 3.0's `RGBA8UI`, `R32I`, …) hold integers, not
+//! colours: a shader's integer output reaches them as its bits (a register of an `int` or
+//! `uint` holds the integer's bits, see `tiler-glsl`), and `encode_color` stores the low
+//! `bits` of each channel's 32-bit pattern (the value modulo `2^bits`, two's complement for
+//! signed ones); `decode_color` gives the channel back zero- or sign-extended to 32 bits, as
+//! the bits of an `f32`, missing channels 0 and alpha the integer 1. They are never blended
+//! (GL ES 3.0 §4.1.7: blending is off for integer draw buffers; see `pixel::primitive`) and a
+//! resolve takes sample 0 (GL ES 3.0 §4.3.3: integer blits read one sample).
 
 use serde::{Deserialize, Serialize};
 
@@ -36,6 +45,86 @@ pub enum Format {
     D24UnormS8Uint,
     /// 32-bit float depth.
     D32Float,
+    /// Unsigned or signed integers (see the module notes).
+    Int(IntFormat),
+}
+
+/// An integer colour format: `channels` (1, 2 or 4: red, red-green, RGBA) of `bits` (8, 16
+/// or 32) each, little-endian, channel after channel, signed or not. (A vertex attribute's
+/// integers, `VertexFormat::Int`, may have 3 channels.)
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct IntFormat {
+    pub channels: u8,
+    pub bits: u8,
+    pub signed: bool,
+}
+
+impl IntFormat {
+    /// Every integer format GL ES 3.0 has, for tests and listings: unsigned then signed, 8, 16,
+    /// 32 bits, 1, 2, 4 channels.
+    pub const ALL: [IntFormat; 18] = {
+        let mut all = [IntFormat { channels: 1, bits: 8, signed: false }; 18];
+        let mut i = 0;
+        while i < 18 {
+            all[i] = IntFormat { channels: [1, 2, 4][i % 3], bits: [8, 16, 32][(i / 3) % 3], signed: i >= 9 };
+            i += 1;
+        }
+        all
+    };
+
+    /// Bytes one texel or sample takes.
+    pub const fn bytes(self) -> usize {
+        self.channels as usize * self.bits as usize / 8
+    }
+
+    /// Channel `c`'s 32-bit pattern from its stored bytes (zero- or sign-extended).
+    #[inline]
+    pub fn channel(self, src: &[u8], c: usize) -> u32 {
+        let n = self.bits as usize / 8;
+        let mut word = [0u8; 4];
+        word[..n].copy_from_slice(&src[c * n..(c + 1) * n]);
+        let v = u32::from_le_bytes(word);
+        let unused = 32 - self.bits as u32;
+        if self.signed && unused > 0 { (((v << unused) as i32) >> unused) as u32 } else { v }
+    }
+
+    /// The four channels' 32-bit patterns of a stored texel: missing ones 0, alpha 1.
+    #[inline]
+    pub fn unpack(self, src: &[u8]) -> [u32; 4] {
+        std::array::from_fn(|c| match c {
+            c if c < self.channels as usize => self.channel(src, c),
+            3 => 1,
+            _ => 0,
+        })
+    }
+
+    /// Stores the low `bits` of each present channel of `value` into `dst`.
+    #[inline]
+    pub fn pack(self, value: [u32; 4], dst: &mut [u8]) {
+        let n = self.bits as usize / 8;
+        for c in 0..self.channels as usize {
+            dst[c * n..(c + 1) * n].copy_from_slice(&value[c].to_le_bytes()[..n]);
+        }
+    }
+
+    /// GL's name of the sized internal format (`rgba8ui`, `r32i`).
+    pub const fn name(self) -> &'static str {
+        const NAMES: [&str; 18] = [
+            "r8ui", "rg8ui", "rgba8ui", "r16ui", "rg16ui", "rgba16ui", "r32ui", "rg32ui", "rgba32ui", "r8i", "rg8i",
+            "rgba8i", "r16i", "rg16i", "rgba16i", "r32i", "rg32i", "rgba32i",
+        ];
+        let channel = match self.channels {
+            1 => 0,
+            2 => 1,
+            _ => 2,
+        };
+        let bits = match self.bits {
+            8 => 0,
+            16 => 1,
+            _ => 2,
+        };
+        NAMES[channel + 3 * bits + if self.signed { 9 } else { 0 }]
+    }
 }
 
 impl Format {
@@ -65,6 +154,7 @@ impl Format {
             | Format::D32Float => 4,
             Format::Rgba16Float => 8,
             Format::Rgba32Float => 16,
+            Format::Int(f) => f.bytes(),
         }
     }
 
@@ -121,6 +211,11 @@ impl Format {
         }
     }
 
+    /// Whether it holds integers ([`IntFormat`]): never blended, resolved by sample 0.
+    pub const fn is_integer(self) -> bool {
+        matches!(self, Format::Int(_))
+    }
+
     /// Whether colour values are clamped to `[0, 1]` (normalised fixed-point formats).
     pub const fn is_normalized(self) -> bool {
         matches!(self, Format::Rgba8Unorm | Format::Rgba8UnormSrgb | Format::Bgra8Unorm | Format::Rgb565Unorm)
@@ -139,6 +234,7 @@ impl Format {
             Format::D16Unorm => "d16unorm",
             Format::D24UnormS8Uint => "d24unorm-s8uint",
             Format::D32Float => "d32float",
+            Format::Int(f) => f.name(),
         }
     }
 
@@ -174,6 +270,7 @@ impl Format {
                 }
             }
             Format::R32Float => dst.copy_from_slice(&r.to_le_bytes()),
+            Format::Int(f) => f.pack(rgba.map(f32::to_bits), dst),
             Format::D16Unorm | Format::D24UnormS8Uint | Format::D32Float => {
                 unreachable!("encode_color on depth format {self:?}")
             }
@@ -240,6 +337,12 @@ impl Format {
         let n = samples.len() as u32;
         debug_assert!(n > 0, "a pixel has at least one sample");
         let bytes = self.bytes_per_sample();
+        if self.is_integer() {
+            // One sample, not a mean (see the module notes).
+            let mut samples = samples;
+            out[..bytes].copy_from_slice(&samples.next().expect("a sample")[..bytes]);
+            return;
+        }
         if self.resolves_as_integers() {
             let mut sums = [0u32; 16];
             for sample in samples {
@@ -296,6 +399,7 @@ impl Format {
                 std::array::from_fn(|i| f32::from_le_bytes(src[4 * i..4 * i + 4].try_into().unwrap()))
             }
             Format::R32Float => [f32::from_le_bytes(src[0..4].try_into().unwrap()), 0.0, 0.0, 1.0],
+            Format::Int(f) => f.unpack(src).map(f32::from_bits),
             Format::D16Unorm | Format::D24UnormS8Uint | Format::D32Float => {
                 unreachable!("decode_color on depth format {self:?}")
             }
@@ -328,6 +432,7 @@ impl Format {
                 let order: &[u8] = match self {
                     Format::Bgra8Unorm => &[4, 2, 1, 8],
                     Format::R32Float => &[1],
+                    Format::Int(f) => &[1, 2, 4, 8][..f.channels as usize],
                     _ => &[1, 2, 4, 8],
                 };
                 let per_channel = bytes / order.len();
@@ -522,6 +627,33 @@ mod tests {
         }
         assert_eq!(Format::D24UnormS8Uint.depth_bits(1.0), 0xff_ffff);
         assert_eq!(Format::D16Unorm.depth_bits(0.5), 32768);
+    }
+
+    #[test]
+    fn integer_formats_keep_the_low_bits_and_extend_them() {
+        let mut bytes = [0u8; 16];
+        let value = [-3i32 as u32, 300, 0x1234_5678, 7].map(f32::from_bits);
+        for f in IntFormat::ALL {
+            let format = Format::Int(f);
+            let n = format.bytes_per_sample();
+            assert_eq!(n, f.channels as usize * f.bits as usize / 8, "{format}");
+            format.encode_color(value, &mut bytes[..n]);
+            let back = format.decode_color(&bytes[..n]).map(f32::to_bits);
+            let keep = |v: u32| match (f.bits, f.signed) {
+                (32, _) => v,
+                (b, false) => v & ((1 << b) - 1),
+                (b, true) => (((v << (32 - b)) as i32) >> (32 - b)) as u32,
+            };
+            let want: [u32; 4] = std::array::from_fn(|c| match c {
+                c if c < f.channels as usize => keep(value[c].to_bits()),
+                3 => 1,
+                _ => 0,
+            });
+            assert_eq!(back, want, "{format}");
+        }
+        assert_eq!(IntFormat::ALL.map(|f| f.name()).iter().collect::<std::collections::HashSet<_>>().len(), 18);
+        assert_eq!(IntFormat { channels: 4, bits: 8, signed: false }.name(), "rgba8ui");
+        assert_eq!(IntFormat { channels: 1, bits: 32, signed: true }.name(), "r32i");
     }
 
     #[test]

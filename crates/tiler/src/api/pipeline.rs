@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::{Error, Result};
-use super::format::ColorWrites;
+use super::format::{ColorWrites, IntFormat};
 
 /// The most colour attachments a subpass may write.
 pub const MAX_COLOR_ATTACHMENTS: usize = 4;
@@ -336,6 +336,11 @@ pub enum VertexFormat {
     Float16x4,
     Uint16x2,
     Uint32,
+    /// Integers kept as integers (GL's `glVertexAttribIPointer`): `channels` (1 to 4) of
+    /// `bits` each, delivered as the bits of each component zero- or sign-extended to 32
+    /// (what a shader's `int`/`uint` register holds), missing components 0 and `w` the
+    /// integer 1.
+    Int(IntFormat),
 }
 
 impl VertexFormat {
@@ -348,6 +353,7 @@ impl VertexFormat {
             VertexFormat::Unorm8x4 | VertexFormat::Snorm8x4 | VertexFormat::Uint8x4 => 4,
             VertexFormat::Unorm16x2 | VertexFormat::Snorm16x2 | VertexFormat::Float16x2 | VertexFormat::Uint16x2 => 4,
             VertexFormat::Unorm16x4 | VertexFormat::Snorm16x4 | VertexFormat::Float16x4 => 8,
+            VertexFormat::Int(f) => f.bytes() as u32,
         }
     }
 }

@@ -191,6 +191,7 @@ pub(crate) fn decode(format: VertexFormat, b: &[u8]) -> Vec4 {
         VertexFormat::Float16x4 => Vec4::new(half(0), half(1), half(2), half(3)),
         VertexFormat::Uint16x2 => Vec4::new(u16_at(0) as f32, u16_at(1) as f32, 0.0, 1.0),
         VertexFormat::Uint32 => Vec4::new(u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32, 0.0, 0.0, 1.0),
+        VertexFormat::Int(f) => Vec4::from_array(f.unpack(b).map(f32::from_bits)),
     }
 }
 

@@ -102,7 +102,10 @@ impl ResolvedPass {
                     if !d.format.is_color() {
                         return Err(Error::invalid(what, format!("{id} has format {}, not a colour format", d.format)));
                     }
+                    // An integer format's clear value is its integers' bits (`IntFormat`), any
+                    // pattern.
                     if let LoadOp::Clear(c) = load
+                        && !d.format.is_integer()
                         && c.iter().any(|v| !v.is_finite())
                     {
                         return Err(Error::invalid(what, format!("clear colour {c:?} is not finite")));

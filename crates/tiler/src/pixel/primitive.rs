@@ -254,8 +254,11 @@ impl<'a, F: FragmentShader> RasterPlan<'a, F> {
                 let mask = format.write_mask_bytes(state.write_mask);
                 let bytes = format.bytes_per_sample();
                 if state.write_mask != ColorWrites::NONE && mask[..bytes].iter().any(|b| *b != 0) {
-                    colors[i] =
-                        Some(ColorPlan { state: *state, mask, partial: mask[..bytes].iter().any(|b| *b != 0xff) });
+                    // GL ES 3.0 §4.1.7: blending is off for an integer attachment; its values
+                    // are stored as the shader gives them.
+                    let state =
+                        ColorTargetState { blend: if format.is_integer() { None } else { state.blend }, ..*state };
+                    colors[i] = Some(ColorPlan { state, mask, partial: mask[..bytes].iter().any(|b| *b != 0xff) });
                 }
             }
         }

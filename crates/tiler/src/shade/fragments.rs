@@ -7,7 +7,7 @@ use crate::api::render_pass::MAX_INPUT_ATTACHMENTS;
 use crate::api::shader::ShaderProperties;
 use crate::raster::target::Surface;
 use crate::shade::ShadeContext;
-use crate::shade::texture::{Sampler, Texture};
+use crate::shade::texture::{IntegerTexture, Sampler, Texture};
 use crate::simd::{F32x8, LaneMask, SimdSupport, Vec4x8};
 use crate::simd::{LANE_DX, LANE_DY, LANES};
 
@@ -196,6 +196,43 @@ impl<'a> Fragments<'a> {
     /// samples a 2D one (rows in GL's order: `t = 0` is row 0).
     pub fn sample_volume(&mut self, texture: &Texture, sampler: &Sampler, coord: [F32x8; 3]) -> Vec4x8 {
         texture.sample_volume(self.simd, sampler, coord, self.covered.quads(), &mut self.context.texture_cache)
+    }
+
+    /// `texelFetch` of `texture` in the eight lanes: texel `coord` (`[x, y, layer]`) of level
+    /// `level`, unfiltered, `(0, 0, 0, 0)` out of range (see `shade::texture::fetch`). The
+    /// reads of every quad with a covered pixel go through the texture cache and the ledger.
+    pub fn fetch(&mut self, texture: &Texture, level: [i32; 8], coord: [[i32; 8]; 3]) -> Vec4x8 {
+        let counted = self.covered.quads();
+        let mut out = [[0.0f32; 8]; 4];
+        for lane in 0..8 {
+            if let Some((value, address)) = texture.fetch(level[lane], coord.map(|c| c[lane])) {
+                if counted.contains(lane) {
+                    self.context.texture_cache.access(address);
+                }
+                for c in 0..4 {
+                    out[c][lane] = value[c];
+                }
+            }
+        }
+        out.map(F32x8)
+    }
+
+    /// [`Fragments::fetch`] of an integer texture: each channel's 32-bit pattern, zeros out of
+    /// range.
+    pub fn fetch_integer(&mut self, texture: &IntegerTexture, level: [i32; 8], coord: [[i32; 8]; 3]) -> [[u32; 8]; 4] {
+        let counted = self.covered.quads();
+        let mut out = [[0u32; 8]; 4];
+        for lane in 0..8 {
+            if let Some((value, address)) = texture.fetch(level[lane], coord.map(|c| c[lane])) {
+                if counted.contains(lane) {
+                    self.context.texture_cache.access(address);
+                }
+                for c in 0..4 {
+                    out[c][lane] = value[c];
+                }
+            }
+        }
+        out
     }
 
     /// Per-tile state shaders may use (texture caches and their counters).

@@ -45,12 +45,14 @@
 
 mod array;
 mod cube;
+mod fetch;
 mod volume;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
 pub use array::{LayeredKind, MAX_ARRAY_LAYERS, MAX_VOLUME_DIMENSION};
 pub use cube::{CubeFace, MAX_CUBE_DIMENSION, cube_face_coordinates};
+pub use fetch::{IntegerKind, IntegerTexture};
 
 use super::texel_format::{StoredLayout, TexelFormat};
 use super::texture_cache::{MAX_LANE_LINES, TextureCache};

@@ -84,6 +84,7 @@ pub(super) fn storage_upload(format: TextureFormat) -> Option<Upload> {
         TextureFormat::Rgba16f => (texels::GL_RGBA, texels::GL_HALF_FLOAT),
         TextureFormat::Rgba32f => (texels::GL_RGBA, texels::GL_FLOAT),
         TextureFormat::R32f => (texels::GL_RED, texels::GL_FLOAT),
+        TextureFormat::Int(f) => texels::integer_client(f),
         _ => return None,
     };
     Upload::new(format, format, kind).ok()
