@@ -231,6 +231,9 @@ pub enum Call<D = Bytes> {
         wrap_t: Option<Wrap>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         compare: Option<CompareOp>,
+        /// `GL_TEXTURE_WRAP_R` (default `GL_REPEAT`): wraps a 3-D texture's r.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        wrap_r: Option<Wrap>,
     },
     /// `glBindSampler(unit, 0)`: the unit samples with its texture's parameters again.
     UnbindSampler {
@@ -877,8 +880,8 @@ impl<D> Call<D> {
                 TexParameters { id, filter, wrap, mag_filter, wrap_t }
             }
             TexCompare { id, compare } => TexCompare { id, compare },
-            BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare } => {
-                BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare }
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare, wrap_r } => {
+                BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare, wrap_r }
             }
             UnbindSampler { unit } => UnbindSampler { unit },
             GenerateMipmap { id } => GenerateMipmap { id },

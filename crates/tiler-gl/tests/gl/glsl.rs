@@ -982,6 +982,27 @@ void main() { gl_FragColor = textureCubeLod(env, vec3(0.1, -0.2, -1.0), lod); }"
         assert_eq!(red_of(&gl, 8), expected, "{faces_with_levels} faces with levels, {filter:?}");
     }
 
+    // A sampler object on the unit replaces the cube's own parameters: its mipmap filter reads
+    // level 2 where the cube's own filter reads level 0; unbound, the cube's again.
+    for (sampler_object, expected) in [(true, [30, 50, 0, 255]), (false, [100, 50, 0, 255])] {
+        let mut gl = screen();
+        setup(&mut gl, 6, Filter::Nearest);
+        for f in 0..6 {
+            c(&mut gl, face(f, 1, 20));
+            c(&mut gl, face(f, 2, 30));
+        }
+        let filter = Filter::NearestMipmapNearest;
+        let (wrap, mag_filter, wrap_t, compare, wrap_r) = (Wrap::Repeat, None, None, None, None);
+        c(&mut gl, Call::BindSampler { unit: 2, filter, wrap, mag_filter, wrap_t, compare, wrap_r });
+        if !sampler_object {
+            c(&mut gl, Call::UnbindSampler { unit: 2 });
+        }
+        c(&mut gl, Call::Uniform { name: "lod".into(), value: UniformValue::Float(2.0) });
+        draw(&mut gl, 3);
+        c(&mut gl, Call::Finish);
+        assert_eq!(red_of(&gl, 8), expected, "sampler object bound: {sampler_object}");
+    }
+
     // A missing face: incomplete, black.
     let mut gl = screen();
     setup(&mut gl, 5, Filter::Nearest);
@@ -1079,9 +1100,13 @@ void main() { color = texture(volume, vec3(0.5, 0.5, r)); }";
         use_glsl(gl, 1, FS);
         c(gl, Call::Uniform { name: "volume".into(), value: UniformValue::Int(1) });
     };
-    let red_at = |r: f32, wrap_r: Wrap, sub: bool| {
+    let red_at_with = |r: f32, wrap_r: Wrap, sub: bool, sampler_wrap_r: Option<Option<Wrap>>| {
         let mut gl = screen();
         setup(&mut gl, Filter::Nearest, wrap_r);
+        if let Some(wrap_r) = sampler_wrap_r {
+            let (filter, wrap, mag_filter, wrap_t, compare) = (Filter::Nearest, Wrap::ClampToEdge, None, None, None);
+            c(&mut gl, Call::BindSampler { unit: 1, filter, wrap, mag_filter, wrap_t, compare, wrap_r });
+        }
         if sub {
             let data = Bytes::from([200u8, 0, 0, 255].repeat(4));
             let sub = Call::LayeredTexSubImage { id: 3, x: 0, y: 0, z: 2, width: 2, height: 2, depth: 1, data };
@@ -1092,11 +1117,15 @@ void main() { color = texture(volume, vec3(0.5, 0.5, r)); }";
         c(&mut gl, Call::Finish);
         pixel(&gl.surface_rgba8(), 16, 8, 8)[0]
     };
+    let red_at = |r: f32, wrap_r: Wrap, sub: bool| red_at_with(r, wrap_r, sub, None);
     // Slice ⌊r · 4⌋; WRAP_R repeat takes r mod 1, clamp-to-edge the last slice.
     assert_eq!(red_at(0.6, Wrap::Repeat, false), 80);
     assert_eq!(red_at(1.3, Wrap::Repeat, false), 40);
     assert_eq!(red_at(1.3, Wrap::ClampToEdge, false), 120);
     assert_eq!(red_at(0.6, Wrap::Repeat, true), 200);
+    // A sampler object's WRAP_R replaces the texture's (its default: repeat).
+    assert_eq!(red_at_with(1.3, Wrap::Repeat, false, Some(Some(Wrap::ClampToEdge))), 120);
+    assert_eq!(red_at_with(1.3, Wrap::ClampToEdge, false, Some(None)), 40);
 
     // Refused, naming what.
     let mut gl = screen();
