@@ -20,6 +20,8 @@ use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
 use crate::types::{BOOL, FLOAT, INT, SamplerKind, Scalar, StructType, Type, UINT};
 use crate::{Error, Stage};
 
+mod texfn;
+
 /// Lines of predefined macros inserted into the source.
 const PREDEFINED_LINES: usize = 3;
 
@@ -553,6 +555,10 @@ impl<'a> Compiler<'a> {
 
     fn un(&mut self, op: UnOp, a: Reg) -> Reg {
         let prec = self.prec(a);
+        if let (UnOp::INeg, Some(x)) = (op, self.constant(a)) {
+            // A negative int literal (`-2`) stays a constant (texel offsets must be).
+            return self.konst_int((x.to_bits() as i32).wrapping_neg());
+        }
         if op == UnOp::Mov {
             let d = self.temp();
             self.emit(Inst::Un(op, d, a));
@@ -3040,6 +3046,9 @@ impl<'a> Compiler<'a> {
             "texture2D" | "texture2DProj" | "texture2DLod" | "texture2DProjLod" | "texture" | "textureProj"
             | "textureLod" | "shadow2DEXT" | "shadow2DProjEXT" => self.texture(name, args),
             "textureCube" | "textureCubeLod" => self.texture_cube(name, args),
+            "textureGrad" | "textureOffset" | "textureLodOffset" | "textureProjOffset" | "textureGradOffset" => {
+                self.texture_fn(name, args)
+            }
             "dFdx" | "dFdy" | "fwidth" => {
                 // OES_standard_derivatives.
                 arity(self, 1)?;
@@ -3142,7 +3151,8 @@ impl<'a> Compiler<'a> {
         };
         let lod = self.lookup_lod(name, explicit, args.get(2))?;
         let dst = self.temps(4);
-        self.emit(Inst::Sample { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord: [s, t], lod, reference });
+        let dst4 = [dst[0], dst[1], dst[2], dst[3]];
+        self.emit(Inst::Sample { slot, dst: dst4, coord: [s, t], lod, reference, offset: [0, 0] });
         let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
         self.set_prec(&dst, prec);
         if shadow {
