@@ -1538,3 +1538,11 @@ fn float_probe_precision_is_llvmpipes_to_the_bit() {
     assert!(unexpected.is_empty(), "differ from llvmpipe (y, x, tiler, llvmpipe): {unexpected:?}");
     assert_eq!(differ.len(), known.len(), "the known differences are still there: {differ:?}");
 }
+
+// ---- Probe scene of the texfn branch: textureGrad, texel offsets, sampler objects on cube
+// and 3-D textures.
+
+#[test]
+fn probe_texture_grad_offsets_and_sampler_objects_match_llvmpipe() {
+    check_probe_in("gles3-probe", "texfn");
+}
