@@ -330,7 +330,7 @@ impl CompiledProgram {
 /// then the others at the lowest free locations (a `matN` takes N in a row).
 fn link_attributes(vertex: &StageCode, bound: &[(&str, u32)]) -> Result<Vec<AttributeInfo>, Error> {
     let max = tiler::MAX_VERTEX_ATTRIBUTES;
-    let columns = |ty: &Type| if let Type::Matrix(n) = ty { *n } else { 1 };
+    let columns = |ty: &Type| if let Type::Matrix(c, _) = ty { *c } else { 1 };
     let mut used = vec![false; max];
     let mut locations: Vec<Option<usize>> = vec![None; vertex.inputs.len()];
     for (i, a) in vertex.inputs.iter().enumerate() {
@@ -943,7 +943,7 @@ impl GlslVertexShader {
             for (attr, var) in self.program.attributes.iter().zip(&code.inputs) {
                 for (k, &r) in var.regs.iter().enumerate() {
                     let (column, row) = match var.ty {
-                        Type::Matrix(n) => (k / n, k % n),
+                        Type::Matrix(_, rows) => (k / rows, k % rows),
                         _ => (0, k),
                     };
                     let loc = attr.location as usize + column;

@@ -1902,3 +1902,65 @@ void main() {
         assert!(error.contains(wanted) && error.contains("line 8"), "{call}: {error}");
     }
 }
+
+/// Non-square matrices (ES 3.00 §4.1.6, §5.4.2, §5.9): constructors from components, from
+/// a larger or smaller matrix and a scalar's diagonal; columns and components by index;
+/// matrix × vector, vector × matrix and matrix × matrix with their shapes; `transpose`,
+/// `outerProduct`, `matrixCompMult`; a uniform `mat2x3`; shape mismatches are errors naming
+/// the line.
+#[test]
+fn non_square_matrices_have_their_shapes() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+uniform mat2x3 u;
+out vec3 r0; out vec2 r1; out vec4 r2; out vec3 r3; out vec2 r4; out float r5; out vec3 r6; out vec4 r7;
+void main() {
+    mat2x3 m = mat2x3(1.0, 2.0, 3.0, 4.0, 5.0, 6.0);
+    r0 = m * vec2(1.0, 10.0);
+    r1 = vec3(1.0, 10.0, 100.0) * m;
+    mat3x2 t = transpose(m);
+    mat2 p = t * m;
+    r2 = vec4(p[0], p[1]);
+    r3 = u[1];
+    mat4x2 o = outerProduct(vec2(1.0, 2.0), vec4(1.0, 2.0, 3.0, 4.0));
+    r4 = o[3] + matrixCompMult(o, o)[2];
+    r5 = m[1][2] + (m * 2.0)[0][1] - mat3x2(m)[1][1];
+    mat3 big = mat3(m);
+    r6 = big[2] + mat2x3(vec4(1.0, 2.0, 3.0, 4.0), 5.0, 6.0)[1];
+    mat4x3 d = mat4x3(2.0);
+    r7 = vec4(d[0].x, d[1].y, d[3].z, d[3].x) - vec4(t[2], 0.0, 0.0);
+    gl_Position = a;
+}";
+    const FS: &str = "#version 300 es
+precision highp float;
+in vec3 r0; in vec2 r1; in vec4 r2; in vec3 r3; in vec2 r4; in float r5; in vec3 r6; in vec4 r7;
+out vec4 c;
+void main() { c = vec4(r0 + r3 + r6, r5) + vec4(r1, r4) + r2 + r7; }";
+    let u: [f32; 6] = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0];
+    let got = run_vertex(VS, FS, [0.0; 4], |p, uniforms| {
+        p.set_uniform(uniforms, p.uniform_location("u").unwrap(), &u).unwrap();
+    });
+    #[rustfmt::skip]
+    let want = [
+        41.0, 52.0, 63.0, // m · (1, 10)
+        321.0, 654.0, // (1, 10, 100) · m
+        14.0, 32.0, 32.0, 77.0, // transpose(m) · m
+        2.0, 2.5, 3.0, // u[1]
+        13.0, 44.0, // o[3] + (o ∘ o)[2]
+        5.0, // 6 + 4 − 5
+        4.0, 5.0, 7.0, // mat3(m)[2] + (4, 5, 6)
+        -1.0, -4.0, 0.0, 0.0, // (2, 2, 0, 0) − (3, 6, 0, 0)
+    ];
+    assert_eq!(got, want);
+    for (line, wanted) in [
+        ("vec3 x = mat2x3(1.0) * vec3(1.0);", "mat2x3 * vec3: the shapes do not match"),
+        ("mat2x3 x = mat2x3(1.0) * mat2x3(1.0);", "mat2x3 * mat2x3: the shapes do not match"),
+        ("float x = determinant(mat3x2(1.0));", "square matrix"),
+        ("mat2x3 x = mat3x2(1.0);", "mat2x3"),
+        ("vec2 x = mat4x2(1.0, 2.0)[0];", "too few components for mat4x2"),
+    ] {
+        let vs = format!("#version 300 es\nin vec4 a;\nvoid main() {{\n  gl_Position = a;\n  {line}\n}}");
+        let error = CompiledProgram::new(&vs, FS, &[]).unwrap_err().to_string();
+        assert!(error.contains(wanted) && error.contains("line 5"), "{line}: {error}");
+    }
+}

@@ -156,7 +156,7 @@ fn uniform_components(ty: &Type, value: UniformValue) -> Option<Vec<f32>> {
         Type::Scalar(Scalar::Bool) | Type::Vector(Scalar::Bool, _) if (floats || ints || uints) && same_size => {
             Some(components.into_iter().map(|c| if c != 0.0 { 1.0 } else { 0.0 }).collect())
         }
-        Type::Matrix(_) if matrix && same_size => Some(components),
+        Type::Matrix(..) if matrix && same_size => Some(components),
         Type::Sampler(_) if matches!(value, V::Int(_)) => Some(components),
         _ => None,
     }
@@ -267,7 +267,7 @@ impl Context {
                 let mut attributes = Vec::new();
                 let mut generic = Vec::new();
                 for a in p.compiled.attributes() {
-                    let columns = if let Type::Matrix(n) = a.ty { n as u32 } else { 1 };
+                    let columns = if let Type::Matrix(c, _) = a.ty { c as u32 } else { 1 };
                     for location in a.location..a.location + columns {
                         if location >= MAX_VERTEX_ATTRIBS {
                             return Err(format!(
