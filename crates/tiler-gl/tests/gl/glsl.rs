@@ -1191,3 +1191,33 @@ void main() { color = texture(volume, vec3(0.5, 0.5, r)); }";
         serde_json::from_str(r#"{"call": "tex_wrap_r", "id": 3, "wrap": "mirrored_repeat"}"#).unwrap();
     assert_eq!(wrap, Call::TexWrapR { id: 3, wrap: Wrap::MirroredRepeat });
 }
+
+/// A `mat2x3` uniform is set by `glUniformMatrix2x3fv`'s value (column-major: two columns of
+/// three) and refused, naming the uniform, from a `mat3x2` one of the same size.
+#[test]
+fn non_square_matrix_uniforms_take_their_own_shape() {
+    const VS: &str = "#version 300 es\nin vec2 p;\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); }";
+    const FS: &str = "#version 300 es
+precision highp float;
+uniform mat2x3 m;
+out vec4 c;
+void main() { c = vec4(m * vec2(1.0, 0.5), 1.0); }";
+    let mut gl = screen();
+    c(&mut gl, Call::CreateProgram { id: 1, program: glsl(VS, FS) });
+    c(&mut gl, Call::BindAttribLocation { program: 1, index: 0, name: "p".into() });
+    c(&mut gl, Call::UseProgram { id: 1 });
+    let value = UniformValue::Mat2x3([0.2, 0.4, 0.1, 0.2, 0.2, 0.6]);
+    c(&mut gl, Call::Uniform { name: "m".into(), value });
+    draw(&mut gl, 3);
+    c(&mut gl, Call::Finish);
+    // (0.2 + 0.1, 0.4 + 0.1, 0.1 + 0.3) = (0.3, 0.5, 0.4).
+    let got = pixel(&gl.surface_rgba8(), 16, 8, 8);
+    for (g, want) in got.iter().zip([0.3f32, 0.5, 0.4, 1.0]) {
+        assert!((f32::from(*g) - want * 255.0).abs() <= 1.0, "{got:?}");
+    }
+    let wrong = UniformValue::Mat3x2([0.0; 6]);
+    let error = gl.call(Call::Uniform { name: "m".into(), value: wrong }).unwrap_err().to_string();
+    assert!(error.contains("mat3x2"), "{error}");
+    let json = serde_json::to_string(&Call::<Vec<u8>>::Uniform { name: "m".into(), value }).unwrap();
+    assert!(json.contains(r#""mat2x3":[0.2,0.4,0.1,0.2,0.2,0.6]"#), "{json}");
+}
