@@ -561,7 +561,7 @@ impl Texture {
         counted: LaneMask,
         cache: &mut TextureCache,
     ) -> Vec4x8 {
-        sample_group(simd, self, sampler, u, v, counted, cache, &Lookup::default())
+        sample_group(simd, self, sampler, [u, v], counted, cache, &Lookup::default())
     }
 
     /// [`Texture::sample`] with explicit derivatives or a texel offset ([`Lookup`]).
@@ -577,7 +577,7 @@ impl Texture {
         cache: &mut TextureCache,
         lookup: &Lookup,
     ) -> Vec4x8 {
-        sample_group(simd, self, sampler, u, v, counted, cache, lookup)
+        sample_group(simd, self, sampler, [u, v], counted, cache, lookup)
     }
 
     /// [`Texture::sample`] for one layout (`STORED`: see `sample_group_body`).
@@ -1013,8 +1013,7 @@ per_simd_level! {
         simd: SimdSupport,
         texture: &Texture,
         sampler: &Sampler,
-        u: F32x8,
-        v: F32x8,
+        uv: [F32x8; 2],
         counted: LaneMask,
         cache: &mut TextureCache,
         lookup: &Lookup,
@@ -1022,13 +1021,11 @@ per_simd_level! {
 }
 
 #[inline(always)]
-#[allow(clippy::too_many_arguments)] // `Texture::sample_with`'s inputs
 fn sample_group_body(
     _simd: SimdSupport,
     texture: &Texture,
     sampler: &Sampler,
-    u: F32x8,
-    v: F32x8,
+    [u, v]: [F32x8; 2],
     counted: LaneMask,
     cache: &mut TextureCache,
     lookup: &Lookup,
