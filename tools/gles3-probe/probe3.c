@@ -1399,6 +1399,162 @@ static void scene_volume(void) {
     free(small);
 }
 
+/* texfn: the quadrants of the window, each drawn in its own viewport with uv in [0, 1].
+ * Top left: textureGrad on a 16x16 texture with 5 levels of distinct colours (a checker on
+ * level 0), trilinear, the x derivative 1, 2.5, 6 and 12 texels per pixel in four strips.
+ * Top right: textureOffset (nearest, magnified) and textureLodOffset (linear, level 0) near
+ * the edges of an 8x8 texture, clamped on the left half and repeated on the right.
+ * Bottom left: a cube with given levels whose own filter reads level 0, through a sampler
+ * object reading level 1 by textureLod. Bottom right: a 3-D texture whose own WRAP_R repeats,
+ * through a sampler object whose WRAP_R clamps, r running from -0.5 to 1.5. */
+static void scene_texfn(void) {
+    const char *vs =
+        "#version 300 es\n"
+        "out vec2 uv;\n"
+        "void main() {\n"
+        "  vec2 corner = vec2(float(gl_VertexID % 2), float(gl_VertexID / 2));\n"
+        "  uv = corner;\n"
+        "  gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);\n"
+        "}\n";
+    GLuint grad = program(vs,
+        "#version 300 es\nprecision highp float;\nin vec2 uv;\nuniform sampler2D tex;\nout vec4 color;\n"
+        "void main() {\n"
+        "  float strip = floor(uv.x * 4.0);\n"
+        "  float k = strip == 0.0 ? 1.0 : strip == 1.0 ? 2.5 : strip == 2.0 ? 6.0 : 12.0;\n"
+        "  color = textureGrad(tex, uv * 2.0, vec2(k / 16.0, 0.0), vec2(0.0, 1.0 / 16.0));\n"
+        "}\n");
+    GLuint offsets = program(vs,
+        "#version 300 es\nprecision highp float;\nin vec2 uv;\nuniform sampler2D clamped;\n"
+        "uniform sampler2D repeated;\nuniform sampler2D smooth_clamped;\nout vec4 color;\n"
+        "void main() {\n"
+        "  vec2 p = vec2(fract(uv.x * 2.0), uv.y) * 1.5 - 0.25;\n"
+        "  bool left = uv.x < 0.5;\n"
+        "  if (uv.y < 0.5)\n"
+        "    color = left ? textureOffset(clamped, p, ivec2(-3, 2)) : textureOffset(repeated, p, ivec2(5, -7));\n"
+        "  else\n"
+        "    color = left ? textureLodOffset(smooth_clamped, p, 0.0, ivec2(7, -8))\n"
+        "                 : textureProjOffset(repeated, vec3(p * 2.0, 2.0), ivec2(-1, 1));\n"
+        "}\n");
+    GLuint cube = program(vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\nuniform samplerCube env;\nout vec4 color;\n"
+        "void main() { color = textureLod(env, vec3(uv * 2.0 - 1.0, -1.0), 1.0); }\n");
+    GLuint volume = program(vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\nuniform mediump sampler3D vol;\nout vec4 color;\n"
+        "void main() { color = texture(vol, vec3(uv.y, 0.5, uv.x * 2.0 - 0.5)); }\n");
+    quad_vao();
+
+    /* The 16x16 texture with 5 levels. */
+    GLuint mipped;
+    glGenTextures(1, &mipped);
+    glBindTexture(GL_TEXTURE_2D, mipped);
+    glTexStorage2D(GL_TEXTURE_2D, 5, GL_RGBA8, 16, 16);
+    const unsigned char level_colors[5][4] = {
+        {240, 30, 30, 255}, {30, 220, 40, 255}, {40, 60, 230, 255}, {230, 220, 40, 255}, {200, 40, 210, 255}};
+    unsigned char texels[16 * 16 * 4];
+    for (int level = 0; level < 5; level++) {
+        int size = 16 >> level;
+        for (int i = 0; i < size * size; i++) {
+            memcpy(texels + i * 4, level_colors[level], 4);
+            if (level == 0 && ((i % 16) / 2 + i / 32) % 2) texels[i * 4 + 1] = 160;
+        }
+        glTexSubImage2D(GL_TEXTURE_2D, level, 0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    }
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+
+    /* Three 8x8 textures of the same distinct texels. */
+    for (int i = 0; i < 64; i++) {
+        texels[i * 4] = (unsigned char)((i % 8) * 32 + 8);
+        texels[i * 4 + 1] = (unsigned char)((i / 8) * 32 + 8);
+        texels[i * 4 + 2] = (unsigned char)(((i % 8) ^ (i / 8)) & 1 ? 220 : 30);
+        texels[i * 4 + 3] = 255;
+    }
+    GLuint small[3];
+    glGenTextures(3, small);
+    for (int t = 0; t < 3; t++) {
+        glActiveTexture(GL_TEXTURE1 + t);
+        glBindTexture(GL_TEXTURE_2D, small[t]);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 8, 8, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+        GLint wrap = t == 1 ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+        GLint filter = t == 2 ? GL_LINEAR : GL_NEAREST;
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+    }
+
+    /* The cube: 4x4 faces, levels 0, 1, 2 each its own colour per face. */
+    glActiveTexture(GL_TEXTURE4);
+    GLuint env;
+    glGenTextures(1, &env);
+    glBindTexture(GL_TEXTURE_CUBE_MAP, env);
+    for (int face = 0; face < 6; face++)
+        for (int level = 0; level < 3; level++) {
+            int size = 4 >> level;
+            for (int i = 0; i < size * size; i++) {
+                texels[i * 4] = (unsigned char)(40 + 80 * level);
+                texels[i * 4 + 1] = (unsigned char)(30 * face + ((i % size + i / size) % 2) * 40);
+                texels[i * 4 + 2] = (unsigned char)(200 - 80 * level);
+                texels[i * 4 + 3] = 255;
+            }
+            glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face, level, GL_RGBA, size, size, 0, GL_RGBA,
+                         GL_UNSIGNED_BYTE, texels);
+        }
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
+    /* The 3-D texture: 4x4x4, slice k its own colour; its own WRAP_R repeats. */
+    glActiveTexture(GL_TEXTURE5);
+    GLuint vol;
+    glGenTextures(1, &vol);
+    glBindTexture(GL_TEXTURE_3D, vol);
+    unsigned char slices[4 * 4 * 4 * 4];
+    for (int i = 0; i < 64; i++) {
+        int k = i / 16;
+        slices[i * 4] = (unsigned char)(30 + 60 * k);
+        slices[i * 4 + 1] = (unsigned char)(220 - 50 * k);
+        slices[i * 4 + 2] = (unsigned char)((i % 4) * 60);
+        slices[i * 4 + 3] = 255;
+    }
+    glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA8, 4, 4, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, slices);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_REPEAT);
+
+    /* Sampler objects on units 4 (cube: level 1) and 5 (3-D: WRAP_R clamps). */
+    GLuint samplers[2];
+    glGenSamplers(2, samplers);
+    glSamplerParameteri(samplers[0], GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glSamplerParameteri(samplers[0], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glSamplerParameteri(samplers[1], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glSamplerParameteri(samplers[1], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glSamplerParameteri(samplers[1], GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    glBindSampler(4, samplers[0]);
+    glBindSampler(5, samplers[1]);
+
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glViewport(0, 32, 32, 32);
+    glUseProgram(grad);
+    glUniform1i(glGetUniformLocation(grad, "tex"), 0);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glViewport(32, 32, 32, 32);
+    glUseProgram(offsets);
+    glUniform1i(glGetUniformLocation(offsets, "clamped"), 1);
+    glUniform1i(glGetUniformLocation(offsets, "repeated"), 2);
+    glUniform1i(glGetUniformLocation(offsets, "smooth_clamped"), 3);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glViewport(0, 0, 32, 32);
+    glUseProgram(cube);
+    glUniform1i(glGetUniformLocation(cube, "env"), 4);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glViewport(32, 0, 32, 32);
+    glUseProgram(volume);
+    glUniform1i(glGetUniformLocation(volume, "vol"), 5);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3},
@@ -1410,7 +1566,9 @@ int main(int argc, char **argv) {
         /* tex3d */
         {"array", scene_array}, {"volume", scene_volume},
         /* glsl4 */
-        {"flat", scene_flat}, {"int-switch", scene_int_switch}};
+        {"flat", scene_flat}, {"int-switch", scene_int_switch},
+        /* texfn */
+        {"texfn", scene_texfn}};
     if (argc != 2) die("usage: probe3 SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

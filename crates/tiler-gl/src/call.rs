@@ -231,6 +231,9 @@ pub enum Call<D = Bytes> {
         wrap_t: Option<Wrap>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         compare: Option<CompareOp>,
+        /// `GL_TEXTURE_WRAP_R` (default `GL_REPEAT`): wraps a 3-D texture's r.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        wrap_r: Option<Wrap>,
     },
     /// `glBindSampler(unit, 0)`: the unit samples with its texture's parameters again.
     UnbindSampler {
@@ -944,8 +947,8 @@ impl<D> Call<D> {
                 TexParameters { id, filter, wrap, mag_filter, wrap_t }
             }
             TexCompare { id, compare } => TexCompare { id, compare },
-            BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare } => {
-                BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare }
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare, wrap_r } => {
+                BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare, wrap_r }
             }
             UnbindSampler { unit } => UnbindSampler { unit },
             GenerateMipmap { id } => GenerateMipmap { id },
@@ -1644,6 +1647,24 @@ pub enum UniformValue {
     Mat3([f32; 9]),
     /// Column-major, as `glUniformMatrix4fv` with `transpose = GL_FALSE`.
     Mat4([f32; 16]),
+    /// Column-major: 2 columns of 3 (`glUniformMatrix2x3fv`).
+    #[serde(rename = "mat2x3")]
+    Mat2x3([f32; 6]),
+    /// Column-major: 2 columns of 4 (`glUniformMatrix2x4fv`).
+    #[serde(rename = "mat2x4")]
+    Mat2x4([f32; 8]),
+    /// Column-major: 3 columns of 2 (`glUniformMatrix3x2fv`).
+    #[serde(rename = "mat3x2")]
+    Mat3x2([f32; 6]),
+    /// Column-major: 3 columns of 4 (`glUniformMatrix3x4fv`).
+    #[serde(rename = "mat3x4")]
+    Mat3x4([f32; 12]),
+    /// Column-major: 4 columns of 2 (`glUniformMatrix4x2fv`).
+    #[serde(rename = "mat4x2")]
+    Mat4x2([f32; 8]),
+    /// Column-major: 4 columns of 3 (`glUniformMatrix4x3fv`).
+    #[serde(rename = "mat4x3")]
+    Mat4x3([f32; 12]),
 }
 
 impl UniformValue {
@@ -1664,6 +1685,12 @@ impl UniformValue {
             UniformValue::Mat2(_) => "mat2",
             UniformValue::Mat3(_) => "mat3",
             UniformValue::Mat4(_) => "mat4",
+            UniformValue::Mat2x3(_) => "mat2x3",
+            UniformValue::Mat2x4(_) => "mat2x4",
+            UniformValue::Mat3x2(_) => "mat3x2",
+            UniformValue::Mat3x4(_) => "mat3x4",
+            UniformValue::Mat4x2(_) => "mat4x2",
+            UniformValue::Mat4x3(_) => "mat4x3",
         }
     }
 
@@ -1685,6 +1712,12 @@ impl UniformValue {
             UniformValue::Mat2(v) => v.to_vec(),
             UniformValue::Mat3(v) => v.to_vec(),
             UniformValue::Mat4(v) => v.to_vec(),
+            UniformValue::Mat2x3(v) => v.to_vec(),
+            UniformValue::Mat2x4(v) => v.to_vec(),
+            UniformValue::Mat3x2(v) => v.to_vec(),
+            UniformValue::Mat3x4(v) => v.to_vec(),
+            UniformValue::Mat4x2(v) => v.to_vec(),
+            UniformValue::Mat4x3(v) => v.to_vec(),
         }
     }
 

@@ -1565,3 +1565,11 @@ fn float_probe_interpolation_is_within_two_ulps_of_llvmpipe() {
     let equal = values.iter().filter(|&&(.., got, want)| got == want).count();
     assert!(equal >= 24, "only {equal} of 64 values are llvmpipe's to the bit");
 }
+
+// ---- Probe scene of the texfn branch: textureGrad, texel offsets, sampler objects on cube
+// and 3-D textures.
+
+#[test]
+fn probe_texture_grad_offsets_and_sampler_objects_match_llvmpipe() {
+    check_probe_in("gles3-probe", "texfn");
+}

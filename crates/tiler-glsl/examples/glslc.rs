@@ -23,13 +23,13 @@ fn smoke_render(program: CompiledProgram) -> Result<usize, String> {
     let mut uniforms = program.new_uniform_values();
     let identity: Vec<f32> = (0..16).map(|i| if i % 5 == 0 { 1.0 } else { 0.0 }).collect();
     for u in program.uniforms() {
-        if u.ty == Type::Matrix(4) {
+        if u.ty == Type::Matrix(4, 4) {
             for k in 0..u.array_size as u32 {
                 program.set_uniform(&mut uniforms, u.location + k, &identity).map_err(|e| e.to_string())?;
             }
         }
     }
-    let columns = |ty: &Type| if let Type::Matrix(n) = ty { *n } else { 1 };
+    let columns = |ty: &Type| if let Type::Matrix(c, _) = ty { *c } else { 1 };
     let locations = program.attributes().iter().map(|a| a.location as usize + columns(&a.ty)).max().unwrap_or(1);
     let formats = vec![VertexFormat::Float32x4; locations];
     let corners = [[-1.0f32, -1.0, 0.5, 1.0], [3.0, -1.0, 0.5, 1.0], [-1.0, 3.0, 0.5, 1.0]];

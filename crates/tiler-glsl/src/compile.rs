@@ -20,6 +20,8 @@ use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
 use crate::types::{BOOL, FLOAT, INT, IntegerShape, SamplerKind, Scalar, StructType, Type, UINT};
 use crate::{Error, Stage};
 
+mod texfn;
+
 /// Lines of predefined macros inserted into the source.
 const PREDEFINED_LINES: usize = 3;
 
@@ -606,6 +608,10 @@ impl<'a> Compiler<'a> {
 
     fn un(&mut self, op: UnOp, a: Reg) -> Reg {
         let prec = self.prec(a);
+        if let (UnOp::INeg, Some(x)) = (op, self.constant(a)) {
+            // A negative int literal (`-2`) stays a constant (texel offsets must be).
+            return self.konst_int((x.to_bits() as i32).wrapping_neg());
+        }
         if op == UnOp::Mov {
             let d = self.temp();
             self.emit(Inst::Un(op, d, a));
@@ -1011,9 +1017,15 @@ impl<'a> Compiler<'a> {
             T::UVec2 => Type::Vector(Scalar::UInt, 2),
             T::UVec3 => Type::Vector(Scalar::UInt, 3),
             T::UVec4 => Type::Vector(Scalar::UInt, 4),
-            T::Mat2 | T::Mat22 => Type::Matrix(2),
-            T::Mat3 | T::Mat33 => Type::Matrix(3),
-            T::Mat4 | T::Mat44 => Type::Matrix(4),
+            T::Mat2 | T::Mat22 => Type::Matrix(2, 2),
+            T::Mat3 | T::Mat33 => Type::Matrix(3, 3),
+            T::Mat4 | T::Mat44 => Type::Matrix(4, 4),
+            T::Mat23 => Type::Matrix(2, 3),
+            T::Mat24 => Type::Matrix(2, 4),
+            T::Mat32 => Type::Matrix(3, 2),
+            T::Mat34 => Type::Matrix(3, 4),
+            T::Mat42 => Type::Matrix(4, 2),
+            T::Mat43 => Type::Matrix(4, 3),
             T::Sampler2D => Type::Sampler(SamplerKind::Sampler2D),
             T::SamplerCube => Type::Sampler(SamplerKind::SamplerCube),
             T::Sampler2DShadow => Type::Sampler(SamplerKind::Sampler2DShadow),
@@ -1985,7 +1997,7 @@ impl<'a> Compiler<'a> {
             E::PostInc(a) | E::PostDec(a) => {
                 let inc = matches!(e.content, E::PostInc(_));
                 let (place, writable) = self.place(a)?;
-                if !writable || !place.ty.is_numeric_scalar_or_vector() && !matches!(place.ty, Type::Matrix(_)) {
+                if !writable || !place.ty.is_numeric_scalar_or_vector() && !matches!(place.ty, Type::Matrix(..)) {
                     return self.fail("++/-- needs a writable number");
                 }
                 let old = self.read(&place);
@@ -2007,7 +2019,7 @@ impl<'a> Compiler<'a> {
         match op.content {
             U::Inc | U::Dec => {
                 let (place, writable) = self.place(a)?;
-                if !writable || !place.ty.is_numeric_scalar_or_vector() && !matches!(place.ty, Type::Matrix(_)) {
+                if !writable || !place.ty.is_numeric_scalar_or_vector() && !matches!(place.ty, Type::Matrix(..)) {
                     return self.fail("++/-- needs a writable number");
                 }
                 let old = self.read(&place);
@@ -2018,14 +2030,14 @@ impl<'a> Compiler<'a> {
             }
             U::Add => {
                 let v = self.expr(a)?;
-                if !v.ty.is_numeric_scalar_or_vector() && !matches!(v.ty, Type::Matrix(_)) {
+                if !v.ty.is_numeric_scalar_or_vector() && !matches!(v.ty, Type::Matrix(..)) {
                     return self.fail(format!("unary + on {}", v.ty));
                 }
                 Ok(v)
             }
             U::Minus => {
                 let v = self.expr(a)?;
-                if !v.ty.is_numeric_scalar_or_vector() && !matches!(v.ty, Type::Matrix(_)) {
+                if !v.ty.is_numeric_scalar_or_vector() && !matches!(v.ty, Type::Matrix(..)) {
                     return self.fail(format!("unary - on {}", v.ty));
                 }
                 let neg = if v.ty.scalar().is_some_and(Scalar::is_integer) { UnOp::INeg } else { UnOp::Neg };
@@ -2193,13 +2205,21 @@ impl<'a> Compiler<'a> {
         }
         if *op == B::Mult {
             match (&a.ty, &b.ty) {
-                (Type::Matrix(n), Type::Matrix(m)) if n == m => return Ok(self.mat_mul(*n, &a.regs, &b.regs)),
-                (Type::Matrix(n), Type::Vector(Scalar::Float, m)) if n == m => {
-                    return Ok(Value { ty: b.ty.clone(), regs: self.mat_vec(*n, &a.regs, &b.regs) });
+                // ES 3.00 §5.9: a C×R matrix takes C-vectors and matrices of C rows on its
+                // right, gives R-vectors; an R-vector times it gives a C-vector.
+                (Type::Matrix(c, r), Type::Matrix(c2, r2)) if c == r2 => {
+                    return Ok(self.mat_mul(*c, *r, *c2, &a.regs, &b.regs));
                 }
-                (Type::Vector(Scalar::Float, m), Type::Matrix(n)) if n == m => {
-                    let regs = (0..*n).map(|c| self.dot(&a.regs, &b.regs[c * n..c * n + n])).collect();
-                    return Ok(Value { ty: a.ty.clone(), regs });
+                (Type::Matrix(c, r), Type::Vector(Scalar::Float, n)) if c == n => {
+                    return Ok(Value { ty: Type::vec(*r), regs: self.mat_vec(*c, *r, &a.regs, &b.regs) });
+                }
+                (Type::Vector(Scalar::Float, n), Type::Matrix(c, r)) if r == n => {
+                    let (c, r) = (*c, *r);
+                    let regs = (0..c).map(|k| self.dot(&a.regs, &b.regs[k * r..k * r + r])).collect();
+                    return Ok(Value { ty: Type::vec(c), regs });
+                }
+                (Type::Matrix(..), Type::Matrix(..) | Type::Vector(..)) | (Type::Vector(..), Type::Matrix(..)) => {
+                    return self.fail(format!("{} * {}: the shapes do not match", a.ty, b.ty));
                 }
                 _ => {}
             }
@@ -2313,14 +2333,14 @@ impl<'a> Compiler<'a> {
         self.lowered_result(acc, prec, true, false)
     }
 
-    /// `M · v` for an n×n column-major matrix: row r is `Σ_c m[c][r]·v[c]`, summed over c in
-    /// order.
-    fn mat_vec(&mut self, n: usize, m: &[Reg], v: &[Reg]) -> Vec<Reg> {
-        (0..n)
+    /// `M · v` for a column-major matrix of `columns` columns of `rows` components: row r is
+    /// `Σ_c m[c][r]·v[c]`, summed over c in order.
+    fn mat_vec(&mut self, columns: usize, rows: usize, m: &[Reg], v: &[Reg]) -> Vec<Reg> {
+        (0..rows)
             .map(|r| {
                 let mut acc = self.bin(BinOp::Mul, m[r], v[0]);
-                for c in 1..n {
-                    let p = self.bin(BinOp::Mul, m[c * n + r], v[c]);
+                for c in 1..columns {
+                    let p = self.bin(BinOp::Mul, m[c * rows + r], v[c]);
                     acc = self.bin(BinOp::Add, acc, p);
                 }
                 acc
@@ -2328,12 +2348,13 @@ impl<'a> Compiler<'a> {
             .collect()
     }
 
-    fn mat_mul(&mut self, n: usize, a: &[Reg], b: &[Reg]) -> Value {
-        let mut regs = Vec::with_capacity(n * n);
-        for c in 0..n {
-            regs.extend(self.mat_vec(n, a, &b[c * n..c * n + n]));
+    /// `A · B` for A of `columns` × `rows` and B of `b_columns` columns of `columns` rows.
+    fn mat_mul(&mut self, columns: usize, rows: usize, b_columns: usize, a: &[Reg], b: &[Reg]) -> Value {
+        let mut regs = Vec::with_capacity(b_columns * rows);
+        for c in 0..b_columns {
+            regs.extend(self.mat_vec(columns, rows, a, &b[c * columns..c * columns + columns]));
         }
-        Value { ty: Type::Matrix(n), regs }
+        Value { ty: Type::Matrix(b_columns, rows), regs }
     }
 
     // ---- places ----
@@ -2396,7 +2417,7 @@ impl<'a> Compiler<'a> {
                 let (elem, n) = match &place.ty {
                     Type::Array(t, n) => ((**t).clone(), *n),
                     Type::Vector(s, n) => (Type::Scalar(*s), *n),
-                    Type::Matrix(n) => (Type::vec(*n), *n),
+                    Type::Matrix(c, r) => (Type::vec(*r), *c),
                     other => return self.fail(format!("indexing a {other}")),
                 };
                 let size = elem.size();
@@ -2723,24 +2744,24 @@ impl<'a> Compiler<'a> {
                 comps.truncate(n);
                 Ok(Value { ty, regs: comps })
             }
-            Type::Matrix(n) => {
-                let n = *n;
+            Type::Matrix(columns, rows) => {
+                let (n, rows) = (*columns, *rows);
                 let zero = self.konst(0.0);
                 let one = self.konst(1.0);
                 if args.len() == 1 {
                     match &args[0].ty {
                         Type::Scalar(from) => {
                             let d = self.convert_component(args[0].regs[0], *from, Scalar::Float);
-                            let regs = (0..n * n).map(|i| if i % (n + 1) == 0 { d } else { zero }).collect();
+                            let regs = (0..n * rows).map(|i| if i / rows == i % rows { d } else { zero }).collect();
                             return Ok(Value { ty, regs });
                         }
-                        Type::Matrix(m) => {
-                            let m = *m;
-                            let regs = (0..n * n)
+                        Type::Matrix(m, m_rows) => {
+                            let (m, m_rows) = (*m, *m_rows);
+                            let regs = (0..n * rows)
                                 .map(|i| {
-                                    let (c, r) = (i / n, i % n);
-                                    if c < m && r < m {
-                                        args[0].regs[c * m + r]
+                                    let (c, r) = (i / rows, i % rows);
+                                    if c < m && r < m_rows {
+                                        args[0].regs[c * m_rows + r]
                                     } else if c == r {
                                         one
                                     } else {
@@ -2756,7 +2777,7 @@ impl<'a> Compiler<'a> {
                 let mut comps = Vec::new();
                 for v in &args {
                     match v.ty.scalar() {
-                        Some(from) if !matches!(v.ty, Type::Matrix(_)) => {
+                        Some(from) if !matches!(v.ty, Type::Matrix(..)) => {
                             for &r in &v.regs {
                                 comps.push(self.convert_component(r, from, Scalar::Float));
                             }
@@ -2764,10 +2785,10 @@ impl<'a> Compiler<'a> {
                         _ => return self.fail(format!("{ty} from {}", v.ty)),
                     }
                 }
-                if comps.len() < n * n {
+                if comps.len() < n * rows {
                     return self.fail(format!("too few components for {ty}"));
                 }
-                comps.truncate(n * n);
+                comps.truncate(n * rows);
                 Ok(Value { ty, regs: comps })
             }
             Type::Array(elem, n) => {
@@ -3172,7 +3193,7 @@ impl<'a> Compiler<'a> {
             }
             "matrixCompMult" => {
                 arity(self, 2)?;
-                if !matches!(args[0].ty, Type::Matrix(_)) || args[0].ty != args[1].ty {
+                if !matches!(args[0].ty, Type::Matrix(..)) || args[0].ty != args[1].ty {
                     return self.fail("matrixCompMult() takes two matrices of one size");
                 }
                 let regs = args[0].regs.iter().zip(&args[1].regs).map(|(&a, &b)| self.bin(BinOp::Mul, a, b)).collect();
@@ -3180,7 +3201,10 @@ impl<'a> Compiler<'a> {
             }
             "determinant" | "inverse" => {
                 arity(self, 1)?;
-                let Type::Matrix(m) = args[0].ty else { return self.fail(format!("{name}() takes a matrix")) };
+                let Type::Matrix(m, rows) = args[0].ty else { return self.fail(format!("{name}() takes a matrix")) };
+                if m != rows {
+                    return self.fail(format!("{name}() takes a square matrix, not a {}", args[0].ty));
+                }
                 // rows[r][c] = element (row r, column c); the value is column-major.
                 let rows: Vec<Vec<Reg>> = (0..m).map(|r| (0..m).map(|c| args[0].regs[c * m + r]).collect()).collect();
                 let det = self.determinant(&rows);
@@ -3208,9 +3232,23 @@ impl<'a> Compiler<'a> {
             }
             "transpose" => {
                 arity(self, 1)?;
-                let Type::Matrix(m) = args[0].ty else { return self.fail("transpose() takes a matrix") };
-                let regs = (0..m * m).map(|i| args[0].regs[(i % m) * m + i / m]).collect();
-                Ok(Value { ty: args[0].ty.clone(), regs })
+                let Type::Matrix(c, r) = args[0].ty else { return self.fail("transpose() takes a matrix") };
+                // Column j, row k of the R×C result is column k, row j of the argument.
+                let regs = (0..c * r).map(|i| args[0].regs[(i % c) * r + i / c]).collect();
+                Ok(Value { ty: Type::Matrix(r, c), regs })
+            }
+            "outerProduct" => {
+                // `outerProduct(c, r)`: a matrix of r's size columns, c's size rows, column j
+                // being `c · r[j]`.
+                arity(self, 2)?;
+                let (c, r) = (self.float_gen(name, args[0].clone())?, self.float_gen(name, args[1].clone())?);
+                if c.regs.len() < 2 || r.regs.len() < 2 {
+                    return self.fail(format!("outerProduct({}, {}) takes two vectors", c.ty, r.ty));
+                }
+                let (rows, columns) = (c.regs.len(), r.regs.len());
+                let regs =
+                    (0..columns * rows).map(|i| self.bin(BinOp::Mul, c.regs[i % rows], r.regs[i / rows])).collect();
+                Ok(Value { ty: Type::Matrix(columns, rows), regs })
             }
             "lessThan" | "lessThanEqual" | "greaterThan" | "greaterThanEqual" | "equal" | "notEqual" => {
                 arity(self, 2)?;
@@ -3253,6 +3291,9 @@ impl<'a> Compiler<'a> {
             | "textureLod" | "shadow2DEXT" | "shadow2DProjEXT" => self.texture(name, args),
             "textureCube" | "textureCubeLod" => self.texture_cube(name, args),
             "texelFetch" | "textureSize" => self.texel_fetch(name, args),
+            "textureGrad" | "textureOffset" | "textureLodOffset" | "textureProjOffset" | "textureGradOffset" => {
+                self.texture_fn(name, args)
+            }
             "dFdx" | "dFdy" | "fwidth" => {
                 // OES_standard_derivatives.
                 arity(self, 1)?;
@@ -3361,7 +3402,10 @@ impl<'a> Compiler<'a> {
         };
         let lod = self.lookup_lod(name, explicit, args.get(2))?;
         let dst = self.temps(4);
-        self.emit(Inst::Sample { slot, dst: [dst[0], dst[1], dst[2], dst[3]], coord: [s, t], lod, reference });
+        let dst4 = [dst[0], dst[1], dst[2], dst[3]];
+        self.emit(Inst::Sample { slot, dst: dst4, coord: [s, t], lod, reference, offset: [0, 0] });
+        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
+        self.set_prec(&dst, prec);
         if shadow {
             let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
             self.set_prec(&dst, prec);

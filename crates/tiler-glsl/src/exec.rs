@@ -23,13 +23,15 @@ pub const MAX_ITERATIONS: u32 = 1 << 16;
 pub trait Env<const W: usize> {
     /// Samples texture slot `slot` at `coord` in the lanes (all `W`; lanes not active have
     /// finite, deterministic coordinates).
-    /// `reference`: a shadow sampler's reference depth (see `ir::Inst::Sample`).
+    /// `reference`: a shadow sampler's reference depth, `offset` texels added before the wrap
+    /// (see `ir::Inst::Sample`).
     fn sample(
         &mut self,
         slot: usize,
         coord: [[f32; W]; 2],
         lod: LodValue<W>,
         reference: Option<[f32; W]>,
+        offset: [i32; 2],
     ) -> [[f32; W]; 4];
 
     /// Samples cube texture slot `slot` in the direction `direction` in the lanes (finite, as
@@ -70,6 +72,8 @@ pub enum LodValue<const W: usize> {
     Implicit,
     Bias([f32; W]),
     Explicit([f32; W]),
+    /// Derivatives of the coordinates along window x and y (`textureGrad`).
+    Grad([[f32; W]; 3], [[f32; W]; 3]),
 }
 
 /// The lanes' masks while running.
@@ -181,16 +185,12 @@ fn registers_mut(code: &mut [Inst], f: &mut impl FnMut(&mut Reg, bool)) {
                 if let Some(r) = reference {
                     f(r, false);
                 }
-                if let Lod::Bias(r) | Lod::Explicit(r) = lod {
-                    f(r, false);
-                }
+                lod.for_each_reg(|r| f(r, false));
             }
             Inst::SampleCube { dst, direction, lod, .. } | Inst::SampleLayered { dst, coord: direction, lod, .. } => {
                 dst.iter_mut().for_each(|d| f(d, true));
                 direction.iter_mut().for_each(|c| f(c, false));
-                if let Lod::Bias(r) | Lod::Explicit(r) = lod {
-                    f(r, false);
-                }
+                lod.for_each_reg(|r| f(r, false));
             }
             Inst::Fetch { dst, coord, level, .. } => {
                 dst.iter_mut().for_each(|d| f(d, true));
@@ -458,17 +458,21 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     let d = self.env.derivative(v, *axis);
                     self.set(*dst, d);
                 }
-                Inst::Sample { slot, dst, coord, lod, reference } => {
+                Inst::Sample { slot, dst, coord, lod, reference, offset } => {
                     let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
                     let coord = [finite(self.get(coord[0])), finite(self.get(coord[1]))];
                     let lod = match lod {
                         Lod::Implicit => LodValue::Implicit,
                         Lod::Bias(r) => LodValue::Bias(finite(self.get(*r))),
                         Lod::Explicit(r) => LodValue::Explicit(finite(self.get(*r))),
+                        Lod::Grad { dx, dy } => {
+                            LodValue::Grad(dx.map(|r| finite(self.get(r))), dy.map(|r| finite(self.get(r))))
+                        }
                     };
                     // A NaN reference stays NaN: the compare rules say what it gives.
                     let reference = reference.map(|r| self.get(r));
-                    let texel = self.env.sample(*slot as usize, coord, lod, reference);
+                    let offset = offset.map(i32::from);
+                    let texel = self.env.sample(*slot as usize, coord, lod, reference, offset);
                     for (c, &d) in dst.iter().enumerate() {
                         self.set(d, texel[c]);
                     }
@@ -480,6 +484,9 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         Lod::Implicit => LodValue::Implicit,
                         Lod::Bias(r) => LodValue::Bias(finite(self.get(*r))),
                         Lod::Explicit(r) => LodValue::Explicit(finite(self.get(*r))),
+                        Lod::Grad { dx, dy } => {
+                            LodValue::Grad(dx.map(|r| finite(self.get(r))), dy.map(|r| finite(self.get(r))))
+                        }
                     };
                     let texel = self.env.sample_cube(*slot as usize, direction, lod);
                     for (c, &d) in dst.iter().enumerate() {
@@ -509,6 +516,9 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         Lod::Implicit => LodValue::Implicit,
                         Lod::Bias(r) => LodValue::Bias(finite(self.get(*r))),
                         Lod::Explicit(r) => LodValue::Explicit(finite(self.get(*r))),
+                        Lod::Grad { dx, dy } => {
+                            LodValue::Grad(dx.map(|r| finite(self.get(r))), dy.map(|r| finite(self.get(r))))
+                        }
                     };
                     let texel = self.env.sample_layered(*slot as usize, coord, lod);
                     for (c, &d) in dst.iter().enumerate() {
@@ -777,7 +787,14 @@ mod tests {
         fn sample_cube(&mut self, _: usize, _: [[f32; W]; 3], _: LodValue<W>) -> [[f32; W]; 4] {
             unreachable!("no textures")
         }
-        fn sample(&mut self, _: usize, _: [[f32; W]; 2], _: LodValue<W>, _: Option<[f32; W]>) -> [[f32; W]; 4] {
+        fn sample(
+            &mut self,
+            _: usize,
+            _: [[f32; W]; 2],
+            _: LodValue<W>,
+            _: Option<[f32; W]>,
+            _: [i32; 2],
+        ) -> [[f32; W]; 4] {
             [[0.0; W]; 4]
         }
     }

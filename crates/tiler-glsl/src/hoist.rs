@@ -35,15 +35,11 @@ pub(crate) fn reads_mut(inst: &mut Inst, f: &mut impl FnMut(&mut Reg)) {
             if let Some(r) = reference {
                 f(r);
             }
-            if let crate::ir::Lod::Bias(r) | crate::ir::Lod::Explicit(r) = lod {
-                f(r);
-            }
+            lod.for_each_reg(&mut *f);
         }
         Inst::SampleLayered { coord: direction, lod, .. } | Inst::SampleCube { direction, lod, .. } => {
             direction.iter_mut().for_each(&mut *f);
-            if let crate::ir::Lod::Bias(r) | crate::ir::Lod::Explicit(r) = lod {
-                f(r);
-            }
+            lod.for_each_reg(&mut *f);
         }
         Inst::Fetch { coord, level, .. } => {
             coord.iter_mut().for_each(&mut *f);

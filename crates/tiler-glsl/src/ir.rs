@@ -191,6 +191,20 @@ pub enum Lod {
     Bias(Reg),
     /// An explicit level register.
     Explicit(Reg),
+    /// Explicit derivatives of the coordinates along window x (`dx`) and y (`dy`)
+    /// (`textureGrad`; components a lookup lacks are a zero constant).
+    Grad { dx: [Reg; 3], dy: [Reg; 3] },
+}
+
+impl Lod {
+    /// Calls `f` on each register the level of detail reads.
+    pub fn for_each_reg(&mut self, mut f: impl FnMut(&mut Reg)) {
+        match self {
+            Lod::Implicit => {}
+            Lod::Bias(r) | Lod::Explicit(r) => f(r),
+            Lod::Grad { dx, dy } => dx.iter_mut().chain(dy.iter_mut()).for_each(f),
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -240,6 +254,8 @@ pub enum Inst {
         coord: [Reg; 2],
         lod: Lod,
         reference: Option<Reg>,
+        /// Texels added to the texel indices before the wrap (`textureOffset`).
+        offset: [i8; 2],
     },
     /// Samples cube texture slot `slot` in the direction `(x, y, z)` into four registers.
     SampleCube {

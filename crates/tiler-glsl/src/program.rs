@@ -417,7 +417,7 @@ impl CompiledProgram {
 /// then the others at the lowest free locations (a `matN` takes N in a row).
 fn link_attributes(vertex: &StageCode, bound: &[(&str, u32)]) -> Result<Vec<AttributeInfo>, Error> {
     let max = tiler::MAX_VERTEX_ATTRIBUTES;
-    let columns = |ty: &Type| if let Type::Matrix(n) = ty { *n } else { 1 };
+    let columns = |ty: &Type| if let Type::Matrix(c, _) = ty { *c } else { 1 };
     let mut used = vec![false; max];
     let mut locations: Vec<Option<usize>> = vec![None; vertex.inputs.len()];
     for (i, a) in vertex.inputs.iter().enumerate() {
@@ -767,16 +767,40 @@ const UNBOUND: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
 /// A core texture at GL `(s, t)` and level of detail `lod`, filtered as the sampler says
 /// (GL §8.14: a vertex shader's `λ` is 0, so the magnification filter on level 0; an explicit
 /// level is `λ`), through the core's own filter arithmetic. Not counted in the ledger.
-fn core_texel(texture: &Texture, sampler: &Sampler, s: f32, t: f32, lod: f32) -> [f32; 4] {
-    texture.sample_lod(sampler, s, 1.0 - t, lod)
+fn core_texel(texture: &Texture, sampler: &Sampler, s: f32, t: f32, lod: f32, offset: [i32; 2]) -> [f32; 4] {
+    // The core's v runs down the rows, GL's t up: a texel offset in t is one in −v.
+    texture.sample_lod_offset(sampler, s, 1.0 - t, lod, [offset[0], -offset[1]])
 }
 
-/// Looks up lanes `0..lanes` one by one (the others read zero).
+/// Each lane's level of detail from `textureGrad`'s derivatives on a core texture (level 0
+/// on anything else, which reads at the base level anyway).
+fn grad_lods<const W: usize>(binding: Option<&TextureBinding>, dx: [[f32; W]; 3], dy: [[f32; W]; 3]) -> [f32; W] {
+    match binding {
+        Some(TextureBinding::Core(texture, _)) => {
+            std::array::from_fn(|lane| texture.grad_lod(dx.map(|d| d[lane]), dy.map(|d| d[lane])))
+        }
+        _ => [0.0; W],
+    }
+}
+
+/// An explicit level of detail per lane (`None`: level 0, the base level of a vertex shader's
+/// lookups), `textureGrad`'s computed from its derivatives.
+fn explicit_lods<const W: usize>(binding: Option<&TextureBinding>, lod: LodValue<W>) -> Option<[f32; W]> {
+    match lod {
+        LodValue::Explicit(l) => Some(l),
+        LodValue::Grad(dx, dy) => Some(grad_lods(binding, dx, dy)),
+        LodValue::Implicit | LodValue::Bias(_) => None,
+    }
+}
+
+/// Looks up lanes `0..lanes` one by one (the others read zero); `offset` texels are added
+/// on a core texture's level read (a caller's source reads without them).
 fn lookup_lanes<const W: usize>(
     binding: Option<&TextureBinding>,
     coord: [[f32; W]; 2],
     lod: Option<[f32; W]>,
     reference: Option<[f32; W]>,
+    offset: [i32; 2],
     lanes: usize,
 ) -> [[f32; W]; 4] {
     let mut out = [[0.0; W]; 4];
@@ -785,10 +809,12 @@ fn lookup_lanes<const W: usize>(
         let l = lod.map(|l| l[lane]);
         let texel = match (binding, reference) {
             (None, _) => UNBOUND,
-            (Some(TextureBinding::Core(texture, sampler)), _) => core_texel(texture, sampler, s, t, l.unwrap_or(0.0)),
             (Some(TextureBinding::Integer(texture, sampler)), _) => {
                 let at = texture.nearest(sampler, [s, t, 0.0]);
                 texture.fetch(0, at).map_or([0.0; 4], |(v, _)| integer_texel(v))
+            }
+            (Some(TextureBinding::Core(texture, sampler)), _) => {
+                core_texel(texture, sampler, s, t, l.unwrap_or(0.0), offset)
             }
             (Some(TextureBinding::Custom(source)), None) => source.sample(s, t, l),
             (Some(TextureBinding::Custom(source)), Some(reference)) => {
@@ -872,12 +898,10 @@ impl Env<VERTEX_LANES> for VertexEnv<'_> {
         coord: [[f32; VERTEX_LANES]; 2],
         lod: LodValue<VERTEX_LANES>,
         reference: Option<[f32; VERTEX_LANES]>,
+        offset: [i32; 2],
     ) -> [[f32; VERTEX_LANES]; 4] {
-        let lod = match lod {
-            LodValue::Explicit(l) => Some(l),
-            _ => None,
-        };
-        lookup_lanes(self.slots[slot].as_ref(), coord, lod, reference, self.lanes)
+        let binding = self.slots[slot].as_ref();
+        lookup_lanes(binding, coord, explicit_lods(binding, lod), reference, offset, self.lanes)
     }
 
     fn sample_cube(
@@ -899,11 +923,8 @@ impl Env<VERTEX_LANES> for VertexEnv<'_> {
         coord: [[f32; VERTEX_LANES]; 3],
         lod: LodValue<VERTEX_LANES>,
     ) -> [[f32; VERTEX_LANES]; 4] {
-        let lod = match lod {
-            LodValue::Explicit(l) => Some(l),
-            _ => None,
-        };
-        layered_lookup_lanes(self.slots[slot].as_ref(), coord, lod, self.lanes)
+        let binding = self.slots[slot].as_ref();
+        layered_lookup_lanes(binding, coord, explicit_lods(binding, lod), self.lanes)
     }
 
     fn fetch(
@@ -941,25 +962,41 @@ impl Env<8> for FragmentEnv<'_, '_> {
         coord: [[f32; 8]; 2],
         lod: LodValue<8>,
         reference: Option<[f32; 8]>,
+        offset: [i32; 2],
     ) -> [[f32; 8]; 4] {
         match (&self.slots[slot], lod) {
             (Some(TextureBinding::Integer(texture, sampler)), _) => {
                 let at = integer_nearest(texture, sampler, coord, 8);
                 self.frag.fetch_integer(texture, [0; 8], at).map(|c| c.map(f32::from_bits))
             }
-            (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit | LodValue::Bias(_)) => {
+            (
+                Some(TextureBinding::Core(texture, sampler)),
+                LodValue::Implicit | LodValue::Bias(_) | LodValue::Grad(..),
+            ) => {
                 let mut sampler = *sampler;
                 if let LodValue::Bias(b) = lod {
                     // The core takes one bias per draw; the group's first lane's stands for
                     // all (biases are uniform in practice).
                     sampler.lod_bias += b[0];
                 }
+                // The core's v runs down the rows, GL's t up: t's derivatives and offset
+                // change sign.
+                let gradients = match lod {
+                    LodValue::Grad(dx, dy) => {
+                        let d = |d: [[f32; 8]; 3]| [F32x8(d[0]), F32x8::ZERO - F32x8(d[1])];
+                        Some([d(dx), d(dy)])
+                    }
+                    _ => None,
+                };
+                let lookup = tiler::Lookup { gradients, offset: [offset[0], -offset[1]] };
                 let t = F32x8(coord[1].map(|t| 1.0 - t));
-                let texel = self.frag.sample(texture, &sampler, [F32x8(coord[0]), t]);
+                let texel = self.frag.sample_with(texture, &sampler, [F32x8(coord[0]), t], &lookup);
                 texel.map(|c| c.0)
             }
-            (binding, LodValue::Explicit(l)) => lookup_lanes(binding.as_ref(), coord, Some(l), reference, 8),
-            (binding, _) => lookup_lanes(binding.as_ref(), coord, None, reference, 8),
+            (binding, lod) => {
+                let binding = binding.as_ref();
+                lookup_lanes(binding, coord, explicit_lods(binding, lod), reference, offset, 8)
+            }
         }
     }
 
@@ -1005,8 +1042,10 @@ impl Env<8> for FragmentEnv<'_, '_> {
                 };
                 texel.map(|c| c.0)
             }
-            (binding, LodValue::Explicit(l)) => layered_lookup_lanes(binding.as_ref(), coord, Some(l), 8),
-            (binding, _) => layered_lookup_lanes(binding.as_ref(), coord, None, 8),
+            (binding, lod) => {
+                let binding = binding.as_ref();
+                layered_lookup_lanes(binding, coord, explicit_lods(binding, lod), 8)
+            }
         }
     }
 
@@ -1055,7 +1094,7 @@ impl GlslVertexShader {
             for (attr, var) in self.program.attributes.iter().zip(&code.inputs) {
                 for (k, &r) in var.regs.iter().enumerate() {
                     let (column, row) = match var.ty {
-                        Type::Matrix(n) => (k / n, k % n),
+                        Type::Matrix(_, rows) => (k / rows, k % rows),
                         _ => (0, k),
                     };
                     let loc = attr.location as usize + column;

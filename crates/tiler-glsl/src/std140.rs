@@ -23,7 +23,7 @@ pub fn alignment(ty: &Type) -> usize {
         Type::Scalar(_) => N,
         Type::Vector(_, 2) => 2 * N,
         Type::Vector(..) => 4 * N,
-        Type::Matrix(_) | Type::Array(..) => array_stride(ty).max(4 * N),
+        Type::Matrix(..) | Type::Array(..) => array_stride(ty).max(4 * N),
         Type::Struct(s) => s.fields.iter().map(|(_, t)| alignment(t)).max().unwrap_or(0).max(4 * N),
         Type::Void | Type::Sampler(_) => unreachable!("blocks hold no {ty} (checked at compile time)"),
     }
@@ -32,7 +32,7 @@ pub fn alignment(ty: &Type) -> usize {
 /// The stride between an array's elements, or a matrix's columns.
 fn array_stride(ty: &Type) -> usize {
     match ty {
-        Type::Matrix(_) => 4 * N,
+        Type::Matrix(..) => 4 * N,
         Type::Array(element, _) => round_up(size(element), alignment(element).max(4 * N)),
         _ => 0,
     }
@@ -43,7 +43,7 @@ pub fn size(ty: &Type) -> usize {
     match ty {
         Type::Scalar(_) => N,
         Type::Vector(_, n) => n * N,
-        Type::Matrix(c) => c * array_stride(ty),
+        Type::Matrix(c, _) => c * array_stride(ty),
         Type::Array(_, n) => n * array_stride(ty),
         Type::Struct(s) => {
             let mut end = 0;
@@ -79,10 +79,10 @@ pub fn read(ty: &Type, bytes: &[u8], out: &mut Vec<f32>) {
                 });
             }
         }
-        Type::Matrix(c) => {
+        Type::Matrix(c, r) => {
             let stride = array_stride(ty);
             for column in 0..*c {
-                read(&Type::vec(*c), &bytes[column * stride..], out);
+                read(&Type::vec(*r), &bytes[column * stride..], out);
             }
         }
         Type::Array(element, n) => {
@@ -138,7 +138,7 @@ mod tests {
             ("f", inner.clone()),                                         // 32 (d at 32, e at 40), size 16
             ("g", Type::Scalar(Scalar::Float)),                           // 48
             ("h", Type::Array(Box::new(Type::Scalar(Scalar::Float)), 2)), // 64, stride 16
-            ("i", Type::Matrix(2)),                                       // 96, columns at 96 and 112
+            ("i", Type::Matrix(2, 2)),                                    // 96, columns at 96 and 112
             ("o", Type::Array(Box::new(inner), 2)),                       // 128 (d 128, e 136), 144 (d 144, e 152)
             ("p", Type::Vector(Scalar::Int, 3)),                          // 160
         ]);

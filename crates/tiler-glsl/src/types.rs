@@ -78,8 +78,9 @@ pub enum Type {
     Scalar(Scalar),
     /// `vecN`, `ivecN`, `uvecN`, `bvecN` (N = 2, 3, 4).
     Vector(Scalar, usize),
-    /// `matN` (N = 2, 3, 4), column-major.
-    Matrix(usize),
+    /// `matCxR` (columns, rows: 2, 3, 4; `matN` is `matNxN`), column-major: C columns of R
+    /// components.
+    Matrix(usize, usize),
     Sampler(SamplerKind),
     Struct(Arc<StructType>),
     Array(Box<Type>, usize),
@@ -113,7 +114,7 @@ impl Type {
             Type::Void => 0,
             Type::Scalar(_) | Type::Sampler(_) => 1,
             Type::Vector(_, n) => *n,
-            Type::Matrix(n) => n * n,
+            Type::Matrix(c, r) => c * r,
             Type::Struct(s) => s.fields.iter().map(|(_, t)| t.size()).sum(),
             Type::Array(t, n) => t.size() * n,
         }
@@ -123,7 +124,7 @@ impl Type {
     pub fn scalar(&self) -> Option<Scalar> {
         match self {
             Type::Scalar(s) | Type::Vector(s, _) => Some(*s),
-            Type::Matrix(_) => Some(Scalar::Float),
+            Type::Matrix(..) => Some(Scalar::Float),
             _ => None,
         }
     }
@@ -143,7 +144,7 @@ impl Type {
 
     pub fn is_float_based(&self) -> bool {
         match self {
-            Type::Scalar(Scalar::Float) | Type::Vector(Scalar::Float, _) | Type::Matrix(_) => true,
+            Type::Scalar(Scalar::Float) | Type::Vector(Scalar::Float, _) | Type::Matrix(..) => true,
             Type::Array(t, _) => t.is_float_based(),
             _ => false,
         }
@@ -176,7 +177,8 @@ impl fmt::Display for Type {
             Type::Vector(Scalar::Int, n) => write!(f, "ivec{n}"),
             Type::Vector(Scalar::UInt, n) => write!(f, "uvec{n}"),
             Type::Vector(Scalar::Bool, n) => write!(f, "bvec{n}"),
-            Type::Matrix(n) => write!(f, "mat{n}"),
+            Type::Matrix(c, r) if c == r => write!(f, "mat{c}"),
+            Type::Matrix(c, r) => write!(f, "mat{c}x{r}"),
             Type::Sampler(SamplerKind::Sampler2D) => write!(f, "sampler2D"),
             Type::Sampler(SamplerKind::SamplerCube) => write!(f, "samplerCube"),
             Type::Sampler(SamplerKind::Sampler2DShadow) => write!(f, "sampler2DShadow"),

@@ -1905,3 +1905,185 @@ fn texel_fetch_misuse_is_a_compile_error_naming_the_line() {
         }
     }
 }
+
+/// `textureGrad` with the derivatives the quad would give reads what `texture` reads, bit for
+/// bit and fetch for fetch (both through the core sampler and its cache model); larger
+/// derivatives read a smaller level; `textureOffset` reads what `texture` reads one texel-
+/// step over, through the cache model too.
+#[test]
+fn texture_grad_and_offset_go_through_the_core_sampler() {
+    const FS: &str = "#version 300 es
+precision highp float;
+uniform sampler2D tex;
+uniform int mode;
+in vec2 uv;
+out vec4 color;
+void main() {
+    vec2 p = uv * 1.5;
+    if (mode == 0) color = texture(tex, p);
+    else if (mode == 1) color = textureGrad(tex, p, dFdx(p), dFdy(p));
+    else if (mode == 2) color = textureGrad(tex, p, 4.0 * dFdx(p), dFdy(p));
+    else color = textureOffset(tex, p, ivec2(3, -2));
+}";
+    const VS: &str = "#version 300 es
+in vec4 position;
+out vec2 uv;
+void main() { gl_Position = position; uv = position.xy * 0.5 + 0.5; }";
+    let program = glsl(VS, FS);
+    let texture = Arc::new(
+        Texture::from_rgba8(16, 8, &checker_texture().level_texels(0).concat(), ColorSpace::Linear, MipChain::Box)
+            .unwrap(),
+    );
+    let sampler = Sampler { wrap_u: tiler::Wrap::Repeat, wrap_v: tiler::Wrap::Repeat, ..Sampler::TRILINEAR_REPEAT };
+    let textures = [Some(TextureBinding::Core(texture.clone(), sampler))];
+    let draw = |mode: f32| {
+        let mut uniforms = program.new_uniform_values();
+        program.set_uniform(&mut uniforms, program.uniform_location("mode").unwrap(), &[mode]).unwrap();
+        render(&glsl_pipeline(&program, &uniforms, &textures))
+    };
+    let (plain, plain_report) = draw(0.0);
+    let (grad, grad_report) = draw(1.0);
+    assert_same(&grad, &plain, 20);
+    assert_eq!(grad_report.ledger, plain_report.ledger, "texture traffic differs");
+    assert!(plain_report.ledger.get(Category::TextureFetch) > 0);
+    let (minified, _) = draw(2.0);
+    assert_ne!(minified, plain, "four times the x derivative reads a smaller level");
+
+    // The offset against a native shader sampling through `Lookup` (GL's t up is the core's
+    // v down: the offset's y changes sign).
+    struct Native {
+        texture: Arc<Texture>,
+        sampler: Sampler,
+    }
+    impl FragmentShader for Native {
+        fn shade(&self, frag: &mut Fragments<'_>) {
+            let [u, v] = frag.smooth_n::<2>(0);
+            let (s, t) = (u * 1.5, v * 1.5);
+            let lookup = tiler::Lookup { gradients: None, offset: [3, 2] };
+            let texel = frag.sample_with(&self.texture, &self.sampler, [s, F32x8::ONE - t], &lookup);
+            frag.set_color(0, texel);
+        }
+    }
+    let (offset, offset_report) = draw(3.0);
+    let native = Native { texture, sampler };
+    let (b, rb) = render(&Pipeline::new(PassVs, native, native_desc()).unwrap());
+    assert_same(&offset, &b, 20);
+    assert_eq!(offset_report.ledger, rb.ledger, "texture traffic differs");
+    assert_ne!(offset, plain);
+}
+
+/// `textureLodOffset` in a vertex shader: the offset is added to the texel indices on the
+/// level read and then wrapped (repeat) or clamped (clamp-to-edge), GL ES 3.0 §3.8.10;
+/// `textureProjOffset` divides first; bad offsets and unsupported samplers are compile errors
+/// naming the function.
+#[test]
+fn texel_offsets_wrap_after_they_are_added() {
+    const VS: &str = "#version 300 es
+in vec4 position;
+uniform highp sampler2D tex;
+out vec4 a;
+out vec4 b;
+void main() {
+    // Texel (3, 2)'s centre of the 16×8 checker.
+    a = textureLodOffset(tex, vec2(3.5 / 16.0, 2.5 / 8.0), 0.0, ivec2(-5, 7));
+    b = textureProjOffset(tex, vec3(7.0 / 16.0, 5.0 / 8.0, 2.0), ivec2(1, -1));
+    gl_Position = position;
+}";
+    const FS: &str = "#version 300 es\nprecision highp float;\nin vec4 a;\nin vec4 b;\nout vec4 c;\n\
+                      void main() { c = a + b; }";
+    let program = glsl(VS, FS);
+    let uniforms = program.new_uniform_values();
+    let texture = checker_texture();
+    let texel = |x: u32, y: u32| texture.texel(0, x, y).map(|c| c as f32 / 255.0);
+    // `texel` takes the core's rows (top down): GL's row 2 of 8 is row 5, and a t offset of
+    // +7 is −7 rows: row −2, which repeats to 6 and clamps to 0.
+    for (wrap, a) in [(tiler::Wrap::Repeat, texel(14, 6)), (tiler::Wrap::ClampToEdge, texel(0, 0))] {
+        let sampler = Sampler { wrap_u: wrap, wrap_v: wrap, ..Sampler::NEAREST_REPEAT };
+        let textures = [Some(TextureBinding::Core(texture.clone(), sampler))];
+        let (vs, _) = tiler_glsl::shaders(&program, &uniforms, &textures, HEIGHT);
+        let input = VertexInput { attributes: [Vec4::ONE; tiler::MAX_VERTEX_ATTRIBUTES], vertex_index: 0 };
+        let mut out = VertexOutput::default();
+        vs.shade(&input, &mut out);
+        assert_eq!(&out.varyings[..4], &a, "{wrap:?}");
+        // (7/32, 5/16) is texel (3, 2) (core row 5); offset (1, −1): GL's (4, 1), core row 6.
+        assert_eq!(&out.varyings[4..8], &texel(4, 6), "{wrap:?}");
+    }
+    for (call, wanted) in [
+        ("textureOffset(tex, uv, ivec2(8, 0))", "offset 8 is outside [-8, 7]"),
+        ("textureOffset(tex, uv, ivec2(int(uv.x), 0))", "constant expression"),
+        ("textureOffset(tex, uv, vec2(1.0))", "must be an ivec2"),
+        ("textureGrad(tex, uv, uv)", "takes 4 arguments"),
+        ("textureGrad(cube, vec3(uv, 1.0), vec3(0.0), vec3(0.0))", "samplerCube is not supported"),
+        ("textureGrad(tex, uv, vec3(0.0), uv)", "dPdx cannot be a vec3"),
+    ] {
+        let fs = format!(
+            "#version 300 es\nprecision highp float;\nuniform sampler2D tex;\nuniform samplerCube cube;\nin vec2 uv;\n\
+             out vec4 c;\nvoid main() {{\n c = {call};\n}}"
+        );
+        let vs = "#version 300 es\nin vec4 p;\nout vec2 uv;\nvoid main() { gl_Position = p; uv = p.xy; }";
+        let error = CompiledProgram::new(vs, &fs, &[]).unwrap_err().to_string();
+        assert!(error.contains(wanted) && error.contains("line 8"), "{call}: {error}");
+    }
+}
+
+/// Non-square matrices (ES 3.00 §4.1.6, §5.4.2, §5.9): constructors from components, from
+/// a larger or smaller matrix and a scalar's diagonal; columns and components by index;
+/// matrix × vector, vector × matrix and matrix × matrix with their shapes; `transpose`,
+/// `outerProduct`, `matrixCompMult`; a uniform `mat2x3`; shape mismatches are errors naming
+/// the line.
+#[test]
+fn non_square_matrices_have_their_shapes() {
+    const VS: &str = "#version 300 es
+in vec4 a;
+uniform mat2x3 u;
+out vec3 r0; out vec2 r1; out vec4 r2; out vec3 r3; out vec2 r4; out float r5; out vec3 r6; out vec4 r7;
+void main() {
+    mat2x3 m = mat2x3(1.0, 2.0, 3.0, 4.0, 5.0, 6.0);
+    r0 = m * vec2(1.0, 10.0);
+    r1 = vec3(1.0, 10.0, 100.0) * m;
+    mat3x2 t = transpose(m);
+    mat2 p = t * m;
+    r2 = vec4(p[0], p[1]);
+    r3 = u[1];
+    mat4x2 o = outerProduct(vec2(1.0, 2.0), vec4(1.0, 2.0, 3.0, 4.0));
+    r4 = o[3] + matrixCompMult(o, o)[2];
+    r5 = m[1][2] + (m * 2.0)[0][1] - mat3x2(m)[1][1];
+    mat3 big = mat3(m);
+    r6 = big[2] + mat2x3(vec4(1.0, 2.0, 3.0, 4.0), 5.0, 6.0)[1];
+    mat4x3 d = mat4x3(2.0);
+    r7 = vec4(d[0].x, d[1].y, d[3].z, d[3].x) - vec4(t[2], 0.0, 0.0);
+    gl_Position = a;
+}";
+    const FS: &str = "#version 300 es
+precision highp float;
+in vec3 r0; in vec2 r1; in vec4 r2; in vec3 r3; in vec2 r4; in float r5; in vec3 r6; in vec4 r7;
+out vec4 c;
+void main() { c = vec4(r0 + r3 + r6, r5) + vec4(r1, r4) + r2 + r7; }";
+    let u: [f32; 6] = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0];
+    let got = run_vertex(VS, FS, [0.0; 4], |p, uniforms| {
+        p.set_uniform(uniforms, p.uniform_location("u").unwrap(), &u).unwrap();
+    });
+    #[rustfmt::skip]
+    let want = [
+        41.0, 52.0, 63.0, // m · (1, 10)
+        321.0, 654.0, // (1, 10, 100) · m
+        14.0, 32.0, 32.0, 77.0, // transpose(m) · m
+        2.0, 2.5, 3.0, // u[1]
+        13.0, 44.0, // o[3] + (o ∘ o)[2]
+        5.0, // 6 + 4 − 5
+        4.0, 5.0, 7.0, // mat3(m)[2] + (4, 5, 6)
+        -1.0, -4.0, 0.0, 0.0, // (2, 2, 0, 0) − (3, 6, 0, 0)
+    ];
+    assert_eq!(got, want);
+    for (line, wanted) in [
+        ("vec3 x = mat2x3(1.0) * vec3(1.0);", "mat2x3 * vec3: the shapes do not match"),
+        ("mat2x3 x = mat2x3(1.0) * mat2x3(1.0);", "mat2x3 * mat2x3: the shapes do not match"),
+        ("float x = determinant(mat3x2(1.0));", "square matrix"),
+        ("mat2x3 x = mat3x2(1.0);", "mat2x3"),
+        ("vec2 x = mat4x2(1.0, 2.0)[0];", "too few components for mat4x2"),
+    ] {
+        let vs = format!("#version 300 es\nin vec4 a;\nvoid main() {{\n  gl_Position = a;\n  {line}\n}}");
+        let error = CompiledProgram::new(&vs, FS, &[]).unwrap_err().to_string();
+        assert!(error.contains(wanted) && error.contains("line 5"), "{line}: {error}");
+    }
+}

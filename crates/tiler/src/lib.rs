@@ -130,8 +130,9 @@ pub use shade::depth_compare;
 pub use shade::fragments::{FragmentShader, Fragments};
 pub use shade::texel_format::{ASTC_FOOTPRINTS, StoredLayout, TexelFormat};
 pub use shade::texture::{
-    ColorSpace, CubeFace, Filter, IntegerKind, IntegerTexture, LayeredKind, MAX_ARRAY_LAYERS, MAX_CUBE_DIMENSION,
-    MAX_TEXTURE_DIMENSION, MAX_VOLUME_DIMENSION, MipChain, MipmapMode, Sampler, Texture, Wrap, cube_face_coordinates,
+    ColorSpace, CubeFace, Filter, IntegerKind, IntegerTexture, LayeredKind, Lookup, MAX_ARRAY_LAYERS,
+    MAX_CUBE_DIMENSION, MAX_TEXTURE_DIMENSION, MAX_VOLUME_DIMENSION, MipChain, MipmapMode, Sampler, Texture, Wrap,
+    cube_face_coordinates,
 };
 pub use shade::texture_cache::TextureCacheConfig;
 pub use simd::{F32x8, LaneMask, SimdLevel, SimdSupport, Vec4x8};

@@ -2112,18 +2112,29 @@ mod glsl {
                     _ => Err(unsupported()),
                 })
                 .collect::<Fallible<_>>()?,
-            GlUniform::Matrix { columns, rows, transpose, values } if columns == rows && (2..=4).contains(columns) => {
-                let n = usize::from(*columns);
+            GlUniform::Matrix { columns, rows, transpose, values }
+                if (2..=4).contains(columns) && (2..=4).contains(rows) =>
+            {
+                let (n, rows) = (usize::from(*columns), usize::from(*rows));
                 values
-                    .chunks_exact(per(n * n, values.len())?)
+                    .chunks_exact(per(n * rows, values.len())?)
                     .map(|m| {
-                        // Column-major; a transposed matrix (GLES 3.0) is turned back.
-                        let at = |c: usize, r: usize| if *transpose { m[r * n + c] } else { m[c * n + r] };
-                        let column_major: Vec<f32> = (0..n).flat_map(|c| (0..n).map(move |r| at(c, r))).collect();
-                        match n {
-                            2 => UniformValue::Mat2(column_major.try_into().expect("4 values")),
-                            3 => UniformValue::Mat3(column_major.try_into().expect("9 values")),
-                            _ => UniformValue::Mat4(column_major.try_into().expect("16 values")),
+                        // Column-major; a transposed matrix (GLES 3.0: rows of `n`) is turned back.
+                        let at = |c: usize, r: usize| if *transpose { m[r * n + c] } else { m[c * rows + r] };
+                        let v: Vec<f32> = (0..n).flat_map(|c| (0..rows).map(move |r| at(c, r))).collect();
+                        fn array<const N: usize>(v: Vec<f32>) -> [f32; N] {
+                            v.try_into().expect("the shape's values")
+                        }
+                        match (n, rows) {
+                            (2, 2) => UniformValue::Mat2(array(v)),
+                            (3, 3) => UniformValue::Mat3(array(v)),
+                            (4, 4) => UniformValue::Mat4(array(v)),
+                            (2, 3) => UniformValue::Mat2x3(array(v)),
+                            (2, 4) => UniformValue::Mat2x4(array(v)),
+                            (3, 2) => UniformValue::Mat3x2(array(v)),
+                            (3, 4) => UniformValue::Mat3x4(array(v)),
+                            (4, 2) => UniformValue::Mat4x2(array(v)),
+                            _ => UniformValue::Mat4x3(array(v)),
                         }
                     })
                     .collect()

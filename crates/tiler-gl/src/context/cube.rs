@@ -34,8 +34,10 @@ pub(crate) struct CubeObject {
     pub sampler: SamplerState,
     /// `generate_mipmap` was called since level 0's size last changed.
     generated: bool,
-    /// The core texture of the cube as it is, made at the first draw after a change.
-    core: OnceLock<Option<Arc<tiler::Texture>>>,
+    /// The core texture of the cube as it is, made at the first draw after a change: sampled
+    /// without mip maps (`[0]`) and with them (`[1]`; a sampler object on the unit may want
+    /// them where the cube's own filter does not).
+    core: [OnceLock<Option<Arc<tiler::Texture>>>; 2],
 }
 
 impl CubeObject {
@@ -47,13 +49,13 @@ impl CubeObject {
             levels: Default::default(),
             sampler: SamplerState::new(Filter::NearestMipmapLinear, Wrap::Repeat),
             generated: false,
-            core: OnceLock::new(),
+            core: Default::default(),
         }
     }
 
     /// Forgets the core texture made from the old contents (draws made before keep theirs).
     fn changed(&mut self) {
-        self.core = OnceLock::new();
+        self.core = Default::default();
     }
 
     /// Every face's given chain, when every face has one down to 1×1.
@@ -74,9 +76,10 @@ impl CubeObject {
         chains.try_into().ok()
     }
 
-    /// The core texture to sample, `None` when GL's rules make the cube incomplete.
-    fn core(&self) -> Fallible<Option<Arc<tiler::Texture>>> {
-        if let Some(core) = self.core.get() {
+    /// The core texture to sample with a mipmap filter (`wants_mips`) or without, `None` when
+    /// GL's rules make the cube incomplete.
+    fn core(&self, wants_mips: bool) -> Fallible<Option<Arc<tiler::Texture>>> {
+        if let Some(core) = self.core[wants_mips as usize].get() {
             return Ok(core.clone());
         }
         let color_space = match self.format {
@@ -88,7 +91,6 @@ impl CubeObject {
             None => None,
             Some(faces) => {
                 let faces: [&[u8]; 6] = faces.try_into().expect("six faces");
-                let wants_mips = self.sampler.min_filter.mipmap().is_some();
                 match (wants_mips, self.generated, self.given_chains()) {
                     (false, _, _) => {
                         Some(tiler::Texture::cube_from_rgba8(self.size, faces, color_space, tiler::MipChain::BaseOnly))
@@ -105,7 +107,7 @@ impl CubeObject {
             }
         };
         let built = built.transpose().map_err(|e| e.to_string())?.map(Arc::new);
-        Ok(self.core.get_or_init(|| built).clone())
+        Ok(self.core[wants_mips as usize].get_or_init(|| built).clone())
     }
 
     /// Host memory its texels take (counted against the context's memory limit).
@@ -345,8 +347,11 @@ impl Context {
             .cubes
             .get(&id)
             .ok_or_else(|| format!("{what} reads texture unit {unit}, which has no cube texture"))?;
-        let core = cube.core().map_err(|e| format!("{what}: cube texture {id}: {e}"))?;
-        let sampler = super::submit::core_sampler(cube.sampler, cube.has_mipmaps());
+        // A sampler object on the unit replaces the cube's parameters, as for 2D textures.
+        let state = self.state.unit_samplers.get(unit as usize).copied().flatten().unwrap_or(cube.sampler);
+        let wants_mips = state.min_filter.mipmap().is_some();
+        let core = cube.core(wants_mips).map_err(|e| format!("{what}: cube texture {id}: {e}"))?;
+        let sampler = super::submit::core_sampler(state, cube.has_mipmaps());
         Ok(core.map(|t| (t, sampler)))
     }
 

@@ -140,14 +140,26 @@ fn uniform_names(program: &CompiledProgram) -> Vec<String> {
 /// `None` when that call cannot set it: `glUniform{1,2,3,4}f` sets float and bool scalars
 /// and vectors of its size, `glUniform{1,2,3,4}i` int and bool ones and (`1i`) samplers,
 /// `glUniform{1,2,3,4}ui` uint and bool ones,
-/// `glUniformMatrixNfv` `matN`. Bools store 1 or 0, as the compiler's `true` and `false`.
+/// `glUniformMatrixNfv` `matN` and `glUniformMatrixCxRfv` `matCxR`. Bools store 1 or 0, as the compiler's `true` and `false`.
 fn uniform_components(ty: &Type, value: UniformValue) -> Option<Vec<f32>> {
     use UniformValue as V;
     let components = value.components();
     let floats = matches!(value, V::Float(_) | V::Vec2(_) | V::Vec3(_) | V::Vec4(_));
     let ints = matches!(value, V::Int(_) | V::IVec2(_) | V::IVec3(_) | V::IVec4(_));
     let uints = matches!(value, V::UInt(_) | V::UVec2(_) | V::UVec3(_) | V::UVec4(_));
-    let matrix = matches!(value, V::Mat2(_) | V::Mat3(_) | V::Mat4(_));
+    // A matrix value's shape (columns, rows); the uniform's must be the same.
+    let matrix = match value {
+        V::Mat2(_) => Some((2, 2)),
+        V::Mat3(_) => Some((3, 3)),
+        V::Mat4(_) => Some((4, 4)),
+        V::Mat2x3(_) => Some((2, 3)),
+        V::Mat2x4(_) => Some((2, 4)),
+        V::Mat3x2(_) => Some((3, 2)),
+        V::Mat3x4(_) => Some((3, 4)),
+        V::Mat4x2(_) => Some((4, 2)),
+        V::Mat4x3(_) => Some((4, 3)),
+        _ => None,
+    };
     let same_size = ty.size() == components.len();
     match ty {
         Type::Scalar(Scalar::Float) | Type::Vector(Scalar::Float, _) if floats && same_size => Some(components),
@@ -156,7 +168,7 @@ fn uniform_components(ty: &Type, value: UniformValue) -> Option<Vec<f32>> {
         Type::Scalar(Scalar::Bool) | Type::Vector(Scalar::Bool, _) if (floats || ints || uints) && same_size => {
             Some(components.into_iter().map(|c| if c != 0.0 { 1.0 } else { 0.0 }).collect())
         }
-        Type::Matrix(_) if matrix && same_size => Some(components),
+        Type::Matrix(c, r) if matrix == Some((*c, *r)) && same_size => Some(components),
         Type::Sampler(_) if matches!(value, V::Int(_)) => Some(components),
         _ => None,
     }
@@ -267,7 +279,7 @@ impl Context {
                 let mut attributes = Vec::new();
                 let mut generic = Vec::new();
                 for a in p.compiled.attributes() {
-                    let columns = if let Type::Matrix(n) = a.ty { n as u32 } else { 1 };
+                    let columns = if let Type::Matrix(c, _) = a.ty { c as u32 } else { 1 };
                     for location in a.location..a.location + columns {
                         if location >= MAX_VERTEX_ATTRIBS {
                             return Err(format!(

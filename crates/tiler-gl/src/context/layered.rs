@@ -236,9 +236,10 @@ impl Context {
             .layered
             .get(&id)
             .ok_or_else(|| format!("{what} reads texture unit {unit}, which has no {} texture", target.name()))?;
-        // A sampler object on the unit replaces the texture's parameters (not `WRAP_R`: sampler
-        // objects' is not kept).
-        let state = self.state.unit_samplers.get(unit as usize).copied().flatten().unwrap_or(t.sampler);
+        // A sampler object on the unit replaces the texture's parameters, `WRAP_R` included.
+        let unit_sampler = self.state.unit_samplers.get(unit as usize).copied().flatten();
+        let state = unit_sampler.unwrap_or(t.sampler);
+        let wrap_r = if unit_sampler.is_some() { self.state.unit_wrap_r[unit as usize] } else { t.wrap_r };
         if target == LayeredTarget::Texture3D && state.min_filter.mipmap().is_some() {
             return Err(format!(
                 "{what}: 3-D texture {id} is minified with a mipmap filter ({:?}): mipmapped 3-D textures are not \
@@ -248,7 +249,7 @@ impl Context {
         }
         let core = t.core().map_err(|e| format!("{what}: {} texture {id}: {e}", target.name()))?;
         let mut sampler = super::submit::core_sampler(state, t.generated);
-        sampler.wrap_w = match t.wrap_r {
+        sampler.wrap_w = match wrap_r {
             Wrap::ClampToEdge => tiler::Wrap::ClampToEdge,
             Wrap::Repeat => tiler::Wrap::Repeat,
             Wrap::MirroredRepeat => tiler::Wrap::MirroredRepeat,

@@ -399,6 +399,8 @@ pub(crate) struct GlState {
     pub generic: Vec<[f32; 4]>,
     /// Sampler objects' state per texture unit (`sampler_objects.rs`).
     pub unit_samplers: [Option<SamplerState>; MAX_TEXTURE_UNITS as usize],
+    /// The `GL_TEXTURE_WRAP_R` of the sampler object on each unit (3-D textures read it).
+    pub unit_wrap_r: [Wrap; MAX_TEXTURE_UNITS as usize],
     /// Uniform buffer bindings (`uniform_blocks.rs`).
     pub uniform_buffers: Vec<Option<uniform_blocks::UniformBufferBinding>>,
     pub textures: [u32; MAX_TEXTURE_UNITS as usize],
@@ -444,6 +446,7 @@ impl GlState {
             generic: vec![[0.0, 0.0, 0.0, 1.0]; MAX_VERTEX_ATTRIBS as usize],
             uniform_buffers: vec![None; MAX_UNIFORM_BUFFER_BINDINGS as usize],
             unit_samplers: [None; MAX_TEXTURE_UNITS as usize],
+            unit_wrap_r: [Wrap::Repeat; MAX_TEXTURE_UNITS as usize],
             textures: [0; MAX_TEXTURE_UNITS as usize],
             cube_textures: [0; MAX_TEXTURE_UNITS as usize],
             layered_textures: [[0; 2]; MAX_TEXTURE_UNITS as usize],
@@ -788,9 +791,10 @@ impl Context {
             }
             GenerateMipmap { id } if self.cubes.contains_key(&id) => self.generate_cube_mipmap(id)?,
             GenerateMipmap { id } if self.layered.contains_key(&id) => self.generate_layered_mipmap(id)?,
-            BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare } => {
+            BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare, wrap_r } => {
                 let sampler = SamplerState { compare, ..sampler_state(filter, wrap, mag_filter, wrap_t)? };
                 self.bind_sampler(unit, Some(sampler))?;
+                self.state.unit_wrap_r[unit as usize] = wrap_r.unwrap_or(Wrap::Repeat);
             }
             UnbindSampler { unit } => self.bind_sampler(unit, None)?,
             GenerateMipmap { id } => {

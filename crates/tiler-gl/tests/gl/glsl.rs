@@ -982,6 +982,27 @@ void main() { gl_FragColor = textureCubeLod(env, vec3(0.1, -0.2, -1.0), lod); }"
         assert_eq!(red_of(&gl, 8), expected, "{faces_with_levels} faces with levels, {filter:?}");
     }
 
+    // A sampler object on the unit replaces the cube's own parameters: its mipmap filter reads
+    // level 2 where the cube's own filter reads level 0; unbound, the cube's again.
+    for (sampler_object, expected) in [(true, [30, 50, 0, 255]), (false, [100, 50, 0, 255])] {
+        let mut gl = screen();
+        setup(&mut gl, 6, Filter::Nearest);
+        for f in 0..6 {
+            c(&mut gl, face(f, 1, 20));
+            c(&mut gl, face(f, 2, 30));
+        }
+        let filter = Filter::NearestMipmapNearest;
+        let (wrap, mag_filter, wrap_t, compare, wrap_r) = (Wrap::Repeat, None, None, None, None);
+        c(&mut gl, Call::BindSampler { unit: 2, filter, wrap, mag_filter, wrap_t, compare, wrap_r });
+        if !sampler_object {
+            c(&mut gl, Call::UnbindSampler { unit: 2 });
+        }
+        c(&mut gl, Call::Uniform { name: "lod".into(), value: UniformValue::Float(2.0) });
+        draw(&mut gl, 3);
+        c(&mut gl, Call::Finish);
+        assert_eq!(red_of(&gl, 8), expected, "sampler object bound: {sampler_object}");
+    }
+
     // A missing face: incomplete, black.
     let mut gl = screen();
     setup(&mut gl, 5, Filter::Nearest);
@@ -1079,9 +1100,13 @@ void main() { color = texture(volume, vec3(0.5, 0.5, r)); }";
         use_glsl(gl, 1, FS);
         c(gl, Call::Uniform { name: "volume".into(), value: UniformValue::Int(1) });
     };
-    let red_at = |r: f32, wrap_r: Wrap, sub: bool| {
+    let red_at_with = |r: f32, wrap_r: Wrap, sub: bool, sampler_wrap_r: Option<Option<Wrap>>| {
         let mut gl = screen();
         setup(&mut gl, Filter::Nearest, wrap_r);
+        if let Some(wrap_r) = sampler_wrap_r {
+            let (filter, wrap, mag_filter, wrap_t, compare) = (Filter::Nearest, Wrap::ClampToEdge, None, None, None);
+            c(&mut gl, Call::BindSampler { unit: 1, filter, wrap, mag_filter, wrap_t, compare, wrap_r });
+        }
         if sub {
             let data = Bytes::from([200u8, 0, 0, 255].repeat(4));
             let sub = Call::LayeredTexSubImage { id: 3, x: 0, y: 0, z: 2, width: 2, height: 2, depth: 1, data };
@@ -1092,11 +1117,15 @@ void main() { color = texture(volume, vec3(0.5, 0.5, r)); }";
         c(&mut gl, Call::Finish);
         pixel(&gl.surface_rgba8(), 16, 8, 8)[0]
     };
+    let red_at = |r: f32, wrap_r: Wrap, sub: bool| red_at_with(r, wrap_r, sub, None);
     // Slice ⌊r · 4⌋; WRAP_R repeat takes r mod 1, clamp-to-edge the last slice.
     assert_eq!(red_at(0.6, Wrap::Repeat, false), 80);
     assert_eq!(red_at(1.3, Wrap::Repeat, false), 40);
     assert_eq!(red_at(1.3, Wrap::ClampToEdge, false), 120);
     assert_eq!(red_at(0.6, Wrap::Repeat, true), 200);
+    // A sampler object's WRAP_R replaces the texture's (its default: repeat).
+    assert_eq!(red_at_with(1.3, Wrap::Repeat, false, Some(Some(Wrap::ClampToEdge))), 120);
+    assert_eq!(red_at_with(1.3, Wrap::ClampToEdge, false, Some(None)), 40);
 
     // Refused, naming what.
     let mut gl = screen();
@@ -1161,4 +1190,34 @@ void main() { color = texture(volume, vec3(0.5, 0.5, r)); }";
     let wrap: Call<Vec<u8>> =
         serde_json::from_str(r#"{"call": "tex_wrap_r", "id": 3, "wrap": "mirrored_repeat"}"#).unwrap();
     assert_eq!(wrap, Call::TexWrapR { id: 3, wrap: Wrap::MirroredRepeat });
+}
+
+/// A `mat2x3` uniform is set by `glUniformMatrix2x3fv`'s value (column-major: two columns of
+/// three) and refused, naming the uniform, from a `mat3x2` one of the same size.
+#[test]
+fn non_square_matrix_uniforms_take_their_own_shape() {
+    const VS: &str = "#version 300 es\nin vec2 p;\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); }";
+    const FS: &str = "#version 300 es
+precision highp float;
+uniform mat2x3 m;
+out vec4 c;
+void main() { c = vec4(m * vec2(1.0, 0.5), 1.0); }";
+    let mut gl = screen();
+    c(&mut gl, Call::CreateProgram { id: 1, program: glsl(VS, FS) });
+    c(&mut gl, Call::BindAttribLocation { program: 1, index: 0, name: "p".into() });
+    c(&mut gl, Call::UseProgram { id: 1 });
+    let value = UniformValue::Mat2x3([0.2, 0.4, 0.1, 0.2, 0.2, 0.6]);
+    c(&mut gl, Call::Uniform { name: "m".into(), value });
+    draw(&mut gl, 3);
+    c(&mut gl, Call::Finish);
+    // (0.2 + 0.1, 0.4 + 0.1, 0.1 + 0.3) = (0.3, 0.5, 0.4).
+    let got = pixel(&gl.surface_rgba8(), 16, 8, 8);
+    for (g, want) in got.iter().zip([0.3f32, 0.5, 0.4, 1.0]) {
+        assert!((f32::from(*g) - want * 255.0).abs() <= 1.0, "{got:?}");
+    }
+    let wrong = UniformValue::Mat3x2([0.0; 6]);
+    let error = gl.call(Call::Uniform { name: "m".into(), value: wrong }).unwrap_err().to_string();
+    assert!(error.contains("mat3x2"), "{error}");
+    let json = serde_json::to_string(&Call::<Vec<u8>>::Uniform { name: "m".into(), value }).unwrap();
+    assert!(json.contains(r#""mat2x3":[0.2,0.4,0.1,0.2,0.2,0.6]"#), "{json}");
 }

@@ -7,7 +7,7 @@ use crate::api::render_pass::MAX_INPUT_ATTACHMENTS;
 use crate::api::shader::ShaderProperties;
 use crate::raster::target::Surface;
 use crate::shade::ShadeContext;
-use crate::shade::texture::{IntegerTexture, Sampler, Texture};
+use crate::shade::texture::{IntegerTexture, Lookup, Sampler, Texture};
 use crate::simd::{F32x8, LaneMask, SimdSupport, Vec4x8};
 use crate::simd::{LANE_DX, LANE_DY, LANES};
 
@@ -177,6 +177,13 @@ impl<'a> Fragments<'a> {
     #[inline]
     pub fn sample(&mut self, texture: &Texture, sampler: &Sampler, uv: [F32x8; 2]) -> Vec4x8 {
         texture.sample(self.simd, sampler, uv[0], uv[1], self.covered.quads(), &mut self.context.texture_cache)
+    }
+
+    /// [`Fragments::sample`] with explicit derivatives or a texel offset (GLSL ES 3.00's
+    /// `textureGrad`, `textureOffset`).
+    pub fn sample_with(&mut self, texture: &Texture, sampler: &Sampler, uv: [F32x8; 2], lookup: &Lookup) -> Vec4x8 {
+        let (simd, counted, cache) = (self.simd, self.covered.quads(), &mut self.context.texture_cache);
+        texture.sample_with(simd, sampler, uv[0], uv[1], counted, cache, lookup)
     }
 
     /// Samples cube texture `texture` in the directions `direction` with `sampler`, as

@@ -563,7 +563,23 @@ impl Texture {
         counted: LaneMask,
         cache: &mut TextureCache,
     ) -> Vec4x8 {
-        sample_group(simd, self, sampler, u, v, counted, cache)
+        sample_group(simd, self, sampler, [u, v], counted, cache, &Lookup::default())
+    }
+
+    /// [`Texture::sample`] with explicit derivatives or a texel offset ([`Lookup`]).
+    #[inline]
+    #[allow(clippy::too_many_arguments)] // `sample`'s inputs and the lookup's extras
+    pub fn sample_with(
+        &self,
+        simd: SimdSupport,
+        sampler: &Sampler,
+        u: F32x8,
+        v: F32x8,
+        counted: LaneMask,
+        cache: &mut TextureCache,
+        lookup: &Lookup,
+    ) -> Vec4x8 {
+        sample_group(simd, self, sampler, [u, v], counted, cache, lookup)
     }
 
     /// [`Texture::sample`] for one layout (`STORED`: see `sample_group_body`).
@@ -575,10 +591,28 @@ impl Texture {
         v: F32x8,
         counted: LaneMask,
         cache: &mut TextureCache,
+        lookup: &Lookup,
     ) -> Vec4x8 {
-        let rho_squared = quad_rho_squared(u * self.width() as f32, v * self.height() as f32);
+        let (width, height) = (self.width() as f32, self.height() as f32);
         // Arrays of two written out, not `map`ped: `map` is a function of its own that LLVM may
         // keep out of line, compiled for the baseline instruction set (see `lanes`).
+        let rho_squared = match &lookup.gradients {
+            None => quad_rho_squared(u * width, v * height),
+            Some(g) => {
+                let rho = |tl: usize| {
+                    let (dsdx, dtdx) = (g[0][0].lane(tl) * width, g[0][1].lane(tl) * height);
+                    let (dsdy, dtdy) = (g[1][0].lane(tl) * width, g[1][1].lane(tl) * height);
+                    (dsdx * dsdx + dtdx * dtdx).max(dsdy * dsdy + dtdy * dtdy)
+                };
+                [rho(QUAD_LANES[0][0]), rho(QUAD_LANES[1][0])]
+            }
+        };
+        let offset = lookup.offset;
+        let (wrap_u, wrap_v) = if offset == [0, 0] {
+            (Reduction::from(sampler.wrap_u), Reduction::from(sampler.wrap_v))
+        } else {
+            (offset_reduction(sampler.wrap_u), offset_reduction(sampler.wrap_v))
+        };
         let lods = if self.plan_ignores_lod(sampler) {
             [0.0; 2]
         } else {
@@ -600,9 +634,10 @@ impl Texture {
         let minified_unmipped = [minified(0), minified(1)];
         if let Some(pair) = PairPlan::of(plans) {
             let at = QuadAt {
-                u: reduce_quad(lanes(|i| u.lane(PAIR_LANES[i])), sampler.wrap_u),
-                v: reduce_quad(lanes(|i| v.lane(PAIR_LANES[i])), sampler.wrap_v),
+                u: reduce_quad(lanes(|i| u.lane(PAIR_LANES[i])), wrap_u),
+                v: reduce_quad(lanes(|i| v.lane(PAIR_LANES[i])), wrap_v),
                 face_offsets: [0; 8],
+                offset,
             };
             let rgba = self.sample_pair::<STORED>(sampler, pair, &at, counted, minified_unmipped, cache);
             return group_of_pair(rgba);
@@ -610,9 +645,10 @@ impl Texture {
         let mut quads = [[[0u32; 4]; 4]; 2];
         for (quad, lanes) in QUAD_LANES.iter().enumerate() {
             let at = QuadAt {
-                u: reduce_quad(self::lanes(|i| u.lane(lanes[i])), sampler.wrap_u),
-                v: reduce_quad(self::lanes(|i| v.lane(lanes[i])), sampler.wrap_v),
+                u: reduce_quad(self::lanes(|i| u.lane(lanes[i])), wrap_u),
+                v: reduce_quad(self::lanes(|i| v.lane(lanes[i])), wrap_v),
                 face_offsets: [0; 4],
+                offset,
             };
             quads[quad] =
                 self.sample_quad::<STORED>(sampler, lambdas[quad], &at, counted[quad], minified_unmipped[quad], cache);
@@ -745,12 +781,35 @@ impl Texture {
     /// magnification filter on level 0) or a fragment shader's explicit level
     /// (`texture2DLod`) reads. Reads are not counted in the ledger.
     pub fn sample_lod(&self, sampler: &Sampler, u: f32, v: f32, lambda: f32) -> [f32; 4] {
-        let at = QuadAt {
-            u: reduce_quad([u; 4], sampler.wrap_u),
-            v: reduce_quad([v; 4], sampler.wrap_v),
-            face_offsets: [0; 4],
+        self.sample_lod_offset(sampler, u, v, lambda, [0, 0])
+    }
+
+    /// [`Texture::sample_lod`] with `offset` texels added on the level read, before the
+    /// wrap (`textureLodOffset`; see [`Lookup::offset`]).
+    pub fn sample_lod_offset(&self, sampler: &Sampler, u: f32, v: f32, lambda: f32, offset: [i32; 2]) -> [f32; 4] {
+        let (wrap_u, wrap_v) = if offset == [0, 0] {
+            (Reduction::from(sampler.wrap_u), Reduction::from(sampler.wrap_v))
+        } else {
+            (offset_reduction(sampler.wrap_u), offset_reduction(sampler.wrap_v))
         };
+        let at =
+            QuadAt { u: reduce_quad([u; 4], wrap_u), v: reduce_quad([v; 4], wrap_v), face_offsets: [0; 4], offset };
         self.sample_point(sampler, &at, lambda)
+    }
+
+    /// The level of detail (bias not added) that derivatives `dx`, `dy` of the coordinates
+    /// along window x and y give, by [`Texture::sample`]'s formula: `½ · log2` of the larger
+    /// of the two squared lengths in texels (`(s, t)` scaled by width and height, and a 3-D
+    /// texture's `r` by its depth; an array's layer coordinate does not count). What
+    /// `textureGrad` reads where it is not sampled as a quad.
+    pub fn grad_lod(&self, dx: [f32; 3], dy: [f32; 3]) -> f32 {
+        let depth = match self.layers {
+            Some(l) if l.kind == LayeredKind::Volume => l.count as f32,
+            _ => 0.0,
+        };
+        let size = [self.width() as f32, self.height() as f32, depth];
+        let squared = |d: [f32; 3]| (0..3).map(|i| (d[i] * size[i]) * (d[i] * size[i])).fold(0.0, |a, b| a + b);
+        0.5 * log2(squared(dx).max(squared(dy)))
     }
 
     /// Whether [`Texture::plan`] gives the same plan at every level of detail: one filter for
@@ -802,6 +861,16 @@ impl Texture {
         let (u, v) = (at.u, at.v);
         let l = &self.levels[level];
         let (x, alpha, y, beta) = match filter {
+            Filter::Nearest if at.offset != [0, 0] => {
+                let x = nearest_texels_offset(u, l.width, sampler.wrap_u, at.offset[0]);
+                let y = nearest_texels_offset(v, l.height, sampler.wrap_v, at.offset[1]);
+                ([x; 2], [0; N], [y; 2], [0; N])
+            }
+            Filter::Linear if at.offset != [0, 0] => {
+                let (x, alpha) = linear_texels_offset(u, l.width, sampler.wrap_u, at.offset[0]);
+                let (y, beta) = linear_texels_offset(v, l.height, sampler.wrap_v, at.offset[1]);
+                (x, alpha, y, beta)
+            }
             Filter::Nearest => {
                 let (x, y) = (nearest_texels(u, l.width, sampler.wrap_u), nearest_texels(v, l.height, sampler.wrap_v));
                 ([x; 2], [0; N], [y; 2], [0; N])
@@ -980,10 +1049,10 @@ per_simd_level! {
         simd: SimdSupport,
         texture: &Texture,
         sampler: &Sampler,
-        u: F32x8,
-        v: F32x8,
+        uv: [F32x8; 2],
         counted: LaneMask,
         cache: &mut TextureCache,
+        lookup: &Lookup,
     ) -> Vec4x8
 }
 
@@ -992,18 +1061,18 @@ fn sample_group_body(
     _simd: SimdSupport,
     texture: &Texture,
     sampler: &Sampler,
-    u: F32x8,
-    v: F32x8,
+    [u, v]: [F32x8; 2],
     counted: LaneMask,
     cache: &mut TextureCache,
+    lookup: &Lookup,
 ) -> Vec4x8 {
     // A kernel per layout: RGBA8 finds its lines from the decoded texels' offsets, other
     // formats from their stored layout (`STORED`), with no branch on the format in the RGBA8
     // kernel. The colour space needs none: the texels are held decoded.
     if texture.format == TexelFormat::Rgba8 {
-        texture.sample_layout::<false>(sampler, u, v, counted, cache)
+        texture.sample_layout::<false>(sampler, u, v, counted, cache, lookup)
     } else {
-        texture.sample_layout::<true>(sampler, u, v, counted, cache)
+        texture.sample_layout::<true>(sampler, u, v, counted, cache, lookup)
     }
 }
 
@@ -1065,6 +1134,22 @@ struct QuadAt<const N: usize = 4> {
     u: [f32; N],
     v: [f32; N],
     face_offsets: [u32; N],
+    /// A constant texel offset added to the texel indices before they wrap (GLSL ES 3.00's
+    /// `textureOffset`, GL ES 3.0 §3.8.10); 2D textures only, else `[0, 0]`.
+    offset: [i32; 2],
+}
+
+/// What a 2D lookup adds to [`Texture::sample`]'s plain one: GLSL ES 3.00's `textureGrad`
+/// and `textureOffset`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Lookup {
+    /// Explicit derivatives of `(u, v)` along window x and y, `[[du/dx, dv/dx], [du/dy,
+    /// dv/dy]]`, in place of the quad's differences: each quad's level of detail is the
+    /// one its first (top-left) lane's derivatives give, by the same formula.
+    pub gradients: Option<[[F32x8; 2]; 2]>,
+    /// Texels added to the texel indices on the level read, before the wrap (each within
+    /// GL ES 3.0's `[−8, 7]`).
+    pub offset: [i32; 2],
 }
 
 /// The two quads' channels (`[quad][channel][lane of the quad]`, 16-bit UNORMs) back in the
@@ -1356,9 +1441,71 @@ fn wrap_reduced(i: i32, n: u32, wrap: Wrap) -> u32 {
     wrapped as u32
 }
 
+/// The reduction of coordinates whose texels are then offset ([`Lookup::offset`]): repeat
+/// and mirrored repeat reduce as without an offset (a whole period changes nothing), but
+/// clamp-to-edge keeps `[−9, 10]`, so that an offset of up to 8 texels cannot bring a
+/// clamped coordinate back inside (past `[−9, 10]` every index, offset or not, is outside).
+/// Told apart from [`reduce`]'s by a wrap mode that is only a reduction.
+#[inline(always)]
+fn offset_reduction(wrap: Wrap) -> Reduction {
+    match wrap {
+        Wrap::ClampToEdge => Reduction::WideClamp,
+        w => Reduction::Wrap(w),
+    }
+}
+
+/// How coordinates are reduced before their texels are found.
+#[derive(Clone, Copy)]
+enum Reduction {
+    Wrap(Wrap),
+    /// Clamp to `[−9, 10]` (see [`offset_reduction`]).
+    WideClamp,
+}
+
+impl From<Wrap> for Reduction {
+    fn from(w: Wrap) -> Reduction {
+        Reduction::Wrap(w)
+    }
+}
+
+/// Wraps texel index `i` of an axis of `n` texels, any `i` (offset texels).
+#[inline(always)]
+fn wrap_any(i: i32, n: u32, wrap: Wrap) -> u32 {
+    let n = n as i32;
+    (match wrap {
+        Wrap::Repeat => i.rem_euclid(n),
+        Wrap::ClampToEdge => i.clamp(0, n - 1),
+        Wrap::MirroredRepeat => {
+            let m = i.rem_euclid(2 * n);
+            if m < n { m } else { 2 * n - 1 - m }
+        }
+    }) as u32
+}
+
+/// [`nearest_texels`] with `offset` texels added before the wrap.
+#[inline(always)]
+fn nearest_texels_offset<const N: usize>(r: [f32; N], n: u32, wrap: Wrap, offset: i32) -> [u32; N] {
+    lanes(|i| wrap_any(floor_small(r[i] * n as f32).1 + offset, n, wrap))
+}
+
+/// [`linear_texels`] with `offset` texels added before the wrap.
+#[inline(always)]
+fn linear_texels_offset<const N: usize>(r: [f32; N], n: u32, wrap: Wrap, offset: i32) -> ([[u32; N]; 2], [u32; N]) {
+    let x = lanes::<f32, N>(|i| r[i] * n as f32 - 0.5);
+    let floors = lanes::<(f32, i32), N>(|i| floor_small(x[i]));
+    let alpha = lanes(|i| floor_small((x[i] - floors[i].0) * 256.0).1 as u32);
+    let x0 = lanes(|i| wrap_any(floors[i].1 + offset, n, wrap));
+    let x1 = lanes(|i| wrap_any(floors[i].1 + offset + 1, n, wrap));
+    ([x0, x1], alpha)
+}
+
 /// Reduces a quad's coordinates for `wrap` ([`reduce`]).
 #[inline(always)]
-fn reduce_quad<const N: usize>(u: [f32; N], wrap: Wrap) -> [f32; N] {
+fn reduce_quad<const N: usize>(u: [f32; N], wrap: impl Into<Reduction>) -> [f32; N] {
+    let wrap = match wrap.into() {
+        Reduction::Wrap(w) => w,
+        Reduction::WideClamp => return lanes(|i| if u[i].is_nan() { 0.0 } else { u[i].clamp(-9.0, 10.0) }),
+    };
     match wrap {
         Wrap::Repeat => lanes(|i| reduce(u[i], Wrap::Repeat)),
         Wrap::ClampToEdge => lanes(|i| reduce(u[i], Wrap::ClampToEdge)),

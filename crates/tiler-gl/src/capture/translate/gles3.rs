@@ -231,14 +231,20 @@ impl Translator {
             self.emit(Call::UnbindSampler { unit })?;
             return Ok(());
         }
-        let p = self.objects()?.samplers.get(&name).cloned().unwrap_or_default().sampler()?;
+        let object = self.objects()?.samplers.get(&name).cloned().unwrap_or_default();
+        let p = object.sampler()?;
         let (filter, wrap, mag_filter, wrap_t) = (p.min, p.wrap_s, Some(p.mag), Some(p.wrap_t));
-        self.emit(Call::BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare: p.compare })?;
+        // Only a non-default WRAP_R is written, so that older call lists read the same.
+        let wrap_r = match super::layered::wrap_r(object.wrap_r)? {
+            crate::call::Wrap::Repeat => None,
+            w => Some(w),
+        };
+        self.emit(Call::BindSampler { unit, filter, wrap, mag_filter, wrap_t, compare: p.compare, wrap_r })?;
         Ok(())
     }
 
-    /// `glSamplerParameter*`: filters and wraps (`GL_TEXTURE_WRAP_R` is ignored: textures are
-    /// 2D), depth comparison; level-of-detail ranges only at their defaults.
+    /// `glSamplerParameter*`: filters and wraps (`GL_TEXTURE_WRAP_R` wraps 3-D textures' r),
+    /// depth comparison; level-of-detail ranges only at their defaults.
     pub(super) fn sampler_parameter(&mut self, sampler: u32, pname: GlEnum, params: &Params) -> Fallible {
         let value = match params {
             Params::Int(v) if v.len() == 1 => v[0] as f32,
@@ -265,7 +271,10 @@ impl Translator {
             (0x2800, _) => s.mag = enumeration,
             (0x2802, _) => s.wrap[0] = enumeration,
             (0x2803, _) => s.wrap[1] = enumeration,
-            (0x8072, _) => {}
+            (0x8072, _) => {
+                super::layered::wrap_r(enumeration)?;
+                s.wrap_r = enumeration;
+            }
             // GL_TEXTURE_MIN_LOD / MAX_LOD at -1000 / 1000.
             (0x813a, -1000.0) | (0x813b, 1000.0) => {}
             (p, v) => return Err(format!("sampler parameter {p:#06x} = {v} is not supported")),

@@ -197,6 +197,7 @@ impl Texture {
             u: reduce_quad(u, sampler.wrap_u),
             v: reduce_quad(v, sampler.wrap_v),
             face_offsets: r.map(|r| self.layer_offset(array_layer(r, count))),
+            offset: [0, 0],
         }
     }
 

@@ -262,6 +262,7 @@ impl Texture {
             u: reduce_quad(selected.map(|(_, s, _)| s), Wrap::ClampToEdge),
             v: reduce_quad(selected.map(|(_, _, t)| t), Wrap::ClampToEdge),
             face_offsets: selected.map(|(offset, _, _)| offset),
+            offset: [0, 0],
         }
     }
 
