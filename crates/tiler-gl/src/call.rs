@@ -1695,6 +1695,22 @@ impl UniformValue {
     }
 
     /// Its components as floats (ints converted), in GL's order.
+    /// The components of an integer value as their 32 bits (`i32` two's complement), or
+    /// `None` for a float or matrix value.
+    pub fn integer_bits(&self) -> Option<Vec<u32>> {
+        Some(match self {
+            UniformValue::Int(v) => vec![*v as u32],
+            UniformValue::IVec2(v) => v.iter().map(|&c| c as u32).collect(),
+            UniformValue::IVec3(v) => v.iter().map(|&c| c as u32).collect(),
+            UniformValue::IVec4(v) => v.iter().map(|&c| c as u32).collect(),
+            UniformValue::UInt(v) => vec![*v],
+            UniformValue::UVec2(v) => v.to_vec(),
+            UniformValue::UVec3(v) => v.to_vec(),
+            UniformValue::UVec4(v) => v.to_vec(),
+            _ => return None,
+        })
+    }
+
     pub fn components(&self) -> Vec<f32> {
         match self {
             UniformValue::Float(v) => vec![*v],

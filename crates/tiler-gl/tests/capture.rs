@@ -1573,3 +1573,13 @@ fn float_probe_interpolation_is_within_two_ulps_of_llvmpipe() {
 fn probe_texture_grad_offsets_and_sampler_objects_match_llvmpipe() {
     check_probe_in("gles3-probe", "texfn");
 }
+
+// ---- The GLSL ES 3.00 probe scene every branch added to: integer and bit operations,
+// switch, do-while, struct arrays, non-square matrices, inverse/transpose, textureSize,
+// texelFetch (rows counted from the first uploaded), textureGrad, textureOffset, packing,
+// float bit casts, and a uint uniform beyond 2^24.
+
+#[test]
+fn probe_glsl3_more_matches_llvmpipe() {
+    check_probe_in("gles3-probe", "glsl3-more");
+}

@@ -165,7 +165,10 @@ fn fetch_lanes<const W: usize>(
     for lane in 0..lanes {
         let at = coord.map(|c| c[lane]);
         let texel = match binding {
-            Some(TextureBinding::Core(texture, _)) => texture.fetch(level[lane], at).map(|(v, _)| v),
+            Some(TextureBinding::Core(texture, _)) => {
+                let at = core_rows(texture, [[at[0]], [at[1]], [at[2]]], [level[lane]]).map(|c| c[0]);
+                texture.fetch(level[lane], at).map(|(v, _)| v)
+            }
             Some(TextureBinding::Integer(texture, _)) => texture.fetch(level[lane], at).map(|(v, _)| integer_texel(v)),
             Some(TextureBinding::Custom(source)) if at[2] == 0 => source.fetch(at[0], at[1], level[lane]),
             _ => None,
@@ -175,6 +178,20 @@ fn fetch_lanes<const W: usize>(
         }
     }
     out
+}
+
+/// `texelFetch` coordinates (GL's: row 0 is the first row uploaded) as a core texture's, whose
+/// rows run the other way (its v runs down; see [`TextureBinding::Core`]): `y` becomes
+/// `height − 1 − y` of the lane's level. Lanes of a level the texture lacks are left as they
+/// are (the fetch reads zeros there).
+fn core_rows<const W: usize>(texture: &Texture, mut coord: [[i32; W]; 3], level: [i32; W]) -> [[i32; W]; 3] {
+    for lane in 0..W {
+        let height = texture.size(level[lane])[1] as i32;
+        if height > 0 {
+            coord[1][lane] = height - 1 - coord[1][lane];
+        }
+    }
+    coord
 }
 
 /// `textureSize` of every lane: width, height and layers (1 for a 2D or cube texture), zeros
@@ -339,6 +356,40 @@ impl CompiledProgram {
             Some(Scalar::Int) => slots.iter_mut().zip(values).for_each(|(s, &v)| *s = crate::exec::int(v as i32)),
             Some(Scalar::UInt) => slots.iter_mut().zip(values).for_each(|(s, &v)| *s = crate::exec::uint(v as u32)),
             _ => slots.copy_from_slice(values),
+        }
+        Ok(())
+    }
+
+    /// Sets an `int`/`uint` uniform (scalar, vector or array element) from its components'
+    /// 32 bits, exactly whatever their size ([`CompiledProgram::set_uniform`] takes floats,
+    /// exact only to ±2²⁴).
+    ///
+    /// # Errors
+    /// No uniform at `location`, a uniform that is not of integers, or too many values.
+    pub fn set_uniform_integers(&self, uniforms: &mut UniformValues, location: u32, bits: &[u32]) -> Result<(), Error> {
+        let u = self
+            .uniforms
+            .iter()
+            .find(|u| (u.location..u.location + u.array_size as u32).contains(&location))
+            .ok_or_else(|| Error::Uniform(format!("no uniform at location {location}")))?;
+        if !matches!(u.ty.scalar(), Some(Scalar::Int | Scalar::UInt)) {
+            return Err(Error::Uniform(format!("uniform '{}' is a {}, not of integers", u.name, u.ty)));
+        }
+        let size = u.ty.size();
+        let element = (location - u.location) as usize;
+        let room = (u.array_size - element) * size;
+        if bits.len() > room || !bits.len().is_multiple_of(size) {
+            return Err(Error::Uniform(format!(
+                "uniform '{}' (location {location}): {} values for {} components of {}",
+                u.name,
+                bits.len(),
+                room,
+                u.ty
+            )));
+        }
+        let start = u.offset + element * size;
+        for (slot, &b) in uniforms.values[start..start + bits.len()].iter_mut().zip(bits) {
+            *slot = f32::from_bits(b);
         }
         Ok(())
     }
@@ -1054,6 +1105,7 @@ impl Env<8> for FragmentEnv<'_, '_> {
     fn fetch(&mut self, slot: usize, coord: [[i32; 8]; 3], level: [i32; 8]) -> [[f32; 8]; 4] {
         match &self.slots[slot] {
             Some(TextureBinding::Core(texture, _)) if !texture.is_cube() => {
+                let coord = core_rows(texture, coord, level);
                 self.frag.fetch(texture, level, coord).map(|c| c.0)
             }
             Some(TextureBinding::Integer(texture, _)) => {

@@ -1815,7 +1815,13 @@ void main() {
     let program = glsl(VS, FS);
     let mut uniforms = program.new_uniform_values();
     let (tw, th) = (5u32, 3u32);
-    let rgba: Vec<u8> = (0..tw * th).flat_map(|i| [0, (i * 13 + 7) as u8, 0, 255]).collect();
+    // GL texel i = y·w + x holds green i·13 + 7; a core texture's rows run the other way (its
+    // v runs down), so its row r is GL's row h − 1 − r, as the GL context uploads it.
+    let rgba: Vec<u8> = (0..th)
+        .rev()
+        .flat_map(|gl_y| (0..tw).map(move |x| gl_y * tw + x))
+        .flat_map(|i| [0, (i * 13 + 7) as u8, 0, 255])
+        .collect();
     let tex = Texture::from_rgba8(tw, th, &rgba, ColorSpace::Linear, MipChain::Box).unwrap();
     let int_format = tiler::IntFormat { channels: 2, bits: 16, signed: true };
     let (iw, ih) = (7u32, 2u32);

@@ -100,7 +100,14 @@ impl GlslProgram {
         if !value.is_finite() {
             return Err(format!("uniform '{name}' has a non-finite value {value:?}"));
         }
-        // Values travel to the program as floats: integers are exact to 2²⁴.
+        // An integer uniform takes the value's bits, exactly.
+        if matches!(info.ty.scalar(), Some(Scalar::Int | Scalar::UInt))
+            && let Some(bits) = value.integer_bits()
+        {
+            return program.set_uniform_integers(&mut self.uniforms, location, &bits).map_err(|e| e.to_string());
+        }
+        // Other values travel to the program as floats: integers are exact to 2²⁴ (a bool, a
+        // sampler's unit).
         let integer = matches!(
             value,
             UniformValue::Int(_)
