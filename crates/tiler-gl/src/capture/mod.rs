@@ -58,6 +58,12 @@
 //!   Level 0 only; `glGenerateMipmap` gives the context's mip chain, and the `*_MIPMAP_*`
 //!   minification filters use it (with a magnification filter of the same first word; a mipmap
 //!   filter on a texture without levels — incomplete in GL — is refused where it is drawn).
+//! - **GL ES 3.0 textures and targets**: integer formats (`R8UI` … `RGBA32I`, uploaded with
+//!   `*_INTEGER` formats, rendered to through `uvec4`/`ivec4` outputs, cleared by
+//!   `glClearBuffer{ui,i}v`, read by `glReadPixels(GL_RGBA_INTEGER)`),
+//!   `glVertexAttribIPointer`, 2-D array and 3-D textures (`glTexImage3D`, `glTexStorage3D`,
+//!   `glTexSubImage3D`, `WRAP_R`), and the packed and float formats `docs/captures.md` lists;
+//!   `glFramebufferTextureLayer` and transform feedback are refused by name.
 //! - **The window**: its size is the size of the first `glViewport` (apitrace records the
 //!   surface's size as a fake viewport when a context is first made current), unless
 //!   [`ReplayOptions::window`] says; RGBA8 with packed depth-stencil. `eglSwapBuffers` is
