@@ -160,6 +160,10 @@ impl TextureCache {
     pub fn access(&mut self, address: u64) -> bool {
         let hit = self.access_line(address >> self.line_shift);
         self.count(1, !hit as u64);
+        #[cfg(feature = "texture-cache-reference")]
+        if let Some(reference) = &mut self.reference {
+            reference.access(address);
+        }
         hit
     }
 
@@ -185,6 +189,12 @@ impl TextureCache {
     pub fn access_lines(&mut self, first_line: u64, lines: &[u32]) {
         let misses = self.read_lines(first_line, lines);
         self.count(lines.len() as u64, misses);
+        #[cfg(feature = "texture-cache-reference")]
+        if let Some(reference) = &mut self.reference {
+            for &line in lines {
+                reference.access((first_line + line as u64) << reference.line_shift);
+            }
+        }
     }
 
     /// [`Self::access_lines`] without counting: returns the misses. (Counts kept in registers
