@@ -269,6 +269,39 @@ fn written_prec(q: Option<&ast::TypeQualifier>) -> Option<Prec> {
     })
 }
 
+/// Whether a unary operation reads a float (not an int, uint or bool).
+fn float_operand(op: UnOp) -> bool {
+    !matches!(
+        op,
+        UnOp::Not
+            | UnOp::IToBool
+            | UnOp::INeg
+            | UnOp::IAbs
+            | UnOp::ISign
+            | UnOp::BitNot
+            | UnOp::IToF
+            | UnOp::UToF
+            | UnOp::HalfToF
+    )
+}
+
+/// Whether a unary operation gives a float.
+fn float_result(op: UnOp) -> bool {
+    !matches!(
+        op,
+        UnOp::Not
+            | UnOp::ToBool
+            | UnOp::IToBool
+            | UnOp::INeg
+            | UnOp::IAbs
+            | UnOp::ISign
+            | UnOp::BitNot
+            | UnOp::FToI
+            | UnOp::FToU
+            | UnOp::FToHalf
+    )
+}
+
 /// Whether a unary operation on binary16 operands gives a binary16 value (no rounding needed).
 fn exact_on_halves(op: UnOp) -> bool {
     matches!(
@@ -550,7 +583,7 @@ impl<'a> Compiler<'a> {
         self.konst(int(x))
     }
 
-    fn emit(&mut self, inst: Inst) {
+    fn emit(&mut self, mut inst: Inst) {
         self.emitted += 1;
         match &inst {
             // An inlined call ran its body once: what the body left holds after it.
@@ -559,7 +592,7 @@ impl<'a> Compiler<'a> {
             // (a phi in Mesa, of single precision).
             _ if !inst.is_straight_line() => {
                 let mut written = Vec::new();
-                written_within(&inst, &mut written);
+                written_within(&mut inst, &mut written);
                 for r in written {
                     self.holds_single.remove(&r);
                 }
@@ -618,31 +651,7 @@ impl<'a> Compiler<'a> {
             let half = self.halves.contains(&a);
             return self.lowered_result(d, prec, false, half);
         }
-        let float_in = !matches!(
-            op,
-            UnOp::Not
-                | UnOp::IToBool
-                | UnOp::INeg
-                | UnOp::IAbs
-                | UnOp::ISign
-                | UnOp::BitNot
-                | UnOp::IToF
-                | UnOp::UToF
-                | UnOp::HalfToF
-        );
-        let float_out = !matches!(
-            op,
-            UnOp::Not
-                | UnOp::ToBool
-                | UnOp::IToBool
-                | UnOp::INeg
-                | UnOp::IAbs
-                | UnOp::ISign
-                | UnOp::BitNot
-                | UnOp::FToI
-                | UnOp::FToU
-                | UnOp::FToHalf
-        );
+        let (float_in, float_out) = (float_operand(op), float_result(op));
         let lower = prec == Prec::Medium;
         if lower && float_in && float_out && !self.lowers(&[a]) {
             return self.single_precision(Recipe::Un(op, a), prec);
@@ -652,31 +661,7 @@ impl<'a> Compiler<'a> {
 
     /// [`Compiler::un`] with the lowering decided.
     fn un_at(&mut self, op: UnOp, a: Reg, prec: Prec, lower: bool) -> Reg {
-        let float_in = !matches!(
-            op,
-            UnOp::Not
-                | UnOp::IToBool
-                | UnOp::INeg
-                | UnOp::IAbs
-                | UnOp::ISign
-                | UnOp::BitNot
-                | UnOp::IToF
-                | UnOp::UToF
-                | UnOp::HalfToF
-        );
-        let float_out = !matches!(
-            op,
-            UnOp::Not
-                | UnOp::ToBool
-                | UnOp::IToBool
-                | UnOp::INeg
-                | UnOp::IAbs
-                | UnOp::ISign
-                | UnOp::BitNot
-                | UnOp::FToI
-                | UnOp::FToU
-                | UnOp::FToHalf
-        );
+        let (float_in, float_out) = (float_operand(op), float_result(op));
         let a = if lower && float_in { self.halved(a) } else { a };
         let d = self.temp();
         self.emit(Inst::Un(op, d, a));
@@ -3572,15 +3557,9 @@ impl Recipe {
 }
 
 /// Registers an instruction writes, its nested blocks' writes included.
-fn written_within(inst: &Inst, out: &mut Vec<Reg>) {
+fn written_within(inst: &mut Inst, out: &mut Vec<Reg>) {
     crate::hoist::writes(inst, &mut |r| out.push(r));
-    let nested: Vec<&Vec<Inst>> = match inst {
-        Inst::If(_, a, b) => vec![a, b],
-        Inst::Loop { cond_code, body, step, .. } => vec![cond_code, body, step],
-        Inst::Call(body) | Inst::Breakable(body) => vec![body],
-        _ => Vec::new(),
-    };
-    for block in nested {
+    for block in crate::hoist::blocks_mut(inst) {
         for inst in block {
             written_within(inst, out);
         }

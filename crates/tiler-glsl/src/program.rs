@@ -333,25 +333,8 @@ impl CompiledProgram {
     /// # Errors
     /// An unknown location, or more values than the uniform has from that element on.
     pub fn set_uniform(&self, uniforms: &mut UniformValues, location: u32, values: &[f32]) -> Result<(), Error> {
-        let u = self
-            .uniforms
-            .iter()
-            .find(|u| (u.location..u.location + u.array_size as u32).contains(&location))
-            .ok_or_else(|| Error::Uniform(format!("no uniform at location {location}")))?;
-        let size = u.ty.size();
-        let element = (location - u.location) as usize;
-        let room = (u.array_size - element) * size;
-        if values.len() > room || !values.len().is_multiple_of(size) {
-            return Err(Error::Uniform(format!(
-                "uniform '{}' (location {location}): {} values for {} components of {}",
-                u.name,
-                values.len(),
-                room,
-                u.ty
-            )));
-        }
-        let start = u.offset + element * size;
-        let slots = &mut uniforms.values[start..start + values.len()];
+        let (u, slots) = self.uniform_slots(location, values.len())?;
+        let slots = &mut uniforms.values[slots];
         match u.ty.scalar() {
             Some(Scalar::Int) => slots.iter_mut().zip(values).for_each(|(s, &v)| *s = crate::exec::int(v as i32)),
             Some(Scalar::UInt) => slots.iter_mut().zip(values).for_each(|(s, &v)| *s = crate::exec::uint(v as u32)),
@@ -367,31 +350,35 @@ impl CompiledProgram {
     /// # Errors
     /// No uniform at `location`, a uniform that is not of integers, or too many values.
     pub fn set_uniform_integers(&self, uniforms: &mut UniformValues, location: u32, bits: &[u32]) -> Result<(), Error> {
+        let (u, slots) = self.uniform_slots(location, bits.len())?;
+        if !matches!(u.ty.scalar(), Some(Scalar::Int | Scalar::UInt)) {
+            return Err(Error::Uniform(format!("uniform '{}' is a {}, not of integers", u.name, u.ty)));
+        }
+        for (slot, &b) in uniforms.values[slots].iter_mut().zip(bits) {
+            *slot = f32::from_bits(b);
+        }
+        Ok(())
+    }
+
+    /// The uniform at `location` and the slots `count` values set from there: whole
+    /// components, no more than the uniform has from that element on.
+    fn uniform_slots(&self, location: u32, count: usize) -> Result<(&UniformInfo, std::ops::Range<usize>), Error> {
         let u = self
             .uniforms
             .iter()
             .find(|u| (u.location..u.location + u.array_size as u32).contains(&location))
             .ok_or_else(|| Error::Uniform(format!("no uniform at location {location}")))?;
-        if !matches!(u.ty.scalar(), Some(Scalar::Int | Scalar::UInt)) {
-            return Err(Error::Uniform(format!("uniform '{}' is a {}, not of integers", u.name, u.ty)));
-        }
         let size = u.ty.size();
         let element = (location - u.location) as usize;
         let room = (u.array_size - element) * size;
-        if bits.len() > room || !bits.len().is_multiple_of(size) {
+        if count > room || !count.is_multiple_of(size) {
             return Err(Error::Uniform(format!(
-                "uniform '{}' (location {location}): {} values for {} components of {}",
-                u.name,
-                bits.len(),
-                room,
-                u.ty
+                "uniform '{}' (location {location}): {count} values for {room} components of {}",
+                u.name, u.ty
             )));
         }
         let start = u.offset + element * size;
-        for (slot, &b) in uniforms.values[start..start + bits.len()].iter_mut().zip(bits) {
-            *slot = f32::from_bits(b);
-        }
-        Ok(())
+        Ok((u, start..start + count))
     }
 
     /// The program's uniform blocks; a block's index is its place here.

@@ -209,28 +209,28 @@ impl<'a> Fragments<'a> {
     /// `level`, unfiltered, `(0, 0, 0, 0)` out of range (see `shade::texture::fetch`). The
     /// reads of every quad with a covered pixel go through the texture cache and the ledger.
     pub fn fetch(&mut self, texture: &Texture, level: [i32; 8], coord: [[i32; 8]; 3]) -> Vec4x8 {
-        let counted = self.covered.quads();
-        let mut out = [[0.0f32; 8]; 4];
-        for lane in 0..8 {
-            if let Some((value, address)) = texture.fetch(level[lane], coord.map(|c| c[lane])) {
-                if counted.contains(lane) {
-                    self.context.texture_cache.access(address);
-                }
-                for c in 0..4 {
-                    out[c][lane] = value[c];
-                }
-            }
-        }
-        out.map(F32x8)
+        self.fetch_lanes(level, coord, |level, at| texture.fetch(level, at)).map(F32x8)
     }
 
     /// [`Fragments::fetch`] of an integer texture: each channel's 32-bit pattern, zeros out of
     /// range.
     pub fn fetch_integer(&mut self, texture: &IntegerTexture, level: [i32; 8], coord: [[i32; 8]; 3]) -> [[u32; 8]; 4] {
+        self.fetch_lanes(level, coord, |level, at| texture.fetch(level, at))
+    }
+
+    /// Texel `coord` of level `level` in each lane through `read` (its value and modelled
+    /// address), the reads of covered quads' lanes counted in the texture cache; zeros where
+    /// `read` finds none.
+    fn fetch_lanes<T: Copy + Default>(
+        &mut self,
+        level: [i32; 8],
+        coord: [[i32; 8]; 3],
+        read: impl Fn(i32, [i32; 3]) -> Option<([T; 4], u64)>,
+    ) -> [[T; 8]; 4] {
         let counted = self.covered.quads();
-        let mut out = [[0u32; 8]; 4];
+        let mut out = [[T::default(); 8]; 4];
         for lane in 0..8 {
-            if let Some((value, address)) = texture.fetch(level[lane], coord.map(|c| c[lane])) {
+            if let Some((value, address)) = read(level[lane], coord.map(|c| c[lane])) {
                 if counted.contains(lane) {
                     self.context.texture_cache.access(address);
                 }

@@ -563,7 +563,7 @@ impl Texture {
         counted: LaneMask,
         cache: &mut TextureCache,
     ) -> Vec4x8 {
-        sample_group(simd, self, sampler, [u, v], counted, cache, &Lookup::default())
+        self.sample_with(simd, sampler, u, v, counted, cache, &Lookup::default())
     }
 
     /// [`Texture::sample`] with explicit derivatives or a texel offset ([`Lookup`]).
