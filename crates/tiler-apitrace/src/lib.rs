@@ -76,10 +76,11 @@
 //!   glGetProgramiv, glGetQueryiv, glGetQueryivEXT, glGetRenderbufferParameteriv,
 //!   glGetSamplerParameterfv, glGetSamplerParameteriv, glGetShaderInfoLog,
 //!   glGetShaderPrecisionFormat, glGetShaderSource, glGetShaderiv, glGetString, glGetStringi,
-//!   glGetTexParameterfv, glGetTexParameteriv, glGetUniformIndices, glGetUniformfv,
+//!   glGetTexParameterfv, glGetTexParameteriv, glGetTexLevelParameterfv,
+//!   glGetTexLevelParameteriv, glGetUniformIndices, glGetUniformfv,
 //!   glGetUniformiv, glGetUniformuiv, glGetVertexAttribPointerv, glGetVertexAttribfv,
 //!   glGetVertexAttribiv, glCheckFramebufferStatus, glIsBuffer, glIsEnabled, glIsFramebuffer,
-//!   glIsProgram, glIsQuery, glIsRenderbuffer, glIsSampler, glIsShader, glIsTexture,
+//!   glIsProgram, glIsQuery, glIsQueryEXT, glIsRenderbuffer, glIsSampler, glIsShader, glIsTexture,
 //!   glIsVertexArray, glIsVertexArrayOES, eglQueryString, eglQueryContext, eglQuerySurface,
 //!   eglQueryAPI, eglGetConfigAttrib.
 //! - *Reads the error flag*: glGetError, eglGetError.
@@ -108,8 +109,10 @@
 //! `glGetUniformLocation`, `glGetAttribLocation` and `glGetUniformBlockIndex` change nothing
 //! either, but their recorded return values are the names later calls use, so they decode to
 //! [`Command::UniformLocation`], [`Command::AttribLocation`] and
-//! [`Command::UniformBlockIndex`]. `glGetQueryObjectuiv` and `glReadPixels` read back too, but
-//! make a tiler render what is pending, so they decode to commands.
+//! [`Command::UniformBlockIndex`]. `glGetQueryObjectuiv` (and `EXT_disjoint_timer_query`'s
+//! `glGetQueryObject{i,ui,i64,ui64}vEXT`) and `glReadPixels` read back too, but make a tiler
+//! render what is pending, so they decode to commands; so does `glQueryCounterEXT`, whose
+//! query a later read waits for.
 
 pub mod gles;
 pub mod wire;

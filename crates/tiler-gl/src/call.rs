@@ -716,6 +716,13 @@ pub enum Call<D = Bytes> {
     SwapBehavior {
         behavior: SwapBehavior,
     },
+    /// The window changed size: the window surface gets new colour and depth-stencil images of
+    /// this size, whose contents are undefined (EGL resizes a window surface to its window's
+    /// size, OpenGL ES 3.0 §2.1.1 leaves when to the platform).
+    ResizeSurface {
+        width: u32,
+        height: u32,
+    },
     /// `glStartTilingQCOM`: until `end_tiling`, only the tiles meeting this rectangle are
     /// processed; `preserve` says which buffers' contents there must be loaded.
     StartTiling {
@@ -882,6 +889,7 @@ impl<D> Call<D> {
             SwapBuffers => "swap_buffers",
             RestoreState { .. } => "restore_state",
             SwapBehavior { .. } => "swap_behavior",
+            ResizeSurface { .. } => "resize_surface",
             StartTiling { .. } => "start_tiling",
             EndTiling { .. } => "end_tiling",
             CreateQuery { .. } => "create_query",
@@ -1039,6 +1047,7 @@ impl<D> Call<D> {
             SwapBuffers => SwapBuffers,
             RestoreState { state } => RestoreState { state },
             SwapBehavior { behavior } => SwapBehavior { behavior },
+            ResizeSurface { width, height } => ResizeSurface { width, height },
             StartTiling { x, y, width, height, preserve } => StartTiling { x, y, width, height, preserve },
             EndTiling { store } => EndTiling { store },
             CreateQuery { id } => CreateQuery { id },
@@ -1167,6 +1176,12 @@ pub enum EncodedFormat {
     /// `GL_UNSIGNED_INT_5_9_9_9_REV` texels (`GL_RGB9_E5`).
     #[serde(rename = "rgb9_e5")]
     Rgb9E5,
+    /// `EXT_texture_norm16`'s 16-bit normalised `R16`, `RG16`, `RGB16`, `RGBA16` of
+    /// `GL_UNSIGNED_SHORT` texels.
+    R16,
+    Rg16,
+    Rgb16,
+    Rgba16,
     Etc1Rgb8,
     Etc2Rgb8,
     #[serde(rename = "etc2_rgb8_a1")]
@@ -1233,6 +1248,10 @@ impl EncodedFormat {
             EncodedFormat::Rgb10A2 => T::Rgb10A2,
             EncodedFormat::R11fG11fB10f => T::Rg11B10Float,
             EncodedFormat::Rgb9E5 => T::Rgb9E5,
+            EncodedFormat::R16 => T::R16,
+            EncodedFormat::Rg16 => T::Rg16,
+            EncodedFormat::Rgb16 => T::Rgb16,
+            EncodedFormat::Rgba16 => T::Rgba16,
             EncodedFormat::Etc1Rgb8 => T::Etc1Rgb8,
             EncodedFormat::Etc2Rgb8 => T::Etc2Rgb8,
             EncodedFormat::Etc2Rgb8A1 => T::Etc2Rgb8A1,

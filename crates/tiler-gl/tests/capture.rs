@@ -1583,3 +1583,160 @@ fn probe_texture_grad_offsets_and_sampler_objects_match_llvmpipe() {
 fn probe_glsl3_more_matches_llvmpipe() {
     check_probe_in("gles3-probe", "glsl3-more");
 }
+
+/// `glPixelStorei(pname, value)`.
+fn pixel_store(w: &mut Writer, pname: (&'static str, u32), value: u64) {
+    w.call("glPixelStorei", &[("pname", e(pname.0, pname.1)), ("param", W::UInt(value))], None, false);
+}
+
+#[test]
+fn the_window_grows_to_a_viewport_that_reaches_past_it_as_apitraces_retrace_does() {
+    // The capture recorded a 4×4 window when the context was made current; the application's
+    // window was then resized to 8×6, which the capture shows only through its viewport.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    let first = swap(&mut w);
+    let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(8)), ("height", W::UInt(6))];
+    w.call("glViewport", &viewport, None, false);
+    clear(&mut w, [0.0, 1.0, 0.0, 1.0]);
+    swap(&mut w);
+    // A smaller viewport does not shrink it.
+    let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(2)), ("height", W::UInt(2))];
+    w.call("glViewport", &viewport, None, false);
+    clear(&mut w, [0.0, 0.0, 1.0, 1.0]);
+    swap(&mut w);
+
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!((frames[0].1, frames[0].2, frames[0].3), (first, 4, 4));
+    assert_eq!(frames[0].4, solid(4, 4, [255, 0, 0, 255]));
+    assert_eq!((frames[1].2, frames[1].3), (8, 6));
+    assert_eq!(frames[1].4, solid(8, 6, [0, 255, 0, 255]));
+    assert_eq!((frames[2].2, frames[2].3), (8, 6));
+    assert_eq!(frames[2].4, solid(8, 6, [0, 0, 255, 255]), "glClear ignores the viewport");
+}
+
+#[test]
+fn norm16_texels_upload_from_a_sub_rectangle_of_a_longer_client_image() {
+    // EXT_texture_norm16's R16 from GL_RED/GL_UNSIGNED_SHORT texels, as video players upload
+    // 10- and 16-bit planes; GL_UNPACK_ROW_LENGTH / SKIP_PIXELS / SKIP_ROWS pick a 1×1
+    // rectangle out of a 3×2 client image; a timer query around the draw changes nothing.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "precision highp float;\nuniform sampler2D plane;\n\
+                    void main() { gl_FragColor = vec4(texture2D(plane, vec2(0.5)).rgb, 1.0); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(1))], None, false);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    tex_parameter(&mut w, ("GL_TEXTURE_MAG_FILTER", 0x2800), ("GL_NEAREST", 0x2600));
+    pixel_store(&mut w, ("GL_UNPACK_ALIGNMENT", 0x0cf5), 2);
+    pixel_store(&mut w, ("GL_UNPACK_ROW_LENGTH", 0x0cf2), 3);
+    pixel_store(&mut w, ("GL_UNPACK_SKIP_PIXELS", 0x0cf4), 2);
+    pixel_store(&mut w, ("GL_UNPACK_SKIP_ROWS", 0x0cf3), 1);
+    // Row 1, texel 2 is 0x8080 (round(255 · 32896 / 65535) = 128); every other texel 0xffff.
+    let mut texels = vec![0xffu8; 12];
+    texels[10..12].copy_from_slice(&0x8080u16.to_le_bytes());
+    w.call(
+        "glTexImage2D",
+        &[
+            ("target", e("GL_TEXTURE_2D", 0x0de1)),
+            ("level", W::UInt(0)),
+            ("internalformat", e("GL_R16_EXT", 0x822a)),
+            ("width", W::UInt(1)),
+            ("height", W::UInt(1)),
+            ("border", W::UInt(0)),
+            ("format", e("GL_RED", 0x1903)),
+            ("type", e("GL_UNSIGNED_SHORT", 0x1403)),
+            ("pixels", W::Blob(texels)),
+        ],
+        None,
+        false,
+    );
+    w.call("glGenQueriesEXT", &[("n", W::UInt(1)), ("ids", W::Array(vec![W::UInt(4)]))], None, false);
+    let timer = [("target", e("GL_TIME_ELAPSED_EXT", 0x88bf))];
+    w.call("glBeginQueryEXT", &[timer[0].clone(), ("id", W::UInt(4))], None, false);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    w.call("glEndQueryEXT", &timer, None, false);
+    let result = [("id", W::UInt(4)), ("pname", e("GL_QUERY_RESULT", 0x8866)), ("params", W::Array(vec![W::UInt(1)]))];
+    w.call("glGetQueryObjectui64vEXT", &result, None, false);
+    swap(&mut w);
+
+    let (result, frames) = replay(&w);
+    let run = result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [128, 0, 0, 255]));
+    // Reading the timer's result waited for the GPU, as glFinish.
+    let ids: Vec<&str> = run.report.findings.iter().map(|f| f.id.as_str()).collect();
+    assert_eq!(run.report.findings_with("finish-stall").count(), 1, "{ids:?}");
+
+    // A row length too short for the skipped texels is an error naming the call.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(1))], None, false);
+    pixel_store(&mut w, ("GL_UNPACK_ROW_LENGTH", 0x0cf2), 2);
+    pixel_store(&mut w, ("GL_UNPACK_SKIP_PIXELS", 0x0cf4), 1);
+    let upload = w.call(
+        "glTexImage2D",
+        &[
+            ("target", e("GL_TEXTURE_2D", 0x0de1)),
+            ("level", W::UInt(0)),
+            ("internalformat", e("GL_RGBA", 0x1908)),
+            ("width", W::UInt(2)),
+            ("height", W::UInt(1)),
+            ("border", W::UInt(0)),
+            ("format", e("GL_RGBA", 0x1908)),
+            ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+            ("pixels", W::Blob(vec![0; 16])),
+        ],
+        None,
+        false,
+    );
+    let (result, _) = replay(&w);
+    let error = result.err().expect("the rectangle overruns the row");
+    assert_eq!(error.call(), Some(upload));
+    assert!(error.to_string().contains("GL_UNPACK_ROW_LENGTH"), "{error}");
+}
+
+#[test]
+fn an_attribute_may_point_into_a_buffer_before_its_storage_arrives() {
+    // glVertexAttribPointer into buffer 1 while it has no storage (GL allows it; video
+    // players set up their vertex arrays so), then glBufferData, then the draw.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "precision mediump float;\nvoid main() { gl_FragColor = vec4(0.0, 0.0, 1.0, 1.0); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    w.call("glGenBuffers", &[("n", W::UInt(1)), ("buffers", W::Array(vec![W::UInt(2)]))], None, false);
+    w.call("glBindBuffer", &[("target", e("GL_ARRAY_BUFFER", 0x8892)), ("buffer", W::UInt(2))], None, false);
+    let pointer = [
+        ("index", W::UInt(5)),
+        ("size", W::UInt(2)),
+        ("type", e("GL_FLOAT", 0x1406)),
+        ("normalized", W::Bool(false)),
+        ("stride", W::UInt(0)),
+        ("pointer", W::Null),
+    ];
+    w.call("glVertexAttribPointer", &pointer, None, false);
+    let triangle: Vec<u8> = [-1.0f32, -1.0, 3.0, -1.0, -1.0, 3.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let data = [
+        ("target", e("GL_ARRAY_BUFFER", 0x8892)),
+        ("size", W::UInt(24)),
+        ("data", W::Blob(triangle)),
+        ("usage", e("GL_STATIC_DRAW", 0x88e4)),
+    ];
+    w.call("glBufferData", &data, None, false);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [0, 0, 255, 255]));
+}

@@ -3040,6 +3040,16 @@ impl<'a> Compiler<'a> {
             arity(self, 2)?;
             return self.componentwise(name, args, |c, r| c.bin(op, r[0], r[1]));
         }
+        if name == "mix" && args.len() == 3 && args[2].ty.scalar() == Some(Scalar::Bool) {
+            // GLSL ES 3.00 §8.3: `mix(x, y, a)` with a boolean `a` selects, component by
+            // component, `y` where `a` is true and `x` where it is false.
+            let (x, y, a) = (&args[0], &args[1], &args[2]);
+            if x.ty != y.ty || x.ty.width().is_none() || x.ty.width() != a.ty.width() {
+                return self.fail(format!("mix({}, {}, {}): x and y must have a's shape", x.ty, y.ty, a.ty));
+            }
+            let regs = (0..x.regs.len()).map(|i| self.tri(TriOp::Select, a.regs[i], y.regs[i], x.regs[i])).collect();
+            return Ok(Value { ty: x.ty.clone(), regs });
+        }
         let triop = match name {
             "clamp" => Some(TriOp::Clamp),
             "mix" => Some(TriOp::Mix),

@@ -2093,3 +2093,28 @@ void main() { c = vec4(r0 + r3 + r6, r5) + vec4(r1, r4) + r2 + r7; }";
         assert!(error.contains(wanted) && error.contains("line 5"), "{line}: {error}");
     }
 }
+
+#[test]
+fn mix_with_a_boolean_selects_per_component() {
+    // GLSL ES 3.00 §8.3: mix(x, y, bvec) takes y where the bool is true, x where it is false
+    // (video players' debanding shaders use it); x and y must have the bools' shape.
+    const VS: &str = "#version 300 es
+in vec4 a;
+out vec4 r;
+void main() {
+    bvec4 pick = greaterThan(a, vec4(0.5));
+    r = mix(vec4(10.0, 20.0, 30.0, 40.0), a, pick) + vec4(mix(1.0, 2.0, a.x > 0.0), 0.0, 0.0, 0.0);
+    gl_Position = a;
+}";
+    const FS: &str = "#version 300 es
+precision highp float;
+in vec4 r;
+out vec4 color;
+void main() { color = r; }";
+    let got = run_vertex(VS, FS, [0.7, 0.2, 0.9, -1.0], |_, _| {});
+    assert_eq!(got, [0.7 + 2.0, 20.0, 0.9, 40.0]);
+    let Err(error) = CompiledProgram::new(&VS.replace("pick)", "pick.xy)"), FS, &[]) else {
+        panic!("mix of vec4 with a bvec2 compiled");
+    };
+    assert!(error.to_string().contains("mix(vec4, vec4, bvec2)"), "{error}");
+}

@@ -631,6 +631,10 @@ pub enum Command {
     EndQuery {
         target: GlEnum,
     },
+    /// `glQueryCounterEXT`: the GPU writes a timestamp into the query when it gets there.
+    QueryCounter {
+        query: u32,
+    },
     /// `glGetQueryObjectuiv[EXT]`: reading a query's result waits for the pass that holds it.
     GetQueryResult {
         query: u32,

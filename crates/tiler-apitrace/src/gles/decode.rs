@@ -647,9 +647,12 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
         "glDeleteQueries" | "glDeleteQueriesEXT" => C::DeleteQueries { names: a.u32s(1)? },
         "glBeginQuery" | "glBeginQueryEXT" => C::BeginQuery { target: a.enumeration(0)?, query: a.u32(1)? },
         "glEndQuery" | "glEndQueryEXT" => C::EndQuery { target: a.enumeration(0)? },
-        "glGetQueryObjectuiv" | "glGetQueryObjectuivEXT" => {
-            C::GetQueryResult { query: a.u32(0)?, pname: a.enumeration(1)? }
-        }
+        "glQueryCounterEXT" => C::QueryCounter { query: a.u32(0)? },
+        "glGetQueryObjectuiv"
+        | "glGetQueryObjectuivEXT"
+        | "glGetQueryObjectivEXT"
+        | "glGetQueryObjectui64vEXT"
+        | "glGetQueryObjecti64vEXT" => C::GetQueryResult { query: a.u32(0)?, pname: a.enumeration(1)? },
         "glStartTilingQCOM" => {
             C::StartTiling { x: a.u32(0)?, y: a.u32(1)?, width: a.u32(2)?, height: a.u32(3)?, preserve_mask: a.u32(4)? }
         }

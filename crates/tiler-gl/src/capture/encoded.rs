@@ -51,7 +51,7 @@ pub(super) fn compressed_format(internal_format: GlEnum) -> Fallible<(EncodedFor
 const GL_UNSIGNED_INT_2_10_10_10_REV: u32 = 0x8368;
 
 /// The packed type of `glTexImage2D` the context stores as uploaded (4444, 5551, 2_10_10_10,
-/// 10F_11F_11F, 5_9_9_9),
+/// 10F_11F_11F, 5_9_9_9, and the 16-bit normalised channels of `EXT_texture_norm16`),
 /// if `kind` is one (RGB565 is a texture format of its own).
 pub(super) fn packed_format(format: GlEnum, kind: GlEnum) -> Option<EncodedFormat> {
     match (format, kind) {
@@ -60,6 +60,12 @@ pub(super) fn packed_format(format: GlEnum, kind: GlEnum) -> Option<EncodedForma
         (texels::GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV) => Some(EncodedFormat::Rgb10A2),
         (texels::GL_RGB, 0x8c3b /* UNSIGNED_INT_10F_11F_11F_REV */) => Some(EncodedFormat::R11fG11fB10f),
         (texels::GL_RGB, 0x8c3e /* UNSIGNED_INT_5_9_9_9_REV */) => Some(EncodedFormat::Rgb9E5),
+        // EXT_texture_norm16 (GL ES 3.0's own UNSIGNED_SHORT colour formats are integer ones,
+        // uploaded as *_INTEGER).
+        (texels::GL_RED, texels::GL_UNSIGNED_SHORT) => Some(EncodedFormat::R16),
+        (texels::GL_RG, texels::GL_UNSIGNED_SHORT) => Some(EncodedFormat::Rg16),
+        (texels::GL_RGB, texels::GL_UNSIGNED_SHORT) => Some(EncodedFormat::Rgb16),
+        (texels::GL_RGBA, texels::GL_UNSIGNED_SHORT) => Some(EncodedFormat::Rgba16),
         _ => None,
     }
 }
@@ -79,12 +85,7 @@ fn compressed_bytes(data: &Memory, image_size: i32) -> Fallible<Bytes> {
 
 /// Packed texels of `format` (2 or 4 bytes each), `width × height`, rows bottom to top each
 /// starting at a multiple of `alignment`, packed tight.
-fn packed_texels(data: &Memory, format: EncodedFormat, width: u32, height: u32, alignment: u32) -> Fallible<Bytes> {
-    let bytes = match data {
-        Memory::Client(bytes) => bytes,
-        Memory::Null => return Err("no texels (a null pointer) for a packed 16-bit texture".into()),
-        Memory::Offset(_) => return Err("texels from a pixel unpack buffer are not supported".into()),
-    };
+fn packed_texels(bytes: &[u8], format: EncodedFormat, width: u32, height: u32, alignment: u32) -> Fallible<Bytes> {
     let row = width as usize * texel_bytes(format);
     let stride = row.div_ceil(alignment.max(1) as usize) * alignment.max(1) as usize;
     let needed = if height == 0 { 0 } else { stride * (height as usize - 1) + row };
@@ -105,6 +106,17 @@ pub(super) fn texel_bytes(format: EncodedFormat) -> usize {
 }
 
 impl Translator {
+    /// An upload's packed texels from client memory, under the unpack state.
+    fn client_packed_texels(&self, pixels: &Memory, format: EncodedFormat, size: (u32, u32)) -> Fallible<Bytes> {
+        let bytes = match pixels {
+            Memory::Client(bytes) => bytes,
+            Memory::Null => return Err("no texels (a null pointer) for a packed texture".into()),
+            Memory::Offset(_) => return Err("texels from a pixel unpack buffer are not supported".into()),
+        };
+        let (bytes, alignment) = self.unpacked(bytes, size, texel_bytes(format))?;
+        packed_texels(&bytes, format, size.0, size.1, alignment)
+    }
+
     /// `glCompressedTexImage2D` (level 0 gives the bound texture new storage) and
     /// `glTexImage2D` of packed texels (`data` already read): an `encoded_tex_image`.
     pub(super) fn encoded_tex_image(
@@ -185,7 +197,7 @@ impl Translator {
         let data = match pixels {
             // Storage without texels (GL leaves them undefined): zeros, for glTexSubImage2D.
             Memory::Null => Bytes::from(vec![0u8; size.0 as usize * size.1 as usize * texel_bytes(format)]),
-            _ => packed_texels(pixels, format, size.0, size.1, self.unpack_alignment())?,
+            _ => self.client_packed_texels(pixels, format, size)?,
         };
         self.encoded_tex_image(level, size, (format, false), data)
     }
@@ -198,7 +210,7 @@ impl Translator {
         format: EncodedFormat,
         pixels: &Memory,
     ) -> Fallible {
-        let data = packed_texels(pixels, format, width, height, self.unpack_alignment())?;
+        let data = self.client_packed_texels(pixels, format, (width, height))?;
         let name = self.bound_texture()?;
         let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
         self.emit(Call::EncodedTexSubImage { id, x, y, width, height, format, data })?;
@@ -227,7 +239,7 @@ mod tests {
     #[test]
     fn packed_rows_drop_their_alignment_and_sizes_are_checked() {
         // 3×2 texels of 2 bytes: rows of 6 bytes, 8 apart with an alignment of 4.
-        let data = Memory::Client((0..14u8).collect());
+        let data: Vec<u8> = (0..14u8).collect();
         let packed = packed_texels(&data, EncodedFormat::Rgba4444, 3, 2, 4).unwrap();
         assert_eq!(&packed[..], &[0, 1, 2, 3, 4, 5, 8, 9, 10, 11, 12, 13]);
         assert!(packed_texels(&data, EncodedFormat::Rgba4444, 4, 2, 4).is_err());

@@ -4,7 +4,8 @@
 mod cube;
 mod layered;
 
-use std::collections::HashMap;
+use std::borrow::Cow;
+use std::collections::{HashMap, HashSet};
 
 use tiler::{BlendFactor, BlendOp, CompareOp, StencilOp};
 use tiler_apitrace::GlesCall;
@@ -222,6 +223,8 @@ struct Objects {
     deleted_shaders: Vec<u32>,
     programs: HashMap<u32, Program>,
     queries: HashMap<u32, u32>,
+    /// Queries last begun as `GL_TIME_ELAPSED_EXT` timers (`EXT_disjoint_timer_query`).
+    timer_queries: HashSet<u32>,
     /// Vertex array object names → the context's ids.
     vertex_arrays: HashMap<u32, u32>,
     /// Sampler objects: their sampling parameters (a texture's, unused fields aside).
@@ -264,6 +267,11 @@ struct Bindings {
     read_framebuffer: u32,
     program: u32,
     unpack_alignment: u32,
+    /// `GL_UNPACK_ROW_LENGTH`, `GL_UNPACK_SKIP_ROWS`, `GL_UNPACK_SKIP_PIXELS` (GL ES 3.0
+    /// §3.7.1, `EXT_unpack_subimage`): a sub-rectangle of a larger client image.
+    unpack_row_length: u32,
+    unpack_skip_rows: u32,
+    unpack_skip_pixels: u32,
     enabled_attribs: [bool; MAX_VERTEX_ATTRIBS as usize],
     /// Attributes pointing at client memory whose bytes the capture has not (yet) recorded.
     unrecorded_client_attribs: [bool; MAX_VERTEX_ATTRIBS as usize],
@@ -297,6 +305,9 @@ impl Default for Bindings {
             read_framebuffer: 0,
             program: 0,
             unpack_alignment: 4,
+            unpack_row_length: 0,
+            unpack_skip_rows: 0,
+            unpack_skip_pixels: 0,
             enabled_attribs: [false; MAX_VERTEX_ATTRIBS as usize],
             unrecorded_client_attribs: [false; MAX_VERTEX_ATTRIBS as usize],
             divisors: [0; MAX_VERTEX_ATTRIBS as usize],
@@ -315,6 +326,10 @@ pub struct Translator {
     /// The context records the calls it is given (`ReplayOptions::record`).
     record: bool,
     window: Option<(u32, u32)>,
+    /// Whether the window grows to a viewport or scissor reaching past it while the window is
+    /// bound for drawing, as apitrace's retrace resizes its window (not when the caller gave
+    /// the size, nor for a pbuffer surface).
+    window_grows: bool,
     ctx: Option<Context>,
     /// EGL context handle → generation.
     generations: HashMap<EglHandle, u32>,
@@ -344,6 +359,7 @@ impl Translator {
             config,
             record,
             window,
+            window_grows: window.is_none(),
             ctx: None,
             generations: HashMap::new(),
             objects: HashMap::new(),
@@ -495,6 +511,7 @@ impl Translator {
                 if self.ctx.is_none() && self.window.is_none() {
                     self.window = Some((width, height));
                 }
+                self.window_grows = false;
                 self.window_surface = Some(*surface);
             }
             C::DestroySurface { .. } => {}
@@ -625,7 +642,17 @@ impl Translator {
                 self.bindings.unrecorded_client_attribs[slot] = false;
                 if self.bindings.array_buffer != 0 {
                     let name = self.bindings.array_buffer;
-                    let buffer = self.buffer_id(name)?.ok_or_else(|| format!("buffer {name} has no storage"))?;
+                    let buffer = match self.buffer_id(name)? {
+                        Some(id) => id,
+                        None => {
+                            // GL takes a pointer into a buffer whose storage comes later
+                            // (glBufferData): an empty buffer now, its data when it comes.
+                            let id = self.fresh_id();
+                            self.emit(Call::CreateBuffer { id, data: Bytes::from(Vec::new()) })?;
+                            self.objects()?.buffers.insert(name, Some(id));
+                            id
+                        }
+                    };
                     let offset = match pointer {
                         Memory::Null => 0,
                         Memory::Offset(offset) => *offset,
@@ -748,11 +775,18 @@ impl Translator {
             {
                 check_2d_level0(*target, 0)?;
                 // The unsized format, or GL ES 3.0's sized RGBA4, RGB5_A1, RGB10_A2,
-                // R11F_G11F_B10F, RGB9_E5 of their packed types.
+                // R11F_G11F_B10F, RGB9_E5 of their packed types, or EXT_texture_norm16's R16,
+                // RG16, RGB16, RGBA16 of theirs.
                 let sized = matches!(
                     (*internal_format, *kind),
                     (0x8056, 0x8033) | (0x8057, 0x8034) | (0x8059, 0x8368) | (0x8c3a, 0x8c3b) | (0x8c3d, 0x8c3e)
-                );
+                ) || matches!(
+                    (*internal_format, *format),
+                    (0x822a, texels::GL_RED)
+                        | (0x822c, texels::GL_RG)
+                        | (0x8054, texels::GL_RGB)
+                        | (0x805b, texels::GL_RGBA)
+                ) && *kind == texels::GL_UNSIGNED_SHORT;
                 if *border != 0 || (internal_format != format && !sized) {
                     return Err(format!(
                         "border {border} must be 0, internal format {internal_format:#06x} the format"
@@ -879,7 +913,8 @@ impl Translator {
             C::TexStorage2D {
                 target,
                 levels: 1,
-                internal_format: internal @ (0x8056 | 0x8057 | 0x8059 | 0x8c3a | 0x8c3d),
+                internal_format:
+                    internal @ (0x8056 | 0x8057 | 0x8059 | 0x8c3a | 0x8c3d | 0x822a | 0x822c | 0x8054 | 0x805b),
                 width,
                 height,
             } => {
@@ -891,6 +926,10 @@ impl Translator {
                     0x8057 => EncodedFormat::Rgba5551,
                     0x8059 => EncodedFormat::Rgb10A2,
                     0x8c3a => EncodedFormat::R11fG11fB10f,
+                    0x822a => EncodedFormat::R16,
+                    0x822c => EncodedFormat::Rg16,
+                    0x8054 => EncodedFormat::Rgb16,
+                    0x805b => EncodedFormat::Rgba16,
                     _ => EncodedFormat::Rgb9E5,
                 };
                 let (width, height) = size2(*width, *height)?;
@@ -975,6 +1014,11 @@ impl Translator {
             }
             C::PixelStore { pname, param } => match (*pname, *param) {
                 (0x0cf5, a @ (1 | 2 | 4 | 8)) => self.bindings.unpack_alignment = a as u32,
+                (0x0cf2, n @ 0..) => self.bindings.unpack_row_length = n as u32,
+                (0x0cf3, n @ 0..) => self.bindings.unpack_skip_rows = n as u32,
+                (0x0cf4, n @ 0..) => self.bindings.unpack_skip_pixels = n as u32,
+                // GL_UNPACK_IMAGE_HEIGHT and GL_UNPACK_SKIP_IMAGES at their defaults.
+                (0x806e | 0x806d, 0) => {}
                 // GL_PACK_ALIGNMENT: read-backs return RGBA8 rows, whose length is a multiple
                 // of every alignment.
                 (0x0d05, 1 | 2 | 4 | 8) => {}
@@ -1295,10 +1339,12 @@ impl Translator {
                 if self.ctx.is_none() && self.window.is_none() {
                     self.window = Some((w, h));
                 }
+                self.grow_window(*x, *y, w, h)?;
                 self.emit(Call::Viewport { x: *x, y: *y, width: w, height: h })?;
             }
             C::Scissor { x, y, width, height } => {
                 let (width, height) = size2(*width, *height)?;
+                self.grow_window(*x, *y, width, height)?;
                 self.emit(Call::Scissor { x: *x, y: *y, width, height })?;
             }
             C::DepthFunc { func } => {
@@ -1416,20 +1462,47 @@ impl Translator {
             }
             C::DeleteQueries { names } => {
                 for &name in names {
+                    self.objects()?.timer_queries.remove(&name);
                     if let Some(id) = self.objects()?.queries.remove(&name) {
                         self.emit(Call::DeleteQuery { id })?;
                     }
                 }
             }
+            // A timer query (`EXT_disjoint_timer_query`) measures the GPU's time, which tiler
+            // does not model as GL reports it: it changes nothing drawn or stored. Reading its
+            // result waits for the GPU to finish the measured commands, as glFinish.
+            C::BeginQuery { target: GL_TIME_ELAPSED, query } => {
+                self.query_id(*query)?;
+                self.objects()?.timer_queries.insert(*query);
+            }
+            C::EndQuery { target: GL_TIME_ELAPSED } => {}
+            C::QueryCounter { query } => {
+                self.query_id(*query)?;
+                self.objects()?.timer_queries.insert(*query);
+            }
             C::BeginQuery { target, query } => {
                 if ![0x8c2f, 0x8d6a].contains(target) {
-                    return Err(format!("query target {target:#06x}: only GL_ANY_SAMPLES_PASSED is supported"));
+                    return Err(format!(
+                        "query target {target:#06x}: only GL_ANY_SAMPLES_PASSED(_CONSERVATIVE) and \
+                         GL_TIME_ELAPSED_EXT are supported"
+                    ));
                 }
                 let id = self.query_id(*query)?;
+                self.objects()?.timer_queries.remove(query);
                 self.emit(Call::BeginQuery { id })?;
             }
             C::EndQuery { .. } => {
                 self.emit(Call::EndQuery)?;
+            }
+            C::GetQueryResult { query, pname } if self.objects()?.timer_queries.contains(query) => {
+                self.query_id(*query)?;
+                match *pname {
+                    0x8866 => {
+                        self.emit(Call::Finish)?;
+                    }
+                    0x8867 => {}
+                    p => return Err(format!("query parameter {p:#06x} is not supported")),
+                }
             }
             C::GetQueryResult { query, pname } => {
                 let id = self.query_id(*query)?;
@@ -1778,8 +1851,65 @@ impl Translator {
         Ok(())
     }
 
-    pub(super) fn unpack_alignment(&self) -> u32 {
-        self.bindings.unpack_alignment
+    /// A viewport or scissor rectangle on the window that reaches past it grows the window to
+    /// hold it, as apitrace's retrace does (its `updateDrawable`): a capture records the
+    /// window's size when its context was first made current, and an application whose
+    /// window was resized later says so only through its viewports.
+    fn grow_window(&mut self, x: i32, y: i32, width: u32, height: u32) -> Fallible {
+        if !self.window_grows || self.ctx.is_none() || self.bindings.draw_framebuffer != 0 {
+            return Ok(());
+        }
+        let Some((w, h)) = self.window else { return Ok(()) };
+        let (right, top) = (x as i64 + width as i64, y as i64 + height as i64);
+        if right <= 0 || top <= 0 || (right <= w as i64 && top <= h as i64) {
+            return Ok(());
+        }
+        let size = (size_limit(right.max(w as i64))?, size_limit(top.max(h as i64))?);
+        self.emit(Call::ResizeSurface { width: size.0, height: size.1 })?;
+        self.window = Some(size);
+        Ok(())
+    }
+
+    /// The `width × height` texels of `texel_bytes` each that an upload reads from `bytes` under
+    /// the unpack state, and the alignment of their rows: `bytes` as given when no row length
+    /// or skip is set, else the rows copied out tight (alignment 1).
+    pub(super) fn unpacked<'a>(
+        &self,
+        bytes: &'a [u8],
+        (width, height): (u32, u32),
+        texel_bytes: usize,
+    ) -> Fallible<(Cow<'a, [u8]>, u32)> {
+        let b = &self.bindings;
+        if b.unpack_row_length == 0 && b.unpack_skip_rows == 0 && b.unpack_skip_pixels == 0 {
+            return Ok((Cow::Borrowed(bytes), b.unpack_alignment));
+        }
+        let row_texels = if b.unpack_row_length > 0 { b.unpack_row_length } else { width };
+        if b.unpack_skip_pixels as u64 + width as u64 > row_texels as u64 {
+            return Err(format!(
+                "{width} texels a row from texel {} of rows {row_texels} long (GL_UNPACK_ROW_LENGTH) overrun the row",
+                b.unpack_skip_pixels
+            ));
+        }
+        let align = b.unpack_alignment as u64;
+        let stride = (row_texels as u64 * texel_bytes as u64).div_ceil(align) * align;
+        let row = width as u64 * texel_bytes as u64;
+        let first = b.unpack_skip_rows as u64 * stride + b.unpack_skip_pixels as u64 * texel_bytes as u64;
+        let needed = if height == 0 { 0 } else { first + (height as u64 - 1) * stride + row };
+        if (bytes.len() as u64) < needed {
+            return Err(format!(
+                "{} bytes of texels, but {width}×{height} from rows of {row_texels} texels aligned to {align}, \
+                 skipping {} rows and {} texels, needs {needed}",
+                bytes.len(),
+                b.unpack_skip_rows,
+                b.unpack_skip_pixels
+            ));
+        }
+        let mut out = Vec::with_capacity((row * height as u64) as usize);
+        for y in 0..height as u64 {
+            let start = (first + y * stride) as usize;
+            out.extend_from_slice(&bytes[start..start + row as usize]);
+        }
+        Ok((Cow::Owned(out), 1))
     }
 
     /// Refuses to render or copy into a red/green texture (see [`Texture::red_green`]).
@@ -1823,7 +1953,8 @@ impl Translator {
         match pixels {
             Memory::Null => Ok(None),
             Memory::Client(bytes) => {
-                Ok(Some(Bytes::from(upload.convert(bytes, width, height, self.bindings.unpack_alignment)?)))
+                let (bytes, alignment) = self.unpacked(bytes, (width, height), upload.client_bytes)?;
+                Ok(Some(Bytes::from(upload.convert(&bytes, width, height, alignment)?)))
             }
             Memory::Offset(_) => Err("texels from a pixel unpack buffer are not supported".into()),
         }
@@ -1859,6 +1990,18 @@ impl Translator {
         self.objects()?.queries.get(&name).copied().ok_or_else(|| format!("query {name} does not exist"))
     }
 }
+
+/// A window dimension, refused beyond what any surface could be.
+fn size_limit(v: i64) -> Fallible<u32> {
+    const MAX: i64 = 16384;
+    if v > MAX {
+        return Err(format!("a viewport or scissor reaching {v} pixels would grow the window past {MAX}"));
+    }
+    Ok(v as u32)
+}
+
+/// `GL_TIME_ELAPSED_EXT`, a timer query's target.
+const GL_TIME_ELAPSED: GlEnum = 0x88bf;
 
 /// The name `glUniform*v` sets for element `k` of `count` at a location named `name`.
 fn element_name(name: &str, k: usize, count: usize) -> Fallible<String> {

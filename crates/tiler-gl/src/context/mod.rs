@@ -1095,6 +1095,7 @@ impl Context {
             SwapBuffers => self.swap_buffers()?,
             RestoreState { state } => self.restore_state(state)?,
             SwapBehavior { behavior } => self.swap_behavior = behavior,
+            ResizeSurface { width, height } => self.resize_surface(width, height)?,
             StartTiling { x, y, width, height, preserve } => self.start_tiling([x, y], [width, height], preserve)?,
             EndTiling { store } => self.end_tiling(store)?,
             CreateQuery { id } => {
@@ -1175,6 +1176,54 @@ impl Context {
 
     fn texture_mut(&mut self, id: u32) -> Fallible<&mut TextureObject> {
         self.textures.get_mut(&id).ok_or_else(|| format!("texture {id} does not exist"))
+    }
+
+    /// `resize_surface`: new window images of `width × height` (contents undefined) in place
+    /// of the old ones, after the open pass on the window (if any) has been rendered.
+    fn resize_surface(&mut self, width: u32, height: u32) -> Fallible {
+        if (width, height) == (self.config.width, self.config.height) {
+            return Ok(());
+        }
+        if self.pass.as_ref().is_some_and(|p| p.framebuffer == 0) {
+            self.flush_open_pass(crate::report::FlushCause::AttachmentChange)?;
+        }
+        let samples = self.config.samples;
+        let depth_stencil = match self.config.depth_stencil_format {
+            Some(format) => Some((self.alloc_image(width, height, format, samples)?, format)),
+            None => None,
+        };
+        let color_format = self.config.color_format;
+        let (color, presented) = if samples > 1 {
+            let msaa = self.alloc_image(width, height, color_format, samples)?;
+            let resolve = self.alloc_image(width, height, color_format, 1)?;
+            (AttachmentRef::SurfaceMultisample { samples: msaa, resolve }, resolve)
+        } else {
+            let image = self.alloc_image(width, height, color_format, 1)?;
+            (AttachmentRef::Surface(image), image)
+        };
+        let fb = self.framebuffers.get_mut(&0).expect("the window's framebuffer always exists");
+        let mut old = Vec::new();
+        for attachment in fb.color.iter().chain([&fb.depth, &fb.stencil]).flatten() {
+            match *attachment {
+                AttachmentRef::Surface(image) => old.push(image),
+                AttachmentRef::SurfaceMultisample { samples, resolve } => old.extend([samples, resolve]),
+                _ => {}
+            }
+        }
+        fb.color[0] = Some(color);
+        let r = depth_stencil.map(|(image, _)| AttachmentRef::Surface(image));
+        fb.depth = depth_stencil.filter(|(_, f)| f.has_depth()).and(r);
+        fb.stencil = depth_stencil.filter(|(_, f)| f.has_stencil()).and(r);
+        old.sort_unstable();
+        old.dedup();
+        for image in old {
+            self.retire_image(image);
+        }
+        self.surface_color = presented;
+        self.surface_depth_stencil = depth_stencil.map(|(image, _)| image);
+        self.config.width = width;
+        self.config.height = height;
+        Ok(())
     }
 
     // --- memory ----------------------------------------------------------------------------

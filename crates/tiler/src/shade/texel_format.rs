@@ -16,6 +16,9 @@
 //!   8-bit display shows for the UNORM value `c / (2^n − 1)` that GL samples (for 4 bits that
 //!   is `c · 17` exactly; 10-bit channels lose their two low bits of precision to the 8-bit
 //!   sampler). Missing alpha is 255.
+//! - **R16, RG16, RGB16, RGBA16** (`EXT_texture_norm16`, little-endian `u16` channels): each
+//!   as the 10-bit channels above, `round(255 · c / 65535)`; missing green and blue are 0,
+//!   missing alpha 255.
 //! - **R11F_G11F_B10F, RGB9_E5** (GL's packed unsigned floats, a little-endian `u32`): each
 //!   channel decoded to its float and then as RGBA16F below; alpha 255.
 //! - **RGBA16F, RGBA32F, R32F** (little-endian halves or floats): each channel clamped to
@@ -54,6 +57,14 @@ pub enum TexelFormat {
     /// 4 bytes (GL's `RGB10_A2` of `UNSIGNED_INT_2_10_10_10_REV`, a little-endian `u32`): red
     /// the low 10 bits, then green and blue 10 each, alpha the top 2.
     Rgb10A2,
+    /// 2 bytes (`EXT_texture_norm16`'s `R16`, a little-endian `u16`): red.
+    R16,
+    /// 4 bytes (`RG16`): red, green, 16 bits each.
+    Rg16,
+    /// 6 bytes (`RGB16`): red, green, blue, 16 bits each.
+    Rgb16,
+    /// 8 bytes (`RGBA16`): red, green, blue, alpha, 16 bits each.
+    Rgba16,
     /// 4 bytes (GL's `R11F_G11F_B10F` of `UNSIGNED_INT_10F_11F_11F_REV`): unsigned floats,
     /// red 11 bits (5 exponent, 6 mantissa) low, green 11, blue 10 (5, 5) high.
     Rg11B10Float,
@@ -140,6 +151,10 @@ impl TexelFormat {
             TexelFormat::Rgba4444 => "RGBA4444".into(),
             TexelFormat::Rgba5551 => "RGBA5551".into(),
             TexelFormat::Rgb10A2 => "RGB10_A2".into(),
+            TexelFormat::R16 => "R16".into(),
+            TexelFormat::Rg16 => "RG16".into(),
+            TexelFormat::Rgb16 => "RGB16".into(),
+            TexelFormat::Rgba16 => "RGBA16".into(),
             TexelFormat::Rg11B10Float => "R11F_G11F_B10F".into(),
             TexelFormat::Rgb9E5 => "RGB9_E5".into(),
             TexelFormat::Rgba16Float => "RGBA16F".into(),
@@ -197,9 +212,11 @@ impl TexelFormat {
             | TexelFormat::R32Float
             | TexelFormat::Rgb10A2
             | TexelFormat::Rg11B10Float
-            | TexelFormat::Rgb9E5 => texels(4),
-            TexelFormat::Rgb565 | TexelFormat::Rgba4444 | TexelFormat::Rgba5551 => texels(2),
-            TexelFormat::Rgba16Float => texels(8),
+            | TexelFormat::Rgb9E5
+            | TexelFormat::Rg16 => texels(4),
+            TexelFormat::Rgb565 | TexelFormat::Rgba4444 | TexelFormat::Rgba5551 | TexelFormat::R16 => texels(2),
+            TexelFormat::Rgb16 => texels(6),
+            TexelFormat::Rgba16Float | TexelFormat::Rgba16 => texels(8),
             TexelFormat::Rgba32Float => texels(16),
             TexelFormat::Etc1Rgb8 | TexelFormat::Etc2Rgb8 | TexelFormat::Etc2Rgb8A1 | TexelFormat::EacR11 => {
                 blocks(4, 4, 8)
@@ -262,6 +279,13 @@ impl TexelFormat {
                 let v = u32::from_le_bytes([t[0], t[1], t[2], t[3]]);
                 [unorm_bits(v, 10), unorm_bits(v >> 10, 10), unorm_bits(v >> 20, 10), unorm_bits(v >> 30, 2)]
             }),
+            TexelFormat::R16 => texels(2, &|t| [unorm_bits(packed(t), 16), 0, 0, 255]),
+            TexelFormat::Rg16 => texels(4, &|t| [unorm_bits(packed(t), 16), unorm_bits(packed(&t[2..]), 16), 0, 255]),
+            TexelFormat::Rgb16 => texels(6, &|t| {
+                let [r, g, b] = [0, 2, 4].map(|i| unorm_bits(packed(&t[i..]), 16));
+                [r, g, b, 255]
+            }),
+            TexelFormat::Rgba16 => texels(8, &|t| [0, 2, 4, 6].map(|i| unorm_bits(packed(&t[i..]), 16))),
             TexelFormat::Rg11B10Float => texels(4, &|t| {
                 let v = u32::from_le_bytes([t[0], t[1], t[2], t[3]]);
                 let [r, g, b] = [(v, 6), (v >> 11, 6), (v >> 22, 5)].map(|(c, m)| unsigned_float(c, m));
@@ -377,6 +401,18 @@ mod tests {
         let v: u32 = 1023 | (512 << 20) | (1 << 30);
         assert_eq!(TexelFormat::Rgb10A2.decode(1, 1, &v.to_le_bytes()).unwrap(), [[255, 0, 128, 85]]);
         assert_eq!(TexelFormat::Rgb10A2.layout().texel_bytes, 4);
+        // 16-bit channels: 0x8080 → round(255 · 32896 / 65535) = 128, 0x807f → 128 too
+        // (127.99), 0x7f7f → 127; missing green and blue 0, missing alpha 255.
+        let words = |w: &[u16]| w.iter().flat_map(|v| v.to_le_bytes()).collect::<Vec<u8>>();
+        assert_eq!(
+            TexelFormat::R16.decode(2, 1, &words(&[0x8080, 0xffff])).unwrap(),
+            [[128, 0, 0, 255], [255, 0, 0, 255]]
+        );
+        assert_eq!(TexelFormat::Rg16.decode(1, 1, &words(&[0x807f, 0x7f7f])).unwrap(), [[128, 127, 0, 255]]);
+        assert_eq!(TexelFormat::Rgb16.decode(1, 1, &words(&[0, 0xffff, 0x8080])).unwrap(), [[0, 255, 128, 255]]);
+        assert_eq!(TexelFormat::Rgba16.decode(1, 1, &words(&[1, 2, 3, 0x8080])).unwrap(), [[0, 0, 0, 128]]);
+        assert_eq!(TexelFormat::Rgb16.layout().texel_bytes, 6);
+        assert!(TexelFormat::Rgba16.decode(1, 1, &words(&[1, 2, 3])).is_err());
         // 1.0 (exponent 15), 0.5 (14, in green), 0.25 (13, in the 10-bit blue).
         let v: u32 = (15 << 6) | ((14 << 6) << 11) | ((13 << 5) << 22);
         assert_eq!(TexelFormat::Rg11B10Float.decode(1, 1, &v.to_le_bytes()).unwrap(), [[255, 128, 64, 255]]);
