@@ -1740,3 +1740,51 @@ fn an_attribute_may_point_into_a_buffer_before_its_storage_arrives() {
     result.unwrap();
     assert_eq!(frames[0].4, solid(4, 4, [0, 0, 255, 255]));
 }
+
+#[test]
+fn texture_gather_returns_the_bilinear_footprint_in_gls_order() {
+    // A 2×2 RGBA texture (rows bottom first): red 10, 20 in row 0 and 30, 40 in row 1. At its
+    // centre the footprint is all four: (i0, j1), (i1, j1), (i1, j0), (i0, j0) = 30, 40, 20, 10
+    // (GL ES 3.1 §8.14.2); with an offset of (1, 0) and REPEAT, i0 and i1 swap; green gathered
+    // by its component index.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    let vertex = "#version 310 es\nin vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "#version 310 es\nprecision highp float;\nuniform highp sampler2D t;\nout vec4 color;\n\
+                    void main() {\n\
+                      vec4 g = gl_FragCoord.x < 2.0 ? textureGather(t, vec2(0.5)) : textureGatherOffset(t, vec2(0.5), ivec2(1, 0));\n\
+                      color = gl_FragCoord.y < 2.0 ? g : textureGather(t, vec2(0.5), 1);\n\
+                    }\n";
+    full_window_program(&mut w, vertex, fragment);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(1))], None, false);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    let texels = vec![10, 1, 0, 0, 20, 2, 0, 0, 30, 3, 0, 0, 40, 4, 0, 0];
+    w.call(
+        "glTexImage2D",
+        &[
+            ("target", e("GL_TEXTURE_2D", 0x0de1)),
+            ("level", W::UInt(0)),
+            ("internalformat", e("GL_RGBA", 0x1908)),
+            ("width", W::UInt(2)),
+            ("height", W::UInt(2)),
+            ("border", W::UInt(0)),
+            ("format", e("GL_RGBA", 0x1908)),
+            ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+            ("pixels", W::Blob(texels)),
+        ],
+        None,
+        false,
+    );
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    // Frames come top row first: rows 2–3 (GL y < 2) are the bottom of the window.
+    let pixel = |x: usize, y: usize| frames[0].4[(y * 4 + x) * 4..(y * 4 + x) * 4 + 4].to_vec();
+    assert_eq!(pixel(0, 3), [30, 40, 20, 10], "textureGather, red");
+    assert_eq!(pixel(3, 3), [40, 30, 10, 20], "textureGatherOffset (1, 0), red");
+    assert_eq!(pixel(0, 0), [3, 4, 2, 1], "textureGather, green");
+}

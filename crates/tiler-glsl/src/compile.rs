@@ -3289,6 +3289,7 @@ impl<'a> Compiler<'a> {
             "textureGrad" | "textureOffset" | "textureLodOffset" | "textureProjOffset" | "textureGradOffset" => {
                 self.texture_fn(name, args)
             }
+            "textureGather" | "textureGatherOffset" => self.texture_gather(name, args),
             "dFdx" | "dFdy" | "fwidth" => {
                 // OES_standard_derivatives.
                 arity(self, 1)?;

@@ -74,6 +74,8 @@ pub enum LodValue<const W: usize> {
     Explicit([f32; W]),
     /// Derivatives of the coordinates along window x and y (`textureGrad`).
     Grad([[f32; W]; 3], [[f32; W]; 3]),
+    /// `textureGather` of a channel (see `ir::Lod::Gather`).
+    Gather(u8),
 }
 
 /// The lanes' masks while running.
@@ -468,6 +470,7 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         Lod::Grad { dx, dy } => {
                             LodValue::Grad(dx.map(|r| finite(self.get(r))), dy.map(|r| finite(self.get(r))))
                         }
+                        Lod::Gather(c) => LodValue::Gather(*c),
                     };
                     // A NaN reference stays NaN: the compare rules say what it gives.
                     let reference = reference.map(|r| self.get(r));
@@ -487,6 +490,7 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         Lod::Grad { dx, dy } => {
                             LodValue::Grad(dx.map(|r| finite(self.get(r))), dy.map(|r| finite(self.get(r))))
                         }
+                        Lod::Gather(c) => LodValue::Gather(*c),
                     };
                     let texel = self.env.sample_cube(*slot as usize, direction, lod);
                     for (c, &d) in dst.iter().enumerate() {
@@ -519,6 +523,7 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         Lod::Grad { dx, dy } => {
                             LodValue::Grad(dx.map(|r| finite(self.get(r))), dy.map(|r| finite(self.get(r))))
                         }
+                        Lod::Gather(c) => LodValue::Gather(*c),
                     };
                     let texel = self.env.sample_layered(*slot as usize, coord, lod);
                     for (c, &d) in dst.iter().enumerate() {

@@ -194,13 +194,17 @@ pub enum Lod {
     /// Explicit derivatives of the coordinates along window x (`dx`) and y (`dy`)
     /// (`textureGrad`; components a lookup lacks are a zero constant).
     Grad { dx: [Reg; 3], dy: [Reg; 3] },
+    /// `textureGather`: no filter and no level; the four texels of level 0 a bilinear
+    /// lookup would blend, channel `0` (red) to `3` of each, as `(i0, j1), (i1, j1), (i1, j0),
+    /// (i0, j0)` (GL ES 3.1 §8.14.2).
+    Gather(u8),
 }
 
 impl Lod {
     /// Calls `f` on each register the level of detail reads.
     pub fn for_each_reg(&mut self, mut f: impl FnMut(&mut Reg)) {
         match self {
-            Lod::Implicit => {}
+            Lod::Implicit | Lod::Gather(_) => {}
             Lod::Bias(r) | Lod::Explicit(r) => f(r),
             Lod::Grad { dx, dy } => dx.iter_mut().chain(dy.iter_mut()).for_each(f),
         }

@@ -180,6 +180,61 @@ fn fetch_lanes<const W: usize>(
     out
 }
 
+/// `textureGather` of channel `comp` (see `ir::Lod::Gather`) at GL coordinates `coord` with
+/// `offset` added to the texel indices before the wrap, through `env`'s `texelFetch` of level
+/// 0 (so a fragment shader's reads are counted as its texel fetches are); zeros for an unbound
+/// unit or a texture without a level 0.
+fn gather<const W: usize>(
+    env: &mut impl Env<W>,
+    slot: usize,
+    binding: Option<&TextureBinding>,
+    coord: [[f32; W]; 2],
+    offset: [i32; 2],
+    comp: u8,
+) -> [[f32; W]; 4] {
+    let clamp = [tiler::Wrap::ClampToEdge; 2];
+    let (size, wrap) = match binding {
+        Some(TextureBinding::Core(texture, sampler)) => {
+            let [w, h, _] = texture.size(0);
+            ([w, h], [sampler.wrap_u, sampler.wrap_v])
+        }
+        Some(TextureBinding::Integer(texture, sampler)) => {
+            let [w, h, _] = texture.size(0);
+            ([w, h], [sampler.wrap_u, sampler.wrap_v])
+        }
+        Some(TextureBinding::Custom(source)) => (source.size(0), clamp),
+        None => ([0, 0], clamp),
+    };
+    if size.contains(&0) {
+        return [[0.0; W]; 4];
+    }
+    // Texel indices of the footprint's lower-left corner, then each corner wrapped.
+    let wrapped = |i: i64, n: u32, wrap: tiler::Wrap| -> i32 {
+        let n = n as i64;
+        (match wrap {
+            tiler::Wrap::Repeat => i.rem_euclid(n),
+            tiler::Wrap::ClampToEdge => i.clamp(0, n - 1),
+            tiler::Wrap::MirroredRepeat => {
+                let m = i.rem_euclid(2 * n);
+                if m >= n { 2 * n - 1 - m } else { m }
+            }
+        }) as i32
+    };
+    let mut corners = [[[0i32; W]; 3]; 4];
+    for lane in 0..W {
+        let base = |c: usize| ((coord[c][lane] * size[c] as f32 - 0.5).floor() as i64).saturating_add(offset[c] as i64);
+        let (i0, j0) = (base(0), base(1));
+        let (i0, i1) = (wrapped(i0, size[0], wrap[0]), wrapped(i0.saturating_add(1), size[0], wrap[0]));
+        let (j0, j1) = (wrapped(j0, size[1], wrap[1]), wrapped(j0.saturating_add(1), size[1], wrap[1]));
+        for (k, (i, j)) in [(i0, j1), (i1, j1), (i1, j0), (i0, j0)].into_iter().enumerate() {
+            corners[k][0][lane] = i;
+            corners[k][1][lane] = j;
+        }
+    }
+    let channel = (comp as usize).min(3);
+    corners.map(|at| env.fetch(slot, at, [0; W])[channel])
+}
+
 /// `texelFetch` coordinates (GL's: row 0 is the first row uploaded) as a core texture's, whose
 /// rows run the other way (its v runs down; see [`TextureBinding::Core`]): `y` becomes
 /// `height − 1 − y` of the lane's level. Lanes of a level the texture lacks are left as they
@@ -827,7 +882,7 @@ fn explicit_lods<const W: usize>(binding: Option<&TextureBinding>, lod: LodValue
     match lod {
         LodValue::Explicit(l) => Some(l),
         LodValue::Grad(dx, dy) => Some(grad_lods(binding, dx, dy)),
-        LodValue::Implicit | LodValue::Bias(_) => None,
+        LodValue::Implicit | LodValue::Bias(_) | LodValue::Gather(_) => None,
     }
 }
 
@@ -939,6 +994,10 @@ impl Env<VERTEX_LANES> for VertexEnv<'_> {
         offset: [i32; 2],
     ) -> [[f32; VERTEX_LANES]; 4] {
         let binding = self.slots[slot].as_ref();
+        if let LodValue::Gather(comp) = lod {
+            let slots = self.slots;
+            return gather(self, slot, slots[slot].as_ref(), coord, offset, comp);
+        }
         lookup_lanes(binding, coord, explicit_lods(binding, lod), reference, offset, self.lanes)
     }
 
@@ -1002,6 +1061,10 @@ impl Env<8> for FragmentEnv<'_, '_> {
         reference: Option<[f32; 8]>,
         offset: [i32; 2],
     ) -> [[f32; 8]; 4] {
+        if let LodValue::Gather(comp) = lod {
+            let slots = self.slots;
+            return gather(self, slot, slots[slot].as_ref(), coord, offset, comp);
+        }
         match (&self.slots[slot], lod) {
             (Some(TextureBinding::Integer(texture, sampler)), _) => {
                 let at = integer_nearest(texture, sampler, coord, 8);

@@ -14,6 +14,9 @@ use crate::types::{FLOAT, SamplerKind, Scalar, Type};
 /// GL ES 3.0's `MIN_PROGRAM_TEXEL_OFFSET` and `MAX_PROGRAM_TEXEL_OFFSET` (llvmpipe's too).
 const TEXEL_OFFSETS: std::ops::RangeInclusive<i32> = -8..=7;
 
+/// GL ES 3.1's `MIN_PROGRAM_TEXTURE_GATHER_OFFSET` and `MAX_…` (llvmpipe's: −32, 31).
+const GATHER_OFFSETS: std::ops::RangeInclusive<i32> = -32..=31;
+
 impl Compiler<'_> {
     /// `textureGrad`, `textureOffset`, `textureLodOffset`, `textureProjOffset`,
     /// `textureGradOffset`.
@@ -42,7 +45,7 @@ impl Compiler<'_> {
         if !supported {
             return self.fail(format!("{name}() on a {} is not supported", args[0].ty));
         }
-        let offset = if has_offset { self.texel_offset(name, &args.remove(fixed - 1))? } else { [0, 0] };
+        let offset = if has_offset { self.texel_offset(name, &args.remove(fixed - 1), TEXEL_OFFSETS)? } else { [0, 0] };
         // Now `(sampler, P [, lod | dPdx, dPdy] [, bias])`.
         let coord = self.float_gen(name, args[1].clone())?;
         let width = if kind == SamplerKind::Sampler2D { 2 } else { 3 };
@@ -91,8 +94,43 @@ impl Compiler<'_> {
         Ok(Value { ty: Type::vec(4), regs: dst })
     }
 
-    /// A lookup's texel offset: a constant `ivec2` within [`TEXEL_OFFSETS`].
-    fn texel_offset(&mut self, name: &str, v: &Value) -> CResult<[i8; 2]> {
+    /// GLSL ES 3.10's `textureGather(sampler2D, vec2 P [, int comp])` and
+    /// `textureGatherOffset(sampler2D, vec2 P, ivec2 offset [, int comp])`: channel `comp`
+    /// (a constant, red by default) of the four texels of level 0 a bilinear lookup at `P`
+    /// would blend (see `ir::Lod::Gather`), `offset` a constant in [`GATHER_OFFSETS`].
+    pub(super) fn texture_gather(&mut self, name: &str, mut args: Vec<Value>) -> CResult<Value> {
+        let fixed = if name == "textureGatherOffset" { 3 } else { 2 };
+        if args.len() != fixed && args.len() != fixed + 1 {
+            return self.fail(format!("{name}() takes {fixed} or {} arguments, {} given", fixed + 1, args.len()));
+        }
+        if args[0].ty != Type::Sampler(SamplerKind::Sampler2D) {
+            return self.fail(format!("{name}() on a {} is not supported (sampler2D only)", args[0].ty));
+        }
+        let slot = args[0].regs[0] as u16;
+        let comp = match args.get(fixed) {
+            None => 0,
+            Some(v) => match (v.ty == Type::Scalar(Scalar::Int), self.constant(v.regs[0])) {
+                (true, Some(c)) if (0..4).contains(&(c.to_bits() as i32)) => c.to_bits() as u8,
+                _ => return self.fail(format!("{name}(): the component must be a constant int from 0 to 3")),
+            },
+        };
+        args.truncate(fixed);
+        let offset = if fixed == 3 { self.texel_offset(name, &args[2], GATHER_OFFSETS)? } else { [0, 0] };
+        let coord = self.float_gen(name, args[1].clone())?;
+        if coord.regs.len() != 2 {
+            return self.fail(format!("{name}(sampler2D) coordinates cannot be a {}", coord.ty));
+        }
+        let dst = self.temps(4);
+        let dst4 = [dst[0], dst[1], dst[2], dst[3]];
+        let coord = [coord.regs[0], coord.regs[1]];
+        self.emit(Inst::Sample { slot, dst: dst4, coord, lod: Lod::Gather(comp), reference: None, offset });
+        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
+        self.set_prec(&dst, prec);
+        Ok(Value { ty: Type::vec(4), regs: dst })
+    }
+
+    /// A lookup's texel offset: a constant `ivec2` within `range`.
+    fn texel_offset(&mut self, name: &str, v: &Value, range: std::ops::RangeInclusive<i32>) -> CResult<[i8; 2]> {
         if v.ty != Type::Vector(Scalar::Int, 2) {
             return self.fail(format!("{name}(): the offset must be an ivec2, not a {}", v.ty));
         }
@@ -101,12 +139,8 @@ impl Compiler<'_> {
             let Some(x) = self.constant(r).map(|x| x.to_bits() as i32) else {
                 return self.fail(format!("{name}(): the offset must be a constant expression"));
             };
-            if !TEXEL_OFFSETS.contains(&x) {
-                return self.fail(format!(
-                    "{name}(): offset {x} is outside [{}, {}]",
-                    TEXEL_OFFSETS.start(),
-                    TEXEL_OFFSETS.end()
-                ));
+            if !range.contains(&x) {
+                return self.fail(format!("{name}(): offset {x} is outside [{}, {}]", range.start(), range.end()));
             }
             *o = x as i8;
         }
