@@ -1788,3 +1788,56 @@ fn texture_gather_returns_the_bilinear_footprint_in_gls_order() {
     assert_eq!(pixel(3, 3), [40, 30, 10, 20], "textureGatherOffset (1, 0), red");
     assert_eq!(pixel(0, 0), [3, 4, 2, 1], "textureGather, green");
 }
+
+#[test]
+fn texels_upload_from_a_pixel_unpack_buffer_at_the_pointers_offset() {
+    // GStreamer's GL upload: immutable storage (glBufferStorageEXT) bound to
+    // GL_PIXEL_UNPACK_BUFFER, then glTexImage2D whose pointer is an offset into it.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment =
+        "precision mediump float;\nuniform sampler2D t;\nvoid main() { gl_FragColor = texture2D(t, vec2(0.5)); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    let unpack = ("target", e("GL_PIXEL_UNPACK_BUFFER", 0x88ec));
+    w.call("glGenBuffers", &[("n", W::UInt(1)), ("buffers", W::Array(vec![W::UInt(9)]))], None, false);
+    w.call("glBindBuffer", &[unpack.clone(), ("buffer", W::UInt(9))], None, false);
+    let storage = [
+        unpack.clone(),
+        ("size", W::UInt(8)),
+        ("data", W::Blob(vec![1, 2, 3, 4, 200, 100, 50, 255])),
+        ("flags", W::UInt(0x0100)),
+    ];
+    w.call("glBufferStorageEXT", &storage, None, false);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(1))], None, false);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    let upload = |offset: W| {
+        [
+            ("target", e("GL_TEXTURE_2D", 0x0de1)),
+            ("level", W::UInt(0)),
+            ("internalformat", e("GL_RGBA", 0x1908)),
+            ("width", W::UInt(1)),
+            ("height", W::UInt(1)),
+            ("border", W::UInt(0)),
+            ("format", e("GL_RGBA", 0x1908)),
+            ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+            ("pixels", offset),
+        ]
+    };
+    w.call("glTexImage2D", &upload(W::Pointer(4)), None, false);
+    w.call("glBindBuffer", &[unpack.clone(), ("buffer", W::UInt(0))], None, false);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+    // An offset past the buffer's end is an error naming the call.
+    w.call("glBindBuffer", &[unpack, ("buffer", W::UInt(9))], None, false);
+    let past = w.call("glTexImage2D", &upload(W::Pointer(12)), None, false);
+
+    let (result, frames) = replay(&w);
+    assert_eq!(frames[0].4, solid(4, 4, [200, 100, 50, 255]));
+    let error = result.err().expect("offset 12 of 8 bytes");
+    assert_eq!(error.call(), Some(past));
+    assert!(error.to_string().contains("past the end of pixel unpack buffer 9"), "{error}");
+}

@@ -166,6 +166,17 @@ impl Decoder {
                 self.state().delete_vertex_arrays(&names);
                 Command::DeleteVertexArrays { names }
             }
+            // Immutable storage (GL ES 3.2, EXT_buffer_storage) is storage as glBufferData
+            // gives it; its flags (persistent, coherent mapping) change nothing tiler models.
+            "glBufferStorage" | "glBufferStorageEXT" => {
+                let (target, size) = (a.enumeration(0)?, a.u64(1)?);
+                let data = a.memory(2)?;
+                let state = self.state();
+                let buffer = state.bound(target);
+                state.sizes.insert(buffer, size);
+                state.mappings.retain(|m| m.buffer != buffer);
+                Command::BufferData { target, size, data, usage: 0 }
+            }
             "glBufferData" => {
                 let (target, size, usage) = (a.enumeration(0)?, a.u64(1)?, a.enumeration(3)?);
                 let data = a.memory(2)?;

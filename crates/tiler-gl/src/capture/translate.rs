@@ -461,6 +461,14 @@ impl Translator {
     }
 
     fn command(&mut self, command: &Command, fake: bool) -> Fallible {
+        match self.unpack_from_buffer(command)? {
+            Some(command) => self.command_unpacked(&command, fake),
+            None => self.command_unpacked(command, fake),
+        }
+    }
+
+    /// [`Translator::command`] once uploads from a pixel unpack buffer carry their bytes.
+    fn command_unpacked(&mut self, command: &Command, fake: bool) -> Fallible {
         use Command as C;
         if self.cube_command(command)? || self.layered_command(command)? {
             return Ok(());
@@ -1849,6 +1857,41 @@ impl Translator {
         t.upload = None;
         t.size = size;
         Ok(())
+    }
+
+    /// A texel upload while a pixel unpack buffer is bound reads its texels from the buffer,
+    /// at the offset the pointer gives (GL ES 3.0 §3.7.1): the same upload with the bytes from
+    /// there to the buffer's end in place of the pointer, or `None` for any other command.
+    /// (A driver copies them on the GPU; the context counts them as an upload.)
+    fn unpack_from_buffer(&mut self, command: &Command) -> Fallible<Option<Command>> {
+        use Command as C;
+        let name = self.bindings.other_buffers.get(&gles3::GL_PIXEL_UNPACK_BUFFER).copied().unwrap_or(0);
+        if name == 0 {
+            return Ok(None);
+        }
+        let mut command = command.clone();
+        let pixels = match &mut command {
+            C::TexImage2D { pixels, .. }
+            | C::TexSubImage2D { pixels, .. }
+            | C::TexImage3D { pixels, .. }
+            | C::TexSubImage3D { pixels, .. } => pixels,
+            C::CompressedTexImage2D { data, .. } | C::CompressedTexSubImage2D { data, .. } => data,
+            _ => return Ok(None),
+        };
+        let offset = match pixels {
+            // apitrace writes a null offset as an empty blob.
+            Memory::Null => 0,
+            Memory::Client(bytes) if bytes.is_empty() => 0,
+            Memory::Offset(offset) => *offset,
+            Memory::Client(_) => return Err("client texels while a pixel unpack buffer is bound".into()),
+        };
+        let id = self.buffer_id(name)?.ok_or_else(|| format!("pixel unpack buffer {name} has no storage"))?;
+        let bytes = self.ctx()?.buffer_bytes(id)?;
+        let start = usize::try_from(offset).ok().filter(|&o| o <= bytes.len()).ok_or_else(|| {
+            format!("offset {offset} is past the end of pixel unpack buffer {name} ({} bytes)", bytes.len())
+        })?;
+        *pixels = Memory::Client(bytes[start..].to_vec());
+        Ok(Some(command))
     }
 
     /// A viewport or scissor rectangle on the window that reaches past it grows the window to

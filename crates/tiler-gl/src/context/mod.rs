@@ -1159,6 +1159,16 @@ impl Context {
         }
     }
 
+    /// The bytes of buffer `id` (what a pixel unpack buffer hands a texel upload).
+    ///
+    /// # Errors
+    /// No such buffer.
+    pub fn buffer_bytes(&self, id: u32) -> Result<&[u8], String> {
+        let b = self.buffers.get(&id).ok_or_else(|| format!("buffer {id} does not exist"))?;
+        let bytes = self.device.buffer_data(b.storage).map_err(|e| e.to_string())?;
+        Ok(&bytes[..(b.size as usize).min(bytes.len())])
+    }
+
     pub(crate) fn texture(&self, id: u32) -> Fallible<&TextureObject> {
         self.textures.get(&id).ok_or_else(|| format!("texture {id} does not exist"))
     }

@@ -21,7 +21,13 @@ const GL_UNIFORM_BUFFER: GlEnum = 0x8a11;
 
 /// Buffer targets that only name a buffer for other calls: `GL_UNIFORM_BUFFER`,
 /// `GL_COPY_READ_BUFFER`, `GL_COPY_WRITE_BUFFER`.
-pub(super) const OTHER_BUFFER_TARGETS: [GlEnum; 3] = [GL_UNIFORM_BUFFER, 0x8f36, 0x8f37];
+pub(super) const OTHER_BUFFER_TARGETS: [GlEnum; 5] =
+    [GL_UNIFORM_BUFFER, 0x8f36, 0x8f37, GL_PIXEL_PACK_BUFFER, GL_PIXEL_UNPACK_BUFFER];
+
+/// `GL_PIXEL_PACK_BUFFER`: `glReadPixels` into a buffer (refused where it happens).
+pub(super) const GL_PIXEL_PACK_BUFFER: GlEnum = 0x88eb;
+/// `GL_PIXEL_UNPACK_BUFFER`: texel uploads read from a buffer (see `Translator::unpack_from_buffer`).
+pub(super) const GL_PIXEL_UNPACK_BUFFER: GlEnum = 0x88ec;
 
 /// The translation's view of a vertex array that is not bound.
 #[derive(Clone, Debug, Default)]
