@@ -250,17 +250,14 @@ pub struct Texture {
     /// quad's footprint reads one or two of them, not rows kilobytes apart. Texels of the
     /// blocks past a level's right or bottom edge are zero and never read.
     ///
-    /// Each texel is held decoded for the filter: its four channels as the 16-bit UNORMs the
-    /// filter works on (see the module notes), red and green in the first 32-bit word, blue and
-    /// alpha in the second, each channel in the low half first — a colour channel through
-    /// `color_table`, alpha `c · 257`. So sampling loads two words per texel, whose halves are
-    /// its channels, and decodes nothing (an sRGB texel took three table lookups a read). This is the host's
-    /// layout only: the modelled memory, and so the ledger, hold the texture's RGBA8 (or
-    /// stored-format) bytes, whose addresses the cache model reads.
-    texels: Vec<[u32; 2]>,
+    /// How each texel is held: see [`Texels`]. This is the host's layout only: the modelled
+    /// memory, and so the ledger, hold the texture's RGBA8 (or stored-format) bytes, whose
+    /// addresses the cache model reads.
+    texels: Texels,
     /// UNORM8 → the filter's 16-bit UNORM for the colour channels (see the module notes):
     /// `c · 257`, or the linear value of sRGB `c` when the texture is sRGB. Strictly
     /// increasing, so a decoded channel gives its byte back ([`Texture::texel_bytes`]).
+    /// [`Texels::Decoded`] holds channels through it; [`Texels::Packed`] needs none.
     color_table: Box<[u16; 256]>,
     /// A cube texture's six faces (`cube`), each a chain laid out as `levels` say, one after
     /// the other `face_bytes` apart in the modelled memory; `None` for a 2D texture.
@@ -446,24 +443,44 @@ impl Texture {
             ColorSpace::Srgb => (srgb8_to_linear(c as u8) as f64 * 65535.0).round() as u16,
         }));
         debug_assert!(color_table.windows(2).all(|pair| pair[0] < pair[1]), "the colour table is strictly increasing");
-        let decode = |[r, g, b, a]: [u8; 4]| {
-            let colour = |c: u8| color_table[c as usize] as u32;
-            [colour(r) | colour(g) << 16, colour(b) | unorm8_to_unorm16(a as u32) << 16]
-        };
-        let mut texels = vec![[0u32; 2]; ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize];
-        for (level, &start) in levels.iter().zip(starts) {
-            let row_texels = level.width as usize;
-            for (y, row) in rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels).enumerate()
-            {
-                // Each block's row of (up to) four texels is contiguous in both layouts.
-                for (block_x, texels_in_block) in row.chunks(BLOCK_TEXELS as usize).enumerate() {
-                    let at = level.texel_index(block_x as u32 * BLOCK_TEXELS, y as u32);
-                    for (texel, &rgba) in texels[at..at + texels_in_block.len()].iter_mut().zip(texels_in_block) {
-                        *texel = decode(rgba);
+        let texel_count = ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize;
+        // Each block's row of (up to) four texels is contiguous in both layouts: `put` writes
+        // one such run, row-major texels of `level` starting at `(x, y)`.
+        let each_block_row = |put: &mut dyn FnMut(usize, &[[u8; 4]])| {
+            for (level, &start) in levels.iter().zip(starts) {
+                let row_texels = level.width as usize;
+                let level_rows = rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels);
+                for (y, row) in level_rows.enumerate() {
+                    for (block_x, texels_in_block) in row.chunks(BLOCK_TEXELS as usize).enumerate() {
+                        put(level.texel_index(block_x as u32 * BLOCK_TEXELS, y as u32), texels_in_block);
                     }
                 }
             }
-        }
+        };
+        let texels = match color_space {
+            ColorSpace::Linear => {
+                let mut texels = vec![0u32; texel_count];
+                each_block_row(&mut |at, run| {
+                    for (texel, &rgba) in texels[at..at + run.len()].iter_mut().zip(run) {
+                        *texel = u32::from_le_bytes(rgba);
+                    }
+                });
+                Texels::Packed(texels)
+            }
+            ColorSpace::Srgb => {
+                let decode = |[r, g, b, a]: [u8; 4]| {
+                    let colour = |c: u8| color_table[c as usize] as u32;
+                    [colour(r) | colour(g) << 16, colour(b) | unorm8_to_unorm16(a as u32) << 16]
+                };
+                let mut texels = vec![[0u32; 2]; texel_count];
+                each_block_row(&mut |at, run| {
+                    for (texel, &rgba) in texels[at..at + run.len()].iter_mut().zip(run) {
+                        *texel = decode(rgba);
+                    }
+                });
+                Texels::Decoded(texels)
+            }
+        };
         Texture {
             id: NEXT_TEXTURE_ID.fetch_add(1, Ordering::Relaxed),
             color_space,
@@ -517,10 +534,14 @@ impl Texture {
         self.texel_bytes(l.texel_index(x, y))
     }
 
-    /// The RGBA8 bytes of `texels[index]`, given back from its decoded channels: alpha is
-    /// `c · 257`, a colour channel the one byte `color_table` maps to it.
+    /// The RGBA8 bytes of `texels[index]`: a packed texel's own bytes, or given back from its
+    /// decoded channels (alpha is `c · 257`, a colour channel the one byte `color_table` maps
+    /// to it).
     fn texel_bytes(&self, index: usize) -> [u8; 4] {
-        let texel = self.texels[index];
+        let texel = match &self.texels {
+            Texels::Packed(texels) => return texels[index].to_le_bytes(),
+            Texels::Decoded(texels) => texels[index],
+        };
         let channel = |c: u32| texel_channel(texel[c as usize / 2], c) as u16;
         let colour = |c: u32| {
             let byte = self.color_table.binary_search(&channel(c));
@@ -530,9 +551,10 @@ impl Texture {
         [colour(0), colour(1), colour(2), (channel(3) / 257) as u8]
     }
 
-    /// Host memory the texels take (8 bytes a texel: decoded for the filter, see `texels`).
+    /// Host memory the texels take (4 bytes a texel of a linear texture, 8 of an sRGB one: see
+    /// [`Texels`]).
     pub fn host_bytes(&self) -> usize {
-        self.texels.len() * std::mem::size_of::<[u32; 2]>()
+        self.texels.host_bytes()
     }
 
     /// The modelled address of texel `(x, y)` of `level` (see `texture_cache`): where the
@@ -915,45 +937,142 @@ impl Texture {
     }
 
     /// The filtered colour of a footprint's lanes as 16-bit UNORMs, `[channel][lane]` (see the
-    /// module notes for the linear filter's formula), from the decoded texels (`texels`).
+    /// module notes for the linear filter's formula), from the texels as they are held
+    /// ([`Texels`]): one branch a footprint, the filter compiled once per layout.
     #[inline(always)]
     fn filter<const N: usize>(&self, footprint: &Footprint<N>) -> [[u32; N]; 4] {
-        // One bounds check for the footprint's texels (the largest index of its four corners;
-        // a nearest footprint's four are its one texel), not one per texel read: 64 compares
-        // and branches a trilinear pair.
-        let largest = footprint.texels.iter().flatten().fold(0, |m, &t| m.max(t));
-        assert!(
-            (largest as usize) < self.texels.len(),
-            "texel {largest} of a footprint outside the texture's {} texels",
-            self.texels.len()
-        );
-        // Word `w` of each lane's texel at `corner`.
-        let words = |corner: usize, w: usize| {
-            lanes(|i| {
-                let index = footprint.texels[corner][i] as usize;
-                // SAFETY: `index` is one of the footprint's texel indices (the indexing above
-                // panics for a corner past the fourth), all at most `largest`, which the
-                // assertion above holds below `texels.len()`.
-                unsafe { self.texels.get_unchecked(index)[w] }
-            })
-        };
-        match footprint.filter {
-            Filter::Nearest => {
-                let t = [words(0, 0), words(0, 1)];
-                let channel = |c: u32| lanes(|i| texel_channel(t[c as usize / 2][i], c));
-                [channel(0), channel(1), channel(2), channel(3)]
+        match &self.texels {
+            Texels::Packed(texels) => filter_texels(texels.as_slice(), footprint),
+            Texels::Decoded(texels) => filter_texels(texels.as_slice(), footprint),
+        }
+    }
+}
+
+/// How a texture's texels are held on the host, in the modelled block layout (see
+/// `Texture::texels`).
+#[derive(Clone, Debug)]
+enum Texels {
+    /// A linear texture's RGBA8 bytes, one little-endian word a texel (red in the low byte):
+    /// 4 bytes a texel, so a 4×4 block is one 64-byte host line. The filter widens a channel
+    /// at sampling, `c · 257` — the 16-bit UNORM the decoded form would hold.
+    Packed(Vec<u32>),
+    /// An sRGB texture's texels decoded for the filter: the four channels as the 16-bit
+    /// UNORMs the filter works on (see the module notes), red and green in the first 32-bit
+    /// word, blue and alpha in the second, each channel in the low half first — a colour
+    /// channel through `color_table`, alpha `c · 257` — so sampling needs no table lookup per
+    /// colour channel (three a texel read). 8 bytes a texel.
+    Decoded(Vec<[u32; 2]>),
+}
+
+impl Texels {
+    fn len(&self) -> usize {
+        match self {
+            Texels::Packed(t) => t.len(),
+            Texels::Decoded(t) => t.len(),
+        }
+    }
+
+    fn host_bytes(&self) -> usize {
+        match self {
+            Texels::Packed(t) => std::mem::size_of_val(t.as_slice()),
+            Texels::Decoded(t) => std::mem::size_of_val(t.as_slice()),
+        }
+    }
+
+    /// Texel `index` as the filter's two words (see [`Texels::Decoded`]).
+    fn decoded(&self, index: usize) -> [u32; 2] {
+        match self {
+            Texels::Packed(t) => {
+                let w = t[index];
+                [TexelWords::word(&w, 0), TexelWords::word(&w, 1)]
             }
-            Filter::Linear => {
-                let rg = [words(0, 0), words(1, 0), words(2, 0), words(3, 0)];
-                let ba = [words(0, 1), words(1, 1), words(2, 1), words(3, 1)];
-                let (alpha, beta) = (&footprint.alpha, &footprint.beta);
-                [
-                    bilinear_channel(&rg, 0, alpha, beta),
-                    bilinear_channel(&rg, 1, alpha, beta),
-                    bilinear_channel(&ba, 2, alpha, beta),
-                    bilinear_channel(&ba, 3, alpha, beta),
-                ]
-            }
+            Texels::Decoded(t) => t[index],
+        }
+    }
+
+    /// Appends `other`'s texels (another layer or face of the same texture, so held alike).
+    fn extend(&mut self, other: &Texels) {
+        match (self, other) {
+            (Texels::Packed(a), Texels::Packed(b)) => a.extend_from_slice(b),
+            (Texels::Decoded(a), Texels::Decoded(b)) => a.extend_from_slice(b),
+            _ => unreachable!("the layers and faces of a texture share its colour space, and so its layout"),
+        }
+    }
+
+    fn reserve(&mut self, additional: usize) {
+        match self {
+            Texels::Packed(t) => t.reserve(additional),
+            Texels::Decoded(t) => t.reserve(additional),
+        }
+    }
+}
+
+/// A texel as [`Texels`] holds it, read by the filter.
+trait TexelWords: Copy + Default {
+    /// Word `w` (0 or 1) of the decoded form: red | green << 16, or blue | alpha << 16, each a
+    /// 16-bit UNORM. A packed texel widens its bytes, `(r | g << 16) · 257` (each byte times
+    /// 257 is below 2^16, so no product carries into the other half): `c · 257`, as
+    /// `Texture::store` decodes a linear channel.
+    fn word(&self, w: usize) -> u32;
+}
+
+impl TexelWords for u32 {
+    #[inline(always)]
+    fn word(&self, w: usize) -> u32 {
+        let bytes = *self >> (16 * w as u32);
+        ((bytes & 0xff) | ((bytes & 0xff00) << 8)) * 257
+    }
+}
+
+impl TexelWords for [u32; 2] {
+    #[inline(always)]
+    fn word(&self, w: usize) -> u32 {
+        self[w]
+    }
+}
+
+/// [`Texture::filter`] for texels held as `texels`.
+#[inline(always)]
+fn filter_texels<T: TexelWords, const N: usize>(texels: &[T], footprint: &Footprint<N>) -> [[u32; N]; 4] {
+    // One bounds check for the footprint's texels (the largest index of its four corners;
+    // a nearest footprint's four are its one texel), not one per texel read: 64 compares
+    // and branches a trilinear pair.
+    let largest = footprint.texels.iter().flatten().fold(0, |m, &t| m.max(t));
+    assert!(
+        (largest as usize) < texels.len(),
+        "texel {largest} of a footprint outside the texture's {} texels",
+        texels.len()
+    );
+    // Each lane's texel at `corner`, loaded once (both words come from it).
+    let load = |corner: usize| {
+        lanes::<T, N>(|i| {
+            let index = footprint.texels[corner][i] as usize;
+            // SAFETY: `index` is one of the footprint's texel indices (the indexing above
+            // panics for a corner past the fourth), all at most `largest`, which the
+            // assertion above holds below `texels.len()`.
+            unsafe { *texels.get_unchecked(index) }
+        })
+    };
+    // Word `w` of each lane's texel of `t`.
+    let words = |t: &[T; N], w: usize| lanes::<u32, N>(|i| t[i].word(w));
+    match footprint.filter {
+        Filter::Nearest => {
+            let t0 = load(0);
+            let t = [words(&t0, 0), words(&t0, 1)];
+            let channel = |c: u32| lanes(|i| texel_channel(t[c as usize / 2][i], c));
+            [channel(0), channel(1), channel(2), channel(3)]
+        }
+        Filter::Linear => {
+            let t = [load(0), load(1), load(2), load(3)];
+            let rg = [words(&t[0], 0), words(&t[1], 0), words(&t[2], 0), words(&t[3], 0)];
+            let ba = [words(&t[0], 1), words(&t[1], 1), words(&t[2], 1), words(&t[3], 1)];
+            let (alpha, beta) = (&footprint.alpha, &footprint.beta);
+            [
+                bilinear_channel(&rg, 0, alpha, beta),
+                bilinear_channel(&rg, 1, alpha, beta),
+                bilinear_channel(&ba, 2, alpha, beta),
+                bilinear_channel(&ba, 3, alpha, beta),
+            ]
         }
     }
 }
