@@ -638,7 +638,8 @@ impl Texture {
         let lods = if self.plan_ignores_lod(sampler) {
             [0.0; 2]
         } else {
-            [0.5 * log2(rho_squared[0]), 0.5 * log2(rho_squared[1])]
+            let logs = log2_pair(rho_squared);
+            [0.5 * logs[0], 0.5 * logs[1]]
         };
         // Minified more than 2× (`λ > UNMIPPED_LOD`) without mip maps, told from `ρ²` so that
         // samplers whose plan ignores the level of detail need no logarithm.
@@ -1435,7 +1436,8 @@ const QUAD_LANES: [[usize; 4]; 2] = [[0, 1, 4, 5], [2, 3, 6, 7]];
 /// differences (see the module notes). `s`, `t` are in texels of level 0.
 #[cfg(test)]
 fn quad_lods(s: F32x8, t: F32x8) -> [f32; 2] {
-    quad_rho_squared(s, t).map(|rho_squared| 0.5 * log2(rho_squared))
+    let logs = log2_pair(quad_rho_squared(s, t));
+    [0.5 * logs[0], 0.5 * logs[1]]
 }
 
 /// `ρ²` of each quad: the larger squared length of the upper-left pixel's differences in x
@@ -1475,6 +1477,55 @@ pub fn log2(x: f32) -> f32 {
     let z2 = z * z;
     let series = z * (1.0 + z2 * (1.0 / 3.0 + z2 * (1.0 / 5.0 + z2 * (1.0 / 7.0 + z2 * (1.0 / 9.0)))));
     (exponent as f64 + series * (2.0 / std::f64::consts::LN_2)) as f32
+}
+
+/// `[log2(x[0]), log2(x[1])]`, bit for bit: both series side by side in the two lanes of one
+/// SSE2 `f64×2` register (one division, not two, and half the multiplies and adds), the same
+/// IEEE operations in the same order per lane. A pair with an input outside the normal
+/// positive floats (zero, subnormal, infinite, negative or NaN) takes [`log2`] per lane.
+/// What a group's two quads' levels of detail take.
+#[inline(always)]
+pub fn log2_pair(x: [f32; 2]) -> [f32; 2] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{
+            _mm_add_pd, _mm_cvtpd_ps, _mm_cvtss_f32, _mm_div_pd, _mm_mul_pd, _mm_set_pd, _mm_set1_pd, _mm_shuffle_ps,
+            _mm_sub_pd,
+        };
+        // `!(… < …)` also holds for NaN.
+        let normal = |x: f32| x >= f32::MIN_POSITIVE && x < f32::INFINITY;
+        if !(normal(x[0]) && normal(x[1])) {
+            return [log2(x[0]), log2(x[1])];
+        }
+        // `log2`'s steps for a normal positive input.
+        let reduced = |x: f32| {
+            let bits = x.to_bits();
+            let exponent = ((bits >> 23) & 0xff) as i32 - 127;
+            let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000) as f64;
+            if m > std::f64::consts::SQRT_2 { (m * 0.5, exponent + 1) } else { (m, exponent) }
+        };
+        let ((m0, e0), (m1, e1)) = (reduced(x[0]), reduced(x[1]));
+        // SAFETY: SSE2 is part of the x86-64 baseline (every x86-64 processor has it), and these
+        // intrinsics only compute on registers: no memory is read or written.
+        unsafe {
+            let (m, exponent) = (_mm_set_pd(m1, m0), _mm_set_pd(e1 as f64, e0 as f64));
+            let c = |k: f64| _mm_set1_pd(k);
+            let z = _mm_div_pd(_mm_sub_pd(m, c(1.0)), _mm_add_pd(m, c(1.0)));
+            let z2 = _mm_mul_pd(z, z);
+            // `z · (1 + z2 · (1/3 + z2 · (1/5 + z2 · (1/7 + z2 · 1/9))))`, innermost first, as `log2`.
+            let mut inner = _mm_mul_pd(z2, c(1.0 / 9.0));
+            for k in [1.0 / 7.0, 1.0 / 5.0, 1.0 / 3.0] {
+                inner = _mm_mul_pd(z2, _mm_add_pd(c(k), inner));
+            }
+            let series = _mm_mul_pd(z, _mm_add_pd(c(1.0), inner));
+            let log = _mm_cvtpd_ps(_mm_add_pd(exponent, _mm_mul_pd(series, c(2.0 / std::f64::consts::LN_2))));
+            [_mm_cvtss_f32(log), _mm_cvtss_f32(_mm_shuffle_ps::<1>(log, log))]
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        [log2(x[0]), log2(x[1])]
+    }
 }
 
 /// `x.floor()`, exactly, without a call to the C library's `floorf` (which the baseline x86-64
@@ -1852,6 +1903,24 @@ mod tests {
         assert_eq!(log2(-1.0), f32::NEG_INFINITY);
         assert_eq!(log2(f32::NAN), f32::NEG_INFINITY);
         assert_eq!(log2(f32::INFINITY), f32::INFINITY);
+    }
+
+    #[test]
+    fn log2_pair_is_log2_bit_for_bit() {
+        let mut inputs = vec![0.0, -0.0, -1.0, f32::NAN, f32::INFINITY, f32::MIN_POSITIVE, f32::MAX];
+        inputs.extend([f32::from_bits(1), f32::from_bits(0x007f_ffff), std::f32::consts::SQRT_2, 1.0, 0.5]);
+        // A spread of mantissas and exponents, both sides of √2 (a simple LCG over the bits).
+        let mut bits = 0x1234_5678u32;
+        for _ in 0..20_000 {
+            bits = bits.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            inputs.push(f32::from_bits(bits & 0x7fff_ffff));
+        }
+        for pair in inputs.windows(2) {
+            let [a, b] = [pair[0], pair[1]];
+            let got = log2_pair([a, b]);
+            assert_eq!(got[0].to_bits(), log2(a).to_bits(), "log2({a:e}) beside {b:e}");
+            assert_eq!(got[1].to_bits(), log2(b).to_bits(), "log2({b:e}) beside {a:e}");
+        }
     }
 
     #[test]
