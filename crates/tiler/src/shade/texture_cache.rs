@@ -272,23 +272,9 @@ impl TextureCache {
         // not, the next lane is read line by line, repeated or not.
         let mut previous: Option<(usize, bool)> = None;
         let mut misses = 0;
-        // Whether lane `k` reads what lane `k − 1` reads, for every lane at once (a compare of
-        // each row with itself shifted by a lane: a few vector operations, where comparing lane
-        // by lane took a compare and branch per row a lane). Lane 0 compares with itself.
-        let mut repeats_lane_before = [true; L];
-        for row in rows {
-            let before: [u32; L] = std::array::from_fn(|k| row[k.saturating_sub(1)]);
-            for k in 0..L {
-                repeats_lane_before[k] &= row[k] == before[k];
-            }
-        }
         for lane in (0..L).filter(|&lane| counted[lane]) {
             if let Some((before, true)) = previous
-                && if before + 1 == lane {
-                    repeats_lane_before[lane]
-                } else {
-                    rows.iter().all(|row| row[lane] == row[before])
-                }
+                && rows.iter().all(|row| row[lane] == row[before])
             {
                 continue;
             }
