@@ -1492,8 +1492,8 @@ pub fn log2_pair(x: [f32; 2]) -> [f32; 2] {
             _mm_add_pd, _mm_cvtpd_ps, _mm_cvtss_f32, _mm_div_pd, _mm_mul_pd, _mm_set_pd, _mm_set1_pd, _mm_shuffle_ps,
             _mm_sub_pd,
         };
-        // `!(… < …)` also holds for NaN.
-        let normal = |x: f32| x >= f32::MIN_POSITIVE && x < f32::INFINITY;
+        // NaN is in no range.
+        let normal = |x: f32| (f32::MIN_POSITIVE..f32::INFINITY).contains(&x);
         if !(normal(x[0]) && normal(x[1])) {
             return [log2(x[0]), log2(x[1])];
         }
