@@ -250,17 +250,14 @@ pub struct Texture {
     /// quad's footprint reads one or two of them, not rows kilobytes apart. Texels of the
     /// blocks past a level's right or bottom edge are zero and never read.
     ///
-    /// Each texel is held decoded for the filter: its four channels as the 16-bit UNORMs the
-    /// filter works on (see the module notes), red and green in the first 32-bit word, blue and
-    /// alpha in the second, each channel in the low half first — a colour channel through
-    /// `color_table`, alpha `c · 257`. So sampling loads two words per texel, whose halves are
-    /// its channels, and decodes nothing (an sRGB texel took three table lookups a read). This is the host's
-    /// layout only: the modelled memory, and so the ledger, hold the texture's RGBA8 (or
-    /// stored-format) bytes, whose addresses the cache model reads.
-    texels: Vec<[u32; 2]>,
+    /// How each texel is held: see [`Texels`]. This is the host's layout only: the modelled
+    /// memory, and so the ledger, hold the texture's RGBA8 (or stored-format) bytes, whose
+    /// addresses the cache model reads.
+    texels: Texels,
     /// UNORM8 → the filter's 16-bit UNORM for the colour channels (see the module notes):
     /// `c · 257`, or the linear value of sRGB `c` when the texture is sRGB. Strictly
     /// increasing, so a decoded channel gives its byte back ([`Texture::texel_bytes`]).
+    /// [`Texels::Decoded`] holds channels through it; [`Texels::Packed`] needs none.
     color_table: Box<[u16; 256]>,
     /// A cube texture's six faces (`cube`), each a chain laid out as `levels` say, one after
     /// the other `face_bytes` apart in the modelled memory; `None` for a 2D texture.
@@ -446,24 +443,44 @@ impl Texture {
             ColorSpace::Srgb => (srgb8_to_linear(c as u8) as f64 * 65535.0).round() as u16,
         }));
         debug_assert!(color_table.windows(2).all(|pair| pair[0] < pair[1]), "the colour table is strictly increasing");
-        let decode = |[r, g, b, a]: [u8; 4]| {
-            let colour = |c: u8| color_table[c as usize] as u32;
-            [colour(r) | colour(g) << 16, colour(b) | unorm8_to_unorm16(a as u32) << 16]
-        };
-        let mut texels = vec![[0u32; 2]; ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize];
-        for (level, &start) in levels.iter().zip(starts) {
-            let row_texels = level.width as usize;
-            for (y, row) in rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels).enumerate()
-            {
-                // Each block's row of (up to) four texels is contiguous in both layouts.
-                for (block_x, texels_in_block) in row.chunks(BLOCK_TEXELS as usize).enumerate() {
-                    let at = level.texel_index(block_x as u32 * BLOCK_TEXELS, y as u32);
-                    for (texel, &rgba) in texels[at..at + texels_in_block.len()].iter_mut().zip(texels_in_block) {
-                        *texel = decode(rgba);
+        let texel_count = ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize;
+        // Each block's row of (up to) four texels is contiguous in both layouts: `put` writes
+        // one such run, row-major texels of `level` starting at `(x, y)`.
+        let each_block_row = |put: &mut dyn FnMut(usize, &[[u8; 4]])| {
+            for (level, &start) in levels.iter().zip(starts) {
+                let row_texels = level.width as usize;
+                let level_rows = rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels);
+                for (y, row) in level_rows.enumerate() {
+                    for (block_x, texels_in_block) in row.chunks(BLOCK_TEXELS as usize).enumerate() {
+                        put(level.texel_index(block_x as u32 * BLOCK_TEXELS, y as u32), texels_in_block);
                     }
                 }
             }
-        }
+        };
+        let texels = match color_space {
+            ColorSpace::Linear => {
+                let mut texels = vec![0u32; texel_count];
+                each_block_row(&mut |at, run| {
+                    for (texel, &rgba) in texels[at..at + run.len()].iter_mut().zip(run) {
+                        *texel = u32::from_le_bytes(rgba);
+                    }
+                });
+                Texels::Packed(texels)
+            }
+            ColorSpace::Srgb => {
+                let decode = |[r, g, b, a]: [u8; 4]| {
+                    let colour = |c: u8| color_table[c as usize] as u32;
+                    [colour(r) | colour(g) << 16, colour(b) | unorm8_to_unorm16(a as u32) << 16]
+                };
+                let mut texels = vec![[0u32; 2]; texel_count];
+                each_block_row(&mut |at, run| {
+                    for (texel, &rgba) in texels[at..at + run.len()].iter_mut().zip(run) {
+                        *texel = decode(rgba);
+                    }
+                });
+                Texels::Decoded(texels)
+            }
+        };
         Texture {
             id: NEXT_TEXTURE_ID.fetch_add(1, Ordering::Relaxed),
             color_space,
@@ -517,10 +534,14 @@ impl Texture {
         self.texel_bytes(l.texel_index(x, y))
     }
 
-    /// The RGBA8 bytes of `texels[index]`, given back from its decoded channels: alpha is
-    /// `c · 257`, a colour channel the one byte `color_table` maps to it.
+    /// The RGBA8 bytes of `texels[index]`: a packed texel's own bytes, or given back from its
+    /// decoded channels (alpha is `c · 257`, a colour channel the one byte `color_table` maps
+    /// to it).
     fn texel_bytes(&self, index: usize) -> [u8; 4] {
-        let texel = self.texels[index];
+        let texel = match &self.texels {
+            Texels::Packed(texels) => return texels[index].to_le_bytes(),
+            Texels::Decoded(texels) => texels[index],
+        };
         let channel = |c: u32| texel_channel(texel[c as usize / 2], c) as u16;
         let colour = |c: u32| {
             let byte = self.color_table.binary_search(&channel(c));
@@ -530,9 +551,10 @@ impl Texture {
         [colour(0), colour(1), colour(2), (channel(3) / 257) as u8]
     }
 
-    /// Host memory the texels take (8 bytes a texel: decoded for the filter, see `texels`).
+    /// Host memory the texels take (4 bytes a texel of a linear texture, 8 of an sRGB one: see
+    /// [`Texels`]).
     pub fn host_bytes(&self) -> usize {
-        self.texels.len() * std::mem::size_of::<[u32; 2]>()
+        self.texels.host_bytes()
     }
 
     /// The modelled address of texel `(x, y)` of `level` (see `texture_cache`): where the
@@ -616,7 +638,8 @@ impl Texture {
         let lods = if self.plan_ignores_lod(sampler) {
             [0.0; 2]
         } else {
-            [0.5 * log2(rho_squared[0]), 0.5 * log2(rho_squared[1])]
+            let logs = log2_pair(rho_squared);
+            [0.5 * logs[0], 0.5 * logs[1]]
         };
         // Minified more than 2× (`λ > UNMIPPED_LOD`) without mip maps, told from `ρ²` so that
         // samplers whose plan ignores the level of detail need no logarithm.
@@ -915,45 +938,142 @@ impl Texture {
     }
 
     /// The filtered colour of a footprint's lanes as 16-bit UNORMs, `[channel][lane]` (see the
-    /// module notes for the linear filter's formula), from the decoded texels (`texels`).
+    /// module notes for the linear filter's formula), from the texels as they are held
+    /// ([`Texels`]): one branch a footprint, the filter compiled once per layout.
     #[inline(always)]
     fn filter<const N: usize>(&self, footprint: &Footprint<N>) -> [[u32; N]; 4] {
-        // One bounds check for the footprint's texels (the largest index of its four corners;
-        // a nearest footprint's four are its one texel), not one per texel read: 64 compares
-        // and branches a trilinear pair.
-        let largest = footprint.texels.iter().flatten().fold(0, |m, &t| m.max(t));
-        assert!(
-            (largest as usize) < self.texels.len(),
-            "texel {largest} of a footprint outside the texture's {} texels",
-            self.texels.len()
-        );
-        // Word `w` of each lane's texel at `corner`.
-        let words = |corner: usize, w: usize| {
-            lanes(|i| {
-                let index = footprint.texels[corner][i] as usize;
-                // SAFETY: `index` is one of the footprint's texel indices (the indexing above
-                // panics for a corner past the fourth), all at most `largest`, which the
-                // assertion above holds below `texels.len()`.
-                unsafe { self.texels.get_unchecked(index)[w] }
-            })
-        };
-        match footprint.filter {
-            Filter::Nearest => {
-                let t = [words(0, 0), words(0, 1)];
-                let channel = |c: u32| lanes(|i| texel_channel(t[c as usize / 2][i], c));
-                [channel(0), channel(1), channel(2), channel(3)]
+        match &self.texels {
+            Texels::Packed(texels) => filter_texels(texels.as_slice(), footprint),
+            Texels::Decoded(texels) => filter_texels(texels.as_slice(), footprint),
+        }
+    }
+}
+
+/// How a texture's texels are held on the host, in the modelled block layout (see
+/// `Texture::texels`).
+#[derive(Clone, Debug)]
+enum Texels {
+    /// A linear texture's RGBA8 bytes, one little-endian word a texel (red in the low byte):
+    /// 4 bytes a texel, so a 4×4 block is one 64-byte host line. The filter widens a channel
+    /// at sampling, `c · 257` — the 16-bit UNORM the decoded form would hold.
+    Packed(Vec<u32>),
+    /// An sRGB texture's texels decoded for the filter: the four channels as the 16-bit
+    /// UNORMs the filter works on (see the module notes), red and green in the first 32-bit
+    /// word, blue and alpha in the second, each channel in the low half first — a colour
+    /// channel through `color_table`, alpha `c · 257` — so sampling needs no table lookup per
+    /// colour channel (three a texel read). 8 bytes a texel.
+    Decoded(Vec<[u32; 2]>),
+}
+
+impl Texels {
+    fn len(&self) -> usize {
+        match self {
+            Texels::Packed(t) => t.len(),
+            Texels::Decoded(t) => t.len(),
+        }
+    }
+
+    fn host_bytes(&self) -> usize {
+        match self {
+            Texels::Packed(t) => std::mem::size_of_val(t.as_slice()),
+            Texels::Decoded(t) => std::mem::size_of_val(t.as_slice()),
+        }
+    }
+
+    /// Texel `index` as the filter's two words (see [`Texels::Decoded`]).
+    fn decoded(&self, index: usize) -> [u32; 2] {
+        match self {
+            Texels::Packed(t) => {
+                let w = t[index];
+                [TexelWords::word(&w, 0), TexelWords::word(&w, 1)]
             }
-            Filter::Linear => {
-                let rg = [words(0, 0), words(1, 0), words(2, 0), words(3, 0)];
-                let ba = [words(0, 1), words(1, 1), words(2, 1), words(3, 1)];
-                let (alpha, beta) = (&footprint.alpha, &footprint.beta);
-                [
-                    bilinear_channel(&rg, 0, alpha, beta),
-                    bilinear_channel(&rg, 1, alpha, beta),
-                    bilinear_channel(&ba, 2, alpha, beta),
-                    bilinear_channel(&ba, 3, alpha, beta),
-                ]
-            }
+            Texels::Decoded(t) => t[index],
+        }
+    }
+
+    /// Appends `other`'s texels (another layer or face of the same texture, so held alike).
+    fn extend(&mut self, other: &Texels) {
+        match (self, other) {
+            (Texels::Packed(a), Texels::Packed(b)) => a.extend_from_slice(b),
+            (Texels::Decoded(a), Texels::Decoded(b)) => a.extend_from_slice(b),
+            _ => unreachable!("the layers and faces of a texture share its colour space, and so its layout"),
+        }
+    }
+
+    fn reserve(&mut self, additional: usize) {
+        match self {
+            Texels::Packed(t) => t.reserve(additional),
+            Texels::Decoded(t) => t.reserve(additional),
+        }
+    }
+}
+
+/// A texel as [`Texels`] holds it, read by the filter.
+trait TexelWords: Copy + Default {
+    /// Word `w` (0 or 1) of the decoded form: red | green << 16, or blue | alpha << 16, each a
+    /// 16-bit UNORM. A packed texel widens its bytes, `(r | g << 16) · 257` (each byte times
+    /// 257 is below 2^16, so no product carries into the other half): `c · 257`, as
+    /// `Texture::store` decodes a linear channel.
+    fn word(&self, w: usize) -> u32;
+}
+
+impl TexelWords for u32 {
+    #[inline(always)]
+    fn word(&self, w: usize) -> u32 {
+        let bytes = *self >> (16 * w as u32);
+        ((bytes & 0xff) | ((bytes & 0xff00) << 8)) * 257
+    }
+}
+
+impl TexelWords for [u32; 2] {
+    #[inline(always)]
+    fn word(&self, w: usize) -> u32 {
+        self[w]
+    }
+}
+
+/// [`Texture::filter`] for texels held as `texels`.
+#[inline(always)]
+fn filter_texels<T: TexelWords, const N: usize>(texels: &[T], footprint: &Footprint<N>) -> [[u32; N]; 4] {
+    // One bounds check for the footprint's texels (the largest index of its four corners;
+    // a nearest footprint's four are its one texel), not one per texel read: 64 compares
+    // and branches a trilinear pair.
+    let largest = footprint.texels.iter().flatten().fold(0, |m, &t| m.max(t));
+    assert!(
+        (largest as usize) < texels.len(),
+        "texel {largest} of a footprint outside the texture's {} texels",
+        texels.len()
+    );
+    // Each lane's texel at `corner`, loaded once (both words come from it).
+    let load = |corner: usize| {
+        lanes::<T, N>(|i| {
+            let index = footprint.texels[corner][i] as usize;
+            // SAFETY: `index` is one of the footprint's texel indices (the indexing above
+            // panics for a corner past the fourth), all at most `largest`, which the
+            // assertion above holds below `texels.len()`.
+            unsafe { *texels.get_unchecked(index) }
+        })
+    };
+    // Word `w` of each lane's texel of `t`.
+    let words = |t: &[T; N], w: usize| lanes::<u32, N>(|i| t[i].word(w));
+    match footprint.filter {
+        Filter::Nearest => {
+            let t0 = load(0);
+            let t = [words(&t0, 0), words(&t0, 1)];
+            let channel = |c: u32| lanes(|i| texel_channel(t[c as usize / 2][i], c));
+            [channel(0), channel(1), channel(2), channel(3)]
+        }
+        Filter::Linear => {
+            let t = [load(0), load(1), load(2), load(3)];
+            let rg = [words(&t[0], 0), words(&t[1], 0), words(&t[2], 0), words(&t[3], 0)];
+            let ba = [words(&t[0], 1), words(&t[1], 1), words(&t[2], 1), words(&t[3], 1)];
+            let (alpha, beta) = (&footprint.alpha, &footprint.beta);
+            [
+                bilinear_channel(&rg, 0, alpha, beta),
+                bilinear_channel(&rg, 1, alpha, beta),
+                bilinear_channel(&ba, 2, alpha, beta),
+                bilinear_channel(&ba, 3, alpha, beta),
+            ]
         }
     }
 }
@@ -1316,7 +1436,8 @@ const QUAD_LANES: [[usize; 4]; 2] = [[0, 1, 4, 5], [2, 3, 6, 7]];
 /// differences (see the module notes). `s`, `t` are in texels of level 0.
 #[cfg(test)]
 fn quad_lods(s: F32x8, t: F32x8) -> [f32; 2] {
-    quad_rho_squared(s, t).map(|rho_squared| 0.5 * log2(rho_squared))
+    let logs = log2_pair(quad_rho_squared(s, t));
+    [0.5 * logs[0], 0.5 * logs[1]]
 }
 
 /// `ρ²` of each quad: the larger squared length of the upper-left pixel's differences in x
@@ -1356,6 +1477,55 @@ pub fn log2(x: f32) -> f32 {
     let z2 = z * z;
     let series = z * (1.0 + z2 * (1.0 / 3.0 + z2 * (1.0 / 5.0 + z2 * (1.0 / 7.0 + z2 * (1.0 / 9.0)))));
     (exponent as f64 + series * (2.0 / std::f64::consts::LN_2)) as f32
+}
+
+/// `[log2(x[0]), log2(x[1])]`, bit for bit: both series side by side in the two lanes of one
+/// SSE2 `f64×2` register (one division, not two, and half the multiplies and adds), the same
+/// IEEE operations in the same order per lane. A pair with an input outside the normal
+/// positive floats (zero, subnormal, infinite, negative or NaN) takes [`log2`] per lane.
+/// What a group's two quads' levels of detail take.
+#[inline(always)]
+pub fn log2_pair(x: [f32; 2]) -> [f32; 2] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{
+            _mm_add_pd, _mm_cvtpd_ps, _mm_cvtss_f32, _mm_div_pd, _mm_mul_pd, _mm_set_pd, _mm_set1_pd, _mm_shuffle_ps,
+            _mm_sub_pd,
+        };
+        // NaN is in no range.
+        let normal = |x: f32| (f32::MIN_POSITIVE..f32::INFINITY).contains(&x);
+        if !(normal(x[0]) && normal(x[1])) {
+            return [log2(x[0]), log2(x[1])];
+        }
+        // `log2`'s steps for a normal positive input.
+        let reduced = |x: f32| {
+            let bits = x.to_bits();
+            let exponent = ((bits >> 23) & 0xff) as i32 - 127;
+            let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000) as f64;
+            if m > std::f64::consts::SQRT_2 { (m * 0.5, exponent + 1) } else { (m, exponent) }
+        };
+        let ((m0, e0), (m1, e1)) = (reduced(x[0]), reduced(x[1]));
+        // SAFETY: SSE2 is part of the x86-64 baseline (every x86-64 processor has it), and these
+        // intrinsics only compute on registers: no memory is read or written.
+        unsafe {
+            let (m, exponent) = (_mm_set_pd(m1, m0), _mm_set_pd(e1 as f64, e0 as f64));
+            let c = |k: f64| _mm_set1_pd(k);
+            let z = _mm_div_pd(_mm_sub_pd(m, c(1.0)), _mm_add_pd(m, c(1.0)));
+            let z2 = _mm_mul_pd(z, z);
+            // `z · (1 + z2 · (1/3 + z2 · (1/5 + z2 · (1/7 + z2 · 1/9))))`, innermost first, as `log2`.
+            let mut inner = _mm_mul_pd(z2, c(1.0 / 9.0));
+            for k in [1.0 / 7.0, 1.0 / 5.0, 1.0 / 3.0] {
+                inner = _mm_mul_pd(z2, _mm_add_pd(c(k), inner));
+            }
+            let series = _mm_mul_pd(z, _mm_add_pd(c(1.0), inner));
+            let log = _mm_cvtpd_ps(_mm_add_pd(exponent, _mm_mul_pd(series, c(2.0 / std::f64::consts::LN_2))));
+            [_mm_cvtss_f32(log), _mm_cvtss_f32(_mm_shuffle_ps::<1>(log, log))]
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        [log2(x[0]), log2(x[1])]
+    }
 }
 
 /// `x.floor()`, exactly, without a call to the C library's `floorf` (which the baseline x86-64
@@ -1733,6 +1903,24 @@ mod tests {
         assert_eq!(log2(-1.0), f32::NEG_INFINITY);
         assert_eq!(log2(f32::NAN), f32::NEG_INFINITY);
         assert_eq!(log2(f32::INFINITY), f32::INFINITY);
+    }
+
+    #[test]
+    fn log2_pair_is_log2_bit_for_bit() {
+        let mut inputs = vec![0.0, -0.0, -1.0, f32::NAN, f32::INFINITY, f32::MIN_POSITIVE, f32::MAX];
+        inputs.extend([f32::from_bits(1), f32::from_bits(0x007f_ffff), std::f32::consts::SQRT_2, 1.0, 0.5]);
+        // A spread of mantissas and exponents, both sides of √2 (a simple LCG over the bits).
+        let mut bits = 0x1234_5678u32;
+        for _ in 0..20_000 {
+            bits = bits.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            inputs.push(f32::from_bits(bits & 0x7fff_ffff));
+        }
+        for pair in inputs.windows(2) {
+            let [a, b] = [pair[0], pair[1]];
+            let got = log2_pair([a, b]);
+            assert_eq!(got[0].to_bits(), log2(a).to_bits(), "log2({a:e}) beside {b:e}");
+            assert_eq!(got[1].to_bits(), log2(b).to_bits(), "log2({b:e}) beside {a:e}");
+        }
     }
 
     #[test]

@@ -112,7 +112,7 @@ impl Texture {
         }
         texture.texels.reserve(layer_texels * (count as usize - 1));
         for layer in layers {
-            texture.texels.extend_from_slice(&layer?.texels);
+            texture.texels.extend(&layer?.texels);
         }
         texture.layers = Some(Layers { kind, count, layer_bytes: layer_bytes as u32 });
         Ok(texture)

@@ -182,7 +182,7 @@ impl Texture {
         let face_texels = cube.texels.len();
         for face in faces {
             debug_assert_eq!(face.texels.len(), face_texels);
-            cube.texels.extend_from_slice(&face.texels);
+            cube.texels.extend(&face.texels);
         }
         cube.face_bytes = Some((face_texels as u64 * TEXEL_BYTES) as u32);
         Ok(cube)

@@ -38,7 +38,7 @@ impl Texture {
             return None;
         }
         let index = self.layer_offset(z) as usize / TEXEL_BYTES as usize + l.texel_index(x, y);
-        let texel = self.texels[index];
+        let texel = self.texels.decoded(index);
         let value = std::array::from_fn(|c| unorm16_to_f32(texel_channel(texel[c / 2], c as u32)));
         Some((value, self.layer_texel_address(z, level as usize, x, y)))
     }
