@@ -1097,28 +1097,131 @@ static void scene_readback(void) {
     eglSwapBuffers(dpy, surf);
 }
 
-/* Transform feedback: not modelled by tiler; the replay must fail naming the call. */
-static void scene_feedback(void) {
+/* A program whose vertex outputs `varyings` are captured by transform feedback in `mode`. */
+static GLuint feedback_program(const char *vs, const char *fs, GLsizei n, const char *const *varyings, GLenum mode) {
     GLuint p = glCreateProgram();
-    GLuint v = shader(GL_VERTEX_SHADER,
-        "#version 300 es\nlayout(location = 0) in vec2 position;\nout vec2 doubled;\n"
-        "void main() { doubled = position * 2.0; gl_Position = vec4(position, 0.0, 1.0); }\n");
-    GLuint f = shader(GL_FRAGMENT_SHADER,
-        "#version 300 es\nprecision mediump float;\nout vec4 color;\nvoid main() { color = vec4(1.0); }\n");
+    GLuint v = shader(GL_VERTEX_SHADER, vs), f = shader(GL_FRAGMENT_SHADER, fs);
     glAttachShader(p, v);
     glAttachShader(p, f);
-    const char *varyings[] = {"doubled"};
-    glTransformFeedbackVaryings(p, 1, varyings, GL_INTERLEAVED_ATTRIBS);
+    glTransformFeedbackVaryings(p, n, varyings, mode);
     glLinkProgram(p);
-    glUseProgram(p);
-    quad_vao();
-    GLuint out = buffer(GL_TRANSFORM_FEEDBACK_BUFFER, 4 * 2 * sizeof(float), NULL);
-    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, out);
-    glBeginTransformFeedback(GL_POINTS);
-    glDrawArrays(GL_POINTS, 0, 4);
-    glEndTransformFeedback();
-    glClearColor(0, 0, 0, 1);
+    GLint ok;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[1024];
+        glGetProgramInfoLog(p, sizeof log, NULL, log);
+        fprintf(stderr, "%s\n", log);
+        die("link");
+    }
+    return p;
+}
+
+/* Transform feedback, then drawing what was captured. Left: six points captured with the
+ * rasterizer off (INTERLEAVED: a doubled position and a tint, 28 bytes a vertex) into a
+ * range of a buffer through a transform feedback object, a paused draw in between that must
+ * not be captured, a clear under RASTERIZER_DISCARD; the captured vertices are then drawn as
+ * two triangles. Right: a triangle strip drawn (grey, top) while captured as GL_TRIANGLES
+ * (SEPARATE: gl_Position and a flat uint into two buffers), then drawn again from them moved
+ * down, culling back faces (the strip's odd triangle keeps its winding) and coloured by the
+ * captured ids. */
+static void scene_feedback(void) {
+    glClearColor(0.1f, 0.1f, 0.2f, 1);
     glClear(GL_COLOR_BUFFER_BIT);
+
+    /* Left: points, interleaved, discarded. */
+    const char *a_varyings[] = {"big", "tint"};
+    GLuint a = feedback_program(
+        "#version 300 es\nlayout(location = 0) in vec2 position;\nout vec4 big;\nout vec3 tint;\n"
+        "void main() {\n"
+        "  big = vec4(position * 2.0 - vec2(0.5, 0.0), 0.0, 1.0);\n"
+        "  tint = vec3(position.x + 0.5, position.y + 0.5, float(gl_VertexID) / 6.0);\n"
+        "  gl_Position = vec4(position, 0.0, 1.0);\n"
+        "  gl_PointSize = 4.0;\n"
+        "}\n",
+        "#version 300 es\nprecision mediump float;\nout vec4 color;\nvoid main() { color = vec4(1.0, 0.0, 0.0, 1.0); }\n",
+        2, a_varyings, GL_INTERLEAVED_ATTRIBS);
+    const float points[] = {-0.2f, -0.2f, 0.2f, -0.2f, -0.2f, 0.2f, 0.2f, -0.2f, 0.2f, 0.2f, -0.2f, 0.2f};
+    GLuint va[2];
+    glGenVertexArrays(2, va);
+    glBindVertexArray(va[0]);
+    buffer(GL_ARRAY_BUFFER, sizeof points, points);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    const GLsizeiptr stride = 7 * sizeof(float);
+    GLuint captured = buffer(GL_TRANSFORM_FEEDBACK_BUFFER, 7 * stride, NULL);
+    GLuint tfo;
+    glGenTransformFeedbacks(1, &tfo);
+    glBindTransformFeedback(GL_TRANSFORM_FEEDBACK, tfo);
+    glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, captured, stride, 6 * stride);
+    glUseProgram(a);
+    glEnable(GL_RASTERIZER_DISCARD);
+    glClearColor(1, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glBeginTransformFeedback(GL_POINTS);
+    glDrawArrays(GL_POINTS, 0, 3);
+    glPauseTransformFeedback();
+    glDrawArrays(GL_POINTS, 0, 6);
+    glResumeTransformFeedback();
+    glDrawArrays(GL_POINTS, 3, 3);
+    glEndTransformFeedback();
+    glDisable(GL_RASTERIZER_DISCARD);
+    glBindTransformFeedback(GL_TRANSFORM_FEEDBACK, 0);
+    glDeleteTransformFeedbacks(1, &tfo);
+
+    GLuint show_a = program(
+        "#version 300 es\nlayout(location = 0) in vec4 position;\nlayout(location = 1) in vec3 tint;\n"
+        "out vec3 v_tint;\nvoid main() { v_tint = tint; gl_Position = position; }\n",
+        "#version 300 es\nprecision mediump float;\nin vec3 v_tint;\nout vec4 color;\n"
+        "void main() { color = vec4(v_tint, 1.0); }\n");
+    glBindVertexArray(va[1]);
+    glBindBuffer(GL_ARRAY_BUFFER, captured);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride, (void *)stride);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, (void *)(stride + 4 * sizeof(float)));
+    glUseProgram(show_a);
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+
+    /* Right: a strip captured as triangles, separate buffers, rasterized too. */
+    const char *b_varyings[] = {"gl_Position", "id"};
+    GLuint b = feedback_program(
+        "#version 300 es\nlayout(location = 0) in vec2 position;\nflat out uint id;\n"
+        "void main() { id = uint(gl_VertexID); gl_Position = vec4(position, 0.0, 1.0); }\n",
+        "#version 300 es\nprecision mediump float;\nflat in uint id;\nout vec4 color;\n"
+        "void main() { color = vec4(0.5, 0.5, 0.5 + 0.1 * float(id), 1.0); }\n",
+        2, b_varyings, GL_SEPARATE_ATTRIBS);
+    const float strip[] = {0.1f, 0.1f, 0.9f, 0.1f, 0.1f, 0.9f, 0.9f, 0.9f};
+    GLuint vb[2];
+    glGenVertexArrays(2, vb);
+    glBindVertexArray(vb[0]);
+    buffer(GL_ARRAY_BUFFER, sizeof strip, strip);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    GLuint positions = buffer(GL_TRANSFORM_FEEDBACK_BUFFER, 6 * 4 * sizeof(float), NULL);
+    GLuint ids = buffer(GL_TRANSFORM_FEEDBACK_BUFFER, 6 * sizeof(GLuint), NULL);
+    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, positions);
+    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 1, ids);
+    glUseProgram(b);
+    glBeginTransformFeedback(GL_TRIANGLES);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glEndTransformFeedback();
+
+    GLuint show_b = program(
+        "#version 300 es\nlayout(location = 0) in vec4 position;\nlayout(location = 1) in uint id;\n"
+        "flat out uint v_id;\nvoid main() { v_id = id; gl_Position = position - vec4(0.0, 1.0, 0.0, 0.0); }\n",
+        "#version 300 es\nprecision mediump float;\nflat in uint v_id;\nout vec4 color;\n"
+        "void main() { color = vec4(float(v_id & 1u), float((v_id >> 1) & 1u), 0.25 * float(v_id), 1.0); }\n");
+    glBindVertexArray(vb[1]);
+    glBindBuffer(GL_ARRAY_BUFFER, positions);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    glBindBuffer(GL_ARRAY_BUFFER, ids);
+    glEnableVertexAttribArray(1);
+    glVertexAttribIPointer(1, 1, GL_UNSIGNED_INT, 0, (void *)0);
+    glUseProgram(show_b);
+    glEnable(GL_CULL_FACE);
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+    glDisable(GL_CULL_FACE);
     eglSwapBuffers(dpy, surf);
 }
 

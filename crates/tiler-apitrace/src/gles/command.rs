@@ -339,6 +339,30 @@ pub enum Command {
         pname: GlEnum,
         param: i32,
     },
+    /// `glTransformFeedbackVaryings`: the vertex outputs a program captures once linked, in
+    /// `mode` (`GL_INTERLEAVED_ATTRIBS` or `GL_SEPARATE_ATTRIBS`).
+    TransformFeedbackVaryings {
+        program: u32,
+        varyings: Vec<String>,
+        mode: GlEnum,
+    },
+    /// `glBeginTransformFeedback` with its primitive mode.
+    BeginTransformFeedback {
+        mode: GlEnum,
+    },
+    EndTransformFeedback,
+    PauseTransformFeedback,
+    ResumeTransformFeedback,
+    GenTransformFeedbacks {
+        names: Vec<u32>,
+    },
+    DeleteTransformFeedbacks {
+        names: Vec<u32>,
+    },
+    BindTransformFeedback {
+        target: GlEnum,
+        id: u32,
+    },
     GenSamplers {
         names: Vec<u32>,
     },

@@ -120,19 +120,6 @@ pub const IGNORED: &[(&str, &str)] = &[
 pub const NOT_MODELLED: &[(&[&str], &str)] = &[
     (
         &[
-            "glTransformFeedbackVaryings",
-            "glBeginTransformFeedback",
-            "glEndTransformFeedback",
-            "glPauseTransformFeedback",
-            "glResumeTransformFeedback",
-            "glBindTransformFeedback",
-            "glGenTransformFeedbacks",
-            "glDeleteTransformFeedbacks",
-        ],
-        "transform feedback (GL ES 3.0 §2.15)",
-    ),
-    (
-        &[
             "glCompressedTexImage3D",
             "glCompressedTexImage3DOES",
             "glCompressedTexSubImage3D",

@@ -2,6 +2,7 @@
 //! [`crate::capture`] for the rules.
 
 mod cube;
+mod feedback;
 mod layered;
 
 use std::collections::HashMap;
@@ -208,6 +209,9 @@ struct Program {
     blocks: HashMap<u32, String>,
     /// `glDeleteProgram` while in use: it goes when another program is used.
     deleted: bool,
+    /// `glTransformFeedbackVaryings`: the outputs captured and whether separately (applied at
+    /// link).
+    feedback: Option<(Vec<String>, bool)>,
 }
 
 /// The objects of one EGL context (GL names → the context's ids).
@@ -281,6 +285,8 @@ struct Bindings {
     uniform_bindings: HashMap<u32, (u32, u64, Option<u64>)>,
     /// The sampler object bound to each texture unit.
     samplers: [u32; MAX_TEXTURE_UNITS as usize],
+    /// Transform feedback objects and their buffer bindings (`feedback.rs`).
+    feedback: feedback::FeedbackBindings,
 }
 
 impl Default for Bindings {
@@ -305,6 +311,7 @@ impl Default for Bindings {
             other_buffers: HashMap::new(),
             uniform_bindings: HashMap::new(),
             samplers: [0; MAX_TEXTURE_UNITS as usize],
+            feedback: feedback::FeedbackBindings::default(),
         }
     }
 }
@@ -446,7 +453,7 @@ impl Translator {
 
     fn command(&mut self, command: &Command, fake: bool) -> Fallible {
         use Command as C;
-        if self.cube_command(command)? || self.layered_command(command)? {
+        if self.cube_command(command)? || self.layered_command(command)? || self.feedback_command(command)? {
             return Ok(());
         }
         match command {
@@ -533,6 +540,7 @@ impl Translator {
                         }
                     }
                     gles3::forget_buffer(b, name);
+                    b.feedback.forget_buffer(name);
                     b.other_buffers.retain(|_, bound| *bound != name);
                 }
             }
@@ -581,6 +589,7 @@ impl Translator {
                             self.emit(Call::BindIndexBuffer { buffer: id })?;
                         }
                         self.bind_new_uniform_buffer(name, id)?;
+                        self.bind_new_feedback_buffer(name, id)?;
                     }
                 }
             }
@@ -1280,6 +1289,7 @@ impl Translator {
                     0x0c11 => Some(Capability::ScissorTest),
                     0x8037 => Some(Capability::PolygonOffsetFill),
                     0x8d69 => Some(Capability::PrimitiveRestartFixedIndex),
+                    0x8c89 => Some(Capability::RasterizerDiscard),
                     // Dithering may be a no-op in GL; neither llvmpipe nor tiler dithers.
                     0x0bd0 => None,
                     // Off by default; turning them off changes nothing.
@@ -1614,6 +1624,9 @@ impl Translator {
         self.emit(glsl::create_program(id, vertex, fragment)?)?;
         for (index, name) in p.bindings {
             self.emit(glsl::bind_attrib_location(id, index, name)?)?;
+        }
+        if let Some((varyings, separate)) = p.feedback {
+            self.emit(Call::TransformFeedbackVaryings { program: id, varyings, separate })?;
         }
         let p = self.program(program)?;
         let old = p.id.replace(id);

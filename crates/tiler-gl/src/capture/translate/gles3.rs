@@ -20,8 +20,9 @@ use super::{Bindings, Fallible, Translator, attrib_slot};
 const GL_UNIFORM_BUFFER: GlEnum = 0x8a11;
 
 /// Buffer targets that only name a buffer for other calls: `GL_UNIFORM_BUFFER`,
-/// `GL_COPY_READ_BUFFER`, `GL_COPY_WRITE_BUFFER`.
-pub(super) const OTHER_BUFFER_TARGETS: [GlEnum; 3] = [GL_UNIFORM_BUFFER, 0x8f36, 0x8f37];
+/// `GL_COPY_READ_BUFFER`, `GL_COPY_WRITE_BUFFER`, `GL_TRANSFORM_FEEDBACK_BUFFER`.
+pub(super) const OTHER_BUFFER_TARGETS: [GlEnum; 4] =
+    [GL_UNIFORM_BUFFER, 0x8f36, 0x8f37, super::feedback::GL_TRANSFORM_FEEDBACK_BUFFER];
 
 /// The translation's view of a vertex array that is not bound.
 #[derive(Clone, Debug, Default)]
