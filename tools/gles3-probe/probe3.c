@@ -1460,6 +1460,74 @@ static void scene_array(void) {
     free(small);
 }
 
+/* Rendering into layers (glFramebufferTextureLayer): layer 1 of a 16x16x3 2-D array (given
+ * texels, loaded: a triangle drawn over them) and slice 2 of an 8x8x4 3-D texture (cleared,
+ * then a smaller triangle), both then sampled nearest in the window: the array's three
+ * layers side by side on top, the volume's four slices below. */
+static void scene_layer(void) {
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    unsigned char *texels = layered_texels(16, 16, 3);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, tex[0]);
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA8, 16, 16, 3);
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, 16, 16, 3, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    unsigned char *slices = layered_texels(8, 8, 4);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_3D, tex[1]);
+    glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA8, 8, 8, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, slices);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
+    GLuint fill = program(color_vs, color_fs);
+    GLuint fb;
+    glGenFramebuffers(1, &fb);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, tex[0], 0, 1);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("array layer incomplete");
+    glViewport(0, 0, 16, 16);
+    glUseProgram(fill);
+    const float tri[] = {-0.8f, -0.8f, 1, 1, 0, 1, 0.8f, -0.8f, 0, 1, 1, 1, -0.8f, 0.8f, 1, 0, 1, 1};
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), tri);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), tri + 2);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, tex[1], 0, 2);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("volume slice incomplete");
+    glViewport(0, 0, 8, 8);
+    glClearColor(0.2f, 0.4f, 0.6f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    const float small[] = {-0.5f, -0.5f, 1, 0.5f, 0, 1, 0.5f, -0.5f, 1, 0.5f, 0, 1, 0, 0.5f, 1, 0.5f, 0, 1};
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), small);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), small + 2);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisableVertexAttribArray(1);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, W, H);
+
+    GLuint p = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\n"
+        "uniform mediump sampler2DArray layers;\nuniform mediump sampler3D slices;\nout vec4 color;\n"
+        "void main() {\n"
+        "  if (uv.y > 0.5) color = texture(layers, vec3(fract(uv.x * 3.0), uv.y * 2.0 - 1.0, floor(uv.x * 3.0)));\n"
+        "  else color = texture(slices, vec3(fract(uv.x * 4.0), uv.y * 2.0, (floor(uv.x * 4.0) + 0.5) / 4.0));\n"
+        "}\n");
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "layers"), 0);
+    glUniform1i(glGetUniformLocation(p, "slices"), 1);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+    free(texels);
+    free(slices);
+}
+
 /* 3-D textures: an 8x8x8 texture by glTexStorage3D + glTexSubImage3D, linear in all three
  * coordinates with WRAP_R repeat (left half), a 4x4x6 one by glTexImage3D, nearest, WRAP_R
  * clamp-to-edge and mirrored S (right half); r runs across the window past [0, 1]. */
@@ -1668,6 +1736,8 @@ int main(int argc, char **argv) {
         {"readback", scene_readback}, {"feedback", scene_feedback}, {"glsl3-more", scene_glsl3_more},
         /* tex3d */
         {"array", scene_array}, {"volume", scene_volume},
+        /* feedback */
+        {"layer", scene_layer},
         /* glsl4 */
         {"flat", scene_flat}, {"int-switch", scene_int_switch},
         /* texfn */

@@ -288,6 +288,14 @@ pub enum Call<D = Bytes> {
         #[serde(default = "one", skip_serializing_if = "is_one")]
         samples: u32,
     },
+    /// `glFramebufferTextureLayer`: attaches layer `layer` of 2-D array or 3-D texture
+    /// `texture` (0 detaches) as a colour attachment.
+    FramebufferTextureLayer {
+        framebuffer: u32,
+        attachment: AttachmentPoint,
+        texture: u32,
+        layer: u32,
+    },
     /// Attaches a renderbuffer (0 detaches) (`glFramebufferRenderbuffer`).
     FramebufferRenderbuffer {
         framebuffer: u32,
@@ -847,6 +855,7 @@ impl<D> Call<D> {
             CreateFramebuffer { .. } => "create_framebuffer",
             DeleteFramebuffer { .. } => "delete_framebuffer",
             FramebufferTexture { .. } => "framebuffer_texture",
+            FramebufferTextureLayer { .. } => "framebuffer_texture_layer",
             FramebufferRenderbuffer { .. } => "framebuffer_renderbuffer",
             BindFramebuffer { .. } => "bind_framebuffer",
             BeginPass { .. } => "begin_pass",
@@ -999,6 +1008,9 @@ impl<D> Call<D> {
             DeleteFramebuffer { id } => DeleteFramebuffer { id },
             FramebufferTexture { framebuffer, attachment, texture, samples } => {
                 FramebufferTexture { framebuffer, attachment, texture, samples }
+            }
+            FramebufferTextureLayer { framebuffer, attachment, texture, layer } => {
+                FramebufferTextureLayer { framebuffer, attachment, texture, layer }
             }
             FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
                 FramebufferRenderbuffer { framebuffer, attachment, renderbuffer }

@@ -1151,6 +1151,11 @@ fn probe_transform_feedback_drawn_from_its_buffers_matches_llvmpipe() {
     check_probe_in("gles3-probe", "feedback");
 }
 
+#[test]
+fn probe_rendering_into_array_and_volume_layers_matches_llvmpipe() {
+    check_probe_in("gles3-probe", "layer");
+}
+
 // ---- glsl4's probe scenes ----
 
 #[test]

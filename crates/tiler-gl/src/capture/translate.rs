@@ -1856,7 +1856,7 @@ impl Translator {
     }
 
     /// The context's framebuffer a `glFramebuffer*` call attaches to.
-    fn attachment_target(&mut self, target: GlEnum) -> Fallible<u32> {
+    pub(super) fn attachment_target(&mut self, target: GlEnum) -> Fallible<u32> {
         let name = match target {
             GL_FRAMEBUFFER | GL_DRAW_FRAMEBUFFER => self.bindings.draw_framebuffer,
             GL_READ_FRAMEBUFFER => self.bindings.read_framebuffer,
@@ -2013,7 +2013,7 @@ fn blend_op(op: GlEnum) -> Fallible<BlendOp> {
     })
 }
 
-fn attachment_point(a: GlEnum) -> Fallible<AttachmentPoint> {
+pub(super) fn attachment_point(a: GlEnum) -> Fallible<AttachmentPoint> {
     Ok(match a {
         0x8ce0 => AttachmentPoint::Color0,
         0x8ce1 => AttachmentPoint::Color1,

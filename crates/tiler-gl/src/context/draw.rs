@@ -153,6 +153,8 @@ impl Context {
         indexed: Option<(IndexKind, u64)>,
         instances: u32,
     ) -> Fallible {
+        // Layers rendered into and sampled now (`layered.rs`).
+        self.sync_all_rendered_layers()?;
         if self.feedback.capturing() {
             if indexed.is_some() {
                 return Err("an indexed draw while transform feedback is active: GL ES 3.0 captures only \

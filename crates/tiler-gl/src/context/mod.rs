@@ -826,7 +826,7 @@ impl Context {
             }
             TexImageLevel { id, level, width, height, data } => self.tex_image_level(id, level, width, height, data)?,
             DeleteTexture { id } if self.cubes.contains_key(&id) => self.delete_cube(id),
-            DeleteTexture { id } if self.layered.contains_key(&id) => self.delete_layered(id),
+            DeleteTexture { id } if self.layered.contains_key(&id) => self.delete_layered(id)?,
             DeleteTexture { id } => self.delete_texture(id)?,
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
                 if id == 0 || self.renderbuffers.contains_key(&id) {
@@ -872,6 +872,9 @@ impl Context {
                     }
                 };
                 self.attach(framebuffer, attachment, r)?;
+            }
+            FramebufferTextureLayer { framebuffer, attachment, texture, layer } => {
+                self.framebuffer_texture_layer(framebuffer, attachment, texture, layer)?;
             }
             FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
                 if renderbuffer != 0 && !self.renderbuffers.contains_key(&renderbuffer) {
@@ -1381,7 +1384,7 @@ impl Context {
     // --- textures and renderbuffers --------------------------------------------------------
 
     /// Gives texture `id` new storage (creating the texture if needed).
-    fn texture_storage(
+    pub(crate) fn texture_storage(
         &mut self,
         id: u32,
         width: u32,
@@ -1429,7 +1432,7 @@ impl Context {
         }
     }
 
-    fn tex_sub_image(&mut self, id: u32, x: u32, y: u32, width: u32, height: u32, data: Bytes) -> Fallible {
+    pub(crate) fn tex_sub_image(&mut self, id: u32, x: u32, y: u32, width: u32, height: u32, data: Bytes) -> Fallible {
         let t = self.texture(id)?;
         let (image, format) = (t.image, t.format);
         let desc = self.images[&image].desc;
@@ -1539,7 +1542,7 @@ impl Context {
         Ok(())
     }
 
-    fn delete_texture(&mut self, id: u32) -> Fallible {
+    pub(crate) fn delete_texture(&mut self, id: u32) -> Fallible {
         self.texture(id)?;
         if self.open_pass_attaches(AttachmentRef::Texture(id)) {
             self.flush_open_pass(crate::report::FlushCause::AttachmentChange)?;
@@ -1568,7 +1571,7 @@ impl Context {
 
     // --- framebuffers ----------------------------------------------------------------------
 
-    fn attach(&mut self, framebuffer: u32, point: AttachmentPoint, r: Option<AttachmentRef>) -> Fallible {
+    pub(crate) fn attach(&mut self, framebuffer: u32, point: AttachmentPoint, r: Option<AttachmentRef>) -> Fallible {
         if framebuffer == 0 {
             return Err("the window's framebuffer (0) has fixed attachments".to_string());
         }
