@@ -1152,6 +1152,19 @@ fn probe_transform_feedback_drawn_from_its_buffers_matches_llvmpipe() {
 }
 
 #[test]
+fn transform_feedback_writes_are_counted_in_the_context_ledger() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles3-probe/feedback.trace");
+    let replay = tiler_gl::capture::replay_file(path, &ReplayOptions::default(), &mut |_| Ok(())).unwrap();
+    let ledger = &replay.report.frames[0].context_ledger;
+    // Six points of a vec4 and a vec3 (28 bytes), then two triangles' six vertices of a vec4
+    // and a uint into separate buffers (16 + 4 bytes).
+    assert_eq!(ledger.get(tiler::Category::TransformFeedbackWrite), 6 * 28 + 6 * 20);
+    // The discarded draws' attributes (a vec2 per captured point) are fetched outside passes;
+    // the strip's are the core's, as it is drawn too.
+    assert_eq!(ledger.get(tiler::Category::VertexFetch), 6 * 8);
+}
+
+#[test]
 fn probe_rendering_into_array_and_volume_layers_matches_llvmpipe() {
     check_probe_in("gles3-probe", "layer");
 }
@@ -1586,4 +1599,40 @@ fn probe_texture_grad_offsets_and_sampler_objects_match_llvmpipe() {
 #[test]
 fn probe_glsl3_more_matches_llvmpipe() {
     check_probe_in("gles3-probe", "glsl3-more");
+}
+
+#[test]
+fn read_buffer_none_is_taken_and_a_colour_read_after_it_names_the_call() {
+    // glReadBuffer(GL_NONE) on the window is a GL error in ES 3.0, but tiler takes it as a
+    // state change like any framebuffer's; a read of colour then fails, naming the call.
+    let read_none = |w: &mut Writer| w.call("glReadBuffer", &[("src", e("GL_NONE", 0))], None, false);
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    read_none(&mut w);
+    w.call("glReadBuffer", &[("src", e("GL_BACK", 0x0405))], None, false);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [255, 0, 0, 255]));
+
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    read_none(&mut w);
+    let args = [
+        ("x", W::UInt(0)),
+        ("y", W::UInt(0)),
+        ("width", W::UInt(1)),
+        ("height", W::UInt(1)),
+        ("format", e("GL_RGBA", 0x1908)),
+        ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+        ("pixels", W::Blob(vec![0; 4])),
+    ];
+    let call = w.call("glReadPixels", &args, None, false);
+    let (result, _) = replay(&w);
+    let error = result.err().expect("a colour read with GL_NONE");
+    assert_eq!(error.call(), Some(call));
+    assert!(error.to_string().contains("GL_NONE"), "{error}");
 }

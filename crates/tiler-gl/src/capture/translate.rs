@@ -287,6 +287,8 @@ struct Bindings {
     samplers: [u32; MAX_TEXTURE_UNITS as usize],
     /// Transform feedback objects and their buffer bindings (`feedback.rs`).
     feedback: feedback::FeedbackBindings,
+    /// Framebuffers (by GL name) whose read buffer `glReadBuffer` set to `GL_NONE`.
+    read_none: std::collections::HashSet<u32>,
 }
 
 impl Default for Bindings {
@@ -312,6 +314,7 @@ impl Default for Bindings {
             uniform_bindings: HashMap::new(),
             samplers: [0; MAX_TEXTURE_UNITS as usize],
             feedback: feedback::FeedbackBindings::default(),
+            read_none: std::collections::HashSet::new(),
         }
     }
 }
@@ -453,6 +456,16 @@ impl Translator {
 
     fn command(&mut self, command: &Command, fake: bool) -> Fallible {
         use Command as C;
+        let reads_colour = matches!(
+            command,
+            C::ReadPixels { .. } | C::BlitFramebuffer { .. } | C::CopyTexImage2D { .. } | C::CopyTexSubImage2D { .. }
+        );
+        if reads_colour && self.bindings.read_none.contains(&self.bindings.read_framebuffer) {
+            return Err(format!(
+                "reading colour from framebuffer {}, whose read buffer is GL_NONE (a GL error)",
+                self.bindings.read_framebuffer
+            ));
+        }
         if self.cube_command(command)? || self.layered_command(command)? || self.feedback_command(command)? {
             return Ok(());
         }
@@ -1065,6 +1078,7 @@ impl Translator {
                         self.emit(Call::DeleteFramebuffer { id })?;
                     }
                     let b = &mut self.bindings;
+                    b.read_none.remove(&name);
                     for bound in [&mut b.draw_framebuffer, &mut b.read_framebuffer] {
                         if *bound == name {
                             *bound = 0;
@@ -1156,9 +1170,19 @@ impl Translator {
             }
             C::DrawBuffers { buffers } => self.draw_buffers(buffers)?,
             C::ReadBuffer { source } => {
-                let default = self.bindings.read_framebuffer == 0;
-                if *source != if default { 0x0405 } else { 0x8ce0 } {
-                    return Err(format!("read buffer {source:#06x}: only the default is supported"));
+                // GL_NONE (a depth-only framebuffer, say) reads nothing: later colour reads
+                // are GL errors, refused as such.
+                let framebuffer = self.bindings.read_framebuffer;
+                let default = framebuffer == 0;
+                if *source == 0 {
+                    self.bindings.read_none.insert(framebuffer);
+                } else if *source == if default { 0x0405 } else { 0x8ce0 } {
+                    self.bindings.read_none.remove(&framebuffer);
+                } else {
+                    return Err(format!(
+                        "read buffer {source:#06x}: only GL_NONE and the default (GL_BACK, GL_COLOR_ATTACHMENT0) are \
+                         supported"
+                    ));
                 }
             }
             C::ReadPixels { x, y, width, height, format, kind, .. } => {
