@@ -154,7 +154,7 @@ impl Context {
         instances: u32,
     ) -> Fallible {
         // Layers rendered into and sampled now (`layered.rs`).
-        self.sync_all_rendered_layers()?;
+        self.sync_sampled_layers()?;
         if self.feedback.capturing() {
             if indexed.is_some() {
                 return Err("an indexed draw while transform feedback is active: GL ES 3.0 captures only \

@@ -105,7 +105,7 @@ fn decompose(mode: Mode, first: u32, count: u32) -> Vec<u32> {
         }
         Mode::TriangleStrip if count >= 3 => {
             for i in 0..count - 2 {
-                v.extend(if i % 2 == 0 { [i, i + 1, i + 2] } else { [i + 1, i, i + 2] });
+                v.extend(if i.is_multiple_of(2) { [i, i + 1, i + 2] } else { [i + 1, i, i + 2] });
             }
         }
         Mode::TriangleFan if count >= 3 => {
@@ -186,7 +186,7 @@ impl Context {
         if !self.buffers.contains_key(&buffer) {
             return Err(format!("buffer {buffer} does not exist"));
         }
-        if offset % 4 != 0 || size.is_some_and(|s| s == 0 || s % 4 != 0) {
+        if !offset.is_multiple_of(4) || size.is_some_and(|s| s == 0 || !s.is_multiple_of(4)) {
             return Err(format!(
                 "transform feedback range at offset {offset}, size {size:?}: both must be multiples of 4 (and the size \
                  above 0)"

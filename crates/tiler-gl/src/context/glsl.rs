@@ -89,6 +89,11 @@ impl GlslProgram {
         &self.compiled
     }
 
+    /// The texture units its samplers of `kind` read.
+    pub(super) fn units_of(&self, kind: SamplerKind) -> Vec<u32> {
+        self.compiled.sampler_units_of(kind, &self.uniforms).into_iter().map(|(_, unit)| unit).collect()
+    }
+
     /// `glUniform*` by name, with GL's type rules (see [`UniformValue`]).
     ///
     /// # Errors

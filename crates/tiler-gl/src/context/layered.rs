@@ -303,10 +303,26 @@ impl Context {
         self.attach(framebuffer, point, Some(AttachmentRef::Texture(hidden)))
     }
 
-    /// Copies the layer images of every layered texture rendered into back into its texels
-    /// (see the module docs).
-    pub(crate) fn sync_all_rendered_layers(&mut self) -> Fallible {
-        let ids: Vec<u32> = self.layered.iter().filter(|(_, t)| !t.layers.is_empty()).map(|(id, _)| *id).collect();
+    /// Copies the layer images of the layered textures the program in use samples back into
+    /// their texels, where they have been rendered into (see the module docs).
+    pub(crate) fn sync_sampled_layers(&mut self) -> Fallible {
+        if self.layered.values().all(|t| t.layers.is_empty()) {
+            return Ok(());
+        }
+        let Some(super::ProgramObject::Glsl(p)) = self.programs.get(&self.state.program) else {
+            return Ok(());
+        };
+        let mut ids = Vec::new();
+        for (kind, target) in [
+            (tiler_glsl::SamplerKind::Sampler2DArray, LayeredTarget::Array2D),
+            (tiler_glsl::SamplerKind::Sampler3D, LayeredTarget::Texture3D),
+        ] {
+            for unit in p.units_of(kind) {
+                if let Some(id) = self.state.layered_textures.get(unit as usize).map(|u| u[target.index()]) {
+                    ids.push(id);
+                }
+            }
+        }
         ids.into_iter().try_for_each(|id| self.sync_rendered_layers(id))
     }
 
