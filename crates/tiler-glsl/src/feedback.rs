@@ -114,11 +114,11 @@ impl GlslVertexShader {
     pub fn shade_feedback(&self, inputs: &[tiler::VertexInput], varyings: &[FeedbackVarying], out: &mut [Vec<u32>]) {
         for batch in inputs.chunks(tiler::VERTEX_BATCH) {
             self.run_batch(batch, |regs: &[[f32; tiler::VERTEX_BATCH]], lanes| {
-                for lane in 0..lanes {
+                (0..lanes).for_each(|lane| {
                     for (v, words) in varyings.iter().zip(out.iter_mut()) {
                         words.extend(v.regs.iter().map(|&r| regs[r as usize][lane].to_bits()));
                     }
-                }
+                });
             });
         }
     }

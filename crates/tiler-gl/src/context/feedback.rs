@@ -346,7 +346,7 @@ impl Context {
                 AttribSource::Client { data } => data.to_vec(),
             };
             let divisor = attrib.divisor;
-            let elements = if divisor == 0 { last + 1 } else { (instances as u64 - 1) / divisor as u64 + 1 };
+            let elements = (instances as u64 - 1).checked_div(divisor as u64).map_or(last + 1, |e| e + 1);
             let end = (elements - 1) * stride + format.size_bytes() as u64;
             if end > bytes.len() as u64 {
                 return Err(format!(
@@ -372,7 +372,7 @@ impl Context {
                     input.attributes[*location as usize] = glam::Vec4::from_array(*value);
                 }
                 for s in &sources {
-                    let element = if s.divisor == 0 { index as u64 } else { (instance / s.divisor) as u64 };
+                    let element = instance.checked_div(s.divisor).unwrap_or(index) as u64;
                     let at = (element * s.stride) as usize;
                     input.attributes[s.location] =
                         glam::Vec4::from_array(tiler::read_attribute(s.format, &s.bytes[at..]));
