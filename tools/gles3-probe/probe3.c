@@ -1528,6 +1528,62 @@ static void scene_layer(void) {
     free(slices);
 }
 
+/* Copies into layers (glCopyTexSubImage3D): the window's picture (a clear and a triangle)
+ * copied into a patch of layer 1 of a 16x16x3 2-D array and into slice 0 of an 8x8x2 3-D
+ * texture, then both sampled nearest over the cleared window. */
+static void scene_copy_layer(void) {
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    unsigned char *texels = layered_texels(16, 16, 3);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, tex[0]);
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, 16, 16, 3, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    unsigned char *slices = layered_texels(8, 8, 2);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_3D, tex[1]);
+    glTexStorage3D(GL_TEXTURE_3D, 1, GL_RGBA8, 8, 8, 2);
+    glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, 0, 8, 8, 2, GL_RGBA, GL_UNSIGNED_BYTE, slices);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
+    glClearColor(0.9f, 0.1f, 0.3f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    GLuint fill = program(color_vs, color_fs);
+    glUseProgram(fill);
+    const float tri[] = {-1, -1, 1, 1, 0, 1, 0, -1, 0, 1, 1, 1, -1, 0, 1, 0, 1, 1};
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), tri);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), tri + 2);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisableVertexAttribArray(1);
+    glActiveTexture(GL_TEXTURE0);
+    glCopyTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 4, 2, 1, 0, 0, 10, 12);
+    glActiveTexture(GL_TEXTURE1);
+    glCopyTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, 0, 4, 4, 8, 8);
+
+    GLuint p = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\n"
+        "uniform mediump sampler2DArray layers;\nuniform mediump sampler3D slices;\nout vec4 color;\n"
+        "void main() {\n"
+        "  if (uv.y > 0.5) color = texture(layers, vec3(fract(uv.x * 3.0), uv.y * 2.0 - 1.0, floor(uv.x * 3.0)));\n"
+        "  else color = texture(slices, vec3(fract(uv.x * 2.0), uv.y * 2.0, (floor(uv.x * 2.0) + 0.5) / 2.0));\n"
+        "}\n");
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "layers"), 0);
+    glUniform1i(glGetUniformLocation(p, "slices"), 1);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+    free(texels);
+    free(slices);
+}
+
 /* 3-D textures: an 8x8x8 texture by glTexStorage3D + glTexSubImage3D, linear in all three
  * coordinates with WRAP_R repeat (left half), a 4x4x6 one by glTexImage3D, nearest, WRAP_R
  * clamp-to-edge and mirrored S (right half); r runs across the window past [0, 1]. */
@@ -1737,7 +1793,7 @@ int main(int argc, char **argv) {
         /* tex3d */
         {"array", scene_array}, {"volume", scene_volume},
         /* feedback */
-        {"layer", scene_layer},
+        {"layer", scene_layer}, {"copy-layer", scene_copy_layer},
         /* glsl4 */
         {"flat", scene_flat}, {"int-switch", scene_int_switch},
         /* texfn */

@@ -296,6 +296,18 @@ pub enum Call<D = Bytes> {
         texture: u32,
         layer: u32,
     },
+    /// `glCopyTexSubImage3D`: `copy_tex_sub_image` into layer `layer` of 2-D array or 3-D
+    /// texture `texture`, through its layer image.
+    CopyTexSubImageLayer {
+        texture: u32,
+        layer: u32,
+        x_offset: u32,
+        y_offset: u32,
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+    },
     /// Attaches a renderbuffer (0 detaches) (`glFramebufferRenderbuffer`).
     FramebufferRenderbuffer {
         framebuffer: u32,
@@ -856,6 +868,7 @@ impl<D> Call<D> {
             DeleteFramebuffer { .. } => "delete_framebuffer",
             FramebufferTexture { .. } => "framebuffer_texture",
             FramebufferTextureLayer { .. } => "framebuffer_texture_layer",
+            CopyTexSubImageLayer { .. } => "copy_tex_sub_image_layer",
             FramebufferRenderbuffer { .. } => "framebuffer_renderbuffer",
             BindFramebuffer { .. } => "bind_framebuffer",
             BeginPass { .. } => "begin_pass",
@@ -1011,6 +1024,9 @@ impl<D> Call<D> {
             }
             FramebufferTextureLayer { framebuffer, attachment, texture, layer } => {
                 FramebufferTextureLayer { framebuffer, attachment, texture, layer }
+            }
+            CopyTexSubImageLayer { texture, layer, x_offset, y_offset, x, y, width, height } => {
+                CopyTexSubImageLayer { texture, layer, x_offset, y_offset, x, y, width, height }
             }
             FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
                 FramebufferRenderbuffer { framebuffer, attachment, renderbuffer }

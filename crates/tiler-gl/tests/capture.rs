@@ -1170,6 +1170,11 @@ fn probe_rendering_into_array_and_volume_layers_matches_llvmpipe() {
 }
 
 #[test]
+fn probe_copies_into_array_and_volume_layers_match_llvmpipe() {
+    check_probe_in("gles3-probe", "copy-layer");
+}
+
+#[test]
 fn a_layer_rendered_into_is_a_pass_of_its_own_loaded_and_stored_as_an_attachment() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles3-probe/layer.trace");
     let replay = tiler_gl::capture::replay_file(path, &ReplayOptions::default(), &mut |_| Ok(())).unwrap();

@@ -450,6 +450,17 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
             height: a.i32(4)?,
             depth: a.i32(5)?,
         },
+        "glCopyTexSubImage3D" | "glCopyTexSubImage3DOES" => C::CopyTexSubImage3D {
+            target: a.enumeration(0)?,
+            level: a.i32(1)?,
+            x_offset: a.i32(2)?,
+            y_offset: a.i32(3)?,
+            z_offset: a.i32(4)?,
+            x: a.i32(5)?,
+            y: a.i32(6)?,
+            width: a.i32(7)?,
+            height: a.i32(8)?,
+        },
         "glFramebufferTextureLayer" => C::FramebufferTextureLayer {
             target: a.enumeration(0)?,
             attachment: a.enumeration(1)?,

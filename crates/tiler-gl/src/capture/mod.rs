@@ -62,8 +62,9 @@
 //!   `*_INTEGER` formats, rendered to through `uvec4`/`ivec4` outputs, cleared by
 //!   `glClearBuffer{ui,i}v`, read by `glReadPixels(GL_RGBA_INTEGER)`),
 //!   `glVertexAttribIPointer`, 2-D array and 3-D textures (`glTexImage3D`, `glTexStorage3D`,
-//!   `glTexSubImage3D`, `WRAP_R`), rendering into their layers (`glFramebufferTextureLayer`,
-//!   the context's `framebuffer_texture_layer`), and the packed and float formats
+//!   `glTexSubImage3D`, `WRAP_R`), rendering and copying into their layers
+//!   (`glFramebufferTextureLayer`, `glCopyTexSubImage3D`: the context's
+//!   `framebuffer_texture_layer`, `copy_tex_sub_image_layer`), and the packed and float formats
 //!   `docs/captures.md` lists. `glReadBuffer` takes `GL_NONE` (a colour read after it is refused
 //!   as the GL error it is) and the default.
 //! - **Transform feedback** (`translate/feedback.rs`): `glTransformFeedbackVaryings` is applied

@@ -458,7 +458,11 @@ impl Translator {
         use Command as C;
         let reads_colour = matches!(
             command,
-            C::ReadPixels { .. } | C::BlitFramebuffer { .. } | C::CopyTexImage2D { .. } | C::CopyTexSubImage2D { .. }
+            C::ReadPixels { .. }
+                | C::BlitFramebuffer { .. }
+                | C::CopyTexImage2D { .. }
+                | C::CopyTexSubImage2D { .. }
+                | C::CopyTexSubImage3D { .. }
         );
         if reads_colour && self.bindings.read_none.contains(&self.bindings.read_framebuffer) {
             return Err(format!(

@@ -12,7 +12,8 @@
 //! with a mipmap minification filter (GL would sample it incomplete: a silent black). A 2-D
 //! array's chain is generated, as a 2D texture's (`MipChain::Linear`, each layer on its own).
 //!
-//! **Rendering into a layer** (`framebuffer_texture_layer`, GL's `glFramebufferTextureLayer`):
+//! **Rendering into a layer** (`framebuffer_texture_layer`, GL's `glFramebufferTextureLayer`;
+//! `copy_tex_sub_image_layer`, GL's `glCopyTexSubImage3D`, is a copy pass into the same image):
 //! the layer gets a device image of its own, a hidden 2D texture holding the layer's texels,
 //! attached as any texture is — so a pass that renders into it loads and stores it as any
 //! attachment, and the ledger counts those loads and stores. The texture keeps its layer
@@ -272,15 +273,22 @@ impl Context {
         if texture == 0 {
             return self.attach(framebuffer, point, None);
         }
+        if point.color_index().is_none() {
+            return Err(format!("texture {texture} is colour: it cannot be a depth or stencil attachment"));
+        }
+        let hidden = self.layer_texture(texture, layer)?;
+        self.attach(framebuffer, point, Some(AttachmentRef::Texture(hidden)))
+    }
+
+    /// The hidden 2D texture of layer `layer` of layered texture `texture`, made now (holding
+    /// the layer's texels) if it has none yet.
+    pub(crate) fn layer_texture(&mut self, texture: u32, layer: u32) -> Fallible<u32> {
         let t = self.layered_mut(texture)?;
         let what = format!("{} texture {texture}", t.target.name());
         if layer >= t.depth {
             return Err(format!("layer {layer} of {what}, which has {}", t.depth));
         }
-        if point.color_index().is_none() {
-            return Err(format!("{what} is colour: it cannot be a depth or stencil attachment"));
-        }
-        let hidden = match t.layers.get(&layer) {
+        Ok(match t.layers.get(&layer) {
             Some(&hidden) => hidden,
             None => {
                 let (w, h, format) = (t.width, t.height, t.format);
@@ -299,8 +307,7 @@ impl Context {
                 t.synced = None;
                 hidden
             }
-        };
-        self.attach(framebuffer, point, Some(AttachmentRef::Texture(hidden)))
+        })
     }
 
     /// Copies the layer images of the layered textures the program in use samples back into

@@ -876,6 +876,10 @@ impl Context {
             FramebufferTextureLayer { framebuffer, attachment, texture, layer } => {
                 self.framebuffer_texture_layer(framebuffer, attachment, texture, layer)?;
             }
+            CopyTexSubImageLayer { texture, layer, x_offset, y_offset, x, y, width, height } => {
+                let hidden = self.layer_texture(texture, layer)?;
+                self.copy_tex_sub_image(hidden, [x_offset, y_offset], [x, y], [width, height], false)?;
+            }
             FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
                 if renderbuffer != 0 && !self.renderbuffers.contains_key(&renderbuffer) {
                     return Err(format!("renderbuffer {renderbuffer} does not exist"));

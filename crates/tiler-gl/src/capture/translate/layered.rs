@@ -143,6 +143,17 @@ impl Translator {
                     .ok_or_else(|| format!("{} texture {name} has no storage", layered.name()))?;
                 self.emit(Call::GenerateMipmap { id })?;
             }
+            C::CopyTexSubImage3D { target, level, x_offset, y_offset, z_offset, x, y, width, height } => {
+                let layered = self.layered_level0(*target, *level)?;
+                let name = self.bound_layered(layered)?;
+                let texture = self
+                    .texture_id(name)?
+                    .ok_or_else(|| format!("{} texture {name} has no storage", layered.name()))?;
+                let (x_offset, y_offset, layer) = size3(*x_offset, *y_offset, *z_offset)?;
+                let (width, height) = size2(*width, *height)?;
+                let (x, y) = (*x, *y);
+                self.emit(Call::CopyTexSubImageLayer { texture, layer, x_offset, y_offset, x, y, width, height })?;
+            }
             C::FramebufferTextureLayer { target, attachment, texture, level, layer } => {
                 let framebuffer = self.attachment_target(*target)?;
                 let attachment = super::attachment_point(*attachment)?;
