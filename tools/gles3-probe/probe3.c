@@ -1097,28 +1097,131 @@ static void scene_readback(void) {
     eglSwapBuffers(dpy, surf);
 }
 
-/* Transform feedback: not modelled by tiler; the replay must fail naming the call. */
-static void scene_feedback(void) {
+/* A program whose vertex outputs `varyings` are captured by transform feedback in `mode`. */
+static GLuint feedback_program(const char *vs, const char *fs, GLsizei n, const char *const *varyings, GLenum mode) {
     GLuint p = glCreateProgram();
-    GLuint v = shader(GL_VERTEX_SHADER,
-        "#version 300 es\nlayout(location = 0) in vec2 position;\nout vec2 doubled;\n"
-        "void main() { doubled = position * 2.0; gl_Position = vec4(position, 0.0, 1.0); }\n");
-    GLuint f = shader(GL_FRAGMENT_SHADER,
-        "#version 300 es\nprecision mediump float;\nout vec4 color;\nvoid main() { color = vec4(1.0); }\n");
+    GLuint v = shader(GL_VERTEX_SHADER, vs), f = shader(GL_FRAGMENT_SHADER, fs);
     glAttachShader(p, v);
     glAttachShader(p, f);
-    const char *varyings[] = {"doubled"};
-    glTransformFeedbackVaryings(p, 1, varyings, GL_INTERLEAVED_ATTRIBS);
+    glTransformFeedbackVaryings(p, n, varyings, mode);
     glLinkProgram(p);
-    glUseProgram(p);
-    quad_vao();
-    GLuint out = buffer(GL_TRANSFORM_FEEDBACK_BUFFER, 4 * 2 * sizeof(float), NULL);
-    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, out);
-    glBeginTransformFeedback(GL_POINTS);
-    glDrawArrays(GL_POINTS, 0, 4);
-    glEndTransformFeedback();
-    glClearColor(0, 0, 0, 1);
+    GLint ok;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[1024];
+        glGetProgramInfoLog(p, sizeof log, NULL, log);
+        fprintf(stderr, "%s\n", log);
+        die("link");
+    }
+    return p;
+}
+
+/* Transform feedback, then drawing what was captured. Left: six points captured with the
+ * rasterizer off (INTERLEAVED: a doubled position and a tint, 28 bytes a vertex) into a
+ * range of a buffer through a transform feedback object, a paused draw in between that must
+ * not be captured, a clear under RASTERIZER_DISCARD; the captured vertices are then drawn as
+ * two triangles. Right: a triangle strip drawn (grey, top) while captured as GL_TRIANGLES
+ * (SEPARATE: gl_Position and a flat uint into two buffers), then drawn again from them moved
+ * down, culling back faces (the strip's odd triangle keeps its winding) and coloured by the
+ * captured ids. */
+static void scene_feedback(void) {
+    glClearColor(0.1f, 0.1f, 0.2f, 1);
     glClear(GL_COLOR_BUFFER_BIT);
+
+    /* Left: points, interleaved, discarded. */
+    const char *a_varyings[] = {"big", "tint"};
+    GLuint a = feedback_program(
+        "#version 300 es\nlayout(location = 0) in vec2 position;\nout vec4 big;\nout vec3 tint;\n"
+        "void main() {\n"
+        "  big = vec4(position * 2.0 - vec2(0.5, 0.0), 0.0, 1.0);\n"
+        "  tint = vec3(position.x + 0.5, position.y + 0.5, float(gl_VertexID) / 6.0);\n"
+        "  gl_Position = vec4(position, 0.0, 1.0);\n"
+        "  gl_PointSize = 4.0;\n"
+        "}\n",
+        "#version 300 es\nprecision mediump float;\nout vec4 color;\nvoid main() { color = vec4(1.0, 0.0, 0.0, 1.0); }\n",
+        2, a_varyings, GL_INTERLEAVED_ATTRIBS);
+    const float points[] = {-0.2f, -0.2f, 0.2f, -0.2f, -0.2f, 0.2f, 0.2f, -0.2f, 0.2f, 0.2f, -0.2f, 0.2f};
+    GLuint va[2];
+    glGenVertexArrays(2, va);
+    glBindVertexArray(va[0]);
+    buffer(GL_ARRAY_BUFFER, sizeof points, points);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    const GLsizeiptr stride = 7 * sizeof(float);
+    GLuint captured = buffer(GL_TRANSFORM_FEEDBACK_BUFFER, 7 * stride, NULL);
+    GLuint tfo;
+    glGenTransformFeedbacks(1, &tfo);
+    glBindTransformFeedback(GL_TRANSFORM_FEEDBACK, tfo);
+    glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, captured, stride, 6 * stride);
+    glUseProgram(a);
+    glEnable(GL_RASTERIZER_DISCARD);
+    glClearColor(1, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glBeginTransformFeedback(GL_POINTS);
+    glDrawArrays(GL_POINTS, 0, 3);
+    glPauseTransformFeedback();
+    glDrawArrays(GL_POINTS, 0, 6);
+    glResumeTransformFeedback();
+    glDrawArrays(GL_POINTS, 3, 3);
+    glEndTransformFeedback();
+    glDisable(GL_RASTERIZER_DISCARD);
+    glBindTransformFeedback(GL_TRANSFORM_FEEDBACK, 0);
+    glDeleteTransformFeedbacks(1, &tfo);
+
+    GLuint show_a = program(
+        "#version 300 es\nlayout(location = 0) in vec4 position;\nlayout(location = 1) in vec3 tint;\n"
+        "out vec3 v_tint;\nvoid main() { v_tint = tint; gl_Position = position; }\n",
+        "#version 300 es\nprecision mediump float;\nin vec3 v_tint;\nout vec4 color;\n"
+        "void main() { color = vec4(v_tint, 1.0); }\n");
+    glBindVertexArray(va[1]);
+    glBindBuffer(GL_ARRAY_BUFFER, captured);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride, (void *)stride);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, (void *)(stride + 4 * sizeof(float)));
+    glUseProgram(show_a);
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+
+    /* Right: a strip captured as triangles, separate buffers, rasterized too. */
+    const char *b_varyings[] = {"gl_Position", "id"};
+    GLuint b = feedback_program(
+        "#version 300 es\nlayout(location = 0) in vec2 position;\nflat out uint id;\n"
+        "void main() { id = uint(gl_VertexID); gl_Position = vec4(position, 0.0, 1.0); }\n",
+        "#version 300 es\nprecision mediump float;\nflat in uint id;\nout vec4 color;\n"
+        "void main() { color = vec4(0.5, 0.5, 0.5 + 0.1 * float(id), 1.0); }\n",
+        2, b_varyings, GL_SEPARATE_ATTRIBS);
+    const float strip[] = {0.1f, 0.1f, 0.9f, 0.1f, 0.1f, 0.9f, 0.9f, 0.9f};
+    GLuint vb[2];
+    glGenVertexArrays(2, vb);
+    glBindVertexArray(vb[0]);
+    buffer(GL_ARRAY_BUFFER, sizeof strip, strip);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    GLuint positions = buffer(GL_TRANSFORM_FEEDBACK_BUFFER, 6 * 4 * sizeof(float), NULL);
+    GLuint ids = buffer(GL_TRANSFORM_FEEDBACK_BUFFER, 6 * sizeof(GLuint), NULL);
+    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, positions);
+    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 1, ids);
+    glUseProgram(b);
+    glBeginTransformFeedback(GL_TRIANGLES);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glEndTransformFeedback();
+
+    GLuint show_b = program(
+        "#version 300 es\nlayout(location = 0) in vec4 position;\nlayout(location = 1) in uint id;\n"
+        "flat out uint v_id;\nvoid main() { v_id = id; gl_Position = position - vec4(0.0, 1.0, 0.0, 0.0); }\n",
+        "#version 300 es\nprecision mediump float;\nflat in uint v_id;\nout vec4 color;\n"
+        "void main() { color = vec4(float(v_id & 1u), float((v_id >> 1) & 1u), 0.25 * float(v_id), 1.0); }\n");
+    glBindVertexArray(vb[1]);
+    glBindBuffer(GL_ARRAY_BUFFER, positions);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    glBindBuffer(GL_ARRAY_BUFFER, ids);
+    glEnableVertexAttribArray(1);
+    glVertexAttribIPointer(1, 1, GL_UNSIGNED_INT, 0, (void *)0);
+    glUseProgram(show_b);
+    glEnable(GL_CULL_FACE);
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+    glDisable(GL_CULL_FACE);
     eglSwapBuffers(dpy, surf);
 }
 
@@ -1357,6 +1460,130 @@ static void scene_array(void) {
     free(small);
 }
 
+/* Rendering into layers (glFramebufferTextureLayer): layer 1 of a 16x16x3 2-D array (given
+ * texels, loaded: a triangle drawn over them) and slice 2 of an 8x8x4 3-D texture (cleared,
+ * then a smaller triangle), both then sampled nearest in the window: the array's three
+ * layers side by side on top, the volume's four slices below. */
+static void scene_layer(void) {
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    unsigned char *texels = layered_texels(16, 16, 3);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, tex[0]);
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA8, 16, 16, 3);
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, 16, 16, 3, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    unsigned char *slices = layered_texels(8, 8, 4);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_3D, tex[1]);
+    glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA8, 8, 8, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, slices);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
+    GLuint fill = program(color_vs, color_fs);
+    GLuint fb;
+    glGenFramebuffers(1, &fb);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, tex[0], 0, 1);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("array layer incomplete");
+    glViewport(0, 0, 16, 16);
+    glUseProgram(fill);
+    const float tri[] = {-0.8f, -0.8f, 1, 1, 0, 1, 0.8f, -0.8f, 0, 1, 1, 1, -0.8f, 0.8f, 1, 0, 1, 1};
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), tri);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), tri + 2);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, tex[1], 0, 2);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("volume slice incomplete");
+    glViewport(0, 0, 8, 8);
+    glClearColor(0.2f, 0.4f, 0.6f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    const float small[] = {-0.5f, -0.5f, 1, 0.5f, 0, 1, 0.5f, -0.5f, 1, 0.5f, 0, 1, 0, 0.5f, 1, 0.5f, 0, 1};
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), small);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), small + 2);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisableVertexAttribArray(1);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, W, H);
+
+    GLuint p = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\n"
+        "uniform mediump sampler2DArray layers;\nuniform mediump sampler3D slices;\nout vec4 color;\n"
+        "void main() {\n"
+        "  if (uv.y > 0.5) color = texture(layers, vec3(fract(uv.x * 3.0), uv.y * 2.0 - 1.0, floor(uv.x * 3.0)));\n"
+        "  else color = texture(slices, vec3(fract(uv.x * 4.0), uv.y * 2.0, (floor(uv.x * 4.0) + 0.5) / 4.0));\n"
+        "}\n");
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "layers"), 0);
+    glUniform1i(glGetUniformLocation(p, "slices"), 1);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+    free(texels);
+    free(slices);
+}
+
+/* Copies into layers (glCopyTexSubImage3D): the window's picture (a clear and a triangle)
+ * copied into a patch of layer 1 of a 16x16x3 2-D array and into slice 0 of an 8x8x2 3-D
+ * texture, then both sampled nearest over the cleared window. */
+static void scene_copy_layer(void) {
+    GLuint tex[2];
+    glGenTextures(2, tex);
+    unsigned char *texels = layered_texels(16, 16, 3);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, tex[0]);
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, 16, 16, 3, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    unsigned char *slices = layered_texels(8, 8, 2);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_3D, tex[1]);
+    glTexStorage3D(GL_TEXTURE_3D, 1, GL_RGBA8, 8, 8, 2);
+    glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, 0, 8, 8, 2, GL_RGBA, GL_UNSIGNED_BYTE, slices);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
+    glClearColor(0.9f, 0.1f, 0.3f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    GLuint fill = program(color_vs, color_fs);
+    glUseProgram(fill);
+    const float tri[] = {-1, -1, 1, 1, 0, 1, 0, -1, 0, 1, 1, 1, -1, 0, 1, 0, 1, 1};
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), tri);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), tri + 2);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisableVertexAttribArray(1);
+    glActiveTexture(GL_TEXTURE0);
+    glCopyTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 4, 2, 1, 0, 0, 10, 12);
+    glActiveTexture(GL_TEXTURE1);
+    glCopyTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, 0, 4, 4, 8, 8);
+
+    GLuint p = program(show_vs,
+        "#version 300 es\nprecision mediump float;\nin vec2 uv;\n"
+        "uniform mediump sampler2DArray layers;\nuniform mediump sampler3D slices;\nout vec4 color;\n"
+        "void main() {\n"
+        "  if (uv.y > 0.5) color = texture(layers, vec3(fract(uv.x * 3.0), uv.y * 2.0 - 1.0, floor(uv.x * 3.0)));\n"
+        "  else color = texture(slices, vec3(fract(uv.x * 2.0), uv.y * 2.0, (floor(uv.x * 2.0) + 0.5) / 2.0));\n"
+        "}\n");
+    glUseProgram(p);
+    glUniform1i(glGetUniformLocation(p, "layers"), 0);
+    glUniform1i(glGetUniformLocation(p, "slices"), 1);
+    quad_vao();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    eglSwapBuffers(dpy, surf);
+    free(texels);
+    free(slices);
+}
+
 /* 3-D textures: an 8x8x8 texture by glTexStorage3D + glTexSubImage3D, linear in all three
  * coordinates with WRAP_R repeat (left half), a 4x4x6 one by glTexImage3D, nearest, WRAP_R
  * clamp-to-edge and mirrored S (right half); r runs across the window past [0, 1]. */
@@ -1565,6 +1792,8 @@ int main(int argc, char **argv) {
         {"readback", scene_readback}, {"feedback", scene_feedback}, {"glsl3-more", scene_glsl3_more},
         /* tex3d */
         {"array", scene_array}, {"volume", scene_volume},
+        /* feedback */
+        {"layer", scene_layer}, {"copy-layer", scene_copy_layer},
         /* glsl4 */
         {"flat", scene_flat}, {"int-switch", scene_int_switch},
         /* texfn */

@@ -101,8 +101,8 @@
 //!   modelled where the CPU waits (`glClientWaitSync` decodes to [`Command::Finish`]):
 //!   glFenceSync, glDeleteSync, glWaitSync, glIsSync, glGetSynciv.
 //!
-//! Calls of a feature tiler does not model (transform feedback, compressed 3-D and array textures,
-//! program binaries, compute) and desktop OpenGL calls fail with
+//! Calls of a feature tiler does not model (compressed 3-D and array textures, program
+//! binaries, compute) and desktop OpenGL calls fail with
 //! [`DecodeErrorKind::NotModelled`](gles::DecodeErrorKind::NotModelled), which names the
 //! feature.
 //!

@@ -288,6 +288,26 @@ pub enum Call<D = Bytes> {
         #[serde(default = "one", skip_serializing_if = "is_one")]
         samples: u32,
     },
+    /// `glFramebufferTextureLayer`: attaches layer `layer` of 2-D array or 3-D texture
+    /// `texture` (0 detaches) as a colour attachment.
+    FramebufferTextureLayer {
+        framebuffer: u32,
+        attachment: AttachmentPoint,
+        texture: u32,
+        layer: u32,
+    },
+    /// `glCopyTexSubImage3D`: `copy_tex_sub_image` into layer `layer` of 2-D array or 3-D
+    /// texture `texture`, through its layer image.
+    CopyTexSubImageLayer {
+        texture: u32,
+        layer: u32,
+        x_offset: u32,
+        y_offset: u32,
+        x: i32,
+        y: i32,
+        width: u32,
+        height: u32,
+    },
     /// Attaches a renderbuffer (0 detaches) (`glFramebufferRenderbuffer`).
     FramebufferRenderbuffer {
         framebuffer: u32,
@@ -592,6 +612,38 @@ pub enum Call<D = Bytes> {
         size: Option<u64>,
     },
 
+    // --- transform feedback -------------------------------------------------------------
+    /// `glTransformFeedbackVaryings` as linked: GLSL program `program` captures the vertex
+    /// outputs `varyings` (`gl_Position`, `gl_PointSize`, outputs, `a[k]`), in one buffer
+    /// (interleaved) or each into the binding of its index (`separate`).
+    TransformFeedbackVaryings {
+        program: u32,
+        varyings: Vec<String>,
+        #[serde(default)]
+        separate: bool,
+    },
+    /// `glBindBufferBase` / `glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER)`: transform
+    /// feedback binding `binding` (0–3) writes into buffer `buffer` (0 unbinds) from byte
+    /// `offset`, at most `size` bytes (to the buffer's end without one).
+    BindTransformFeedbackBuffer {
+        binding: u32,
+        buffer: u32,
+        #[serde(default)]
+        offset: u64,
+        #[serde(default = "none", skip_serializing_if = "Option::is_none")]
+        size: Option<u64>,
+    },
+    /// `glBeginTransformFeedback`: draws of `mode`'s primitives (strips, loops and fans are
+    /// taken apart) write the program's captured outputs into the bound buffers, from their
+    /// starts, until `end_transform_feedback`.
+    BeginTransformFeedback {
+        mode: FeedbackMode,
+    },
+    EndTransformFeedback,
+    /// `glPauseTransformFeedback`: draws capture nothing until resumed.
+    PauseTransformFeedback,
+    ResumeTransformFeedback,
+
     // --- drawing ---------------------------------------------------------------------------
     DrawArrays {
         mode: Mode,
@@ -822,6 +874,8 @@ impl<D> Call<D> {
             CreateFramebuffer { .. } => "create_framebuffer",
             DeleteFramebuffer { .. } => "delete_framebuffer",
             FramebufferTexture { .. } => "framebuffer_texture",
+            FramebufferTextureLayer { .. } => "framebuffer_texture_layer",
+            CopyTexSubImageLayer { .. } => "copy_tex_sub_image_layer",
             FramebufferRenderbuffer { .. } => "framebuffer_renderbuffer",
             BindFramebuffer { .. } => "bind_framebuffer",
             BeginPass { .. } => "begin_pass",
@@ -875,6 +929,12 @@ impl<D> Call<D> {
             BindLayeredTexture { .. } => "bind_layered_texture",
             DrawArrays { .. } => "draw_arrays",
             DrawElements { .. } => "draw_elements",
+            TransformFeedbackVaryings { .. } => "transform_feedback_varyings",
+            BindTransformFeedbackBuffer { .. } => "bind_transform_feedback_buffer",
+            BeginTransformFeedback { .. } => "begin_transform_feedback",
+            EndTransformFeedback => "end_transform_feedback",
+            PauseTransformFeedback => "pause_transform_feedback",
+            ResumeTransformFeedback => "resume_transform_feedback",
             DrawArraysInstanced { .. } => "draw_arrays_instanced",
             DrawElementsInstanced { .. } => "draw_elements_instanced",
             DrawBuffers { .. } => "draw_buffers",
@@ -970,6 +1030,12 @@ impl<D> Call<D> {
             FramebufferTexture { framebuffer, attachment, texture, samples } => {
                 FramebufferTexture { framebuffer, attachment, texture, samples }
             }
+            FramebufferTextureLayer { framebuffer, attachment, texture, layer } => {
+                FramebufferTextureLayer { framebuffer, attachment, texture, layer }
+            }
+            CopyTexSubImageLayer { texture, layer, x_offset, y_offset, x, y, width, height } => {
+                CopyTexSubImageLayer { texture, layer, x_offset, y_offset, x, y, width, height }
+            }
             FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
                 FramebufferRenderbuffer { framebuffer, attachment, renderbuffer }
             }
@@ -1027,6 +1093,16 @@ impl<D> Call<D> {
             BindLayeredTexture { unit, target, texture } => BindLayeredTexture { unit, target, texture },
             DrawArrays { mode, first, count } => DrawArrays { mode, first, count },
             DrawElements { mode, count, index_type, offset } => DrawElements { mode, count, index_type, offset },
+            TransformFeedbackVaryings { program, varyings, separate } => {
+                TransformFeedbackVaryings { program, varyings, separate }
+            }
+            BindTransformFeedbackBuffer { binding, buffer, offset, size } => {
+                BindTransformFeedbackBuffer { binding, buffer, offset, size }
+            }
+            BeginTransformFeedback { mode } => BeginTransformFeedback { mode },
+            EndTransformFeedback => EndTransformFeedback,
+            PauseTransformFeedback => PauseTransformFeedback,
+            ResumeTransformFeedback => ResumeTransformFeedback,
             DrawArraysInstanced { mode, first, count, instances } => {
                 DrawArraysInstanced { mode, first, count, instances }
             }
@@ -1380,6 +1456,29 @@ pub enum Capability {
     /// GL ES 3.0's `GL_PRIMITIVE_RESTART_FIXED_INDEX`: the largest value of an indexed draw's
     /// index type ends the primitive being assembled and starts a new one.
     PrimitiveRestartFixedIndex,
+    /// GL ES 3.0's `GL_RASTERIZER_DISCARD`: draws stop after the vertex shader (and transform
+    /// feedback); they and clears touch no pixel.
+    RasterizerDiscard,
+}
+
+/// The primitives transform feedback captures (`glBeginTransformFeedback`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FeedbackMode {
+    Points,
+    Lines,
+    Triangles,
+}
+
+impl FeedbackMode {
+    /// The mode whose primitives a draw of `mode` assembles.
+    pub fn of(mode: Mode) -> FeedbackMode {
+        match mode {
+            Mode::Points => FeedbackMode::Points,
+            Mode::Lines | Mode::LineStrip | Mode::LineLoop => FeedbackMode::Lines,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => FeedbackMode::Triangles,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

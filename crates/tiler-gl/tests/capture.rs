@@ -1147,9 +1147,46 @@ fn probe_depth_compare_through_a_sampler_object_matches_llvmpipe() {
 }
 
 #[test]
-fn probe_transform_feedback_fails_naming_the_call_and_the_feature() {
-    let error = replay_probe_in("gles3-probe", "feedback", ReplayOptions::default().config).unwrap_err();
-    assert!(error.contains("glTransformFeedbackVaryings") && error.contains("transform feedback"), "{error}");
+fn probe_transform_feedback_drawn_from_its_buffers_matches_llvmpipe() {
+    check_probe_in("gles3-probe", "feedback");
+}
+
+#[test]
+fn transform_feedback_writes_are_counted_in_the_context_ledger() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles3-probe/feedback.trace");
+    let replay = tiler_gl::capture::replay_file(path, &ReplayOptions::default(), &mut |_| Ok(())).unwrap();
+    let ledger = &replay.report.frames[0].context_ledger;
+    // Six points of a vec4 and a vec3 (28 bytes), then two triangles' six vertices of a vec4
+    // and a uint into separate buffers (16 + 4 bytes).
+    assert_eq!(ledger.get(tiler::Category::TransformFeedbackWrite), 6 * 28 + 6 * 20);
+    // The discarded draws' attributes (a vec2 per captured point) are fetched outside passes;
+    // the strip's are the core's, as it is drawn too.
+    assert_eq!(ledger.get(tiler::Category::VertexFetch), 6 * 8);
+}
+
+#[test]
+fn probe_rendering_into_array_and_volume_layers_matches_llvmpipe() {
+    check_probe_in("gles3-probe", "layer");
+}
+
+#[test]
+fn probe_copies_into_array_and_volume_layers_match_llvmpipe() {
+    check_probe_in("gles3-probe", "copy-layer");
+}
+
+#[test]
+fn a_layer_rendered_into_is_a_pass_of_its_own_loaded_and_stored_as_an_attachment() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles3-probe/layer.trace");
+    let replay = tiler_gl::capture::replay_file(path, &ReplayOptions::default(), &mut |_| Ok(())).unwrap();
+    let passes = &replay.report.frames[0].passes;
+    // The array's layer (16×16, loaded: it has texels), the volume's slice (8×8, cleared,
+    // one pass with its triangle), the window.
+    let sizes: Vec<(u32, u32)> = passes.iter().map(|p| (p.width, p.height)).collect();
+    assert_eq!(sizes, [(16, 16), (8, 8), (64, 64)], "{passes:#?}");
+    assert_eq!(passes[0].cost.ledger.get(tiler::Category::TileLoad), 16 * 16 * 4);
+    assert_eq!(passes[0].cost.ledger.get(tiler::Category::TileStore), 16 * 16 * 4);
+    assert_eq!(passes[1].cost.ledger.get(tiler::Category::TileLoad), 0);
+    assert_eq!(passes[1].cost.ledger.get(tiler::Category::TileStore), 8 * 8 * 4);
 }
 
 // ---- glsl4's probe scenes ----
@@ -1464,7 +1501,7 @@ fn probe_3d_textures_match_llvmpipe() {
 
 /// A 2-D array texture (name 9) of two 1×1 layers made by `glTexImage3D` at `level`, then
 /// `glFramebufferTextureLayer` of it: returns the capture and the two calls' numbers.
-fn array_capture(level: u64) -> (Writer, [u64; 2]) {
+fn array_capture(level: u64, layer: u64) -> (Writer, [u64; 2]) {
     let mut w = Writer::new(6);
     window_surface(&mut w);
     begin_context(&mut w, 100, 4, 4);
@@ -1484,12 +1521,14 @@ fn array_capture(level: u64) -> (Writer, [u64; 2]) {
         ("pixels", W::Blob(vec![10, 20, 30, 255, 40, 50, 60, 255])),
     ];
     let upload = w.call("glTexImage3D", &image, None, false);
+    w.call("glGenFramebuffers", &[("n", W::UInt(1)), ("framebuffers", W::Array(vec![W::UInt(5)]))], None, false);
+    w.call("glBindFramebuffer", &[("target", e("GL_FRAMEBUFFER", 0x8d40)), ("framebuffer", W::UInt(5))], None, false);
     let layer = [
         ("target", e("GL_FRAMEBUFFER", 0x8d40)),
         ("attachment", e("GL_COLOR_ATTACHMENT0", 0x8ce0)),
         ("texture", W::UInt(9)),
         ("level", W::UInt(0)),
-        ("layer", W::UInt(1)),
+        ("layer", W::UInt(layer)),
     ];
     let attach = w.call("glFramebufferTextureLayer", &layer, None, false);
     swap(&mut w);
@@ -1497,16 +1536,22 @@ fn array_capture(level: u64) -> (Writer, [u64; 2]) {
 }
 
 #[test]
-fn array_uploads_above_level_0_and_rendering_into_a_layer_are_errors_naming_the_call() {
-    let (w, [upload, _]) = array_capture(1);
+fn array_uploads_above_level_0_and_a_layer_past_the_last_are_errors_naming_the_call() {
+    let (w, [upload, _]) = array_capture(1, 1);
     let error = replay(&w).0.err().expect("level 1 of an array");
     assert_eq!(error.call(), Some(upload));
     assert!(error.to_string().contains("mip level 1 of a 2-D array texture"), "{error}");
-    let (w, [_, attach]) = array_capture(0);
-    let error = replay(&w).0.err().expect("rendering into a layer");
+    // Layer 1 of two is rendered into (since 2026-11-27); layer 2 does not exist.
+    let (w, _) = array_capture(0, 1);
+    replay(&w).0.unwrap();
+    let (w, [_, attach]) = array_capture(0, 2);
+    let error = replay(&w).0.err().expect("layer 2 of two");
     assert_eq!(error.call(), Some(attach));
     let message = error.to_string();
-    assert!(message.contains("glFramebufferTextureLayer") && message.contains("layer 1 of texture 9"), "{message}");
+    assert!(
+        message.contains("glFramebufferTextureLayer") && message.contains("layer 2 of 2-D array texture"),
+        "{message}"
+    );
 }
 
 /// `tools/float-probe`'s `precision.frag`, recorded on llvmpipe (a headless program drawing into
@@ -1840,4 +1885,40 @@ fn texels_upload_from_a_pixel_unpack_buffer_at_the_pointers_offset() {
     let error = result.err().expect("offset 12 of 8 bytes");
     assert_eq!(error.call(), Some(past));
     assert!(error.to_string().contains("past the end of pixel unpack buffer 9"), "{error}");
+}
+
+#[test]
+fn read_buffer_none_is_taken_and_a_colour_read_after_it_names_the_call() {
+    // glReadBuffer(GL_NONE) on the window is a GL error in ES 3.0, but tiler takes it as a
+    // state change like any framebuffer's; a read of colour then fails, naming the call.
+    let read_none = |w: &mut Writer| w.call("glReadBuffer", &[("src", e("GL_NONE", 0))], None, false);
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    read_none(&mut w);
+    w.call("glReadBuffer", &[("src", e("GL_BACK", 0x0405))], None, false);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [255, 0, 0, 255]));
+
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    read_none(&mut w);
+    let args = [
+        ("x", W::UInt(0)),
+        ("y", W::UInt(0)),
+        ("width", W::UInt(1)),
+        ("height", W::UInt(1)),
+        ("format", e("GL_RGBA", 0x1908)),
+        ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+        ("pixels", W::Blob(vec![0; 4])),
+    ];
+    let call = w.call("glReadPixels", &args, None, false);
+    let (result, _) = replay(&w);
+    let error = result.err().expect("a colour read with GL_NONE");
+    assert_eq!(error.call(), Some(call));
+    assert!(error.to_string().contains("GL_NONE"), "{error}");
 }

@@ -118,6 +118,7 @@
 
 pub mod compile;
 pub mod exec;
+mod feedback;
 mod fold;
 mod fuse;
 pub mod guard;
@@ -128,6 +129,7 @@ mod program;
 pub mod std140;
 pub mod types;
 
+pub use feedback::FeedbackVarying;
 pub use program::{
     AttributeInfo, CompiledProgram, GlslFragmentShader, GlslVertexShader, TextureBinding, TextureSource,
     UniformBlockInfo, UniformInfo, UniformValues, VaryingInfo, pipeline, shaders,

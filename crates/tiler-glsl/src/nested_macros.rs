@@ -218,7 +218,8 @@ fn calls(
             }
             _ => {}
         }
-        i += 1;
+        // A whole character: text outside identifiers may hold any UTF-8.
+        i += body[i..].chars().next().map_or(1, char::len_utf8);
     }
 }
 
@@ -240,5 +241,11 @@ mod tests {
         );
         assert_eq!(lines, [1, 2, 2, 2, 3, 4, 5, 6, 6, 6]);
         assert!(alias_nested_calls("#define D(x) x\nfloat a = D(1.0) + D(2.0);\n").is_none());
+    }
+
+    #[test]
+    fn characters_beyond_ascii_are_stepped_over_whole() {
+        let source = "#define D(x) x\nfloat a = D(D(1.0)); // \u{e9}\u{fffd}\nfloat b = \u{fffd}f(1.0);\n";
+        assert!(alias_nested_calls(source).is_some());
     }
 }

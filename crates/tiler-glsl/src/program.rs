@@ -371,6 +371,11 @@ impl CompiledProgram {
     }
 
     /// The fragment shader's properties: `discards` iff its code can discard.
+    /// The vertex stage's code (transform feedback reads its outputs).
+    pub(crate) fn vertex_code(&self) -> &StageCode {
+        &self.vertex
+    }
+
     pub fn fragment_properties(&self) -> ShaderProperties {
         ShaderProperties { discards: self.fragment.discards, ..ShaderProperties::default() }
     }
@@ -1187,6 +1192,31 @@ impl GlslVertexShader {
     /// the others compute on stale inputs and are not read.
     fn shade_lanes(&self, inputs: &[VertexInput], outs: &mut [VertexOutput]) {
         let code = &self.program.vertex;
+        self.run_batch(inputs, |regs, lanes| {
+            let position = code.position.expect("vertex shaders have gl_Position");
+            for (lane, out) in outs[..lanes].iter_mut().enumerate() {
+                let p = position.map(|r| regs[r as usize][lane]);
+                // GL clip space → tiler's (Vulkan's): y down, depth [−w, w] → [0, w].
+                out.position = Vec4::new(p[0], -p[1], (p[2] + p[3]) * 0.5, p[3]);
+                for (vregs, first) in &self.outputs {
+                    for (k, &r) in vregs.iter().enumerate() {
+                        out.varyings[first + k] = regs[r as usize][lane];
+                    }
+                }
+                if let Some(w) = self.program.w_varying {
+                    out.varyings[w] = p[3];
+                }
+                if let (Some(v), Some(r)) = (self.program.point_size_varying, code.point_size) {
+                    out.varyings[v] = regs[r as usize][lane];
+                }
+            }
+        });
+    }
+
+    /// Runs the vertex shader on up to [`VERTEX_LANES`] vertices, one a lane, and hands
+    /// `finish` the register file and the lanes in use.
+    pub(crate) fn run_batch(&self, inputs: &[VertexInput], finish: impl FnOnce(&[[f32; VERTEX_LANES]], usize)) {
+        let code = &self.program.vertex;
         let lanes = inputs.len();
         debug_assert!(lanes <= VERTEX_LANES);
         VERTEX_WORK.with_borrow_mut(|file| {
@@ -1226,23 +1256,7 @@ impl GlslVertexShader {
             }
             let active = (1u64 << lanes) - 1;
             run(executable, regs, active, &mut VertexEnv { slots: &self.slots, lanes });
-            let position = code.position.expect("vertex shaders have gl_Position");
-            for (lane, out) in outs[..lanes].iter_mut().enumerate() {
-                let p = position.map(|r| regs[r as usize][lane]);
-                // GL clip space → tiler's (Vulkan's): y down, depth [−w, w] → [0, w].
-                out.position = Vec4::new(p[0], -p[1], (p[2] + p[3]) * 0.5, p[3]);
-                for (vregs, first) in &self.outputs {
-                    for (k, &r) in vregs.iter().enumerate() {
-                        out.varyings[first + k] = regs[r as usize][lane];
-                    }
-                }
-                if let Some(w) = self.program.w_varying {
-                    out.varyings[w] = p[3];
-                }
-                if let (Some(v), Some(r)) = (self.program.point_size_varying, code.point_size) {
-                    out.varyings[v] = regs[r as usize][lane];
-                }
-            }
+            finish(regs, lanes);
         });
     }
 }

@@ -25,6 +25,7 @@ pub fn category_color(category: Category) -> &'static str {
         Category::Resolve => "#1f5f5b",
         Category::TextureFetch => "#d4a017",
         Category::CopyOnWrite => "#8c564b",
+        Category::TransformFeedbackWrite => "#4b8c8c",
         Category::Display => "#6b7280",
         Category::Composition => "#b8bec8",
         Category::ImrClear => "#7f1d1d",

@@ -318,6 +318,19 @@ pub enum Command {
         height: i32,
         depth: i32,
     },
+    /// `glCopyTexSubImage3D` (and its OES name): a rectangle of the read framebuffer into
+    /// layer `z_offset` of the bound 2-D array or 3-D texture.
+    CopyTexSubImage3D {
+        target: GlEnum,
+        level: i32,
+        x_offset: i32,
+        y_offset: i32,
+        z_offset: i32,
+        x: i32,
+        y: i32,
+        width: i32,
+        height: i32,
+    },
     /// `glFramebufferTextureLayer`.
     FramebufferTextureLayer {
         target: GlEnum,
@@ -338,6 +351,30 @@ pub enum Command {
     PixelStore {
         pname: GlEnum,
         param: i32,
+    },
+    /// `glTransformFeedbackVaryings`: the vertex outputs a program captures once linked, in
+    /// `mode` (`GL_INTERLEAVED_ATTRIBS` or `GL_SEPARATE_ATTRIBS`).
+    TransformFeedbackVaryings {
+        program: u32,
+        varyings: Vec<String>,
+        mode: GlEnum,
+    },
+    /// `glBeginTransformFeedback` with its primitive mode.
+    BeginTransformFeedback {
+        mode: GlEnum,
+    },
+    EndTransformFeedback,
+    PauseTransformFeedback,
+    ResumeTransformFeedback,
+    GenTransformFeedbacks {
+        names: Vec<u32>,
+    },
+    DeleteTransformFeedbacks {
+        names: Vec<u32>,
+    },
+    BindTransformFeedback {
+        target: GlEnum,
+        id: u32,
     },
     GenSamplers {
         names: Vec<u32>,

@@ -461,6 +461,17 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
             height: a.i32(4)?,
             depth: a.i32(5)?,
         },
+        "glCopyTexSubImage3D" | "glCopyTexSubImage3DOES" => C::CopyTexSubImage3D {
+            target: a.enumeration(0)?,
+            level: a.i32(1)?,
+            x_offset: a.i32(2)?,
+            y_offset: a.i32(3)?,
+            z_offset: a.i32(4)?,
+            x: a.i32(5)?,
+            y: a.i32(6)?,
+            width: a.i32(7)?,
+            height: a.i32(8)?,
+        },
         "glFramebufferTextureLayer" => C::FramebufferTextureLayer {
             target: a.enumeration(0)?,
             attachment: a.enumeration(1)?,
@@ -473,6 +484,16 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
         }
         "glGenerateMipmap" => C::GenerateMipmap { target: a.enumeration(0)? },
         "glPixelStorei" => C::PixelStore { pname: a.enumeration(0)?, param: a.i32(1)? },
+        "glTransformFeedbackVaryings" => {
+            C::TransformFeedbackVaryings { program: a.u32(0)?, varyings: a.strings(2)?, mode: a.enumeration(3)? }
+        }
+        "glBeginTransformFeedback" => C::BeginTransformFeedback { mode: a.enumeration(0)? },
+        "glEndTransformFeedback" => C::EndTransformFeedback,
+        "glPauseTransformFeedback" => C::PauseTransformFeedback,
+        "glResumeTransformFeedback" => C::ResumeTransformFeedback,
+        "glGenTransformFeedbacks" => C::GenTransformFeedbacks { names: a.u32s(1)? },
+        "glDeleteTransformFeedbacks" => C::DeleteTransformFeedbacks { names: a.u32s(1)? },
+        "glBindTransformFeedback" => C::BindTransformFeedback { target: a.enumeration(0)?, id: a.u32(1)? },
         "glGenSamplers" => C::GenSamplers { names: a.u32s(1)? },
         "glDeleteSamplers" => C::DeleteSamplers { names: a.u32s(1)? },
         "glBindSampler" => C::BindSampler { unit: a.u32(0)?, sampler: a.u32(1)? },

@@ -123,27 +123,12 @@ pub const IGNORED: &[(&str, &str)] = &[
 pub const NOT_MODELLED: &[(&[&str], &str)] = &[
     (
         &[
-            "glTransformFeedbackVaryings",
-            "glBeginTransformFeedback",
-            "glEndTransformFeedback",
-            "glPauseTransformFeedback",
-            "glResumeTransformFeedback",
-            "glBindTransformFeedback",
-            "glGenTransformFeedbacks",
-            "glDeleteTransformFeedbacks",
-        ],
-        "transform feedback (GL ES 3.0 §2.15)",
-    ),
-    (
-        &[
             "glCompressedTexImage3D",
             "glCompressedTexImage3DOES",
             "glCompressedTexSubImage3D",
             "glCompressedTexSubImage3DOES",
-            "glCopyTexSubImage3D",
-            "glCopyTexSubImage3DOES",
         ],
-        "compressed 3-D and 2-D array textures, and copies into them",
+        "compressed 3-D and 2-D array textures",
     ),
     (&["glProgramBinary", "glProgramBinaryOES", "glShaderBinary"], "program binaries (tiler compiles GLSL source)"),
     (&["glDispatchCompute", "glDispatchComputeIndirect", "glMemoryBarrier"], "compute shaders (GL ES 3.1)"),

@@ -597,7 +597,7 @@ fn sync_objects_are_ignored_and_a_client_wait_is_a_finish() {
 #[test]
 fn calls_of_unmodelled_features_and_of_desktop_gl_say_so() {
     for (function, says) in [
-        ("glBeginTransformFeedback", "transform feedback"),
+        ("glProgramBinary", "program binaries"),
         ("glCompressedTexImage3D", "compressed 3-D and 2-D array textures"),
         ("glCreateProgramObjectARB", "desktop OpenGL"),
         ("glBegin", "desktop OpenGL"),

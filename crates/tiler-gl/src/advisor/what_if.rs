@@ -635,6 +635,7 @@ fn changes_framebuffer(call: &Call) -> bool {
                 | Call::ReadPixelsInteger { .. }
                 | Call::BlitFramebuffer { .. }
                 | Call::CopyTexSubImage { .. }
+                | Call::CopyTexSubImageLayer { .. }
                 | Call::Flush
                 | Call::Finish
                 | Call::BeginPass { .. }

@@ -62,8 +62,15 @@
 //!   `*_INTEGER` formats, rendered to through `uvec4`/`ivec4` outputs, cleared by
 //!   `glClearBuffer{ui,i}v`, read by `glReadPixels(GL_RGBA_INTEGER)`),
 //!   `glVertexAttribIPointer`, 2-D array and 3-D textures (`glTexImage3D`, `glTexStorage3D`,
-//!   `glTexSubImage3D`, `WRAP_R`), and the packed and float formats `docs/captures.md` lists;
-//!   `glFramebufferTextureLayer` and transform feedback are refused by name.
+//!   `glTexSubImage3D`, `WRAP_R`), rendering and copying into their layers
+//!   (`glFramebufferTextureLayer`, `glCopyTexSubImage3D`: the context's
+//!   `framebuffer_texture_layer`, `copy_tex_sub_image_layer`), and the packed and float formats
+//!   `docs/captures.md` lists. `glReadBuffer` takes `GL_NONE` (a colour read after it is refused
+//!   as the GL error it is) and the default.
+//! - **Transform feedback** (`translate/feedback.rs`): `glTransformFeedbackVaryings` is applied
+//!   at link; `glBindBufferBase`/`Range(GL_TRANSFORM_FEEDBACK_BUFFER)`, begin/end/pause/resume
+//!   and `GL_RASTERIZER_DISCARD` are the context's calls; transform feedback objects are kept
+//!   here, each handing the context its buffer bindings when bound.
 //! - **The window**: its size is the size of the first `glViewport` (apitrace records the
 //!   surface's size as a fake viewport when a context is first made current), unless
 //!   [`ReplayOptions::window`] says; RGBA8 with packed depth-stencil. `eglSwapBuffers` is

@@ -2,6 +2,7 @@
 //! [`crate::capture`] for the rules.
 
 mod cube;
+mod feedback;
 mod layered;
 
 use std::borrow::Cow;
@@ -209,6 +210,9 @@ struct Program {
     blocks: HashMap<u32, String>,
     /// `glDeleteProgram` while in use: it goes when another program is used.
     deleted: bool,
+    /// `glTransformFeedbackVaryings`: the outputs captured and whether separately (applied at
+    /// link).
+    feedback: Option<(Vec<String>, bool)>,
 }
 
 /// The objects of one EGL context (GL names → the context's ids).
@@ -289,6 +293,10 @@ struct Bindings {
     uniform_bindings: HashMap<u32, (u32, u64, Option<u64>)>,
     /// The sampler object bound to each texture unit.
     samplers: [u32; MAX_TEXTURE_UNITS as usize],
+    /// Transform feedback objects and their buffer bindings (`feedback.rs`).
+    feedback: feedback::FeedbackBindings,
+    /// Framebuffers (by GL name) whose read buffer `glReadBuffer` set to `GL_NONE`.
+    read_none: std::collections::HashSet<u32>,
 }
 
 impl Default for Bindings {
@@ -316,6 +324,8 @@ impl Default for Bindings {
             other_buffers: HashMap::new(),
             uniform_bindings: HashMap::new(),
             samplers: [0; MAX_TEXTURE_UNITS as usize],
+            feedback: feedback::FeedbackBindings::default(),
+            read_none: std::collections::HashSet::new(),
         }
     }
 }
@@ -470,7 +480,21 @@ impl Translator {
     /// [`Translator::command`] once uploads from a pixel unpack buffer carry their bytes.
     fn command_unpacked(&mut self, command: &Command, fake: bool) -> Fallible {
         use Command as C;
-        if self.cube_command(command)? || self.layered_command(command)? {
+        let reads_colour = matches!(
+            command,
+            C::ReadPixels { .. }
+                | C::BlitFramebuffer { .. }
+                | C::CopyTexImage2D { .. }
+                | C::CopyTexSubImage2D { .. }
+                | C::CopyTexSubImage3D { .. }
+        );
+        if reads_colour && self.bindings.read_none.contains(&self.bindings.read_framebuffer) {
+            return Err(format!(
+                "reading colour from framebuffer {}, whose read buffer is GL_NONE (a GL error)",
+                self.bindings.read_framebuffer
+            ));
+        }
+        if self.cube_command(command)? || self.layered_command(command)? || self.feedback_command(command)? {
             return Ok(());
         }
         match command {
@@ -558,6 +582,7 @@ impl Translator {
                         }
                     }
                     gles3::forget_buffer(b, name);
+                    b.feedback.forget_buffer(name);
                     b.other_buffers.retain(|_, bound| *bound != name);
                 }
             }
@@ -606,6 +631,7 @@ impl Translator {
                             self.emit(Call::BindIndexBuffer { buffer: id })?;
                         }
                         self.bind_new_uniform_buffer(name, id)?;
+                        self.bind_new_feedback_buffer(name, id)?;
                     }
                 }
             }
@@ -1108,6 +1134,7 @@ impl Translator {
                         self.emit(Call::DeleteFramebuffer { id })?;
                     }
                     let b = &mut self.bindings;
+                    b.read_none.remove(&name);
                     for bound in [&mut b.draw_framebuffer, &mut b.read_framebuffer] {
                         if *bound == name {
                             *bound = 0;
@@ -1199,9 +1226,19 @@ impl Translator {
             }
             C::DrawBuffers { buffers } => self.draw_buffers(buffers)?,
             C::ReadBuffer { source } => {
-                let default = self.bindings.read_framebuffer == 0;
-                if *source != if default { 0x0405 } else { 0x8ce0 } {
-                    return Err(format!("read buffer {source:#06x}: only the default is supported"));
+                // GL_NONE (a depth-only framebuffer, say) reads nothing: later colour reads
+                // are GL errors, refused as such.
+                let framebuffer = self.bindings.read_framebuffer;
+                let default = framebuffer == 0;
+                if *source == 0 {
+                    self.bindings.read_none.insert(framebuffer);
+                } else if *source == if default { 0x0405 } else { 0x8ce0 } {
+                    self.bindings.read_none.remove(&framebuffer);
+                } else {
+                    return Err(format!(
+                        "read buffer {source:#06x}: only GL_NONE and the default (GL_BACK, GL_COLOR_ATTACHMENT0) are \
+                         supported"
+                    ));
                 }
             }
             C::ReadPixels { x, y, width, height, format, kind, .. } => {
@@ -1332,6 +1369,7 @@ impl Translator {
                     0x0c11 => Some(Capability::ScissorTest),
                     0x8037 => Some(Capability::PolygonOffsetFill),
                     0x8d69 => Some(Capability::PrimitiveRestartFixedIndex),
+                    0x8c89 => Some(Capability::RasterizerDiscard),
                     // Dithering may be a no-op in GL; neither llvmpipe nor tiler dithers.
                     0x0bd0 => None,
                     // Off by default; turning them off changes nothing.
@@ -1696,6 +1734,9 @@ impl Translator {
         for (index, name) in p.bindings {
             self.emit(glsl::bind_attrib_location(id, index, name)?)?;
         }
+        if let Some((varyings, separate)) = p.feedback {
+            self.emit(Call::TransformFeedbackVaryings { program: id, varyings, separate })?;
+        }
         let p = self.program(program)?;
         let old = p.id.replace(id);
         let deleted = p.deleted;
@@ -2017,7 +2058,7 @@ impl Translator {
     }
 
     /// The context's framebuffer a `glFramebuffer*` call attaches to.
-    fn attachment_target(&mut self, target: GlEnum) -> Fallible<u32> {
+    pub(super) fn attachment_target(&mut self, target: GlEnum) -> Fallible<u32> {
         let name = match target {
             GL_FRAMEBUFFER | GL_DRAW_FRAMEBUFFER => self.bindings.draw_framebuffer,
             GL_READ_FRAMEBUFFER => self.bindings.read_framebuffer,
@@ -2186,7 +2227,7 @@ fn blend_op(op: GlEnum) -> Fallible<BlendOp> {
     })
 }
 
-fn attachment_point(a: GlEnum) -> Fallible<AttachmentPoint> {
+pub(super) fn attachment_point(a: GlEnum) -> Fallible<AttachmentPoint> {
     Ok(match a {
         0x8ce0 => AttachmentPoint::Color0,
         0x8ce1 => AttachmentPoint::Color1,

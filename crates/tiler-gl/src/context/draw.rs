@@ -153,6 +153,20 @@ impl Context {
         indexed: Option<(IndexKind, u64)>,
         instances: u32,
     ) -> Fallible {
+        // Layers rendered into and sampled now (`layered.rs`).
+        self.sync_sampled_layers()?;
+        if self.feedback.capturing() {
+            if indexed.is_some() {
+                return Err("an indexed draw while transform feedback is active: GL ES 3.0 captures only \
+                            glDrawArrays and glDrawArraysInstanced"
+                    .into());
+            }
+            self.capture_feedback(mode, first, count, instances)?;
+        }
+        if self.state.rasterizer_discard {
+            // GL_RASTERIZER_DISCARD: nothing reaches the rasterizer (`feedback.rs`).
+            return Ok(());
+        }
         if let (true, Some((index_kind, offset))) = (self.state.primitive_restart, indexed) {
             return self.draw_restarting(mode, first, count, index_kind, offset, instances);
         }

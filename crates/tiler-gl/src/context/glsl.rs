@@ -39,6 +39,9 @@ pub(crate) struct GlslProgram {
     uniforms: UniformValues,
     /// Each uniform block's uniform buffer binding (`uniform_blocks.rs`).
     pub(super) block_bindings: Vec<u32>,
+    /// The outputs transform feedback captures, and whether into separate buffers
+    /// (`feedback.rs`; found in the compiled program at each draw, as a relink moves them).
+    pub(super) feedback: Option<(Vec<String>, bool)>,
 }
 
 impl GlslProgram {
@@ -50,7 +53,14 @@ impl GlslProgram {
         let compiled = CompiledProgram::new(&source.vertex, &source.fragment, &[])?;
         let uniforms = compiled.new_uniform_values();
         let block_bindings = vec![0; compiled.uniform_blocks().len()];
-        Ok(GlslProgram { source, bindings: Vec::new(), compiled: Arc::new(compiled), uniforms, block_bindings })
+        Ok(GlslProgram {
+            source,
+            bindings: Vec::new(),
+            compiled: Arc::new(compiled),
+            uniforms,
+            block_bindings,
+            feedback: None,
+        })
     }
 
     /// Binds attribute `name` to `index` and relinks, unless nothing would change: the same
@@ -77,6 +87,11 @@ impl GlslProgram {
 
     pub(super) fn compiled(&self) -> &CompiledProgram {
         &self.compiled
+    }
+
+    /// The texture units its samplers of `kind` read.
+    pub(super) fn units_of(&self, kind: SamplerKind) -> Vec<u32> {
+        self.compiled.sampler_units_of(kind, &self.uniforms).into_iter().map(|(_, unit)| unit).collect()
     }
 
     /// `glUniform*` by name, with GL's type rules (see [`UniformValue`]).
@@ -478,25 +493,7 @@ impl Context {
                 Ok(program_pipeline(*kind, uniforms, texture, desc))
             }
             ProgramDraw::Glsl { program, uniforms, generic, cubes, instance } => {
-                let mut units: Vec<Option<TextureBinding>> = vec![None; MAX_TEXTURE_UNITS as usize];
-                for t in textures {
-                    if self.images[&t.image].desc.format.is_integer() {
-                        units[t.unit as usize] = Some(self.integer_texture(t.image, t.sampler)?);
-                        continue;
-                    }
-                    units[t.unit as usize] =
-                        Some(match self.program_texture(snapshots, cores, t.image, t.sampler, t.mipmaps)? {
-                            ProgramTexture::Core(texture, sampler) => TextureBinding::Core(texture, sampler),
-                            ProgramTexture::Snapshot(snapshot, state) => {
-                                TextureBinding::Custom(Arc::new(SnapshotSource { snapshot, state }))
-                            }
-                        });
-                }
-                for (unit, cube) in cubes {
-                    // An incomplete cube (`None`) reads (0, 0, 0, 1), as an unbound unit does.
-                    units[*unit as usize] =
-                        cube.clone().map(|(texture, sampler)| TextureBinding::Core(texture, sampler));
-                }
+                let units = self.texture_units(textures, cubes, snapshots, cores)?;
                 desc.varyings = program.pipeline_varyings();
                 // GL ES 3.0 §2.18: flat varyings come from each primitive's last vertex.
                 desc.provoking_vertex = tiler::ProvokingVertex::Last;
@@ -511,6 +508,36 @@ impl Context {
                 Ok(Pipeline::new(GenericAttributes { inner: vertex, generic }, fragment, desc))
             }
         }
+    }
+
+    /// What each texture unit holds for a GLSL program's draw: its 2D textures (`textures`),
+    /// cubes and layered textures (`cubes`), made once per submission (`snapshots`, `cores`).
+    pub(crate) fn texture_units(
+        &self,
+        textures: &[SampledTexture],
+        cubes: &[(u32, Option<CoreCube>)],
+        snapshots: &mut HashMap<ImageId, Arc<TextureSnapshot>>,
+        cores: &mut HashMap<ImageId, Arc<tiler::Texture>>,
+    ) -> Fallible<Vec<Option<TextureBinding>>> {
+        let mut units: Vec<Option<TextureBinding>> = vec![None; MAX_TEXTURE_UNITS as usize];
+        for t in textures {
+            if self.images[&t.image].desc.format.is_integer() {
+                units[t.unit as usize] = Some(self.integer_texture(t.image, t.sampler)?);
+                continue;
+            }
+            units[t.unit as usize] =
+                Some(match self.program_texture(snapshots, cores, t.image, t.sampler, t.mipmaps)? {
+                    ProgramTexture::Core(texture, sampler) => TextureBinding::Core(texture, sampler),
+                    ProgramTexture::Snapshot(snapshot, state) => {
+                        TextureBinding::Custom(Arc::new(SnapshotSource { snapshot, state }))
+                    }
+                });
+        }
+        for (unit, cube) in cubes {
+            // An incomplete cube (`None`) reads (0, 0, 0, 1), as an unbound unit does.
+            units[*unit as usize] = cube.clone().map(|(texture, sampler)| TextureBinding::Core(texture, sampler));
+        }
+        Ok(units)
     }
 
     /// `glBindAttribLocation`.

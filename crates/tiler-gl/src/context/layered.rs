@@ -9,16 +9,27 @@
 //!
 //! What is refused, by name: mip levels given by `glTexImage3D` with `level > 0` (the
 //! translator), a 3-D texture's mip chain (`generate_mipmap`) and so a 3-D texture sampled
-//! with a mipmap minification filter (GL would sample it incomplete: a silent black), and
-//! rendering into a layer (`glFramebufferTextureLayer`, the translator). A 2-D array's chain
-//! is generated, as a 2D texture's (`MipChain::Linear`, each layer on its own).
+//! with a mipmap minification filter (GL would sample it incomplete: a silent black). A 2-D
+//! array's chain is generated, as a 2D texture's (`MipChain::Linear`, each layer on its own).
+//!
+//! **Rendering into a layer** (`framebuffer_texture_layer`, GL's `glFramebufferTextureLayer`;
+//! `copy_tex_sub_image_layer`, GL's `glCopyTexSubImage3D`, is a copy pass into the same image):
+//! the layer gets a device image of its own, a hidden 2D texture holding the layer's texels,
+//! attached as any texture is — so a pass that renders into it loads and stores it as any
+//! attachment, and the ledger counts those loads and stores. The texture keeps its layer
+//! images while it lives; when it is next read (a draw, an upload, `generate_mipmap`) after a
+//! pass has rendered, the layer images' texels are copied back into the host texels (the
+//! open pass is rendered first if it renders into one), and an upload into a layer reaches
+//! its image too. The copies between the two are not counted: they stand for one memory.
 
+use std::collections::BTreeMap;
 use std::sync::{Arc, OnceLock};
 
-use super::{Context, Fallible, MAX_TEXTURE_UNITS, name_taken};
+use super::{AttachmentRef, Context, Fallible, MAX_TEXTURE_UNITS, name_taken};
 use crate::bytes::Bytes;
-use crate::call::{Filter, LayeredTarget, TextureFormat, Wrap};
+use crate::call::{AttachmentPoint, Filter, LayeredTarget, TextureFormat, Wrap};
 use crate::program::SamplerState;
+use crate::report::FlushCause;
 
 /// A 2-D array or 3-D texture object.
 pub(crate) struct LayeredObject {
@@ -36,6 +47,10 @@ pub(crate) struct LayeredObject {
     generated: bool,
     /// The core texture as it is, made at the first draw after a change.
     core: OnceLock<Arc<tiler::Texture>>,
+    /// Layers rendered into: layer → the hidden 2D texture holding its device image.
+    layers: BTreeMap<u32, u32>,
+    /// `passes_rendered` when the layer images were last copied back.
+    synced: Option<u32>,
 }
 
 impl LayeredObject {
@@ -58,6 +73,12 @@ impl LayeredObject {
         };
         let built = Arc::new(built.map_err(|e| e.to_string())?);
         Ok(self.core.get_or_init(|| built).clone())
+    }
+
+    /// Layer (slice) `layer`'s texels, rows bottom to top.
+    fn layer_texels(&self, layer: u32) -> &[u8] {
+        let size = self.width as usize * self.height as usize * 4;
+        &self.texels[layer as usize * size..(layer as usize + 1) * size]
     }
 
     fn host_bytes(&self) -> u64 {
@@ -132,7 +153,15 @@ impl Context {
             wrap_r,
             generated: false,
             core: OnceLock::new(),
+            layers: BTreeMap::new(),
+            synced: None,
         };
+        if self.layered.get(&id).is_some_and(|t| !t.layers.is_empty()) {
+            return Err(format!(
+                "new storage for {} texture {id}, whose layers have been framebuffer attachments: not supported",
+                target.name()
+            ));
+        }
         self.layered.insert(id, object);
         Ok(())
     }
@@ -145,6 +174,7 @@ impl Context {
         (width, height, depth): (u32, u32, u32),
         data: Bytes,
     ) -> Fallible {
+        self.sync_rendered_layers(id)?;
         let t = self.layered_mut(id)?;
         let what = format!("{} texture {id}", t.target.name());
         if x as u64 + width as u64 > t.width as u64
@@ -172,12 +202,19 @@ impl Context {
             texels[at..at + row].copy_from_slice(src);
         }
         t.core = OnceLock::new();
+        let touched: Vec<(u32, u32)> = t.layers.range(z..z + depth).map(|(l, h)| (*l, *h)).collect();
+        for (layer, hidden) in touched {
+            let bytes = self.layered[&id].layer_texels(layer).to_vec();
+            let (w, h) = (self.layered[&id].width, self.layered[&id].height);
+            self.tex_sub_image(hidden, 0, 0, w, h, Bytes::from(bytes))?;
+        }
         Ok(())
     }
 
     /// `generate_mipmap` of a layered texture: a 2-D array's layers each get their chain; a
     /// 3-D texture's is refused.
     pub(crate) fn generate_layered_mipmap(&mut self, id: u32) -> Fallible {
+        self.sync_rendered_layers(id)?;
         let t = self.layered_mut(id)?;
         if t.target == LayeredTarget::Texture3D {
             return Err(format!(
@@ -206,9 +243,12 @@ impl Context {
     }
 
     /// Deletes layered texture `id`, unbinding it from every unit.
-    pub(crate) fn delete_layered(&mut self, id: u32) {
+    pub(crate) fn delete_layered(&mut self, id: u32) -> Fallible {
         if let Some(t) = self.layered.remove(&id) {
             self.allocated -= t.host_bytes();
+            for hidden in t.layers.into_values() {
+                self.delete_texture(hidden)?;
+            }
         }
         for unit in &mut self.state.layered_textures {
             for bound in unit {
@@ -217,6 +257,114 @@ impl Context {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// `framebuffer_texture_layer`: layer `layer` of 2-D array or 3-D texture `texture` becomes
+    /// attachment `point` of `framebuffer` (0 detaches), through its layer image (made now,
+    /// holding the layer's texels, if it has none yet).
+    pub(crate) fn framebuffer_texture_layer(
+        &mut self,
+        framebuffer: u32,
+        point: AttachmentPoint,
+        texture: u32,
+        layer: u32,
+    ) -> Fallible {
+        if texture == 0 {
+            return self.attach(framebuffer, point, None);
+        }
+        if point.color_index().is_none() {
+            return Err(format!("texture {texture} is colour: it cannot be a depth or stencil attachment"));
+        }
+        let hidden = self.layer_texture(texture, layer)?;
+        self.attach(framebuffer, point, Some(AttachmentRef::Texture(hidden)))
+    }
+
+    /// The hidden 2D texture of layer `layer` of layered texture `texture`, made now (holding
+    /// the layer's texels) if it has none yet.
+    pub(crate) fn layer_texture(&mut self, texture: u32, layer: u32) -> Fallible<u32> {
+        let t = self.layered_mut(texture)?;
+        let what = format!("{} texture {texture}", t.target.name());
+        if layer >= t.depth {
+            return Err(format!("layer {layer} of {what}, which has {}", t.depth));
+        }
+        Ok(match t.layers.get(&layer) {
+            Some(&hidden) => hidden,
+            None => {
+                let (w, h, format) = (t.width, t.height, t.format);
+                let bytes = t.layer_texels(layer).to_vec();
+                let hidden = (1..=u32::MAX)
+                    .rev()
+                    .find(|id| {
+                        !self.textures.contains_key(id)
+                            && !self.cubes.contains_key(id)
+                            && !self.layered.contains_key(id)
+                    })
+                    .ok_or("no texture name is free for a layer image")?;
+                self.texture_storage(hidden, w, h, format, Some(Bytes::from(bytes)), false)?;
+                let t = self.layered_mut(texture)?;
+                t.layers.insert(layer, hidden);
+                t.synced = None;
+                hidden
+            }
+        })
+    }
+
+    /// Copies the layer images of the layered textures the program in use samples back into
+    /// their texels, where they have been rendered into (see the module docs).
+    pub(crate) fn sync_sampled_layers(&mut self) -> Fallible {
+        if self.layered.values().all(|t| t.layers.is_empty()) {
+            return Ok(());
+        }
+        let Some(super::ProgramObject::Glsl(p)) = self.programs.get(&self.state.program) else {
+            return Ok(());
+        };
+        let mut ids = Vec::new();
+        for (kind, target) in [
+            (tiler_glsl::SamplerKind::Sampler2DArray, LayeredTarget::Array2D),
+            (tiler_glsl::SamplerKind::Sampler3D, LayeredTarget::Texture3D),
+        ] {
+            for unit in p.units_of(kind) {
+                if let Some(id) = self.state.layered_textures.get(unit as usize).map(|u| u[target.index()]) {
+                    ids.push(id);
+                }
+            }
+        }
+        ids.into_iter().try_for_each(|id| self.sync_rendered_layers(id))
+    }
+
+    /// Copies texture `id`'s layer images back into its texels if a pass may have rendered
+    /// into them since the last copy (the open pass first, if it renders into one).
+    pub(crate) fn sync_rendered_layers(&mut self, id: u32) -> Fallible {
+        let Some(t) = self.layered.get(&id) else { return Ok(()) };
+        if t.layers.is_empty() {
+            return Ok(());
+        }
+        let layers: Vec<(u32, u32)> = t.layers.iter().map(|(l, h)| (*l, *h)).collect();
+        let pending = self.pass.as_ref().is_some_and(|p| p.has_work());
+        if pending && layers.iter().any(|(_, h)| self.open_pass_attaches(AttachmentRef::Texture(*h))) {
+            self.flush_open_pass(FlushCause::SampleAttachment)?;
+        }
+        if self.layered[&id].synced == Some(self.passes_rendered) {
+            return Ok(());
+        }
+        for (layer, hidden) in layers {
+            let image = self.texture(hidden)?.image;
+            let data = self.device.image_data(image).map_err(|e| e.to_string())?;
+            let t = &self.layered[&id];
+            let row = t.width as usize * 4;
+            // The image's rows are tiler's (top first); the texels GL's (bottom first).
+            let rows: Vec<u8> = data[..row * t.height as usize].chunks_exact(row).rev().flatten().copied().collect();
+            if rows != t.layer_texels(layer) {
+                let t = self.layered.get_mut(&id).expect("checked");
+                let at = layer as usize * rows.len();
+                Arc::make_mut(&mut t.texels)[at..at + rows.len()].copy_from_slice(&rows);
+                t.core = OnceLock::new();
+            }
+        }
+        let passes = self.passes_rendered;
+        self.layered.get_mut(&id).expect("checked").synced = Some(passes);
+        Ok(())
     }
 
     /// What a `sampler2DArray` / `sampler3D` reading texture unit `unit` samples at a draw

@@ -14,6 +14,7 @@ mod cube;
 mod draw;
 mod encoded;
 mod explicit;
+mod feedback;
 mod frames;
 mod glsl;
 mod instancing;
@@ -376,6 +377,8 @@ pub(crate) struct GlState {
     pub polygon_offset_fill: bool,
     /// `GL_PRIMITIVE_RESTART_FIXED_INDEX` (see `draw`).
     pub primitive_restart: bool,
+    /// `GL_RASTERIZER_DISCARD` (`feedback.rs`): draws and clears touch no pixel.
+    pub rasterizer_discard: bool,
     /// `glPolygonOffset`'s `(factor, units)`.
     pub polygon_offset: (f32, f32),
     pub line_width: f32,
@@ -429,6 +432,7 @@ impl GlState {
             depth_func: CompareOp::Less,
             polygon_offset_fill: false,
             primitive_restart: false,
+            rasterizer_discard: false,
             polygon_offset: (0.0, 0.0),
             line_width: 1.0,
             stencil: [StencilFaceState::KEEP; 2],
@@ -504,6 +508,8 @@ pub struct Context {
     pub(crate) next_start: (StartCause, CallRef),
     pub(crate) tiling: Option<Tiling>,
     pub(crate) active_query: Option<u32>,
+    /// Transform feedback bindings and whether it is active (`feedback.rs`).
+    pub(crate) feedback: feedback::FeedbackState,
     pub(crate) swap_behavior: SwapBehavior,
     pub(crate) surface_color: ImageId,
     pub(crate) surface_depth_stencil: Option<ImageId>,
@@ -606,6 +612,7 @@ impl Context {
             next_start: (StartCause::Bind, CallRef::default()),
             tiling: None,
             active_query: None,
+            feedback: feedback::FeedbackState::default(),
             swap_behavior: config.swap_behavior,
             surface_color,
             surface_depth_stencil,
@@ -819,7 +826,7 @@ impl Context {
             }
             TexImageLevel { id, level, width, height, data } => self.tex_image_level(id, level, width, height, data)?,
             DeleteTexture { id } if self.cubes.contains_key(&id) => self.delete_cube(id),
-            DeleteTexture { id } if self.layered.contains_key(&id) => self.delete_layered(id),
+            DeleteTexture { id } if self.layered.contains_key(&id) => self.delete_layered(id)?,
             DeleteTexture { id } => self.delete_texture(id)?,
             CreateRenderbuffer { id, width, height, format, samples, transient } => {
                 if id == 0 || self.renderbuffers.contains_key(&id) {
@@ -865,6 +872,13 @@ impl Context {
                     }
                 };
                 self.attach(framebuffer, attachment, r)?;
+            }
+            FramebufferTextureLayer { framebuffer, attachment, texture, layer } => {
+                self.framebuffer_texture_layer(framebuffer, attachment, texture, layer)?;
+            }
+            CopyTexSubImageLayer { texture, layer, x_offset, y_offset, x, y, width, height } => {
+                let hidden = self.layer_texture(texture, layer)?;
+                self.copy_tex_sub_image(hidden, [x_offset, y_offset], [x, y], [width, height], false)?;
             }
             FramebufferRenderbuffer { framebuffer, attachment, renderbuffer } => {
                 if renderbuffer != 0 && !self.renderbuffers.contains_key(&renderbuffer) {
@@ -997,6 +1011,9 @@ impl Context {
                 }
                 self.state.generic[index as usize] = floats;
             }
+            // GL ES 3.0 §4.2.3: clears are discarded with the rasterizer (llvmpipe agrees).
+            Clear { .. } | ClearBufferColor { .. } | ClearBufferDepthStencil { .. }
+                if self.state.rasterizer_discard => {}
             ClearBufferColor { draw_buffer, value } => self.clear_buffer_color(draw_buffer, value)?,
             ClearBufferDepthStencil { depth, stencil } => {
                 if depth.is_some_and(|d| !d.is_finite()) {
@@ -1075,6 +1092,16 @@ impl Context {
                 self.draw(mode, 0, count, Some((index_type, offset)), 1)?;
             }
             DrawArraysInstanced { mode, first, count, instances } => self.draw(mode, first, count, None, instances)?,
+            TransformFeedbackVaryings { program, varyings, separate } => {
+                self.transform_feedback_varyings(program, varyings, separate)?;
+            }
+            BindTransformFeedbackBuffer { binding, buffer, offset, size } => {
+                self.bind_transform_feedback_buffer(binding, buffer, offset, size)?;
+            }
+            BeginTransformFeedback { mode } => self.begin_transform_feedback(mode)?,
+            EndTransformFeedback => self.end_transform_feedback()?,
+            PauseTransformFeedback => self.pause_transform_feedback(true)?,
+            ResumeTransformFeedback => self.pause_transform_feedback(false)?,
             DrawElementsInstanced { mode, count, index_type, offset, instances } => {
                 self.draw(mode, 0, count, Some((index_type, offset)), instances)?;
             }
@@ -1148,6 +1175,7 @@ impl Context {
             Capability::ScissorTest => s.scissor_test = on,
             Capability::PolygonOffsetFill => s.polygon_offset_fill = on,
             Capability::PrimitiveRestartFixedIndex => s.primitive_restart = on,
+            Capability::RasterizerDiscard => s.rasterizer_discard = on,
         }
     }
 
@@ -1395,7 +1423,7 @@ impl Context {
 
     /// A buffer's bytes (the device has no read-back for buffers, so the context keeps none
     /// either: it reconstructs them by reading the storage through a scratch copy).
-    fn device_buffer_bytes(&self, storage: BufferId, size: u64) -> Fallible<Vec<u8>> {
+    pub(crate) fn device_buffer_bytes(&self, storage: BufferId, size: u64) -> Fallible<Vec<u8>> {
         self.device.buffer_data(storage).map(|b| b[..size as usize].to_vec()).map_err(|e| e.to_string())
     }
 
@@ -1412,13 +1440,14 @@ impl Context {
         self.retire_buffer(b.storage, b.size);
         self.forget_buffer_in_vertex_arrays(id);
         self.forget_uniform_buffer(id);
+        self.feedback.forget_buffer(id);
         Ok(())
     }
 
     // --- textures and renderbuffers --------------------------------------------------------
 
     /// Gives texture `id` new storage (creating the texture if needed).
-    fn texture_storage(
+    pub(crate) fn texture_storage(
         &mut self,
         id: u32,
         width: u32,
@@ -1466,7 +1495,7 @@ impl Context {
         }
     }
 
-    fn tex_sub_image(&mut self, id: u32, x: u32, y: u32, width: u32, height: u32, data: Bytes) -> Fallible {
+    pub(crate) fn tex_sub_image(&mut self, id: u32, x: u32, y: u32, width: u32, height: u32, data: Bytes) -> Fallible {
         let t = self.texture(id)?;
         let (image, format) = (t.image, t.format);
         let desc = self.images[&image].desc;
@@ -1576,7 +1605,7 @@ impl Context {
         Ok(())
     }
 
-    fn delete_texture(&mut self, id: u32) -> Fallible {
+    pub(crate) fn delete_texture(&mut self, id: u32) -> Fallible {
         self.texture(id)?;
         if self.open_pass_attaches(AttachmentRef::Texture(id)) {
             self.flush_open_pass(crate::report::FlushCause::AttachmentChange)?;
@@ -1605,7 +1634,7 @@ impl Context {
 
     // --- framebuffers ----------------------------------------------------------------------
 
-    fn attach(&mut self, framebuffer: u32, point: AttachmentPoint, r: Option<AttachmentRef>) -> Fallible {
+    pub(crate) fn attach(&mut self, framebuffer: u32, point: AttachmentPoint, r: Option<AttachmentRef>) -> Fallible {
         if framebuffer == 0 {
             return Err("the window's framebuffer (0) has fixed attachments".to_string());
         }

@@ -70,6 +70,9 @@ pub enum Category {
     /// Copies a driver makes of a buffer or texture still used by a pending frame when the
     /// application changes it (copy-on-write): `bytes copied × 2` (read and write).
     CopyOnWrite,
+    /// Vertex shader outputs transform feedback writes to buffers:
+    /// `vertices captured × bytes captured per vertex` (`tiler-gl`'s transform feedback).
+    TransformFeedbackWrite,
     /// The display controller reading the finished frame: `width × height × bytes per pixel`.
     Display,
     /// The window system compositing the frame: read and write of the frame.
@@ -94,7 +97,7 @@ pub enum Category {
 }
 
 impl Category {
-    pub const ALL: [Category; 18] = [
+    pub const ALL: [Category; 19] = [
         Category::VertexFetch,
         Category::IndexFetch,
         Category::FrameDataWrite,
@@ -104,6 +107,7 @@ impl Category {
         Category::Resolve,
         Category::TextureFetch,
         Category::CopyOnWrite,
+        Category::TransformFeedbackWrite,
         Category::Display,
         Category::Composition,
         Category::ImrClear,
@@ -128,6 +132,7 @@ impl Category {
             Category::Resolve => "resolve",
             Category::TextureFetch => "texture_fetch",
             Category::CopyOnWrite => "copy_on_write",
+            Category::TransformFeedbackWrite => "transform_feedback_write",
             Category::Display => "display",
             Category::Composition => "composition",
             Category::ImrClear => "imr_clear",

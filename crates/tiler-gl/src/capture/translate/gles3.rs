@@ -20,9 +20,16 @@ use super::{Bindings, Fallible, Translator, attrib_slot};
 const GL_UNIFORM_BUFFER: GlEnum = 0x8a11;
 
 /// Buffer targets that only name a buffer for other calls: `GL_UNIFORM_BUFFER`,
-/// `GL_COPY_READ_BUFFER`, `GL_COPY_WRITE_BUFFER`.
-pub(super) const OTHER_BUFFER_TARGETS: [GlEnum; 5] =
-    [GL_UNIFORM_BUFFER, 0x8f36, 0x8f37, GL_PIXEL_PACK_BUFFER, GL_PIXEL_UNPACK_BUFFER];
+/// `GL_COPY_READ_BUFFER`, `GL_COPY_WRITE_BUFFER`, `GL_TRANSFORM_FEEDBACK_BUFFER`,
+/// `GL_PIXEL_PACK_BUFFER`, `GL_PIXEL_UNPACK_BUFFER`.
+pub(super) const OTHER_BUFFER_TARGETS: [GlEnum; 6] = [
+    GL_UNIFORM_BUFFER,
+    0x8f36,
+    0x8f37,
+    super::feedback::GL_TRANSFORM_FEEDBACK_BUFFER,
+    GL_PIXEL_PACK_BUFFER,
+    GL_PIXEL_UNPACK_BUFFER,
+];
 
 /// `GL_PIXEL_PACK_BUFFER`: `glReadPixels` into a buffer (refused where it happens).
 pub(super) const GL_PIXEL_PACK_BUFFER: GlEnum = 0x88eb;

@@ -4,8 +4,8 @@
 //! 2D rule's, with `GL_TEXTURE_WRAP_R`). A texture name is layered from its first binding to
 //! one of those targets on, as in GL. Refused, naming the call: mip levels above 0 given by
 //! `glTexImage3D`/`glTexSubImage3D` (a 2-D array's chain comes from `glGenerateMipmap`), a 3-D
-//! texture's mip chain, texel formats other than RGBA8 and sRGB8_alpha8, and rendering into a
-//! layer (`glFramebufferTextureLayer`).
+//! texture's mip chain, texel formats other than RGBA8 and sRGB8_alpha8. Rendering into a layer
+//! (`glFramebufferTextureLayer`, level 0) is the context's `framebuffer_texture_layer`.
 
 use tiler_apitrace::gles::{Command, GlEnum};
 
@@ -143,11 +143,37 @@ impl Translator {
                     .ok_or_else(|| format!("{} texture {name} has no storage", layered.name()))?;
                 self.emit(Call::GenerateMipmap { id })?;
             }
-            C::FramebufferTextureLayer { texture, layer, .. } => {
-                return Err(format!(
-                    "rendering into layer {layer} of texture {texture} (glFramebufferTextureLayer) is not supported: \
-                     2-D array and 3-D textures are sampled only"
-                ));
+            C::CopyTexSubImage3D { target, level, x_offset, y_offset, z_offset, x, y, width, height } => {
+                let layered = self.layered_level0(*target, *level)?;
+                let name = self.bound_layered(layered)?;
+                let texture = self
+                    .texture_id(name)?
+                    .ok_or_else(|| format!("{} texture {name} has no storage", layered.name()))?;
+                let (x_offset, y_offset, layer) = size3(*x_offset, *y_offset, *z_offset)?;
+                let (width, height) = size2(*width, *height)?;
+                let (x, y) = (*x, *y);
+                self.emit(Call::CopyTexSubImageLayer { texture, layer, x_offset, y_offset, x, y, width, height })?;
+            }
+            C::FramebufferTextureLayer { target, attachment, texture, level, layer } => {
+                let framebuffer = self.attachment_target(*target)?;
+                let attachment = super::attachment_point(*attachment)?;
+                let (texture, layer) = if *texture == 0 {
+                    (0, 0)
+                } else {
+                    if *level != 0 {
+                        return Err(format!(
+                            "mip level {level} of texture {texture} as an attachment: only level 0 is supported"
+                        ));
+                    }
+                    let layer = u32::try_from(*layer).map_err(|_| format!("layer {layer} is negative"))?;
+                    let known = self.objects()?.textures.get(texture).cloned().unwrap_or_default();
+                    if known.layered.is_none() {
+                        return Err(format!("texture {texture} is not a 2-D array or 3-D texture"));
+                    }
+                    let id = known.id.ok_or_else(|| format!("texture {texture} has no storage"))?;
+                    (id, layer)
+                };
+                self.emit(Call::FramebufferTextureLayer { framebuffer, attachment, texture, layer })?;
             }
             _ => return Ok(false),
         }
