@@ -110,8 +110,9 @@ fn shade_segment(
     visibility: &mut Visibility,
 ) {
     let shaded_before = tally.counters.fragments_shaded;
-    let owners: Vec<usize> = visibility.owners_in(segment.start as u32, segment.len()).map(|o| o as usize).collect();
-    for run in draw_runs(owners.into_iter(), list, frame) {
+    visibility.mark_owners(segment.start as u32, segment.len());
+    let visibility = &*visibility;
+    for run in draw_runs(visibility.owners().map(|o| o as usize), list, frame) {
         rasterize_run(run, list, frame, draws, target, tally, &mut Mode::Shade { visibility });
     }
     let shaded = tally.counters.fragments_shaded - shaded_before;
