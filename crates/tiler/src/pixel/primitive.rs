@@ -25,7 +25,7 @@ use crate::raster::PixelRect;
 use crate::raster::coverage::{BLOCK_SIZE, BlockCoverage, Coverage, PrimitiveCoverage, block_rect_mask, group_lanes};
 use crate::raster::samples::MAX_SAMPLES;
 use crate::raster::samples::SampleLocations;
-use crate::raster::target::{RenderTarget, Surface};
+use crate::raster::target::{BlockDepth, RenderTarget, Surface};
 use crate::shade::ShadeContext;
 use crate::shade::fragments::{FragmentShader, Fragments};
 use crate::shade::interpolate::Interpolator;
@@ -204,12 +204,18 @@ pub fn rasterize<F: FragmentShader>(
             continue;
         }
         let start = primitive.varyings as usize;
+        let interpolator = Interpolator::new(primitive);
+        let flat_depth = match (plan.block_tests, interpolator.constant_depth(), &target.depth_stencil) {
+            (true, Some(z), Some(surface)) => Some(depth::flat_depth_bits(surface.format, z)),
+            _ => None,
+        };
         let raster = PrimitiveRaster {
             plan: &plan,
             primitive,
             varyings: &run.varyings[start..start + 3 * plan.varying_count],
             coverage: PrimitiveCoverage::new(&primitive.edges(), &target.samples),
-            interpolator: Interpolator::new(primitive),
+            interpolator,
+            flat_depth,
             entry: run.first_entry + position as u32,
         };
         raster.run(&rect, target, tally, mode);
@@ -322,6 +328,9 @@ struct PrimitiveRaster<'p, 'a, F> {
     varyings: &'p [f32],
     coverage: PrimitiveCoverage,
     interpolator: Interpolator,
+    /// The depth bits of a flat primitive (both depth gradients zero) when the draw's tests
+    /// run on whole blocks: converted once, not per block ([`depth::settle_flat_block`]).
+    flat_depth: Option<BlockDepth>,
     /// The primitive's entry, for hidden-surface removal.
     entry: u32,
 }
@@ -525,6 +534,16 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     /// The early depth test of a whole block (see [`block_tests`]).
     #[inline(always)]
     fn test_block(&self, x: i32, y: i32, masks: &mut [u64], target: &mut RenderTarget, tally: &mut FragmentTally) {
+        if let (Some(fragment), Some(surface)) = (self.flat_depth, target.depth_stencil.as_ref()) {
+            let (traffic, ledger) = (&mut tally.framebuffer, &mut tally.ledger);
+            match depth::settle_flat_block(surface, x, y, masks, &self.desc.depth_stencil, fragment, traffic, ledger) {
+                depth::FlatBlock::Settled => return,
+                depth::FlatBlock::Fill(index, stored) => {
+                    return flat_fills(x, y, index, stored, fragment, target, tally);
+                }
+                depth::FlatBlock::Test => {}
+            }
+        }
         block_tests(&self.test_inputs(), x, y, masks, target, tally);
     }
 
@@ -876,6 +895,34 @@ fn block_tests_body(
     let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
     let depths = BlockDepths { interpolator: inputs.interpolator, locations: inputs.locations, x };
     depth::test_block(surface, x, y, masks, inputs.state, &depths, &mut tally.framebuffer, &mut tally.ledger);
+}
+
+per_simd_level! {
+    /// Fills the 8×8 block at `(x, y)` with a flat primitive's depth (see
+    /// [`depth::fill_flat_block`]).
+    fn flat_fills / flat_fills_avx2 => flat_fills_body, simd: tally.simd, (
+        x: i32,
+        y: i32,
+        index: usize,
+        stored: BlockDepth,
+        fragment: BlockDepth,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+    )
+}
+
+#[inline(always)]
+fn flat_fills_body(
+    x: i32,
+    y: i32,
+    index: usize,
+    stored: BlockDepth,
+    fragment: BlockDepth,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) {
+    let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
+    depth::fill_flat_block(surface, x, y, index, stored, fragment, &mut tally.framebuffer, &mut tally.ledger);
 }
 
 per_simd_level! {
