@@ -115,25 +115,31 @@ pub struct PrimitiveRun<'a> {
     pub varyings: &'a [f32],
     /// Which primitives: indices into `primitives` (every one when `None`).
     pub indices: Option<&'a [u32]>,
+    /// Floats from one vertex's varyings to the next: the varying count, or 0 when the
+    /// varyings hold one vertex per primitive (`StateRecord::flat_only`).
+    pub vertex_stride: usize,
     /// The entry (position in the tile's list) of the first primitive; the others follow it.
     /// Hidden-surface removal claims samples by entry.
     pub first_entry: u32,
 }
 
 impl<'a> PrimitiveRun<'a> {
-    /// Every primitive of `primitives`.
-    pub fn all(primitives: &'a [Primitive], varyings: &'a [f32]) -> PrimitiveRun<'a> {
-        PrimitiveRun { primitives, varyings, indices: None, first_entry: 0 }
+    /// Every primitive of `primitives`, with three vertices' varyings each
+    /// (`varying_count` floats a vertex).
+    pub fn all(primitives: &'a [Primitive], varyings: &'a [f32], varying_count: usize) -> PrimitiveRun<'a> {
+        PrimitiveRun { primitives, varyings, indices: None, first_entry: 0, vertex_stride: varying_count }
     }
 
-    /// The primitives `indices` of `primitives`, the first being entry `first_entry`.
+    /// The primitives `indices` of `primitives`, the first being entry `first_entry`; one
+    /// vertex's varyings follow the other's `vertex_stride` floats on.
     pub fn entries(
         primitives: &'a [Primitive],
         varyings: &'a [f32],
         indices: &'a [u32],
         first_entry: u32,
+        vertex_stride: usize,
     ) -> PrimitiveRun<'a> {
-        PrimitiveRun { primitives, varyings, indices: Some(indices), first_entry }
+        PrimitiveRun { primitives, varyings, indices: Some(indices), first_entry, vertex_stride }
     }
 }
 
@@ -183,6 +189,8 @@ pub fn rasterize<F: FragmentShader>(
 ) {
     let plan = RasterPlan::new(shader, desc, target, tally);
     let count = run.indices.map_or(run.primitives.len(), <[u32]>::len);
+    // A primitive's varyings: three vertices `vertex_stride` apart.
+    let varying_span = 2 * run.vertex_stride + plan.varying_count;
     for position in 0..count {
         let index = run.indices.map_or(position, |indices| indices[position] as usize);
         if let Some(indices) = run.indices {
@@ -195,7 +203,7 @@ pub fn rasterize<F: FragmentShader>(
             }
             if let Some(&near) = indices.get(position + PREFETCH_VARYINGS) {
                 let offset = run.primitives[near as usize].varyings as usize;
-                crate::simd::prefetch(run.varyings.as_ptr().wrapping_add(offset), 12 * plan.varying_count);
+                crate::simd::prefetch(run.varyings.as_ptr().wrapping_add(offset), 4 * varying_span);
             }
         }
         let primitive = &run.primitives[index];
@@ -217,7 +225,8 @@ pub fn rasterize<F: FragmentShader>(
         let raster = PrimitiveRaster {
             plan: &plan,
             primitive,
-            varyings: &run.varyings[start..start + 3 * plan.varying_count],
+            varyings: &run.varyings[start..start + varying_span],
+            vertex_stride: run.vertex_stride,
             coverage: PrimitiveCoverage::new(&primitive.edges(), &target.samples),
             interpolator,
             flat_depth,
@@ -331,6 +340,8 @@ struct PrimitiveRaster<'p, 'a, F> {
     plan: &'p RasterPlan<'a, F>,
     primitive: &'p Primitive,
     varyings: &'p [f32],
+    /// Floats from one vertex's varyings to the next (see [`PrimitiveRun::vertex_stride`]).
+    vertex_stride: usize,
     coverage: PrimitiveCoverage,
     interpolator: Interpolator,
     /// The depth bits of a flat primitive (both depth gradients zero) when the draw's tests
@@ -748,7 +759,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
             l1,
             l2,
             varyings: self.varyings,
-            varying_count: self.varying_count,
+            vertex_stride: self.vertex_stride,
             front_facing: self.primitive.front_facing,
             covered: live,
             color: &mut tally.outputs,

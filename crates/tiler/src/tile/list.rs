@@ -45,7 +45,9 @@ fn rasterize_run(
 ) {
     let state = &frame.states()[state as usize];
     tally.draw = state.draw as usize;
-    let run = PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[first..first + count], first as u32);
+    let stride = if state.flat_only { 0 } else { state.varying_count as usize };
+    let run =
+        PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[first..first + count], first as u32, stride);
     draws[state.draw as usize].pipeline.object.rasterize(&run, target, tally, mode);
 }
 
