@@ -350,6 +350,43 @@ mod tests {
     }
 
     #[test]
+    fn a_flat_only_draw_keeps_one_vertex_of_varyings() {
+        let grid = TileGrid::new(64, 64, 32, 32);
+        let mut frame = FrameData::new(grid, VertexShading::Once, u64::MAX);
+        let state_record = |draw, flat_only| StateRecord {
+            draw,
+            varying_count: 2,
+            hsr: HsrMode::Deferred { claims: true },
+            fetch: Default::default(),
+            subpass: 0,
+            flat_only,
+        };
+        // A batch whose first primitive's varyings start at 6: three primitives, three equal
+        // vertices of two varyings each.
+        let mut batch = [0, 1, 2].map(|_| primitive(PixelRect::new(0, 0, 8, 8)));
+        let mut varyings = vec![-1.0; 6];
+        for (k, p) in batch.iter_mut().enumerate() {
+            p.varyings = varyings.len() as u32;
+            for _ in 0..3 {
+                varyings.extend([10.0 * k as f32, 10.0 * k as f32 + 1.0]);
+            }
+        }
+        let flat = frame.push_state(state_record(0, true));
+        frame.append(&batch, &varyings, flat, 2);
+        assert_eq!(frame.varyings(), &[0.0, 1.0, 10.0, 11.0, 20.0, 21.0]);
+        assert_eq!(frame.primitives().iter().map(|p| p.varyings).collect::<Vec<_>>(), [0, 2, 4]);
+        // The modelled record still holds three vertices' varyings.
+        assert_eq!(frame.bytes.primitive_records, 3 * primitive_record_bytes(2));
+        // Another state keeps all three vertices, after them.
+        let smooth = frame.push_state(state_record(1, false));
+        frame.append(&batch[1..], &varyings, smooth, 2);
+        assert_eq!(frame.varyings().len(), 6 + 12);
+        assert_eq!(frame.primitives()[3].varyings, 6);
+        assert_eq!(frame.primitives()[4].varyings, 12);
+        assert_eq!(&frame.varyings()[12..18], &[20.0, 21.0, 20.0, 21.0, 20.0, 21.0]);
+    }
+
+    #[test]
     fn the_frame_data_says_when_it_is_full() {
         // 64×64 pixels in 32×32 tiles; no varyings: a record is 8 + 3 × 16 = 56 bytes.
         let grid = TileGrid::new(64, 64, 32, 32);
