@@ -215,7 +215,7 @@ pub fn rasterize<F: FragmentShader>(
         let interpolator = Interpolator::new(primitive);
         // Only for primitives whose box spans two blocks each way: a smaller one (tris's
         // triangles, a few pixels) seldom covers a block whose summary decides, and the check
-        // cost tris 2.4% of its instructions (docs/benchmarking.md, "Early Z and HSR, flat
+        // cost tris 2.4% of its instructions (docs/benchmarking.md, "Early Z and HSR: flat
         // blocks in the pipeline"). Either way the results are those of `depth::test_block`.
         let large = rect.x1 - rect.x0 >= 2 * BLOCK_SIZE && rect.y1 - rect.y0 >= 2 * BLOCK_SIZE;
         let flat_depth = match (plan.block_tests && large, interpolator.constant_depth(), &target.depth_stencil) {
