@@ -280,7 +280,7 @@ impl TiledScene {
                     apply_load(surface, None, &tile, ops);
                 }
                 let list = &self.lists[self.grid.index(tx, ty)];
-                let run = PrimitiveRun::entries(&self.primitives, &self.varyings, list, 0);
+                let run = PrimitiveRun::entries(&self.primitives, &self.varyings, list, 0, 4);
                 let mut views = surfaces.iter_mut();
                 let mut color: [Option<&mut Surface>; MAX_COLOR_ATTACHMENTS] = Default::default();
                 color[0] = views.next();

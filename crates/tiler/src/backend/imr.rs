@@ -171,7 +171,7 @@ pub fn render(
                 &mut RenderTarget::for_subpass(&mut band.surfaces, subpass, samples, band.clip, config.early_z);
             band.tally.draw = draw_index;
             for batch in &batches {
-                let run = PrimitiveRun::all(&batch.primitives, &batch.varyings);
+                let run = PrimitiveRun::all(&batch.primitives, &batch.varyings, geometry.vertices.varying_count);
                 object.rasterize(&run, target, &mut band.tally, &mut Mode::InOrder);
             }
         });

@@ -149,6 +149,7 @@ pub fn render(
             hsr: HsrMode::of(draw.pipeline.desc(), draw.pipeline.object.properties(), resolved.color_count),
             fetch: geometry.fetch.clone(),
             subpass: pass.subpass_of(draw_index) as u32,
+            flat_only: flat_only(draw.pipeline.desc(), varying_count),
         };
         let mut state_index = None;
         let chunks = geometry.triangles.div_ceil(BIN_CHUNK);
@@ -388,4 +389,15 @@ impl Run<'_> {
         }
         self.flushes += 1;
     }
+}
+
+/// Whether a draw's primitives carry the same varyings at their three vertices, so that the
+/// frame data can keep one vertex's (`StateRecord::flat_only`): every varying flat, and no
+/// point coordinate written per corner of a point's square.
+fn flat_only(desc: &crate::api::pipeline::PipelineDesc, varying_count: usize) -> bool {
+    use crate::api::pipeline::Interpolation;
+    varying_count > 0
+        && desc.varyings.len() == varying_count
+        && desc.point_coord_varying.is_none()
+        && desc.varyings.iter().all(|v| *v == Interpolation::Flat)
 }

@@ -85,6 +85,12 @@ pub struct StateRecord {
     pub fetch: std::sync::Arc<crate::geometry::fetch::FetchLayout>,
     /// The subpass the draw belongs to.
     pub subpass: u32,
+    /// Every varying of the draw is flat, so a primitive's three vertices carry the same
+    /// values (setup gives them the provoking vertex's): the frame data keeps one vertex's,
+    /// `varying_count` floats per primitive instead of three times as many — a third of the
+    /// bytes for a tile to miss on (docs/benchmarking.md, "Flat-only varyings"). Host layout
+    /// only: the modelled record is unchanged.
+    pub flat_only: bool,
 }
 
 /// Bytes of frame data, as modelled and as held in host memory.
@@ -235,7 +241,8 @@ impl FrameData {
     }
 
     /// Appends `primitives` under state record `state`, with their varyings: `3 ×
-    /// varying_count` per primitive in `varyings`, the first primitive's at its own offset.
+    /// varying_count` per primitive in `varyings`, the first primitive's at its own offset
+    /// (one vertex's kept when the state is [`StateRecord::flat_only`]).
     /// Counts their modelled record bytes.
     pub fn append(&mut self, primitives: &[Primitive], varyings: &[f32], state: u32, varying_count: usize) {
         let Some(first) = primitives.first() else { return };
@@ -243,13 +250,31 @@ impl FrameData {
         let modelled = record_bytes(varying_count, self.vertex_shading);
         let first_varying = first.varyings as usize;
         let base = self.varyings.len() as u32;
-        self.primitives.extend(primitives.iter().map(|p| {
+        let flat_only = self.states[state as usize].flat_only && varying_count > 0;
+        self.primitives.extend(primitives.iter().enumerate().map(|(k, p)| {
             let mut p = *p;
-            p.varyings = p.varyings - first_varying as u32 + base;
+            p.varyings =
+                if flat_only { base + (k * varying_count) as u32 } else { p.varyings - first_varying as u32 + base };
             p.state = state;
             p
         }));
-        self.varyings.extend_from_slice(&varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
+        if flat_only {
+            let n = varying_count;
+            for chunk in varyings[first_varying..first_varying + 3 * n * primitives.len()].chunks_exact(3 * n) {
+                debug_assert!(
+                    chunk[..n]
+                        .iter()
+                        .zip(&chunk[n..2 * n])
+                        .chain(chunk[..n].iter().zip(&chunk[2 * n..]))
+                        .all(|(a, b)| a.to_bits() == b.to_bits()),
+                    "a flat-only primitive's vertices carry the same varyings"
+                );
+                self.varyings.extend_from_slice(&chunk[..n]);
+            }
+        } else {
+            self.varyings
+                .extend_from_slice(&varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
+        }
         self.bytes.primitive_records += primitives.len() as u64 * modelled;
         let grid = self.grid;
         self.unbinned_bound +=
@@ -325,6 +350,43 @@ mod tests {
     }
 
     #[test]
+    fn a_flat_only_draw_keeps_one_vertex_of_varyings() {
+        let grid = TileGrid::new(64, 64, 32, 32);
+        let mut frame = FrameData::new(grid, VertexShading::Once, u64::MAX);
+        let state_record = |draw, flat_only| StateRecord {
+            draw,
+            varying_count: 2,
+            hsr: HsrMode::Deferred { claims: true },
+            fetch: Default::default(),
+            subpass: 0,
+            flat_only,
+        };
+        // A batch whose first primitive's varyings start at 6: three primitives, three equal
+        // vertices of two varyings each.
+        let mut batch = [0, 1, 2].map(|_| primitive(PixelRect::new(0, 0, 8, 8)));
+        let mut varyings = vec![-1.0; 6];
+        for (k, p) in batch.iter_mut().enumerate() {
+            p.varyings = varyings.len() as u32;
+            for _ in 0..3 {
+                varyings.extend([10.0 * k as f32, 10.0 * k as f32 + 1.0]);
+            }
+        }
+        let flat = frame.push_state(state_record(0, true));
+        frame.append(&batch, &varyings, flat, 2);
+        assert_eq!(frame.varyings(), &[0.0, 1.0, 10.0, 11.0, 20.0, 21.0]);
+        assert_eq!(frame.primitives().iter().map(|p| p.varyings).collect::<Vec<_>>(), [0, 2, 4]);
+        // The modelled record still holds three vertices' varyings.
+        assert_eq!(frame.bytes.primitive_records, 3 * primitive_record_bytes(2));
+        // Another state keeps all three vertices, after them.
+        let smooth = frame.push_state(state_record(1, false));
+        frame.append(&batch[1..], &varyings, smooth, 2);
+        assert_eq!(frame.varyings().len(), 6 + 12);
+        assert_eq!(frame.primitives()[3].varyings, 6);
+        assert_eq!(frame.primitives()[4].varyings, 12);
+        assert_eq!(&frame.varyings()[12..18], &[20.0, 21.0, 20.0, 21.0, 20.0, 21.0]);
+    }
+
+    #[test]
     fn the_frame_data_says_when_it_is_full() {
         // 64×64 pixels in 32×32 tiles; no varyings: a record is 8 + 3 × 16 = 56 bytes.
         let grid = TileGrid::new(64, 64, 32, 32);
@@ -338,6 +400,7 @@ mod tests {
             hsr: HsrMode::Deferred { claims: true },
             fetch: Default::default(),
             subpass: 0,
+            flat_only: false,
         });
         let batch = [one_tile, four_tiles, one_tile];
         assert_eq!(frame.fitting(&batch, 0), 2, "the third needs 60 bytes, 59 are left");
@@ -370,6 +433,7 @@ mod tests {
                 hsr: HsrMode::Deferred { claims: true },
                 fetch: Default::default(),
                 subpass: draw as u32 / 2,
+                flat_only: false,
             });
             frame.append(&vec![one; count], &[], state, 0);
             expected.extend(std::iter::repeat_n(state, count));

@@ -83,8 +83,9 @@ pub struct Visibility {
     tile_width: usize,
     plane: usize,
     origin: (i32, i32),
-    /// Scratch: which entries of the current segment own samples.
+    /// Scratch: which entries of the current segment own samples, from `first_visible` on.
     visible: Vec<bool>,
+    first_visible: u32,
 }
 
 impl Visibility {
@@ -96,6 +97,7 @@ impl Visibility {
             plane,
             origin: (0, 0),
             visible: Vec::new(),
+            first_visible: 0,
         }
     }
 
@@ -203,15 +205,36 @@ impl Visibility {
         mask
     }
 
-    /// The entries in `first..first + count` that own at least one sample, in order.
-    pub fn owners_in(&mut self, first: u32, count: usize) -> impl Iterator<Item = u32> + '_ {
+    /// Finds the entries in `first..first + count` that own at least one sample; [`owners`]
+    /// then lists them in order. The flags are per-worker scratch kept from segment to segment
+    /// (no allocation per segment in steady state).
+    ///
+    /// [`owners`]: Visibility::owners
+    pub fn mark_owners(&mut self, first: u32, count: usize) {
+        self.first_visible = first;
         self.visible.clear();
         self.visible.resize(count, false);
-        for &owner in &self.owners {
-            if owner != NO_OWNER && owner >= first && ((owner - first) as usize) < count {
-                self.visible[(owner - first) as usize] = true;
+        // Owners come in long runs (a primitive claims whole rows and blocks): compare eight at
+        // a time with the last owner marked and look closer only where one differs.
+        let mut last = NO_OWNER;
+        for chunk in self.owners.chunks(8) {
+            if chunk.iter().fold(true, |same, &o| same & (o == last)) {
+                continue;
+            }
+            for &owner in chunk {
+                if owner != last {
+                    last = owner;
+                    if owner != NO_OWNER && owner >= first && ((owner - first) as usize) < count {
+                        self.visible[(owner - first) as usize] = true;
+                    }
+                }
             }
         }
+    }
+
+    /// The entries [`Visibility::mark_owners`] found, in order.
+    pub fn owners(&self) -> impl Iterator<Item = u32> + '_ {
+        let first = self.first_visible;
         self.visible.iter().enumerate().filter(|(_, v)| **v).map(move |(i, _)| first + i as u32)
     }
 }
@@ -220,6 +243,36 @@ impl Visibility {
 mod tests {
     use super::*;
     use crate::api::pipeline::{ColorTargetState, VertexInputState};
+
+    #[test]
+    fn owners_are_the_entries_that_own_samples() {
+        let tile = PixelRect { x0: 32, y0: 64, x1: 64, y1: 96 };
+        let mut v = Visibility::new(32, 32, 2);
+        for round in 0..3u32 {
+            v.reset(&tile);
+            // Runs, single samples and blocks of entries in and out of the segment.
+            let mut state = 12345u32.wrapping_add(round);
+            for _ in 0..40 {
+                state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                let entry = 90 + (state >> 20) % 30;
+                let (s, x, y) =
+                    ((state >> 8) as usize % 2, 32 + (state >> 12) as i32 % 32, 64 + (state >> 3) as i32 % 32);
+                if state % 3 == 0 {
+                    v.claim_block(s, x & !7, y & !7, u64::MAX >> (state % 64), entry);
+                } else {
+                    v.claim(s, x, y, entry);
+                }
+            }
+            let (first, count) = (95 + round, 17usize);
+            let mut expected: Vec<u32> =
+                v.owners.iter().copied().filter(|&o| o >= first && o < first + count as u32).collect();
+            expected.sort_unstable();
+            expected.dedup();
+            v.mark_owners(first, count);
+            assert_eq!(v.owners().collect::<Vec<_>>(), expected, "round {round}");
+            assert!(!expected.is_empty());
+        }
+    }
 
     #[test]
     fn what_switches_hsr_off() {

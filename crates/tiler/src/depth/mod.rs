@@ -393,6 +393,96 @@ fn bits_range(format: Format, bounds: Option<F32x8>) -> Option<BlockDepth> {
     Some(BlockDepth { min: bits.into_iter().min().unwrap_or(0), max: bits.into_iter().max().unwrap_or(u32::MAX) })
 }
 
+/// A flat primitive's depth bits in `format` (see [`RowDepths::constant`]), as
+/// [`test_block`] converts them: computed once per primitive for [`settle_flat_block`].
+#[inline(always)]
+pub fn flat_depth_bits(format: Format, z: f32) -> BlockDepth {
+    BlockDepth::constant(format.depth_bits_lanes(F32x8::splat(z))[0])
+}
+
+/// What a block's depth summary decides for a flat primitive ([`settle_flat_block`]).
+pub enum FlatBlock {
+    /// Every covered sample failed, or passed without a write: masks and counts are done.
+    Settled,
+    /// Every sample of the block passes and takes the primitive's depth: run
+    /// [`fill_flat_block`] with the summary's index and range.
+    Fill(usize, BlockDepth),
+    /// The summary cannot tell: run [`test_block`].
+    Test,
+}
+
+/// [`test_block`]'s first steps on their own, for a primitive whose depth bits over the block
+/// are `fragment` (a flat primitive's, [`flat_depth_bits`]), with the same outcome: a block
+/// that every covered sample fails, or passes without a write, is settled here — the same
+/// masks and counts as `test_block`; a block to fill or to test sample by sample is handed
+/// back unchanged. Small enough to inline into the pixel pipeline, so that a block hidden behind
+/// nearer geometry (early Z of front-to-back drawing) costs no call.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn settle_flat_block(
+    surface: &Surface,
+    x: i32,
+    y: i32,
+    masks: &mut [u64],
+    state: &DepthStencilState,
+    fragment: BlockDepth,
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
+) -> FlatBlock {
+    let Some((index, stored)) = surface.block_depth(x, y) else { return FlatBlock::Test };
+    match decide(state.depth_compare, fragment, stored) {
+        Some(pass) if !pass || !state.depth_write => {
+            settle_block(masks, pass, surface.format.depth_access_bytes(false) as u32, traffic, ledger);
+            FlatBlock::Settled
+        }
+        Some(_) if masks.len() == surface.samples() && masks.iter().all(|m| *m == u64::MAX) => {
+            FlatBlock::Fill(index, stored)
+        }
+        _ => FlatBlock::Test,
+    }
+}
+
+/// [`test_block`]'s fill: every sample of the 8×8 block at `(x, y)` (summary `index`, holding
+/// `stored`) passes and takes the one depth `fragment`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn fill_flat_block(
+    surface: &mut Surface,
+    x: i32,
+    y: i32,
+    index: usize,
+    stored: BlockDepth,
+    fragment: BlockDepth,
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
+) {
+    let format = surface.format;
+    let value = fragment.min;
+    if stored.value() != Some(value) {
+        match format {
+            Format::D16Unorm => fill_block::<D16>(surface, x, y, value),
+            Format::D24UnormS8Uint => fill_block::<D24>(surface, x, y, value),
+            _ => fill_block::<D32>(surface, x, y, value),
+        }
+        surface.set_block_depth(index, fragment);
+    }
+    let (bytes, count) = (format.depth_access_bytes(false) as u32, 64 * surface.samples() as u64);
+    traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
+    traffic.accesses(ledger, Aspect::Depth, bytes, count, true);
+}
+
+/// Every covered sample of `masks` passes (`pass`) or fails without a write: the masks and the
+/// counts of testing them one by one.
+#[inline(always)]
+fn settle_block(masks: &mut [u64], pass: bool, bytes: u32, traffic: &mut FramebufferTraffic, ledger: &mut Ledger) {
+    let count: u64 = masks.iter().map(|m| m.count_ones() as u64).sum();
+    if !pass {
+        masks.fill(0);
+    }
+    traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
+    traffic.accesses(ledger, Aspect::Depth, bytes, 0, true);
+}
+
 /// Decides a depth compare for every sample at once from the range of the fragment depths
 /// (`fragment`) and of the stored ones (`stored`): `Some(true)` when every sample passes,
 /// `Some(false)` when every sample fails, `None` when the ranges cannot tell.
@@ -464,12 +554,7 @@ pub fn test_block(
             // Every covered sample fails, or passes without a write: one compare, the same
             // results and counts as testing them one by one.
             Some(pass) if !pass || !write => {
-                let count: u64 = masks.iter().map(|m| m.count_ones() as u64).sum();
-                if !pass {
-                    masks.fill(0);
-                }
-                traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
-                traffic.accesses(ledger, Aspect::Depth, bytes, 0, true);
+                settle_block(masks, pass, bytes, traffic, ledger);
                 return;
             }
             // Every sample passes and takes the primitive's one depth: one fill.
@@ -478,18 +563,7 @@ pub fn test_block(
                     && samples == surface.samples()
                     && masks.iter().all(|m| *m == u64::MAX) =>
             {
-                let value = fragment.min;
-                if stored.value() != Some(value) {
-                    match format {
-                        Format::D16Unorm => fill_block::<D16>(surface, x, y, value),
-                        Format::D24UnormS8Uint => fill_block::<D24>(surface, x, y, value),
-                        _ => fill_block::<D32>(surface, x, y, value),
-                    }
-                    surface.set_block_depth(index, fragment);
-                }
-                let count = 64 * samples as u64;
-                traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
-                traffic.accesses(ledger, Aspect::Depth, bytes, count, true);
+                fill_flat_block(surface, x, y, index, stored, fragment, traffic, ledger);
                 return;
             }
             _ => {}

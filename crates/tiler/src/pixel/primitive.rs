@@ -25,7 +25,7 @@ use crate::raster::PixelRect;
 use crate::raster::coverage::{BLOCK_SIZE, BlockCoverage, Coverage, PrimitiveCoverage, block_rect_mask, group_lanes};
 use crate::raster::samples::MAX_SAMPLES;
 use crate::raster::samples::SampleLocations;
-use crate::raster::target::{RenderTarget, Surface};
+use crate::raster::target::{BlockDepth, RenderTarget, Surface};
 use crate::shade::ShadeContext;
 use crate::shade::fragments::{FragmentShader, Fragments};
 use crate::shade::interpolate::Interpolator;
@@ -115,25 +115,31 @@ pub struct PrimitiveRun<'a> {
     pub varyings: &'a [f32],
     /// Which primitives: indices into `primitives` (every one when `None`).
     pub indices: Option<&'a [u32]>,
+    /// Floats from one vertex's varyings to the next: the varying count, or 0 when the
+    /// varyings hold one vertex per primitive (`StateRecord::flat_only`).
+    pub vertex_stride: usize,
     /// The entry (position in the tile's list) of the first primitive; the others follow it.
     /// Hidden-surface removal claims samples by entry.
     pub first_entry: u32,
 }
 
 impl<'a> PrimitiveRun<'a> {
-    /// Every primitive of `primitives`.
-    pub fn all(primitives: &'a [Primitive], varyings: &'a [f32]) -> PrimitiveRun<'a> {
-        PrimitiveRun { primitives, varyings, indices: None, first_entry: 0 }
+    /// Every primitive of `primitives`, with three vertices' varyings each
+    /// (`varying_count` floats a vertex).
+    pub fn all(primitives: &'a [Primitive], varyings: &'a [f32], varying_count: usize) -> PrimitiveRun<'a> {
+        PrimitiveRun { primitives, varyings, indices: None, first_entry: 0, vertex_stride: varying_count }
     }
 
-    /// The primitives `indices` of `primitives`, the first being entry `first_entry`.
+    /// The primitives `indices` of `primitives`, the first being entry `first_entry`; one
+    /// vertex's varyings follow the other's `vertex_stride` floats on.
     pub fn entries(
         primitives: &'a [Primitive],
         varyings: &'a [f32],
         indices: &'a [u32],
         first_entry: u32,
+        vertex_stride: usize,
     ) -> PrimitiveRun<'a> {
-        PrimitiveRun { primitives, varyings, indices: Some(indices), first_entry }
+        PrimitiveRun { primitives, varyings, indices: Some(indices), first_entry, vertex_stride }
     }
 }
 
@@ -183,6 +189,8 @@ pub fn rasterize<F: FragmentShader>(
 ) {
     let plan = RasterPlan::new(shader, desc, target, tally);
     let count = run.indices.map_or(run.primitives.len(), <[u32]>::len);
+    // A primitive's varyings: three vertices `vertex_stride` apart.
+    let varying_span = 2 * run.vertex_stride + plan.varying_count;
     for position in 0..count {
         let index = run.indices.map_or(position, |indices| indices[position] as usize);
         if let Some(indices) = run.indices {
@@ -195,7 +203,7 @@ pub fn rasterize<F: FragmentShader>(
             }
             if let Some(&near) = indices.get(position + PREFETCH_VARYINGS) {
                 let offset = run.primitives[near as usize].varyings as usize;
-                crate::simd::prefetch(run.varyings.as_ptr().wrapping_add(offset), 12 * plan.varying_count);
+                crate::simd::prefetch(run.varyings.as_ptr().wrapping_add(offset), 4 * varying_span);
             }
         }
         let primitive = &run.primitives[index];
@@ -204,12 +212,24 @@ pub fn rasterize<F: FragmentShader>(
             continue;
         }
         let start = primitive.varyings as usize;
+        let interpolator = Interpolator::new(primitive);
+        // Only for primitives whose box spans two blocks each way: a smaller one (tris's
+        // triangles, a few pixels) seldom covers a block whose summary decides, and the check
+        // cost tris 2.4% of its instructions (docs/benchmarking.md, "Early Z and HSR: flat
+        // blocks in the pipeline"). Either way the results are those of `depth::test_block`.
+        let large = rect.x1 - rect.x0 >= 2 * BLOCK_SIZE && rect.y1 - rect.y0 >= 2 * BLOCK_SIZE;
+        let flat_depth = match (plan.block_tests && large, interpolator.constant_depth(), &target.depth_stencil) {
+            (true, Some(z), Some(surface)) => Some(depth::flat_depth_bits(surface.format, z)),
+            _ => None,
+        };
         let raster = PrimitiveRaster {
             plan: &plan,
             primitive,
-            varyings: &run.varyings[start..start + 3 * plan.varying_count],
+            varyings: &run.varyings[start..start + varying_span],
+            vertex_stride: run.vertex_stride,
             coverage: PrimitiveCoverage::new(&primitive.edges(), &target.samples),
-            interpolator: Interpolator::new(primitive),
+            interpolator,
+            flat_depth,
             entry: run.first_entry + position as u32,
         };
         raster.run(&rect, target, tally, mode);
@@ -320,8 +340,13 @@ struct PrimitiveRaster<'p, 'a, F> {
     plan: &'p RasterPlan<'a, F>,
     primitive: &'p Primitive,
     varyings: &'p [f32],
+    /// Floats from one vertex's varyings to the next (see [`PrimitiveRun::vertex_stride`]).
+    vertex_stride: usize,
     coverage: PrimitiveCoverage,
     interpolator: Interpolator,
+    /// The depth bits of a flat primitive (both depth gradients zero) when the draw's tests
+    /// run on whole blocks: converted once, not per block ([`depth::settle_flat_block`]).
+    flat_depth: Option<BlockDepth>,
     /// The primitive's entry, for hidden-surface removal.
     entry: u32,
 }
@@ -525,6 +550,16 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     /// The early depth test of a whole block (see [`block_tests`]).
     #[inline(always)]
     fn test_block(&self, x: i32, y: i32, masks: &mut [u64], target: &mut RenderTarget, tally: &mut FragmentTally) {
+        if let (Some(fragment), Some(surface)) = (self.flat_depth, target.depth_stencil.as_ref()) {
+            let (traffic, ledger) = (&mut tally.framebuffer, &mut tally.ledger);
+            match depth::settle_flat_block(surface, x, y, masks, &self.desc.depth_stencil, fragment, traffic, ledger) {
+                depth::FlatBlock::Settled => return,
+                depth::FlatBlock::Fill(index, stored) => {
+                    return flat_fills(x, y, index, stored, fragment, target, tally);
+                }
+                depth::FlatBlock::Test => {}
+            }
+        }
         block_tests(&self.test_inputs(), x, y, masks, target, tally);
     }
 
@@ -724,7 +759,7 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
             l1,
             l2,
             varyings: self.varyings,
-            varying_count: self.varying_count,
+            vertex_stride: self.vertex_stride,
             front_facing: self.primitive.front_facing,
             covered: live,
             color: &mut tally.outputs,
@@ -876,6 +911,34 @@ fn block_tests_body(
     let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
     let depths = BlockDepths { interpolator: inputs.interpolator, locations: inputs.locations, x };
     depth::test_block(surface, x, y, masks, inputs.state, &depths, &mut tally.framebuffer, &mut tally.ledger);
+}
+
+per_simd_level! {
+    /// Fills the 8×8 block at `(x, y)` with a flat primitive's depth (see
+    /// [`depth::fill_flat_block`]).
+    fn flat_fills / flat_fills_avx2 => flat_fills_body, simd: tally.simd, (
+        x: i32,
+        y: i32,
+        index: usize,
+        stored: BlockDepth,
+        fragment: BlockDepth,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+    )
+}
+
+#[inline(always)]
+fn flat_fills_body(
+    x: i32,
+    y: i32,
+    index: usize,
+    stored: BlockDepth,
+    fragment: BlockDepth,
+    target: &mut RenderTarget,
+    tally: &mut FragmentTally,
+) {
+    let surface = target.depth_stencil.as_mut().expect("tests need a depth-stencil attachment");
+    depth::fill_flat_block(surface, x, y, index, stored, fragment, &mut tally.framebuffer, &mut tally.ledger);
 }
 
 per_simd_level! {

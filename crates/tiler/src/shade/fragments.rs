@@ -42,9 +42,10 @@ pub struct Fragments<'a> {
     /// Screen-linear barycentric weights of vertices 1 and 2.
     pub(crate) l1: F32x8,
     pub(crate) l2: F32x8,
-    /// The three vertices' varyings, vertex after vertex.
+    /// The three vertices' varyings, each `vertex_stride` floats after the one before (0
+    /// when the three are the same values, stored once: a flat-only draw's).
     pub(crate) varyings: &'a [f32],
-    pub(crate) varying_count: usize,
+    pub(crate) vertex_stride: usize,
     pub(crate) front_facing: bool,
     pub(crate) covered: LaneMask,
     pub(crate) color: &'a mut [Vec4x8; MAX_COLOR_ATTACHMENTS],
@@ -118,7 +119,7 @@ impl<'a> Fragments<'a> {
 
     #[inline(always)]
     fn vertex_values(&self, i: usize) -> (f32, f32, f32) {
-        let n = self.varying_count;
+        let n = self.vertex_stride;
         (self.varyings[i], self.varyings[n + i], self.varyings[2 * n + i])
     }
 

@@ -45,7 +45,9 @@ fn rasterize_run(
 ) {
     let state = &frame.states()[state as usize];
     tally.draw = state.draw as usize;
-    let run = PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[first..first + count], first as u32);
+    let stride = if state.flat_only { 0 } else { state.varying_count as usize };
+    let run =
+        PrimitiveRun::entries(frame.primitives(), frame.varyings(), &list[first..first + count], first as u32, stride);
     draws[state.draw as usize].pipeline.object.rasterize(&run, target, tally, mode);
 }
 
@@ -110,8 +112,9 @@ fn shade_segment(
     visibility: &mut Visibility,
 ) {
     let shaded_before = tally.counters.fragments_shaded;
-    let owners: Vec<usize> = visibility.owners_in(segment.start as u32, segment.len()).map(|o| o as usize).collect();
-    for run in draw_runs(owners.into_iter(), list, frame) {
+    visibility.mark_owners(segment.start as u32, segment.len());
+    let visibility = &*visibility;
+    for run in draw_runs(visibility.owners().map(|o| o as usize), list, frame) {
         rasterize_run(run, list, frame, draws, target, tally, &mut Mode::Shade { visibility });
     }
     let shaded = tally.counters.fragments_shaded - shaded_before;
