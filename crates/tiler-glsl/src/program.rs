@@ -106,6 +106,16 @@ pub struct UniformValues {
 pub trait TextureSource: Send + Sync + fmt::Debug {
     fn sample(&self, s: f32, t: f32, lod: Option<f32>) -> [f32; 4];
 
+    /// [`TextureSource::sample`] at the base level (`lod` `None`) of each lane
+    /// `(s[i], t[i])`, into `out[i]`: one call for a group's lanes, so that a source can
+    /// resolve its state once for them all. The values must be `sample`'s, lane by lane, which
+    /// this default asks for.
+    fn sample_lanes(&self, s: &[f32], t: &[f32], out: &mut [[f32; 4]]) {
+        for ((o, &s), &t) in out.iter_mut().zip(s).zip(t) {
+            *o = self.sample(s, t, None);
+        }
+    }
+
     /// A shadow sampler's lookup (`sampler2DShadow`): the texels compared with `reference`
     /// by the source's compare function and the results filtered (see
     /// `tiler::depth_compare`); a source without compare mode returns its depth, red, which
@@ -842,6 +852,16 @@ fn lookup_lanes<const W: usize>(
     lanes: usize,
 ) -> [[f32; W]; 4] {
     let mut out = [[0.0; W]; 4];
+    if let (Some(TextureBinding::Custom(source)), None, None) = (binding, lod, reference) {
+        let mut texels = [[0.0; 4]; W];
+        source.sample_lanes(&coord[0][..lanes], &coord[1][..lanes], &mut texels[..lanes]);
+        for (lane, texel) in texels[..lanes].iter().enumerate() {
+            for c in 0..4 {
+                out[c][lane] = texel[c];
+            }
+        }
+        return out;
+    }
     for lane in 0..lanes {
         let (s, t) = (coord[0][lane], coord[1][lane]);
         let l = lod.map(|l| l[lane]);

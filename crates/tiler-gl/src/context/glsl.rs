@@ -570,6 +570,10 @@ impl TextureSource for SnapshotSource {
         self.snapshot.sample(s, t, self.state)
     }
 
+    fn sample_lanes(&self, s: &[f32], t: &[f32], out: &mut [[f32; 4]]) {
+        self.snapshot.sample_lanes(s, t, self.state, out);
+    }
+
     fn sample_compare(&self, s: f32, t: f32, reference: f32, _lod: Option<f32>) -> f32 {
         self.snapshot.sample_compare(s, t, reference, self.state)
     }
