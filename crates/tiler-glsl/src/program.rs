@@ -68,7 +68,7 @@ pub struct UniformBlockInfo {
 }
 
 /// A compiled and linked GLSL ES program.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct CompiledProgram {
     vertex: StageCode,
     fragment: StageCode,
@@ -285,6 +285,18 @@ impl CompiledProgram {
             point_size_varying: hidden.point_size,
             point_coord_varying: hidden.point_coord,
         })
+    }
+
+    /// The program linked again with `attribute_locations` (as [`CompiledProgram::new`] takes
+    /// them): the same program as compiling its sources again with them would give, since
+    /// only the attributes' locations depend on them, without compiling (a capture binds
+    /// attribute after attribute, relinking each time).
+    ///
+    /// # Errors
+    /// A link error of the locations (see `new`).
+    pub fn with_attribute_locations(&self, attribute_locations: &[(&str, u32)]) -> Result<CompiledProgram, Error> {
+        let attributes = link_attributes(&self.vertex, attribute_locations)?;
+        Ok(CompiledProgram { attributes, ..self.clone() })
     }
 
     /// Attributes in declaration order, with their locations.
@@ -1023,6 +1035,12 @@ impl Env<8> for FragmentEnv<'_, '_> {
         offset: [i32; 2],
     ) -> [[f32; 8]; 4] {
         match (&self.slots[slot], lod) {
+            // The common lookup, with the sampler as it is bound.
+            (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit) if offset == [0, 0] => {
+                const PLAIN: tiler::Lookup = tiler::Lookup { gradients: None, offset: [0, 0] };
+                let t = F32x8(coord[1].map(|t| 1.0 - t));
+                self.frag.sample_with(texture, sampler, [F32x8(coord[0]), t], &PLAIN).map(|c| c.0)
+            }
             (Some(TextureBinding::Integer(texture, sampler)), _) => {
                 let at = integer_nearest(texture, sampler, coord, 8);
                 self.frag.fetch_integer(texture, [0; 8], at).map(|c| c.map(f32::from_bits))

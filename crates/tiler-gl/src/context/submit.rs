@@ -452,7 +452,17 @@ impl Context {
             })
             .map_err(|e| e.to_string())?;
         let texture = Arc::new(t);
-        built.insert(image, BuiltTexture { key, data: data.to_vec(), texture: texture.clone() });
+        match built.get_mut(&image) {
+            // The texels of an image drawn into pass after pass: its buffer is reused.
+            Some(b) => {
+                b.data.clear();
+                b.data.extend_from_slice(data);
+                (b.key, b.texture) = (key, texture.clone());
+            }
+            None => {
+                built.insert(image, BuiltTexture { key, data: data.to_vec(), texture: texture.clone() });
+            }
+        }
         Ok(texture)
     }
 
