@@ -333,7 +333,13 @@ fn replay_capture(
     // The first replay records the calls for `--what-if`.
     let record = args.what_if && write_frames;
     let snapshots = if write_frames { args.snapshot.clone() } else { Vec::new() };
-    let options = ReplayOptions { config: configure(defaults.config.clone()), record, snapshots, ..defaults };
+    let options = ReplayOptions {
+        config: configure(defaults.config.clone()),
+        record,
+        snapshots,
+        presented_frames: frames_dir.is_some(),
+        ..defaults
+    };
     let replay = capture::replay_file(&args.trace, &options, &mut write_frame)
         .with_context(|| format!("replaying {}", args.trace.display()))?;
     if let Some(missed) = options.snapshots.iter().find(|c| !snapshots_written.contains(c)) {

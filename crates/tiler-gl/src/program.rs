@@ -351,11 +351,18 @@ impl TextureSnapshot {
         TextureSnapshot { width: self.width, height: self.height, texels: self.texels.clone(), alpha_one: true }
     }
 
-    fn texel(&self, x: i64, y_from_bottom: i64, state: SamplerState) -> [f32; 4] {
+    /// The index of texel `(x, y_from_bottom)` wrapped as `state` says, in rows top first.
+    #[inline]
+    fn texel_index(&self, x: i64, y_from_bottom: i64, state: SamplerState) -> usize {
         let x = wrap_coord(x, self.width as i64, state.wrap_s);
         let y = wrap_coord(y_from_bottom, self.height as i64, state.wrap_t);
         let row = self.height as i64 - 1 - y;
-        let index = (row * self.width as i64 + x) as usize;
+        (row * self.width as i64 + x) as usize
+    }
+
+    #[inline]
+    fn texel(&self, x: i64, y_from_bottom: i64, state: SamplerState) -> [f32; 4] {
+        let index = self.texel_index(x, y_from_bottom, state);
         match &self.texels {
             Texels::Color { format, samples, data } => {
                 let bpp = format.bytes_per_sample();
@@ -400,12 +407,32 @@ impl TextureSnapshot {
     /// point; linear blends the four around it, texel centres at half-integers. A snapshot has
     /// one level and no derivatives, so it filters as GL magnifies (a level of detail of 0,
     /// what a render target read back at its own size has).
+    #[inline]
     pub fn sample(&self, s: f32, t: f32, state: SamplerState) -> [f32; 4] {
         let mut rgba = self.sample_texels(s, t, state);
         if self.alpha_one {
             rgba[3] = 1.0;
         }
         rgba
+    }
+
+    /// [`TextureSnapshot::sample`] of each `(s[i], t[i])` into `out[i]`, the state resolved
+    /// once: what a fragment group's lookup is.
+    pub fn sample_lanes(&self, s: &[f32], t: &[f32], state: SamplerState, out: &mut [[f32; 4]]) {
+        // The common case, a depth snapshot read nearest (a shadow map), in a loop of its own.
+        if let (Texels::Depth { depths, .. }, Filter::Nearest, false) =
+            (&self.texels, state.mag_filter.base(), self.alpha_one)
+        {
+            for ((o, &s), &t) in out.iter_mut().zip(s).zip(t) {
+                let (u, v) = self.texel_coordinates(s, t);
+                let z = depths[self.texel_index(floor_i64(u), floor_i64(v), state)];
+                *o = [z, z, z, 1.0];
+            }
+            return;
+        }
+        for ((o, &s), &t) in out.iter_mut().zip(s).zip(t) {
+            *o = self.sample(s, t, state);
+        }
     }
 
     /// A shadow sampler's lookup at `(s, t)` with reference depth `reference`: with the
@@ -436,21 +463,24 @@ impl TextureSnapshot {
 
     /// GL texture coordinates `(s, t)` in texels of the snapshot (non-finite ones at 0,
     /// others kept where the conversions to integers are exact enough).
+    #[inline]
     fn texel_coordinates(&self, s: f32, t: f32) -> (f32, f32) {
         let (s, t) = if s.is_finite() && t.is_finite() { (s, t) } else { (0.0, 0.0) };
         let (s, t) = (s.clamp(-65536.0, 65536.0), t.clamp(-65536.0, 65536.0));
         (s * self.width as f32, t * self.height as f32)
     }
 
+    #[inline]
     fn sample_texels(&self, s: f32, t: f32, state: SamplerState) -> [f32; 4] {
         let (u, v) = self.texel_coordinates(s, t);
         match state.mag_filter.base() {
-            Filter::Nearest => self.texel(u.floor() as i64, v.floor() as i64, state),
+            Filter::Nearest => self.texel(floor_i64(u), floor_i64(v), state),
             _ => {
                 let (u, v) = (u - 0.5, v - 0.5);
-                let (x0, y0) = (u.floor(), v.floor());
-                let (fx, fy) = (u - x0, v - y0);
-                let (x0, y0) = (x0 as i64, y0 as i64);
+                let (x0, y0) = (floor_i64(u), floor_i64(v));
+                // `u - u.floor()`: exact (`x0` is below 2²⁴ in size or `u` was whole), and
+                // `+ 0.0` makes `-0.0 - 0.0` the `+0.0` that `-0.0 - (-0.0)` is.
+                let (fx, fy) = (u - x0 as f32 + 0.0, v - y0 as f32 + 0.0);
                 let a = self.texel(x0, y0, state);
                 let b = self.texel(x0 + 1, y0, state);
                 let c = self.texel(x0, y0 + 1, state);
@@ -465,6 +495,17 @@ impl TextureSnapshot {
     }
 }
 
+/// `x.floor() as i64` for the finite `x` of texel coordinates (at most 2⁶² in size), without
+/// a call of the C library's `floorf` (the baseline x86-64 has no rounding instruction):
+/// the conversion truncates toward zero, and a negative `x` with a fraction goes one lower.
+/// The comparison is exact: below 2²⁴ the integer is an `f32`, above it `x` is whole.
+#[inline]
+fn floor_i64(x: f32) -> i64 {
+    let i = x as i64;
+    if (i as f32) > x { i - 1 } else { i }
+}
+
+#[inline]
 fn wrap_coord(i: i64, n: i64, wrap: Wrap) -> i64 {
     match wrap {
         Wrap::ClampToEdge => i.clamp(0, n - 1),
@@ -637,4 +678,49 @@ pub fn blit_pipeline(
         TexturedShader { texture: ProgramTexture::Snapshot(texture, sampler), color: [1.0; 4], alpha_cutoff: 0.0 },
         desc,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floor_i64_is_floor() {
+        let edges = [0.0f32, -0.0, 0.5, -0.5, 1.0, -1.0, 16_777_215.5, -16_777_216.0, 3e9, -3e9, 1e-30, -1e-30];
+        let steps = (0..200_000)
+            .map(|i| (i as f32 - 100_000.0) * 0.37)
+            .chain((0..=u32::MAX).step_by(65_537).map(f32::from_bits));
+        for x in edges.into_iter().chain(steps).filter(|x| x.is_finite() && x.abs() < 1e18) {
+            assert_eq!(floor_i64(x), x.floor() as i64, "{x}");
+        }
+    }
+
+    /// A group's lookups give each lane's `sample`, bit for bit, for depth and colour
+    /// snapshots under each filter and wrap, coordinates inside and outside `[0, 1]`.
+    #[test]
+    fn sample_lanes_is_sample_lane_by_lane() {
+        let (w, h) = (5u32, 3u32);
+        let depths: Vec<f32> = (0..w * h).map(|i| i as f32 / 15.0).collect();
+        let bytes: Vec<u8> = (0..w * h * 4).map(|i| (i * 37 % 256) as u8).collect();
+        let snapshots = [
+            TextureSnapshot::depth(w, h, depths, true),
+            TextureSnapshot::color(w, h, tiler::Format::Rgba8Unorm, 1, bytes.clone()),
+            TextureSnapshot::color(w, h, tiler::Format::Rgba8Unorm, 1, bytes).with_alpha_one(),
+        ];
+        let s: Vec<f32> = (0..64).map(|i| i as f32 * 0.061 - 1.3).collect();
+        let t: Vec<f32> = (0..64).map(|i| 2.1 - i as f32 * 0.047).chain([-0.0, 0.0]).take(64).collect();
+        for snapshot in &snapshots {
+            for filter in [Filter::Nearest, Filter::Linear] {
+                for wrap in [Wrap::ClampToEdge, Wrap::Repeat, Wrap::MirroredRepeat] {
+                    let state = SamplerState::new(filter, wrap);
+                    let mut out = vec![[0.0; 4]; s.len()];
+                    snapshot.sample_lanes(&s, &t, state, &mut out);
+                    for (i, o) in out.iter().enumerate() {
+                        let want = snapshot.sample(s[i], t[i], state);
+                        assert_eq!(o.map(f32::to_bits), want.map(f32::to_bits), "{filter:?} {wrap:?} lane {i}");
+                    }
+                }
+            }
+        }
+    }
 }

@@ -214,8 +214,8 @@ pub fn run<const W: usize, E: Env<W>>(program: &Executable, regs: &mut [[f32; W]
     let mut masks = Masks { active, returned: 0, exited: 0, continued: 0, discarded: 0 };
     let mut machine = Machine { regs, env };
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2 (checked just above), the only feature
+    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("f16c") {
+        // SAFETY: the processor has AVX2 and F16C (checked just above), the features
         // `block_avx2` enables; every register of the code is below `program.registers`
         // (`Executable::new`), which `regs` holds (asserted above).
         unsafe { machine.block_avx2(&program.code, &mut masks) };
@@ -232,6 +232,12 @@ pub fn run<const W: usize, E: Env<W>>(program: &Executable, regs: &mut [[f32; W]
 /// Every register of `code` must be within the machine's register file.
 trait Nested {
     unsafe fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks);
+
+    /// [`round_half`] of every lane.
+    ///
+    /// # Safety
+    /// The instruction set must be the processor's (for `Avx2`: only inside `block_avx2`).
+    unsafe fn half<const W: usize>(a: [f32; W]) -> [f32; W];
 }
 
 /// The baseline instruction set.
@@ -242,11 +248,18 @@ impl Nested for Baseline {
         // SAFETY: the caller's guarantee, passed on.
         unsafe { machine.block(code, m) };
     }
+
+    #[inline(always)]
+    unsafe fn half<const W: usize>(a: [f32; W]) -> [f32; W] {
+        a.map(round_half)
+    }
 }
 
-/// AVX2: the lanes' arithmetic in 256-bit registers. The operations are the same IEEE
-/// operations (Rust never fuses a multiply and an add), so results are bit for bit those of
-/// the baseline.
+/// AVX2 and F16C: the lanes' arithmetic in 256-bit registers. The operations are the same
+/// IEEE operations (Rust never fuses a multiply and an add), so results are bit for bit those
+/// of the baseline; binary16 roundings are F16C's conversions there and back (IEEE's
+/// round-to-nearest-even, as [`round_half`]), NaNs kept as they were, as `round_half` keeps
+/// them.
 #[cfg(target_arch = "x86_64")]
 struct Avx2;
 
@@ -254,9 +267,45 @@ struct Avx2;
 impl Nested for Avx2 {
     unsafe fn block<const W: usize, E: Env<W>>(machine: &mut Machine<'_, W, E>, code: &[Inst], m: &mut Masks) {
         // SAFETY: `Avx2` blocks only run inside `block_avx2`, which `run` calls only when the
-        // processor has AVX2; the registers are the caller's guarantee.
+        // processor has AVX2 and F16C; the registers are the caller's guarantee.
         unsafe { machine.block_avx2(code, m) }
     }
+
+    #[inline(always)]
+    unsafe fn half<const W: usize>(a: [f32; W]) -> [f32; W] {
+        let mut out = a;
+        let (groups, rest) = out.as_chunks_mut::<8>();
+        for g in groups {
+            // SAFETY: the caller's guarantee: the processor has AVX2 and F16C.
+            unsafe { round_half8(g) };
+        }
+        for x in rest {
+            *x = round_half(*x);
+        }
+        out
+    }
+}
+
+/// [`round_half`] of eight lanes: F16C's conversion to binary16 (rounding to nearest, ties to
+/// even: the imm8 0) and back; NaNs are put back as they were (the conversion quiets them and
+/// drops payload bits).
+///
+/// # Safety
+/// The processor must have AVX2 and F16C.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,f16c")]
+#[inline]
+unsafe fn round_half8(lanes: &mut [f32; 8]) {
+    use std::arch::x86_64::{
+        _CMP_UNORD_Q, _MM_FROUND_TO_NEAREST_INT, _mm256_blendv_ps, _mm256_cmp_ps, _mm256_cvtph_ps, _mm256_cvtps_ph,
+        _mm256_loadu_ps, _mm256_storeu_ps,
+    };
+    // SAFETY: `lanes` is eight f32s, read and written unaligned.
+    let x = unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
+    let rounded = _mm256_cvtph_ps(_mm256_cvtps_ph::<_MM_FROUND_TO_NEAREST_INT>(x));
+    let nan = _mm256_cmp_ps::<_CMP_UNORD_Q>(x, x);
+    // SAFETY: as above.
+    unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), _mm256_blendv_ps(rounded, x, nan)) };
 }
 
 /// The register file (work registers, then the bank) and the caller's environment.
@@ -333,10 +382,10 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
     }
 
     /// # Safety
-    /// The processor must have AVX2, and every register of `code` must be within the
+    /// The processor must have AVX2 and F16C, and every register of `code` must be within the
     /// register file.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,f16c")]
     unsafe fn block_avx2(&mut self, code: &[Inst], m: &mut Masks) {
         // SAFETY: the caller's guarantee.
         unsafe { self.block_in::<Avx2>(code, m) };
@@ -362,6 +411,37 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                 return;
             }
             match inst {
+                // The binary16 roundings, through the instruction set's own rounding.
+                Inst::Un(UnOp::Half, d, a) => {
+                    let a = self.get(*a);
+                    self.set(*d, N::half(a));
+                }
+                Inst::Bin(
+                    op @ (BinOp::AddHalf | BinOp::SubHalf | BinOp::MulHalf | BinOp::DivHalf | BinOp::HalfMulHalf),
+                    d,
+                    a,
+                    b,
+                ) => {
+                    let (a, b) = (self.get(*a), self.get(*b));
+                    let r: [f32; W] = match op {
+                        BinOp::AddHalf => std::array::from_fn(|i| a[i] + b[i]),
+                        BinOp::SubHalf => std::array::from_fn(|i| a[i] - b[i]),
+                        BinOp::MulHalf => std::array::from_fn(|i| a[i] * b[i]),
+                        BinOp::DivHalf => std::array::from_fn(|i| a[i] / b[i]),
+                        _ => {
+                            let a = N::half(a);
+                            std::array::from_fn(|i| a[i] * b[i])
+                        }
+                    };
+                    self.set(*d, N::half(r));
+                }
+                Inst::Tri(op @ (TriOp::MulAddHalf | TriOp::HalfMulAddHalf), d, a, b, c) => {
+                    let (a, b, c) = (self.get(*a), self.get(*b), self.get(*c));
+                    let a = if *op == TriOp::HalfMulAddHalf { N::half(a) } else { a };
+                    let product: [f32; W] = N::half(std::array::from_fn(|i| a[i] * b[i]));
+                    let sum: [f32; W] = std::array::from_fn(|i| product[i] + c[i]);
+                    self.set(*d, N::half(sum));
+                }
                 Inst::Un(op, d, a) => {
                     let a = self.get(*a);
                     self.set(*d, unary(*op, a));
@@ -876,9 +956,35 @@ mod tests {
         }
     }
 
+    /// F16C's rounding, NaNs included, gives `round_half`'s bits.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn f16c_rounding_is_round_half() {
+        if !(std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("f16c")) {
+            eprintln!("skipped: no AVX2 and F16C");
+            return;
+        }
+        let edges = [0x3880_0000u32, 0x387f_ffff, 0x3300_0000, 0x3300_0001, 0x477f_efff, 0x477f_f000, 0x7fc0_0001];
+        let patterns: Vec<u32> =
+            (0..=u32::MAX).step_by(97).chain(edges).chain(edges.map(|b| b | 0x8000_0000)).collect();
+        let mut rounded = 0;
+        for chunk in patterns.chunks(8) {
+            let mut lanes = [0.0f32; 8];
+            for (l, &b) in lanes.iter_mut().zip(chunk) {
+                *l = f32::from_bits(b);
+            }
+            let want = lanes.map(round_half);
+            // SAFETY: AVX2 and F16C were detected above.
+            let got = unsafe { <Avx2 as Nested>::half(lanes) };
+            assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "{chunk:#x?}");
+            rounded += usize::from(want != lanes);
+        }
+        assert!(rounded > 0, "some lanes were rounded");
+    }
+
     #[test]
     fn avx2_matches_baseline() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
+        if !(std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("f16c")) {
             return;
         }
         let ops = [BinOp::Add, BinOp::Sub, BinOp::Mul, BinOp::Div, BinOp::Mod, BinOp::Min, BinOp::Pow];
@@ -891,6 +997,14 @@ mod tests {
         code.push(Inst::Tri(TriOp::Smoothstep, 22, 0, 1, 4));
         code.push(Inst::Tri(TriOp::Mix, 23, 0, 1, 3));
         code.push(Inst::Tri(TriOp::MulAdd, 19, 0, 1, 3));
+        code.push(Inst::Un(UnOp::Half, 9, 2));
+        code.push(Inst::Bin(BinOp::AddHalf, 10, 0, 1));
+        code.push(Inst::Bin(BinOp::SubHalf, 11, 0, 1));
+        code.push(Inst::Bin(BinOp::MulHalf, 12, 0, 1));
+        code.push(Inst::Bin(BinOp::DivHalf, 13, 0, 1));
+        code.push(Inst::Bin(BinOp::HalfMulHalf, 14, 0, 1));
+        code.push(Inst::Tri(TriOp::MulAddHalf, 15, 0, 1, 3));
+        code.push(Inst::Tri(TriOp::HalfMulAddHalf, 16, 0, 1, 3));
         let mut inputs = [[0.0f32; 8]; 24];
         inputs[0] = [0.1, -2.5, 3.3, 1e-8, 7.0, -0.0, 1e30, 0.3];
         inputs[1] = [0.7, 1.9, -4.1, 3.0, 0.001, 2.0, 1e-30, 0.9];
@@ -898,7 +1012,7 @@ mod tests {
         let masks = || Masks { active: 0xff, returned: 0, exited: 0, continued: 0, discarded: 0 };
         // SAFETY: the code's registers are below 24, the files' size.
         unsafe { Machine { regs: &mut a, env: &mut NoTextures }.block(&code, &mut masks()) };
-        // SAFETY: AVX2 was detected above, and the registers are as above.
+        // SAFETY: AVX2 and F16C were detected above, and the registers are as above.
         unsafe { Machine { regs: &mut b, env: &mut NoTextures }.block_avx2(&code, &mut masks()) };
         let bits = |r: &[[f32; 8]; 24]| r.map(|v| v.map(f32::to_bits));
         assert_eq!(bits(&a), bits(&b));

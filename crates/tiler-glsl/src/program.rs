@@ -68,7 +68,7 @@ pub struct UniformBlockInfo {
 }
 
 /// A compiled and linked GLSL ES program.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct CompiledProgram {
     vertex: StageCode,
     fragment: StageCode,
@@ -105,6 +105,16 @@ pub struct UniformValues {
 /// explicit level, or `None` for the base level.
 pub trait TextureSource: Send + Sync + fmt::Debug {
     fn sample(&self, s: f32, t: f32, lod: Option<f32>) -> [f32; 4];
+
+    /// [`TextureSource::sample`] at the base level (`lod` `None`) of each lane
+    /// `(s[i], t[i])`, into `out[i]`: one call for a group's lanes, so that a source can
+    /// resolve its state once for them all. The values must be `sample`'s, lane by lane, which
+    /// this default asks for.
+    fn sample_lanes(&self, s: &[f32], t: &[f32], out: &mut [[f32; 4]]) {
+        for ((o, &s), &t) in out.iter_mut().zip(s).zip(t) {
+            *o = self.sample(s, t, None);
+        }
+    }
 
     /// A shadow sampler's lookup (`sampler2DShadow`): the texels compared with `reference`
     /// by the source's compare function and the results filtered (see
@@ -330,6 +340,18 @@ impl CompiledProgram {
             point_size_varying: hidden.point_size,
             point_coord_varying: hidden.point_coord,
         })
+    }
+
+    /// The program linked again with `attribute_locations` (as [`CompiledProgram::new`] takes
+    /// them): the same program as compiling its sources again with them would give, since
+    /// only the attributes' locations depend on them, without compiling (a capture binds
+    /// attribute after attribute, relinking each time).
+    ///
+    /// # Errors
+    /// A link error of the locations (see `new`).
+    pub fn with_attribute_locations(&self, attribute_locations: &[(&str, u32)]) -> Result<CompiledProgram, Error> {
+        let attributes = link_attributes(&self.vertex, attribute_locations)?;
+        Ok(CompiledProgram { attributes, ..self.clone() })
     }
 
     /// Attributes in declaration order, with their locations.
@@ -902,6 +924,16 @@ fn lookup_lanes<const W: usize>(
     lanes: usize,
 ) -> [[f32; W]; 4] {
     let mut out = [[0.0; W]; 4];
+    if let (Some(TextureBinding::Custom(source)), None, None) = (binding, lod, reference) {
+        let mut texels = [[0.0; 4]; W];
+        source.sample_lanes(&coord[0][..lanes], &coord[1][..lanes], &mut texels[..lanes]);
+        for (lane, texel) in texels[..lanes].iter().enumerate() {
+            for c in 0..4 {
+                out[c][lane] = texel[c];
+            }
+        }
+        return out;
+    }
     for lane in 0..lanes {
         let (s, t) = (coord[0][lane], coord[1][lane]);
         let l = lod.map(|l| l[lane]);
@@ -1071,6 +1103,12 @@ impl Env<8> for FragmentEnv<'_, '_> {
             return gather(self, slot, slots[slot].as_ref(), coord, offset, comp);
         }
         match (&self.slots[slot], lod) {
+            // The common lookup, with the sampler as it is bound.
+            (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit) if offset == [0, 0] => {
+                const PLAIN: tiler::Lookup = tiler::Lookup { gradients: None, offset: [0, 0] };
+                let t = F32x8(coord[1].map(|t| 1.0 - t));
+                self.frag.sample_with(texture, sampler, [F32x8(coord[0]), t], &PLAIN).map(|c| c.0)
+            }
             (Some(TextureBinding::Integer(texture, sampler)), _) => {
                 let at = integer_nearest(texture, sampler, coord, 8);
                 self.frag.fetch_integer(texture, [0; 8], at).map(|c| c.map(f32::from_bits))

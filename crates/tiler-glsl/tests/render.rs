@@ -583,6 +583,14 @@ void main() { gl_Position = first; r = vec4(second, first.zw); c = m * vec2(1.0,
     const FS: &str = "varying vec4 r; varying vec2 c; void main() { gl_FragColor = r + c.xyxy; }";
     let program = Arc::new(CompiledProgram::new(VS, FS, &[("first", 0), ("second", 5)]).unwrap());
     assert_eq!(program.attribute_location("m"), Some(1));
+    // Relinking with other locations gives what compiling with them gives.
+    let unbound = CompiledProgram::new(VS, FS, &[]).unwrap();
+    let relinked = unbound.with_attribute_locations(&[("first", 0), ("second", 5)]).unwrap();
+    assert_eq!(relinked.attributes(), program.attributes());
+    assert_ne!(unbound.attributes(), program.attributes(), "the locations moved");
+    let beyond = [("first", tiler::MAX_VERTEX_ATTRIBUTES as u32)];
+    assert!(CompiledProgram::new(VS, FS, &beyond).is_err(), "a location beyond the last");
+    assert!(unbound.with_attribute_locations(&beyond).is_err(), "the same link error");
     let (shader, _) = tiler_glsl::shaders(&program, &program.new_uniform_values(), &[], HEIGHT);
     let mut input = VertexInput { attributes: [Vec4::ZERO; tiler::MAX_VERTEX_ATTRIBUTES], vertex_index: 0 };
     input.attributes[0] = Vec4::new(1.0, 2.0, 3.0, 4.0);

@@ -114,6 +114,9 @@ pub struct ReplayOptions {
     /// the middle of a frame. A snapshot renders the window's open pass as a `glReadPixels`
     /// of it would (so the report counts that pass's store, and the load after it).
     pub snapshots: Vec<u64>,
+    /// Hand each presented frame to `on_frame`; `false` skips reading the window's picture
+    /// at every swap (a caller that writes no frames saves a read-back a frame).
+    pub presented_frames: bool,
 }
 
 impl Default for ReplayOptions {
@@ -124,6 +127,7 @@ impl Default for ReplayOptions {
             limits: Limits::default(),
             record: false,
             snapshots: Vec::new(),
+            presented_frames: true,
         }
     }
 }
@@ -243,7 +247,9 @@ pub fn replay_reader<R: Read>(
         let number = call.number;
         calls += 1;
         translator.apply(&call, &sig.name)?;
-        if let Some((index, swap)) = translator.take_presented() {
+        if let Some((index, swap)) = translator.take_presented()
+            && options.presented_frames
+        {
             let ctx = translator.context().expect("a swap needs the context");
             let (width, height) = (ctx.config().width, ctx.config().height);
             let rgba = ctx.surface_rgba8();

@@ -32,7 +32,6 @@ use crate::program::{ProgramTexture, SamplerState, TextureSnapshot, Uniforms, pr
 
 /// A GLSL program object.
 pub(crate) struct GlslProgram {
-    source: GlslSource,
     /// `bind_attrib_location`s so far, in order (a name bound again moves).
     bindings: Vec<(String, u32)>,
     compiled: Arc<CompiledProgram>,
@@ -53,14 +52,7 @@ impl GlslProgram {
         let compiled = CompiledProgram::new(&source.vertex, &source.fragment, &[])?;
         let uniforms = compiled.new_uniform_values();
         let block_bindings = vec![0; compiled.uniform_blocks().len()];
-        Ok(GlslProgram {
-            source,
-            bindings: Vec::new(),
-            compiled: Arc::new(compiled),
-            uniforms,
-            block_bindings,
-            feedback: None,
-        })
+        Ok(GlslProgram { bindings: Vec::new(), compiled: Arc::new(compiled), uniforms, block_bindings, feedback: None })
     }
 
     /// Binds attribute `name` to `index` and relinks, unless nothing would change: the same
@@ -79,7 +71,7 @@ impl GlslProgram {
         bindings.retain(|(n, _)| *n != name);
         bindings.push((name, index));
         let pairs: Vec<(&str, u32)> = bindings.iter().map(|(n, l)| (n.as_str(), *l)).collect();
-        let compiled = CompiledProgram::new(&self.source.vertex, &self.source.fragment, &pairs)?;
+        let compiled = self.compiled.with_attribute_locations(&pairs)?;
         self.compiled = Arc::new(compiled);
         self.bindings = bindings;
         Ok(())
@@ -595,6 +587,10 @@ struct SnapshotSource {
 impl TextureSource for SnapshotSource {
     fn sample(&self, s: f32, t: f32, _lod: Option<f32>) -> [f32; 4] {
         self.snapshot.sample(s, t, self.state)
+    }
+
+    fn sample_lanes(&self, s: &[f32], t: &[f32], out: &mut [[f32; 4]]) {
+        self.snapshot.sample_lanes(s, t, self.state, out);
     }
 
     fn sample_compare(&self, s: f32, t: f32, reference: f32, _lod: Option<f32>) -> f32 {

@@ -521,6 +521,9 @@ pub struct Context {
     pub(crate) last_submit_frame: Option<u32>,
     pub(crate) stores: HashMap<(ImageId, crate::report::Slot), PendingStore>,
     recording: Option<Vec<Vec<Call>>>,
+    /// RGBA8 textures built for earlier submissions, kept while their image's texels are
+    /// unchanged (`submit.rs`, `Context::program_texture`).
+    pub(crate) built_textures: std::sync::Mutex<HashMap<ImageId, submit::BuiltTexture>>,
 }
 
 impl Context {
@@ -623,6 +626,7 @@ impl Context {
             last_submit_frame: None,
             stores: HashMap::new(),
             recording: None,
+            built_textures: std::sync::Mutex::new(HashMap::new()),
             config,
         })
     }
@@ -1309,6 +1313,7 @@ impl Context {
     /// Returns an image to the pool (its stores die with it).
     pub(crate) fn free_image(&mut self, image: ImageId) {
         if let Some(info) = self.images.remove(&image) {
+            self.forget_built_texture(image);
             self.forget_stores(image, "storage released");
             self.image_pool.entry(info.desc).or_default().push(image);
         }

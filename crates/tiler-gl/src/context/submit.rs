@@ -17,6 +17,24 @@ use crate::call::{Filter, Wrap};
 use crate::program::{ProgramTexture, SamplerState, TextureSnapshot, blit_pipeline, clear_pipeline};
 use crate::report::{AttachmentRecord, DrawRecord, EndCause, LoadKind, PassCost, PassRecord, Role, Slot, StoreKind};
 
+/// What a core texture was built from, besides its texels.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) struct BuiltKey {
+    width: u32,
+    height: u32,
+    color_space: tiler::ColorSpace,
+    mip_chain: tiler::MipChain,
+    encoded: Option<tiler::TexelFormat>,
+}
+
+/// A core texture kept across submissions with the texels it was built from (a copy: the
+/// image may be drawn into or written after).
+pub(crate) struct BuiltTexture {
+    key: BuiltKey,
+    data: Vec<u8>,
+    texture: Arc<tiler::Texture>,
+}
+
 impl Context {
     /// Ends the open pass: renders it if it has work, and keeps the books.
     pub(crate) fn end_open_pass(&mut self, cause: EndCause) -> Fallible {
@@ -391,25 +409,66 @@ impl Context {
                     .find(|t| t.image == image)
                     .and_then(|t| t.given_chain(d.width, d.height))
                     .filter(|_| mipmaps);
+                let encoded = self.encoded_format(image);
+                let key = BuiltKey { width: d.width, height: d.height, color_space, mip_chain, encoded };
                 let t = match given {
                     Some(levels) => {
                         let chain: Vec<&[u8]> =
                             std::iter::once(data).chain(levels.iter().map(|l| l.as_slice())).collect();
-                        tiler::Texture::from_rgba8_levels(d.width, d.height, &chain, color_space)
+                        let t = tiler::Texture::from_rgba8_levels(d.width, d.height, &chain, color_space)
+                            .and_then(|t| match encoded {
+                                Some(format) => t.stored_as(format),
+                                None => Ok(t),
+                            })
+                            .map_err(|e| e.to_string())?;
+                        Arc::new(t)
                     }
-                    None => tiler::Texture::from_rgba8(d.width, d.height, data, color_space, mip_chain),
-                }
-                .and_then(|t| match self.encoded_format(image) {
-                    Some(format) => t.stored_as(format),
-                    None => Ok(t),
-                })
-                .map_err(|e| e.to_string())?;
-                let t = Arc::new(t);
+                    None => self.built_texture(image, key, data)?,
+                };
                 textures.insert(image, t.clone());
                 t
             }
         };
         Ok(ProgramTexture::Core(texture, core_sampler(sampler, mipmaps)))
+    }
+
+    /// The texture of RGBA8 `data` of `image` as `key` says: the one built for an earlier
+    /// submission when the texels and the key are the same (a texture sampled by pass after
+    /// pass, as a window's picture is, is built once), else a new one, kept for the next.
+    /// A texture is a function of its texels and `key` alone; only its id differs, and ids
+    /// only tell textures apart in the texture-cache model.
+    fn built_texture(&self, image: ImageId, key: BuiltKey, data: &[u8]) -> Fallible<Arc<tiler::Texture>> {
+        let mut built = self.built_textures.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(b) = built.get(&image)
+            && b.key == key
+            && *b.data == *data
+        {
+            return Ok(b.texture.clone());
+        }
+        let t = tiler::Texture::from_rgba8(key.width, key.height, data, key.color_space, key.mip_chain)
+            .and_then(|t| match key.encoded {
+                Some(format) => t.stored_as(format),
+                None => Ok(t),
+            })
+            .map_err(|e| e.to_string())?;
+        let texture = Arc::new(t);
+        match built.get_mut(&image) {
+            // The texels of an image drawn into pass after pass: its buffer is reused.
+            Some(b) => {
+                b.data.clear();
+                b.data.extend_from_slice(data);
+                (b.key, b.texture) = (key, texture.clone());
+            }
+            None => {
+                built.insert(image, BuiltTexture { key, data: data.to_vec(), texture: texture.clone() });
+            }
+        }
+        Ok(texture)
+    }
+
+    /// Drops the texture kept for `image`, whose storage is released.
+    pub(crate) fn forget_built_texture(&mut self, image: ImageId) {
+        self.built_textures.get_mut().unwrap_or_else(|e| e.into_inner()).remove(&image);
     }
 
     /// The decoded texels of an image, once per submission.
