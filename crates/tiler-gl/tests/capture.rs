@@ -1922,3 +1922,22 @@ fn read_buffer_none_is_taken_and_a_colour_read_after_it_names_the_call() {
     assert_eq!(error.call(), Some(call));
     assert!(error.to_string().contains("GL_NONE"), "{error}");
 }
+
+#[test]
+fn uniform_array_values_past_the_last_element_are_ignored() {
+    // GL ES 3.0 §2.12.6: glUniform4fv of 5 elements into `vec4 colors[3]` sets the three and
+    // ignores the rest (GStreamer's blur sets 9 floats into `float kernel[7]`).
+    let (w, _) = uniform_array_capture(
+        |w| {
+            let mut values = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.6, 0.4, 0.2, 1.0].to_vec();
+            values.extend([9.0f32; 8]);
+            let values = values.into_iter().map(W::Float).collect();
+            let args = [("location", W::UInt(3)), ("count", W::UInt(5)), ("value", W::Array(values))];
+            w.call("glUniform4fv", &args, None, false);
+        },
+        |_| {},
+    );
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [153, 102, 51, 255]));
+}
