@@ -54,7 +54,11 @@
 //!   565; `DEPTH_COMPONENT` is a depth texture without data. GL ES 3.0's sized internal
 //!   formats of those bases are taken too; `RED`/`RG` bytes, halves and floats (`R8`, `RG8`,
 //!   `R16F`, …) are stored with green/blue 0 and alpha 1, as GL reads them, and are never
-//!   render targets. Rows honour `GL_UNPACK_ALIGNMENT`.
+//!   render targets. `EXT_texture_norm16`'s `R16`, `RG16`, `RGB16`, `RGBA16` are encoded
+//!   formats (sampled at 8 bits a channel: see `docs/captures.md`). Rows honour
+//!   `GL_UNPACK_ALIGNMENT`, `GL_UNPACK_ROW_LENGTH`, `GL_UNPACK_SKIP_ROWS` and
+//!   `GL_UNPACK_SKIP_PIXELS`; with a buffer bound to `GL_PIXEL_UNPACK_BUFFER` an upload reads
+//!   its texels from that buffer at the pointer's offset.
 //!   Level 0 only; `glGenerateMipmap` gives the context's mip chain, and the `*_MIPMAP_*`
 //!   minification filters use it (with a magnification filter of the same first word; a mipmap
 //!   filter on a texture without levels — incomplete in GL — is refused where it is drawn).
@@ -71,8 +75,13 @@
 //!   at link; `glBindBufferBase`/`Range(GL_TRANSFORM_FEEDBACK_BUFFER)`, begin/end/pause/resume
 //!   and `GL_RASTERIZER_DISCARD` are the context's calls; transform feedback objects are kept
 //!   here, each handing the context its buffer bindings when bound.
+//! - **Queries**: occlusion queries are the context's; `EXT_disjoint_timer_query`'s timer
+//!   queries (`GL_TIME_ELAPSED_EXT`, `glQueryCounterEXT`) change nothing drawn, and reading
+//!   one's result waits as `glFinish` does.
 //! - **The window**: its size is the size of the first `glViewport` (apitrace records the
-//!   surface's size as a fake viewport when a context is first made current), unless
+//!   surface's size as a fake viewport when a context is first made current), grown to any
+//!   later viewport or scissor on the window that reaches past it (apitrace's retrace does the
+//!   same: an application whose window was resized says so only through them), unless
 //!   [`ReplayOptions::window`] says; RGBA8 with packed depth-stencil. `eglSwapBuffers` is
 //!   `swap_buffers`, and each presented picture is handed to the caller.
 //!
