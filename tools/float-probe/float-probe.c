@@ -44,10 +44,15 @@ int main(int argc, char **argv) {
     eglMakeCurrent(dpy, surface, surface, ctx);
 
     /* `v` is a varying with irregular slopes, for shaders that probe interpolation. */
-    const char *vs = "#version 300 es\nin vec2 p;\nin float w;\nout highp vec2 v;\n"
+    /* The vertex shader takes the fragment shader's version (a program's must match). */
+    const char *fs = slurp(argv[1]);
+    const char *vs = strncmp(fs, "#version 310 es", 15) == 0
+        ? "#version 310 es\nin vec2 p;\nin float w;\nout highp vec2 v;\n"
+          "void main() { v = p * vec2(0.3183099, 0.2718282) + vec2(0.1234567, 0.7654321);\n"
+          "  gl_Position = vec4(p * w, 0.0, w); }\n"
+        : "#version 300 es\nin vec2 p;\nin float w;\nout highp vec2 v;\n"
                      "void main() { v = p * vec2(0.3183099, 0.2718282) + vec2(0.1234567, 0.7654321);\n"
                      "  gl_Position = vec4(p * w, 0.0, w); }\n";
-    const char *fs = slurp(argv[1]);
     GLuint v = glCreateShader(GL_VERTEX_SHADER), f = glCreateShader(GL_FRAGMENT_SHADER);
     glShaderSource(v, 1, &vs, NULL);
     glCompileShader(v);
@@ -59,6 +64,54 @@ int main(int argc, char **argv) {
     GLuint program = glCreateProgram();
     glAttachShader(program, v);
     glAttachShader(program, f);
+    /* FLOAT_PROBE_TEXTURE=upload: an 8×8 RGBA8 texture on unit 0 whose texel (x, y) (y = 0
+     * the first row uploaded) has red 30x + y, green 30y + x; =render: the same texels drawn
+     * into a texture through a framebuffer. Nearest filtering, clamped. */
+    const char *texture = getenv("FLOAT_PROBE_TEXTURE");
+    if (texture) {
+        static unsigned char texels[8 * 8 * 4];
+        for (int y = 0; y < 8; y++)
+            for (int x = 0; x < 8; x++) {
+                unsigned char *t = texels + (y * 8 + x) * 4;
+                t[0] = 30 * x + y; t[1] = 30 * y + x; t[2] = 0; t[3] = 255;
+            }
+        GLuint tex;
+        glGenTextures(1, &tex);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        int render = strcmp(texture, "render") == 0;
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 8, 8, 0, GL_RGBA, GL_UNSIGNED_BYTE, render ? NULL : texels);
+        if (render) {
+            const char *fill_vs = "#version 300 es\nin vec2 p;\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); }\n";
+            const char *fill_fs = "#version 300 es\nprecision highp float;\nout vec4 color;\n"
+                                  "void main() { vec2 c = floor(gl_FragCoord.xy);\n"
+                                  "  color = vec4(30.0 * c.x + c.y, 30.0 * c.y + c.x, 0.0, 255.0) / 255.0; }\n";
+            GLuint fv = glCreateShader(GL_VERTEX_SHADER), ff = glCreateShader(GL_FRAGMENT_SHADER);
+            glShaderSource(fv, 1, &fill_vs, NULL);
+            glCompileShader(fv);
+            glShaderSource(ff, 1, &fill_fs, NULL);
+            glCompileShader(ff);
+            GLuint fill = glCreateProgram();
+            glAttachShader(fill, fv);
+            glAttachShader(fill, ff);
+            glBindAttribLocation(fill, 0, "p");
+            glLinkProgram(fill);
+            glUseProgram(fill);
+            GLuint fb;
+            glGenFramebuffers(1, &fb);
+            glBindFramebuffer(GL_FRAMEBUFFER, fb);
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+            static const float full[] = {-1, -1, 3, -1, -1, 3};
+            glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, full);
+            glEnableVertexAttribArray(0);
+            glViewport(0, 0, 8, 8);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        }
+    }
     glBindAttribLocation(program, 0, "p");
     glBindAttribLocation(program, 1, "w");
     glLinkProgram(program);

@@ -1941,3 +1941,16 @@ fn uniform_array_values_past_the_last_element_are_ignored() {
     result.unwrap();
     assert_eq!(frames[0].4, solid(4, 4, [153, 102, 51, 255]));
 }
+
+/// textureGather of an uploaded and of a rendered 8×8 texture at irregular coordinates: the
+/// four texels and their order are llvmpipe's, every byte (`gather.frag`; each texel's red
+/// names it).
+#[test]
+fn float_probe_texture_gather_is_llvmpipes_for_uploaded_and_rendered_textures() {
+    for (name, call) in [("gather-upload", 40), ("gather-render", 61)] {
+        let values = float_probe(name, call);
+        assert_eq!(values.len(), 64);
+        let differ: Vec<_> = values.iter().filter(|&&(.., got, want)| got != want).collect();
+        assert!(differ.is_empty(), "{name}: (y, x, tiler, llvmpipe) {differ:x?}");
+    }
+}
