@@ -1954,3 +1954,52 @@ fn float_probe_texture_gather_is_llvmpipes_for_uploaded_and_rendered_textures() 
         assert!(differ.is_empty(), "{name}: (y, x, tiler, llvmpipe) {differ:x?}");
     }
 }
+
+#[test]
+fn ten_bit_samples_in_r16_texels_are_sampled_at_sixteen_bits() {
+    // mpv's 10-bit video: samples in the low bits of R16 texels, scaled by 65535/1023 in the
+    // shader. Texel 700 reads 700/65535 · 65535/1023 = 0.684 (174/255); at 8 bits it would be
+    // byte 3, 0.754 (192/255). The right texel comes from a glTexSubImage2D.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "precision highp float;\nuniform sampler2D plane;\n\
+                    void main() { float s = gl_FragCoord.x < 2.0 ? 0.25 : 0.75;\n\
+                    gl_FragColor = vec4(texture2D(plane, vec2(s, 0.5)).r * (65535.0 / 1023.0), 0.0, 0.0, 1.0); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(1))], None, false);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    tex_parameter(&mut w, ("GL_TEXTURE_MAG_FILTER", 0x2800), ("GL_NEAREST", 0x2600));
+    let texels: Vec<u8> = [700u16, 0].iter().flat_map(|c| c.to_le_bytes()).collect();
+    let image = |w: &mut Writer, call: &str, x: u64, width: u64, texels: Vec<u8>| {
+        let mut args = vec![("target", e("GL_TEXTURE_2D", 0x0de1)), ("level", W::UInt(0))];
+        if call == "glTexImage2D" {
+            args.push(("internalformat", e("GL_R16_EXT", 0x822a)));
+        } else {
+            args.extend([("xoffset", W::UInt(x)), ("yoffset", W::UInt(0))]);
+        }
+        args.extend([("width", W::UInt(width)), ("height", W::UInt(1))]);
+        if call == "glTexImage2D" {
+            args.push(("border", W::UInt(0)));
+        }
+        args.extend([
+            ("format", e("GL_RED", 0x1903)),
+            ("type", e("GL_UNSIGNED_SHORT", 0x1403)),
+            ("pixels", W::Blob(texels)),
+        ]);
+        w.call(call, &args, None, false);
+    };
+    image(&mut w, "glTexImage2D", 0, 2, texels);
+    image(&mut w, "glTexSubImage2D", 1, 1, 700u16.to_le_bytes().to_vec());
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    for x in [0, 3] {
+        let red = frames[0].4[x * 4];
+        assert!(red.abs_diff(174) <= 1, "pixel {x}: red {red}, not 174 (192 is 8 bits)");
+    }
+}

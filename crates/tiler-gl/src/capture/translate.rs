@@ -1765,7 +1765,19 @@ impl Translator {
         })?;
         let values = glsl::uniform_values(value)?;
         let count = values.len();
-        for (k, value) in values.into_iter().enumerate() {
+        // GL ES 3.0 §2.12.6: values for elements past the array's last are ignored
+        // (GStreamer's blur sets 9 floats into a `float kernel[7]`).
+        let (base, first) = match name.strip_suffix(']').and_then(|n| n.rsplit_once('[')) {
+            Some((base, i)) => (base, i.parse::<usize>().unwrap_or(0)),
+            None => (name.as_str(), 0),
+        };
+        let id = self.program(program)?.id;
+        let elements = match (count > 1, id) {
+            (true, Some(id)) => self.ctx()?.uniform_elements(id, base),
+            _ => None,
+        };
+        let count = elements.map_or(count, |n| count.min(n.saturating_sub(first)).max(1));
+        for (k, value) in values.into_iter().take(count).enumerate() {
             let name = element_name(&name, k, count)?;
             self.emit(Call::Uniform { name, value })?;
         }

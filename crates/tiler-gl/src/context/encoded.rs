@@ -8,6 +8,8 @@
 //! `texture_fetch` counts compressed blocks and 2-byte texels. The image itself, in the
 //! context's memory accounting, is the decoded RGBA8.
 
+use std::sync::Arc;
+
 use tiler::TexelFormat;
 
 use super::{Context, Fallible};
@@ -38,6 +40,7 @@ impl Context {
                 t.mipmaps = false;
             }
             t.encoded = Some(format);
+            t.unorm16 = unorm16_rows(format, width, height, &data);
             return Ok(());
         }
         let t = self.texture(id)?;
@@ -84,7 +87,47 @@ impl Context {
             }
         }
         let rgba = decode(format, width, height, &data).map_err(|e| format!("texture {id}: {e}"))?;
-        self.tex_sub_image(id, x, y, width, height, rgba)
+        self.tex_sub_image(id, x, y, width, height, rgba)?;
+        // The 16 bits of a 16-bit normalised texture: the rectangle's rows, GL's bottom-up
+        // `y` counted from the top.
+        let texel = layout.texel_bytes as usize;
+        let t = self.texture_mut(id)?;
+        if let Some(stored) = &mut t.unorm16 {
+            let stored = Arc::make_mut(stored);
+            let row = width as usize * texel;
+            for (j, src) in data.chunks_exact(row).take(height as usize).enumerate() {
+                let y = (desc.height - 1 - (y + j as u32)) as usize;
+                let at = (y * desc.width as usize + x as usize) * texel;
+                stored[at..at + row].copy_from_slice(src);
+            }
+        }
+        Ok(())
+    }
+
+    /// The core texture of `image`, a 16-bit normalised texture's, at 16 bits a channel: when
+    /// the texture object keeps its upload's texels and the image still holds the bytes they
+    /// round to (nothing has drawn or copied into it since), and no chain is sampled.
+    pub(super) fn unorm16_texture(
+        &self,
+        image: tiler::ImageId,
+        data: &[u8],
+        mips: tiler::MipChain,
+    ) -> Fallible<Option<tiler::Texture>> {
+        let Some(t) = self.textures.values().find(|t| t.image == image) else { return Ok(None) };
+        let (Some(format), Some(stored)) = (t.encoded, &t.unorm16) else { return Ok(None) };
+        if mips != tiler::MipChain::BaseOnly {
+            return Ok(None);
+        }
+        let desc = self.images[&image].desc;
+        let format = format.texel_format();
+        let bytes = format.decode(desc.width, desc.height, stored).map_err(|e| e.to_string())?;
+        if bytes.concat() != data {
+            return Ok(None);
+        }
+        let texture =
+            tiler::Texture::from_encoded(format, desc.width, desc.height, stored, tiler::ColorSpace::Linear, mips)
+                .map_err(|e| e.to_string())?;
+        Ok(Some(texture))
     }
 
     /// The core format a texture made from `image`'s storage is modelled in when it is not the
@@ -92,6 +135,17 @@ impl Context {
     pub(super) fn encoded_format(&self, image: tiler::ImageId) -> Option<TexelFormat> {
         self.textures.values().find(|t| t.image == image).and_then(|t| t.encoded).map(EncodedFormat::texel_format)
     }
+}
+
+/// A 16-bit normalised upload's texels (rows bottom to top, as GL gives them) top to bottom,
+/// as the core texture takes them; `None` for other formats.
+fn unorm16_rows(format: EncodedFormat, width: u32, height: u32, data: &[u8]) -> Option<Arc<Vec<u8>>> {
+    if !matches!(format, EncodedFormat::R16 | EncodedFormat::Rg16 | EncodedFormat::Rgb16 | EncodedFormat::Rgba16) {
+        return None;
+    }
+    let row = width as usize * format.texel_format().layout().texel_bytes as usize;
+    let rows: Vec<u8> = data.chunks_exact(row).take(height as usize).rev().flatten().copied().collect();
+    (rows.len() == row * height as usize).then(|| Arc::new(rows))
 }
 
 /// `data` of `format`, `width × height`, decoded to RGBA8 rows in the same order.

@@ -94,15 +94,6 @@ impl GlslProgram {
     pub fn set_uniform(&mut self, name: &str, value: UniformValue) -> Fallible {
         let program = &self.compiled;
         let Some(location) = program.uniform_location(name) else {
-            // GL ES 3.0 §2.12.6: values for elements past an array's last one are ignored
-            // (`glUniform1fv` of 9 into a `float kernel[7]`, as GStreamer's blur does).
-            let past_the_end = name.strip_suffix(']').and_then(|n| n.rsplit_once('[')).is_some_and(|(base, i)| {
-                let index = i.parse::<usize>().ok();
-                program.uniforms().iter().any(|u| u.name == base && index.is_some_and(|i| i >= u.array_size))
-            });
-            if past_the_end {
-                return Ok(());
-            }
             return Err(format!("no active uniform '{name}' (it has: {})", uniform_names(program).join(", ")));
         };
         let info = program
@@ -571,6 +562,15 @@ impl Context {
             ProgramObject::Builtin { kind, .. } => kind.info().uniforms.iter().map(|(n, _)| n.to_string()).collect(),
             ProgramObject::Glsl(p) => uniform_names(&p.compiled),
         })
+    }
+
+    /// Elements of the uniform array `base` of program `program` (1 for a uniform that is not
+    /// an array); `None` if there is no such program or GLSL uniform.
+    pub fn uniform_elements(&self, program: u32, base: &str) -> Option<usize> {
+        match self.programs.get(&program)? {
+            ProgramObject::Builtin { .. } => None,
+            ProgramObject::Glsl(p) => p.compiled.uniforms().iter().find(|u| u.name == base).map(|u| u.array_size),
+        }
     }
 
     /// The attribute locations of program `program` after linking, `(name, location)`;

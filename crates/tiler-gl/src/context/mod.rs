@@ -231,6 +231,10 @@ pub(crate) struct TextureObject {
     /// The format `encoded_tex_image` uploaded it in (decoded into the image, which is RGBA8),
     /// the one its samples are counted in; `None` for storage of the image's own format.
     pub encoded: Option<crate::call::EncodedFormat>,
+    /// A 16-bit normalised upload's level 0 as stored (rows top to bottom), which the image's
+    /// RGBA8 rounds: sampled at 16 bits while the image still holds what it rounds to
+    /// (`encoded.rs`).
+    pub unorm16: Option<Arc<Vec<u8>>>,
 }
 
 impl TextureObject {
@@ -1473,9 +1477,10 @@ impl Context {
             self.upload(image, 0, 0, width, height, &data)?;
         }
         let sampler = SamplerState::new(Filter::Nearest, Wrap::ClampToEdge);
-        let old = self
-            .textures
-            .insert(id, TextureObject { image, format, sampler, mipmaps: false, levels: Vec::new(), encoded: None });
+        let old = self.textures.insert(
+            id,
+            TextureObject { image, format, sampler, mipmaps: false, levels: Vec::new(), encoded: None, unorm16: None },
+        );
         if let Some(old) = old {
             // GL keeps the other levels of a texture whose level 0 is replaced by one of the same
             // size and format, so it stays complete.

@@ -402,6 +402,11 @@ impl Context {
             }
             None => {
                 let data = self.device.image_data(image).map_err(|e| e.to_string())?;
+                if let Some(t) = self.unorm16_texture(image, data, mip_chain)? {
+                    let t = Arc::new(t);
+                    textures.insert(image, t.clone());
+                    return Ok(ProgramTexture::Core(t, core_sampler(sampler, mipmaps)));
+                }
                 // Levels given by the application, when they are the whole chain.
                 let given = self
                     .textures

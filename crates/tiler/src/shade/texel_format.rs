@@ -314,6 +314,39 @@ impl TexelFormat {
     }
 }
 
+impl TexelFormat {
+    /// A 16-bit normalised format's level decoded to the sampler's 16-bit channels, as stored
+    /// (missing green and blue 0, missing alpha 65535), rows in the order of the data; `None`
+    /// for every other format (they decode to bytes: [`TexelFormat::decode`]).
+    ///
+    /// # Errors
+    /// `data` not [`TexelFormat::data_bytes`] long.
+    pub fn decode_unorm16(self, width: u32, height: u32, data: &[u8]) -> Option<Result<Vec<[u16; 4]>>> {
+        let channels = match self {
+            TexelFormat::R16 => 1,
+            TexelFormat::Rg16 => 2,
+            TexelFormat::Rgb16 => 3,
+            TexelFormat::Rgba16 => 4,
+            _ => return None,
+        };
+        let needed = self.data_bytes(width, height);
+        if data.len() as u64 != needed {
+            return Some(Err(Error::invalid(
+                "texture",
+                format!("{} bytes of {} data for {width}×{height}, which needs {needed}", data.len(), self.name()),
+            )));
+        }
+        let texel = |t: &[u8]| {
+            let mut c = [0, 0, 0, u16::MAX];
+            for (i, word) in t.chunks_exact(2).enumerate() {
+                c[i] = u16::from_le_bytes([word[0], word[1]]);
+            }
+            c
+        };
+        Some(Ok(data.chunks_exact(2 * channels).map(texel).collect()))
+    }
+}
+
 /// The low `bits` bits of `v` as a UNORM8 byte: `round(255 · c / (2^bits − 1))`.
 fn unorm_bits(v: u32, bits: u32) -> u8 {
     let max = (1 << bits) - 1;

@@ -311,7 +311,24 @@ impl Texture {
     ) -> Result<Texture> {
         check_size(width, height, format)?;
         let rows = format.decode(width, height, data)?;
-        Ok(Texture::build(format, width, height, rows, color_space, mips))
+        // A 16-bit normalised format keeps its 16 bits where the filter can: a linear texture
+        // without a built chain holds its texels decoded, as stored (the box filters of a
+        // chain work on bytes, so a chain is built from the bytes).
+        let wide = match (color_space, mips) {
+            (ColorSpace::Linear, MipChain::BaseOnly) => format.decode_unorm16(width, height, data).transpose()?,
+            _ => None,
+        };
+        let mut texture = Texture::build(format, width, height, rows, color_space, mips);
+        if let Some(wide) = wide {
+            let level = texture.levels[0];
+            let mut words = vec![[0u32; 2]; texture.texels.len()];
+            for (i, [r, g, b, a]) in wide.into_iter().enumerate() {
+                let (x, y) = (i as u32 % width, i as u32 / width);
+                words[level.texel_index(x, y)] = [r as u32 | (g as u32) << 16, b as u32 | (a as u32) << 16];
+            }
+            texture.texels = Texels::Decoded(words);
+        }
+        Ok(texture)
     }
 
     /// The same texels modelled as stored in `format`: for texels decoded before they reach
@@ -543,12 +560,19 @@ impl Texture {
             Texels::Decoded(texels) => texels[index],
         };
         let channel = |c: u32| texel_channel(texel[c as usize / 2], c) as u16;
-        let colour = |c: u32| {
-            let byte = self.color_table.binary_search(&channel(c));
-            debug_assert!(byte.is_ok(), "a colour channel decoded from a byte");
-            byte.unwrap_or_else(|at| at) as u8
+        // An sRGB channel is given back through the table it was decoded by; a linear one (a
+        // 16-bit normalised texel, held as stored) is rounded to the nearest byte, which for
+        // `c · 257` is `c`.
+        let nearest = |c: u16| ((c as u32 + 128) / 257) as u8;
+        let colour = |c: u32| match self.color_space {
+            ColorSpace::Srgb => {
+                let byte = self.color_table.binary_search(&channel(c));
+                debug_assert!(byte.is_ok(), "an sRGB colour channel decoded from a byte");
+                byte.unwrap_or_else(|at| at) as u8
+            }
+            ColorSpace::Linear => nearest(channel(c)),
         };
-        [colour(0), colour(1), colour(2), (channel(3) / 257) as u8]
+        [colour(0), colour(1), colour(2), nearest(channel(3))]
     }
 
     /// Host memory the texels take (4 bytes a texel of a linear texture, 8 of an sRGB one: see
@@ -1993,6 +2017,26 @@ mod tests {
             assert_eq!(wrap_index(i, 4, Wrap::ClampToEdge), clamp, "clamp {i}");
             assert_eq!(wrap_index(i, 4, Wrap::MirroredRepeat), mirror, "mirror {i}");
         }
+    }
+
+    #[test]
+    fn sixteen_bit_texels_keep_their_sixteen_bits_without_a_chain() {
+        // A 2×1 R16 texture of 10-bit samples in the low bits (as video players upload them):
+        // sampled at each texel's centre it reads c / 65535, not the byte c would round to.
+        let data: Vec<u8> = [1023u16, 517].iter().flat_map(|c| c.to_le_bytes()).collect();
+        let t = Texture::from_encoded(TexelFormat::R16, 2, 1, &data, ColorSpace::Linear, MipChain::BaseOnly).unwrap();
+        let nearest = Sampler::NEAREST_REPEAT;
+        assert_eq!(sample_at(&t, &nearest, 0.25, 0.5), [1023.0 / 65535.0, 0.0, 0.0, 1.0]);
+        assert_eq!(sample_at(&t, &nearest, 0.75, 0.5)[0], 517.0 / 65535.0);
+        // Bilinear between them: the 16-bit values blended, not their bytes (both read as 4
+        // and 2 in bytes).
+        let mid = sample_at(&t, &Sampler::BILINEAR_CLAMP, 0.5, 0.5)[0] * 65535.0;
+        assert!((mid - 770.0).abs() <= 1.0, "{mid}");
+        // Its bytes are the nearest ones (GL read-backs and copies take those).
+        assert_eq!(t.texel(0, 0, 0), [4, 0, 0, 255]);
+        // With a chain (built from bytes), 8 bits: 1023 / 65535 is byte 4.
+        let chained = Texture::from_encoded(TexelFormat::R16, 2, 1, &data, ColorSpace::Linear, MipChain::Box).unwrap();
+        assert_eq!(sample_at(&chained, &nearest, 0.25, 0.5)[0], 4.0 / 255.0);
     }
 
     #[test]
