@@ -55,7 +55,7 @@
 //!   formats of those bases are taken too; `RED`/`RG` bytes, halves and floats (`R8`, `RG8`,
 //!   `R16F`, …) are stored with green/blue 0 and alpha 1, as GL reads them, and are never
 //!   render targets. `EXT_texture_norm16`'s `R16`, `RG16`, `RGB16`, `RGBA16` are encoded
-//!   formats (sampled at 8 bits a channel: see `docs/captures.md`). Rows honour
+//!   formats, sampled at 16 bits a channel (without a mip chain). Rows honour
 //!   `GL_UNPACK_ALIGNMENT`, `GL_UNPACK_ROW_LENGTH`, `GL_UNPACK_SKIP_ROWS` and
 //!   `GL_UNPACK_SKIP_PIXELS`; with a buffer bound to `GL_PIXEL_UNPACK_BUFFER` an upload reads
 //!   its texels from that buffer at the pointer's offset.
