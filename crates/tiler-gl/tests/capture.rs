@@ -2003,3 +2003,78 @@ fn ten_bit_samples_in_r16_texels_are_sampled_at_sixteen_bits() {
         assert!(red.abs_diff(174) <= 1, "pixel {x}: red {red}, not 174 (192 is 8 bits)");
     }
 }
+
+/// `eglCreateContext` sharing objects with `share` (0: none).
+fn create_context(w: &mut Writer, context: u64, share: u64) {
+    let attribs = W::Array(vec![W::UInt(0x3098), W::UInt(2), W::UInt(0x3038)]);
+    let share = if share == 0 { W::Null } else { W::Pointer(share) };
+    w.call(
+        "eglCreateContext",
+        &[("dpy", W::Pointer(1)), ("config", W::Pointer(2)), ("share_context", share), ("attrib_list", attribs)],
+        Some(W::Pointer(context)),
+        false,
+    );
+}
+
+/// `eglMakeCurrent` of `context` (0: none) on `surface` (0: none).
+fn make_current(w: &mut Writer, surface: u64, context: u64) -> u64 {
+    let handle = |h: u64| if h == 0 { W::Null } else { W::Pointer(h) };
+    w.call(
+        "eglMakeCurrent",
+        &[("dpy", W::Pointer(1)), ("draw", handle(surface)), ("read", handle(surface)), ("ctx", handle(context))],
+        Some(W::Bool(true)),
+        false,
+    )
+}
+
+#[test]
+fn contexts_sharing_objects_see_each_others_textures() {
+    // The window's context is made current (apitrace's fake viewport gives the window's size)
+    // and released; a loader context sharing its objects, current without a surface as
+    // toolkits' share contexts are, uploads a texture and goes; the window's context draws
+    // with it.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    create_context(&mut w, 100, 0);
+    create_context(&mut w, 200, 100);
+    make_current(&mut w, 3, 200);
+    let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(4)), ("height", W::UInt(4))];
+    w.call("glViewport", &viewport, None, true);
+    make_current(&mut w, 0, 0);
+    make_current(&mut w, 0, 100);
+    texture_rgb(&mut w, 5, 1, 1, vec![30, 60, 90, 0]);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    make_current(&mut w, 0, 0);
+    w.call("eglDestroyContext", &[("dpy", W::Pointer(1)), ("ctx", W::Pointer(100))], Some(W::Bool(true)), false);
+    make_current(&mut w, 3, 200);
+    let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment =
+        "precision mediump float;\nuniform sampler2D t;\nvoid main() { gl_FragColor = texture2D(t, vec2(0.5)); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(5))], None, false);
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [30, 60, 90, 255]));
+}
+
+#[test]
+fn switching_between_two_live_contexts_that_changed_state_names_the_call() {
+    // Context 100 clears (its state is the context's now); making 200 current while 100 lives
+    // would need 100's state kept apart: refused, naming the eglMakeCurrent.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    create_context(&mut w, 100, 0);
+    create_context(&mut w, 200, 100);
+    make_current(&mut w, 3, 100);
+    let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(4)), ("height", W::UInt(4))];
+    w.call("glViewport", &viewport, None, true);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    let switch = make_current(&mut w, 3, 200);
+    let (result, _) = replay(&w);
+    let error = result.err().expect("context 100's state was not kept");
+    assert_eq!(error.call(), Some(switch));
+    assert!(error.to_string().contains("switching away from a live context"), "{error}");
+}

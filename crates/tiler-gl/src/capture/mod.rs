@@ -23,7 +23,12 @@
 //!   ids, so a capture that destroys and recreates its context (every glmark2 scene does) can
 //!   reuse names. Destroying a context deletes its buffers, textures, renderbuffers,
 //!   framebuffers and queries; making a new context current resets the GL state to its
-//!   defaults. The window surface outlives contexts, as in EGL.
+//!   defaults. The window surface outlives contexts, as in EGL. A context created with a
+//!   share context joins its share group, whose objects all its contexts see and which go with
+//!   the group's last context. Another context may be made current (with the window or with
+//!   no surface) when the one current before it has changed no GL state or is destroyed;
+//!   switching away from a live context that has changed state is refused, naming the call
+//!   (the replay keeps one context's GL state).
 //! - **Objects** are created in the context when GL gives them storage (`glBufferData`,
 //!   `glTexImage2D`, `glRenderbufferStorage`); bindings of names without storage are applied
 //!   when the storage arrives.

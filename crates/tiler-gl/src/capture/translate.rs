@@ -343,6 +343,14 @@ pub struct Translator {
     ctx: Option<Context>,
     /// EGL context handle → generation.
     generations: HashMap<EglHandle, u32>,
+    /// Generation → its share group (the generation of the context created without a share
+    /// context that it shares objects with, itself for that one): `objects` is by group.
+    groups: HashMap<u32, u32>,
+    /// Generations that have changed GL state while current (see `make_current`); apitrace's
+    /// fake calls (the window's viewport at a context's first `eglMakeCurrent`) do not count.
+    touched: HashSet<u32>,
+    /// The call being translated is one of apitrace's fake ones.
+    fake: bool,
     objects: HashMap<u32, Objects>,
     /// The current generation, if a context is current.
     current: Option<u32>,
@@ -372,6 +380,9 @@ impl Translator {
             window_grows: window.is_none(),
             ctx: None,
             generations: HashMap::new(),
+            groups: HashMap::new(),
+            touched: HashSet::new(),
+            fake: false,
             objects: HashMap::new(),
             current: None,
             last_current: None,
@@ -442,6 +453,7 @@ impl Translator {
             self.function.clear();
             self.function.push_str(function);
         }
+        self.fake = call.fake;
         self.command(&call.command, call.fake).map_err(|m| self.error(m))
     }
 
@@ -456,6 +468,9 @@ impl Translator {
     }
 
     pub(super) fn emit(&mut self, call: Call) -> Fallible<crate::call::Output> {
+        if let Some(generation) = self.current.filter(|_| !self.fake) {
+            self.touched.insert(generation);
+        }
         self.ctx()?.call(call).map_err(|e| e.message)
     }
 
@@ -467,7 +482,8 @@ impl Translator {
 
     fn objects(&mut self) -> Fallible<&mut Objects> {
         let generation = self.current.ok_or("no EGL context is current")?;
-        Ok(self.objects.entry(generation).or_default())
+        let group = self.groups.get(&generation).copied().unwrap_or(generation);
+        Ok(self.objects.entry(group).or_default())
     }
 
     fn command(&mut self, command: &Command, fake: bool) -> Fallible {
@@ -502,17 +518,30 @@ impl Translator {
 
             // ---- EGL ----------------------------------------------------------------------
             C::CreateContext { share_context, context, .. } => {
-                if *share_context != 0 {
-                    return Err("contexts sharing objects are not supported".into());
-                }
                 let generation = self.next_generation;
+                // A context sharing objects with another (EGL 1.5 §3.7.1) joins its share
+                // group: textures, buffers, renderbuffers, shaders and programs are the
+                // group's. (So are framebuffers and vertex arrays here, which GL keeps per
+                // context: a name two contexts of a group both generate is refused there.)
+                let group = match *share_context {
+                    0 => generation,
+                    share => {
+                        let shared =
+                            self.generations.get(&share).ok_or("shares objects with a context never created")?;
+                        self.groups.get(shared).copied().unwrap_or(*shared)
+                    }
+                };
                 self.next_generation += 1;
                 self.generations.insert(*context, generation);
+                self.groups.insert(generation, group);
             }
             C::MakeCurrent { draw, context, .. } => self.make_current(*draw, *context)?,
             C::DestroyContext { context, .. } => {
                 let generation = self.generations.remove(context).ok_or("destroys a context never created")?;
-                self.destroy_objects(generation)?;
+                // The group's objects go with its last context.
+                let group = self.groups.remove(&generation).unwrap_or(generation);
+                let others = self.generations.values().any(|g| self.groups.get(g) == Some(&group));
+                self.destroy_objects(generation, (!others).then_some(group))?;
                 if self.current == Some(generation) {
                     self.current = None;
                 }
@@ -1111,7 +1140,20 @@ impl Translator {
             }
 
             // ---- framebuffers and renderbuffers ----------------------------------------------
-            C::GenFramebuffers { .. } | C::GenRenderbuffers { .. } => {}
+            C::GenFramebuffers { names } => {
+                // GL keeps framebuffers per context; here a share group holds them (see
+                // `CreateContext`), so a name another context of the group already uses is
+                // refused rather than shared.
+                for name in names {
+                    if self.objects()?.framebuffers.contains_key(name) {
+                        return Err(format!(
+                            "framebuffer name {name} is already in use (by another context of this share group: \
+                             not supported)"
+                        ));
+                    }
+                }
+            }
+            C::GenRenderbuffers { .. } => {}
             C::BindFramebuffer { target, framebuffer } => {
                 let target = match *target {
                     GL_FRAMEBUFFER => FramebufferTarget::Framebuffer,
@@ -1579,21 +1621,34 @@ impl Translator {
             return Ok(());
         }
         let generation = *self.generations.get(&context).ok_or("makes current a context never created")?;
-        if self.window_surface.is_some_and(|s| s != draw) {
+        // No surface (EGL_KHR_surfaceless_context: a context current only to make or query
+        // objects, as toolkits' share contexts are) or the window.
+        if draw != 0 && self.window_surface.is_some_and(|s| s != draw) {
             return Err("drawing to a surface other than the window is not supported".into());
         }
-        self.current = Some(generation);
+        // The context's GL state is the state of the context last current (`last_current`).
+        // Another context may be made current when that one has changed no state (its state
+        // is the defaults, which `reset_state` gives back) or is gone; switching between two
+        // live contexts that both changed state would need each one's state kept apart.
         match self.last_current {
             Some(last) if last == generation => {}
-            Some(last) if self.generations.values().any(|&g| g == last) => {
-                return Err("switching between live contexts is not supported (each has its own GL state)".into());
+            Some(last) if self.generations.values().any(|&g| g == last) && self.touched.contains(&last) => {
+                return Err("switching away from a live context that has changed GL state is not supported \
+                            (each context has its own GL state; the replay keeps one)"
+                    .into());
             }
             Some(_) => {
+                let fresh = !self.touched.contains(&generation);
+                self.current = Some(generation);
                 self.reset_state()?;
+                if fresh {
+                    self.touched.remove(&generation);
+                }
                 self.last_current = Some(generation);
             }
             None => self.last_current = Some(generation),
         }
+        self.current = Some(generation);
         Ok(())
     }
 
@@ -1660,13 +1715,15 @@ impl Translator {
         Ok(())
     }
 
-    fn destroy_objects(&mut self, generation: u32) -> Fallible {
+    /// A destroyed context's bindings go, and with the last context of its share group
+    /// (`group`), the group's objects.
+    fn destroy_objects(&mut self, generation: u32, group: Option<u32>) -> Fallible {
         // Unbind first, as a destroyed context's bindings go with it.
         if self.last_current == Some(generation) {
             self.reset_state()?;
             self.last_current = None;
         }
-        let Some(objects) = self.objects.remove(&generation) else { return Ok(()) };
+        let Some(objects) = group.and_then(|group| self.objects.remove(&group)) else { return Ok(()) };
         if self.ctx.is_none() {
             return Ok(());
         }
