@@ -446,8 +446,7 @@ fn uniform_array_capture(before_draw: impl FnOnce(&mut Writer), extra: impl FnOn
         false,
     );
     before_draw(&mut w);
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     extra(&mut w);
     let swap = swap(&mut w);
     (w, swap)
@@ -501,6 +500,12 @@ fn full_window_program(w: &mut Writer, vertex: &'static str, fragment: &'static 
         None,
         false,
     );
+}
+
+/// `glDrawArrays(GL_TRIANGLES, 0, 3)`: the full-window triangle of [`full_window_program`].
+fn draw_triangle(w: &mut Writer) {
+    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
+    w.call("glDrawArrays", &draw, None, false);
 }
 
 #[test]
@@ -877,8 +882,7 @@ fn cube_capture(sizes: [(u64, u64); 6]) -> (Writer, Vec<u64>) {
         w.call("glGetUniformLocation", &get, Some(W::UInt(location)), false);
         w.call("glUniform1i", &[("location", W::UInt(location)), ("v0", W::UInt(unit))], None, false);
     }
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     swap(&mut w);
     (w, calls)
 }
@@ -948,8 +952,7 @@ fn copied_alpha(internal_format: (&'static str, u32)) -> [u8; 4] {
     let fragment = "precision mediump float;\nuniform sampler2D copied;\nvarying vec2 uv;\n\
                     void main() { gl_FragColor = vec4(texture2D(copied, uv).a); }\n";
     full_window_program(&mut w, vertex, fragment);
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     swap(&mut w);
     let (result, frames) = replay(&w);
     result.unwrap();
@@ -1390,10 +1393,9 @@ fn recorded_capture_calls_replay_and_take_the_advisors_fixes() {
     let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where * 0.5, 0.0, 1.0); }\n";
     let fragment = "precision mediump float;\nvoid main() { gl_FragColor = vec4(0.9, 0.5, 0.1, 1.0); }\n";
     full_window_program(&mut w, vertex, fragment);
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     w.call("glFlush", &[], None, false);
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     swap(&mut w);
 
     let options = ReplayOptions { record: true, ..ReplayOptions::default() };
@@ -1705,8 +1707,7 @@ fn norm16_texels_upload_from_a_sub_rectangle_of_a_longer_client_image() {
     w.call("glGenQueriesEXT", &[("n", W::UInt(1)), ("ids", W::Array(vec![W::UInt(4)]))], None, false);
     let timer = [("target", e("GL_TIME_ELAPSED_EXT", 0x88bf))];
     w.call("glBeginQueryEXT", &[timer[0].clone(), ("id", W::UInt(4))], None, false);
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     w.call("glEndQueryEXT", &timer, None, false);
     let result = [("id", W::UInt(4)), ("pname", e("GL_QUERY_RESULT", 0x8866)), ("params", W::Array(vec![W::UInt(1)]))];
     w.call("glGetQueryObjectui64vEXT", &result, None, false);
@@ -1778,8 +1779,7 @@ fn an_attribute_may_point_into_a_buffer_before_its_storage_arrives() {
         ("usage", e("GL_STATIC_DRAW", 0x88e4)),
     ];
     w.call("glBufferData", &data, None, false);
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     swap(&mut w);
     let (result, frames) = replay(&w);
     result.unwrap();
@@ -1822,8 +1822,7 @@ fn texture_gather_returns_the_bilinear_footprint_in_gls_order() {
         None,
         false,
     );
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     swap(&mut w);
     let (result, frames) = replay(&w);
     result.unwrap();
@@ -1873,8 +1872,7 @@ fn texels_upload_from_a_pixel_unpack_buffer_at_the_pointers_offset() {
     };
     w.call("glTexImage2D", &upload(W::Pointer(4)), None, false);
     w.call("glBindBuffer", &[unpack.clone(), ("buffer", W::UInt(0))], None, false);
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     swap(&mut w);
     // An offset past the buffer's end is an error naming the call.
     w.call("glBindBuffer", &[unpack, ("buffer", W::UInt(9))], None, false);
@@ -1993,8 +1991,7 @@ fn ten_bit_samples_in_r16_texels_are_sampled_at_sixteen_bits() {
     };
     image(&mut w, "glTexImage2D", 0, 2, texels);
     image(&mut w, "glTexSubImage2D", 1, 1, 700u16.to_le_bytes().to_vec());
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     swap(&mut w);
     let (result, frames) = replay(&w);
     result.unwrap();
@@ -2052,8 +2049,7 @@ fn contexts_sharing_objects_see_each_others_textures() {
         "precision mediump float;\nuniform sampler2D t;\nvoid main() { gl_FragColor = texture2D(t, vec2(0.5)); }\n";
     full_window_program(&mut w, vertex, fragment);
     w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(5))], None, false);
-    let draw = [("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))];
-    w.call("glDrawArrays", &draw, None, false);
+    draw_triangle(&mut w);
     swap(&mut w);
     let (result, frames) = replay(&w);
     result.unwrap();
