@@ -97,9 +97,10 @@
 //!   glDebugMessageControl (+KHR), glDebugMessageInsert (+KHR), glInsertEventMarkerEXT,
 //!   glObjectLabel (+KHR), glPopDebugGroup (+KHR), glPopGroupMarkerEXT, glPushDebugGroup (+KHR),
 //!   glPushGroupMarkerEXT.
-//! - *Sync objects* — one context's commands run in order, and what a wait costs is
-//!   modelled where the CPU waits (`glClientWaitSync` decodes to [`Command::Finish`]):
-//!   glFenceSync, glDeleteSync, glWaitSync, glIsSync, glGetSynciv.
+//! - *Sync objects* — a GPU-side wait changes nothing (one context's commands run in
+//!   order), nor does a query of a sync object (`glFenceSync`, `glClientWaitSync` and
+//!   `glDeleteSync` decode to commands: where the CPU waits is modelled): glWaitSync, glIsSync,
+//!   glGetSynciv.
 //!
 //! Calls of a feature tiler does not model (compressed 3-D and array textures, program
 //! binaries, compute) and desktop OpenGL calls fail with

@@ -753,6 +753,18 @@ pub enum Call<D = Bytes> {
     },
     Flush,
     Finish,
+    /// `glFenceSync`: fence `id` after the commands so far.
+    FenceSync {
+        id: u32,
+    },
+    /// `glClientWaitSync` that waits: the CPU waits until the GPU has done the commands before
+    /// fence `id` (the pass holding them is flushed if it is still open).
+    ClientWaitSync {
+        id: u32,
+    },
+    DeleteSync {
+        id: u32,
+    },
     /// `eglSwapBuffers`: ends the frame. In a trace it is the last call of a frame.
     SwapBuffers,
     /// Not a GL call: puts back the fixed-function and binding state a context had at some
@@ -946,6 +958,9 @@ impl<D> Call<D> {
             CopyTexSubImage { .. } => "copy_tex_sub_image",
             Flush => "flush",
             Finish => "finish",
+            FenceSync { .. } => "fence_sync",
+            ClientWaitSync { .. } => "client_wait_sync",
+            DeleteSync { .. } => "delete_sync",
             SwapBuffers => "swap_buffers",
             RestoreState { .. } => "restore_state",
             SwapBehavior { .. } => "swap_behavior",
@@ -1120,6 +1135,9 @@ impl<D> Call<D> {
             }
             Flush => Flush,
             Finish => Finish,
+            FenceSync { id } => FenceSync { id },
+            ClientWaitSync { id } => ClientWaitSync { id },
+            DeleteSync { id } => DeleteSync { id },
             SwapBuffers => SwapBuffers,
             RestoreState { state } => RestoreState { state },
             SwapBehavior { behavior } => SwapBehavior { behavior },

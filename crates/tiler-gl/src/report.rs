@@ -362,6 +362,8 @@ pub enum StallCause {
     ReadPixels,
     QueryResult,
     Finish,
+    /// `client_wait_sync` on a fence whose commands were not done.
+    FenceWait,
 }
 
 /// A wait for results still in the pipeline (seed 000 §23.6).

@@ -2074,3 +2074,52 @@ fn switching_between_two_live_contexts_that_changed_state_names_the_call() {
     assert_eq!(error.call(), Some(switch));
     assert!(error.to_string().contains("switching away from a live context"), "{error}");
 }
+
+#[test]
+fn a_client_wait_stalls_only_while_its_fences_frame_is_in_flight() {
+    // Frame 0 clears and puts a fence; frames 1–3 clear. Frame 3 waits on frame 0's fence,
+    // frames in flight (3) old: no stall. Frame 3 then puts a fence and waits on it at once:
+    // its pass is flushed and the CPU waits for the frame (one finish-stall, named by the call).
+    // A zero timeout polls and never waits; a wait on a fence the capture does not have (made
+    // before a trimmed capture begins) is taken as a glFinish.
+    let fence = |w: &mut Writer, handle: u64| {
+        let args = [("condition", e("GL_SYNC_GPU_COMMANDS_COMPLETE", 0x9117)), ("flags", W::UInt(0))];
+        w.call("glFenceSync", &args, Some(W::UInt(handle)), false);
+    };
+    let wait = |w: &mut Writer, handle: u64, timeout: u64| {
+        let args = [("sync", W::UInt(handle)), ("flags", W::UInt(1)), ("timeout", W::UInt(timeout))];
+        w.call("glClientWaitSync", &args, Some(e("GL_CONDITION_SATISFIED", 0x911c)), false)
+    };
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    fence(&mut w, 0x10);
+    swap(&mut w);
+    for _ in 0..3 {
+        clear(&mut w, [0.0, 1.0, 0.0, 1.0]);
+        wait(&mut w, 0x10, 0);
+        swap(&mut w);
+    }
+    clear(&mut w, [0.0, 0.0, 1.0, 1.0]);
+    wait(&mut w, 0x10, 1_000_000_000);
+    fence(&mut w, 0x20);
+    wait(&mut w, 0x20, 1_000_000_000);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    let run = result.unwrap();
+    assert_eq!(frames[4].4, solid(4, 4, [0, 0, 255, 255]));
+    let stalls: Vec<_> = run.report.findings_with("finish-stall").collect();
+    assert_eq!(stalls.len(), 1, "{stalls:?}");
+    assert!(stalls[0].message.contains("client_wait_sync"), "{}", stalls[0].message);
+
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    wait(&mut w, 0x30, 1_000_000_000);
+    swap(&mut w);
+    let (result, _) = replay(&w);
+    let stalls: Vec<_> = result.unwrap().report.findings_with("finish-stall").map(|f| f.message.clone()).collect();
+    assert!(stalls.len() == 1 && stalls[0].contains("finish at"), "{stalls:?}");
+}

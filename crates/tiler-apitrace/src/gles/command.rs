@@ -654,6 +654,19 @@ pub enum Command {
     },
     Flush,
     Finish,
+    /// `glFenceSync`: a fence after the commands so far, named by the returned handle.
+    FenceSync {
+        sync: u64,
+    },
+    /// `glClientWaitSync`: the CPU waits (up to `timeout` ns; 0 polls) for the fence.
+    ClientWaitSync {
+        sync: u64,
+        flags: u32,
+        timeout: u64,
+    },
+    DeleteSync {
+        sync: u64,
+    },
     /// `glGenQueries[EXT]`.
     GenQueries {
         names: Vec<u32>,

@@ -672,9 +672,12 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
             value: ClearValue::DepthStencil { depth: a.f32(2)?, stencil: a.i32(3)? },
         },
         "glFlush" => C::Flush,
-        // The CPU waits for the GPU to reach the fence: a driver flushes and stalls, as at
-        // glFinish (the fence is normally the last command; an earlier one is taken as the last).
-        "glFinish" | "glClientWaitSync" => C::Finish,
+        // Fences: the CPU waits for the GPU to reach one (`ClientWaitSync`); see tiler-gl's
+        // `fence_sync` for what that costs.
+        "glFinish" => C::Finish,
+        "glFenceSync" => C::FenceSync { sync: a.ret_handle()? },
+        "glClientWaitSync" => C::ClientWaitSync { sync: a.handle(0)?, flags: a.u32(1)?, timeout: a.u64(2)? },
+        "glDeleteSync" => C::DeleteSync { sync: a.handle(0)? },
         "glGenQueries" | "glGenQueriesEXT" => C::GenQueries { names: a.u32s(1)? },
         "glDeleteQueries" | "glDeleteQueriesEXT" => C::DeleteQueries { names: a.u32s(1)? },
         "glBeginQuery" | "glBeginQueryEXT" => C::BeginQuery { target: a.enumeration(0)?, query: a.u32(1)? },

@@ -9,8 +9,8 @@ const SWAP_INTERVAL: &str = "paces presentation; the image and its memory traffi
 const VALIDATE: &str = "only sets the program's validate status, which only a query reads";
 const RELEASE_COMPILER: &str = "a hint that the compiler's resources may be freed";
 const DEBUG: &str = "debug labels, markers and callbacks; no effect on rendering";
-const SYNC: &str = "a sync object: one context's commands run in order, and a CPU wait is modelled at \
-                    glClientWaitSync (as glFinish)";
+const SYNC: &str = "a GPU-side wait (one context's commands run in order) or a sync object's query; \
+                    fences and the CPU's waits are commands";
 
 /// Every call on the ignore list, with why it is safe to ignore. They decode to
 /// [`Command::Ignored`](super::Command::Ignored). `glGetUniformLocation`,
@@ -111,8 +111,6 @@ pub const IGNORED: &[(&str, &str)] = &[
     ("eglGetCurrentSurface", CURRENT),
     ("eglGetProcAddress", PROC),
     ("eglSwapInterval", SWAP_INTERVAL),
-    ("glFenceSync", SYNC),
-    ("glDeleteSync", SYNC),
     ("glWaitSync", SYNC),
     ("glIsSync", QUERY),
     ("glGetSynciv", QUERY),

@@ -573,7 +573,7 @@ fn every_gles2_call_and_the_promised_others_are_known() {
 }
 
 #[test]
-fn sync_objects_are_ignored_and_a_client_wait_is_a_finish() {
+fn fences_and_client_waits_decode_to_commands_and_gpu_waits_are_ignored() {
     let mut writer = Writer::new(6);
     writer.call(
         "glFenceSync",
@@ -587,11 +587,18 @@ fn sync_objects_are_ignored_and_a_client_wait_is_a_finish() {
         Some(gl_enum("GL_CONDITION_SATISFIED", 0x911c)),
         false,
     );
+    writer.call(
+        "glWaitSync",
+        &[("sync", W::UInt(0x5555_0000)), ("flags", W::UInt(0)), ("timeout", W::UInt(u64::MAX))],
+        None,
+        false,
+    );
     writer.call("glDeleteSync", &[("sync", W::UInt(0x5555_0000))], None, false);
     let commands = commands(&writer);
-    assert!(matches!(commands[0], Command::Ignored { function: "glFenceSync", .. }));
-    assert_eq!(commands[1], Command::Finish);
-    assert!(matches!(commands[2], Command::Ignored { function: "glDeleteSync", .. }));
+    assert_eq!(commands[0], Command::FenceSync { sync: 0x5555_0000 });
+    assert_eq!(commands[1], Command::ClientWaitSync { sync: 0x5555_0000, flags: 1, timeout: 1_000_000_000 });
+    assert!(matches!(commands[2], Command::Ignored { function: "glWaitSync", .. }));
+    assert_eq!(commands[3], Command::DeleteSync { sync: 0x5555_0000 });
 }
 
 #[test]

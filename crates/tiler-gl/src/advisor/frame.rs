@@ -60,6 +60,11 @@ fn stalls(frame: &FrameRecord, out: &mut Vec<Draft>) {
                 "poll query_available and read the result when it is true, frames in flight later",
             ),
             StallCause::Finish => (RuleId::FinishStall, "finish", "do not call finish; let the pipeline run"),
+            StallCause::FenceWait => (
+                RuleId::FinishStall,
+                "client_wait_sync",
+                "wait on a fence frames in flight old, or poll it with a zero timeout",
+            ),
         };
         out.push(about_frame(
             rule,

@@ -80,9 +80,12 @@
 //!   at link; `glBindBufferBase`/`Range(GL_TRANSFORM_FEEDBACK_BUFFER)`, begin/end/pause/resume
 //!   and `GL_RASTERIZER_DISCARD` are the context's calls; transform feedback objects are kept
 //!   here, each handing the context its buffer bindings when bound.
-//! - **Queries**: occlusion queries are the context's; `EXT_disjoint_timer_query`'s timer
-//!   queries (`GL_TIME_ELAPSED_EXT`, `glQueryCounterEXT`) change nothing drawn, and reading
-//!   one's result waits as `glFinish` does.
+//! - **Queries and fences**: occlusion queries are the context's; `EXT_disjoint_timer_query`'s
+//!   timer queries (`GL_TIME_ELAPSED_EXT`, `glQueryCounterEXT`) change nothing drawn, and
+//!   reading one's result waits as `glFinish` does. `glFenceSync` / `glClientWaitSync` are the
+//!   context's fences: a wait stalls only while the fence's frame is in flight (applications
+//!   pace their frames by waiting on a fence frames old); a zero timeout polls (and flushes
+//!   with `GL_SYNC_FLUSH_COMMANDS_BIT`).
 //! - **The window**: its size is the size of the first `glViewport` (apitrace records the
 //!   surface's size as a fake viewport when a context is first made current), grown to any
 //!   later viewport or scissor on the window that reaches past it (apitrace's retrace does the

@@ -351,6 +351,8 @@ pub struct Translator {
     touched: HashSet<u32>,
     /// The call being translated is one of apitrace's fake ones.
     fake: bool,
+    /// `glFenceSync` handles → the context's fences.
+    fences: HashMap<EglHandle, u32>,
     objects: HashMap<u32, Objects>,
     /// The current generation, if a context is current.
     current: Option<u32>,
@@ -383,6 +385,7 @@ impl Translator {
             groups: HashMap::new(),
             touched: HashSet::new(),
             fake: false,
+            fences: HashMap::new(),
             objects: HashMap::new(),
             current: None,
             last_current: None,
@@ -783,6 +786,32 @@ impl Translator {
             }
             C::Finish => {
                 self.emit(Call::Finish)?;
+            }
+            C::FenceSync { sync } => {
+                let id = self.fresh_id();
+                self.emit(Call::FenceSync { id })?;
+                self.fences.insert(*sync, id);
+            }
+            // A zero timeout polls: nothing waits (GL_SYNC_FLUSH_COMMANDS_BIT flushes).
+            C::ClientWaitSync { flags, timeout: 0, .. } => {
+                if flags & 1 != 0 {
+                    self.emit(Call::Flush)?;
+                }
+            }
+            C::ClientWaitSync { sync, .. } => match self.fences.get(sync) {
+                Some(&id) => {
+                    self.emit(Call::ClientWaitSync { id })?;
+                }
+                // A fence put before the capture began (a trimmed capture's): taken as the
+                // last command, as glFinish.
+                None => {
+                    self.emit(Call::Finish)?;
+                }
+            },
+            C::DeleteSync { sync } => {
+                if let Some(id) = self.fences.remove(sync) {
+                    self.emit(Call::DeleteSync { id })?;
+                }
             }
 
             // ---- textures -------------------------------------------------------------------

@@ -197,6 +197,34 @@ impl Context {
         Ok(())
     }
 
+    /// `fence_sync`: a fence after the commands so far.
+    pub(crate) fn fence_sync(&mut self, id: u32) -> Fallible {
+        if self.fences.contains_key(&id) {
+            return Err(format!("fence {id} already exists"));
+        }
+        let open = self.pass.as_ref().is_some_and(|p| p.has_work()).then_some(self.passes_rendered);
+        self.fences.insert(id, (self.here.frame, open));
+        Ok(())
+    }
+
+    /// `client_wait_sync`: the CPU waits for the commands before fence `id`. The pass holding
+    /// some of them, if still open, is flushed; the wait stalls as a query's result does when
+    /// the fence's frame is still in flight (seed 000 §23.6), and not when it is frames in
+    /// flight old — how applications pace their frames (mpv waits on the fence of two frames
+    /// before).
+    pub(crate) fn client_wait_sync(&mut self, id: u32) -> Fallible {
+        let &(frame, open) = self.fences.get(&id).ok_or_else(|| format!("fence {id} does not exist"))?;
+        if open.is_some_and(|rendered| rendered == self.passes_rendered)
+            && self.pass.as_ref().is_some_and(|p| p.has_work())
+        {
+            self.flush_open_pass(FlushCause::Finish)?;
+        }
+        if self.here.frame < frame + self.frames_in_flight() {
+            self.stall_for(frame, StallCause::FenceWait);
+        }
+        Ok(())
+    }
+
     /// The window's colour now, RGBA8 rows top first: an open pass drawing into the window
     /// renders first, as for a `glReadPixels` of it (counted as one: the pass stores, and
     /// drawing continues in a new pass that loads). For looking at a capture that never

@@ -499,6 +499,9 @@ pub struct Context {
     /// The program in use, deleted: it goes when another is used.
     deleted_program: Option<u32>,
     pub(crate) queries: BTreeMap<u32, QueryObject>,
+    /// Fences (`fence_sync`): the frame they were put in, and the number of passes rendered
+    /// then when the open pass held commands before them (that pass must render for them).
+    pub(crate) fences: BTreeMap<u32, (u32, Option<u32>)>,
     pub(crate) images: HashMap<ImageId, ImageInfo>,
     buffer_pool: HashMap<u64, Vec<BufferId>>,
     image_pool: HashMap<ImageDesc, Vec<ImageId>>,
@@ -608,6 +611,7 @@ impl Context {
             vertex_arrays: BTreeMap::new(),
             deleted_program: None,
             queries: BTreeMap::new(),
+            fences: BTreeMap::new(),
             images,
             buffer_pool: HashMap::new(),
             image_pool: HashMap::new(),
@@ -1127,6 +1131,11 @@ impl Context {
             }
             Flush => self.flush_open_pass(crate::report::FlushCause::Flush)?,
             Finish => self.finish()?,
+            FenceSync { id } => self.fence_sync(id)?,
+            ClientWaitSync { id } => self.client_wait_sync(id)?,
+            DeleteSync { id } => {
+                self.fences.remove(&id).ok_or_else(|| format!("fence {id} does not exist"))?;
+            }
             SwapBuffers => self.swap_buffers()?,
             RestoreState { state } => self.restore_state(state)?,
             SwapBehavior { behavior } => self.swap_behavior = behavior,
