@@ -219,17 +219,7 @@ fn gather<const W: usize>(
         return [[0.0; W]; 4];
     }
     // Texel indices of the footprint's lower-left corner, then each corner wrapped.
-    let wrapped = |i: i64, n: u32, wrap: tiler::Wrap| -> i32 {
-        let n = n as i64;
-        (match wrap {
-            tiler::Wrap::Repeat => i.rem_euclid(n),
-            tiler::Wrap::ClampToEdge => i.clamp(0, n - 1),
-            tiler::Wrap::MirroredRepeat => {
-                let m = i.rem_euclid(2 * n);
-                if m >= n { 2 * n - 1 - m } else { m }
-            }
-        }) as i32
-    };
+    let wrapped = |i: i64, n: u32, wrap: tiler::Wrap| wrap.texel(i, n) as i32;
     let mut corners = [[[0i32; W]; 3]; 4];
     for lane in 0..W {
         let base = |c: usize| ((coord[c][lane] * size[c] as f32 - 0.5).floor() as i64).saturating_add(offset[c] as i64);

@@ -168,17 +168,9 @@ impl Decoder {
             }
             // Immutable storage (GL ES 3.2, EXT_buffer_storage) is storage as glBufferData
             // gives it; its flags (persistent, coherent mapping) change nothing tiler models.
-            "glBufferStorage" | "glBufferStorageEXT" => {
+            "glBufferData" | "glBufferStorage" | "glBufferStorageEXT" => {
                 let (target, size) = (a.enumeration(0)?, a.u64(1)?);
-                let data = a.memory(2)?;
-                let state = self.state();
-                let buffer = state.bound(target);
-                state.sizes.insert(buffer, size);
-                state.mappings.retain(|m| m.buffer != buffer);
-                Command::BufferData { target, size, data, usage: 0 }
-            }
-            "glBufferData" => {
-                let (target, size, usage) = (a.enumeration(0)?, a.u64(1)?, a.enumeration(3)?);
+                let usage = if name == "glBufferData" { a.enumeration(3)? } else { 0 };
                 let data = a.memory(2)?;
                 let state = self.state();
                 let buffer = state.bound(target);

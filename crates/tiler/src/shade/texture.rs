@@ -144,6 +144,25 @@ pub enum Wrap {
     MirroredRepeat,
 }
 
+impl Wrap {
+    /// Any integer texel index along an axis of `n` texels (`n ≥ 1`), wrapped: GL's
+    /// `wrap(i)` (OpenGL ES 3.0 §3.8.10). The filters wrap reduced coordinates their own,
+    /// cheaper way (`wrap_reduced`); this is for texel indices from elsewhere
+    /// (`textureGather`) and the tests' reference.
+    pub fn texel(self, i: i64, n: u32) -> u32 {
+        let n = n as i64;
+        let wrapped = match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::ClampToEdge => i.clamp(0, n - 1),
+            Wrap::MirroredRepeat => {
+                let m = i.rem_euclid(2 * n);
+                if m < n { m } else { 2 * n - 1 - m }
+            }
+        };
+        wrapped as u32
+    }
+}
+
 /// How a texture is filtered and wrapped.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sampler {
@@ -1873,16 +1892,7 @@ mod tests {
 
     /// Applies the wrap to any integer texel index along an axis of `n` texels.
     fn wrap_index(i: i64, n: u32, wrap: Wrap) -> u32 {
-        let n = n as i64;
-        let wrapped = match wrap {
-            Wrap::Repeat => i.rem_euclid(n),
-            Wrap::ClampToEdge => i.clamp(0, n - 1),
-            Wrap::MirroredRepeat => {
-                let m = i.rem_euclid(2 * n);
-                if m < n { m } else { 2 * n - 1 - m }
-            }
-        };
-        wrapped as u32
+        wrap.texel(i, n)
     }
 
     /// A texture whose texel (x, y) of level 0 has red = x, green = y (as bytes).
