@@ -58,8 +58,13 @@ impl Context {
         }
     }
 
-    /// Counts a copy-on-write of `bytes_copied` bytes of `object`.
+    /// Counts a copy-on-write of `bytes_copied` bytes of `object`. An update that replaces
+    /// the whole object copies nothing (the driver gives it new storage: video players
+    /// upload each frame's planes whole so), and is no copy-on-write.
     pub(crate) fn count_copy_on_write(&mut self, object: String, used_in_frame: u32, bytes_copied: u64) {
+        if bytes_copied == 0 {
+            return;
+        }
         // Read the old contents and write the copy.
         let bytes = 2 * bytes_copied;
         self.frame.context_ledger.add(Category::CopyOnWrite, bytes);

@@ -641,6 +641,23 @@ fn changing_a_buffer_in_use_is_copy_on_write() {
     assert_eq!(f[0].cost_bytes.unwrap_or(0), 72);
 }
 
+/// A sub-data update that replaces a pending buffer whole copies nothing (the driver renames
+/// it): no copy-on-write is counted or found.
+#[test]
+fn replacing_a_buffer_in_use_whole_is_no_copy_on_write() {
+    let mut gl = window();
+    clear_all(&mut gl);
+    draw(&mut gl, 6);
+    let moved = quad(0.0, 0.0, 1.0, 1.0, 0.0);
+    c(&mut gl, Call::BufferSubData { id: 1, offset: 0, data: Bytes::from_slice(&moved) });
+    draw(&mut gl, 6);
+    swap(&mut gl);
+    let report = gl.end().unwrap();
+    assert!(report.frames[0].copies.is_empty());
+    assert_eq!(report.frames[0].context_ledger.get(Category::CopyOnWrite), 0);
+    assert_eq!(report.findings_with("copy-on-write").count(), 0);
+}
+
 /// Row 11: attaching one half of a packed depth-stencil image keeps the other half, loaded
 /// and stored, with a warning; separate depth and stencil images are unsupported.
 #[test]
