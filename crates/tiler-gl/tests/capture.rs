@@ -2123,3 +2123,128 @@ fn a_client_wait_stalls_only_while_its_fences_frame_is_in_flight() {
     let stalls: Vec<_> = result.unwrap().report.findings_with("finish-stall").map(|f| f.message.clone()).collect();
     assert!(stalls.len() == 1 && stalls[0].contains("finish at"), "{stalls:?}");
 }
+
+/// A 1×1 `GL_RG8` font texture on unit 0 read as luminance–alpha through swizzles, and a 1×1
+/// cube map from `glTexStorage2D` on unit 1: what LÖVE makes at start-up. `extra` runs before
+/// the draw, an indexed one through `glDrawElementsBaseVertex` with `base_vertex`.
+fn swizzle_and_cube_capture(base_vertex: u64, extra: impl FnOnce(&mut Writer)) -> (Writer, u64) {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 4, 4);
+    let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "precision mediump float;\nuniform sampler2D font;\nuniform samplerCube cube;\n\
+                    void main() { vec4 f = texture2D(font, vec2(0.5));\n\
+                    gl_FragColor = gl_FragCoord.x < 2.0 ? vec4(f.r, f.g, f.a, 1.0) : textureCube(cube, vec3(1.0, 0.0, 0.0)); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    w.call("glGetUniformLocation", &[("program", W::UInt(7)), ("name", W::Str("cube"))], Some(W::UInt(4)), false);
+    w.call("glUniform1i", &[("location", W::UInt(4)), ("v0", W::UInt(1))], None, false);
+    // LÖVE's start-up: every array up to GL_MAX_VERTEX_ATTRIBS (16) disabled, every unit up to
+    // GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS unbound, sRGB writes off, no anisotropy.
+    w.call("glDisableVertexAttribArray", &[("index", W::UInt(12))], None, false);
+    w.call("glActiveTexture", &[("texture", e("GL_TEXTURE20", 0x84c0 + 20))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(0))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_CUBE_MAP", 0x8513)), ("texture", W::UInt(0))], None, false);
+    w.call("glDisable", &[("cap", e("GL_FRAMEBUFFER_SRGB_EXT", 0x8db9))], None, false);
+
+    w.call("glActiveTexture", &[("texture", e("GL_TEXTURE0", 0x84c0))], None, false);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(1))], None, false);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    tex_parameter(&mut w, ("GL_TEXTURE_MAG_FILTER", 0x2800), ("GL_NEAREST", 0x2600));
+    let anisotropy = [("target", e("GL_TEXTURE_2D", 0x0de1)), ("pname", e("GL_TEXTURE_MAX_ANISOTROPY_EXT", 0x84fe))];
+    w.call("glTexParameterf", &[anisotropy[0].clone(), anisotropy[1].clone(), ("param", W::Float(1.0))], None, false);
+    for (pname, value) in [(0x8e42, ("GL_RED", 0x1903)), (0x8e43, ("GL_RED", 0x1903)), (0x8e44, ("GL_RED", 0x1903))] {
+        tex_parameter(&mut w, ("GL_TEXTURE_SWIZZLE", pname), value);
+    }
+    tex_parameter(&mut w, ("GL_TEXTURE_SWIZZLE_A", 0x8e45), ("GL_GREEN", 0x1904));
+    let storage = |w: &mut Writer, target: (&'static str, u32), format: (&'static str, u32)| {
+        let args = [
+            ("target", e(target.0, target.1)),
+            ("levels", W::UInt(1)),
+            ("internalformat", e(format.0, format.1)),
+            ("width", W::UInt(1)),
+            ("height", W::UInt(1)),
+        ];
+        w.call("glTexStorage2D", &args, None, false);
+    };
+    let sub_image = |w: &mut Writer, target: (&'static str, u32), format: (&'static str, u32), texels: Vec<u8>| {
+        let args = [
+            ("target", e(target.0, target.1)),
+            ("level", W::UInt(0)),
+            ("xoffset", W::UInt(0)),
+            ("yoffset", W::UInt(0)),
+            ("width", W::UInt(1)),
+            ("height", W::UInt(1)),
+            ("format", e(format.0, format.1)),
+            ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+            ("pixels", W::Blob(texels)),
+        ];
+        w.call("glTexSubImage2D", &args, None, false)
+    };
+    storage(&mut w, ("GL_TEXTURE_2D", 0x0de1), ("GL_RG8", 0x822b));
+    sub_image(&mut w, ("GL_TEXTURE_2D", 0x0de1), ("GL_RG", 0x8227), vec![200, 100]);
+
+    w.call("glActiveTexture", &[("texture", e("GL_TEXTURE1", 0x84c1))], None, false);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(2)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_CUBE_MAP", 0x8513)), ("texture", W::UInt(2))], None, false);
+    storage(&mut w, ("GL_TEXTURE_CUBE_MAP", 0x8513), ("GL_RGBA8", 0x8058));
+    for face in 0..6u32 {
+        let texel = if face == 0 { vec![10, 20, 30, 255] } else { vec![255, 0, 255, 255] };
+        sub_image(&mut w, ("GL_TEXTURE_CUBE_MAP_POSITIVE_X", 0x8515 + face), ("GL_RGBA", 0x1908), texel);
+    }
+    extra(&mut w);
+    let indices: Vec<u8> = [0u16, 1, 2].iter().flat_map(|i| i.to_le_bytes()).collect();
+    let args = [
+        ("mode", e("GL_TRIANGLES", 4)),
+        ("count", W::UInt(3)),
+        ("type", e("GL_UNSIGNED_SHORT", 0x1403)),
+        ("indices", W::Blob(indices)),
+        ("basevertex", W::UInt(base_vertex)),
+    ];
+    let draw = w.call("glDrawElementsBaseVertex", &args, None, false);
+    swap(&mut w);
+    (w, draw)
+}
+
+#[test]
+fn swizzled_red_green_textures_and_cube_storage_sample_as_gl_says() {
+    let (w, _) = swizzle_and_cube_capture(0, |_| {});
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    let pixel = |x: usize| &frames[0].4[x * 4..x * 4 + 4];
+    // Swizzled RRRG: (200, 200, 200, 100), drawn as (r, g, a).
+    assert_eq!(pixel(0), [200, 200, 100, 255]);
+    // The cube's +X face, from glTexSubImage2D into glTexStorage2D storage.
+    assert_eq!(pixel(3), [10, 20, 30, 255]);
+}
+
+#[test]
+fn what_the_replay_cannot_apply_after_lenient_start_up_calls_fails_with_its_call() {
+    let refused = |w: Writer, call: u64, what: &str| {
+        let (result, _) = replay(&w);
+        let error = result.err().expect("refused");
+        assert_eq!(error.call(), Some(call), "{error}");
+        assert!(error.to_string().contains(what), "{error}");
+    };
+    // A base vertex other than 0.
+    let (w, draw) = swizzle_and_cube_capture(1, |_| {});
+    refused(w, draw, "base vertex 1");
+    // A texture bound on a unit beyond the context's.
+    let mut call = 0;
+    let (w, _) = swizzle_and_cube_capture(0, |w| {
+        w.call("glActiveTexture", &[("texture", e("GL_TEXTURE12", 0x84c0 + 12))], None, false);
+        call = w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(1))], None, false);
+    });
+    refused(w, call, "texture unit 12");
+    // A swizzle changed once the texture has storage.
+    let (w, _) = swizzle_and_cube_capture(0, |w| {
+        w.call("glActiveTexture", &[("texture", e("GL_TEXTURE0", 0x84c0))], None, false);
+        call = tex_parameter_call(w, ("GL_TEXTURE_SWIZZLE_R", 0x8e42), ("GL_GREEN", 0x1904));
+    });
+    refused(w, call, "GL_TEXTURE_SWIZZLE");
+    // An array beyond the context's enabled.
+    let (w, _) = swizzle_and_cube_capture(0, |w| {
+        call = w.call("glEnableVertexAttribArray", &[("index", W::UInt(12))], None, false);
+    });
+    refused(w, call, "vertex attribute 12");
+}

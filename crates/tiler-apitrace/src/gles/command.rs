@@ -187,8 +187,9 @@ pub enum Command {
         count: i32,
         instance_count: i32,
     },
-    /// `glDrawElements`, `glDrawRangeElements` (`range` `(start, end)`) and
-    /// `glDrawElementsInstanced`.
+    /// `glDrawElements`, `glDrawRangeElements` (`range` `(start, end)`),
+    /// `glDrawElementsInstanced`, and their `…BaseVertex` forms (GL ES 3.2,
+    /// `OES`/`EXT_draw_elements_base_vertex`; 0 for the others).
     DrawElements {
         mode: GlEnum,
         count: i32,
@@ -196,6 +197,7 @@ pub enum Command {
         indices: Memory,
         instance_count: i32,
         range: Option<(u32, u32)>,
+        base_vertex: i32,
     },
 
     // ---- Textures and samplers -----------------------------------------------------------

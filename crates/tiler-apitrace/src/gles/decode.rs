@@ -327,6 +327,7 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
             indices: a.memory(3)?,
             instance_count: 1,
             range: None,
+            base_vertex: 0,
         },
         "glDrawElementsInstanced" | "glDrawElementsInstancedEXT" | "glDrawElementsInstancedANGLE" => C::DrawElements {
             mode: a.enumeration(0)?,
@@ -335,6 +336,7 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
             indices: a.memory(3)?,
             instance_count: a.i32(4)?,
             range: None,
+            base_vertex: 0,
         },
         "glDrawRangeElements" => C::DrawElements {
             mode: a.enumeration(0)?,
@@ -343,6 +345,38 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
             kind: a.enumeration(4)?,
             indices: a.memory(5)?,
             instance_count: 1,
+            base_vertex: 0,
+        },
+        "glDrawElementsBaseVertex" | "glDrawElementsBaseVertexOES" | "glDrawElementsBaseVertexEXT" => C::DrawElements {
+            mode: a.enumeration(0)?,
+            count: a.i32(1)?,
+            kind: a.enumeration(2)?,
+            indices: a.memory(3)?,
+            instance_count: 1,
+            range: None,
+            base_vertex: a.i32(4)?,
+        },
+        "glDrawRangeElementsBaseVertex" | "glDrawRangeElementsBaseVertexOES" | "glDrawRangeElementsBaseVertexEXT" => {
+            C::DrawElements {
+                mode: a.enumeration(0)?,
+                range: Some((a.u32(1)?, a.u32(2)?)),
+                count: a.i32(3)?,
+                kind: a.enumeration(4)?,
+                indices: a.memory(5)?,
+                instance_count: 1,
+                base_vertex: a.i32(6)?,
+            }
+        }
+        "glDrawElementsInstancedBaseVertex"
+        | "glDrawElementsInstancedBaseVertexOES"
+        | "glDrawElementsInstancedBaseVertexEXT" => C::DrawElements {
+            mode: a.enumeration(0)?,
+            count: a.i32(1)?,
+            kind: a.enumeration(2)?,
+            indices: a.memory(3)?,
+            instance_count: a.i32(4)?,
+            range: None,
+            base_vertex: a.i32(5)?,
         },
 
         // Textures and samplers.

@@ -335,7 +335,7 @@ fn single_and_separate_forms_share_a_command() {
     assert_eq!(commands[1], Command::StencilFunc { face: GL_FRONT_AND_BACK, func: 0x0202, reference: 1, mask: 0xff });
     assert!(matches!(
         &commands[2],
-        Command::DrawElements { mode: GL_TRIANGLES, count: 6, kind: GL_UNSIGNED_SHORT, indices: Memory::Client(bytes), instance_count: 4, range: None } if bytes.len() == 12
+        Command::DrawElements { mode: GL_TRIANGLES, count: 6, kind: GL_UNSIGNED_SHORT, indices: Memory::Client(bytes), instance_count: 4, range: None, base_vertex: 0 } if bytes.len() == 12
     ));
 }
 

@@ -127,6 +127,7 @@ impl Translator {
         data: Bytes,
     ) -> Fallible {
         let name = self.bound_texture()?;
+        self.check_unswizzled(name)?;
         let id = match self.texture_id(name)? {
             Some(id) => id,
             None if level == 0 => {
@@ -181,6 +182,7 @@ impl Translator {
         let (format, _) = compressed_format(format)?;
         let data = compressed_bytes(data, image_size)?;
         let name = self.bound_texture()?;
+        self.check_unswizzled(name)?;
         let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
         self.emit(Call::EncodedTexSubImage { id, x, y, width, height, format, data })?;
         Ok(())
@@ -212,6 +214,7 @@ impl Translator {
     ) -> Fallible {
         let data = self.client_packed_texels(pixels, format, (width, height))?;
         let name = self.bound_texture()?;
+        self.check_unswizzled(name)?;
         let id = self.texture_id(name)?.ok_or_else(|| format!("texture {name} has no storage"))?;
         self.emit(Call::EncodedTexSubImage { id, x, y, width, height, format, data })?;
         Ok(())

@@ -77,6 +77,30 @@ struct Texture {
     compare_func: u32,
     /// The compare mode or function was set: the context is told (`tex_compare`).
     compare_set: bool,
+    /// `GL_TEXTURE_SWIZZLE_R/G/B/A` (GL ES 3.0 §3.8.14): what each sampled channel reads, as
+    /// [`Swizzle`] sources. Applied to the texels as they are uploaded, which samples the same
+    /// (filtering is per channel); so it may not change once the texture has storage, and
+    /// rendering or copying into a swizzled texture is refused (see [`Translator::swizzled`]).
+    swizzle: [u8; 4],
+}
+
+/// [`Texture::swizzle`]: channels 0–3 (red to alpha), then the constants 0 and 1.
+const SWIZZLE_IDENTITY: [u8; 4] = [0, 1, 2, 3];
+const SWIZZLE_ZERO: u8 = 4;
+const SWIZZLE_ONE: u8 = 5;
+
+/// A `GL_TEXTURE_SWIZZLE_*` value as a [`Texture::swizzle`] source.
+fn swizzle_source(value: f64) -> Option<u8> {
+    Some(match value as u32 {
+        0x1903 => 0, // GL_RED
+        0x1904 => 1, // GL_GREEN
+        0x1905 => 2, // GL_BLUE
+        0x1906 => 3, // GL_ALPHA
+        0 => SWIZZLE_ZERO,
+        1 => SWIZZLE_ONE,
+        _ => return None,
+    })
+    .filter(|_| value.fract() == 0.0)
 }
 
 /// Whether a texture of this internal format has only red (and green) channels.
@@ -102,6 +126,7 @@ impl Default for Texture {
             compare_mode: false,
             compare_func: GL_LEQUAL,
             compare_set: false,
+            swizzle: SWIZZLE_IDENTITY,
         }
     }
 }
@@ -297,6 +322,9 @@ struct Bindings {
     feedback: feedback::FeedbackBindings,
     /// Framebuffers (by GL name) whose read buffer `glReadBuffer` set to `GL_NONE`.
     read_none: std::collections::HashSet<u32>,
+    /// `glDisable(GL_FRAMEBUFFER_SRGB_EXT)` (EXT_sRGB_write_control): draws into sRGB
+    /// attachments would not encode. Harmless until such a draw, which is refused.
+    srgb_write_off: bool,
 }
 
 impl Default for Bindings {
@@ -326,6 +354,7 @@ impl Default for Bindings {
             samplers: [0; MAX_TEXTURE_UNITS as usize],
             feedback: feedback::FeedbackBindings::default(),
             read_none: std::collections::HashSet::new(),
+            srgb_write_off: false,
         }
     }
 }
@@ -513,6 +542,15 @@ impl Translator {
                 self.bindings.read_framebuffer
             ));
         }
+        let writes_colour = matches!(
+            command,
+            C::DrawArrays { .. } | C::DrawElements { .. } | C::Clear { .. } | C::BlitFramebuffer { .. }
+        );
+        if writes_colour && self.bindings.srgb_write_off && self.ctx.as_ref().is_some_and(Context::draws_into_srgb) {
+            return Err("drawing into an sRGB colour attachment with GL_FRAMEBUFFER_SRGB_EXT disabled \
+                        (no sRGB encoding) is not supported"
+                .into());
+        }
         if self.cube_command(command)? || self.layered_command(command)? || self.feedback_command(command)? {
             return Ok(());
         }
@@ -690,6 +728,12 @@ impl Translator {
             // ---- vertex input ---------------------------------------------------------------
             C::EnableVertexAttribArray { index } | C::DisableVertexAttribArray { index } => {
                 let enable = matches!(command, C::EnableVertexAttribArray { .. });
+                if !enable && (MAX_VERTEX_ATTRIBS..RECORDED_MAX_VERTEX_ATTRIBS).contains(index) {
+                    // Apps disable every array up to the GL_MAX_VERTEX_ATTRIBS they were told
+                    // (16 on llvmpipe and on most GPUs). An array the context does not have is
+                    // never enabled (that is refused), so disabling it changes nothing.
+                    return Ok(());
+                }
                 let slot = attrib_slot(*index)?;
                 self.bindings.enabled_attribs[slot] = enable;
                 let index = *index;
@@ -764,7 +808,10 @@ impl Translator {
                     Some(instances) => Call::DrawArraysInstanced { mode, first, count, instances },
                 })?;
             }
-            C::DrawElements { mode, count, kind, indices, instance_count, .. } => {
+            C::DrawElements { mode, count, kind, indices, instance_count, base_vertex, .. } => {
+                if *base_vertex != 0 {
+                    return Err(format!("base vertex {base_vertex}: only 0 is supported"));
+                }
                 let instances = self.check_draw(*instance_count)?;
                 let mode = draw_mode(*mode)?;
                 let count = u32::try_from(*count).map_err(|_| format!("count {count} is negative"))?;
@@ -837,9 +884,13 @@ impl Translator {
                 }
             }
             C::ActiveTexture { unit } => {
+                // A unit beyond the context's may be made active: apps unbind every unit up to
+                // the GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS they were told (192 on llvmpipe).
+                // Binding texture 0 there changes nothing; anything else is refused
+                // (`Translator::unit`).
                 let unit = unit.wrapping_sub(GL_TEXTURE0);
-                if unit >= MAX_TEXTURE_UNITS {
-                    return Err(format!("texture unit {unit} is beyond the context's {MAX_TEXTURE_UNITS}"));
+                if unit >= RECORDED_MAX_TEXTURE_UNITS {
+                    return Err(format!("texture unit {unit} is beyond GL's limit of {RECORDED_MAX_TEXTURE_UNITS}"));
                 }
                 self.bindings.active_unit = unit;
             }
@@ -847,7 +898,10 @@ impl Translator {
                 if *target != GL_TEXTURE_2D {
                     return Err(format!("texture target {target:#06x} is not supported (2D only)"));
                 }
-                let unit = self.bindings.active_unit;
+                if *texture == 0 && self.bindings.active_unit >= MAX_TEXTURE_UNITS {
+                    return Ok(());
+                }
+                let unit = self.unit()?;
                 let id = if *texture == 0 {
                     0
                 } else {
@@ -859,8 +913,8 @@ impl Translator {
                     }
                     t.id.unwrap_or(0)
                 };
-                self.bindings.textures[unit as usize] = *texture;
-                self.emit(Call::BindTexture { unit, texture: id })?;
+                self.bindings.textures[unit] = *texture;
+                self.emit(Call::BindTexture { unit: unit as u32, texture: id })?;
             }
             C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels }
                 if encoded::packed_format(*format, *kind).is_some() =>
@@ -932,6 +986,7 @@ impl Translator {
                     .texture_id(name)?
                     .ok_or_else(|| format!("mip level {level} of texture {name} before its level 0"))?;
                 let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
+                let data = self.swizzled(name, upload.format, data)?;
                 self.emit(Call::TexImageLevel { id, level: *level as u32, width, height, data })?;
             }
             C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels } => {
@@ -943,6 +998,7 @@ impl Translator {
                 let upload = Upload::new(*internal_format, *format, *kind)?;
                 let data = self.texels(&upload, pixels, width, height)?;
                 let name = self.bound_texture()?;
+                let data = data.map(|data| self.swizzled(name, upload.format, data)).transpose()?;
                 let format = upload.format;
                 let texture = self.objects()?.textures.entry(name).or_default().clone();
                 let id = match texture.id {
@@ -1000,6 +1056,7 @@ impl Translator {
                 let (width, height) = size2(*width, *height)?;
                 let (x, y) = size2(*x_offset, *y_offset)?;
                 let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
+                let data = self.swizzled(name, stored.format, data)?;
                 self.emit(Call::TexSubImage { id, x, y, width, height, data })?;
             }
             C::TexStorage2D {
@@ -1091,7 +1148,20 @@ impl Translator {
                     // GL ES 3.0 parameters apps set to their defaults, or to what changes
                     // nothing here: the LOD range's defaults, base level 0, identity swizzles.
                     (0x813a, -1000.0) | (0x813b, 1000.0) | (0x813c, 0.0) => {}
-                    (0x8e42, 6403.0) | (0x8e43, 6404.0) | (0x8e44, 6405.0) | (0x8e45, 6406.0) => {}
+                    (p @ 0x8e42..=0x8e45, v) if swizzle_source(v).is_some() => {
+                        let (channel, source) = ((p - 0x8e42) as usize, swizzle_source(v).expect("checked"));
+                        if t.swizzle[channel] != source {
+                            if t.id.is_some() {
+                                return Err(format!(
+                                    "texture {name}: changing GL_TEXTURE_SWIZZLE_* once it has storage is not \
+                                     supported (set it before glTexImage2D / glTexStorage2D)"
+                                ));
+                            }
+                            t.swizzle[channel] = source;
+                        }
+                    }
+                    // GL_TEXTURE_MAX_ANISOTROPY_EXT at its default, 1: no anisotropic filtering.
+                    (0x84fe, 1.0) => {}
                     // GL_TEXTURE_MAX_LEVEL (see `Texture::max_level`).
                     (0x813d, v) if v >= 0.0 => t.max_level = v.min(1000.0) as u32,
                     (p, v) => return Err(format!("texture parameter {p:#06x} = {v} is not supported")),
@@ -1445,6 +1515,11 @@ impl Translator {
                     0x0bd0 => None,
                     // Off by default; turning them off changes nothing.
                     0x809e | 0x80a0 if !on => None,
+                    // GL_FRAMEBUFFER_SRGB_EXT: on by default; see `Bindings::srgb_write_off`.
+                    0x8db9 => {
+                        self.bindings.srgb_write_off = !on;
+                        None
+                    }
                     c => return Err(format!("capability {c:#06x} is not supported")),
                 };
                 if let Some(cap) = capability {
@@ -1971,8 +2046,20 @@ impl Translator {
         Ok(name)
     }
 
+    /// The active texture unit, an index of the context's units.
+    ///
+    /// # Errors
+    /// The unit is beyond the context's [`MAX_TEXTURE_UNITS`].
+    pub(super) fn unit(&self) -> Fallible<usize> {
+        let unit = self.bindings.active_unit;
+        if unit >= MAX_TEXTURE_UNITS {
+            return Err(format!("texture unit {unit} is beyond the context's {MAX_TEXTURE_UNITS}"));
+        }
+        Ok(unit as usize)
+    }
+
     pub(super) fn bound_texture(&self) -> Fallible<u32> {
-        match self.bindings.textures[self.bindings.active_unit as usize] {
+        match self.bindings.textures[self.unit()?] {
             0 => Err("the default texture (0) is not supported: bind a texture".into()),
             name => Ok(name),
         }
@@ -2094,8 +2181,53 @@ impl Translator {
         Ok((Cow::Owned(out), 1))
     }
 
-    /// Refuses to render or copy into a red/green texture (see [`Texture::red_green`]).
+    /// `data`, texels of texture `name` stored as `format`, with the texture's swizzle
+    /// ([`Texture::swizzle`]) applied.
+    ///
+    /// # Errors
+    /// A swizzle on a texture not stored as RGBA8 bytes.
+    pub(super) fn swizzled(&mut self, name: u32, format: TextureFormat, data: Bytes) -> Fallible<Bytes> {
+        let swizzle = self.objects()?.textures.get(&name).map_or(SWIZZLE_IDENTITY, |t| t.swizzle);
+        if swizzle == SWIZZLE_IDENTITY {
+            return Ok(data);
+        }
+        if format != TextureFormat::Rgba8 {
+            return Err(format!(
+                "texture {name}: GL_TEXTURE_SWIZZLE_* on a texture stored as {} is not supported (8-bit RGBA, \
+                 RGB, RG, red, luminance only)",
+                format.name()
+            ));
+        }
+        let mut out = data.to_vec();
+        for texel in out.chunks_exact_mut(4) {
+            let source = [texel[0], texel[1], texel[2], texel[3], 0, 255];
+            for (channel, &from) in texel.iter_mut().zip(&swizzle) {
+                *channel = source[from as usize];
+            }
+        }
+        Ok(Bytes::from(out))
+    }
+
+    /// Refuses an upload the swizzle is not applied to (compressed, packed, cube and layered
+    /// textures) when texture `name` has one.
+    pub(super) fn check_unswizzled(&mut self, name: u32) -> Fallible {
+        if self.objects()?.textures.get(&name).is_some_and(|t| t.swizzle != SWIZZLE_IDENTITY) {
+            return Err(format!(
+                "texture {name}: GL_TEXTURE_SWIZZLE_* is supported on 2D textures of 8-bit texels only"
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuses to render or copy into a red/green texture (see [`Texture::red_green`]) or a
+    /// swizzled one ([`Texture::swizzle`]).
     fn check_renderable(&mut self, name: u32) -> Fallible {
+        if self.objects()?.textures.get(&name).is_some_and(|t| t.swizzle != SWIZZLE_IDENTITY) {
+            return Err(format!(
+                "texture {name} has a GL_TEXTURE_SWIZZLE_*: the replay samples it, but rendering or copying into \
+                 one is not supported"
+            ));
+        }
         if self.objects()?.textures.get(&name).is_some_and(|t| t.red_green) {
             return Err(format!(
                 "texture {name} has only red (and green) channels (R8, RG8): the replay samples those, but rendering \
@@ -2197,6 +2329,14 @@ fn element_name(name: &str, k: usize, count: usize) -> Fallible<String> {
     }
     Ok(format!("{name}[{k}]"))
 }
+
+/// The `GL_MAX_VERTEX_ATTRIBS` a recording GPU may have reported: OpenGL ES 3.0's minimum, and
+/// what llvmpipe and most GPUs report.
+const RECORDED_MAX_VERTEX_ATTRIBS: u32 = 16;
+
+/// The most texture units a recording GPU may have reported (GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS:
+/// 192 on llvmpipe); beyond it, a unit is a GL error.
+const RECORDED_MAX_TEXTURE_UNITS: u32 = 1024;
 
 fn attrib_slot(index: u32) -> Fallible<usize> {
     if index >= MAX_VERTEX_ATTRIBS {

@@ -86,6 +86,16 @@ impl Context {
         Ok((image, info.gl_format))
     }
 
+    /// Whether the bound draw framebuffer has an sRGB colour attachment: draws into it encode
+    /// to sRGB (what `GL_FRAMEBUFFER_SRGB_EXT` switches off, which tiler does not model).
+    pub fn draws_into_srgb(&self) -> bool {
+        let Some(fb) = self.framebuffers.get(&self.draw_framebuffer) else { return false };
+        fb.color
+            .iter()
+            .flatten()
+            .any(|&r| self.attachment_image(r).is_ok_and(|(_, format)| format == TextureFormat::Srgb8Alpha8))
+    }
+
     /// The images of framebuffer `id`, if it is complete.
     ///
     /// # Errors

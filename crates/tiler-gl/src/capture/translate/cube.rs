@@ -6,13 +6,14 @@
 
 use tiler_apitrace::gles::{Command, GlEnum};
 
-use super::{Fallible, Translator, size2};
+use super::{Fallible, Translator, gles3, size2};
 use crate::call::{Call, CubeFace, TextureFormat};
 use crate::capture::texels::Upload;
 use crate::context::MAX_TEXTURE_UNITS;
 
 pub(super) const GL_TEXTURE_CUBE_MAP: u32 = 0x8513;
 const GL_TEXTURE_CUBE_MAP_POSITIVE_X: u32 = 0x8515;
+const GL_RGBA8: u32 = 0x8058;
 
 /// The face a `glTexImage2D`-style target names, if it is one.
 pub(super) fn cube_face(target: GlEnum) -> Option<CubeFace> {
@@ -26,7 +27,10 @@ impl Translator {
         use Command as C;
         match command {
             C::BindTexture { target, texture } if *target == GL_TEXTURE_CUBE_MAP => {
-                let unit = self.bindings.active_unit;
+                if *texture == 0 && self.bindings.active_unit >= MAX_TEXTURE_UNITS {
+                    return Ok(true);
+                }
+                let unit = self.unit()? as u32;
                 let id = if *texture == 0 {
                     0
                 } else {
@@ -55,6 +59,7 @@ impl Translator {
                 let upload = cube_upload(*internal_format, *format, *kind)?;
                 let data = self.texels(&upload, pixels, width, height)?;
                 let name = self.bound_cube()?;
+                let data = data.map(|data| self.swizzled(name, upload.format, data)).transpose()?;
                 let known = self.objects()?.textures.get(&name).and_then(|t| t.id);
                 let id = known.unwrap_or_else(|| self.fresh_id());
                 self.emit(Call::CubeTexImage { id, face, level, size: width, format: upload.format, data })?;
@@ -69,6 +74,49 @@ impl Translator {
                         if self.bindings.cube_textures[unit as usize] == name {
                             self.emit(Call::BindCubeTexture { unit, texture: id })?;
                         }
+                    }
+                }
+                self.update_sampler(name)?;
+            }
+            C::TexStorage2D { target, levels, internal_format, width, height } if *target == GL_TEXTURE_CUBE_MAP => {
+                // Every face and level at once, texels undefined (zeros here), as glTexImage2D
+                // of each without data.
+                if *internal_format != GL_RGBA8 {
+                    return Err(format!(
+                        "cube texture storage of internal format {internal_format:#06x}: cube textures are RGBA8"
+                    ));
+                }
+                let (width, height) = size2(*width, *height)?;
+                if width != height {
+                    return Err(format!("cube texture storage {width}×{height}: cube map faces are square"));
+                }
+                gles3::check_storage_levels(*levels, width, height)?;
+                let name = self.bound_cube()?;
+                if self.objects()?.textures.get(&name).is_some_and(|t| t.id.is_some()) {
+                    return Err(format!("cube texture {name} already has storage"));
+                }
+                let id = self.fresh_id();
+                for level in 0..*levels as u32 {
+                    let size = (width >> level).max(1);
+                    for face in CubeFace::ALL {
+                        self.emit(Call::CubeTexImage {
+                            id,
+                            face,
+                            level,
+                            size,
+                            format: TextureFormat::Rgba8,
+                            data: None,
+                        })?;
+                    }
+                }
+                let t = self.objects()?.textures.entry(name).or_default();
+                t.id = Some(id);
+                t.cube = true;
+                t.upload = gles3::storage_upload(TextureFormat::Rgba8);
+                t.size = (width, height);
+                for unit in 0..MAX_TEXTURE_UNITS {
+                    if self.bindings.cube_textures[unit as usize] == name {
+                        self.emit(Call::BindCubeTexture { unit, texture: id })?;
                     }
                 }
                 self.update_sampler(name)?;
@@ -93,6 +141,7 @@ impl Translator {
                 let (width, height) = size2(*width, *height)?;
                 let (x, y) = size2(*x_offset, *y_offset)?;
                 let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
+                let data = self.swizzled(name, stored.format, data)?;
                 self.emit(Call::CubeTexSubImage { id, face, x, y, width, height, data })?;
             }
             C::GenerateMipmap { target } if *target == GL_TEXTURE_CUBE_MAP => {
@@ -118,7 +167,7 @@ impl Translator {
 
     /// The cube map bound to the active unit.
     pub(super) fn bound_cube(&self) -> Fallible<u32> {
-        match self.bindings.cube_textures[self.bindings.active_unit as usize] {
+        match self.bindings.cube_textures[self.unit()?] {
             0 => Err("the default cube map (0) is not supported: bind a texture to GL_TEXTURE_CUBE_MAP".into()),
             name => Ok(name),
         }

@@ -349,6 +349,7 @@ impl Translator {
             ));
         }
         let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
+        let data = self.swizzled(name, stored.format, data)?;
         self.emit(Call::TexImageLevel { id, level, width, height, data })?;
         Ok(())
     }

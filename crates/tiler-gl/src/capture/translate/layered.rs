@@ -51,7 +51,10 @@ impl Translator {
         match command {
             C::BindTexture { target, texture } if layered_target(*target).is_some() => {
                 let layered = layered_target(*target).expect("a layered target");
-                let unit = self.bindings.active_unit;
+                if *texture == 0 && self.bindings.active_unit >= MAX_TEXTURE_UNITS {
+                    return Ok(true);
+                }
+                let unit = self.unit()? as u32;
                 let id = if *texture == 0 {
                     0
                 } else {
@@ -77,6 +80,8 @@ impl Translator {
                 let upload = layered_upload(*internal_format, *format, *kind)?;
                 let rows = height.checked_mul(depth).ok_or("the texture is too large")?;
                 let data = self.texels(&upload, pixels, width, rows)?;
+                let name = self.bound_layered(layered)?;
+                let data = data.map(|data| self.swizzled(name, upload.format, data)).transpose()?;
                 self.layered_storage(layered, (width, height, depth), upload, data)?;
             }
             C::TexStorage3D { target, levels, internal_format, width, height, depth } => {
@@ -133,6 +138,7 @@ impl Translator {
                 let (x, y, z) = size3(*x_offset, *y_offset, *z_offset)?;
                 let rows = height.checked_mul(depth).ok_or("the box is too large")?;
                 let data = self.texels(&upload, pixels, width, rows)?.ok_or("the texels were not recorded")?;
+                let data = self.swizzled(name, texture.upload.map_or(upload.format, |u| u.format), data)?;
                 self.emit(Call::LayeredTexSubImage { id, x, y, z, width, height, depth, data })?;
             }
             C::GenerateMipmap { target } if layered_target(*target).is_some() => {
@@ -223,7 +229,7 @@ impl Translator {
 
     /// The texture bound to `layered` on the active unit.
     pub(super) fn bound_layered(&self, layered: LayeredTarget) -> Fallible<u32> {
-        match self.bindings.layered_textures[self.bindings.active_unit as usize][layered.index()] {
+        match self.bindings.layered_textures[self.unit()?][layered.index()] {
             0 => Err(format!("the default {} texture (0) is not supported: bind a texture", layered.name())),
             name => Ok(name),
         }
