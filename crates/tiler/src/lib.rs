@@ -125,6 +125,7 @@ pub use ledger::time::{Stage, TimeEstimate, TimeModel};
 pub use ledger::{Category, Counters, DrawStats, Ledger, TileStats};
 pub use pass::{Draw, RenderPass};
 pub use pixel::Pipeline;
+pub use raster::samples::SampleOrigin;
 pub use shade::ShadeContext;
 pub use shade::depth_compare;
 pub use shade::fragments::{FragmentShader, Fragments};

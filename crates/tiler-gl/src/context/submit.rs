@@ -166,6 +166,12 @@ impl Context {
             None => RenderPass::new(desc),
         };
         render_pass.draws = draws;
+        // GL's framebuffer objects are rendered y up into images stored top row first, so
+        // their samples lie where llvmpipe's do only mirrored (`SampleOrigin`); the window is
+        // stored top row first by both.
+        if pass.framebuffer != 0 {
+            render_pass = render_pass.with_sample_origin(tiler::SampleOrigin::LowerLeft);
+        }
         let report = match self.device.submit(&render_pass) {
             Ok(report) => report,
             Err(e) => {

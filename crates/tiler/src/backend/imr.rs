@@ -67,7 +67,7 @@ pub fn render(
     config: &DeviceConfig,
     simd: SimdSupport,
 ) -> Result<PassReport> {
-    let samples = SampleLocations::standard(resolved.samples);
+    let samples = SampleLocations::new(resolved.samples, pass.sample_origin);
     let frame_info = resolved.frame(buffers);
     // Transient attachments have no memory on a tiler; an immediate-mode GPU needs some.
     let mut scratch: Vec<Image> = resolved

@@ -89,7 +89,7 @@ pub fn render(
 ) -> Result<PassReport> {
     let (tile_width, tile_height) = tile_size(config, resolved.tile_bytes_per_pixel());
     let grid = TileGrid::new(resolved.width, resolved.height, tile_width, tile_height);
-    let samples = SampleLocations::standard(resolved.samples);
+    let samples = SampleLocations::new(resolved.samples, pass.sample_origin);
     let frame_info = resolved.frame(buffers);
     let mut memory = attachment_images(images, resolved);
     let mut frame = match scratch.frame.take() {

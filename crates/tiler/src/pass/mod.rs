@@ -9,6 +9,7 @@ use crate::api::render_pass::{
 };
 use crate::geometry::DrawInput;
 use crate::pixel::Pipeline;
+use crate::raster::samples::SampleOrigin;
 
 /// One draw: a pipeline, its buffers, and which vertices (or indices) to draw.
 #[derive(Clone, Debug)]
@@ -92,6 +93,8 @@ pub struct RenderPass {
     pub draws: Vec<Draw>,
     /// The index of the first draw of each subpass after the first.
     pub subpass_starts: Vec<usize>,
+    /// Which way up the sample locations of a multisampled pass are laid out.
+    pub sample_origin: SampleOrigin,
 }
 
 impl RenderPass {
@@ -103,7 +106,13 @@ impl RenderPass {
             dependencies: Vec::new(),
             draws: Vec::new(),
             subpass_starts: Vec::new(),
+            sample_origin: SampleOrigin::UpperLeft,
         }
+    }
+
+    /// The pass with its sample locations laid out from `origin` (see [`SampleOrigin`]).
+    pub fn with_sample_origin(self, origin: SampleOrigin) -> RenderPass {
+        RenderPass { sample_origin: origin, ..self }
     }
 
     /// A pass with explicit subpasses; draws go to the first until [`RenderPass::next_subpass`].

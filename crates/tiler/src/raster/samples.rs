@@ -28,6 +28,24 @@ const STANDARD_16: [(i32, i32); 16] = [
     (1, 0),
 ];
 
+/// Which way up a pass's sample locations are laid out in its pixels.
+///
+/// The standard locations are tabulated from the pixel's top-left corner, y down, for images
+/// stored top row first. An OpenGL implementation that stores a framebuffer object bottom row
+/// first (GL's window coordinates, y up) and uses the same table there — llvmpipe does — puts
+/// them mirrored vertically in an image stored top row first, as tiler stores every image.
+/// `LowerLeft` is that mirror: each location `(x, y)` becomes `(x, 1 − y)`. Sample indices keep
+/// their order.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SampleOrigin {
+    /// The standard table as it is (Vulkan, Direct3D; a GL window surface).
+    #[default]
+    UpperLeft,
+    /// The standard table mirrored vertically (a GL framebuffer object on llvmpipe).
+    LowerLeft,
+}
+
 /// The most samples per pixel tiler renders.
 pub const MAX_SAMPLES: usize = 16;
 
@@ -68,6 +86,22 @@ impl SampleLocations {
         SampleLocations { count: table.len(), positions: all, hull }
     }
 
+    /// The standard locations for `samples`, laid out from `origin`.
+    ///
+    /// # Panics
+    /// As [`SampleLocations::standard`].
+    pub fn new(samples: u32, origin: SampleOrigin) -> SampleLocations {
+        let mut locations = SampleLocations::standard(samples);
+        if origin == SampleOrigin::LowerLeft {
+            for p in &mut locations.positions[..locations.count] {
+                p.1 = SUBPIXEL_SCALE - p.1;
+            }
+            let (x0, y0, x1, y1) = locations.hull;
+            locations.hull = (x0, SUBPIXEL_SCALE - y1, x1, SUBPIXEL_SCALE - y0);
+        }
+        locations
+    }
+
     pub fn count(&self) -> usize {
         self.count
     }
@@ -99,6 +133,22 @@ mod tests {
         let pixels: Vec<(f32, f32)> = s.iter().map(|(x, y)| (x as f32 / 256.0, y as f32 / 256.0)).collect();
         assert_eq!(pixels, vec![(0.375, 0.125), (0.875, 0.375), (0.125, 0.625), (0.625, 0.875)]);
         assert_eq!(SampleLocations::standard(1).offset(0), (128, 128));
+    }
+
+    #[test]
+    fn lower_left_locations_mirror_the_standard_ones_vertically() {
+        let s = SampleLocations::new(4, SampleOrigin::LowerLeft);
+        let pixels: Vec<(f32, f32)> = s.iter().map(|(x, y)| (x as f32 / 256.0, y as f32 / 256.0)).collect();
+        assert_eq!(pixels, vec![(0.375, 0.875), (0.875, 0.625), (0.125, 0.375), (0.625, 0.125)]);
+        let hull = |s: SampleLocations| {
+            let (xs, ys): (Vec<i32>, Vec<i32>) = s.iter().unzip();
+            (*xs.iter().min().unwrap(), *ys.iter().min().unwrap(), *xs.iter().max().unwrap(), *ys.iter().max().unwrap())
+        };
+        for samples in [1, 2, 4, 8, 16] {
+            let s = SampleLocations::new(samples, SampleOrigin::LowerLeft);
+            assert_eq!(s.hull(), hull(s), "{samples} samples");
+        }
+        assert_eq!(SampleLocations::new(1, SampleOrigin::LowerLeft), SampleLocations::standard(1));
     }
 
     #[test]
