@@ -2263,3 +2263,79 @@ fn what_the_replay_cannot_apply_after_lenient_start_up_calls_fails_with_its_call
     });
     refused(w, call, "vertex attribute 12");
 }
+
+/// A compositor's start-up (Weston's GL renderer): its context current without a surface
+/// while it compiles a program, then a 4×4 pbuffer made current; the program samples a
+/// `GL_BGRA_EXT` texture in the branch a constant selects and an unbound unit in the other.
+/// `before_surface` runs before the pbuffer exists.
+fn surfaceless_start_capture(before_surface: impl FnOnce(&mut Writer)) -> Writer {
+    let mut w = Writer::new(6);
+    create_context(&mut w, 100, 0);
+    make_current(&mut w, 0, 100);
+    let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "precision mediump float;\nuniform sampler2D tex;\nuniform sampler2D other;\n\
+                    const int variant = 1;\n\
+                    vec4 pick() { if (variant == 1) return texture2D(tex, vec2(0.5));\n\
+                    return texture2D(other, vec2(0.5)); }\n\
+                    void main() { gl_FragColor = pick(); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    w.call("glGetUniformLocation", &[("program", W::UInt(7)), ("name", W::Str("other"))], Some(W::UInt(4)), false);
+    w.call("glUniform1i", &[("location", W::UInt(4)), ("v0", W::UInt(1))], None, false);
+    before_surface(&mut w);
+    let attribs = W::Array([0x3057, 4, 0x3056, 4, 0x3038].map(W::UInt).to_vec());
+    w.call(
+        "eglCreatePbufferSurface",
+        &[("dpy", W::Pointer(1)), ("config", W::Pointer(2)), ("attrib_list", attribs)],
+        Some(W::Pointer(3)),
+        false,
+    );
+    make_current(&mut w, 3, 100);
+    // apitrace's fake viewport: EGL sets it to the surface the first time one is current.
+    let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(4)), ("height", W::UInt(4))];
+    w.call("glViewport", &viewport, None, true);
+    w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(1))], None, false);
+    tex_parameter(&mut w, ("GL_TEXTURE_MIN_FILTER", 0x2801), ("GL_NEAREST", 0x2600));
+    let args = [
+        ("target", e("GL_TEXTURE_2D", 0x0de1)),
+        ("level", W::UInt(0)),
+        ("internalformat", e("GL_BGRA_EXT", 0x80e1)),
+        ("width", W::UInt(1)),
+        ("height", W::UInt(1)),
+        ("border", W::UInt(0)),
+        ("format", e("GL_BGRA_EXT", 0x80e1)),
+        ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+        ("pixels", W::Blob(vec![10, 20, 30, 255])),
+    ];
+    w.call("glTexImage2D", &args, None, false);
+    draw_triangle(&mut w);
+    w.call("eglSwapBuffers", &[("dpy", W::Pointer(1)), ("surface", W::Pointer(3))], Some(W::Bool(true)), false);
+    w
+}
+
+#[test]
+fn a_context_current_without_a_surface_takes_the_size_of_the_pbuffer_made_current_later() {
+    let (result, frames) = replay(&surfaceless_start_capture(|_| {}));
+    result.unwrap();
+    assert_eq!(frames.len(), 1);
+    assert_eq!((frames[0].2, frames[0].3), (4, 4));
+    // BGRA bytes (10, 20, 30) are red 30, green 20, blue 10; the sampler on the unbound unit
+    // is read only in the branch the constant removes, so it needs no texture.
+    assert_eq!(frames[0].4, solid(4, 4, [30, 20, 10, 255]));
+
+    // Drawing into the window before its size is known is refused, naming the call.
+    let mut call = 0;
+    let w = surfaceless_start_capture(|w| {
+        w.call("glClear", &[("mask", W::UInt(0x4000))], None, false);
+        call = w.call(
+            "glDrawArrays",
+            &[("mode", e("GL_TRIANGLES", 4)), ("first", W::UInt(0)), ("count", W::UInt(3))],
+            None,
+            false,
+        );
+    });
+    let (result, _) = replay(&w);
+    let error = result.err().expect("a draw into a window of unknown size");
+    assert_eq!(error.call(), Some(call - 1), "{error}");
+    assert!(error.to_string().contains("window's size is not known"), "{error}");
+}

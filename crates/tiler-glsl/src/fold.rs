@@ -89,9 +89,10 @@ pub(crate) fn optimize(code: &mut Vec<Inst>, work_regs: usize, constants: &mut C
     unmask_while_full(code);
     for _ in 0..MAX_ROUNDS {
         let folded = fold(code, work_regs, constants, &pin);
+        let branches = take_constant_branches(code, constants);
         let overwritten = remove_overwritten(code);
         let removed = remove_dead(code, work_regs, &pin);
-        if !folded && !overwritten && !removed {
+        if !folded && !branches && !overwritten && !removed {
             break;
         }
     }
@@ -163,6 +164,38 @@ fn coalesce_block(code: &mut Vec<Inst>, reads: &[u32], w: &Writes, pin: &[bool])
     }
     let mut moves = moves.into_iter();
     code.retain(|_| !moves.next().unwrap_or(false));
+}
+
+/// Replaces each `if` on a constant by the branch it takes, and drops what follows a `return`,
+/// `break` or `continue` in its block (no lane runs it): `if (c_variant == SOLID) return
+/// unicolor;` on a `const int` leaves nothing of the rest of the function, its texture
+/// lookups included (NIR's `nir_opt_if` and `nir_opt_dead_cf`). Each is the same code run:
+/// an `if` whose condition holds in every lane runs its branch with the lanes it started with.
+/// Whether anything changed.
+fn take_constant_branches(code: &mut Vec<Inst>, constants: &Constants<'_>) -> bool {
+    let mut changed = false;
+    let mut out = Vec::with_capacity(code.len());
+    for mut inst in code.drain(..) {
+        if let Inst::If(c, then, otherwise) = &mut inst
+            && let Some(value) = constants.value(*c)
+        {
+            let mut taken = std::mem::take(if value != 0.0 { then } else { otherwise });
+            take_constant_branches(&mut taken, constants);
+            out.append(&mut taken);
+            changed = true;
+        } else {
+            for block in blocks_mut(&mut inst) {
+                changed |= take_constant_branches(block, constants);
+            }
+            out.push(inst);
+        }
+    }
+    if let Some(jump) = out.iter().position(|i| matches!(i, Inst::Return | Inst::Break | Inst::Continue)) {
+        changed |= jump + 1 < out.len();
+        out.truncate(jump + 1);
+    }
+    *code = out;
+    changed
 }
 
 /// Whether running `inst` may leave lanes inactive after it: a `discard`, or a `return`
@@ -602,6 +635,30 @@ mod tests {
         let code = optimized(code, 3, &mut bank, &[0, 2]);
         let Inst::If(_, then, _) = &code[0] else { panic!("{code:?}") };
         assert_eq!(then[..], [Inst::Bin(BinOp::Add, 1, 0, BANK | 1), Inst::Store(2, 1)]);
+    }
+
+    #[test]
+    fn a_branch_on_a_constant_is_taken_and_code_after_its_return_goes() {
+        // Weston's shader variants: `if (c_variant == SOLID) return unicolor;` on a constant
+        // in an inlined function, the texture lookups of the other variants after it.
+        let mut bank = vec![1.0, 0.0];
+        let call = Inst::Call(vec![
+            Inst::If(BANK, vec![Inst::Store(1, 0), Inst::Return], vec![]),
+            Inst::If(BANK | 1, vec![Inst::Un(UnOp::Sin, 3, 0)], vec![Inst::Un(UnOp::Cos, 3, 0)]),
+            sample([4, 5, 6, 7], [0, 0]),
+            Inst::Store(1, 4),
+        ]);
+        let code = optimized(vec![call], 8, &mut bank, &[0, 1]);
+        assert_eq!(code, [Inst::Call(vec![Inst::Store(1, 0), Inst::Return])]);
+        // The other way round: the constant is false and the lookup stays, the branch not
+        // taken goes.
+        let mut bank = vec![0.0];
+        let code = vec![Inst::If(BANK, vec![Inst::Discard], vec![sample([1, 2, 3, 4], [0, 0]), Inst::Store(5, 1)])];
+        let code = optimized(code, 6, &mut bank, &[0, 5]);
+        assert!(
+            matches!(code[..], [Inst::Sample { .. }, Inst::Store(5, 1)] | [Inst::Sample { .. }, Inst::Un(..)]),
+            "{code:?}"
+        );
     }
 
     #[test]

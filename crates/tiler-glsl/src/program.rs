@@ -14,7 +14,7 @@ use tiler::{
 
 use crate::compile::{StageCode, compile};
 use crate::exec::{Env, Executable, LodValue, run};
-use crate::ir::{Axis, BANK, Reg};
+use crate::ir::{Axis, BANK, Inst, Reg};
 use crate::types::{SamplerKind, Scalar, Type};
 use crate::{Error, Stage};
 
@@ -91,6 +91,43 @@ pub struct CompiledProgram {
     point_size_varying: Option<usize>,
     /// The hidden pair of varyings the core fills with `gl_PointCoord` at a point's corners.
     point_coord_varying: Option<usize>,
+    /// The sampler uniforms (name, array element) whose texture the compiled code reads: the
+    /// active ones. A sampler whose every read the compiler removed (a branch on a constant)
+    /// reads nothing, as in GL, where it is inactive (`glGetUniformLocation` gives -1).
+    read_samplers: std::collections::HashSet<(String, usize)>,
+}
+
+/// Sampler slots that the instructions in `code` read.
+fn slots_read(code: &[Inst], out: &mut Vec<u16>) {
+    for inst in code {
+        match inst {
+            Inst::Sample { slot, .. }
+            | Inst::SampleCube { slot, .. }
+            | Inst::SampleLayered { slot, .. }
+            | Inst::Fetch { slot, .. } => out.push(*slot),
+            Inst::If(_, then, otherwise) => {
+                slots_read(then, out);
+                slots_read(otherwise, out);
+            }
+            Inst::Loop { cond_code, body, step, .. } => {
+                slots_read(cond_code, out);
+                slots_read(body, out);
+                slots_read(step, out);
+            }
+            Inst::Call(body) | Inst::Breakable(body) => slots_read(body, out),
+            _ => {}
+        }
+    }
+}
+
+/// The sampler uniforms (name, array element) whose texture `stage`'s code reads.
+fn samplers_read(stage: &StageCode) -> impl Iterator<Item = (String, usize)> + '_ {
+    let mut slots = Vec::new();
+    slots_read(&stage.code, &mut slots);
+    slots.into_iter().filter_map(|slot| {
+        let &(uniform, element) = stage.samplers.get(slot as usize)?;
+        Some((stage.uniforms[uniform].name.clone(), element))
+    })
 }
 
 /// Uniform values by location, as `glUniform*` sets them (ints and samplers' texture units
@@ -313,6 +350,7 @@ impl CompiledProgram {
         let (varyings, hidden, varying_floats) = link_varyings(&vertex, &fragment)?;
         let (uniforms, blocks, vertex_uniform_offsets, fragment_uniform_offsets, uniform_floats) =
             link_uniforms(&vertex, &fragment)?;
+        let read_samplers = samplers_read(&vertex).chain(samplers_read(&fragment)).collect();
         Ok(CompiledProgram {
             vertex,
             fragment,
@@ -329,6 +367,7 @@ impl CompiledProgram {
             w_varying: hidden.w,
             point_size_varying: hidden.point_size,
             point_coord_varying: hidden.point_coord,
+            read_samplers,
         })
     }
 
@@ -490,12 +529,14 @@ impl CompiledProgram {
     }
 
     /// [`CompiledProgram::sampler_units`] of the samplers of one kind (a unit holds a 2D and a
-    /// cube texture, each read by its kind of sampler).
+    /// cube texture, each read by its kind of sampler) that the code reads: a sampler whose
+    /// reads the compiler removed needs no texture.
     pub fn sampler_units_of(&self, kind: SamplerKind, uniforms: &UniformValues) -> Vec<(String, u32)> {
         self.uniforms
             .iter()
             .filter(|u| u.ty == Type::Sampler(kind))
             .flat_map(|u| (0..u.array_size).map(move |k| (u, k)))
+            .filter(|(u, k)| self.read_samplers.contains(&(u.name.clone(), *k)))
             .map(|(u, k)| (u.name.clone(), uniforms.values[u.offset + k] as u32))
             .collect()
     }

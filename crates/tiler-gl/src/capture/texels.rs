@@ -10,6 +10,9 @@ pub(crate) const GL_LUMINANCE: u32 = 0x1909;
 pub(crate) const GL_LUMINANCE_ALPHA: u32 = 0x190a;
 pub(crate) const GL_RED: u32 = 0x1903;
 pub(crate) const GL_RG: u32 = 0x8227;
+/// `EXT_texture_format_BGRA8888` (and `APPLE_texture_format_BGRA8888`): bytes in blue,
+/// green, red, alpha order, what compositors and video players upload from their buffers.
+pub(crate) const GL_BGRA_EXT: u32 = 0x80e1;
 pub(crate) const GL_DEPTH_COMPONENT: u32 = 0x1902;
 pub(crate) const GL_DEPTH_STENCIL: u32 = 0x84f9;
 pub(crate) const GL_UNSIGNED_BYTE: u32 = 0x1401;
@@ -62,7 +65,7 @@ impl Upload {
             ));
         }
         let (mut stored, client_bytes) = match (format, kind) {
-            (GL_RGBA, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 4),
+            (GL_RGBA | GL_BGRA_EXT, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 4),
             (GL_RGB, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 3),
             (GL_LUMINANCE_ALPHA | GL_RG, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 2),
             (GL_LUMINANCE | GL_ALPHA | GL_RED, GL_UNSIGNED_BYTE) => (TextureFormat::Rgba8, 1),
@@ -82,7 +85,7 @@ impl Upload {
             _ => {
                 return Err(format!(
                     "texel format {format:#06x} of type {kind:#06x} is not one the replay converts (RGBA, RGB, RG, \
-                     RED, LUMINANCE, LUMINANCE_ALPHA, ALPHA bytes; 565; RGBA, RGB, RG, RED halves and floats; \
+                     RED, LUMINANCE, LUMINANCE_ALPHA, ALPHA, BGRA bytes; 565; RGBA, RGB, RG, RED halves and floats; \
                      DEPTH_COMPONENT; 4444 and 5551 are encoded uploads)"
                 ));
             }
@@ -172,6 +175,7 @@ impl Upload {
                     out.extend_from_slice(&1.0f32.to_le_bytes());
                 }),
                 (GL_RGB, _) => src.chunks_exact(3).for_each(|t| out.extend_from_slice(&[t[0], t[1], t[2], 255])),
+                (GL_BGRA_EXT, _) => src.chunks_exact(4).for_each(|t| out.extend_from_slice(&[t[2], t[1], t[0], t[3]])),
                 (GL_LUMINANCE_ALPHA, _) => {
                     src.chunks_exact(2).for_each(|t| out.extend_from_slice(&[t[0], t[0], t[0], t[1]]))
                 }

@@ -369,6 +369,11 @@ pub struct Translator {
     /// bound for drawing, as apitrace's retrace resizes its window (not when the caller gave
     /// the size, nor for a pbuffer surface).
     window_grows: bool,
+    /// The context was made before any surface or viewport gave the window's size (a
+    /// compositor compiles its shaders on a surfaceless context, then makes its pbuffer
+    /// current): its window is 1×1 until the size comes (`Translator::window_known`), and a
+    /// draw, clear, read or swap of the window before then is refused.
+    provisional_window: bool,
     ctx: Option<Context>,
     /// EGL context handle → generation.
     generations: HashMap<EglHandle, u32>,
@@ -409,6 +414,7 @@ impl Translator {
             record,
             window,
             window_grows: window.is_none(),
+            provisional_window: false,
             ctx: None,
             generations: HashMap::new(),
             groups: HashMap::new(),
@@ -491,12 +497,24 @@ impl Translator {
 
     fn ctx(&mut self) -> Fallible<&mut Context> {
         if self.ctx.is_none() {
-            let (w, h) = self.window.ok_or(
-                "the window's size is not known yet (no glViewport before this call; give the replay a window size)",
-            )?;
+            let (w, h) = self.window.unwrap_or((1, 1));
+            self.provisional_window = self.window.is_none();
             self.ctx = Some(self.new_context(w, h)?);
         }
         Ok(self.ctx.as_mut().expect("made above"))
+    }
+
+    /// The window's size, from a surface or the first viewport: kept if none was known yet,
+    /// and given to a context made before it ([`Translator::provisional_window`]).
+    fn window_known(&mut self, size: (u32, u32)) -> Fallible {
+        if self.provisional_window {
+            self.provisional_window = false;
+            self.window = Some(size);
+            self.emit(Call::ResizeSurface { width: size.0, height: size.1 })?;
+        } else if self.ctx.is_none() && self.window.is_none() {
+            self.window = Some(size);
+        }
+        Ok(())
     }
 
     pub(super) fn emit(&mut self, call: Call) -> Fallible<crate::call::Output> {
@@ -546,6 +564,14 @@ impl Translator {
             command,
             C::DrawArrays { .. } | C::DrawElements { .. } | C::Clear { .. } | C::BlitFramebuffer { .. }
         );
+        let uses_window = (writes_colour && self.bindings.draw_framebuffer == 0)
+            || (reads_colour && self.bindings.read_framebuffer == 0)
+            || matches!(command, C::SwapBuffers { .. });
+        if uses_window && self.window.is_none() {
+            return Err("the window's size is not known yet (no surface or glViewport before this call; give the \
+                        replay a window size)"
+                .into());
+        }
         if writes_colour && self.bindings.srgb_write_off && self.ctx.as_ref().is_some_and(Context::draws_into_srgb) {
             return Err("drawing into an sRGB colour attachment with GL_FRAMEBUFFER_SRGB_EXT disabled \
                         (no sRGB encoding) is not supported"
@@ -610,9 +636,7 @@ impl Translator {
                 if width == 0 || height == 0 {
                     return Err(format!("a pbuffer of {width}×{height} pixels has nothing to draw into"));
                 }
-                if self.ctx.is_none() && self.window.is_none() {
-                    self.window = Some((width, height));
-                }
+                self.window_known((width, height))?;
                 self.window_grows = false;
                 self.window_surface = Some(*surface);
             }
@@ -1528,9 +1552,7 @@ impl Translator {
             }
             C::Viewport { x, y, width, height } => {
                 let (w, h) = size2(*width, *height)?;
-                if self.ctx.is_none() && self.window.is_none() {
-                    self.window = Some((w, h));
-                }
+                self.window_known((w, h))?;
                 self.grow_window(*x, *y, w, h)?;
                 self.emit(Call::Viewport { x: *x, y: *y, width: w, height: h })?;
             }
