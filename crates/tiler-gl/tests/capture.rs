@@ -2339,3 +2339,52 @@ fn a_context_current_without_a_surface_takes_the_size_of_the_pbuffer_made_curren
     assert_eq!(error.call(), Some(call - 1), "{error}");
     assert!(error.to_string().contains("window's size is not known"), "{error}");
 }
+
+#[test]
+fn srgb_writes_switched_off_are_refused_only_where_they_would_matter() {
+    // LÖVE switches GL_FRAMEBUFFER_SRGB_EXT off at start-up: harmless on the window (not
+    // sRGB), refused on a draw into an sRGB texture (tiler would encode it).
+    let capture = |attach_srgb: bool| {
+        let mut w = Writer::new(6);
+        window_surface(&mut w);
+        begin_context(&mut w, 100, 2, 2);
+        w.call("glDisable", &[("cap", e("GL_FRAMEBUFFER_SRGB_EXT", 0x8db9))], None, false);
+        if attach_srgb {
+            w.call("glGenTextures", &[("n", W::UInt(1)), ("textures", W::Array(vec![W::UInt(5)]))], None, false);
+            w.call("glBindTexture", &[("target", e("GL_TEXTURE_2D", 0x0de1)), ("texture", W::UInt(5))], None, false);
+            let args = [
+                ("target", e("GL_TEXTURE_2D", 0x0de1)),
+                ("level", W::UInt(0)),
+                ("internalformat", e("GL_SRGB8_ALPHA8", 0x8c43)),
+                ("width", W::UInt(2)),
+                ("height", W::UInt(2)),
+                ("border", W::UInt(0)),
+                ("format", e("GL_RGBA", 0x1908)),
+                ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+                ("pixels", W::Null),
+            ];
+            w.call("glTexImage2D", &args, None, false);
+            let fb = [("n", W::UInt(1)), ("framebuffers", W::Array(vec![W::UInt(3)]))];
+            w.call("glGenFramebuffers", &fb, None, false);
+            let bind = [("target", e("GL_FRAMEBUFFER", 0x8d40)), ("framebuffer", W::UInt(3))];
+            w.call("glBindFramebuffer", &bind, None, false);
+            let attach = [
+                ("target", e("GL_FRAMEBUFFER", 0x8d40)),
+                ("attachment", e("GL_COLOR_ATTACHMENT0", 0x8ce0)),
+                ("textarget", e("GL_TEXTURE_2D", 0x0de1)),
+                ("texture", W::UInt(5)),
+                ("level", W::UInt(0)),
+            ];
+            w.call("glFramebufferTexture2D", &attach, None, false);
+        }
+        let call = w.call("glClear", &[("mask", W::UInt(0x4000))], None, false);
+        swap(&mut w);
+        (w, call)
+    };
+    let (w, _) = capture(false);
+    replay(&w).0.unwrap();
+    let (w, call) = capture(true);
+    let error = replay(&w).0.err().expect("an sRGB attachment with sRGB writes off");
+    assert_eq!(error.call(), Some(call), "{error}");
+    assert!(error.to_string().contains("GL_FRAMEBUFFER_SRGB_EXT"), "{error}");
+}
