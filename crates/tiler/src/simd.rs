@@ -346,7 +346,7 @@ macro_rules! halfwise {
     ($a:expr, $b:expr, $sse:ident, |$x:ident, $y:ident| $body:expr) => {{
         #[cfg(target_arch = "x86_64")]
         {
-            use std::arch::x86_64::{$sse, _mm_loadu_ps, _mm_storeu_ps};
+            use std::arch::x86_64::{_mm_loadu_ps, _mm_storeu_ps, $sse};
             let (a, b) = ($a.0, $b.0);
             let mut out = [0.0f32; LANES];
             for h in [0, LANES / 2] {
