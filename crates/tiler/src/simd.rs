@@ -342,6 +342,10 @@ macro_rules! lanewise {
 /// pipelines: SSE is in the x86-64 baseline, so this is valid code for the baseline and the
 /// AVX2 pipeline alike. The same IEEE operation per lane, so the same bits
 /// (docs/benchmarking.md, "Geometry and overdraw, round three").
+/// Lanes of one SSE half of an `F32x8`.
+#[cfg(target_arch = "x86_64")]
+const HALF_LANES: usize = LANES / 2;
+
 macro_rules! halfwise {
     ($a:expr, $b:expr, $sse:ident, |$x:ident, $y:ident| $body:expr) => {{
         #[cfg(target_arch = "x86_64")]
@@ -349,7 +353,7 @@ macro_rules! halfwise {
             use std::arch::x86_64::{_mm_loadu_ps, _mm_storeu_ps, $sse};
             let (a, b) = ($a.0, $b.0);
             let mut out = [0.0f32; LANES];
-            for h in [0, LANES / 2] {
+            for h in [0, HALF_LANES] {
                 // SAFETY: SSE, all these need, is in the x86-64 baseline; each load reads and
                 // each store writes four floats at `h` ∈ {0, 4} of an eight-float array.
                 unsafe {
