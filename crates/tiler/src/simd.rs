@@ -332,6 +332,44 @@ macro_rules! lanewise {
     }};
 }
 
+/// `lanewise!` for the four arithmetic operators, as two SSE `__m128` operations on x86-64.
+///
+/// Why not the lane loop: LLVM's SLP vectorizer turns `[f32; 8]` lanes into scalars and
+/// regroups them into vectors of its own choosing, and in a loop that carries several `F32x8`
+/// (a shader's iterations) it groups halves of different values together and pays for it with
+/// shuffles on the loop's dependency chain (overdraw's shader: 20 instructions a step, six of
+/// them shuffles). Two 128-bit operations per value keep each value's lanes together in both
+/// pipelines: SSE is in the x86-64 baseline, so this is valid code for the baseline and the
+/// AVX2 pipeline alike. The same IEEE operation per lane, so the same bits
+/// (docs/benchmarking.md, "Geometry and overdraw, round three").
+/// Lanes of one SSE half of an `F32x8`.
+#[cfg(target_arch = "x86_64")]
+const HALF_LANES: usize = LANES / 2;
+
+macro_rules! halfwise {
+    ($a:expr, $b:expr, $sse:ident, |$x:ident, $y:ident| $body:expr) => {{
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_loadu_ps, _mm_storeu_ps, $sse};
+            let (a, b) = ($a.0, $b.0);
+            let mut out = [0.0f32; LANES];
+            for h in [0, HALF_LANES] {
+                // SAFETY: SSE, all these need, is in the x86-64 baseline; each load reads and
+                // each store writes four floats at `h` ∈ {0, 4} of an eight-float array.
+                unsafe {
+                    let value = $sse(_mm_loadu_ps(a[h..].as_ptr()), _mm_loadu_ps(b[h..].as_ptr()));
+                    _mm_storeu_ps(out[h..].as_mut_ptr(), value);
+                }
+            }
+            F32x8(out)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            lanewise!($a, $b, |$x, $y| $body)
+        }
+    }};
+}
+
 macro_rules! compare {
     ($name:ident, $op:tt, $doc:literal) => {
         #[doc = $doc]
@@ -462,7 +500,7 @@ impl Add for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn add(self, rhs: F32x8) -> F32x8 {
-        lanewise!(self, rhs, |a, b| a + b)
+        halfwise!(self, rhs, _mm_add_ps, |a, b| a + b)
     }
 }
 
@@ -470,7 +508,7 @@ impl Sub for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn sub(self, rhs: F32x8) -> F32x8 {
-        lanewise!(self, rhs, |a, b| a - b)
+        halfwise!(self, rhs, _mm_sub_ps, |a, b| a - b)
     }
 }
 
@@ -478,7 +516,7 @@ impl Mul for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn mul(self, rhs: F32x8) -> F32x8 {
-        lanewise!(self, rhs, |a, b| a * b)
+        halfwise!(self, rhs, _mm_mul_ps, |a, b| a * b)
     }
 }
 
@@ -486,7 +524,7 @@ impl Div for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn div(self, rhs: F32x8) -> F32x8 {
-        lanewise!(self, rhs, |a, b| a / b)
+        halfwise!(self, rhs, _mm_div_ps, |a, b| a / b)
     }
 }
 
@@ -494,7 +532,7 @@ impl Mul<f32> for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn mul(self, rhs: f32) -> F32x8 {
-        lanewise!(self, |a| a * rhs)
+        self * F32x8::splat(rhs)
     }
 }
 
@@ -502,7 +540,7 @@ impl Add<f32> for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn add(self, rhs: f32) -> F32x8 {
-        lanewise!(self, |a| a + rhs)
+        self + F32x8::splat(rhs)
     }
 }
 
@@ -510,7 +548,7 @@ impl Sub<f32> for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn sub(self, rhs: f32) -> F32x8 {
-        lanewise!(self, |a| a - rhs)
+        self - F32x8::splat(rhs)
     }
 }
 

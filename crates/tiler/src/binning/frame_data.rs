@@ -251,6 +251,7 @@ impl FrameData {
         let first_varying = first.varyings as usize;
         let base = self.varyings.len() as u32;
         let flat_only = self.states[state as usize].flat_only && varying_count > 0;
+        reserve_huge(&mut self.primitives, primitives.len());
         self.primitives.extend(primitives.iter().enumerate().map(|(k, p)| {
             let mut p = *p;
             p.varyings =
@@ -269,11 +270,13 @@ impl FrameData {
                         .all(|(a, b)| a.to_bits() == b.to_bits()),
                     "a flat-only primitive's vertices carry the same varyings"
                 );
+                reserve_huge(&mut self.varyings, n);
                 self.varyings.extend_from_slice(&chunk[..n]);
             }
         } else {
-            self.varyings
-                .extend_from_slice(&varyings[first_varying..first_varying + 3 * varying_count * primitives.len()]);
+            let new = &varyings[first_varying..first_varying + 3 * varying_count * primitives.len()];
+            reserve_huge(&mut self.varyings, new.len());
+            self.varyings.extend_from_slice(new);
         }
         self.bytes.primitive_records += primitives.len() as u64 * modelled;
         let grid = self.grid;
@@ -326,6 +329,60 @@ impl FrameData {
     }
 }
 
+/// Arrays this large or larger grow into memory advised for transparent huge pages, and the
+/// size of such a page on x86-64.
+const HUGE_PAGE_BYTES: usize = 2 << 20;
+
+/// Makes room for `additional` more elements as `Vec::reserve` does — the same capacities, so
+/// the host bytes reported do not move — except that a buffer of 2 MiB or more is allocated
+/// anew and advised for transparent huge pages before anything is written to it.
+///
+/// Why: a tile reads the records its list names, scattered over the whole array (tris: 1M
+/// records, 112 MB), and with 4 KiB pages nearly every one of those cache misses is a TLB miss
+/// too, a page walk before the line can even be requested. With 2 MiB pages the array is a
+/// few dozen TLB entries. The device keeps its frame data from frame to frame, so only the
+/// first frame pays for the copies and the zeroing of the larger pages (docs/benchmarking.md,
+/// "Geometry and overdraw, round three").
+fn reserve_huge<T: Copy>(v: &mut Vec<T>, additional: usize) {
+    if v.capacity() - v.len() >= additional {
+        return;
+    }
+    let required = v.len().checked_add(additional).expect("frame data capacity overflow");
+    // `Vec`'s own amortised growth (twice the capacity, or what is required if more).
+    let capacity = required.max(2 * v.capacity());
+    let bytes = capacity.saturating_mul(std::mem::size_of::<T>());
+    if bytes < HUGE_PAGE_BYTES {
+        v.reserve(additional);
+        return;
+    }
+    let mut grown = Vec::<T>::with_capacity(capacity);
+    advise_huge_pages(grown.as_mut_ptr().cast::<u8>(), bytes);
+    grown.extend_from_slice(v);
+    *v = grown;
+}
+
+/// Asks the kernel to back the whole 2 MiB pages within `bytes` from `start` with huge pages.
+/// A hint: when the kernel has no transparent huge pages it says so and nothing changes.
+#[cfg(target_os = "linux")]
+fn advise_huge_pages(start: *mut u8, bytes: usize) {
+    let first = (start as usize).next_multiple_of(HUGE_PAGE_BYTES);
+    let end = (start as usize + bytes) & !(HUGE_PAGE_BYTES - 1);
+    if first < end {
+        // SAFETY: `first..end` lies inside the allocation of `bytes` bytes at `start` that the
+        // caller owns (it was just made and nothing else refers to it), and `first` is
+        // page-aligned as `madvise` requires. `MADV_HUGEPAGE` only changes how the kernel may
+        // back those pages: it changes no mapping, contents or permissions, so no Rust
+        // reference anywhere can observe it; its failure (`EINVAL` without THP) is ignored, a
+        // hint not taken.
+        unsafe {
+            libc::madvise(first as *mut libc::c_void, end - first, libc::MADV_HUGEPAGE);
+        }
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn advise_huge_pages(_start: *mut u8, _bytes: usize) {}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -347,6 +404,30 @@ mod tests {
             vertex_ids: [0, 1, 2],
             front_facing: true,
         }
+    }
+
+    #[test]
+    fn huge_page_growth_keeps_vec_capacities_and_contents() {
+        // Steps of 3, 1000 and 300,000 floats: past the 2 MiB threshold by the end, where the
+        // buffer is allocated anew. The capacities must be `Vec`'s (host bytes are reported).
+        let (mut ours, mut plain) = (Vec::<f32>::new(), Vec::<f32>::new());
+        let mut next = 0.0f32;
+        for step in [3usize, 1000, 3, 300_000, 1, 300_000, 700_000, 5] {
+            let values: Vec<f32> = (0..step)
+                .map(|_| {
+                    next += 1.0;
+                    next
+                })
+                .collect();
+            reserve_huge(&mut ours, values.len());
+            let before = ours.capacity();
+            ours.extend_from_slice(&values);
+            assert_eq!(ours.capacity(), before, "reserve_huge made room for the step");
+            plain.extend_from_slice(&values);
+            assert_eq!(ours.capacity(), plain.capacity(), "after a step of {step}");
+        }
+        assert!(ours.capacity() * 4 >= HUGE_PAGE_BYTES);
+        assert_eq!(ours, plain);
     }
 
     #[test]

@@ -227,7 +227,7 @@ pub fn rasterize<F: FragmentShader>(
             primitive,
             varyings: &run.varyings[start..start + varying_span],
             vertex_stride: run.vertex_stride,
-            coverage: PrimitiveCoverage::new(&primitive.edges(), &target.samples),
+            coverage: PrimitiveCoverage::new(&primitive.edges(), &plan.locations),
             interpolator,
             flat_depth,
             entry: run.first_entry + position as u32,
@@ -342,7 +342,7 @@ struct PrimitiveRaster<'p, 'a, F> {
     varyings: &'p [f32],
     /// Floats from one vertex's varyings to the next (see [`PrimitiveRun::vertex_stride`]).
     vertex_stride: usize,
-    coverage: PrimitiveCoverage,
+    coverage: PrimitiveCoverage<'p>,
     interpolator: Interpolator,
     /// The depth bits of a flat primitive (both depth gradients zero) when the draw's tests
     /// run on whole blocks: converted once, not per block ([`depth::settle_flat_block`]).

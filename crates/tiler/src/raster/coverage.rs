@@ -107,38 +107,39 @@ pub enum BlockCoverage {
 }
 
 /// A primitive's edges prepared for coverage queries at one sample count.
+///
+/// Built once per primitive per tile, so it is kept small: the edges and a reference to the
+/// pass's sample locations (`A·sx + B·sy` of a sample's offset is worked out where a block
+/// mask needs it, two multiplications an edge). A table of those offsets for sixteen samples
+/// made the value about 500 bytes, zeroed, filled and moved for every primitive, which cost
+/// tris more than the multiplications it saved (docs/benchmarking.md, "Geometry and
+/// overdraw, round three").
 #[derive(Clone, Debug)]
-pub struct PrimitiveCoverage {
+pub struct PrimitiveCoverage<'a> {
     edges: [Edge; 3],
-    /// `A·sx + B·sy` for each sample's offset within its pixel.
-    sample_offsets: [[i64; MAX_SAMPLES]; 3],
-    /// The sample hull of a pixel: min/max sample offsets (sub-pixels).
-    hull: (i64, i64, i64, i64),
+    locations: &'a SampleLocations,
 }
 
-impl PrimitiveCoverage {
-    pub fn new(edges: &[Edge; 3], locations: &SampleLocations) -> PrimitiveCoverage {
-        // Filled in place: `edges.map` with an array per edge cost 140 more instructions per
-        // primitive (callgrind, helmet) once the arrays grew to 16 samples.
-        let mut sample_offsets = [[0i64; MAX_SAMPLES]; 3];
-        for (offsets, e) in sample_offsets.iter_mut().zip(edges) {
-            for (o, (sx, sy)) in offsets.iter_mut().zip(locations.iter()) {
-                *o = e.a * sx as i64 + e.b * sy as i64;
-            }
-        }
-        let (hx0, hy0, hx1, hy1) = locations.hull();
-        PrimitiveCoverage { edges: *edges, sample_offsets, hull: (hx0 as i64, hy0 as i64, hx1 as i64, hy1 as i64) }
+impl<'a> PrimitiveCoverage<'a> {
+    pub fn new(edges: &[Edge; 3], locations: &'a SampleLocations) -> PrimitiveCoverage<'a> {
+        PrimitiveCoverage { edges: *edges, locations }
+    }
+
+    /// `A·sx + B·sy` of edge `e` for sample `s`'s offset within its pixel.
+    #[inline(always)]
+    fn sample_offset(edge: &Edge, (sx, sy): (i32, i32)) -> i64 {
+        edge.a * sx as i64 + edge.b * sy as i64
     }
 
     /// Classifies the `size × size` block whose top-left pixel is `(x, y)`, using the
     /// extreme sample positions of the block.
     #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn classify_block(&self, x: i32, y: i32, size: i32) -> BlockCoverage {
-        let (hx0, hy0, hx1, hy1) = self.hull;
-        let x0 = SubPixel::pixel_corner(x) + hx0;
-        let y0 = SubPixel::pixel_corner(y) + hy0;
-        let x1 = SubPixel::pixel_corner(x + size - 1) + hx1;
-        let y1 = SubPixel::pixel_corner(y + size - 1) + hy1;
+        let (hx0, hy0, hx1, hy1) = self.locations.hull();
+        let x0 = SubPixel::pixel_corner(x) + hx0 as i64;
+        let y0 = SubPixel::pixel_corner(y) + hy0 as i64;
+        let x1 = SubPixel::pixel_corner(x + size - 1) + hx1 as i64;
+        let y1 = SubPixel::pixel_corner(y + size - 1) + hy1 as i64;
         let mut full = true;
         for e in &self.edges {
             if e.max_over(x0, y0, x1, y1) < 0 {
@@ -159,9 +160,10 @@ impl PrimitiveCoverage {
         let corner_x = SubPixel::pixel_corner(x);
         let corner_y = SubPixel::pixel_corner(y);
         let scale = SUBPIXEL_SCALE as i64;
+        let offset = self.locations.offset(s);
         let mut mask = u64::MAX;
-        for (e, edge) in self.edges.iter().enumerate() {
-            let at_corner = edge.eval(corner_x, corner_y) + self.sample_offsets[e][s];
+        for edge in &self.edges {
+            let at_corner = edge.eval(corner_x, corner_y) + Self::sample_offset(edge, offset);
             mask &= edge_block_mask(at_corner, edge.a * scale, edge.b * scale, rows.clone());
             if mask == 0 {
                 break;
@@ -175,7 +177,8 @@ impl PrimitiveCoverage {
     pub fn covers(&self, x: i32, y: i32, s: usize) -> bool {
         let px = SubPixel::pixel_corner(x);
         let py = SubPixel::pixel_corner(y);
-        self.edges.iter().enumerate().all(|(e, edge)| edge.eval(px, py) + self.sample_offsets[e][s] >= 0)
+        let offset = self.locations.offset(s);
+        self.edges.iter().all(|edge| edge.eval(px, py) + Self::sample_offset(edge, offset) >= 0)
     }
 }
 
@@ -273,7 +276,8 @@ mod tests {
         ];
         for edges in cases {
             for samples in [1, 2, 4, 8, 16] {
-                let cov = PrimitiveCoverage::new(&edges, &SampleLocations::standard(samples));
+                let locations = SampleLocations::standard(samples);
+                let cov = PrimitiveCoverage::new(&edges, &locations);
                 for by in (-8..24).step_by(8) {
                     for bx in (-8..24).step_by(8) {
                         for s in 0..samples as usize {
@@ -315,7 +319,8 @@ mod tests {
     #[test]
     fn block_classes_are_consistent_with_groups() {
         let edges = triangle([(0, 0), (40 * 256, 0), (0, 40 * 256)]);
-        let cov = PrimitiveCoverage::new(&edges, &SampleLocations::standard(4));
+        let locations = SampleLocations::standard(4);
+        let cov = PrimitiveCoverage::new(&edges, &locations);
         assert_eq!(cov.classify_block(0, 0, 8), BlockCoverage::Full);
         assert_eq!(cov.classify_block(48, 48, 8), BlockCoverage::Outside);
         assert_eq!(cov.classify_block(16, 16, 8), BlockCoverage::Partial);
