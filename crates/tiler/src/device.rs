@@ -193,30 +193,18 @@ impl Device {
         if !d.format.has_depth() || d.transient {
             return Err(Error::invalid(id.to_string(), "not a depth image with memory"));
         }
-        let (format, bpp) = (d.format, d.format.bytes_per_sample());
-        let mut depths = vec![0.0f32; d.width as usize * d.height as usize];
-        // Converted on the workers, a run of rows each: a replay reads a shadow map (1600×1200
-        // in glmark2's) for every pass that samples it, between passes, while they wait.
-        const CHUNK_TEXELS: usize = 1 << 16;
-        let convert = |(out, stored): (&mut [f32], &[u8])| match format {
-            Format::D16Unorm => {
-                for (z, b) in out.iter_mut().zip(stored.chunks_exact(2)) {
-                    *z = format.depth_from_bits(u16::from_le_bytes([b[0], b[1]]) as u32);
-                }
-            }
-            _ => {
-                let mask = if format == Format::D24UnormS8Uint { 0xff_ffff } else { u32::MAX };
-                for (z, b) in out.iter_mut().zip(stored.chunks_exact(4)) {
-                    *z = format.depth_from_bits(u32::from_le_bytes([b[0], b[1], b[2], b[3]]) & mask);
-                }
-            }
-        };
-        let stored = &image.data[..d.plane_bytes()];
-        self.pool.install(|| {
-            use rayon::prelude::*;
-            depths.par_chunks_mut(CHUNK_TEXELS).zip(stored.par_chunks(CHUNK_TEXELS * bpp)).for_each(convert)
-        });
-        Ok(depths)
+        let bpp = d.format.bytes_per_sample();
+        Ok(image.data[..d.plane_bytes()]
+            .chunks_exact(bpp)
+            .map(|b| {
+                let word = match bpp {
+                    2 => u16::from_le_bytes([b[0], b[1]]) as u32,
+                    _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+                };
+                let bits = if d.format == Format::D24UnormS8Uint { word & 0xff_ffff } else { word };
+                d.format.depth_from_bits(bits)
+            })
+            .collect())
     }
 
     /// The stencil values of a depth-stencil image's first sample.
