@@ -41,6 +41,7 @@ enum Command {
 
 fn main() -> ExitCode {
     restore_sigpipe();
+    keep_freed_memory();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
@@ -72,3 +73,26 @@ fn restore_sigpipe() {
 
 #[cfg(not(unix))]
 fn restore_sigpipe() {}
+
+/// Large blocks (images, textures, frame data, vertex batches: hundreds of kilobytes to
+/// megabytes, allocated and freed pass after pass) come from the heap and stay there when
+/// freed, instead of glibc's default of a fresh `mmap` for each (zeroed pages, a page fault a
+/// page on first touch) and a `munmap` when freed. Measured on the shared glmark2 captures
+/// (`perf stat`, docs/benchmarking.md): a quarter fewer page faults and 3–10% less CPU time
+/// on the small ones. The process's peak memory is the same: only what was freed is kept.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+fn keep_freed_memory() {
+    // glibc caps the threshold at half its largest heap, 32 MiB on 64-bit: larger blocks still
+    // get their own mapping.
+    const MMAP_THRESHOLD: libc::c_int = 32 << 20;
+    // SAFETY: `mallopt` only sets the allocator's parameters (it takes the allocator's lock);
+    // both are valid options with values in their ranges, and a refusal (0) leaves glibc's
+    // defaults, which are correct, only slower.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, MMAP_THRESHOLD);
+        libc::mallopt(libc::M_TRIM_THRESHOLD, libc::c_int::MAX);
+    }
+}
+
+#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+fn keep_freed_memory() {}

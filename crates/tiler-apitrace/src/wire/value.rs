@@ -91,6 +91,20 @@ pub enum Value {
 }
 
 impl Value {
+    /// Bytes of the value's own data, counting each value as its size in memory.
+    pub fn held_bytes(&self) -> usize {
+        std::mem::size_of::<Value>()
+            + match self {
+                Value::String(bytes) | Value::Blob(bytes) => bytes.len(),
+                Value::WString(s) => s.len(),
+                Value::Array(values) | Value::Struct { members: values, .. } => {
+                    values.iter().map(Value::held_bytes).sum()
+                }
+                Value::Repr { human, machine } => human.held_bytes() + machine.held_bytes(),
+                _ => 0,
+            }
+    }
+
     /// The value as a signed integer, if it is one (integers, enums, bitmasks, booleans).
     pub fn as_i64(&self) -> Option<i64> {
         match *self {
@@ -187,6 +201,12 @@ pub struct Call {
 impl Call {
     pub fn name(&self) -> &str {
         &self.sig.name
+    }
+
+    /// The bytes its values hold: its strings, blobs and arrays (what a reader ahead of the
+    /// replay keeps in memory for it; shared signatures are not counted).
+    pub fn held_bytes(&self) -> usize {
+        self.args.iter().flatten().chain(&self.ret).map(Value::held_bytes).sum()
     }
 
     /// The value of argument `index`, if the trace recorded one.

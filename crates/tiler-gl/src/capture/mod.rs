@@ -100,6 +100,7 @@
 //! matters under a capability the replay refuses to enable (`glPolygonOffset`,
 //! `glSampleCoverage`).
 
+mod ahead;
 mod encoded;
 mod texels;
 mod translate;
@@ -107,7 +108,7 @@ mod translate;
 use std::io::{BufReader, Read};
 use std::path::Path;
 
-use tiler_apitrace::{Decoder, Limits, TraceReader};
+use tiler_apitrace::{Limits, TraceReader};
 
 use crate::context::{Context, ContextConfig};
 use crate::report::Report;
@@ -194,6 +195,9 @@ pub enum CaptureError {
     /// The caller's frame handler failed.
     #[error("frame {frame} (call {call}): {message}")]
     Frame { frame: u32, call: u64, message: String },
+    /// The system has no thread to spare for reading the capture.
+    #[error("cannot start the thread that reads the capture: {0}")]
+    Thread(std::io::Error),
 }
 
 impl From<tiler_apitrace::ReadError> for CaptureError {
@@ -246,21 +250,46 @@ pub fn replay_file(
 
 /// Replays a capture read from `reader`; `on_frame` sees each presented frame.
 ///
+/// The capture is read and decoded on a thread of its own (see [`ahead`]), so that reading
+/// overlaps rendering; the calls are replayed in order and the first error, of reading or of
+/// replaying, ends the replay as it would without it.
+///
 /// # Errors
 /// See [`CaptureError`].
-pub fn replay_reader<R: Read>(
+pub fn replay_reader<R: Read + Send>(
     reader: R,
     options: &ReplayOptions,
     on_frame: &mut dyn FnMut(&PresentedFrame) -> Result<(), String>,
 ) -> Result<Replay, CaptureError> {
     let reader = TraceReader::new(reader, options.limits)?;
-    let mut decoder = Decoder::new();
+    let budget = ahead::Budget::new(ahead::AHEAD_BYTES);
+    std::thread::scope(|scope| {
+        let (sender, receiver) = std::sync::mpsc::sync_channel(ahead::AHEAD_CALLS);
+        let budget = &budget;
+        let spawned = std::thread::Builder::new()
+            .name("tiler-capture-reader".to_string())
+            .spawn_scoped(scope, move || ahead::read(reader, &sender, budget));
+        match spawned {
+            Ok(_) => {
+                // A replay that stops early frees a reader waiting for room.
+                let _close = ahead::CloseOnDrop(budget);
+                replay_calls(ahead::Received { receiver, budget }, options, on_frame)
+            }
+            Err(e) => Err(CaptureError::Thread(e)),
+        }
+    })
+}
+
+/// Replays decoded calls in order.
+fn replay_calls(
+    decoded: impl Iterator<Item = Result<ahead::Decoded, CaptureError>>,
+    options: &ReplayOptions,
+    on_frame: &mut dyn FnMut(&PresentedFrame) -> Result<(), String>,
+) -> Result<Replay, CaptureError> {
     let mut translator = Translator::new(options.config.clone(), options.window, options.record);
     let mut calls = 0;
-    for call in reader {
-        let call = call?;
-        let sig = call.sig.clone();
-        let call = decoder.decode(call)?;
+    for item in decoded {
+        let (call, sig) = item?;
         let number = call.number;
         calls += 1;
         translator.apply(&call, &sig.name)?;

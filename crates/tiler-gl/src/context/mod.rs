@@ -1561,7 +1561,12 @@ impl Context {
     fn upload(&mut self, image: ImageId, x: u32, y: u32, width: u32, height: u32, data: &[u8]) -> Fallible {
         let desc = self.images[&image].desc;
         let bpp = desc.format.bytes_per_sample();
-        let mut contents = self.device.image_data(image).map_err(|e| e.to_string())?.to_vec();
+        let whole = (x, y, width, height) == (0, 0, desc.width, desc.height) && desc.samples == 1;
+        let mut contents = match self.device.image_data(image).map_err(|e| e.to_string())? {
+            // Every byte is replaced: the old ones are not copied first.
+            old if whole => vec![0; old.len()],
+            old => old.to_vec(),
+        };
         for row in 0..height as usize {
             // GL row y + row from the bottom is tiler row height − 1 − (y + row).
             let tiler_row = desc.height as usize - 1 - (y as usize + row);
