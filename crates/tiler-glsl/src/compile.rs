@@ -316,6 +316,7 @@ fn exact_on_halves(op: UnOp) -> bool {
             | UnOp::Trunc
             | UnOp::Round
             | UnOp::Half
+            | UnOp::HalfTowardZero
     )
 }
 
@@ -3400,12 +3401,9 @@ impl<'a> Compiler<'a> {
         let dst = self.temps(4);
         let dst4 = [dst[0], dst[1], dst[2], dst[3]];
         self.emit(Inst::Sample { slot, dst: dst4, coord: [s, t], lod, reference, offset: [0, 0] });
-        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-        self.set_prec(&dst, prec);
         if shadow {
-            let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-            self.set_prec(&dst, prec);
-            return Ok(Value { ty: FLOAT, regs: vec![dst[0]] });
+            let dst = self.texels(slot, vec![dst[0]]);
+            return Ok(Value { ty: FLOAT, regs: dst });
         }
         Ok(self.texel_value(&args[0].ty, slot, dst))
     }
@@ -3430,8 +3428,7 @@ impl<'a> Compiler<'a> {
         let dst = self.temps(4);
         let direction = [direction.regs[0], direction.regs[1], direction.regs[2]];
         self.emit(Inst::SampleCube { slot, dst: [dst[0], dst[1], dst[2], dst[3]], direction, lod });
-        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-        self.set_prec(&dst, prec);
+        let dst = self.texels(slot, dst);
         Ok(Value { ty: Type::vec(4), regs: dst })
     }
 }
@@ -3483,12 +3480,34 @@ impl Compiler<'_> {
             Type::Sampler(kind) => kind.result(),
             _ => Scalar::Float,
         };
-        let prec = match result {
-            Scalar::Float => self.sampler_precision.get(&slot).copied().unwrap_or_default(),
-            _ => Prec::High,
+        let dst = match result {
+            Scalar::Float => self.texels(slot, dst),
+            _ => {
+                self.set_prec(&dst, Prec::High);
+                dst
+            }
         };
-        self.set_prec(&dst, prec);
         Value { ty: Type::Vector(result, 4), regs: dst }
+    }
+
+    /// The float results `dst` of a lookup through the sampler in `slot`, at its precision.
+    /// Through a `mediump`/`lowp` sampler they are binary16 values, rounded toward zero: what
+    /// llvmpipe returns (Mesa lowers the lookup's result to 16 bits; tools/float-probe's
+    /// `texels.frag` reads every texel of an RGBA8 texture back so, e.g. 30/255 = 1927.53
+    /// steps of 2⁻¹⁴ as 1927, not 1928).
+    fn texels(&mut self, slot: u16, dst: Vec<Reg>) -> Vec<Reg> {
+        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
+        if prec != Prec::Medium {
+            self.set_prec(&dst, prec);
+            return dst;
+        }
+        dst.into_iter()
+            .map(|r| {
+                let d = self.temp();
+                self.emit(Inst::Un(UnOp::HalfTowardZero, d, r));
+                self.lowered_result(d, prec, false, true)
+            })
+            .collect()
     }
 
     /// GLSL ES 3.00's `texelFetch(sampler, ivec P, int lod)` (texel `P` of level `lod`, no
