@@ -664,6 +664,13 @@ impl<'a> Compiler<'a> {
     fn un_at(&mut self, op: UnOp, a: Reg, prec: Prec, lower: bool) -> Reg {
         let (float_in, float_out) = (float_operand(op), float_result(op));
         let a = if lower && float_in { self.halved(a) } else { a };
+        if lower && op == UnOp::InverseSqrt {
+            // llvmpipe's binary16 `inversesqrt` is `1 / sqrt(x)`, both rounded (float-probe's
+            // `ops.frag`: 63 of 63 texels; the correctly rounded one gave 48).
+            let root = self.un_at(UnOp::Sqrt, a, prec, true);
+            let one = self.konst(1.0);
+            return self.bin_at(BinOp::Div, one, root, prec, true);
+        }
         let d = self.temp();
         self.emit(Inst::Un(op, d, a));
         let exact = float_in && exact_on_halves(op);
@@ -2264,11 +2271,13 @@ impl<'a> Compiler<'a> {
         acc.expect("n > 2")
     }
 
-    /// `Σ a[i]·b[i]`, in order. Lowered to binary16 (see [`Prec`]), the operands are rounded
-    /// and the sum is rounded once at the end, its products and partial sums kept in single
-    /// precision: what llvmpipe computes for a `mediump` `dot` (measured: `dot((1, e, e, 0),
-    /// (1, 1, 1, 1))` with `e = 3·2⁻¹¹` gives `1 + 6·2⁻¹¹`, where rounding each addition would
-    /// give `1 + 8·2⁻¹¹`), while its written-out multiply-adds round every operation.
+    /// `Σ a[i]·b[i]`, in order. Lowered to binary16 (see [`Prec`]), it is Mesa's chain of
+    /// multiply-adds from the last component, every product and sum rounded:
+    /// `a₀b₀ + (a₁b₁ + a₂b₂)`. Measured on llvmpipe (tools/float-probe's `dot.frag`, 64 rows
+    /// of texels): `dot(v, v)` of a `vec3` and `vec2` to the bit, and `dot((1, e, e, 0),
+    /// (1, 1, 1, 1))` with `e = 3·2⁻¹¹` gives `1 + 6·2⁻¹¹` (rounding from the first component
+    /// would give `1 + 8·2⁻¹¹`). Not modelled: NIR also factors `a·b + a·c` into `a·(b + c)`
+    /// when two terms share an operand (`dot((a, b), (c, a))`).
     fn dot(&mut self, a: &[Reg], b: &[Reg]) -> Reg {
         let prec = a.iter().chain(b).map(|&r| self.prec(r)).max().unwrap_or_default();
         if prec == Prec::Medium {
@@ -2304,19 +2313,13 @@ impl<'a> Compiler<'a> {
             }
             return acc;
         }
-        let raw = |c: &mut Self, op, x, y| {
-            let d = c.temp();
-            c.emit(Inst::Bin(op, d, x, y));
-            d
-        };
-        let (a0, b0) = (self.halved(a[0]), self.halved(b[0]));
-        let mut acc = raw(self, BinOp::Mul, a0, b0);
-        for i in 1..a.len() {
-            let (ai, bi) = (self.halved(a[i]), self.halved(b[i]));
-            let p = raw(self, BinOp::Mul, ai, bi);
-            acc = raw(self, BinOp::Add, acc, p);
+        let last = a.len() - 1;
+        let mut acc = self.bin_at(BinOp::Mul, a[last], b[last], prec, true);
+        for i in (0..last).rev() {
+            let p = self.bin_at(BinOp::Mul, a[i], b[i], prec, true);
+            acc = self.bin_at(BinOp::Add, p, acc, prec, true);
         }
-        self.lowered_result(acc, prec, true, false)
+        acc
     }
 
     /// `M · v` for a column-major matrix of `columns` columns of `rows` components: row r is
