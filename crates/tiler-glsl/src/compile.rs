@@ -925,6 +925,23 @@ impl<'a> Compiler<'a> {
         }
     }
 
+    /// A `mediump` fragment input holds single-precision values, as a `mediump` variable
+    /// assigned a `highp` expression does (see [`Prec`]): llvmpipe interpolates in single
+    /// precision and Mesa's lowered operations take the input through a conversion it may
+    /// drop. Measured (tools/float-probe/experiments `mediump-varyings.frag`): `v.x + v.y`,
+    /// `v.x * v.y` and `sqrt(v.y)` single precision, `(v.x + v.y) + v.y` and `v.x - 0.1`
+    /// binary16.
+    fn input_declared(&mut self, name: &str, storage: Storage, prec: Prec) {
+        let input = matches!(storage, Storage::Varying | Storage::In) && self.stage == Stage::Fragment;
+        if !input || prec != Prec::Medium {
+            return;
+        }
+        if let Some(symbol) = self.lookup(name) {
+            let regs = symbol.regs.clone();
+            self.holds_single.extend(regs);
+        }
+    }
+
     /// `precision q type;`: the default for the rest of the scope.
     fn default_precision(&mut self, q: &ast::PrecisionQualifier, spec: &ast::TypeSpecifier) {
         use ast::TypeSpecifierNonArrayData as T;
@@ -1290,6 +1307,7 @@ impl<'a> Compiler<'a> {
                     let ty = self.arrayed(base.clone(), head.array_specifier.as_ref())?;
                     self.variable(name.as_str(), ty, var, head.initializer.as_ref())?;
                     self.declared(name.as_str(), prec);
+                    self.input_declared(name.as_str(), storage, prec);
                 }
                 for tail in &list.tail {
                     self.at(&tail.span);
@@ -1297,6 +1315,7 @@ impl<'a> Compiler<'a> {
                     let var = VarDecl { location: None, ..var };
                     self.variable(tail.ident.ident.as_str(), ty, var, tail.initializer.as_ref())?;
                     self.declared(tail.ident.ident.as_str(), prec);
+                    self.input_declared(tail.ident.ident.as_str(), storage, prec);
                 }
                 Ok(())
             }
@@ -2313,13 +2332,78 @@ impl<'a> Compiler<'a> {
             }
             return acc;
         }
+        // NIR's chain `fma(a₀, b₀, fma(a₁, b₁, a₂·b₂))`, factored as its inexact rules do
+        // (`fma(x, y, x·z)` → `x·(y + z)`, `fma(x, y, fma(x, z, w))` → `fma(x, y + z, w)`),
+        // then each fma computed as a rounded product and a rounded sum (measured unfused).
         let last = a.len() - 1;
-        let mut acc = self.bin_at(BinOp::Mul, a[last], b[last], prec, true);
+        let mut chain = DotChain::Mul(DotTerm::Reg(a[last]), DotTerm::Reg(b[last]), None);
         for i in (0..last).rev() {
-            let p = self.bin_at(BinOp::Mul, a[i], b[i], prec, true);
-            acc = self.bin_at(BinOp::Add, p, acc, prec, true);
+            let (x, y) = (a[i], b[i]);
+            chain = match chain {
+                DotChain::Mul(p, q, rest) => {
+                    // In the order NIR's search tries the commutative operands: the outer
+                    // fma's swapped before the inner product's (float-probe `ops.frag`,
+                    // `dot((a, b, a), (b, a, b))` is `a·3b`, not `b·3a`).
+                    let sum = |other: Reg, rest: &DotTerm| {
+                        DotTerm::Add(Box::new(DotTerm::Reg(other)), Box::new(rest.clone()))
+                    };
+                    let common = if self.same_value(&p, x) {
+                        Some((p.clone(), sum(y, &q)))
+                    } else if self.same_value(&p, y) {
+                        Some((p.clone(), sum(x, &q)))
+                    } else if self.same_value(&q, x) {
+                        Some((q.clone(), sum(y, &p)))
+                    } else if self.same_value(&q, y) {
+                        Some((q.clone(), sum(x, &p)))
+                    } else {
+                        None
+                    };
+                    match common {
+                        Some((factor, sum)) => DotChain::Mul(factor, sum, rest),
+                        None => {
+                            DotChain::Mul(DotTerm::Reg(x), DotTerm::Reg(y), Some(Box::new(DotChain::Mul(p, q, rest))))
+                        }
+                    }
+                }
+            };
         }
-        acc
+        self.dot_chain(chain, prec)
+    }
+
+    /// Whether a factor of a lowered `dot` is the same value as `r`: the same register, or
+    /// constants of equal value.
+    fn same_value(&self, term: &DotTerm, r: Reg) -> bool {
+        match term {
+            DotTerm::Reg(t) => {
+                *t == r
+                    || matches!((self.constant(*t), self.constant(r)), (Some(x), Some(y)) if x.to_bits() == y.to_bits())
+            }
+            DotTerm::Add(..) => false,
+        }
+    }
+
+    /// Emits a factored `dot` chain in binary16, every operation rounded.
+    fn dot_chain(&mut self, chain: DotChain, prec: Prec) -> Reg {
+        let DotChain::Mul(p, q, rest) = chain;
+        let (p, q) = (self.dot_term(p, prec), self.dot_term(q, prec));
+        let product = self.bin_at(BinOp::Mul, p, q, prec, true);
+        match rest {
+            None => product,
+            Some(rest) => {
+                let rest = self.dot_chain(*rest, prec);
+                self.bin_at(BinOp::Add, product, rest, prec, true)
+            }
+        }
+    }
+
+    fn dot_term(&mut self, term: DotTerm, prec: Prec) -> Reg {
+        match term {
+            DotTerm::Reg(r) => r,
+            DotTerm::Add(b, c) => {
+                let (b, c) = (self.dot_term(*b, prec), self.dot_term(*c, prec));
+                self.bin_at(BinOp::Add, b, c, prec, true)
+            }
+        }
     }
 
     /// `M · v` for a column-major matrix of `columns` columns of `rows` components: row r is
@@ -3567,6 +3651,19 @@ fn scalar_kinds(ty: &Type) -> Vec<Scalar> {
         Type::Array(t, n) => scalar_kinds(t).repeat(*n),
         _ => vec![ty.scalar().unwrap_or(Scalar::Float); ty.size()],
     }
+}
+
+/// A lowered `dot` as Mesa's NIR has it after factoring (see [`Compiler::dot_at`]):
+/// `Mul(p, q, rest)` is `p·q`, plus `rest` when there is one (an fma).
+enum DotChain {
+    Mul(DotTerm, DotTerm, Option<Box<DotChain>>),
+}
+
+/// A factor of a [`DotChain`]: an operand, or a sum of them that factoring made.
+#[derive(Clone)]
+enum DotTerm {
+    Reg(Reg),
+    Add(Box<DotTerm>, Box<DotTerm>),
 }
 
 /// A `mediump` operation computed in single precision, to compute again in binary16.
