@@ -717,6 +717,13 @@ impl<'a> Compiler<'a> {
     fn bin_at(&mut self, op: BinOp, a: Reg, b: Reg, prec: Prec, lower: bool) -> Reg {
         use BinOp as B;
         let (a, b) = if lower { (self.halved(a), self.halved(b)) } else { (a, b) };
+        if lower && op == B::Pow {
+            // Mesa's `exp2(y · log2(x))`, each step rounded to binary16 (float-probe
+            // `pow.frag`: 63 of 63 texels; rounding `pow` once gave 49).
+            let log = self.un_at(UnOp::Log2, a, prec, true);
+            let product = self.bin_at(B::Mul, b, log, prec, true);
+            return self.un_at(UnOp::Exp2, product, prec, true);
+        }
         let d = self.temp();
         self.emit(Inst::Bin(op, d, a, b));
         let float_out = !matches!(op, B::Lt | B::Le | B::Gt | B::Ge | B::Eq | B::Ne);
@@ -752,6 +759,21 @@ impl<'a> Compiler<'a> {
             return self.lowered_result(d, prec, false, lower);
         }
         let (a, b, c) = if lower { (self.halved(a), self.halved(b), self.halved(c)) } else { (a, b, c) };
+        if lower && op == TriOp::Mix {
+            // NIR's lowered `flrp`, every step rounded (float-probe `pow.frag`, 64 of 64
+            // texels each): `x·(1 − t) + y·t` when `1 − t` folds to a constant, else
+            // `x + t·(y − x)`.
+            if self.constant(c).is_some() {
+                let one = self.konst(1.0);
+                let s = self.bin_at(BinOp::Sub, one, c, prec, true);
+                let xs = self.bin_at(BinOp::Mul, a, s, prec, true);
+                let yt = self.bin_at(BinOp::Mul, b, c, prec, true);
+                return self.bin_at(BinOp::Add, xs, yt, prec, true);
+            }
+            let diff = self.bin_at(BinOp::Sub, b, a, prec, true);
+            let step = self.bin_at(BinOp::Mul, c, diff, prec, true);
+            return self.bin_at(BinOp::Add, a, step, prec, true);
+        }
         let d = self.temp();
         self.emit(Inst::Tri(op, d, a, b, c));
         self.lowered_result(d, prec, lower, false)
