@@ -3603,10 +3603,11 @@ impl Compiler<'_> {
     /// Through a `mediump`/`lowp` sampler they are binary16 values, rounded toward zero: what
     /// llvmpipe returns (Mesa lowers the lookup's result to 16 bits; tools/float-probe's
     /// `texels.frag` reads every texel of an RGBA8 texture back so, e.g. 30/255 = 1927.53
-    /// steps of 2⁻¹⁴ as 1927, not 1928).
+    /// steps of 2⁻¹⁴ as 1927, not 1928). Fragment shaders only: a vertex shader's lookups
+    /// (llvmpipe's draw module) are not measured, and keep the sampler's value.
     fn texels(&mut self, slot: u16, dst: Vec<Reg>) -> Vec<Reg> {
         let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-        if prec != Prec::Medium {
+        if prec != Prec::Medium || self.stage != Stage::Fragment {
             self.set_prec(&dst, prec);
             return dst;
         }
