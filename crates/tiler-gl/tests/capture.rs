@@ -1573,16 +1573,31 @@ fn array_uploads_above_level_0_and_a_layer_past_the_last_are_errors_naming_the_c
 
 /// `tools/float-probe`'s `precision.frag`, recorded on llvmpipe (a headless program drawing into
 /// a pbuffer, which tiler takes as its window): each pixel holds the bits of one float, a
-/// `mediump` or `highp` expression per column. tiler computes llvmpipe's bits exactly but for
-/// two binary16 ulps where llvmpipe's `inversesqrt` (an approximation refined by one Newton
-/// step) rounds the other way (`normalize` and `inversesqrt` of the last row).
+/// `mediump` or `highp` expression per column. tiler computes llvmpipe's bits exactly, the
+/// binary16 `inversesqrt` (and so `normalize`) included: `1 / sqrt(x)`, both rounded.
 #[test]
 fn float_probe_precision_is_llvmpipes_to_the_bit() {
-    let known = [(3, 6), (3, 8)];
-    let differ: Vec<_> = float_probe("precision", 29).into_iter().filter(|&(.., got, want)| got != want).collect();
-    let unexpected: Vec<_> = differ.iter().filter(|(y, x, ..)| !known.contains(&(*y, *x))).collect();
-    assert!(unexpected.is_empty(), "differ from llvmpipe (y, x, tiler, llvmpipe): {unexpected:?}");
-    assert_eq!(differ.len(), known.len(), "the known differences are still there: {differ:?}");
+    let values = float_probe("precision", 29);
+    assert_eq!(values.len(), 64);
+    let differ: Vec<_> = values.into_iter().filter(|&(.., got, want)| got != want).collect();
+    assert!(differ.is_empty(), "differ from llvmpipe (y, x, tiler, llvmpipe): {differ:x?}");
+}
+
+/// `mediump` texels and arithmetic on them, llvmpipe's to the bit (`tools/float-probe`'s
+/// `texels.frag`, `ops.frag`, `dot.frag`, `pow.frag` with an uploaded 8×8 texture): texels
+/// through a `mediump` sampler are binary16 rounded toward zero; `dot` is NIR's factored
+/// multiply-add chain from the last component, `inversesqrt` `1/sqrt`, `pow`
+/// `exp2(y·log2 x)` and `mix` the lowered `flrp`, every step rounded to binary16.
+#[test]
+fn float_probe_mediump_texels_and_builtins_are_llvmpipes_to_the_bit() {
+    for (name, count) in
+        [("texels", 16 * 8), ("mediump-ops", 16 * 64), ("mediump-dot", 10 * 64), ("mediump-pow", 10 * 64)]
+    {
+        let values = float_probe(name, 40);
+        assert_eq!(values.len(), count, "{name}");
+        let differ: Vec<_> = values.iter().filter(|&&(.., got, want)| got != want).collect();
+        assert!(differ.is_empty(), "{name}: {} differ (y, x, tiler, llvmpipe) {differ:x?}", differ.len());
+    }
 }
 
 /// Replays a float-probe capture (`tools/float-probe`) with a snapshot at `call` (its

@@ -316,6 +316,7 @@ fn exact_on_halves(op: UnOp) -> bool {
             | UnOp::Trunc
             | UnOp::Round
             | UnOp::Half
+            | UnOp::HalfTowardZero
     )
 }
 
@@ -663,6 +664,13 @@ impl<'a> Compiler<'a> {
     fn un_at(&mut self, op: UnOp, a: Reg, prec: Prec, lower: bool) -> Reg {
         let (float_in, float_out) = (float_operand(op), float_result(op));
         let a = if lower && float_in { self.halved(a) } else { a };
+        if lower && op == UnOp::InverseSqrt {
+            // llvmpipe's binary16 `inversesqrt` is `1 / sqrt(x)`, both rounded (float-probe's
+            // `ops.frag`: 63 of 63 texels; the correctly rounded one gave 48).
+            let root = self.un_at(UnOp::Sqrt, a, prec, true);
+            let one = self.konst(1.0);
+            return self.bin_at(BinOp::Div, one, root, prec, true);
+        }
         let d = self.temp();
         self.emit(Inst::Un(op, d, a));
         let exact = float_in && exact_on_halves(op);
@@ -709,6 +717,13 @@ impl<'a> Compiler<'a> {
     fn bin_at(&mut self, op: BinOp, a: Reg, b: Reg, prec: Prec, lower: bool) -> Reg {
         use BinOp as B;
         let (a, b) = if lower { (self.halved(a), self.halved(b)) } else { (a, b) };
+        if lower && op == B::Pow {
+            // Mesa's `exp2(y · log2(x))`, each step rounded to binary16 (float-probe
+            // `pow.frag`: 63 of 63 texels; rounding `pow` once gave 49).
+            let log = self.un_at(UnOp::Log2, a, prec, true);
+            let product = self.bin_at(B::Mul, b, log, prec, true);
+            return self.un_at(UnOp::Exp2, product, prec, true);
+        }
         let d = self.temp();
         self.emit(Inst::Bin(op, d, a, b));
         let float_out = !matches!(op, B::Lt | B::Le | B::Gt | B::Ge | B::Eq | B::Ne);
@@ -744,6 +759,21 @@ impl<'a> Compiler<'a> {
             return self.lowered_result(d, prec, false, lower);
         }
         let (a, b, c) = if lower { (self.halved(a), self.halved(b), self.halved(c)) } else { (a, b, c) };
+        if lower && op == TriOp::Mix {
+            // NIR's lowered `flrp`, every step rounded (float-probe `pow.frag`, 64 of 64
+            // texels each): `x·(1 − t) + y·t` when `1 − t` folds to a constant, else
+            // `x + t·(y − x)`.
+            if self.constant(c).is_some() {
+                let one = self.konst(1.0);
+                let s = self.bin_at(BinOp::Sub, one, c, prec, true);
+                let xs = self.bin_at(BinOp::Mul, a, s, prec, true);
+                let yt = self.bin_at(BinOp::Mul, b, c, prec, true);
+                return self.bin_at(BinOp::Add, xs, yt, prec, true);
+            }
+            let diff = self.bin_at(BinOp::Sub, b, a, prec, true);
+            let step = self.bin_at(BinOp::Mul, c, diff, prec, true);
+            return self.bin_at(BinOp::Add, a, step, prec, true);
+        }
         let d = self.temp();
         self.emit(Inst::Tri(op, d, a, b, c));
         self.lowered_result(d, prec, lower, false)
@@ -914,6 +944,23 @@ impl<'a> Compiler<'a> {
             // Samplers in a struct: their slots are not registers.
             _ if ty.contains_sampler() => {}
             _ => self.set_prec(&regs, prec),
+        }
+    }
+
+    /// A `mediump` fragment input holds single-precision values, as a `mediump` variable
+    /// assigned a `highp` expression does (see [`Prec`]): llvmpipe interpolates in single
+    /// precision and Mesa's lowered operations take the input through a conversion it may
+    /// drop. Measured (tools/float-probe/experiments `mediump-varyings.frag`): `v.x + v.y`,
+    /// `v.x * v.y` and `sqrt(v.y)` single precision, `(v.x + v.y) + v.y` and `v.x - 0.1`
+    /// binary16.
+    fn input_declared(&mut self, name: &str, storage: Storage, prec: Prec) {
+        let input = matches!(storage, Storage::Varying | Storage::In) && self.stage == Stage::Fragment;
+        if !input || prec != Prec::Medium {
+            return;
+        }
+        if let Some(symbol) = self.lookup(name) {
+            let regs = symbol.regs.clone();
+            self.holds_single.extend(regs);
         }
     }
 
@@ -1282,6 +1329,7 @@ impl<'a> Compiler<'a> {
                     let ty = self.arrayed(base.clone(), head.array_specifier.as_ref())?;
                     self.variable(name.as_str(), ty, var, head.initializer.as_ref())?;
                     self.declared(name.as_str(), prec);
+                    self.input_declared(name.as_str(), storage, prec);
                 }
                 for tail in &list.tail {
                     self.at(&tail.span);
@@ -1289,6 +1337,7 @@ impl<'a> Compiler<'a> {
                     let var = VarDecl { location: None, ..var };
                     self.variable(tail.ident.ident.as_str(), ty, var, tail.initializer.as_ref())?;
                     self.declared(tail.ident.ident.as_str(), prec);
+                    self.input_declared(tail.ident.ident.as_str(), storage, prec);
                 }
                 Ok(())
             }
@@ -2263,11 +2312,13 @@ impl<'a> Compiler<'a> {
         acc.expect("n > 2")
     }
 
-    /// `Σ a[i]·b[i]`, in order. Lowered to binary16 (see [`Prec`]), the operands are rounded
-    /// and the sum is rounded once at the end, its products and partial sums kept in single
-    /// precision: what llvmpipe computes for a `mediump` `dot` (measured: `dot((1, e, e, 0),
-    /// (1, 1, 1, 1))` with `e = 3·2⁻¹¹` gives `1 + 6·2⁻¹¹`, where rounding each addition would
-    /// give `1 + 8·2⁻¹¹`), while its written-out multiply-adds round every operation.
+    /// `Σ a[i]·b[i]`, in order. Lowered to binary16 (see [`Prec`]), it is Mesa's chain of
+    /// multiply-adds from the last component, every product and sum rounded:
+    /// `a₀b₀ + (a₁b₁ + a₂b₂)`. Measured on llvmpipe (tools/float-probe's `dot.frag`, 64 rows
+    /// of texels): `dot(v, v)` of a `vec3` and `vec2` to the bit, and `dot((1, e, e, 0),
+    /// (1, 1, 1, 1))` with `e = 3·2⁻¹¹` gives `1 + 6·2⁻¹¹` (rounding from the first component
+    /// would give `1 + 8·2⁻¹¹`). Not modelled: NIR also factors `a·b + a·c` into `a·(b + c)`
+    /// when two terms share an operand (`dot((a, b), (c, a))`).
     fn dot(&mut self, a: &[Reg], b: &[Reg]) -> Reg {
         let prec = a.iter().chain(b).map(|&r| self.prec(r)).max().unwrap_or_default();
         if prec == Prec::Medium {
@@ -2303,19 +2354,78 @@ impl<'a> Compiler<'a> {
             }
             return acc;
         }
-        let raw = |c: &mut Self, op, x, y| {
-            let d = c.temp();
-            c.emit(Inst::Bin(op, d, x, y));
-            d
-        };
-        let (a0, b0) = (self.halved(a[0]), self.halved(b[0]));
-        let mut acc = raw(self, BinOp::Mul, a0, b0);
-        for i in 1..a.len() {
-            let (ai, bi) = (self.halved(a[i]), self.halved(b[i]));
-            let p = raw(self, BinOp::Mul, ai, bi);
-            acc = raw(self, BinOp::Add, acc, p);
+        // NIR's chain `fma(a₀, b₀, fma(a₁, b₁, a₂·b₂))`, factored as its inexact rules do
+        // (`fma(x, y, x·z)` → `x·(y + z)`, `fma(x, y, fma(x, z, w))` → `fma(x, y + z, w)`),
+        // then each fma computed as a rounded product and a rounded sum (measured unfused).
+        let last = a.len() - 1;
+        let mut chain = DotChain::Mul(DotTerm::Reg(a[last]), DotTerm::Reg(b[last]), None);
+        for i in (0..last).rev() {
+            let (x, y) = (a[i], b[i]);
+            chain = match chain {
+                DotChain::Mul(p, q, rest) => {
+                    // In the order NIR's search tries the commutative operands: the outer
+                    // fma's swapped before the inner product's (float-probe `ops.frag`,
+                    // `dot((a, b, a), (b, a, b))` is `a·3b`, not `b·3a`).
+                    let sum = |other: Reg, rest: &DotTerm| {
+                        DotTerm::Add(Box::new(DotTerm::Reg(other)), Box::new(rest.clone()))
+                    };
+                    let common = if self.same_value(&p, x) {
+                        Some((p.clone(), sum(y, &q)))
+                    } else if self.same_value(&p, y) {
+                        Some((p.clone(), sum(x, &q)))
+                    } else if self.same_value(&q, x) {
+                        Some((q.clone(), sum(y, &p)))
+                    } else if self.same_value(&q, y) {
+                        Some((q.clone(), sum(x, &p)))
+                    } else {
+                        None
+                    };
+                    match common {
+                        Some((factor, sum)) => DotChain::Mul(factor, sum, rest),
+                        None => {
+                            DotChain::Mul(DotTerm::Reg(x), DotTerm::Reg(y), Some(Box::new(DotChain::Mul(p, q, rest))))
+                        }
+                    }
+                }
+            };
         }
-        self.lowered_result(acc, prec, true, false)
+        self.dot_chain(chain, prec)
+    }
+
+    /// Whether a factor of a lowered `dot` is the same value as `r`: the same register, or
+    /// constants of equal value.
+    fn same_value(&self, term: &DotTerm, r: Reg) -> bool {
+        match term {
+            DotTerm::Reg(t) => {
+                *t == r
+                    || matches!((self.constant(*t), self.constant(r)), (Some(x), Some(y)) if x.to_bits() == y.to_bits())
+            }
+            DotTerm::Add(..) => false,
+        }
+    }
+
+    /// Emits a factored `dot` chain in binary16, every operation rounded.
+    fn dot_chain(&mut self, chain: DotChain, prec: Prec) -> Reg {
+        let DotChain::Mul(p, q, rest) = chain;
+        let (p, q) = (self.dot_term(p, prec), self.dot_term(q, prec));
+        let product = self.bin_at(BinOp::Mul, p, q, prec, true);
+        match rest {
+            None => product,
+            Some(rest) => {
+                let rest = self.dot_chain(*rest, prec);
+                self.bin_at(BinOp::Add, product, rest, prec, true)
+            }
+        }
+    }
+
+    fn dot_term(&mut self, term: DotTerm, prec: Prec) -> Reg {
+        match term {
+            DotTerm::Reg(r) => r,
+            DotTerm::Add(b, c) => {
+                let (b, c) = (self.dot_term(*b, prec), self.dot_term(*c, prec));
+                self.bin_at(BinOp::Add, b, c, prec, true)
+            }
+        }
     }
 
     /// `M · v` for a column-major matrix of `columns` columns of `rows` components: row r is
@@ -3400,12 +3510,9 @@ impl<'a> Compiler<'a> {
         let dst = self.temps(4);
         let dst4 = [dst[0], dst[1], dst[2], dst[3]];
         self.emit(Inst::Sample { slot, dst: dst4, coord: [s, t], lod, reference, offset: [0, 0] });
-        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-        self.set_prec(&dst, prec);
         if shadow {
-            let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-            self.set_prec(&dst, prec);
-            return Ok(Value { ty: FLOAT, regs: vec![dst[0]] });
+            let dst = self.texels(slot, vec![dst[0]]);
+            return Ok(Value { ty: FLOAT, regs: dst });
         }
         Ok(self.texel_value(&args[0].ty, slot, dst))
     }
@@ -3430,8 +3537,7 @@ impl<'a> Compiler<'a> {
         let dst = self.temps(4);
         let direction = [direction.regs[0], direction.regs[1], direction.regs[2]];
         self.emit(Inst::SampleCube { slot, dst: [dst[0], dst[1], dst[2], dst[3]], direction, lod });
-        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-        self.set_prec(&dst, prec);
+        let dst = self.texels(slot, dst);
         Ok(Value { ty: Type::vec(4), regs: dst })
     }
 }
@@ -3483,12 +3589,35 @@ impl Compiler<'_> {
             Type::Sampler(kind) => kind.result(),
             _ => Scalar::Float,
         };
-        let prec = match result {
-            Scalar::Float => self.sampler_precision.get(&slot).copied().unwrap_or_default(),
-            _ => Prec::High,
+        let dst = match result {
+            Scalar::Float => self.texels(slot, dst),
+            _ => {
+                self.set_prec(&dst, Prec::High);
+                dst
+            }
         };
-        self.set_prec(&dst, prec);
         Value { ty: Type::Vector(result, 4), regs: dst }
+    }
+
+    /// The float results `dst` of a lookup through the sampler in `slot`, at its precision.
+    /// Through a `mediump`/`lowp` sampler they are binary16 values, rounded toward zero: what
+    /// llvmpipe returns (Mesa lowers the lookup's result to 16 bits; tools/float-probe's
+    /// `texels.frag` reads every texel of an RGBA8 texture back so, e.g. 30/255 = 1927.53
+    /// steps of 2⁻¹⁴ as 1927, not 1928). Fragment shaders only: a vertex shader's lookups
+    /// (llvmpipe's draw module) are not measured, and keep the sampler's value.
+    fn texels(&mut self, slot: u16, dst: Vec<Reg>) -> Vec<Reg> {
+        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
+        if prec != Prec::Medium || self.stage != Stage::Fragment {
+            self.set_prec(&dst, prec);
+            return dst;
+        }
+        dst.into_iter()
+            .map(|r| {
+                let d = self.temp();
+                self.emit(Inst::Un(UnOp::HalfTowardZero, d, r));
+                self.lowered_result(d, prec, false, true)
+            })
+            .collect()
     }
 
     /// GLSL ES 3.00's `texelFetch(sampler, ivec P, int lod)` (texel `P` of level `lod`, no
@@ -3545,6 +3674,19 @@ fn scalar_kinds(ty: &Type) -> Vec<Scalar> {
         Type::Array(t, n) => scalar_kinds(t).repeat(*n),
         _ => vec![ty.scalar().unwrap_or(Scalar::Float); ty.size()],
     }
+}
+
+/// A lowered `dot` as Mesa's NIR has it after factoring (see [`Compiler::dot_at`]):
+/// `Mul(p, q, rest)` is `p·q`, plus `rest` when there is one (an fma).
+enum DotChain {
+    Mul(DotTerm, DotTerm, Option<Box<DotChain>>),
+}
+
+/// A factor of a [`DotChain`]: an operand, or a sum of them that factoring made.
+#[derive(Clone)]
+enum DotTerm {
+    Reg(Reg),
+    Add(Box<DotTerm>, Box<DotTerm>),
 }
 
 /// A `mediump` operation computed in single precision, to compute again in binary16.

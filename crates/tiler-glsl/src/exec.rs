@@ -704,6 +704,7 @@ pub(crate) fn unary<const W: usize>(op: UnOp, a: [f32; W]) -> [f32; W] {
             }
             return out;
         }
+        UnOp::HalfTowardZero => half_toward_zero,
         UnOp::FToHalf => |x| f32::from_bits(u32::from(half::f16::from_f32(x).to_bits())),
         UnOp::HalfToF => |x| half::f16::from_bits(x.to_bits() as u16).to_f32(),
     };
@@ -734,6 +735,24 @@ pub(crate) fn round_half(x: f32) -> f32 {
         normal
     };
     f32::from_bits(r | sign)
+}
+
+/// `x` rounded toward zero to an IEEE binary16 value, as an `f32`: ±65504 beyond it,
+/// binary16's subnormals (steps of 2⁻²⁴) below 2⁻¹⁴, NaN and ∞ kept.
+pub(crate) fn half_toward_zero(x: f32) -> f32 {
+    let abs = x.abs();
+    let r = if !abs.is_finite() {
+        abs
+    } else if abs >= 65504.0 {
+        65504.0
+    } else if abs < f32::from_bits(0x3880_0000) {
+        // Exact: scaling by a power of two and truncating to an integer below 2¹⁰.
+        (abs * 16_777_216.0).trunc() / 16_777_216.0
+    } else {
+        // Drop 13 of the 23 fraction bits.
+        f32::from_bits(abs.to_bits() & !0x1fff)
+    };
+    r.copysign(x)
 }
 
 #[inline(always)]
@@ -954,6 +973,23 @@ mod tests {
             let got = super::round_half(x);
             assert!(got.to_bits() == want.to_bits() || got.is_nan() && want.is_nan(), "{bits:#x}: {got} {want}");
         }
+    }
+
+    /// `half_toward_zero` gives the binary16 value of largest magnitude not beyond `x`.
+    #[test]
+    fn half_toward_zero_is_binary16_truncation() {
+        let edges =
+            [0x3880_0000u32, 0x387f_ffff, 0x3380_0001, 0x3300_0000, 0x477f_e000, 0x477f_ffff, 0x4780_0000, 0x3d70_e000];
+        for bits in (0..=u32::MAX).step_by(251).chain(edges).chain(edges.map(|b| b | 0x8000_0000)) {
+            let x = f32::from_bits(bits);
+            let nearest = half::f16::from_f32(x.abs());
+            let want = if nearest.to_f32() > x.abs() { half::f16::from_bits(nearest.to_bits() - 1) } else { nearest };
+            let want = want.to_f32().copysign(x);
+            let got = super::half_toward_zero(x);
+            assert!(got.to_bits() == want.to_bits() || got.is_nan() && x.is_nan(), "{bits:#x}: {got} {want}");
+        }
+        // 30/255 (a texel of an RGBA8 texture): 1927.53 steps of 2⁻¹⁴, llvmpipe's 1927.
+        assert_eq!(super::half_toward_zero(30.0 / 255.0), 1927.0 / 16384.0);
     }
 
     /// F16C's rounding, NaNs included, gives `round_half`'s bits.

@@ -394,6 +394,21 @@ impl Folder<'_, '_> {
         }
     }
 
+    /// A multiplication or addition of a constant and another register, subtraction of a
+    /// constant as addition of its negation: (operation, destination, constant, register).
+    fn constant_operation(&self, inst: &Inst) -> Option<(BinOp, Reg, f32, Reg)> {
+        match *inst {
+            Inst::Bin(op @ (BinOp::Mul | BinOp::Add), d, a, b) => {
+                let (c, x) = self.constant_and_other(a, b)?;
+                Some((op, d, c, x))
+            }
+            Inst::Bin(BinOp::Sub, d, a, b) if self.constants.value(a).is_none() && self.stable(a) => {
+                Some((BinOp::Add, d, -self.constants.value(b)?, a))
+            }
+            _ => None,
+        }
+    }
+
     /// Reassociates constants in a chain of multiplications or additions so they fold
     /// together, as NIR's inexact rules do (`~fmul #a (fmul b #c) → fmul (fmul a c) b`, the
     /// same for `fadd`): `(y · c₁) · c₂` becomes `y · (c₁ · c₂)`. In a binary16 chain (see
@@ -402,15 +417,17 @@ impl Folder<'_, '_> {
     /// Not exact: `glmark2`'s terrain noise computes `p · (1/7) · (1/7)` and takes its floor,
     /// which lands on the other side of an integer for some `p` unless it is reassociated as
     /// Mesa does.
+    ///
+    /// A subtraction of a constant is an addition of its negation, as in NIR (`fsub a #b` is
+    /// `fadd a #-b`): the simplex noise's `x0 - 1.0 + 0.5` is `x0 + -0.5` (float-probe,
+    /// llvmpipe's binary16 values of it to the bit).
     fn reassociate(&mut self, inst: &Inst) -> Option<Inst> {
-        let Inst::Bin(op @ (BinOp::Mul | BinOp::Add), d, a, b) = *inst else { return None };
-        let (outer, x) = self.constant_and_other(a, b)?;
+        let (op, d, outer, x) = self.constant_operation(inst)?;
         let (inner_def, half) = match self.def(x)? {
             Inst::Un(UnOp::Half, _, t) => (self.def(t)?, true),
             other => (other, false),
         };
-        let Inst::Bin(inner_op, _, p, q) = inner_def else { return None };
-        let (inner, y) = self.constant_and_other(p, q)?;
+        let (inner_op, _, inner, y) = self.constant_operation(&inner_def)?;
         if inner_op != op {
             return None;
         }

@@ -76,6 +76,10 @@ pub enum UnOp {
     /// as `f32`: what a `mediump`/`lowp` operation does to its operands and its result (see
     /// `compile`'s precision lowering).
     Half,
+    /// Rounds toward zero to an IEEE binary16 value (beyond ±65504 to ±65504), held as
+    /// `f32`: what llvmpipe does to the texels a `mediump`/`lowp` sampler returns (see
+    /// `compile`'s precision lowering; measured with tools/float-probe's `texels.frag`).
+    HalfTowardZero,
     /// float → the bits of the nearest half float, in the low 16 bits of a uint
     /// (`packHalf2x16`).
     FToHalf,

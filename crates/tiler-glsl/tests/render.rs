@@ -1928,7 +1928,7 @@ fn texel_fetch_misuse_is_a_compile_error_naming_the_line() {
 fn texture_grad_and_offset_go_through_the_core_sampler() {
     const FS: &str = "#version 300 es
 precision highp float;
-uniform sampler2D tex;
+uniform highp sampler2D tex;
 uniform int mode;
 in vec2 uv;
 out vec4 color;

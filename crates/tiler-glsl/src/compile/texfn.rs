@@ -89,8 +89,7 @@ impl Compiler<'_> {
         } else {
             self.emit(Inst::SampleLayered { slot, dst: dst4, coord: [coord[0], coord[1], coord[2]], lod });
         }
-        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-        self.set_prec(&dst, prec);
+        let dst = self.texels(slot, dst);
         Ok(Value { ty: Type::vec(4), regs: dst })
     }
 
@@ -124,8 +123,7 @@ impl Compiler<'_> {
         let dst4 = [dst[0], dst[1], dst[2], dst[3]];
         let coord = [coord.regs[0], coord.regs[1]];
         self.emit(Inst::Sample { slot, dst: dst4, coord, lod: Lod::Gather(comp), reference: None, offset });
-        let prec = self.sampler_precision.get(&slot).copied().unwrap_or_default();
-        self.set_prec(&dst, prec);
+        let dst = self.texels(slot, dst);
         Ok(Value { ty: Type::vec(4), regs: dst })
     }
 
