@@ -29,6 +29,7 @@
 //! texture caches of mobile GPUs (Mali-G7x: 16 KiB per core; Adreno 6xx: 8–16 KiB).
 
 use crate::api::error::{Error, Result};
+use crate::simd::{SimdSupport, per_simd_level, sign_bits};
 
 /// The most lines one lane of a quad reads ([`TextureCache::access_quad`]): four texels on
 /// each of two levels.
@@ -89,17 +90,28 @@ impl TextureCacheConfig {
     }
 }
 
-/// The cache state of one task: tags per set, most recently used first, and the counts.
+/// The cache state of one task: per way its line and when it was last read, and the counts.
+///
+/// Least recently used is kept as a time stamp per way, not as an order of the set's lines:
+/// a read stamps its way with the read's time, and a miss replaces the way with the oldest
+/// stamp (an unused way's is 0, older than any read). Ordering each set's ways by stamp, newest
+/// first, gives the order the line-by-line model (the set's lines moved to the front as they
+/// are read) keeps; the tests hold the two equal. A hit is then one tag search and one store,
+/// wherever the line is in its set.
 #[derive(Clone, Debug)]
 pub struct TextureCache {
     config: TextureCacheConfig,
     line_shift: u32,
-    /// `log2(ways)`: a set's lines start at `set << ways_shift`.
+    /// `log2(ways)`: a set's ways start at `set << ways_shift`.
     ways_shift: u32,
     set_mask: u64,
-    /// `sets × ways` line addresses, each set's most recently used first; `EMPTY` when unused.
-    /// Allocated on the first access, so tasks that sample nothing cost nothing.
-    lines: Vec<u64>,
+    /// `sets × ways` line numbers, `EMPTY` when unused. Allocated on the first access, so
+    /// tasks that sample nothing cost nothing.
+    tags: Vec<u64>,
+    /// When each way's line was last read (a value of `clock`); 0 when unused.
+    stamps: Vec<u64>,
+    /// The time of the last read (each read, or each group of up to 64, advances it).
+    clock: u64,
     hits: u64,
     misses: u64,
     /// Misses already handed to the ledger.
@@ -109,9 +121,9 @@ pub struct TextureCache {
     unmipped_quads: u64,
     unmipped_misses: u64,
     /// With the `texture-cache-reference` feature (for tests): the same cache read one line
-    /// at a time, as the model was first written, held equal after every quad.
+    /// at a time by the line-by-line model ([`LineByLine`]), held equal after every call.
     #[cfg(feature = "texture-cache-reference")]
-    reference: Option<Box<TextureCache>>,
+    reference: Option<Box<LineByLine>>,
 }
 
 impl Default for TextureCache {
@@ -119,6 +131,10 @@ impl Default for TextureCache {
         TextureCache::new(TextureCacheConfig::DEFAULT)
     }
 }
+
+/// The most distinct lines a group's reads are checked for ([`TextureCache::access_lanes`]):
+/// past that, its reads are made one by one.
+const MAX_GROUP_LINES: usize = 16;
 
 impl TextureCache {
     const EMPTY: u64 = u64::MAX;
@@ -129,26 +145,22 @@ impl TextureCache {
     /// If `config` is invalid (check it with [`TextureCacheConfig::validate`] first).
     pub fn new(config: TextureCacheConfig) -> TextureCache {
         assert!(config.validate().is_ok(), "invalid texture cache configuration {config:?}");
-        #[allow(unused_mut)] // Changed with the `texture-cache-reference` feature only.
-        let mut cache = TextureCache {
+        TextureCache {
             config,
             line_shift: config.line_bytes.trailing_zeros(),
             ways_shift: config.ways.trailing_zeros(),
             set_mask: config.sets() as u64 - 1,
-            lines: Vec::new(),
+            tags: Vec::new(),
+            stamps: Vec::new(),
+            clock: 0,
             hits: 0,
             misses: 0,
             misses_reported: 0,
             unmipped_quads: 0,
             unmipped_misses: 0,
             #[cfg(feature = "texture-cache-reference")]
-            reference: None,
-        };
-        #[cfg(feature = "texture-cache-reference")]
-        {
-            cache.reference = Some(Box::new(cache.clone()));
+            reference: Some(Box::new(LineByLine::new(config))),
         }
-        cache
     }
 
     pub fn config(&self) -> &TextureCacheConfig {
@@ -158,12 +170,15 @@ impl TextureCache {
     /// Reads the byte at modelled address `address`; returns whether it hit.
     #[inline]
     pub fn access(&mut self, address: u64) -> bool {
-        let hit = self.access_line(address >> self.line_shift);
+        self.allocate_once();
+        self.clock += 1;
+        let hit = self.read_line(address >> self.line_shift, self.clock);
         self.count(1, !hit as u64);
         #[cfg(feature = "texture-cache-reference")]
         if let Some(reference) = &mut self.reference {
-            reference.access(address);
+            reference.access(address >> self.line_shift);
         }
+        self.check_reference();
         hit
     }
 
@@ -187,165 +202,271 @@ impl TextureCache {
     /// usually share a line.
     #[inline]
     pub fn access_lines(&mut self, first_line: u64, lines: &[u32]) {
-        let misses = self.read_lines(first_line, lines);
+        self.allocate_once();
+        let (mut previous, mut misses) = (None, 0);
+        for &line in lines {
+            self.clock += 1;
+            if previous != Some(line) {
+                misses += !self.read_line(first_line + line as u64, self.clock) as u64;
+                previous = Some(line);
+            }
+        }
         self.count(lines.len() as u64, misses);
         #[cfg(feature = "texture-cache-reference")]
         if let Some(reference) = &mut self.reference {
             for &line in lines {
-                reference.access((first_line + line as u64) << reference.line_shift);
+                reference.access(first_line + line as u64);
             }
         }
-    }
-
-    /// [`Self::access_lines`] without counting: returns the misses. (Counts kept in registers
-    /// by the callers, not incremented in memory read after read.)
-    #[inline(always)]
-    fn read_lines(&mut self, first_line: u64, lines: &[u32]) -> u64 {
-        let (mut previous, mut misses) = (None, 0);
-        for &line in lines {
-            if previous != Some(line) {
-                misses += !self.access_line(first_line + line as u64) as u64;
-                previous = Some(line);
-            }
-        }
-        misses
+        self.check_reference();
     }
 
     /// Reads the lines of a quad's `counted` lanes, lane after lane, each lane `k` reading
     /// `rows[0][k]`, `rows[1][k]`, … in order (a row per texel a lane reads: the corners of its
     /// footprint on a level, level after level): the same as [`TextureCache::access_lines`] of
-    /// each lane's lines in turn, with one comparison for a lane that reads what the lane
-    /// before it read.
-    ///
-    /// Why that is exact: once a run of lines has been read, each of its lines is among the
-    /// run's lines at the front of its set, in the order of their last reads — as long as no
-    /// set holds more of the run's lines than it has ways, none falls out. Reading the same run
-    /// again then hits every time and leaves every set as it was. Neighbouring pixels usually
-    /// read the same texels' lines: most lanes cost a comparison instead of a tag check per
-    /// texel.
-    ///
-    /// The row counts the sampler reads (one texel, four, on one level or two) each get a copy
-    /// with the count known, whose loops the compiler unrolls.
+    /// each lane's lines in turn. `simd`: the instruction set to run it with (every level
+    /// counts the same).
     #[inline]
-    pub fn access_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
-        self.access_lanes(first_line, rows, counted);
+    pub fn access_quad(&mut self, simd: SimdSupport, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
+        assert!(rows.len() <= MAX_LANE_LINES, "{} lines a lane, more than {MAX_LANE_LINES}", rows.len());
+        let misses = read_quad(simd, self, first_line, rows, counted);
+        self.count_group(rows.len(), &counted, misses);
+        self.check_reference();
     }
 
-    /// [`TextureCache::access_quad`] of `L` lanes: a quad's four, or a pair of quads' eight
-    /// (quad 0's lanes, then quad 1's), the same reads in the same order.
+    /// [`TextureCache::access_quad`] of a pair of quads' eight lanes (quad 0's, then quad
+    /// 1's), the same reads in the same order.
+    ///
+    /// A group's reads (up to 64) are made at the cost of a tag check per distinct line, not
+    /// per read, when that is exact: the distinct lines are found in the order of their first
+    /// reads, each with the time of its last read ([`TextureCache::read_group`]); when no set
+    /// gets more of them than it has ways, reading each once in that order, stamped with its
+    /// last read's time, counts and leaves the cache exactly as the reads one by one:
+    ///
+    /// - Only a line's first read can miss: between two reads of a line, fewer than `ways`
+    ///   other lines of its set are read, so it is still among the `ways` most recent.
+    /// - Whether a first read hits depends on what the reads before it evicted, and each such
+    ///   eviction is of the set's least recently used line, which is never one the group has
+    ///   read (each of those is newer than every line read before the group, and the set holds
+    ///   fewer than `ways` of them when another misses): the same victims, in the same order,
+    ///   as the first reads alone make, whatever stamps the group's lines carry.
+    /// - After the reads, a set's order is its group lines by last read, then the rest in their
+    ///   old order: what the stamps of the last reads give.
+    ///
+    /// Otherwise (more lines in a set than ways, or more than [`MAX_GROUP_LINES`] distinct
+    /// lines) the reads are made one by one.
     #[inline]
-    pub fn access_lanes<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) {
-        debug_assert!(rows.len() <= MAX_LANE_LINES);
-        let misses = if let Ok(rows) = <&[[u32; L]; 4]>::try_from(rows) {
-            self.read_quad(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; L]; 8]>::try_from(rows) {
-            self.read_quad(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; L]; 1]>::try_from(rows) {
-            self.read_quad(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; L]; 2]>::try_from(rows) {
-            self.read_quad(first_line, rows, counted)
-        } else {
-            self.read_quad(first_line, rows, counted)
-        };
-        let reads = counted.iter().filter(|&&counted| counted).count() as u64 * rows.len() as u64;
+    pub fn access_lanes(&mut self, simd: SimdSupport, first_line: u64, rows: &[[u32; 8]], counted: [bool; 8]) {
+        assert!(rows.len() <= MAX_LANE_LINES, "{} lines a lane, more than {MAX_LANE_LINES}", rows.len());
+        let misses = read_pair(simd, self, first_line, rows, counted);
+        self.count_group(rows.len(), &counted, misses);
+        self.check_reference();
+    }
+
+    /// Counts a group's reads (`rows` a lane, of the `counted` lanes) with `misses` misses.
+    #[inline(always)]
+    fn count_group<const L: usize>(&mut self, rows: usize, counted: &[bool; L], misses: u64) {
+        let reads = counted.iter().filter(|&&counted| counted).count() as u64 * rows as u64;
         self.count(reads, misses);
-        #[cfg(feature = "texture-cache-reference")]
+    }
+
+    /// With the `texture-cache-reference` feature: reads a group's lines from the reference
+    /// one by one and asserts that the two agree (counts and every set's order).
+    #[cfg(feature = "texture-cache-reference")]
+    fn read_reference<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) {
         if let Some(reference) = &mut self.reference {
             for lane in (0..L).filter(|&lane| counted[lane]) {
                 for row in rows {
-                    reference.access((first_line + row[lane] as u64) << reference.line_shift);
+                    reference.access(first_line + row[lane] as u64);
                 }
             }
+        }
+    }
+
+    /// With the `texture-cache-reference` feature: asserts that the cache and its reference
+    /// agree — hits, misses, and each set's lines by recency.
+    #[inline(always)]
+    fn check_reference(&self) {
+        #[cfg(feature = "texture-cache-reference")]
+        if let Some(reference) = &self.reference {
             assert_eq!(
-                (self.hits, self.misses, &self.lines),
-                (reference.hits, reference.misses, &reference.lines),
+                (self.hits, self.misses, self.by_recency()),
+                (reference.hits, reference.misses, reference.lines.clone()),
                 "the texture cache model disagrees with its line-by-line reference"
             );
         }
     }
 
-    /// [`Self::access_lanes`] without counting: returns the misses.
+    /// Each set's lines, most recently read first, then `EMPTY` for unused ways: the order the
+    /// line-by-line model keeps ([`LineByLine`]).
+    #[cfg(any(test, feature = "texture-cache-reference"))]
+    fn by_recency(&self) -> Vec<u64> {
+        let ways = self.config.ways as usize;
+        let sets = self.config.sets() as usize;
+        if self.tags.is_empty() {
+            return vec![Self::EMPTY; sets * ways];
+        }
+        let mut out = Vec::with_capacity(sets * ways);
+        for set in 0..sets {
+            let mut held: Vec<(u64, u64)> =
+                (set * ways..(set + 1) * ways).map(|w| (self.stamps[w], self.tags[w])).collect();
+            held.sort_by(|a, b| b.0.cmp(&a.0));
+            out.extend(held.iter().map(|&(stamp, tag)| if stamp == 0 { Self::EMPTY } else { tag }));
+        }
+        out
+    }
+
+    /// The misses of a group's reads ([`TextureCache::access_lanes`]): `L` lanes of `R` rows.
     #[inline(always)]
-    fn read_quad<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) -> u64 {
-        // The lane read before, and whether its lines fit in their sets: it read no more runs
-        // of a line than the sets have ways (so no more distinct lines either). When they may
-        // not, the next lane is read line by line, repeated or not.
-        let mut previous: Option<(usize, bool)> = None;
-        let mut misses = 0;
-        for lane in (0..L).filter(|&lane| counted[lane]) {
-            if let Some((before, true)) = previous
-                && rows.iter().all(|row| row[lane] == row[before])
-            {
-                continue;
+    fn read_group<const L: usize, const R: usize>(&mut self, first_line: u64, rows: &[[u32; L]; R], counted: [bool; L]) -> u64 {
+        const { assert!(L <= 8 && R <= 8) };
+        // Read `8 · lane + row` of the group: the reads in order, with gaps.
+        let mut valid = 0u64;
+        for (lane, &counted) in counted.iter().enumerate() {
+            valid |= ((counted as u64) * ((1u64 << R) - 1)) << (8 * lane);
+        }
+        if valid == 0 {
+            return 0;
+        }
+        self.allocate_once();
+        // Read `p` is stamped `base + 1 + p`.
+        let base = self.clock;
+        self.clock += 64;
+        // The reads of line `x`, as bits `8 · lane + row`.
+        let reads_of = |x: u32| {
+            let mut by_row = 0u64;
+            for (r, row) in rows.iter().enumerate() {
+                let mut equal = [0i32; 8];
+                for (e, &line) in equal.iter_mut().zip(row) {
+                    *e = -((line == x) as i32);
+                }
+                by_row |= (sign_bits(equal) as u64) << (8 * r);
             }
-            let (lane_misses, runs) = self.read_lane(first_line, rows, lane);
-            misses += lane_misses;
-            previous = Some((lane, runs <= self.config.ways as usize));
+            transpose_bits(by_row) & valid
+        };
+        let mut distinct = [(0u64, 0u64); MAX_GROUP_LINES];
+        let mut sets = [u32::MAX; MAX_GROUP_LINES];
+        let (mut n, mut unread) = (0, valid);
+        while unread != 0 {
+            if n == MAX_GROUP_LINES {
+                return self.read_each(base, first_line, rows, counted);
+            }
+            let first = unread.trailing_zeros() as usize;
+            let line = rows[first % 8][first / 8];
+            let reads = reads_of(line);
+            unread &= !reads;
+            let last = 63 - reads.leading_zeros() as u64;
+            let line = first_line + line as u64;
+            distinct[n] = (line, base + 1 + last);
+            sets[n] = (line & self.set_mask) as u32;
+            n += 1;
+        }
+        let ways = 1usize << self.ways_shift;
+        if n > ways {
+            for j in 0..n {
+                let in_set: u32 = sets.iter().map(|&s| (s == sets[j]) as u32).sum();
+                if in_set as usize > ways {
+                    return self.read_each(base, first_line, rows, counted);
+                }
+            }
+        }
+        let mut misses = 0;
+        for &(line, stamp) in &distinct[..n] {
+            misses += !self.read_line(line, stamp) as u64;
         }
         misses
     }
 
-    /// [`Self::read_lines`] of lane `lane` of `rows` (see [`Self::access_quad`]): returns the
-    /// misses and the runs of a line read.
-    #[inline(always)]
-    fn read_lane<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], lane: usize) -> (u64, usize) {
-        let (mut previous, mut misses, mut runs) = (None, 0, 0);
-        for row in rows {
-            let line = row[lane];
-            if previous != Some(line) {
-                misses += !self.access_line(first_line + line as u64) as u64;
-                runs += 1;
-                previous = Some(line);
-            }
-        }
-        (misses, runs)
-    }
-
-    /// Reads line `line`; returns whether it hit (uncounted: the callers count). The hit on
-    /// the set's most recently used line changes no state and is the common case, inline; the
-    /// rest is [`Self::access_slow`].
-    #[inline(always)]
-    fn access_line(&mut self, line: u64) -> bool {
-        let first = ((line & self.set_mask) as usize) << self.ways_shift;
-        // An empty `lines` (a cold cache not yet allocated) takes the slow path too.
-        if self.lines.get(first) == Some(&line) {
-            return true;
-        }
-        self.access_slow(first, line)
-    }
-
-    /// [`Self::access_line`] past its fast path: moves `line` to the front of its set, each line
-    /// before it one place back; when it was not in the set, the least recently used (the
-    /// last) line falls out: a miss.
+    /// [`TextureCache::read_group`] read by read (read `8 · lane + row` stamped `base + 1 +` that).
     #[inline(never)]
-    fn access_slow(&mut self, first: usize, line: u64) -> bool {
-        if self.lines.is_empty() {
-            self.allocate();
+    fn read_each<const L: usize, const R: usize>(
+        &mut self,
+        base: u64,
+        first_line: u64,
+        rows: &[[u32; L]; R],
+        counted: [bool; L],
+    ) -> u64 {
+        let (mut previous, mut misses) = (None, 0);
+        for lane in (0..L).filter(|&lane| counted[lane]) {
+            for (r, row) in rows.iter().enumerate() {
+                let line = row[lane];
+                // The same line again is a hit on the set's newest way: nothing changes.
+                if previous != Some(line) {
+                    misses += !self.read_line(first_line + line as u64, base + 1 + (8 * lane + r) as u64) as u64;
+                    previous = Some(line);
+                }
+            }
         }
-        let set = &mut self.lines[first..first + self.config.ways as usize];
-        // The second most recently used line of the set is the common case here: two lines
-        // read in turn (a block and the one below it share a set in textures 256 texels wide
-        // or more).
-        if set.get(1) == Some(&line) {
-            set.swap(0, 1);
+        misses
+    }
+
+    /// Reads line `line` at time `stamp`; returns whether it hit (uncounted: the callers
+    /// count). The cache is allocated.
+    #[inline(always)]
+    fn read_line(&mut self, line: u64, stamp: u64) -> bool {
+        let first = ((line & self.set_mask) as usize) << self.ways_shift;
+        match self.ways_shift {
+            2 => self.read_in_set::<4>(first, line, stamp),
+            _ => self.read_in_set_of_any(first, line, stamp),
+        }
+    }
+
+    /// [`Self::read_line`] in a set of `W` ways starting at `first`.
+    #[inline(always)]
+    fn read_in_set<const W: usize>(&mut self, first: usize, line: u64, stamp: u64) -> bool {
+        let tags: &mut [u64; W] = (&mut self.tags[first..first + W]).try_into().expect("a set has W ways");
+        let stamps: &mut [u64; W] = (&mut self.stamps[first..first + W]).try_into().expect("a set has W ways");
+        // A line is in at most one way of its set.
+        let mut way = W;
+        for (w, &tag) in tags.iter().enumerate() {
+            if tag == line {
+                way = w;
+            }
+        }
+        if way < W {
+            stamps[way] = stamp;
             return true;
         }
-        let mut moving = line;
-        for entry in set {
-            let was = std::mem::replace(entry, moving);
-            if was == line {
-                return true;
+        let mut oldest = 0;
+        for w in 1..W {
+            if stamps[w] < stamps[oldest] {
+                oldest = w;
             }
-            moving = was;
         }
+        tags[oldest] = line;
+        stamps[oldest] = stamp;
         false
     }
 
-    /// Allocates a cold cache's lines, all empty.
+    /// [`Self::read_line`] in a set of any number of ways.
+    #[inline(never)]
+    fn read_in_set_of_any(&mut self, first: usize, line: u64, stamp: u64) -> bool {
+        let ways = 1usize << self.ways_shift;
+        let (tags, stamps) = (&mut self.tags[first..first + ways], &mut self.stamps[first..first + ways]);
+        if let Some(way) = tags.iter().position(|&tag| tag == line) {
+            stamps[way] = stamp;
+            return true;
+        }
+        let oldest = (0..ways).min_by_key(|&w| stamps[w]).expect("a set has a way");
+        tags[oldest] = line;
+        stamps[oldest] = stamp;
+        false
+    }
+
+    /// Allocates a cold cache's ways, all unused, on its first read.
+    #[inline(always)]
+    fn allocate_once(&mut self) {
+        if self.tags.is_empty() {
+            self.allocate();
+        }
+    }
+
     #[cold]
     #[inline(never)]
     fn allocate(&mut self) {
-        self.lines = vec![Self::EMPTY; self.config.sets() as usize * self.config.ways as usize];
+        let ways = self.config.sets() as usize * self.config.ways as usize;
+        self.tags = vec![Self::EMPTY; ways];
+        self.stamps = vec![0; ways];
     }
 
     pub fn hits(&self) -> u64 {
@@ -380,11 +501,127 @@ impl TextureCache {
     }
 }
 
+/// The 8×8 bit matrix `m` (bit `8 · i + j` is row `i`, column `j`) transposed: bit `8 · j + i`.
+/// Three exchanges of bit blocks (Hacker's Delight, §7-3).
+#[inline(always)]
+fn transpose_bits(mut m: u64) -> u64 {
+    let t = (m ^ (m >> 7)) & 0x00AA_00AA_00AA_00AA;
+    m ^= t ^ (t << 7);
+    let t = (m ^ (m >> 14)) & 0x0000_CCCC_0000_CCCC;
+    m ^= t ^ (t << 14);
+    let t = (m ^ (m >> 28)) & 0x0000_0000_F0F0_F0F0;
+    m ^ t ^ (t << 28)
+}
+
+/// [`TextureCache::read_group`] of `rows.len()` rows (1, 2, 4 or 8, each compiled with its
+/// count known; other counts are made read by read).
+#[inline(always)]
+fn read_rows<const L: usize>(cache: &mut TextureCache, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) -> u64 {
+    let misses = if let Ok(rows) = <&[[u32; L]; 8]>::try_from(rows) {
+        cache.read_group(first_line, rows, counted)
+    } else if let Ok(rows) = <&[[u32; L]; 4]>::try_from(rows) {
+        cache.read_group(first_line, rows, counted)
+    } else if let Ok(rows) = <&[[u32; L]; 2]>::try_from(rows) {
+        cache.read_group(first_line, rows, counted)
+    } else if let Ok(rows) = <&[[u32; L]; 1]>::try_from(rows) {
+        cache.read_group(first_line, rows, counted)
+    } else if rows.is_empty() || !counted.contains(&true) {
+        0
+    } else {
+        // Rows past the lane's last repeat it: reads of the line just read, which change nothing.
+        let mut padded = [[0; L]; MAX_LANE_LINES];
+        padded[..rows.len()].copy_from_slice(rows);
+        for r in rows.len()..MAX_LANE_LINES {
+            padded[r] = padded[r - 1];
+        }
+        cache.allocate_once();
+        let base = cache.clock;
+        cache.clock += 64;
+        cache.read_each(base, first_line, &padded, counted)
+    };
+    #[cfg(feature = "texture-cache-reference")]
+    cache.read_reference(first_line, rows, counted);
+    misses
+}
+
+per_simd_level! {
+    /// The misses of a pair of quads' reads ([`TextureCache::access_lanes`]), compiled once per
+    /// SIMD level.
+    fn read_pair / read_pair_avx2 => read_pair_body, simd: simd, (
+        simd: SimdSupport,
+        cache: &mut TextureCache,
+        first_line: u64,
+        rows: &[[u32; 8]],
+        counted: [bool; 8],
+    ) -> u64
+}
+
+#[inline(always)]
+fn read_pair_body(_simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; 8]], counted: [bool; 8]) -> u64 {
+    read_rows(cache, first_line, rows, counted)
+}
+
+per_simd_level! {
+    /// The misses of a quad's reads ([`TextureCache::access_quad`]), compiled once per SIMD
+    /// level.
+    fn read_quad / read_quad_avx2 => read_quad_body, simd: simd, (
+        simd: SimdSupport,
+        cache: &mut TextureCache,
+        first_line: u64,
+        rows: &[[u32; 4]],
+        counted: [bool; 4],
+    ) -> u64
+}
+
+#[inline(always)]
+fn read_quad_body(_simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) -> u64 {
+    read_rows(cache, first_line, rows, counted)
+}
+
+/// The cache model as it was first written, one line at a time, each set's lines in an order
+/// (most recently used first) moved on every read: the reference the tests and the
+/// `texture-cache-reference` feature hold [`TextureCache`] to.
+#[cfg(any(test, feature = "texture-cache-reference"))]
+#[derive(Clone, Debug)]
+pub(crate) struct LineByLine {
+    ways: usize,
+    set_mask: u64,
+    lines: Vec<u64>,
+    hits: u64,
+    misses: u64,
+}
+
+#[cfg(any(test, feature = "texture-cache-reference"))]
+impl LineByLine {
+    fn new(config: TextureCacheConfig) -> LineByLine {
+        let (sets, ways) = (config.sets() as usize, config.ways as usize);
+        LineByLine { ways, set_mask: sets as u64 - 1, lines: vec![TextureCache::EMPTY; sets * ways], hits: 0, misses: 0 }
+    }
+
+    /// Reads line `line`: moves it to the front of its set, each line before it one place
+    /// back; when it was not in the set, the last falls out: a miss.
+    fn access(&mut self, line: u64) -> bool {
+        let first = (line & self.set_mask) as usize * self.ways;
+        let mut moving = line;
+        for entry in &mut self.lines[first..first + self.ways] {
+            let was = std::mem::replace(entry, moving);
+            if was == line {
+                self.hits += 1;
+                return true;
+            }
+            moving = was;
+        }
+        self.misses += 1;
+        false
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use proptest::prelude::*;
 
     use super::*;
+    use crate::simd::SimdLevel;
 
     #[test]
     fn default_config_is_valid() {
@@ -444,33 +681,57 @@ mod tests {
         assert_eq!(cache.misses(), 6);
     }
 
+    #[test]
+    fn transpose_bits_transposes() {
+        for (i, j) in (0..8).flat_map(|i| (0..8).map(move |j| (i, j))) {
+            assert_eq!(transpose_bits(1 << (8 * i + j)), 1 << (8 * j + i));
+        }
+        assert_eq!(transpose_bits(0xff), 0x0101_0101_0101_0101);
+    }
+
+    /// The SIMD levels this processor runs.
+    fn simd_levels() -> Vec<SimdSupport> {
+        [SimdLevel::Baseline, SimdLevel::Avx2].into_iter().filter_map(SimdSupport::detect).collect()
+    }
+
+    /// The cache and the line-by-line model agree: counts and every set's order.
+    fn agree(cache: &TextureCache, reference: &LineByLine) -> Result<(), TestCaseError> {
+        prop_assert_eq!((cache.hits(), cache.misses()), (reference.hits, reference.misses));
+        prop_assert_eq!(cache.by_recency(), reference.lines.clone());
+        Ok(())
+    }
+
     proptest! {
-        /// Runs of lines read together count and leave the cache exactly as the reads of an
-        /// address in each, one by one, whatever the shape (lines of 4 to 256 bytes, 1 to 64
-        /// ways) and however often lines repeat.
+        /// Runs of lines read together count and leave the cache exactly as the line-by-line
+        /// model reading them one by one, whatever the shape (lines of 4 to 256 bytes, 1 to 64
+        /// ways) and however often lines repeat; single addresses too.
         #[test]
         fn access_lines_is_access_of_each(
             shape in prop::sample::select(vec![(256u32, 64u32, 1u32), (1024, 64, 4), (512, 16, 2), (256, 4, 64), (8192, 256, 4)]),
             runs in prop::collection::vec((0u64..3, prop::collection::vec(0u32..24, 1..9)), 1..40),
         ) {
             let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
-            let (mut together, mut one_by_one) = (TextureCache::new(config), TextureCache::new(config));
+            let (mut together, mut one_by_one) = (TextureCache::new(config), LineByLine::new(config));
             for (texture, lines) in runs {
                 let first_line = texture << 30;
-                together.access_lines(first_line, &lines);
-                for &line in &lines {
-                    one_by_one.access((first_line + line as u64) << one_by_one.line_shift() | 3);
+                if lines.len() == 1 {
+                    together.access((first_line + lines[0] as u64) << together.line_shift() | 3);
+                } else {
+                    together.access_lines(first_line, &lines);
                 }
-                prop_assert_eq!((together.hits(), together.misses()), (one_by_one.hits(), one_by_one.misses()));
-                prop_assert_eq!(&together.lines, &one_by_one.lines);
+                for &line in &lines {
+                    one_by_one.access(first_line + line as u64);
+                }
+                agree(&together, &one_by_one)?;
             }
         }
 
-        /// A quad's (or a pair of quads') lanes read with one comparison for a lane that
-        /// repeats the one before count and leave the cache exactly as the reads of an address
-        /// in each line, one by one: lanes repeated or not, counted or not, more lines of a set
-        /// than it has ways (lines 64 apart share a set in every shape but the fully
-        /// associative one).
+        /// A quad's (or a pair of quads') lanes read at the cost of a tag check per distinct
+        /// line count and leave the cache exactly as the line-by-line model reading each line
+        /// of each counted lane in turn: lanes repeated or not, counted or not, more lines of a
+        /// set than it has ways (lines 64 apart share a set in every shape but the fully
+        /// associative one), more distinct lines than are checked together, at every SIMD
+        /// level.
         #[test]
         fn access_lanes_is_access_of_each(
             shape in prop::sample::select(vec![(256u32, 64u32, 1u32), (1024, 64, 4), (512, 16, 2), (256, 4, 64), (16384, 64, 4)]),
@@ -478,7 +739,7 @@ mod tests {
                 (
                     0u64..3,
                     any::<bool>(),
-                    prop::sample::select(vec![1usize, 2, 4, 8]),
+                    prop::sample::select(vec![1usize, 2, 3, 4, 8]),
                     prop::collection::vec(prop_oneof![3 => 0u32..6, 1 => 0u32..200, 1 => (0u32..4).prop_map(|k| k * 64)], 16),
                     prop::collection::vec(any::<bool>(), 8),
                     prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 8),
@@ -487,28 +748,29 @@ mod tests {
             ),
         ) {
             let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
-            let (mut together, mut one_by_one) = (TextureCache::new(config), TextureCache::new(config));
-            for (texture, pair, per_lane, lines, repeats, counted) in quads {
-                let first_line = texture << 30;
-                // Lane k repeats lane k − 1 when `repeats[k]`, else takes lines of its own.
-                let mut lanes = [[0u32; MAX_LANE_LINES]; 8];
-                for (k, &repeat) in repeats.iter().enumerate() {
-                    lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + 3 * k) % 16]) };
-                }
-                if pair {
-                    let rows: Vec<[u32; 8]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
-                    together.access_lanes(first_line, &rows, std::array::from_fn(|k| counted[k]));
-                } else {
-                    let rows: Vec<[u32; 4]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
-                    together.access_quad(first_line, &rows, std::array::from_fn(|k| counted[k]));
-                }
-                for k in (0..if pair { 8 } else { 4 }).filter(|&k| counted[k]) {
-                    for &line in &lanes[k][..per_lane] {
-                        one_by_one.access((first_line + line as u64) << one_by_one.line_shift());
+            for simd in simd_levels() {
+                let (mut together, mut one_by_one) = (TextureCache::new(config), LineByLine::new(config));
+                for (texture, pair, per_lane, lines, repeats, counted) in &quads {
+                    let first_line = texture << 30;
+                    // Lane k repeats lane k − 1 when `repeats[k]`, else takes lines of its own.
+                    let mut lanes = [[0u32; MAX_LANE_LINES]; 8];
+                    for (k, &repeat) in repeats.iter().enumerate() {
+                        lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + 3 * k) % 16]) };
                     }
+                    if *pair {
+                        let rows: Vec<[u32; 8]> = (0..*per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
+                        together.access_lanes(simd, first_line, &rows, std::array::from_fn(|k| counted[k]));
+                    } else {
+                        let rows: Vec<[u32; 4]> = (0..*per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
+                        together.access_quad(simd, first_line, &rows, std::array::from_fn(|k| counted[k]));
+                    }
+                    for k in (0..if *pair { 8 } else { 4 }).filter(|&k| counted[k]) {
+                        for &line in &lanes[k][..*per_lane] {
+                            one_by_one.access(first_line + line as u64);
+                        }
+                    }
+                    agree(&together, &one_by_one)?;
                 }
-                prop_assert_eq!((together.hits(), together.misses()), (one_by_one.hits(), one_by_one.misses()));
-                prop_assert_eq!(&together.lines, &one_by_one.lines);
             }
         }
     }
