@@ -29,7 +29,7 @@
 //! texture caches of mobile GPUs (Mali-G7x: 16 KiB per core; Adreno 6xx: 8–16 KiB).
 
 use crate::api::error::{Error, Result};
-use crate::simd::{SimdSupport, per_simd_level, sign_bits};
+use crate::simd::{SimdSupport, per_simd_level};
 
 /// The most lines one lane of a quad reads ([`TextureCache::access_quad`]): four texels on
 /// each of two levels.
@@ -317,53 +317,67 @@ impl TextureCache {
     }
 
     /// The misses of a group's reads ([`TextureCache::access_lanes`]): `L` lanes of `R` rows.
+    ///
+    /// The reads are first shortened without changing the order of first reads or of last
+    /// reads of the distinct lines (so without changing what the distinct lines' reads count
+    /// or leave behind, see [`TextureCache::access_lanes`]): a lane that reads what the lane
+    /// before it read is dropped (its lines are read again in the same order, after every other
+    /// line), and so is a read of the line just read.
     #[inline(always)]
     fn read_group<const L: usize, const R: usize>(&mut self, first_line: u64, rows: &[[u32; L]; R], counted: [bool; L]) -> u64 {
         const { assert!(L <= 8 && R <= 8) };
-        // Read `8 · lane + row` of the group: the reads in order, with gaps.
-        let mut valid = 0u64;
-        for (lane, &counted) in counted.iter().enumerate() {
-            valid |= ((counted as u64) * ((1u64 << R) - 1)) << (8 * lane);
-        }
-        if valid == 0 {
+        if !counted.contains(&true) {
             return 0;
         }
         self.allocate_once();
-        // Read `p` is stamped `base + 1 + p`.
+        // Read `i` of the shortened reads is stamped `base + 1 + i`.
         let base = self.clock;
         self.clock += 64;
-        // The reads of line `x`, as bits `8 · lane + row`.
-        let reads_of = |x: u32| {
-            let mut by_row = 0u64;
-            for (r, row) in rows.iter().enumerate() {
-                let mut equal = [0i32; 8];
-                for (e, &line) in equal.iter_mut().zip(row) {
-                    *e = -((line == x) as i32);
+        // Lane `k` reads what lane `k − 1` reads (each row compared with itself one lane over).
+        let mut repeats = [true; L];
+        for row in rows {
+            let before: [u32; L] = std::array::from_fn(|k| row[k.saturating_sub(1)]);
+            for k in 0..L {
+                repeats[k] &= row[k] == before[k];
+            }
+        }
+        let mut shortened = [0u32; 64];
+        let mut n = 0;
+        let mut previous = None;
+        for k in 0..L {
+            if !counted[k] || (k > 0 && repeats[k] && counted[k - 1]) {
+                continue;
+            }
+            for row in rows {
+                if previous != Some(row[k]) {
+                    shortened[n] = row[k];
+                    n += 1;
+                    previous = Some(row[k]);
                 }
-                by_row |= (sign_bits(equal) as u64) << (8 * r);
             }
-            transpose_bits(by_row) & valid
-        };
-        let mut distinct = [(0u64, 0u64); MAX_GROUP_LINES];
-        let mut sets = [u32::MAX; MAX_GROUP_LINES];
-        let (mut n, mut unread) = (0, valid);
-        while unread != 0 {
-            if n == MAX_GROUP_LINES {
-                return self.read_each(base, first_line, rows, counted);
+        }
+        // The distinct lines in the order of their first reads, each with its last read.
+        let mut distinct = [0u32; MAX_GROUP_LINES];
+        let mut last = [0u64; MAX_GROUP_LINES];
+        let mut d = 0;
+        for (i, &line) in shortened[..n].iter().enumerate() {
+            match distinct[..d].iter().position(|&seen| seen == line) {
+                Some(j) => last[j] = i as u64,
+                None if d == MAX_GROUP_LINES => return self.read_each(base, first_line, rows, counted),
+                None => {
+                    distinct[d] = line;
+                    last[d] = i as u64;
+                    d += 1;
+                }
             }
-            let first = unread.trailing_zeros() as usize;
-            let line = rows[first % 8][first / 8];
-            let reads = reads_of(line);
-            unread &= !reads;
-            let last = 63 - reads.leading_zeros() as u64;
-            let line = first_line + line as u64;
-            distinct[n] = (line, base + 1 + last);
-            sets[n] = (line & self.set_mask) as u32;
-            n += 1;
         }
         let ways = 1usize << self.ways_shift;
-        if n > ways {
-            for j in 0..n {
+        if d > ways {
+            let mut sets = [u32::MAX; MAX_GROUP_LINES];
+            for j in 0..d {
+                sets[j] = ((first_line + distinct[j] as u64) & self.set_mask) as u32;
+            }
+            for j in 0..d {
                 let in_set: u32 = sets.iter().map(|&s| (s == sets[j]) as u32).sum();
                 if in_set as usize > ways {
                     return self.read_each(base, first_line, rows, counted);
@@ -371,8 +385,8 @@ impl TextureCache {
             }
         }
         let mut misses = 0;
-        for &(line, stamp) in &distinct[..n] {
-            misses += !self.read_line(line, stamp) as u64;
+        for j in 0..d {
+            misses += !self.read_line(first_line + distinct[j] as u64, base + 1 + last[j]) as u64;
         }
         misses
     }
@@ -499,18 +513,6 @@ impl TextureCache {
         self.misses_reported = self.misses;
         new * self.config.line_bytes as u64
     }
-}
-
-/// The 8×8 bit matrix `m` (bit `8 · i + j` is row `i`, column `j`) transposed: bit `8 · j + i`.
-/// Three exchanges of bit blocks (Hacker's Delight, §7-3).
-#[inline(always)]
-fn transpose_bits(mut m: u64) -> u64 {
-    let t = (m ^ (m >> 7)) & 0x00AA_00AA_00AA_00AA;
-    m ^= t ^ (t << 7);
-    let t = (m ^ (m >> 14)) & 0x0000_CCCC_0000_CCCC;
-    m ^= t ^ (t << 14);
-    let t = (m ^ (m >> 28)) & 0x0000_0000_F0F0_F0F0;
-    m ^ t ^ (t << 28)
 }
 
 /// [`TextureCache::read_group`] of `rows.len()` rows (1, 2, 4 or 8, each compiled with its
@@ -679,14 +681,6 @@ mod tests {
             cache.access(128);
         }
         assert_eq!(cache.misses(), 6);
-    }
-
-    #[test]
-    fn transpose_bits_transposes() {
-        for (i, j) in (0..8).flat_map(|i| (0..8).map(move |j| (i, j))) {
-            assert_eq!(transpose_bits(1 << (8 * i + j)), 1 << (8 * j + i));
-        }
-        assert_eq!(transpose_bits(0xff), 0x0101_0101_0101_0101);
     }
 
     /// The SIMD levels this processor runs.
