@@ -29,7 +29,7 @@
 //! texture caches of mobile GPUs (Mali-G7x: 16 KiB per core; Adreno 6xx: 8–16 KiB).
 
 use crate::api::error::{Error, Result};
-use crate::simd::{SimdSupport, per_simd_level};
+use crate::simd::{SimdLevel, SimdSupport, per_simd_level};
 
 /// The most lines one lane of a quad reads ([`TextureCache::access_quad`]): four texels on
 /// each of two levels.
@@ -317,65 +317,31 @@ impl TextureCache {
     }
 
     /// The misses of a group's reads ([`TextureCache::access_lanes`]): `L` lanes of `R` rows.
-    ///
-    /// The reads are first shortened without changing the order of first reads or of last
-    /// reads of the distinct lines (so without changing what the distinct lines' reads count
-    /// or leave behind, see [`TextureCache::access_lanes`]): a lane that reads what the lane
-    /// before it read is dropped (its lines are read again in the same order, after every other
-    /// line), and so is a read of the line just read.
     #[inline(always)]
-    fn read_group<const L: usize, const R: usize>(&mut self, first_line: u64, rows: &[[u32; L]; R], counted: [bool; L]) -> u64 {
+    fn read_group<const L: usize, const R: usize>(
+        &mut self,
+        simd: SimdSupport,
+        first_line: u64,
+        rows: &[[u32; L]; R],
+        counted: [bool; L],
+    ) -> u64 {
         const { assert!(L <= 8 && R <= 8) };
         if !counted.contains(&true) {
             return 0;
         }
         self.allocate_once();
-        // Read `i` of the shortened reads is stamped `base + 1 + i`.
+        // A group's reads are stamped from `base + 1` to `base + 64`.
         let base = self.clock;
         self.clock += 64;
-        // Lane `k` reads what lane `k − 1` reads (each row compared with itself one lane over).
-        let mut repeats = [true; L];
-        for row in rows {
-            let before: [u32; L] = std::array::from_fn(|k| row[k.saturating_sub(1)]);
-            for k in 0..L {
-                repeats[k] &= row[k] == before[k];
-            }
-        }
-        let mut shortened = [0u32; 64];
-        let mut n = 0;
-        let mut previous = None;
-        for k in 0..L {
-            if !counted[k] || (k > 0 && repeats[k] && counted[k - 1]) {
-                continue;
-            }
-            for row in rows {
-                if previous != Some(row[k]) {
-                    shortened[n] = row[k];
-                    n += 1;
-                    previous = Some(row[k]);
-                }
-            }
-        }
-        // The distinct lines in the order of their first reads, each with its last read.
-        let mut distinct = [0u32; MAX_GROUP_LINES];
-        let mut last = [0u64; MAX_GROUP_LINES];
-        let mut d = 0;
-        for (i, &line) in shortened[..n].iter().enumerate() {
-            match distinct[..d].iter().position(|&seen| seen == line) {
-                Some(j) => last[j] = i as u64,
-                None if d == MAX_GROUP_LINES => return self.read_each(base, first_line, rows, counted),
-                None => {
-                    distinct[d] = line;
-                    last[d] = i as u64;
-                    d += 1;
-                }
-            }
-        }
+        let mut distinct = [(0u32, 0u64); MAX_GROUP_LINES];
+        let Some(d) = distinct_lines(simd, rows, counted, &mut distinct) else {
+            return self.read_each(base, first_line, rows, counted);
+        };
         let ways = 1usize << self.ways_shift;
         if d > ways {
             let mut sets = [u32::MAX; MAX_GROUP_LINES];
             for j in 0..d {
-                sets[j] = ((first_line + distinct[j] as u64) & self.set_mask) as u32;
+                sets[j] = ((first_line + distinct[j].0 as u64) & self.set_mask) as u32;
             }
             for j in 0..d {
                 let in_set: u32 = sets.iter().map(|&s| (s == sets[j]) as u32).sum();
@@ -385,8 +351,8 @@ impl TextureCache {
             }
         }
         let mut misses = 0;
-        for j in 0..d {
-            misses += !self.read_line(first_line + distinct[j] as u64, base + 1 + last[j]) as u64;
+        for &(line, last) in &distinct[..d] {
+            misses += !self.read_line(first_line + line as u64, base + 1 + last) as u64;
         }
         misses
     }
@@ -515,18 +481,146 @@ impl TextureCache {
     }
 }
 
+/// The distinct lines of a group's reads (`rows[r][k]`, lane `k` of the `counted` lanes reading
+/// rows 0, 1, … in turn, lane after lane) in the order of their first reads, each with a key
+/// that orders their last reads (below 64), into `out`; returns how many, or `None` past
+/// [`MAX_GROUP_LINES`].
+///
+/// The reads may be shortened first where that changes neither order: a lane that reads what
+/// the lane before it read is dropped (its lines are read again in the same order, after every
+/// other line), and so is a read of the line just read; or lengthened, a lane's last line read
+/// again after it.
+#[inline(always)]
+fn distinct_lines<const L: usize, const R: usize>(
+    simd: SimdSupport,
+    rows: &[[u32; L]; R],
+    counted: [bool; L],
+    out: &mut [(u32, u64); MAX_GROUP_LINES],
+) -> Option<usize> {
+    #[cfg(target_arch = "x86_64")]
+    if simd.level() == SimdLevel::Avx2 {
+        // Eight rows of eight lanes: rows past `R` repeat the last, lanes past `L` are not read.
+        let mut square = [[0u32; 8]; 8];
+        for (r, row) in square.iter_mut().enumerate() {
+            row[..L].copy_from_slice(&rows[r.min(R - 1)]);
+        }
+        let mut reads = 0u64;
+        for (k, &counted) in counted.iter().enumerate() {
+            reads |= (counted as u64 * 0xff) << (8 * k);
+        }
+        // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has every
+        // feature `avx2::distinct_lines` is compiled with (`SimdSupport::detect`).
+        return unsafe { avx2::distinct_lines(&square, reads, out) };
+    }
+    let _ = simd;
+    // Lane `k` reads what lane `k − 1` reads (each row compared with itself one lane over).
+    let mut repeats = [true; L];
+    for row in rows {
+        for k in 1..L {
+            repeats[k] &= row[k] == row[k - 1];
+        }
+    }
+    let (mut d, mut i, mut previous) = (0, 0u64, None);
+    for k in 0..L {
+        if !counted[k] || (k > 0 && repeats[k] && counted[k - 1]) {
+            continue;
+        }
+        for row in rows {
+            let line = row[k];
+            if previous == Some(line) {
+                continue;
+            }
+            previous = Some(line);
+            match out[..d].iter().position(|&(seen, _)| seen == line) {
+                Some(j) => out[j].1 = i,
+                None if d == MAX_GROUP_LINES => return None,
+                None => {
+                    out[d] = (line, i);
+                    d += 1;
+                }
+            }
+            i += 1;
+        }
+    }
+    Some(d)
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use std::arch::x86_64::*;
+
+    use super::MAX_GROUP_LINES;
+
+    /// [`super::distinct_lines`] of eight rows of eight lanes, read `8 · k + r` (lane `k`, row
+    /// `r`) made where bit `8 · k + r` of `reads` is set: per distinct line, one comparison of
+    /// all 64 reads with it (eight lanes at a time, the eight lanes' masks packed to bytes in
+    /// read order), the first read not yet matched starting the next line. The key of a line's
+    /// last read is its position.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    pub(super) fn distinct_lines(
+        rows: &[[u32; 8]; 8],
+        reads: u64,
+        out: &mut [(u32, u64); MAX_GROUP_LINES],
+    ) -> Option<usize> {
+        // SAFETY (each load): reads the 32 bytes of one `[u32; 8]` of `rows`; unaligned loads
+        // need no alignment.
+        let row = |r: usize| unsafe { _mm256_loadu_si256(rows[r].as_ptr().cast()) };
+        let (r0, r1, r2, r3, r4, r5, r6, r7) = (row(0), row(1), row(2), row(3), row(4), row(5), row(6), row(7));
+        // Transposed: `c[k]` holds lane k's eight rows.
+        let (t0, t1) = (_mm256_unpacklo_epi32(r0, r1), _mm256_unpackhi_epi32(r0, r1));
+        let (t2, t3) = (_mm256_unpacklo_epi32(r2, r3), _mm256_unpackhi_epi32(r2, r3));
+        let (t4, t5) = (_mm256_unpacklo_epi32(r4, r5), _mm256_unpackhi_epi32(r4, r5));
+        let (t6, t7) = (_mm256_unpacklo_epi32(r6, r7), _mm256_unpackhi_epi32(r6, r7));
+        let (u0, u1) = (_mm256_unpacklo_epi64(t0, t2), _mm256_unpackhi_epi64(t0, t2));
+        let (u2, u3) = (_mm256_unpacklo_epi64(t1, t3), _mm256_unpackhi_epi64(t1, t3));
+        let (u4, u5) = (_mm256_unpacklo_epi64(t4, t6), _mm256_unpackhi_epi64(t4, t6));
+        let (u6, u7) = (_mm256_unpacklo_epi64(t5, t7), _mm256_unpackhi_epi64(t5, t7));
+        let c = [
+            _mm256_permute2x128_si256::<0x20>(u0, u4),
+            _mm256_permute2x128_si256::<0x20>(u1, u5),
+            _mm256_permute2x128_si256::<0x20>(u2, u6),
+            _mm256_permute2x128_si256::<0x20>(u3, u7),
+            _mm256_permute2x128_si256::<0x31>(u0, u4),
+            _mm256_permute2x128_si256::<0x31>(u1, u5),
+            _mm256_permute2x128_si256::<0x31>(u2, u6),
+            _mm256_permute2x128_si256::<0x31>(u3, u7),
+        ];
+        // After the packs, dword `j` of a half holds lane (j % 4)'s rows 0–3 (j < 4) or 4–7.
+        let order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+        let (mut d, mut unread) = (0, reads);
+        while unread != 0 {
+            if d == MAX_GROUP_LINES {
+                return None;
+            }
+            let first = unread.trailing_zeros() as usize;
+            let line = rows[first % 8][first / 8];
+            let x = _mm256_set1_epi32(line as i32);
+            let e = |k: usize| _mm256_cmpeq_epi32(c[k], x);
+            let low = _mm256_packs_epi16(_mm256_packs_epi32(e(0), e(1)), _mm256_packs_epi32(e(2), e(3)));
+            let high = _mm256_packs_epi16(_mm256_packs_epi32(e(4), e(5)), _mm256_packs_epi32(e(6), e(7)));
+            let low = _mm256_movemask_epi8(_mm256_permutevar8x32_epi32(low, order)) as u32 as u64;
+            let high = _mm256_movemask_epi8(_mm256_permutevar8x32_epi32(high, order)) as u32 as u64;
+            let matched = (low | high << 32) & reads;
+            unread &= !matched;
+            out[d] = (line, 63 - matched.leading_zeros() as u64);
+            d += 1;
+        }
+        Some(d)
+    }
+}
+
 /// [`TextureCache::read_group`] of `rows.len()` rows (1, 2, 4 or 8, each compiled with its
 /// count known; other counts are made read by read).
 #[inline(always)]
-fn read_rows<const L: usize>(cache: &mut TextureCache, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) -> u64 {
+fn read_rows<const L: usize>(simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) -> u64 {
     let misses = if let Ok(rows) = <&[[u32; L]; 8]>::try_from(rows) {
-        cache.read_group(first_line, rows, counted)
+        cache.read_group(simd, first_line, rows, counted)
     } else if let Ok(rows) = <&[[u32; L]; 4]>::try_from(rows) {
-        cache.read_group(first_line, rows, counted)
+        cache.read_group(simd, first_line, rows, counted)
     } else if let Ok(rows) = <&[[u32; L]; 2]>::try_from(rows) {
-        cache.read_group(first_line, rows, counted)
+        cache.read_group(simd, first_line, rows, counted)
     } else if let Ok(rows) = <&[[u32; L]; 1]>::try_from(rows) {
-        cache.read_group(first_line, rows, counted)
+        cache.read_group(simd, first_line, rows, counted)
     } else if rows.is_empty() || !counted.contains(&true) {
         0
     } else {
@@ -559,8 +653,8 @@ per_simd_level! {
 }
 
 #[inline(always)]
-fn read_pair_body(_simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; 8]], counted: [bool; 8]) -> u64 {
-    read_rows(cache, first_line, rows, counted)
+fn read_pair_body(simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; 8]], counted: [bool; 8]) -> u64 {
+    read_rows(simd, cache, first_line, rows, counted)
 }
 
 per_simd_level! {
@@ -576,8 +670,8 @@ per_simd_level! {
 }
 
 #[inline(always)]
-fn read_quad_body(_simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) -> u64 {
-    read_rows(cache, first_line, rows, counted)
+fn read_quad_body(simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) -> u64 {
+    read_rows(simd, cache, first_line, rows, counted)
 }
 
 /// The cache model as it was first written, one line at a time, each set's lines in an order
