@@ -333,7 +333,7 @@ impl TextureCache {
         // A group's reads are stamped from `base + 1` to `base + 64`.
         let base = self.clock;
         self.clock += 64;
-        let mut distinct = [(0u32, 0u64); MAX_GROUP_LINES];
+        let mut distinct = [0u64; MAX_GROUP_LINES];
         let Some(d) = distinct_lines(simd, rows, counted, &mut distinct) else {
             return self.read_each(base, first_line, rows, counted);
         };
@@ -341,7 +341,7 @@ impl TextureCache {
         if d > ways {
             let mut sets = [u32::MAX; MAX_GROUP_LINES];
             for j in 0..d {
-                sets[j] = ((first_line + distinct[j].0 as u64) & self.set_mask) as u32;
+                sets[j] = ((first_line + (distinct[j] >> 8)) & self.set_mask) as u32;
             }
             for j in 0..d {
                 let in_set: u32 = sets.iter().map(|&s| (s == sets[j]) as u32).sum();
@@ -351,8 +351,8 @@ impl TextureCache {
             }
         }
         let mut misses = 0;
-        for &(line, last) in &distinct[..d] {
-            misses += !self.read_line(first_line + line as u64, base + 1 + last) as u64;
+        for &entry in &distinct[..d] {
+            misses += !self.read_line(first_line + (entry >> 8), base + 1 + (entry & 0xff)) as u64;
         }
         misses
     }
@@ -483,8 +483,8 @@ impl TextureCache {
 
 /// The distinct lines of a group's reads (`rows[r][k]`, lane `k` of the `counted` lanes reading
 /// rows 0, 1, … in turn, lane after lane) in the order of their first reads, each with a key
-/// that orders their last reads (below 64), into `out`; returns how many, or `None` past
-/// [`MAX_GROUP_LINES`].
+/// that orders their last reads (below 64), into `out` as `line << 8 | key`; returns how many,
+/// or `None` past [`MAX_GROUP_LINES`].
 ///
 /// The reads may be shortened first where that changes neither order: a lane that reads what
 /// the lane before it read is dropped (its lines are read again in the same order, after every
@@ -495,7 +495,7 @@ fn distinct_lines<const L: usize, const R: usize>(
     simd: SimdSupport,
     rows: &[[u32; L]; R],
     counted: [bool; L],
-    out: &mut [(u32, u64); MAX_GROUP_LINES],
+    out: &mut [u64; MAX_GROUP_LINES],
 ) -> Option<usize> {
     #[cfg(target_arch = "x86_64")]
     if simd.level() == SimdLevel::Avx2 {
@@ -504,10 +504,12 @@ fn distinct_lines<const L: usize, const R: usize>(
         for (r, row) in square.iter_mut().enumerate() {
             row[..L].copy_from_slice(&rows[r.min(R - 1)]);
         }
-        let mut reads = 0u64;
-        for (k, &counted) in counted.iter().enumerate() {
-            reads |= (counted as u64 * 0xff) << (8 * k);
+        // A byte of ones per counted lane (each `bool` a byte of 0 or 1).
+        let mut lanes = [0u8; 8];
+        for (lane, &counted) in lanes.iter_mut().zip(&counted) {
+            *lane = counted as u8;
         }
+        let reads = u64::from_le_bytes(lanes) * 0xff;
         // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has every
         // feature `avx2::distinct_lines` is compiled with (`SimdSupport::detect`).
         return unsafe { avx2::distinct_lines(&square, reads, out) };
@@ -531,11 +533,11 @@ fn distinct_lines<const L: usize, const R: usize>(
                 continue;
             }
             previous = Some(line);
-            match out[..d].iter().position(|&(seen, _)| seen == line) {
-                Some(j) => out[j].1 = i,
+            match out[..d].iter().position(|&seen| (seen >> 8) as u32 == line) {
+                Some(j) => out[j] = (line as u64) << 8 | i,
                 None if d == MAX_GROUP_LINES => return None,
                 None => {
-                    out[d] = (line, i);
+                    out[d] = (line as u64) << 8 | i;
                     d += 1;
                 }
             }
@@ -560,7 +562,7 @@ mod avx2 {
     pub(super) fn distinct_lines(
         rows: &[[u32; 8]; 8],
         reads: u64,
-        out: &mut [(u32, u64); MAX_GROUP_LINES],
+        out: &mut [u64; MAX_GROUP_LINES],
     ) -> Option<usize> {
         // SAFETY (each load): reads the 32 bytes of one `[u32; 8]` of `rows`; unaligned loads
         // need no alignment.
@@ -602,7 +604,7 @@ mod avx2 {
             let high = _mm256_movemask_epi8(_mm256_permutevar8x32_epi32(high, order)) as u32 as u64;
             let matched = (low | high << 32) & reads;
             unread &= !matched;
-            out[d] = (line, 63 - matched.leading_zeros() as u64);
+            out[d] = (line as u64) << 8 | (63 - matched.leading_zeros() as u64);
             d += 1;
         }
         Some(d)
