@@ -718,8 +718,15 @@ impl Texture {
                 face_offsets: [0; 4],
                 offset,
             };
-            quads[quad] =
-                self.sample_quad::<STORED>(simd, sampler, lambdas[quad], &at, counted[quad], minified_unmipped[quad], cache);
+            quads[quad] = self.sample_quad::<STORED>(
+                simd,
+                sampler,
+                lambdas[quad],
+                &at,
+                counted[quad],
+                minified_unmipped[quad],
+                cache,
+            );
         }
         group_of_quads(quads)
     }

@@ -310,7 +310,7 @@ impl TextureCache {
         for set in 0..sets {
             let mut held: Vec<(u64, u64)> =
                 (set * ways..(set + 1) * ways).map(|w| (self.stamps[w], self.tags[w])).collect();
-            held.sort_by(|a, b| b.0.cmp(&a.0));
+            held.sort_by_key(|&(stamp, _)| std::cmp::Reverse(stamp));
             out.extend(held.iter().map(|&(stamp, tag)| if stamp == 0 { Self::EMPTY } else { tag }));
         }
         out
@@ -559,11 +559,7 @@ mod avx2 {
     /// read order), the first read not yet matched starting the next line. The key of a line's
     /// last read is its position.
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-    pub(super) fn distinct_lines(
-        rows: &[[u32; 8]; 8],
-        reads: u64,
-        out: &mut [u64; MAX_GROUP_LINES],
-    ) -> Option<usize> {
+    pub(super) fn distinct_lines(rows: &[[u32; 8]; 8], reads: u64, out: &mut [u64; MAX_GROUP_LINES]) -> Option<usize> {
         // SAFETY (each load): reads the 32 bytes of one `[u32; 8]` of `rows`; unaligned loads
         // need no alignment.
         let row = |r: usize| unsafe { _mm256_loadu_si256(rows[r].as_ptr().cast()) };
@@ -614,7 +610,13 @@ mod avx2 {
 /// [`TextureCache::read_group`] of `rows.len()` rows (1, 2, 4 or 8, each compiled with its
 /// count known; other counts are made read by read).
 #[inline(always)]
-fn read_rows<const L: usize>(simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) -> u64 {
+fn read_rows<const L: usize>(
+    simd: SimdSupport,
+    cache: &mut TextureCache,
+    first_line: u64,
+    rows: &[[u32; L]],
+    counted: [bool; L],
+) -> u64 {
     let misses = if let Ok(rows) = <&[[u32; L]; 8]>::try_from(rows) {
         cache.read_group(simd, first_line, rows, counted)
     } else if let Ok(rows) = <&[[u32; L]; 4]>::try_from(rows) {
@@ -655,7 +657,13 @@ per_simd_level! {
 }
 
 #[inline(always)]
-fn read_pair_body(simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; 8]], counted: [bool; 8]) -> u64 {
+fn read_pair_body(
+    simd: SimdSupport,
+    cache: &mut TextureCache,
+    first_line: u64,
+    rows: &[[u32; 8]],
+    counted: [bool; 8],
+) -> u64 {
     read_rows(simd, cache, first_line, rows, counted)
 }
 
@@ -672,7 +680,13 @@ per_simd_level! {
 }
 
 #[inline(always)]
-fn read_quad_body(simd: SimdSupport, cache: &mut TextureCache, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) -> u64 {
+fn read_quad_body(
+    simd: SimdSupport,
+    cache: &mut TextureCache,
+    first_line: u64,
+    rows: &[[u32; 4]],
+    counted: [bool; 4],
+) -> u64 {
     read_rows(simd, cache, first_line, rows, counted)
 }
 
@@ -693,7 +707,13 @@ pub(crate) struct LineByLine {
 impl LineByLine {
     fn new(config: TextureCacheConfig) -> LineByLine {
         let (sets, ways) = (config.sets() as usize, config.ways as usize);
-        LineByLine { ways, set_mask: sets as u64 - 1, lines: vec![TextureCache::EMPTY; sets * ways], hits: 0, misses: 0 }
+        LineByLine {
+            ways,
+            set_mask: sets as u64 - 1,
+            lines: vec![TextureCache::EMPTY; sets * ways],
+            hits: 0,
+            misses: 0,
+        }
     }
 
     /// Reads line `line`: moves it to the front of its set, each line before it one place
