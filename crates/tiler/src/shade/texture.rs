@@ -649,8 +649,10 @@ impl Texture {
 
     /// [`Texture::sample`] for one layout (`STORED`: see `sample_group_body`).
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // `sample_with`'s inputs
     fn sample_layout<const STORED: bool>(
         &self,
+        simd: SimdSupport,
         sampler: &Sampler,
         u: F32x8,
         v: F32x8,
@@ -705,7 +707,7 @@ impl Texture {
                 face_offsets: [0; 8],
                 offset,
             };
-            let rgba = self.sample_pair::<STORED>(sampler, pair, &at, counted, minified_unmipped, cache);
+            let rgba = self.sample_pair::<STORED>(simd, sampler, pair, &at, counted, minified_unmipped, cache);
             return group_of_pair(rgba);
         }
         let mut quads = [[[0u32; 4]; 4]; 2];
@@ -716,8 +718,15 @@ impl Texture {
                 face_offsets: [0; 4],
                 offset,
             };
-            quads[quad] =
-                self.sample_quad::<STORED>(sampler, lambdas[quad], &at, counted[quad], minified_unmipped[quad], cache);
+            quads[quad] = self.sample_quad::<STORED>(
+                simd,
+                sampler,
+                lambdas[quad],
+                &at,
+                counted[quad],
+                minified_unmipped[quad],
+                cache,
+            );
         }
         group_of_quads(quads)
     }
@@ -731,6 +740,7 @@ impl Texture {
     #[allow(clippy::too_many_arguments)] // one group's inputs; a struct would only rename them
     fn sample_pair<const STORED: bool>(
         &self,
+        simd: SimdSupport,
         sampler: &Sampler,
         pair: PairPlan,
         at: &QuadAt<8>,
@@ -753,13 +763,13 @@ impl Texture {
                     for quad in 0..2 {
                         let rows: [[u32; 4]; 4] = near.lines.each_ref().map(|row| half(row, quad));
                         let misses = cache.misses();
-                        cache.access_quad(first_line, &rows[..near_rows.len()], counted[quad]);
+                        cache.access_quad(simd, first_line, &rows[..near_rows.len()], counted[quad]);
                         if minified_unmipped[quad] && counted[quad].contains(&true) {
                             cache.note_unmipped(misses);
                         }
                     }
                 } else {
-                    cache.access_lanes(first_line, near_rows, counted_pair);
+                    cache.access_lanes(simd, first_line, near_rows, counted_pair);
                 }
                 self.filter(&near)
             }
@@ -770,7 +780,7 @@ impl Texture {
                 let mut rows = [[0; 8]; MAX_LANE_LINES];
                 rows[..near_rows.len()].copy_from_slice(near_rows);
                 rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
-                cache.access_lanes(first_line, &rows[..near_rows.len() + far_rows.len()], counted_pair);
+                cache.access_lanes(simd, first_line, &rows[..near_rows.len() + far_rows.len()], counted_pair);
                 let (a, b) = (self.filter(&near), self.filter(&far));
                 let weight = lanes::<u32, 8>(|i| weights[i / 4]);
                 let blend = |c: usize| lanes(|i| lerp(a[c][i], b[c][i], weight[i]));
@@ -789,6 +799,7 @@ impl Texture {
     #[allow(clippy::too_many_arguments)] // one quad's inputs; a struct would only rename them
     fn sample_quad<const STORED: bool>(
         &self,
+        simd: SimdSupport,
         sampler: &Sampler,
         lambda: f32,
         at: &QuadAt,
@@ -805,7 +816,7 @@ impl Texture {
             LevelPlan::Single { level, filter } => {
                 let near = self.footprint::<STORED, 4>(level, filter, sampler, at, line_shift);
                 let misses = cache.misses();
-                cache.access_quad(first_line, near.rows(), counted);
+                cache.access_quad(simd, first_line, near.rows(), counted);
                 if minified_unmipped && counted.contains(&true) {
                     cache.note_unmipped(misses);
                 }
@@ -818,7 +829,7 @@ impl Texture {
                 let mut rows = [[0; 4]; MAX_LANE_LINES];
                 rows[..near_rows.len()].copy_from_slice(near_rows);
                 rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
-                cache.access_quad(first_line, &rows[..near_rows.len() + far_rows.len()], counted);
+                cache.access_quad(simd, first_line, &rows[..near_rows.len() + far_rows.len()], counted);
                 let (a, b) = (self.filter(&near), self.filter(&far));
                 let blend = |c: usize| self::lanes(|i| lerp(a[c][i], b[c][i], weight));
                 [blend(0), blend(1), blend(2), blend(3)]
@@ -1221,7 +1232,7 @@ per_simd_level! {
 
 #[inline(always)]
 fn sample_group_body(
-    _simd: SimdSupport,
+    simd: SimdSupport,
     texture: &Texture,
     sampler: &Sampler,
     [u, v]: [F32x8; 2],
@@ -1233,9 +1244,9 @@ fn sample_group_body(
     // formats from their stored layout (`STORED`), with no branch on the format in the RGBA8
     // kernel. The colour space needs none: the texels are held decoded.
     if texture.format == TexelFormat::Rgba8 {
-        texture.sample_layout::<false>(sampler, u, v, counted, cache, lookup)
+        texture.sample_layout::<false>(simd, sampler, u, v, counted, cache, lookup)
     } else {
-        texture.sample_layout::<true>(sampler, u, v, counted, cache, lookup)
+        texture.sample_layout::<true>(simd, sampler, u, v, counted, cache, lookup)
     }
 }
 

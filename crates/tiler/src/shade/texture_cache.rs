@@ -29,6 +29,7 @@
 //! texture caches of mobile GPUs (Mali-G7x: 16 KiB per core; Adreno 6xx: 8–16 KiB).
 
 use crate::api::error::{Error, Result};
+use crate::simd::{SimdLevel, SimdSupport, per_simd_level};
 
 /// The most lines one lane of a quad reads ([`TextureCache::access_quad`]): four texels on
 /// each of two levels.
@@ -89,17 +90,28 @@ impl TextureCacheConfig {
     }
 }
 
-/// The cache state of one task: tags per set, most recently used first, and the counts.
+/// The cache state of one task: per way its line and when it was last read, and the counts.
+///
+/// Least recently used is kept as a time stamp per way, not as an order of the set's lines:
+/// a read stamps its way with the read's time, and a miss replaces the way with the oldest
+/// stamp (an unused way's is 0, older than any read). Ordering each set's ways by stamp, newest
+/// first, gives the order the line-by-line model (the set's lines moved to the front as they
+/// are read) keeps; the tests hold the two equal. A hit is then one tag search and one store,
+/// wherever the line is in its set.
 #[derive(Clone, Debug)]
 pub struct TextureCache {
     config: TextureCacheConfig,
     line_shift: u32,
-    /// `log2(ways)`: a set's lines start at `set << ways_shift`.
+    /// `log2(ways)`: a set's ways start at `set << ways_shift`.
     ways_shift: u32,
     set_mask: u64,
-    /// `sets × ways` line addresses, each set's most recently used first; `EMPTY` when unused.
-    /// Allocated on the first access, so tasks that sample nothing cost nothing.
-    lines: Vec<u64>,
+    /// `sets × ways` line numbers, `EMPTY` when unused. Allocated on the first access, so
+    /// tasks that sample nothing cost nothing.
+    tags: Vec<u64>,
+    /// When each way's line was last read (a value of `clock`); 0 when unused.
+    stamps: Vec<u64>,
+    /// The time of the last read (each read, or each group of up to 64, advances it).
+    clock: u64,
     hits: u64,
     misses: u64,
     /// Misses already handed to the ledger.
@@ -109,9 +121,9 @@ pub struct TextureCache {
     unmipped_quads: u64,
     unmipped_misses: u64,
     /// With the `texture-cache-reference` feature (for tests): the same cache read one line
-    /// at a time, as the model was first written, held equal after every quad.
+    /// at a time by the line-by-line model ([`LineByLine`]), held equal after every call.
     #[cfg(feature = "texture-cache-reference")]
-    reference: Option<Box<TextureCache>>,
+    reference: Option<Box<LineByLine>>,
 }
 
 impl Default for TextureCache {
@@ -119,6 +131,10 @@ impl Default for TextureCache {
         TextureCache::new(TextureCacheConfig::DEFAULT)
     }
 }
+
+/// The most distinct lines a group's reads are checked for ([`TextureCache::access_lanes`]):
+/// past that, its reads are made one by one.
+const MAX_GROUP_LINES: usize = 16;
 
 impl TextureCache {
     const EMPTY: u64 = u64::MAX;
@@ -129,26 +145,22 @@ impl TextureCache {
     /// If `config` is invalid (check it with [`TextureCacheConfig::validate`] first).
     pub fn new(config: TextureCacheConfig) -> TextureCache {
         assert!(config.validate().is_ok(), "invalid texture cache configuration {config:?}");
-        #[allow(unused_mut)] // Changed with the `texture-cache-reference` feature only.
-        let mut cache = TextureCache {
+        TextureCache {
             config,
             line_shift: config.line_bytes.trailing_zeros(),
             ways_shift: config.ways.trailing_zeros(),
             set_mask: config.sets() as u64 - 1,
-            lines: Vec::new(),
+            tags: Vec::new(),
+            stamps: Vec::new(),
+            clock: 0,
             hits: 0,
             misses: 0,
             misses_reported: 0,
             unmipped_quads: 0,
             unmipped_misses: 0,
             #[cfg(feature = "texture-cache-reference")]
-            reference: None,
-        };
-        #[cfg(feature = "texture-cache-reference")]
-        {
-            cache.reference = Some(Box::new(cache.clone()));
+            reference: Some(Box::new(LineByLine::new(config))),
         }
-        cache
     }
 
     pub fn config(&self) -> &TextureCacheConfig {
@@ -158,12 +170,15 @@ impl TextureCache {
     /// Reads the byte at modelled address `address`; returns whether it hit.
     #[inline]
     pub fn access(&mut self, address: u64) -> bool {
-        let hit = self.access_line(address >> self.line_shift);
+        self.allocate_once();
+        self.clock += 1;
+        let hit = self.read_line(address >> self.line_shift, self.clock);
         self.count(1, !hit as u64);
         #[cfg(feature = "texture-cache-reference")]
         if let Some(reference) = &mut self.reference {
-            reference.access(address);
+            reference.access(address >> self.line_shift);
         }
+        self.check_reference();
         hit
     }
 
@@ -187,165 +202,251 @@ impl TextureCache {
     /// usually share a line.
     #[inline]
     pub fn access_lines(&mut self, first_line: u64, lines: &[u32]) {
-        let misses = self.read_lines(first_line, lines);
+        self.allocate_once();
+        let (mut previous, mut misses) = (None, 0);
+        for &line in lines {
+            self.clock += 1;
+            if previous != Some(line) {
+                misses += !self.read_line(first_line + line as u64, self.clock) as u64;
+                previous = Some(line);
+            }
+        }
         self.count(lines.len() as u64, misses);
         #[cfg(feature = "texture-cache-reference")]
         if let Some(reference) = &mut self.reference {
             for &line in lines {
-                reference.access((first_line + line as u64) << reference.line_shift);
+                reference.access(first_line + line as u64);
             }
         }
-    }
-
-    /// [`Self::access_lines`] without counting: returns the misses. (Counts kept in registers
-    /// by the callers, not incremented in memory read after read.)
-    #[inline(always)]
-    fn read_lines(&mut self, first_line: u64, lines: &[u32]) -> u64 {
-        let (mut previous, mut misses) = (None, 0);
-        for &line in lines {
-            if previous != Some(line) {
-                misses += !self.access_line(first_line + line as u64) as u64;
-                previous = Some(line);
-            }
-        }
-        misses
+        self.check_reference();
     }
 
     /// Reads the lines of a quad's `counted` lanes, lane after lane, each lane `k` reading
     /// `rows[0][k]`, `rows[1][k]`, … in order (a row per texel a lane reads: the corners of its
     /// footprint on a level, level after level): the same as [`TextureCache::access_lines`] of
-    /// each lane's lines in turn, with one comparison for a lane that reads what the lane
-    /// before it read.
-    ///
-    /// Why that is exact: once a run of lines has been read, each of its lines is among the
-    /// run's lines at the front of its set, in the order of their last reads — as long as no
-    /// set holds more of the run's lines than it has ways, none falls out. Reading the same run
-    /// again then hits every time and leaves every set as it was. Neighbouring pixels usually
-    /// read the same texels' lines: most lanes cost a comparison instead of a tag check per
-    /// texel.
-    ///
-    /// The row counts the sampler reads (one texel, four, on one level or two) each get a copy
-    /// with the count known, whose loops the compiler unrolls.
+    /// each lane's lines in turn. `simd`: the instruction set to run it with (every level
+    /// counts the same).
     #[inline]
-    pub fn access_quad(&mut self, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
-        self.access_lanes(first_line, rows, counted);
+    pub fn access_quad(&mut self, simd: SimdSupport, first_line: u64, rows: &[[u32; 4]], counted: [bool; 4]) {
+        assert!(rows.len() <= MAX_LANE_LINES, "{} lines a lane, more than {MAX_LANE_LINES}", rows.len());
+        let misses = read_quad(simd, self, first_line, rows, counted);
+        self.count_group(rows.len(), &counted, misses);
+        self.check_reference();
     }
 
-    /// [`TextureCache::access_quad`] of `L` lanes: a quad's four, or a pair of quads' eight
-    /// (quad 0's lanes, then quad 1's), the same reads in the same order.
+    /// [`TextureCache::access_quad`] of a pair of quads' eight lanes (quad 0's, then quad
+    /// 1's), the same reads in the same order.
+    ///
+    /// A group's reads (up to 64) are made at the cost of a tag check per distinct line, not
+    /// per read, when that is exact: the distinct lines are found in the order of their first
+    /// reads, each with the time of its last read ([`TextureCache::read_group`]); when no set
+    /// gets more of them than it has ways, reading each once in that order, stamped with its
+    /// last read's time, counts and leaves the cache exactly as the reads one by one:
+    ///
+    /// - Only a line's first read can miss: between two reads of a line, fewer than `ways`
+    ///   other lines of its set are read, so it is still among the `ways` most recent.
+    /// - Whether a first read hits depends on what the reads before it evicted, and each such
+    ///   eviction is of the set's least recently used line, which is never one the group has
+    ///   read (each of those is newer than every line read before the group, and the set holds
+    ///   fewer than `ways` of them when another misses): the same victims, in the same order,
+    ///   as the first reads alone make, whatever stamps the group's lines carry.
+    /// - After the reads, a set's order is its group lines by last read, then the rest in their
+    ///   old order: what the stamps of the last reads give.
+    ///
+    /// Otherwise (more lines in a set than ways, or more than [`MAX_GROUP_LINES`] distinct
+    /// lines) the reads are made one by one.
     #[inline]
-    pub fn access_lanes<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) {
-        debug_assert!(rows.len() <= MAX_LANE_LINES);
-        let misses = if let Ok(rows) = <&[[u32; L]; 4]>::try_from(rows) {
-            self.read_quad(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; L]; 8]>::try_from(rows) {
-            self.read_quad(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; L]; 1]>::try_from(rows) {
-            self.read_quad(first_line, rows, counted)
-        } else if let Ok(rows) = <&[[u32; L]; 2]>::try_from(rows) {
-            self.read_quad(first_line, rows, counted)
-        } else {
-            self.read_quad(first_line, rows, counted)
-        };
-        let reads = counted.iter().filter(|&&counted| counted).count() as u64 * rows.len() as u64;
+    pub fn access_lanes(&mut self, simd: SimdSupport, first_line: u64, rows: &[[u32; 8]], counted: [bool; 8]) {
+        assert!(rows.len() <= MAX_LANE_LINES, "{} lines a lane, more than {MAX_LANE_LINES}", rows.len());
+        let misses = read_pair(simd, self, first_line, rows, counted);
+        self.count_group(rows.len(), &counted, misses);
+        self.check_reference();
+    }
+
+    /// Counts a group's reads (`rows` a lane, of the `counted` lanes) with `misses` misses.
+    #[inline(always)]
+    fn count_group<const L: usize>(&mut self, rows: usize, counted: &[bool; L], misses: u64) {
+        let reads = counted.iter().filter(|&&counted| counted).count() as u64 * rows as u64;
         self.count(reads, misses);
-        #[cfg(feature = "texture-cache-reference")]
+    }
+
+    /// With the `texture-cache-reference` feature: reads a group's lines from the reference
+    /// one by one and asserts that the two agree (counts and every set's order).
+    #[cfg(feature = "texture-cache-reference")]
+    fn read_reference<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) {
         if let Some(reference) = &mut self.reference {
             for lane in (0..L).filter(|&lane| counted[lane]) {
                 for row in rows {
-                    reference.access((first_line + row[lane] as u64) << reference.line_shift);
+                    reference.access(first_line + row[lane] as u64);
                 }
             }
+        }
+    }
+
+    /// With the `texture-cache-reference` feature: asserts that the cache and its reference
+    /// agree — hits, misses, and each set's lines by recency.
+    #[inline(always)]
+    fn check_reference(&self) {
+        #[cfg(feature = "texture-cache-reference")]
+        if let Some(reference) = &self.reference {
             assert_eq!(
-                (self.hits, self.misses, &self.lines),
-                (reference.hits, reference.misses, &reference.lines),
+                (self.hits, self.misses, self.by_recency()),
+                (reference.hits, reference.misses, reference.lines.clone()),
                 "the texture cache model disagrees with its line-by-line reference"
             );
         }
     }
 
-    /// [`Self::access_lanes`] without counting: returns the misses.
+    /// Each set's lines, most recently read first, then `EMPTY` for unused ways: the order the
+    /// line-by-line model keeps ([`LineByLine`]).
+    #[cfg(any(test, feature = "texture-cache-reference"))]
+    fn by_recency(&self) -> Vec<u64> {
+        let ways = self.config.ways as usize;
+        let sets = self.config.sets() as usize;
+        if self.tags.is_empty() {
+            return vec![Self::EMPTY; sets * ways];
+        }
+        let mut out = Vec::with_capacity(sets * ways);
+        for set in 0..sets {
+            let mut held: Vec<(u64, u64)> =
+                (set * ways..(set + 1) * ways).map(|w| (self.stamps[w], self.tags[w])).collect();
+            held.sort_by_key(|&(stamp, _)| std::cmp::Reverse(stamp));
+            out.extend(held.iter().map(|&(stamp, tag)| if stamp == 0 { Self::EMPTY } else { tag }));
+        }
+        out
+    }
+
+    /// The misses of a group's reads ([`TextureCache::access_lanes`]): `L` lanes of `R` rows.
     #[inline(always)]
-    fn read_quad<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], counted: [bool; L]) -> u64 {
-        // The lane read before, and whether its lines fit in their sets: it read no more runs
-        // of a line than the sets have ways (so no more distinct lines either). When they may
-        // not, the next lane is read line by line, repeated or not.
-        let mut previous: Option<(usize, bool)> = None;
-        let mut misses = 0;
-        for lane in (0..L).filter(|&lane| counted[lane]) {
-            if let Some((before, true)) = previous
-                && rows.iter().all(|row| row[lane] == row[before])
-            {
-                continue;
+    fn read_group<const L: usize, const R: usize>(
+        &mut self,
+        simd: SimdSupport,
+        first_line: u64,
+        rows: &[[u32; L]; R],
+        counted: [bool; L],
+    ) -> u64 {
+        const { assert!(L <= 8 && R <= 8) };
+        if !counted.contains(&true) {
+            return 0;
+        }
+        self.allocate_once();
+        // A group's reads are stamped from `base + 1` to `base + 64`.
+        let base = self.clock;
+        self.clock += 64;
+        let mut distinct = [0u64; MAX_GROUP_LINES];
+        let Some(d) = distinct_lines(simd, rows, counted, &mut distinct) else {
+            return self.read_each(base, first_line, rows, counted);
+        };
+        let ways = 1usize << self.ways_shift;
+        if d > ways {
+            let mut sets = [u32::MAX; MAX_GROUP_LINES];
+            for j in 0..d {
+                sets[j] = ((first_line + (distinct[j] >> 8)) & self.set_mask) as u32;
             }
-            let (lane_misses, runs) = self.read_lane(first_line, rows, lane);
-            misses += lane_misses;
-            previous = Some((lane, runs <= self.config.ways as usize));
+            for j in 0..d {
+                let in_set: u32 = sets.iter().map(|&s| (s == sets[j]) as u32).sum();
+                if in_set as usize > ways {
+                    return self.read_each(base, first_line, rows, counted);
+                }
+            }
+        }
+        let mut misses = 0;
+        for &entry in &distinct[..d] {
+            misses += !self.read_line(first_line + (entry >> 8), base + 1 + (entry & 0xff)) as u64;
         }
         misses
     }
 
-    /// [`Self::read_lines`] of lane `lane` of `rows` (see [`Self::access_quad`]): returns the
-    /// misses and the runs of a line read.
-    #[inline(always)]
-    fn read_lane<const L: usize>(&mut self, first_line: u64, rows: &[[u32; L]], lane: usize) -> (u64, usize) {
-        let (mut previous, mut misses, mut runs) = (None, 0, 0);
-        for row in rows {
-            let line = row[lane];
-            if previous != Some(line) {
-                misses += !self.access_line(first_line + line as u64) as u64;
-                runs += 1;
-                previous = Some(line);
-            }
-        }
-        (misses, runs)
-    }
-
-    /// Reads line `line`; returns whether it hit (uncounted: the callers count). The hit on
-    /// the set's most recently used line changes no state and is the common case, inline; the
-    /// rest is [`Self::access_slow`].
-    #[inline(always)]
-    fn access_line(&mut self, line: u64) -> bool {
-        let first = ((line & self.set_mask) as usize) << self.ways_shift;
-        // An empty `lines` (a cold cache not yet allocated) takes the slow path too.
-        if self.lines.get(first) == Some(&line) {
-            return true;
-        }
-        self.access_slow(first, line)
-    }
-
-    /// [`Self::access_line`] past its fast path: moves `line` to the front of its set, each line
-    /// before it one place back; when it was not in the set, the least recently used (the
-    /// last) line falls out: a miss.
+    /// [`TextureCache::read_group`] read by read (read `8 · lane + row` stamped `base + 1 +` that).
     #[inline(never)]
-    fn access_slow(&mut self, first: usize, line: u64) -> bool {
-        if self.lines.is_empty() {
-            self.allocate();
+    fn read_each<const L: usize, const R: usize>(
+        &mut self,
+        base: u64,
+        first_line: u64,
+        rows: &[[u32; L]; R],
+        counted: [bool; L],
+    ) -> u64 {
+        let (mut previous, mut misses) = (None, 0);
+        for lane in (0..L).filter(|&lane| counted[lane]) {
+            for (r, row) in rows.iter().enumerate() {
+                let line = row[lane];
+                // The same line again is a hit on the set's newest way: nothing changes.
+                if previous != Some(line) {
+                    misses += !self.read_line(first_line + line as u64, base + 1 + (8 * lane + r) as u64) as u64;
+                    previous = Some(line);
+                }
+            }
         }
-        let set = &mut self.lines[first..first + self.config.ways as usize];
-        // The second most recently used line of the set is the common case here: two lines
-        // read in turn (a block and the one below it share a set in textures 256 texels wide
-        // or more).
-        if set.get(1) == Some(&line) {
-            set.swap(0, 1);
+        misses
+    }
+
+    /// Reads line `line` at time `stamp`; returns whether it hit (uncounted: the callers
+    /// count). The cache is allocated.
+    #[inline(always)]
+    fn read_line(&mut self, line: u64, stamp: u64) -> bool {
+        let first = ((line & self.set_mask) as usize) << self.ways_shift;
+        match self.ways_shift {
+            2 => self.read_in_set::<4>(first, line, stamp),
+            _ => self.read_in_set_of_any(first, line, stamp),
+        }
+    }
+
+    /// [`Self::read_line`] in a set of `W` ways starting at `first`.
+    #[inline(always)]
+    fn read_in_set<const W: usize>(&mut self, first: usize, line: u64, stamp: u64) -> bool {
+        let tags: &mut [u64; W] = (&mut self.tags[first..first + W]).try_into().expect("a set has W ways");
+        let stamps: &mut [u64; W] = (&mut self.stamps[first..first + W]).try_into().expect("a set has W ways");
+        // A line is in at most one way of its set.
+        let mut way = W;
+        for (w, &tag) in tags.iter().enumerate() {
+            if tag == line {
+                way = w;
+            }
+        }
+        if way < W {
+            stamps[way] = stamp;
             return true;
         }
-        let mut moving = line;
-        for entry in set {
-            let was = std::mem::replace(entry, moving);
-            if was == line {
-                return true;
+        let mut oldest = 0;
+        for w in 1..W {
+            if stamps[w] < stamps[oldest] {
+                oldest = w;
             }
-            moving = was;
         }
+        tags[oldest] = line;
+        stamps[oldest] = stamp;
         false
     }
 
-    /// Allocates a cold cache's lines, all empty.
+    /// [`Self::read_line`] in a set of any number of ways.
+    #[inline(never)]
+    fn read_in_set_of_any(&mut self, first: usize, line: u64, stamp: u64) -> bool {
+        let ways = 1usize << self.ways_shift;
+        let (tags, stamps) = (&mut self.tags[first..first + ways], &mut self.stamps[first..first + ways]);
+        if let Some(way) = tags.iter().position(|&tag| tag == line) {
+            stamps[way] = stamp;
+            return true;
+        }
+        let oldest = (0..ways).min_by_key(|&w| stamps[w]).expect("a set has a way");
+        tags[oldest] = line;
+        stamps[oldest] = stamp;
+        false
+    }
+
+    /// Allocates a cold cache's ways, all unused, on its first read.
+    #[inline(always)]
+    fn allocate_once(&mut self) {
+        if self.tags.is_empty() {
+            self.allocate();
+        }
+    }
+
     #[cold]
     #[inline(never)]
     fn allocate(&mut self) {
-        self.lines = vec![Self::EMPTY; self.config.sets() as usize * self.config.ways as usize];
+        let ways = self.config.sets() as usize * self.config.ways as usize;
+        self.tags = vec![Self::EMPTY; ways];
+        self.stamps = vec![0; ways];
     }
 
     pub fn hits(&self) -> u64 {
@@ -380,11 +481,265 @@ impl TextureCache {
     }
 }
 
+/// The distinct lines of a group's reads (`rows[r][k]`, lane `k` of the `counted` lanes reading
+/// rows 0, 1, … in turn, lane after lane) in the order of their first reads, each with a key
+/// that orders their last reads (below 64), into `out` as `line << 8 | key`; returns how many,
+/// or `None` past [`MAX_GROUP_LINES`].
+///
+/// The reads may be shortened first where that changes neither order: a lane that reads what
+/// the lane before it read is dropped (its lines are read again in the same order, after every
+/// other line), and so is a read of the line just read; or lengthened, a lane's last line read
+/// again after it.
+#[inline(always)]
+fn distinct_lines<const L: usize, const R: usize>(
+    simd: SimdSupport,
+    rows: &[[u32; L]; R],
+    counted: [bool; L],
+    out: &mut [u64; MAX_GROUP_LINES],
+) -> Option<usize> {
+    #[cfg(target_arch = "x86_64")]
+    if simd.level() == SimdLevel::Avx2 {
+        // Eight rows of eight lanes: rows past `R` repeat the last, lanes past `L` are not read.
+        let mut square = [[0u32; 8]; 8];
+        for (r, row) in square.iter_mut().enumerate() {
+            row[..L].copy_from_slice(&rows[r.min(R - 1)]);
+        }
+        // A byte of ones per counted lane (each `bool` a byte of 0 or 1).
+        let mut lanes = [0u8; 8];
+        for (lane, &counted) in lanes.iter_mut().zip(&counted) {
+            *lane = counted as u8;
+        }
+        let reads = u64::from_le_bytes(lanes) * 0xff;
+        // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has every
+        // feature `avx2::distinct_lines` is compiled with (`SimdSupport::detect`).
+        return unsafe { avx2::distinct_lines(&square, reads, out) };
+    }
+    let _ = simd;
+    // Lane `k` reads what lane `k − 1` reads (each row compared with itself one lane over).
+    let mut repeats = [true; L];
+    for row in rows {
+        for k in 1..L {
+            repeats[k] &= row[k] == row[k - 1];
+        }
+    }
+    let (mut d, mut i, mut previous) = (0, 0u64, None);
+    for k in 0..L {
+        if !counted[k] || (k > 0 && repeats[k] && counted[k - 1]) {
+            continue;
+        }
+        for row in rows {
+            let line = row[k];
+            if previous == Some(line) {
+                continue;
+            }
+            previous = Some(line);
+            match out[..d].iter().position(|&seen| (seen >> 8) as u32 == line) {
+                Some(j) => out[j] = (line as u64) << 8 | i,
+                None if d == MAX_GROUP_LINES => return None,
+                None => {
+                    out[d] = (line as u64) << 8 | i;
+                    d += 1;
+                }
+            }
+            i += 1;
+        }
+    }
+    Some(d)
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use std::arch::x86_64::*;
+
+    use super::MAX_GROUP_LINES;
+
+    /// [`super::distinct_lines`] of eight rows of eight lanes, read `8 · k + r` (lane `k`, row
+    /// `r`) made where bit `8 · k + r` of `reads` is set: per distinct line, one comparison of
+    /// all 64 reads with it (eight lanes at a time, the eight lanes' masks packed to bytes in
+    /// read order), the first read not yet matched starting the next line. The key of a line's
+    /// last read is its position.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    pub(super) fn distinct_lines(rows: &[[u32; 8]; 8], reads: u64, out: &mut [u64; MAX_GROUP_LINES]) -> Option<usize> {
+        // SAFETY (each load): reads the 32 bytes of one `[u32; 8]` of `rows`; unaligned loads
+        // need no alignment.
+        let row = |r: usize| unsafe { _mm256_loadu_si256(rows[r].as_ptr().cast()) };
+        let (r0, r1, r2, r3, r4, r5, r6, r7) = (row(0), row(1), row(2), row(3), row(4), row(5), row(6), row(7));
+        // Transposed: `c[k]` holds lane k's eight rows.
+        let (t0, t1) = (_mm256_unpacklo_epi32(r0, r1), _mm256_unpackhi_epi32(r0, r1));
+        let (t2, t3) = (_mm256_unpacklo_epi32(r2, r3), _mm256_unpackhi_epi32(r2, r3));
+        let (t4, t5) = (_mm256_unpacklo_epi32(r4, r5), _mm256_unpackhi_epi32(r4, r5));
+        let (t6, t7) = (_mm256_unpacklo_epi32(r6, r7), _mm256_unpackhi_epi32(r6, r7));
+        let (u0, u1) = (_mm256_unpacklo_epi64(t0, t2), _mm256_unpackhi_epi64(t0, t2));
+        let (u2, u3) = (_mm256_unpacklo_epi64(t1, t3), _mm256_unpackhi_epi64(t1, t3));
+        let (u4, u5) = (_mm256_unpacklo_epi64(t4, t6), _mm256_unpackhi_epi64(t4, t6));
+        let (u6, u7) = (_mm256_unpacklo_epi64(t5, t7), _mm256_unpackhi_epi64(t5, t7));
+        let c = [
+            _mm256_permute2x128_si256::<0x20>(u0, u4),
+            _mm256_permute2x128_si256::<0x20>(u1, u5),
+            _mm256_permute2x128_si256::<0x20>(u2, u6),
+            _mm256_permute2x128_si256::<0x20>(u3, u7),
+            _mm256_permute2x128_si256::<0x31>(u0, u4),
+            _mm256_permute2x128_si256::<0x31>(u1, u5),
+            _mm256_permute2x128_si256::<0x31>(u2, u6),
+            _mm256_permute2x128_si256::<0x31>(u3, u7),
+        ];
+        // After the packs, dword `j` of a half holds lane (j % 4)'s rows 0–3 (j < 4) or 4–7.
+        let order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+        let (mut d, mut unread) = (0, reads);
+        while unread != 0 {
+            if d == MAX_GROUP_LINES {
+                return None;
+            }
+            let first = unread.trailing_zeros() as usize;
+            let line = rows[first % 8][first / 8];
+            let x = _mm256_set1_epi32(line as i32);
+            let e = |k: usize| _mm256_cmpeq_epi32(c[k], x);
+            let low = _mm256_packs_epi16(_mm256_packs_epi32(e(0), e(1)), _mm256_packs_epi32(e(2), e(3)));
+            let high = _mm256_packs_epi16(_mm256_packs_epi32(e(4), e(5)), _mm256_packs_epi32(e(6), e(7)));
+            let low = _mm256_movemask_epi8(_mm256_permutevar8x32_epi32(low, order)) as u32 as u64;
+            let high = _mm256_movemask_epi8(_mm256_permutevar8x32_epi32(high, order)) as u32 as u64;
+            let matched = (low | high << 32) & reads;
+            unread &= !matched;
+            out[d] = (line as u64) << 8 | (63 - matched.leading_zeros() as u64);
+            d += 1;
+        }
+        Some(d)
+    }
+}
+
+/// [`TextureCache::read_group`] of `rows.len()` rows (1, 2, 4 or 8, each compiled with its
+/// count known; other counts are made read by read).
+#[inline(always)]
+fn read_rows<const L: usize>(
+    simd: SimdSupport,
+    cache: &mut TextureCache,
+    first_line: u64,
+    rows: &[[u32; L]],
+    counted: [bool; L],
+) -> u64 {
+    let misses = if let Ok(rows) = <&[[u32; L]; 8]>::try_from(rows) {
+        cache.read_group(simd, first_line, rows, counted)
+    } else if let Ok(rows) = <&[[u32; L]; 4]>::try_from(rows) {
+        cache.read_group(simd, first_line, rows, counted)
+    } else if let Ok(rows) = <&[[u32; L]; 2]>::try_from(rows) {
+        cache.read_group(simd, first_line, rows, counted)
+    } else if let Ok(rows) = <&[[u32; L]; 1]>::try_from(rows) {
+        cache.read_group(simd, first_line, rows, counted)
+    } else if rows.is_empty() || !counted.contains(&true) {
+        0
+    } else {
+        // Rows past the lane's last repeat it: reads of the line just read, which change nothing.
+        let mut padded = [[0; L]; MAX_LANE_LINES];
+        padded[..rows.len()].copy_from_slice(rows);
+        for r in rows.len()..MAX_LANE_LINES {
+            padded[r] = padded[r - 1];
+        }
+        cache.allocate_once();
+        let base = cache.clock;
+        cache.clock += 64;
+        cache.read_each(base, first_line, &padded, counted)
+    };
+    #[cfg(feature = "texture-cache-reference")]
+    cache.read_reference(first_line, rows, counted);
+    misses
+}
+
+per_simd_level! {
+    /// The misses of a pair of quads' reads ([`TextureCache::access_lanes`]), compiled once per
+    /// SIMD level.
+    fn read_pair / read_pair_avx2 => read_pair_body, simd: simd, (
+        simd: SimdSupport,
+        cache: &mut TextureCache,
+        first_line: u64,
+        rows: &[[u32; 8]],
+        counted: [bool; 8],
+    ) -> u64
+}
+
+#[inline(always)]
+fn read_pair_body(
+    simd: SimdSupport,
+    cache: &mut TextureCache,
+    first_line: u64,
+    rows: &[[u32; 8]],
+    counted: [bool; 8],
+) -> u64 {
+    read_rows(simd, cache, first_line, rows, counted)
+}
+
+per_simd_level! {
+    /// The misses of a quad's reads ([`TextureCache::access_quad`]), compiled once per SIMD
+    /// level.
+    fn read_quad / read_quad_avx2 => read_quad_body, simd: simd, (
+        simd: SimdSupport,
+        cache: &mut TextureCache,
+        first_line: u64,
+        rows: &[[u32; 4]],
+        counted: [bool; 4],
+    ) -> u64
+}
+
+#[inline(always)]
+fn read_quad_body(
+    simd: SimdSupport,
+    cache: &mut TextureCache,
+    first_line: u64,
+    rows: &[[u32; 4]],
+    counted: [bool; 4],
+) -> u64 {
+    read_rows(simd, cache, first_line, rows, counted)
+}
+
+/// The cache model as it was first written, one line at a time, each set's lines in an order
+/// (most recently used first) moved on every read: the reference the tests and the
+/// `texture-cache-reference` feature hold [`TextureCache`] to.
+#[cfg(any(test, feature = "texture-cache-reference"))]
+#[derive(Clone, Debug)]
+pub(crate) struct LineByLine {
+    ways: usize,
+    set_mask: u64,
+    lines: Vec<u64>,
+    hits: u64,
+    misses: u64,
+}
+
+#[cfg(any(test, feature = "texture-cache-reference"))]
+impl LineByLine {
+    fn new(config: TextureCacheConfig) -> LineByLine {
+        let (sets, ways) = (config.sets() as usize, config.ways as usize);
+        LineByLine {
+            ways,
+            set_mask: sets as u64 - 1,
+            lines: vec![TextureCache::EMPTY; sets * ways],
+            hits: 0,
+            misses: 0,
+        }
+    }
+
+    /// Reads line `line`: moves it to the front of its set, each line before it one place
+    /// back; when it was not in the set, the last falls out: a miss.
+    fn access(&mut self, line: u64) -> bool {
+        let first = (line & self.set_mask) as usize * self.ways;
+        let mut moving = line;
+        for entry in &mut self.lines[first..first + self.ways] {
+            let was = std::mem::replace(entry, moving);
+            if was == line {
+                self.hits += 1;
+                return true;
+            }
+            moving = was;
+        }
+        self.misses += 1;
+        false
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use proptest::prelude::*;
 
     use super::*;
+    use crate::simd::SimdLevel;
 
     #[test]
     fn default_config_is_valid() {
@@ -444,33 +799,49 @@ mod tests {
         assert_eq!(cache.misses(), 6);
     }
 
+    /// The SIMD levels this processor runs.
+    fn simd_levels() -> Vec<SimdSupport> {
+        [SimdLevel::Baseline, SimdLevel::Avx2].into_iter().filter_map(SimdSupport::detect).collect()
+    }
+
+    /// The cache and the line-by-line model agree: counts and every set's order.
+    fn agree(cache: &TextureCache, reference: &LineByLine) -> Result<(), TestCaseError> {
+        prop_assert_eq!((cache.hits(), cache.misses()), (reference.hits, reference.misses));
+        prop_assert_eq!(cache.by_recency(), reference.lines.clone());
+        Ok(())
+    }
+
     proptest! {
-        /// Runs of lines read together count and leave the cache exactly as the reads of an
-        /// address in each, one by one, whatever the shape (lines of 4 to 256 bytes, 1 to 64
-        /// ways) and however often lines repeat.
+        /// Runs of lines read together count and leave the cache exactly as the line-by-line
+        /// model reading them one by one, whatever the shape (lines of 4 to 256 bytes, 1 to 64
+        /// ways) and however often lines repeat; single addresses too.
         #[test]
         fn access_lines_is_access_of_each(
             shape in prop::sample::select(vec![(256u32, 64u32, 1u32), (1024, 64, 4), (512, 16, 2), (256, 4, 64), (8192, 256, 4)]),
             runs in prop::collection::vec((0u64..3, prop::collection::vec(0u32..24, 1..9)), 1..40),
         ) {
             let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
-            let (mut together, mut one_by_one) = (TextureCache::new(config), TextureCache::new(config));
+            let (mut together, mut one_by_one) = (TextureCache::new(config), LineByLine::new(config));
             for (texture, lines) in runs {
                 let first_line = texture << 30;
-                together.access_lines(first_line, &lines);
-                for &line in &lines {
-                    one_by_one.access((first_line + line as u64) << one_by_one.line_shift() | 3);
+                if lines.len() == 1 {
+                    together.access((first_line + lines[0] as u64) << together.line_shift() | 3);
+                } else {
+                    together.access_lines(first_line, &lines);
                 }
-                prop_assert_eq!((together.hits(), together.misses()), (one_by_one.hits(), one_by_one.misses()));
-                prop_assert_eq!(&together.lines, &one_by_one.lines);
+                for &line in &lines {
+                    one_by_one.access(first_line + line as u64);
+                }
+                agree(&together, &one_by_one)?;
             }
         }
 
-        /// A quad's (or a pair of quads') lanes read with one comparison for a lane that
-        /// repeats the one before count and leave the cache exactly as the reads of an address
-        /// in each line, one by one: lanes repeated or not, counted or not, more lines of a set
-        /// than it has ways (lines 64 apart share a set in every shape but the fully
-        /// associative one).
+        /// A quad's (or a pair of quads') lanes read at the cost of a tag check per distinct
+        /// line count and leave the cache exactly as the line-by-line model reading each line
+        /// of each counted lane in turn: lanes repeated or not, counted or not, more lines of a
+        /// set than it has ways (lines 64 apart share a set in every shape but the fully
+        /// associative one), more distinct lines than are checked together, at every SIMD
+        /// level.
         #[test]
         fn access_lanes_is_access_of_each(
             shape in prop::sample::select(vec![(256u32, 64u32, 1u32), (1024, 64, 4), (512, 16, 2), (256, 4, 64), (16384, 64, 4)]),
@@ -478,7 +849,7 @@ mod tests {
                 (
                     0u64..3,
                     any::<bool>(),
-                    prop::sample::select(vec![1usize, 2, 4, 8]),
+                    prop::sample::select(vec![1usize, 2, 3, 4, 8]),
                     prop::collection::vec(prop_oneof![3 => 0u32..6, 1 => 0u32..200, 1 => (0u32..4).prop_map(|k| k * 64)], 16),
                     prop::collection::vec(any::<bool>(), 8),
                     prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 8),
@@ -487,28 +858,29 @@ mod tests {
             ),
         ) {
             let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
-            let (mut together, mut one_by_one) = (TextureCache::new(config), TextureCache::new(config));
-            for (texture, pair, per_lane, lines, repeats, counted) in quads {
-                let first_line = texture << 30;
-                // Lane k repeats lane k − 1 when `repeats[k]`, else takes lines of its own.
-                let mut lanes = [[0u32; MAX_LANE_LINES]; 8];
-                for (k, &repeat) in repeats.iter().enumerate() {
-                    lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + 3 * k) % 16]) };
-                }
-                if pair {
-                    let rows: Vec<[u32; 8]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
-                    together.access_lanes(first_line, &rows, std::array::from_fn(|k| counted[k]));
-                } else {
-                    let rows: Vec<[u32; 4]> = (0..per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
-                    together.access_quad(first_line, &rows, std::array::from_fn(|k| counted[k]));
-                }
-                for k in (0..if pair { 8 } else { 4 }).filter(|&k| counted[k]) {
-                    for &line in &lanes[k][..per_lane] {
-                        one_by_one.access((first_line + line as u64) << one_by_one.line_shift());
+            for simd in simd_levels() {
+                let (mut together, mut one_by_one) = (TextureCache::new(config), LineByLine::new(config));
+                for (texture, pair, per_lane, lines, repeats, counted) in &quads {
+                    let first_line = texture << 30;
+                    // Lane k repeats lane k − 1 when `repeats[k]`, else takes lines of its own.
+                    let mut lanes = [[0u32; MAX_LANE_LINES]; 8];
+                    for (k, &repeat) in repeats.iter().enumerate() {
+                        lanes[k] = if repeat && k > 0 { lanes[k - 1] } else { std::array::from_fn(|i| lines[(i + 3 * k) % 16]) };
                     }
+                    if *pair {
+                        let rows: Vec<[u32; 8]> = (0..*per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
+                        together.access_lanes(simd, first_line, &rows, std::array::from_fn(|k| counted[k]));
+                    } else {
+                        let rows: Vec<[u32; 4]> = (0..*per_lane).map(|i| std::array::from_fn(|k| lanes[k][i])).collect();
+                        together.access_quad(simd, first_line, &rows, std::array::from_fn(|k| counted[k]));
+                    }
+                    for k in (0..if *pair { 8 } else { 4 }).filter(|&k| counted[k]) {
+                        for &line in &lanes[k][..*per_lane] {
+                            one_by_one.access(first_line + line as u64);
+                        }
+                    }
+                    agree(&together, &one_by_one)?;
                 }
-                prop_assert_eq!((together.hits(), together.misses()), (one_by_one.hits(), one_by_one.misses()));
-                prop_assert_eq!(&together.lines, &one_by_one.lines);
             }
         }
     }

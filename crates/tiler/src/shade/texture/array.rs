@@ -166,6 +166,7 @@ impl Texture {
     #[inline(always)]
     fn sample_array_quads(
         &self,
+        simd: SimdSupport,
         sampler: &Sampler,
         coord: [F32x8; 3],
         counted: LaneMask,
@@ -184,7 +185,7 @@ impl Texture {
             );
             let counted = lanes.map(|lane| counted.contains(lane));
             let minified_unmipped = sampler.mipmap == MipmapMode::None && lambda > super::UNMIPPED_LOD;
-            quads[quad] = self.sample_quad::<false>(sampler, lambda, &at, counted, minified_unmipped, cache);
+            quads[quad] = self.sample_quad::<false>(simd, sampler, lambda, &at, counted, minified_unmipped, cache);
         }
         group_of_quads(quads)
     }
@@ -237,14 +238,14 @@ per_simd_level! {
 
 #[inline(always)]
 fn sample_array_group_body(
-    _simd: SimdSupport,
+    simd: SimdSupport,
     texture: &Texture,
     sampler: &Sampler,
     coord: [F32x8; 3],
     counted: LaneMask,
     cache: &mut TextureCache,
 ) -> Vec4x8 {
-    texture.sample_array_quads(sampler, coord, counted, cache)
+    texture.sample_array_quads(simd, sampler, coord, counted, cache)
 }
 
 /// `count` layers of `width × height` (`what` names the texture in errors), and `rgba` their

@@ -232,6 +232,7 @@ impl Texture {
     #[inline(always)]
     fn sample_cube_quads(
         &self,
+        simd: SimdSupport,
         sampler: &Sampler,
         direction: [F32x8; 3],
         counted: LaneMask,
@@ -246,7 +247,7 @@ impl Texture {
             let at = self.cube_quad_at(x, y, z);
             let counted = lanes.map(|lane| counted.contains(lane));
             let minified_unmipped = sampler.mipmap == MipmapMode::None && lambda > super::UNMIPPED_LOD;
-            quads[quad] = self.sample_quad::<false>(&sampler, lambda, &at, counted, minified_unmipped, cache);
+            quads[quad] = self.sample_quad::<false>(simd, &sampler, lambda, &at, counted, minified_unmipped, cache);
         }
         group_of_quads(quads)
     }
@@ -291,14 +292,14 @@ per_simd_level! {
 
 #[inline(always)]
 fn sample_cube_group_body(
-    _simd: SimdSupport,
+    simd: SimdSupport,
     texture: &Texture,
     sampler: &Sampler,
     direction: [F32x8; 3],
     counted: LaneMask,
     cache: &mut TextureCache,
 ) -> Vec4x8 {
-    texture.sample_cube_quads(sampler, direction, counted, cache)
+    texture.sample_cube_quads(simd, sampler, direction, counted, cache)
 }
 
 fn check_cube_size(size: u32) -> Result<()> {

@@ -44,6 +44,7 @@ impl Texture {
     #[inline(always)]
     fn sample_volume_quads(
         &self,
+        simd: SimdSupport,
         sampler: &Sampler,
         coord: [F32x8; 3],
         counted: LaneMask,
@@ -62,7 +63,7 @@ impl Texture {
             let counted = lanes.map(|lane| counted.contains(lane));
             let minified_unmipped = sampler.mipmap == MipmapMode::None && lambda > super::UNMIPPED_LOD;
             let mut sample =
-                |at: &QuadAt| self.sample_quad::<false>(sampler, lambda, at, counted, minified_unmipped, cache);
+                |at: &QuadAt| self.sample_quad::<false>(simd, sampler, lambda, at, counted, minified_unmipped, cache);
             quads[quad] = match self.volume_slices(sampler, lambda, quad_of(u), quad_of(v), quad_of(r)) {
                 Slices::One(at) => sample(&at),
                 Slices::Two(near, far, gamma) => {
@@ -136,14 +137,14 @@ per_simd_level! {
 
 #[inline(always)]
 fn sample_volume_group_body(
-    _simd: SimdSupport,
+    simd: SimdSupport,
     texture: &Texture,
     sampler: &Sampler,
     coord: [F32x8; 3],
     counted: LaneMask,
     cache: &mut TextureCache,
 ) -> Vec4x8 {
-    texture.sample_volume_quads(sampler, coord, counted, cache)
+    texture.sample_volume_quads(simd, sampler, coord, counted, cache)
 }
 
 #[cfg(test)]
