@@ -238,6 +238,12 @@ trait Nested {
     /// # Safety
     /// The instruction set must be the processor's (for `Avx2`: only inside `block_avx2`).
     unsafe fn half<const W: usize>(a: [f32; W]) -> [f32; W];
+
+    /// [`half_toward_zero`] of every lane.
+    ///
+    /// # Safety
+    /// As [`Nested::half`].
+    unsafe fn half_toward_zero<const W: usize>(a: [f32; W]) -> [f32; W];
 }
 
 /// The baseline instruction set.
@@ -252,6 +258,11 @@ impl Nested for Baseline {
     #[inline(always)]
     unsafe fn half<const W: usize>(a: [f32; W]) -> [f32; W] {
         a.map(round_half)
+    }
+
+    #[inline(always)]
+    unsafe fn half_toward_zero<const W: usize>(a: [f32; W]) -> [f32; W] {
+        a.map(half_toward_zero)
     }
 }
 
@@ -284,6 +295,20 @@ impl Nested for Avx2 {
         }
         out
     }
+
+    #[inline(always)]
+    unsafe fn half_toward_zero<const W: usize>(a: [f32; W]) -> [f32; W] {
+        let mut out = a;
+        let (groups, rest) = out.as_chunks_mut::<8>();
+        for g in groups {
+            // SAFETY: the caller's guarantee: the processor has AVX2 and F16C.
+            unsafe { half_toward_zero8(g) };
+        }
+        for x in rest {
+            *x = half_toward_zero(*x);
+        }
+        out
+    }
 }
 
 /// [`round_half`] of eight lanes: F16C's conversion to binary16 (rounding to nearest, ties to
@@ -306,6 +331,28 @@ unsafe fn round_half8(lanes: &mut [f32; 8]) {
     let nan = _mm256_cmp_ps::<_CMP_UNORD_Q>(x, x);
     // SAFETY: as above.
     unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), _mm256_blendv_ps(rounded, x, nan)) };
+}
+
+/// [`half_toward_zero`] of eight lanes: F16C's conversion to binary16 rounding toward zero
+/// (imm8 3, which also gives ±65504 beyond binary16's range and keeps ±∞) and back; NaNs are
+/// put back as they were.
+///
+/// # Safety
+/// The processor must have AVX2 and F16C.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,f16c")]
+#[inline]
+unsafe fn half_toward_zero8(lanes: &mut [f32; 8]) {
+    use std::arch::x86_64::{
+        _CMP_UNORD_Q, _MM_FROUND_TO_ZERO, _mm256_blendv_ps, _mm256_cmp_ps, _mm256_cvtph_ps, _mm256_cvtps_ph,
+        _mm256_loadu_ps, _mm256_storeu_ps,
+    };
+    // SAFETY: `lanes` is eight f32s, read and written unaligned.
+    let x = unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
+    let truncated = _mm256_cvtph_ps(_mm256_cvtps_ph::<_MM_FROUND_TO_ZERO>(x));
+    let nan = _mm256_cmp_ps::<_CMP_UNORD_Q>(x, x);
+    // SAFETY: as above.
+    unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), _mm256_blendv_ps(truncated, x, nan)) };
 }
 
 /// The register file (work registers, then the bank) and the caller's environment.
@@ -415,6 +462,10 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                 Inst::Un(UnOp::Half, d, a) => {
                     let a = self.get(*a);
                     self.set(*d, N::half(a));
+                }
+                Inst::Un(UnOp::HalfTowardZero, d, a) => {
+                    let a = self.get(*a);
+                    self.set(*d, N::half_toward_zero(a));
                 }
                 Inst::Bin(
                     op @ (BinOp::AddHalf | BinOp::SubHalf | BinOp::MulHalf | BinOp::DivHalf | BinOp::HalfMulHalf),
@@ -1014,6 +1065,11 @@ mod tests {
             let got = unsafe { <Avx2 as Nested>::half(lanes) };
             assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "{chunk:#x?}");
             rounded += usize::from(want != lanes);
+            // Toward zero the same way (F16C's imm8 3), NaNs kept.
+            let want = lanes.map(half_toward_zero);
+            // SAFETY: as above.
+            let got = unsafe { <Avx2 as Nested>::half_toward_zero(lanes) };
+            assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "toward zero: {chunk:#x?}");
         }
         assert!(rounded > 0, "some lanes were rounded");
     }
@@ -1034,6 +1090,8 @@ mod tests {
         code.push(Inst::Tri(TriOp::Mix, 23, 0, 1, 3));
         code.push(Inst::Tri(TriOp::MulAdd, 19, 0, 1, 3));
         code.push(Inst::Un(UnOp::Half, 9, 2));
+        code.push(Inst::Un(UnOp::HalfTowardZero, 17, 2));
+        code.push(Inst::Un(UnOp::HalfTowardZero, 18, 1));
         code.push(Inst::Bin(BinOp::AddHalf, 10, 0, 1));
         code.push(Inst::Bin(BinOp::SubHalf, 11, 0, 1));
         code.push(Inst::Bin(BinOp::MulHalf, 12, 0, 1));
