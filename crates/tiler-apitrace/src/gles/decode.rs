@@ -320,64 +320,22 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
         "glDrawArraysInstanced" | "glDrawArraysInstancedEXT" | "glDrawArraysInstancedANGLE" => {
             C::DrawArrays { mode: a.enumeration(0)?, first: a.i32(1)?, count: a.i32(2)?, instance_count: a.i32(3)? }
         }
-        "glDrawElements" => C::DrawElements {
-            mode: a.enumeration(0)?,
-            count: a.i32(1)?,
-            kind: a.enumeration(2)?,
-            indices: a.memory(3)?,
-            instance_count: 1,
-            range: None,
-            base_vertex: 0,
-        },
-        "glDrawElementsInstanced" | "glDrawElementsInstancedEXT" | "glDrawElementsInstancedANGLE" => C::DrawElements {
-            mode: a.enumeration(0)?,
-            count: a.i32(1)?,
-            kind: a.enumeration(2)?,
-            indices: a.memory(3)?,
-            instance_count: a.i32(4)?,
-            range: None,
-            base_vertex: 0,
-        },
-        "glDrawRangeElements" => C::DrawElements {
-            mode: a.enumeration(0)?,
-            range: Some((a.u32(1)?, a.u32(2)?)),
-            count: a.i32(3)?,
-            kind: a.enumeration(4)?,
-            indices: a.memory(5)?,
-            instance_count: 1,
-            base_vertex: 0,
-        },
-        "glDrawElementsBaseVertex" | "glDrawElementsBaseVertexOES" | "glDrawElementsBaseVertexEXT" => C::DrawElements {
-            mode: a.enumeration(0)?,
-            count: a.i32(1)?,
-            kind: a.enumeration(2)?,
-            indices: a.memory(3)?,
-            instance_count: 1,
-            range: None,
-            base_vertex: a.i32(4)?,
-        },
+        "glDrawElements" => draw_elements(a, Elements::PLAIN)?,
+        "glDrawElementsInstanced" | "glDrawElementsInstancedEXT" | "glDrawElementsInstancedANGLE" => {
+            draw_elements(a, Elements { instanced: true, ..Elements::PLAIN })?
+        }
+        "glDrawRangeElements" => draw_elements(a, Elements { range: true, ..Elements::PLAIN })?,
+        "glDrawElementsBaseVertex" | "glDrawElementsBaseVertexOES" | "glDrawElementsBaseVertexEXT" => {
+            draw_elements(a, Elements { base_vertex: true, ..Elements::PLAIN })?
+        }
         "glDrawRangeElementsBaseVertex" | "glDrawRangeElementsBaseVertexOES" | "glDrawRangeElementsBaseVertexEXT" => {
-            C::DrawElements {
-                mode: a.enumeration(0)?,
-                range: Some((a.u32(1)?, a.u32(2)?)),
-                count: a.i32(3)?,
-                kind: a.enumeration(4)?,
-                indices: a.memory(5)?,
-                instance_count: 1,
-                base_vertex: a.i32(6)?,
-            }
+            draw_elements(a, Elements { range: true, base_vertex: true, ..Elements::PLAIN })?
         }
         "glDrawElementsInstancedBaseVertex"
         | "glDrawElementsInstancedBaseVertexOES"
-        | "glDrawElementsInstancedBaseVertexEXT" => C::DrawElements {
-            mode: a.enumeration(0)?,
-            count: a.i32(1)?,
-            kind: a.enumeration(2)?,
-            indices: a.memory(3)?,
-            instance_count: a.i32(4)?,
-            range: None,
-            base_vertex: a.i32(5)?,
-        },
+        | "glDrawElementsInstancedBaseVertexEXT" => {
+            draw_elements(a, Elements { instanced: true, base_vertex: true, ..Elements::PLAIN })?
+        }
 
         // Textures and samplers.
         "glGenTextures" => C::GenTextures { names: a.u32s(1)? },
@@ -760,6 +718,38 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
 }
 
 /// The first four values, missing ones 0 (`glClearBuffer*v` reads as many as the buffer has).
+/// Which arguments a `glDraw*Elements*` call has beyond `mode, count, type, indices`.
+#[derive(Clone, Copy)]
+struct Elements {
+    /// `start, end` after `mode` (`glDrawRangeElements*`).
+    range: bool,
+    /// `instancecount` after `indices`.
+    instanced: bool,
+    /// `basevertex` last.
+    base_vertex: bool,
+}
+
+impl Elements {
+    const PLAIN: Elements = Elements { range: false, instanced: false, base_vertex: false };
+}
+
+/// Every `glDraw*Elements*` form as one [`Command::DrawElements`].
+fn draw_elements(a: &mut Args, form: Elements) -> Result<Command> {
+    let first = if form.range { 3 } else { 1 };
+    let after = first + 3;
+    let instance_count = if form.instanced { a.i32(after)? } else { 1 };
+    let base_vertex = if form.base_vertex { a.i32(after + form.instanced as usize)? } else { 0 };
+    Ok(Command::DrawElements {
+        mode: a.enumeration(0)?,
+        range: if form.range { Some((a.u32(1)?, a.u32(2)?)) } else { None },
+        count: a.i32(first)?,
+        kind: a.enumeration(first + 1)?,
+        indices: a.memory(first + 2)?,
+        instance_count,
+        base_vertex,
+    })
+}
+
 fn pad<T: Copy + Default>(values: Vec<T>) -> [T; 4] {
     let mut out = [T::default(); 4];
     for (slot, value) in out.iter_mut().zip(values) {
