@@ -284,75 +284,57 @@ impl Nested for Avx2 {
 
     #[inline(always)]
     unsafe fn half<const W: usize>(a: [f32; W]) -> [f32; W] {
-        let mut out = a;
-        let (groups, rest) = out.as_chunks_mut::<8>();
-        for g in groups {
-            // SAFETY: the caller's guarantee: the processor has AVX2 and F16C.
-            unsafe { round_half8(g) };
-        }
-        for x in rest {
-            *x = round_half(*x);
-        }
-        out
+        // SAFETY: the caller's guarantee: the processor has AVX2 and F16C.
+        unsafe { halves::<W, { std::arch::x86_64::_MM_FROUND_TO_NEAREST_INT }>(a, round_half) }
     }
 
     #[inline(always)]
     unsafe fn half_toward_zero<const W: usize>(a: [f32; W]) -> [f32; W] {
-        let mut out = a;
-        let (groups, rest) = out.as_chunks_mut::<8>();
-        for g in groups {
-            // SAFETY: the caller's guarantee: the processor has AVX2 and F16C.
-            unsafe { half_toward_zero8(g) };
-        }
-        for x in rest {
-            *x = half_toward_zero(*x);
-        }
-        out
+        // SAFETY: as above.
+        unsafe { halves::<W, { std::arch::x86_64::_MM_FROUND_TO_ZERO }>(a, half_toward_zero) }
     }
 }
 
-/// [`round_half`] of eight lanes: F16C's conversion to binary16 (rounding to nearest, ties to
-/// even: the imm8 0) and back; NaNs are put back as they were (the conversion quiets them and
-/// drops payload bits).
+/// [`half8`] with rounding `ROUND` of every group of eight lanes, `scalar` of the rest.
+///
+/// # Safety
+/// The processor must have AVX2 and F16C.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn halves<const W: usize, const ROUND: i32>(a: [f32; W], scalar: fn(f32) -> f32) -> [f32; W] {
+    let mut out = a;
+    let (groups, rest) = out.as_chunks_mut::<8>();
+    for g in groups {
+        // SAFETY: the caller's guarantee.
+        unsafe { half8::<ROUND>(g) };
+    }
+    for x in rest {
+        *x = scalar(*x);
+    }
+    out
+}
+
+/// Eight lanes rounded to binary16 by F16C's conversion there and back, with rounding
+/// `ROUND` (imm8 `_MM_FROUND_TO_NEAREST_INT`: [`round_half`], ties to even;
+/// `_MM_FROUND_TO_ZERO`: [`half_toward_zero`], ±65504 beyond binary16's range, ±∞ kept); NaNs
+/// are put back as they were (the conversion quiets them and drops payload bits).
 ///
 /// # Safety
 /// The processor must have AVX2 and F16C.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,f16c")]
 #[inline]
-unsafe fn round_half8(lanes: &mut [f32; 8]) {
+unsafe fn half8<const ROUND: i32>(lanes: &mut [f32; 8]) {
     use std::arch::x86_64::{
-        _CMP_UNORD_Q, _MM_FROUND_TO_NEAREST_INT, _mm256_blendv_ps, _mm256_cmp_ps, _mm256_cvtph_ps, _mm256_cvtps_ph,
-        _mm256_loadu_ps, _mm256_storeu_ps,
+        _CMP_UNORD_Q, _mm256_blendv_ps, _mm256_cmp_ps, _mm256_cvtph_ps, _mm256_cvtps_ph, _mm256_loadu_ps,
+        _mm256_storeu_ps,
     };
     // SAFETY: `lanes` is eight f32s, read and written unaligned.
     let x = unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
-    let rounded = _mm256_cvtph_ps(_mm256_cvtps_ph::<_MM_FROUND_TO_NEAREST_INT>(x));
+    let rounded = _mm256_cvtph_ps(_mm256_cvtps_ph::<ROUND>(x));
     let nan = _mm256_cmp_ps::<_CMP_UNORD_Q>(x, x);
     // SAFETY: as above.
     unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), _mm256_blendv_ps(rounded, x, nan)) };
-}
-
-/// [`half_toward_zero`] of eight lanes: F16C's conversion to binary16 rounding toward zero
-/// (imm8 3, which also gives ±65504 beyond binary16's range and keeps ±∞) and back; NaNs are
-/// put back as they were.
-///
-/// # Safety
-/// The processor must have AVX2 and F16C.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,f16c")]
-#[inline]
-unsafe fn half_toward_zero8(lanes: &mut [f32; 8]) {
-    use std::arch::x86_64::{
-        _CMP_UNORD_Q, _MM_FROUND_TO_ZERO, _mm256_blendv_ps, _mm256_cmp_ps, _mm256_cvtph_ps, _mm256_cvtps_ph,
-        _mm256_loadu_ps, _mm256_storeu_ps,
-    };
-    // SAFETY: `lanes` is eight f32s, read and written unaligned.
-    let x = unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
-    let truncated = _mm256_cvtph_ps(_mm256_cvtps_ph::<_MM_FROUND_TO_ZERO>(x));
-    let nan = _mm256_cmp_ps::<_CMP_UNORD_Q>(x, x);
-    // SAFETY: as above.
-    unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), _mm256_blendv_ps(truncated, x, nan)) };
 }
 
 /// The register file (work registers, then the bank) and the caller's environment.

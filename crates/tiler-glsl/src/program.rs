@@ -94,7 +94,8 @@ pub struct CompiledProgram {
     /// The sampler uniforms (name, array element) whose texture the compiled code reads: the
     /// active ones. A sampler whose every read the compiler removed (a branch on a constant)
     /// reads nothing, as in GL, where it is inactive (`glGetUniformLocation` gives -1).
-    read_samplers: std::collections::HashSet<(String, usize)>,
+    /// (index in `uniforms`, array element), sorted.
+    read_samplers: Vec<(usize, usize)>,
 }
 
 /// Sampler slots that the instructions in `code` read.
@@ -350,7 +351,12 @@ impl CompiledProgram {
         let (varyings, hidden, varying_floats) = link_varyings(&vertex, &fragment)?;
         let (uniforms, blocks, vertex_uniform_offsets, fragment_uniform_offsets, uniform_floats) =
             link_uniforms(&vertex, &fragment)?;
-        let read_samplers = samplers_read(&vertex).chain(samplers_read(&fragment)).collect();
+        let mut read_samplers: Vec<(usize, usize)> = samplers_read(&vertex)
+            .chain(samplers_read(&fragment))
+            .filter_map(|(name, k)| Some((uniforms.iter().position(|u| u.name == name)?, k)))
+            .collect();
+        read_samplers.sort_unstable();
+        read_samplers.dedup();
         Ok(CompiledProgram {
             vertex,
             fragment,
@@ -532,11 +538,10 @@ impl CompiledProgram {
     /// cube texture, each read by its kind of sampler) that the code reads: a sampler whose
     /// reads the compiler removed needs no texture.
     pub fn sampler_units_of(&self, kind: SamplerKind, uniforms: &UniformValues) -> Vec<(String, u32)> {
-        self.uniforms
+        self.read_samplers
             .iter()
-            .filter(|u| u.ty == Type::Sampler(kind))
-            .flat_map(|u| (0..u.array_size).map(move |k| (u, k)))
-            .filter(|(u, k)| self.read_samplers.contains(&(u.name.clone(), *k)))
+            .map(|&(i, k)| (&self.uniforms[i], k))
+            .filter(|(u, _)| u.ty == Type::Sampler(kind))
             .map(|(u, k)| (u.name.clone(), uniforms.values[u.offset + k] as u32))
             .collect()
     }

@@ -369,11 +369,6 @@ pub struct Translator {
     /// bound for drawing, as apitrace's retrace resizes its window (not when the caller gave
     /// the size, nor for a pbuffer surface).
     window_grows: bool,
-    /// The context was made before any surface or viewport gave the window's size (a
-    /// compositor compiles its shaders on a surfaceless context, then makes its pbuffer
-    /// current): its window is 1×1 until the size comes (`Translator::window_known`), and a
-    /// draw, clear, read or swap of the window before then is refused.
-    provisional_window: bool,
     ctx: Option<Context>,
     /// EGL context handle → generation.
     generations: HashMap<EglHandle, u32>,
@@ -414,7 +409,6 @@ impl Translator {
             record,
             window,
             window_grows: window.is_none(),
-            provisional_window: false,
             ctx: None,
             generations: HashMap::new(),
             groups: HashMap::new(),
@@ -497,22 +491,24 @@ impl Translator {
 
     fn ctx(&mut self) -> Fallible<&mut Context> {
         if self.ctx.is_none() {
+            // Before any surface or viewport gave the window's size (a compositor compiles its
+            // shaders on a surfaceless context, then makes its pbuffer current), the window is
+            // 1×1 until the size comes (`Translator::window_known`); a draw, clear, read or
+            // swap of it before then is refused.
             let (w, h) = self.window.unwrap_or((1, 1));
-            self.provisional_window = self.window.is_none();
             self.ctx = Some(self.new_context(w, h)?);
         }
         Ok(self.ctx.as_mut().expect("made above"))
     }
 
     /// The window's size, from a surface or the first viewport: kept if none was known yet,
-    /// and given to a context made before it ([`Translator::provisional_window`]).
+    /// and given to a context made before it (with a 1×1 window, see [`Translator::ctx`]).
     fn window_known(&mut self, size: (u32, u32)) -> Fallible {
-        if self.provisional_window {
-            self.provisional_window = false;
+        if self.window.is_none() {
             self.window = Some(size);
-            self.emit(Call::ResizeSurface { width: size.0, height: size.1 })?;
-        } else if self.ctx.is_none() && self.window.is_none() {
-            self.window = Some(size);
+            if self.ctx.is_some() {
+                self.emit(Call::ResizeSurface { width: size.0, height: size.1 })?;
+            }
         }
         Ok(())
     }
