@@ -120,6 +120,15 @@ pub struct TextureCache {
     /// misses their reads caused ([`TextureCache::note_unmipped`]): what mip maps would save.
     unmipped_quads: u64,
     unmipped_misses: u64,
+    /// Lines each the most recently read of its set, no two in one set, at `first_line +`
+    /// each (the last group's distinct lines, [`TextureCache::read_group`]); the unused
+    /// entries repeat the first. Empty (`recent_len` 0) after any other read.
+    recent: [u32; RECENT_LINES],
+    recent_first_line: u64,
+    recent_len: usize,
+    /// Groups found within [`TextureCache::recent`] (for the tests).
+    #[cfg(test)]
+    recent_groups: u64,
     /// With the `texture-cache-reference` feature (for tests): the same cache read one line
     /// at a time by the line-by-line model ([`LineByLine`]), held equal after every call.
     #[cfg(feature = "texture-cache-reference")]
@@ -135,6 +144,9 @@ impl Default for TextureCache {
 /// The most distinct lines a group's reads are checked for ([`TextureCache::access_lanes`]):
 /// past that, its reads are made one by one.
 const MAX_GROUP_LINES: usize = 16;
+
+/// The most lines [`TextureCache::recent`] holds: a bilinear footprint's lines on one level.
+const RECENT_LINES: usize = 4;
 
 impl TextureCache {
     const EMPTY: u64 = u64::MAX;
@@ -158,6 +170,11 @@ impl TextureCache {
             misses_reported: 0,
             unmipped_quads: 0,
             unmipped_misses: 0,
+            recent: [0; RECENT_LINES],
+            recent_first_line: 0,
+            recent_len: 0,
+            #[cfg(test)]
+            recent_groups: 0,
             #[cfg(feature = "texture-cache-reference")]
             reference: Some(Box::new(LineByLine::new(config))),
         }
@@ -171,6 +188,7 @@ impl TextureCache {
     #[inline]
     pub fn access(&mut self, address: u64) -> bool {
         self.allocate_once();
+        self.recent_len = 0;
         self.clock += 1;
         let hit = self.read_line(address >> self.line_shift, self.clock);
         self.count(1, !hit as u64);
@@ -203,6 +221,7 @@ impl TextureCache {
     #[inline]
     pub fn access_lines(&mut self, first_line: u64, lines: &[u32]) {
         self.allocate_once();
+        self.recent_len = 0;
         let (mut previous, mut misses) = (None, 0);
         for &line in lines {
             self.clock += 1;
@@ -329,6 +348,13 @@ impl TextureCache {
         if !counted.contains(&true) {
             return 0;
         }
+        if self.within_recent(first_line, rows, counted) {
+            #[cfg(test)]
+            {
+                self.recent_groups += 1;
+            }
+            return 0;
+        }
         self.allocate_once();
         // A group's reads are stamped from `base + 1` to `base + 64`.
         let base = self.clock;
@@ -337,6 +363,7 @@ impl TextureCache {
         let Some(d) = distinct_lines(simd, rows, counted, &mut distinct) else {
             return self.read_each(base, first_line, rows, counted);
         };
+        self.remember_recent(first_line, &distinct[..d]);
         let ways = 1usize << self.ways_shift;
         if d > ways {
             let mut sets = [u32::MAX; MAX_GROUP_LINES];
@@ -357,6 +384,61 @@ impl TextureCache {
         misses
     }
 
+    /// Whether every read of a group (as [`TextureCache::read_group`]) is of a line in
+    /// [`TextureCache::recent`]. Such a group hits on every read and changes nothing: each line
+    /// it reads is already the most recently read of its set, and the only one of the group
+    /// there, so reading it again (however often, in whatever order) leaves each set's order
+    /// as it was. The lines stay the newest of their sets, so the next group may be checked
+    /// against them too.
+    ///
+    /// This is what a filter's taps a texel apart make: each reads the lines the tap before
+    /// it read, and checking a group against a handful of lines costs less than finding its
+    /// distinct lines.
+    #[inline(always)]
+    fn within_recent<const L: usize, const R: usize>(
+        &self,
+        first_line: u64,
+        rows: &[[u32; L]; R],
+        counted: [bool; L],
+    ) -> bool {
+        if self.recent_len == 0 || first_line != self.recent_first_line {
+            return false;
+        }
+        let mut outside = [false; L];
+        for row in rows {
+            for k in 0..L {
+                let line = row[k];
+                outside[k] |= !self.recent.iter().fold(false, |found, &recent| found | (recent == line));
+            }
+        }
+        (0..L).all(|k| !(outside[k] & counted[k]))
+    }
+
+    /// Keeps a group's `distinct` lines (`line << 8 | key`, [`distinct_lines`]) as
+    /// [`TextureCache::recent`] when there are at most [`RECENT_LINES`] of them in as many
+    /// sets: after the group, each is the most recently read of its set. Otherwise forgets
+    /// the recent lines.
+    #[inline(always)]
+    fn remember_recent(&mut self, first_line: u64, distinct: &[u64]) {
+        self.recent_len = 0;
+        if distinct.is_empty() || distinct.len() > RECENT_LINES {
+            return;
+        }
+        let set = |entry: u64| (first_line + (entry >> 8)) & self.set_mask;
+        for (i, &a) in distinct.iter().enumerate() {
+            if distinct[..i].iter().any(|&b| set(a) == set(b)) {
+                return;
+            }
+        }
+        let first = (distinct[0] >> 8) as u32;
+        self.recent = [first; RECENT_LINES];
+        for (slot, &entry) in self.recent.iter_mut().zip(distinct) {
+            *slot = (entry >> 8) as u32;
+        }
+        self.recent_first_line = first_line;
+        self.recent_len = distinct.len();
+    }
+
     /// [`TextureCache::read_group`] read by read (read `8 · lane + row` stamped `base + 1 +` that).
     #[inline(never)]
     fn read_each<const L: usize, const R: usize>(
@@ -366,6 +448,7 @@ impl TextureCache {
         rows: &[[u32; L]; R],
         counted: [bool; L],
     ) -> u64 {
+        self.recent_len = 0;
         let (mut previous, mut misses) = (None, 0);
         for lane in (0..L).filter(|&lane| counted[lane]) {
             for (r, row) in rows.iter().enumerate() {
@@ -797,6 +880,41 @@ mod tests {
             cache.access(128);
         }
         assert_eq!(cache.misses(), 6);
+    }
+
+    /// Groups that read only lines the group before read (a filter's taps a texel apart) are
+    /// found within the recent lines, and count and leave the cache as the line-by-line model.
+    #[test]
+    fn groups_within_the_last_groups_lines_change_nothing() {
+        for simd in simd_levels() {
+            let config = TextureCacheConfig::DEFAULT;
+            let (mut cache, mut reference) = (TextureCache::new(config), LineByLine::new(config));
+            let first_line = 3 << 40;
+            // Two lines a lane, then one of them; then a set shared by two lines (64 apart), which
+            // is not remembered; then a line outside.
+            let groups: [[[u32; 8]; 2]; 5] = [
+                [[0, 0, 0, 0, 1, 1, 1, 1], [200, 200, 200, 200, 201, 201, 201, 201]],
+                [[1, 1, 1, 1, 0, 0, 0, 0], [1, 1, 1, 1, 200, 200, 200, 200]],
+                [[0, 0, 0, 0, 64, 64, 64, 64], [0; 8]],
+                [[0, 0, 0, 0, 64, 64, 64, 64], [0; 8]],
+                [[0, 0, 0, 0, 64, 64, 64, 65], [0; 8]],
+            ];
+            let mut within = Vec::new();
+            for rows in &groups {
+                let before = cache.recent_groups;
+                cache.access_lanes(simd, first_line, rows, [true; 8]);
+                within.push(cache.recent_groups - before);
+                for k in 0..8 {
+                    for row in rows {
+                        reference.access(first_line + row[k] as u64);
+                    }
+                }
+                assert_eq!((cache.hits(), cache.misses()), (reference.hits, reference.misses));
+                assert_eq!(cache.by_recency(), reference.lines);
+            }
+            assert_eq!(within, [0, 1, 0, 0, 0], "{simd:?}");
+            assert_eq!(cache.misses(), 4 + 1 + 1);
+        }
     }
 
     /// The SIMD levels this processor runs.
