@@ -348,7 +348,9 @@ impl TextureCache {
         if !counted.contains(&true) {
             return 0;
         }
-        if self.within_recent(first_line, rows, counted) {
+        // Only for reads of one level: two levels' lines are seldom few enough.
+        let one_level = R <= 4;
+        if one_level && self.within_recent(first_line, rows, counted) {
             #[cfg(test)]
             {
                 self.recent_groups += 1;
@@ -363,7 +365,11 @@ impl TextureCache {
         let Some(d) = distinct_lines(simd, rows, counted, &mut distinct) else {
             return self.read_each(base, first_line, rows, counted);
         };
-        self.remember_recent(first_line, &distinct[..d]);
+        if one_level {
+            self.remember_recent(first_line, &distinct[..d]);
+        } else {
+            self.recent_len = 0;
+        }
         let ways = 1usize << self.ways_shift;
         if d > ways {
             let mut sets = [u32::MAX; MAX_GROUP_LINES];
