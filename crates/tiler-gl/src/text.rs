@@ -59,10 +59,16 @@ pub fn pass_ended(pass: &PassRecord) -> String {
 pub fn text_report(report: &Report) -> String {
     let mut out = String::new();
     let c = &report.config;
+    // The calls after the last swap make a frame of their own, counted but never presented
+    // (`--frames` writes only the presented ones).
+    let presented = report.frames.iter().filter(|frame| frame.swapped).count();
+    let frames = match report.totals.frames as usize - presented {
+        0 => format!("{presented} frame(s)"),
+        _ => format!("{} frame(s), {presented} presented", report.totals.frames),
+    };
     let _ = writeln!(
         out,
-        "{} frame(s), {} render pass(es); window {}×{} {}, {} backend, {}×{} tiles, {} frame(s) in flight",
-        report.totals.frames,
+        "{frames}, {} render pass(es); window {}×{} {}, {} backend, {}×{} tiles, {} frame(s) in flight",
         report.totals.passes,
         c.width,
         c.height,

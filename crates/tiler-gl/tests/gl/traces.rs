@@ -167,6 +167,25 @@ fn the_text_report_names_the_findings() {
     assert!(json["frames"][0]["passes"][2]["attachments"][0]["load"] == "load");
 }
 
+/// The text's first line counts the frames, and says how many were presented when calls
+/// follow the last swap (a frame `--frames` does not write).
+#[test]
+fn the_text_report_counts_presented_frames() {
+    let trace = |last_swaps: bool| {
+        let last = if last_swaps { r#", {"call": "swap_buffers"}"# } else { "" };
+        let json = format!(
+            r#"{{"format": "tiler-gl-trace", "version": 1, "config": {{"width": 16, "height": 16}},
+                "frames": [{{"calls": [{{"call": "clear", "color": true}}, {{"call": "swap_buffers"}}], "repeat": 2}},
+                           {{"calls": [{{"call": "clear", "color": true}}{last}]}}]}}"#
+        );
+        let replay =
+            Trace::parse(&json, None).unwrap().replay_with(Limits { threads: Some(1), ..Limits::default() }).unwrap();
+        text_report(&replay.report).lines().next().unwrap().to_string()
+    };
+    assert!(trace(true).starts_with("3 frame(s), "), "{}", trace(true));
+    assert!(trace(false).starts_with("3 frame(s), 2 presented, "), "{}", trace(false));
+}
+
 /// Bad traces get an error naming the frame, the call and the problem.
 #[test]
 fn malformed_traces_are_errors_that_say_where() {
