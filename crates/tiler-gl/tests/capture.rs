@@ -455,20 +455,12 @@ fn uniform_array_capture(before_draw: impl FnOnce(&mut Writer), extra: impl FnOn
 /// A full-window triangle in buffer 1, read by attribute `where` (recorded at location 5) of
 /// program 7, linked from `vertex` and `fragment` and in use.
 fn full_window_program(w: &mut Writer, vertex: &'static str, fragment: &'static str) {
-    let triangle: Vec<u8> = [-1.0f32, -1.0, 3.0, -1.0, -1.0, 3.0].iter().flat_map(|v| v.to_le_bytes()).collect();
-    w.call("glGenBuffers", &[("n", W::UInt(1)), ("buffers", W::Array(vec![W::UInt(1)]))], None, false);
-    w.call("glBindBuffer", &[("target", e("GL_ARRAY_BUFFER", 0x8892)), ("buffer", W::UInt(1))], None, false);
-    w.call(
-        "glBufferData",
-        &[
-            ("target", e("GL_ARRAY_BUFFER", 0x8892)),
-            ("size", W::UInt(24)),
-            ("data", W::Blob(triangle)),
-            ("usage", e("GL_STATIC_DRAW", 0x88e4)),
-        ],
-        None,
-        false,
-    );
+    link_program(w, vertex, fragment);
+    use_program_on_full_window_triangle(w);
+}
+
+/// Program 7 made of shaders 2 and 3 from `vertex` and `fragment`, linked, not used.
+fn link_program(w: &mut Writer, vertex: &'static str, fragment: &'static str) {
     w.call("glCreateProgram", &[], Some(W::UInt(7)), false);
     let shaders = [(0x8b31, "GL_VERTEX_SHADER", 2, vertex), (0x8b30, "GL_FRAGMENT_SHADER", 3, fragment)];
     for (kind, kind_name, shader, source) in shaders {
@@ -484,6 +476,24 @@ fn full_window_program(w: &mut Writer, vertex: &'static str, fragment: &'static 
         w.call("glAttachShader", &[("program", W::UInt(7)), ("shader", W::UInt(shader))], None, false);
     }
     w.call("glLinkProgram", &[("program", W::UInt(7))], None, false);
+}
+
+/// Program 7 used, its attribute `where` fed the full-window triangle from buffer 1.
+fn use_program_on_full_window_triangle(w: &mut Writer) {
+    let triangle: Vec<u8> = [-1.0f32, -1.0, 3.0, -1.0, -1.0, 3.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+    w.call("glGenBuffers", &[("n", W::UInt(1)), ("buffers", W::Array(vec![W::UInt(1)]))], None, false);
+    w.call("glBindBuffer", &[("target", e("GL_ARRAY_BUFFER", 0x8892)), ("buffer", W::UInt(1))], None, false);
+    w.call(
+        "glBufferData",
+        &[
+            ("target", e("GL_ARRAY_BUFFER", 0x8892)),
+            ("size", W::UInt(24)),
+            ("data", W::Blob(triangle)),
+            ("usage", e("GL_STATIC_DRAW", 0x88e4)),
+        ],
+        None,
+        false,
+    );
     w.call("glUseProgram", &[("program", W::UInt(7))], None, false);
     w.call("glGetAttribLocation", &[("program", W::UInt(7)), ("name", W::Str("where"))], Some(W::UInt(5)), false);
     w.call("glEnableVertexAttribArray", &[("index", W::UInt(5))], None, false);
@@ -2084,6 +2094,34 @@ fn contexts_sharing_objects_see_each_others_textures() {
     let (result, frames) = replay(&w);
     result.unwrap();
     assert_eq!(frames[0].4, solid(4, 4, [30, 60, 90, 255]));
+}
+
+#[test]
+fn programs_linked_on_a_live_share_context_are_drawn_with_on_another() {
+    // GTK 4: a share context, current without a surface, compiles and links every program
+    // (objects of the share group, no state of its own changed) and stays alive; the window's
+    // context is made current and draws with them. The program passes a structure from
+    // vertex to fragment shader (GLSL ES 3.00 §4.3.4), as GTK's rounded rectangles are.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    create_context(&mut w, 100, 0);
+    create_context(&mut w, 200, 100);
+    make_current(&mut w, 0, 100);
+    let vertex = "#version 300 es\nstruct Rect { vec4 bounds; vec2 corner; };\nin vec2 where;\nout Rect r;\n\
+                  void main() { r.bounds = vec4(0.25, 0.5, 0.75, 1.0); r.corner = vec2(where.x * 0.0 + 0.125, 0.375);\n\
+                  gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "#version 300 es\nprecision mediump float;\nstruct Rect { vec4 bounds; vec2 corner; };\nin Rect r;\n\
+                    out vec4 color;\nvoid main() { color = vec4(r.bounds.xy, r.corner.y + r.bounds.w - 1.0, 1.0); }\n";
+    link_program(&mut w, vertex, fragment);
+    let switch = make_current(&mut w, 3, 200);
+    let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(4)), ("height", W::UInt(4))];
+    w.call("glViewport", &viewport, None, true);
+    use_program_on_full_window_triangle(&mut w);
+    draw_triangle(&mut w);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap_or_else(|e| panic!("at call {switch}: {e}"));
+    assert_eq!(frames[0].4, solid(4, 4, [64, 128, 96, 255]));
 }
 
 #[test]

@@ -1415,7 +1415,14 @@ impl<'a> Compiler<'a> {
                     // must be qualified flat.
                     return self.fail(format!("integer varying '{name}' ({ty}) must be qualified 'flat'"));
                 }
-                if !(ty.is_float_based() || integer) {
+                // GLSL ES 3.00 §4.3.4: a vertex output or fragment input may also be a structure
+                // of those (GTK 4's renderer passes its rounded rectangles so); its members are
+                // interpolated one float after another, as an array's elements are.
+                if let Type::Struct(_) = element {
+                    if let Some(bad) = varying_struct_error(element, flat) {
+                        return self.fail(format!("varying '{name}': {bad}"));
+                    }
+                } else if !(ty.is_float_based() || integer) {
                     return self.fail(format!("varying '{name}' must be float-based or integer, not {ty}"));
                 }
                 let regs = self.temps(ty.size());
@@ -3716,5 +3723,27 @@ fn written_within(inst: &mut Inst, out: &mut Vec<Reg>) {
         for inst in block {
             written_within(inst, out);
         }
+    }
+}
+
+/// Why a structure cannot be a varying (GLSL ES 3.00 §4.3.4), or `None`: every member a
+/// float-based type, an integer one only in a `flat` varying, or such a structure.
+fn varying_struct_error(ty: &Type, flat: bool) -> Option<String> {
+    match ty {
+        Type::Struct(s) => s.fields.iter().find_map(|(field, t)| {
+            let element = match t {
+                Type::Array(t, _) => t,
+                t => t,
+            };
+            let integer = element.scalar().is_some_and(Scalar::is_integer) && element.width().is_some();
+            match element {
+                Type::Struct(_) => varying_struct_error(element, flat),
+                _ if t.is_float_based() => None,
+                _ if integer && flat => None,
+                _ if integer => Some(format!("integer member '{field}' ({t}) needs the varying qualified 'flat'")),
+                _ => Some(format!("member '{field}' must be float-based or integer, not {t}")),
+            }
+        }),
+        _ => None,
     }
 }

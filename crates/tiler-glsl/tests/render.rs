@@ -2126,3 +2126,28 @@ void main() { color = r; }";
     };
     assert!(error.to_string().contains("mix(vec4, vec4, bvec2)"), "{error}");
 }
+
+/// GLSL ES 3.00 §4.3.4: a structure of float-based members may be a varying; an integer
+/// member needs it `flat`; a program may pass 64 varying floats (ES 3.0's 60 at least), not 65.
+#[test]
+fn structure_varyings_and_the_varying_limit() {
+    let program = |vs_decl: &str, fs_decl: &str, write: &str| {
+        let vs = format!(
+            "#version 300 es\nstruct S {{ vec4 a; float b; }};\n{vs_decl}\nin vec4 p;\nvoid main() {{ {write} gl_Position = p; }}\n"
+        );
+        let fs = format!(
+            "#version 300 es\nprecision highp float;\nstruct S {{ vec4 a; float b; }};\n{fs_decl}\nout vec4 c;\nvoid main() {{ c = vec4(0.0); }}\n"
+        );
+        CompiledProgram::new(&vs, &fs, &[])
+    };
+    program("out S s;", "in S s;", "s.a = p; s.b = 1.0;").unwrap();
+    let e = program("struct T { int i; };\nout T t;", "struct T { int i; };\nin T t;", "").unwrap_err();
+    assert!(e.to_string().contains("integer member 'i' (int) needs the varying qualified 'flat'"), "{e}");
+    program("struct T { int i; };\nflat out T t;", "struct T { int i; };\nflat in T t;", "t.i = 1;").unwrap();
+    let e = program("out S s;", "in S s;\nin S u;", "").unwrap_err();
+    assert!(e.to_string().contains("'u' is read by the fragment shader but not declared"), "{e}");
+    // 64 floats pass, 65 do not.
+    program("out vec4 v[16];", "in vec4 v[16];", "").unwrap();
+    let e = program("out vec4 v[16];\nout float w;", "in vec4 v[16];\nin float w;", "").unwrap_err();
+    assert!(e.to_string().contains("65 varying floats, at most 64"), "{e}");
+}

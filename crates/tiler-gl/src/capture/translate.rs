@@ -514,7 +514,13 @@ impl Translator {
     }
 
     pub(super) fn emit(&mut self, call: Call) -> Fallible<crate::call::Output> {
-        if let Some(generation) = self.current.filter(|_| !self.fake) {
+        // Making and linking programs changes objects of the share group, not the context's
+        // own state: GTK 4 compiles every shader on its share context, then draws on another.
+        let shared_only = matches!(
+            call,
+            Call::CreateProgram { .. } | Call::BindAttribLocation { .. } | Call::TransformFeedbackVaryings { .. }
+        );
+        if let Some(generation) = self.current.filter(|_| !self.fake && !shared_only) {
             self.touched.insert(generation);
         }
         self.ctx()?.call(call).map_err(|e| e.message)

@@ -14,7 +14,7 @@ pub const MAX_VERTEX_ATTRIBUTES: usize = 8;
 /// The most vertex buffer bindings a pipeline may use.
 pub const MAX_VERTEX_BINDINGS: usize = 4;
 /// The most `f32` varyings a vertex shader may pass to the fragment shader.
-pub const MAX_VARYINGS: usize = 32;
+pub const MAX_VARYINGS: usize = 64;
 
 /// A comparison, `fragment OP stored` for depth and `(reference & mask) OP (stored & mask)`
 /// for stencil (Vulkan `VkCompareOp`).

@@ -92,7 +92,7 @@ pub struct DrawGeometry<'a> {
     /// Bytes of indices fetched.
     pub index_fetch_bytes: u64,
     /// Bit `i` set when varying `i` is `Interpolation::Flat`.
-    flat_varyings: u32,
+    flat_varyings: u64,
 }
 
 /// What the pass around a draw looks like.
@@ -447,14 +447,14 @@ fn post_transform_fetch(indices: impl Iterator<Item = u32>, entries: u32, mut mi
 }
 
 /// Bit `i` for each flat varying `i` (`MAX_VARYINGS` fits: checked by the pipeline).
-fn flat_mask(varyings: &[Interpolation]) -> u32 {
-    const _: () = assert!(MAX_VARYINGS <= 32);
+fn flat_mask(varyings: &[Interpolation]) -> u64 {
+    const _: () = assert!(MAX_VARYINGS <= 64);
     varyings.iter().enumerate().filter(|(_, m)| **m == Interpolation::Flat).fold(0, |mask, (i, _)| mask | 1 << i)
 }
 
 /// Gives the flat varyings (bits of `mask`) of every vertex the provoking vertex's values, as
 /// copies: an integer's bits stay as they are.
-fn copy_flat(vertices: &mut [ClipVertex], provoking: &[f32; MAX_VARYINGS], mask: u32) {
+fn copy_flat(vertices: &mut [ClipVertex], provoking: &[f32; MAX_VARYINGS], mask: u64) {
     for v in vertices {
         let mut bits = mask;
         while bits != 0 {
