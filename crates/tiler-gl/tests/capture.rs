@@ -2136,11 +2136,26 @@ fn switching_between_two_live_contexts_that_changed_state_names_the_call() {
     let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(4)), ("height", W::UInt(4))];
     w.call("glViewport", &viewport, None, true);
     clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    // Made current and at once released, then 100 again, nothing called between: nothing to
+    // keep apart (GTK 4 does this each frame).
+    make_current(&mut w, 0, 200);
+    make_current(&mut w, 0, 0);
+    make_current(&mut w, 3, 100);
+    clear(&mut w, [0.0, 1.0, 0.0, 1.0]);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [0, 255, 0, 255]));
+    // The switch is refused at 200's first call, naming the eglMakeCurrent.
     let switch = make_current(&mut w, 3, 200);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    // Its first call, glClearColor, the one after the switch.
+    let first = switch + 1;
     let (result, _) = replay(&w);
     let error = result.err().expect("context 100's state was not kept");
-    assert_eq!(error.call(), Some(switch));
+    assert_eq!(error.call(), Some(first));
     assert!(error.to_string().contains("switching away from a live context"), "{error}");
+    assert!(error.to_string().contains(&format!("made current at call {switch}")), "{error}");
 }
 
 #[test]

@@ -378,6 +378,12 @@ pub struct Translator {
     /// Generations that have changed GL state while current (see `make_current`); apitrace's
     /// fake calls (the window's viewport at a context's first `eglMakeCurrent`) do not count.
     touched: HashSet<u32>,
+    /// An `eglMakeCurrent` (its call number, draw surface and context) away from a live
+    /// context that has changed state, not made yet: it is made (and refused) at the first
+    /// call that is not a query, and dropped if another `eglMakeCurrent` comes first — GTK 4
+    /// makes its share context current and at once the drawing one again, calling nothing
+    /// between.
+    pending_switch: Option<(u64, EglHandle, EglHandle)>,
     /// The call being translated is one of apitrace's fake ones.
     fake: bool,
     /// `glFenceSync` handles → the context's fences.
@@ -413,6 +419,7 @@ impl Translator {
             generations: HashMap::new(),
             groups: HashMap::new(),
             touched: HashSet::new(),
+            pending_switch: None,
             fake: false,
             fences: HashMap::new(),
             objects: HashMap::new(),
@@ -579,6 +586,16 @@ impl Translator {
                         (no sRGB encoding) is not supported"
                 .into());
         }
+        if let Some((call, draw, context)) = self.pending_switch {
+            match command {
+                C::Ignored { .. } => return Ok(()),
+                C::MakeCurrent { .. } => self.pending_switch = None,
+                _ => {
+                    self.pending_switch = None;
+                    self.make_current(draw, context).map_err(|e| format!("{e} (made current at call {call})"))?;
+                }
+            }
+        }
         if self.cube_command(command)? || self.layered_command(command)? || self.feedback_command(command)? {
             return Ok(());
         }
@@ -604,7 +621,13 @@ impl Translator {
                 self.generations.insert(*context, generation);
                 self.groups.insert(generation, group);
             }
-            C::MakeCurrent { draw, context, .. } => self.make_current(*draw, *context)?,
+            C::MakeCurrent { draw, context, .. } => {
+                if self.switches_away_from_live_state(*context) {
+                    self.pending_switch = Some((self.call, *draw, *context));
+                } else {
+                    self.make_current(*draw, *context)?;
+                }
+            }
             C::DestroyContext { context, .. } => {
                 let generation = self.generations.remove(context).ok_or("destroys a context never created")?;
                 // The group's objects go with its last context.
@@ -1741,6 +1764,15 @@ impl Translator {
             other => return Err(format!("not supported by the context: {}", command_name(other))),
         }
         Ok(())
+    }
+
+    /// Whether making `context` current needs the state of a live context that has changed
+    /// it kept apart, which the replay cannot do ([`Translator::make_current`]).
+    fn switches_away_from_live_state(&self, context: EglHandle) -> bool {
+        let Some(&generation) = self.generations.get(&context) else { return false };
+        self.last_current.is_some_and(|last| {
+            last != generation && self.generations.values().any(|&g| g == last) && self.touched.contains(&last)
+        })
     }
 
     fn make_current(&mut self, draw: EglHandle, context: EglHandle) -> Fallible {
