@@ -3276,7 +3276,15 @@ impl<'a> Compiler<'a> {
                 let d = self.dot(&nn.regs, &i.regs);
                 let dd = self.bin(BinOp::Mul, d, d);
                 let t = self.bin(BinOp::Sub, one, dd);
-                let ee = self.bin(BinOp::Mul, eta, eta);
+                let lowered = i.regs.iter().chain(&nn.regs).map(|&r| self.prec(r)).max() == Some(Prec::Medium);
+                let ee = if lowered && self.prec(eta) == Prec::None {
+                    // A constant η is the lowered builtin's parameter: NIR folds η² from
+                    // binary16 η, rounded (float-probe `refract.frag`: η = 1/1.2 gives
+                    // 0.69482422, not 1/1.44's 0.69433594; 33 of 640 values moved).
+                    self.bin_at(BinOp::Mul, eta, eta, Prec::Medium, true)
+                } else {
+                    self.bin(BinOp::Mul, eta, eta)
+                };
                 let et = self.bin(BinOp::Mul, ee, t);
                 let k = self.bin(BinOp::Sub, one, et);
                 let neg = self.bin(BinOp::Lt, k, zero);
