@@ -1606,6 +1606,18 @@ fn float_probe_mediump_texels_and_builtins_are_llvmpipes_to_the_bit() {
     }
 }
 
+/// `highp` `dot`, `length` and `normalize` (`tools/float-probe`'s `highp-normalize.frag`, vectors
+/// from exact per-row products), llvmpipe's to the bit: `dot` is summed from the last
+/// component, `a₀b₀ + (a₁b₁ + a₂b₂)`, and `normalize(v)` is `v · (1 / sqrt(dot(v, v)))`
+/// (163 of 512 values differed with the sum from the first component and `v / length(v)`).
+#[test]
+fn float_probe_highp_normalize_is_llvmpipes_to_the_bit() {
+    let values = float_probe("highp-normalize", 33);
+    assert_eq!(values.len(), 8 * 64);
+    let differ: Vec<_> = values.into_iter().filter(|&(.., got, want)| got != want).collect();
+    assert!(differ.is_empty(), "{} differ from llvmpipe (y, x, tiler, llvmpipe): {differ:x?}", differ.len());
+}
+
 /// Replays a float-probe capture (`tools/float-probe`) with a snapshot at `call` (its
 /// `glReadPixels`) and gives each probed pixel's float bits, tiler's and llvmpipe's, as
 /// `(y, x, tiler, llvmpipe)`.

@@ -2347,10 +2347,14 @@ impl<'a> Compiler<'a> {
                 }
                 return self.lowered_result(acc, prec, false, false);
             }
-            let mut acc = self.bin(BinOp::Mul, a[0], b[0]);
-            for i in 1..a.len() {
+            // From the last component, unfused, as in binary16: llvmpipe's single-precision
+            // `dot` of a `vec3` is `a₀b₀ + (a₁b₁ + a₂b₂)` (float-probe `highp-normalize.frag`:
+            // 512 of 512 values with `normalize` below; 349 summed from the first).
+            let last = a.len() - 1;
+            let mut acc = self.bin(BinOp::Mul, a[last], b[last]);
+            for i in (0..last).rev() {
                 let p = self.bin(BinOp::Mul, a[i], b[i]);
-                acc = self.bin(BinOp::Add, acc, p);
+                acc = self.bin(BinOp::Add, p, acc);
             }
             return acc;
         }
@@ -3209,19 +3213,14 @@ impl<'a> Compiler<'a> {
             "normalize" => {
                 arity(self, 1)?;
                 let v = self.vector_arg(name, args[0].clone())?;
-                if v.regs.iter().map(|&r| self.prec(r)).max() == Some(Prec::Medium) {
-                    // Binary16: Mesa's `v · inversesqrt(dot(v, v))`, rounded as llvmpipe
-                    // rounds it. Single precision keeps `v / length(v)`, the native shaders'
-                    // `normalize3` (their pictures are compared bit for bit).
-                    let d = self.dot(&v.regs, &v.regs);
-                    let r = self.un(UnOp::InverseSqrt, d);
-                    return Ok(Value {
-                        ty: v.ty.clone(),
-                        regs: v.regs.iter().map(|&c| self.bin(BinOp::Mul, c, r)).collect(),
-                    });
-                }
-                let len = self.length(&v.regs);
-                Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&r| self.bin(BinOp::Div, r, len)).collect() })
+                // Mesa's `v · inversesqrt(dot(v, v))`, and llvmpipe's `inversesqrt` is
+                // `1 / sqrt(x)`, both rounded: in binary16 (see `un_at`) and in single precision
+                // (float-probe `highp-normalize.frag`; `v / length(v)` gave 40 of 48 on a
+                // `highp` varying),
+                // which is also the native shaders' `normalize3`.
+                let d = self.dot(&v.regs, &v.regs);
+                let r = self.un(UnOp::InverseSqrt, d);
+                Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&c| self.bin(BinOp::Mul, c, r)).collect() })
             }
             "faceforward" => {
                 arity(self, 3)?;
