@@ -1597,17 +1597,35 @@ fn float_probe_precision_is_llvmpipes_to_the_bit() {
 /// `texels.frag`, `ops.frag`, `dot.frag`, `pow.frag` with an uploaded 8×8 texture): texels
 /// through a `mediump` sampler are binary16 rounded toward zero; `dot` is NIR's factored
 /// multiply-add chain from the last component, `inversesqrt` `1/sqrt`, `pow`
-/// `exp2(y·log2 x)` and `mix` the lowered `flrp`, every step rounded to binary16.
+/// `exp2(y·log2 x)` and `mix` the lowered `flrp`, every step rounded to binary16; `refract`
+/// (`refract.frag`) with a constant η squares η in binary16 (33 of 640 values differed when η²
+/// was folded in single precision).
 #[test]
 fn float_probe_mediump_texels_and_builtins_are_llvmpipes_to_the_bit() {
-    for (name, count) in
-        [("texels", 16 * 8), ("mediump-ops", 16 * 64), ("mediump-dot", 10 * 64), ("mediump-pow", 10 * 64)]
-    {
+    for (name, count) in [
+        ("texels", 16 * 8),
+        ("mediump-ops", 16 * 64),
+        ("mediump-dot", 10 * 64),
+        ("mediump-pow", 10 * 64),
+        ("mediump-refract", 10 * 64),
+    ] {
         let values = float_probe(name, 40);
         assert_eq!(values.len(), count, "{name}");
         let differ: Vec<_> = values.iter().filter(|&&(.., got, want)| got != want).collect();
         assert!(differ.is_empty(), "{name}: {} differ (y, x, tiler, llvmpipe) {differ:x?}", differ.len());
     }
+}
+
+/// `highp` `dot`, `length` and `normalize` (`tools/float-probe`'s `highp-normalize.frag`, vectors
+/// from exact per-row products), llvmpipe's to the bit: `dot` is summed from the last
+/// component, `a₀b₀ + (a₁b₁ + a₂b₂)`, and `normalize(v)` is `v · (1 / sqrt(dot(v, v)))`
+/// (163 of 512 values differed with the sum from the first component and `v / length(v)`).
+#[test]
+fn float_probe_highp_normalize_is_llvmpipes_to_the_bit() {
+    let values = float_probe("highp-normalize", 33);
+    assert_eq!(values.len(), 8 * 64);
+    let differ: Vec<_> = values.into_iter().filter(|&(.., got, want)| got != want).collect();
+    assert!(differ.is_empty(), "{} differ from llvmpipe (y, x, tiler, llvmpipe): {differ:x?}", differ.len());
 }
 
 /// Replays a float-probe capture (`tools/float-probe`) with a snapshot at `call` (its

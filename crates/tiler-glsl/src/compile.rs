@@ -2354,10 +2354,14 @@ impl<'a> Compiler<'a> {
                 }
                 return self.lowered_result(acc, prec, false, false);
             }
-            let mut acc = self.bin(BinOp::Mul, a[0], b[0]);
-            for i in 1..a.len() {
+            // From the last component, unfused, as in binary16: llvmpipe's single-precision
+            // `dot` of a `vec3` is `a₀b₀ + (a₁b₁ + a₂b₂)` (float-probe `highp-normalize.frag`:
+            // 512 of 512 values with `normalize` below; 349 summed from the first).
+            let last = a.len() - 1;
+            let mut acc = self.bin(BinOp::Mul, a[last], b[last]);
+            for i in (0..last).rev() {
                 let p = self.bin(BinOp::Mul, a[i], b[i]);
-                acc = self.bin(BinOp::Add, acc, p);
+                acc = self.bin(BinOp::Add, p, acc);
             }
             return acc;
         }
@@ -3216,19 +3220,14 @@ impl<'a> Compiler<'a> {
             "normalize" => {
                 arity(self, 1)?;
                 let v = self.vector_arg(name, args[0].clone())?;
-                if v.regs.iter().map(|&r| self.prec(r)).max() == Some(Prec::Medium) {
-                    // Binary16: Mesa's `v · inversesqrt(dot(v, v))`, rounded as llvmpipe
-                    // rounds it. Single precision keeps `v / length(v)`, the native shaders'
-                    // `normalize3` (their pictures are compared bit for bit).
-                    let d = self.dot(&v.regs, &v.regs);
-                    let r = self.un(UnOp::InverseSqrt, d);
-                    return Ok(Value {
-                        ty: v.ty.clone(),
-                        regs: v.regs.iter().map(|&c| self.bin(BinOp::Mul, c, r)).collect(),
-                    });
-                }
-                let len = self.length(&v.regs);
-                Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&r| self.bin(BinOp::Div, r, len)).collect() })
+                // Mesa's `v · inversesqrt(dot(v, v))`, and llvmpipe's `inversesqrt` is
+                // `1 / sqrt(x)`, both rounded: in binary16 (see `un_at`) and in single precision
+                // (float-probe `highp-normalize.frag`; `v / length(v)` gave 40 of 48 on a
+                // `highp` varying),
+                // which is also the native shaders' `normalize3`.
+                let d = self.dot(&v.regs, &v.regs);
+                let r = self.un(UnOp::InverseSqrt, d);
+                Ok(Value { ty: v.ty.clone(), regs: v.regs.iter().map(|&c| self.bin(BinOp::Mul, c, r)).collect() })
             }
             "faceforward" => {
                 arity(self, 3)?;
@@ -3283,7 +3282,15 @@ impl<'a> Compiler<'a> {
                 let d = self.dot(&nn.regs, &i.regs);
                 let dd = self.bin(BinOp::Mul, d, d);
                 let t = self.bin(BinOp::Sub, one, dd);
-                let ee = self.bin(BinOp::Mul, eta, eta);
+                let lowered = i.regs.iter().chain(&nn.regs).map(|&r| self.prec(r)).max() == Some(Prec::Medium);
+                let ee = if lowered && self.prec(eta) == Prec::None {
+                    // A constant η is the lowered builtin's parameter: NIR folds η² from
+                    // binary16 η, rounded (float-probe `refract.frag`: η = 1/1.2 gives
+                    // 0.69482422, not 1/1.44's 0.69433594; 33 of 640 values moved).
+                    self.bin_at(BinOp::Mul, eta, eta, Prec::Medium, true)
+                } else {
+                    self.bin(BinOp::Mul, eta, eta)
+                };
                 let et = self.bin(BinOp::Mul, ee, t);
                 let k = self.bin(BinOp::Sub, one, et);
                 let neg = self.bin(BinOp::Lt, k, zero);
