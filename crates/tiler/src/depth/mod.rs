@@ -40,6 +40,8 @@ pub fn test_group(
 ) -> Coverage {
     let format = surface.format;
     let face: &StencilFaceState = if front_facing { &state.front } else { &state.back };
+    // The samples below are read and written: a fill deferred in the summary is owed first.
+    surface.write_deferred_block(x, y);
     let stencil_test = state.stencil_test && format.has_stencil();
     if !stencil_test && !traffic.needs_addresses() {
         let write = state.depth_test && state.depth_write;
@@ -443,9 +445,10 @@ pub fn settle_flat_block(
 }
 
 /// [`test_block`]'s fill: every sample of the 8×8 block at `(x, y)` (summary `index`, holding
-/// `stored`) passes and takes the one depth `fragment`.
-#[allow(clippy::too_many_arguments)]
+/// `stored`) passes and takes the one depth `fragment` — in the summary, the bytes written when
+/// next used (`raster::target::DepthBlocks`, deferred fills).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub fn fill_flat_block(
     surface: &mut Surface,
     x: i32,
@@ -458,13 +461,9 @@ pub fn fill_flat_block(
 ) {
     let format = surface.format;
     let value = fragment.min;
+    debug_assert_eq!(surface.block_depth(x, y).map(|(i, _)| i), Some(index), "block ({x}, {y})");
     if stored.value() != Some(value) {
-        match format {
-            Format::D16Unorm => fill_block::<D16>(surface, x, y, value),
-            Format::D24UnormS8Uint => fill_block::<D24>(surface, x, y, value),
-            _ => fill_block::<D32>(surface, x, y, value),
-        }
-        surface.set_block_depth(index, fragment);
+        surface.defer_fill(index, value);
     }
     let (bytes, count) = (format.depth_access_bytes(false) as u32, 64 * surface.samples() as u64);
     traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
@@ -569,6 +568,11 @@ pub fn test_block(
             _ => {}
         }
     }
+    // Sample by sample from here: a fill deferred in the summary is owed first.
+    match summary {
+        Some((index, _)) => surface.write_deferred_index(index),
+        None => surface.write_deferred_block(x, y),
+    }
     macro_rules! run {
         ($d:ty) => {
             match state.depth_compare {
@@ -659,6 +663,16 @@ fn block_rows<D: DepthBits>(
         *mask = kept;
     }
     (tested, written)
+}
+
+/// [`fill_block`] in `surface`'s format: a deferred fill written
+/// (`raster::target::DepthBlocks`).
+pub(crate) fn fill_block_bits(surface: &mut Surface, x: i32, y: i32, bits: u32) {
+    match surface.format {
+        Format::D16Unorm => fill_block::<D16>(surface, x, y, bits),
+        Format::D24UnormS8Uint => fill_block::<D24>(surface, x, y, bits),
+        _ => fill_block::<D32>(surface, x, y, bits),
+    }
 }
 
 /// Writes depth `bits` to every sample of the 8×8 block at `(x, y)` (wholly in `surface`),
@@ -856,14 +870,15 @@ mod tests {
             let plane = side * side * format.bytes_per_sample();
             let mut summarised = initial[..plane * samples].to_vec();
             let mut reference = summarised.clone();
-            let mut states = vec![BlockDepth::UNKNOWN; 4];
+            let (mut states, mut deferred) = (vec![BlockDepth::UNKNOWN; 4], vec![0u64; 1]);
             let mut with_blocks = Surface::new(format, origin, side, summarised.chunks_mut(plane))
-                .with_blocks(DepthBlocks::new(&mut states, side / 8));
+                .with_blocks(DepthBlocks::new(&mut states, &mut deferred, side / 8));
             with_blocks.start_blocks(&rect, None);
             let mut per_sample = Surface::new(format, origin, side, reference.chunks_mut(plane));
             let (mut traffic_a, mut traffic_b) = (FramebufferTraffic::on_chip(), FramebufferTraffic::on_chip());
             let (mut ledger_a, mut ledger_b) = (Ledger::default(), Ledger::default());
-            for step in steps {
+            let last = steps.len() - 1;
+            for (i, step) in steps.into_iter().enumerate() {
                 match step {
                     Step::Clear { depth } => {
                         let bits = format.depth_bits(DEPTHS[depth]);
@@ -939,8 +954,14 @@ mod tests {
                         prop_assert_eq!(traffic_a.on_chip_bytes, traffic_b.on_chip_bytes);
                     }
                 }
-                for s in 0..samples {
-                    prop_assert_eq!(with_blocks.plane(s), per_sample.plane(s));
+                // Deferred fills stay deferred over most steps (block and group tests write
+                // them when they need the bytes); every third step and the last write them and
+                // compare the bytes.
+                if i % 3 == 2 || i == last {
+                    with_blocks.write_deferred();
+                    for s in 0..samples {
+                        prop_assert_eq!(with_blocks.plane(s), per_sample.plane(s));
+                    }
                 }
             }
             prop_assert_eq!(ledger_a, ledger_b);
@@ -955,9 +976,12 @@ mod tests {
         let format = Format::D24UnormS8Uint;
         let rect = PixelRect::new(0, 0, 8, 8);
         let mut bytes = vec![0u8; 64 * 4];
-        let mut states = vec![BlockDepth::UNKNOWN; 1];
-        let mut surface =
-            Surface::new(format, (0, 0), 8, [&mut bytes[..]]).with_blocks(DepthBlocks::new(&mut states, 1));
+        let (mut states, mut deferred) = (vec![BlockDepth::UNKNOWN; 1], vec![0u64; 1]);
+        let mut surface = Surface::new(format, (0, 0), 8, [&mut bytes[..]]).with_blocks(DepthBlocks::new(
+            &mut states,
+            &mut deferred,
+            1,
+        ));
         surface.start_blocks(&rect, Some(format.depth_bits(1.0)));
         let (mut traffic, mut ledger) = (FramebufferTraffic::on_chip(), Ledger::default());
         let near = Depths { x: 0, y0: 0, constant: Some(0.25), lanes: Vec::new(), plane: None };
@@ -965,6 +989,8 @@ mod tests {
         test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &near, &mut traffic, &mut ledger);
         assert_eq!(masks, [u64::MAX]);
         assert_eq!(surface.block_depth(0, 0), Some((0, BlockDepth::constant(format.depth_bits(0.25)))));
+        // The fill is deferred: the bytes are written when next used.
+        assert!(surface.has_deferred());
         let far = Depths { x: 0, y0: 0, constant: Some(0.5), lanes: Vec::new(), plane: None };
         test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &far, &mut traffic, &mut ledger);
         assert_eq!(masks, [0]);
@@ -1009,6 +1035,14 @@ mod tests {
             stored_depth_bits(format, &surface.plane(0)[..4]),
             format.depth_bits(0.01 + 0.5 * 0.001 + 0.5 * 0.002)
         );
+        // A deferred fill is written before an untracked write forgets the summary.
+        surface.start_blocks(&rect, Some(0));
+        let mut masks = [u64::MAX];
+        let greater = DepthStencilState { depth_compare: CompareOp::Greater, ..DepthStencilState::LESS_WRITE };
+        test_block(&mut surface, 0, 0, &mut masks, &greater, &near, &mut traffic, &mut ledger);
+        assert!(surface.has_deferred());
+        assert_eq!(stored_depth_bits(format, &surface.plane_mut(0)[..4]), format.depth_bits(0.25));
+        assert!(!surface.has_deferred());
         // An untracked write forgets all of the summary.
         surface.start_blocks(&rect, Some(0));
         let _ = surface.plane_mut(0);
