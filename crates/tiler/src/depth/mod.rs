@@ -148,15 +148,6 @@ trait DepthBits {
     fn store(bytes: &mut [u8], bits: u32);
     fn format() -> Format;
 
-    /// Writes depth `bits` to a row of eight stored samples (the first `8 · BYTES` bytes of
-    /// `row`), leaving any stencil bits alone.
-    #[inline(always)]
-    fn fill_row(row: &mut [u8], bits: u32) {
-        for stored in row[..8 * Self::BYTES].chunks_exact_mut(Self::BYTES) {
-            Self::store(stored, bits);
-        }
-    }
-
     /// Tests a whole row of eight stored samples (`row`, `8 · BYTES` bytes) against
     /// `fragment`, writes the passing ones when `write`, and returns which of `covered`
     /// passed. Rows are read and written whole (lanes that do not pass are written back
@@ -215,10 +206,6 @@ impl DepthBits for D24 {
         Format::D24UnormS8Uint
     }
     #[inline(always)]
-    fn fill_row(row: &mut [u8], bits: u32) {
-        fill_words(row, bits, 0x00ff_ffff);
-    }
-    #[inline(always)]
     fn test_row(
         row: &mut [u8],
         fragment: &[u32; 8],
@@ -255,29 +242,6 @@ fn words_row(
     pass
 }
 
-/// [`DepthBits::fill_row`] for depth in the low bits (`depth_mask`) of 32-bit words, whole
-/// words at once (which vectorises), the other bits (stencil) kept.
-#[inline(always)]
-fn fill_words(row: &mut [u8], bits: u32, depth_mask: u32) {
-    let row: &mut [u8; 32] = (&mut row[..32]).try_into().expect("a row of eight words");
-    if depth_mask == u32::MAX {
-        *row = words_bytes([bits; 8]);
-        return;
-    }
-    let words: [u32; 8] = std::array::from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
-    *row = words_bytes(words.map(|word| (word & !depth_mask) | bits));
-}
-
-/// Eight words as their 32 little-endian bytes.
-#[inline(always)]
-fn words_bytes(words: [u32; 8]) -> [u8; 32] {
-    let mut bytes = [0u8; 32];
-    for (chunk, word) in bytes.chunks_exact_mut(4).zip(words) {
-        chunk.copy_from_slice(&word.to_le_bytes());
-    }
-    bytes
-}
-
 impl DepthBits for D32 {
     const BYTES: usize = 4;
     #[inline(always)]
@@ -300,10 +264,6 @@ impl DepthBits for D32 {
     }
     fn format() -> Format {
         Format::D32Float
-    }
-    #[inline(always)]
-    fn fill_row(row: &mut [u8], bits: u32) {
-        fill_words(row, bits, u32::MAX);
     }
 }
 
@@ -663,33 +623,6 @@ fn block_rows<D: DepthBits>(
         *mask = kept;
     }
     (tested, written)
-}
-
-/// [`fill_block`] in `surface`'s format: a deferred fill written
-/// (`raster::target::DepthBlocks`).
-pub(crate) fn fill_block_bits(surface: &mut Surface, x: i32, y: i32, bits: u32) {
-    match surface.format {
-        Format::D16Unorm => fill_block::<D16>(surface, x, y, bits),
-        Format::D24UnormS8Uint => fill_block::<D24>(surface, x, y, bits),
-        _ => fill_block::<D32>(surface, x, y, bits),
-    }
-}
-
-/// Writes depth `bits` to every sample of the 8×8 block at `(x, y)` (wholly in `surface`),
-/// leaving stencil bits alone. Inlined into the caller's instruction set: each row is one
-/// 16- or 32-byte read, mask and write.
-#[inline(always)]
-fn fill_block<D: DepthBits>(surface: &mut Surface, x: i32, y: i32, bits: u32) {
-    let first = surface.offset(x, y);
-    let pitch = surface.offset(x, y + 1) - first;
-    for s in 0..surface.samples() {
-        let plane = surface.plane_mut_tracked(s);
-        // One bounds check for the block's eight rows.
-        let block = &mut plane[first..first + 7 * pitch + 8 * D::BYTES];
-        for row in block.chunks_mut(pitch) {
-            D::fill_row(row, bits);
-        }
-    }
 }
 
 /// Stored depth bits and stencil of one sample.

@@ -249,7 +249,23 @@ impl<'a> Surface<'a> {
         let bits = blocks.states[index].min;
         let x = self.origin_x + 8 * (index % blocks.columns) as i32;
         let y = self.origin_y + 8 * (index / blocks.columns) as i32;
-        crate::depth::fill_block_bits(self, x, y, bits);
+        self.fill_depth_block(x, y, bits);
+    }
+
+    /// Writes depth `bits` to every sample of the 8×8 block at `(x, y)` (wholly in the view),
+    /// stencil bits kept: what `depth::test_block` would have written had every sample taken
+    /// the one depth then.
+    fn fill_depth_block(&mut self, x: i32, y: i32, bits: u32) {
+        let first = self.offset(x, y);
+        let pitch = self.stride * self.bytes_per_sample;
+        let planes = &mut self.planes[..self.samples];
+        // Depth in the low bits of a little-endian word (D24S8: the stencil byte above it is
+        // kept).
+        match self.format {
+            Format::D16Unorm => fill_depth_rows::<2>(planes, first, pitch, bits, 0xffff),
+            Format::D24UnormS8Uint => fill_depth_rows::<4>(planes, first, pitch, bits, 0x00ff_ffff),
+            _ => fill_depth_rows::<4>(planes, first, pitch, bits, u32::MAX),
+        }
     }
 
     /// Whether some block's fill is deferred.
@@ -413,6 +429,28 @@ impl<'a> Surface<'a> {
     /// Whether this view is of external memory (an image), not of the tile buffer.
     pub fn is_external(&self) -> bool {
         self.memory.is_some()
+    }
+}
+
+/// Writes `bits` into the `depth_mask` bits of the `BYTES`-byte little-endian samples of eight
+/// rows of eight, `pitch` bytes apart from byte `first`, in every plane.
+fn fill_depth_rows<const BYTES: usize>(
+    planes: &mut [&mut [u8]],
+    first: usize,
+    pitch: usize,
+    bits: u32,
+    depth_mask: u32,
+) {
+    for plane in planes {
+        for row in 0..8 {
+            let start = first + row * pitch;
+            for stored in plane[start..start + 8 * BYTES].chunks_exact_mut(BYTES) {
+                let mut word = [0u8; 4];
+                word[..BYTES].copy_from_slice(stored);
+                let word = (u32::from_le_bytes(word) & !depth_mask) | bits;
+                stored.copy_from_slice(&word.to_le_bytes()[..BYTES]);
+            }
+        }
     }
 }
 
