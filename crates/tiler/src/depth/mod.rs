@@ -40,6 +40,8 @@ pub fn test_group(
 ) -> Coverage {
     let format = surface.format;
     let face: &StencilFaceState = if front_facing { &state.front } else { &state.back };
+    // The samples below are read and written: a fill deferred in the summary is owed first.
+    surface.write_deferred_block(x, y);
     let stencil_test = state.stencil_test && format.has_stencil();
     if !stencil_test && !traffic.needs_addresses() {
         let write = state.depth_test && state.depth_write;
@@ -146,15 +148,6 @@ trait DepthBits {
     fn store(bytes: &mut [u8], bits: u32);
     fn format() -> Format;
 
-    /// Writes depth `bits` to a row of eight stored samples (the first `8 · BYTES` bytes of
-    /// `row`), leaving any stencil bits alone.
-    #[inline(always)]
-    fn fill_row(row: &mut [u8], bits: u32) {
-        for stored in row[..8 * Self::BYTES].chunks_exact_mut(Self::BYTES) {
-            Self::store(stored, bits);
-        }
-    }
-
     /// Tests a whole row of eight stored samples (`row`, `8 · BYTES` bytes) against
     /// `fragment`, writes the passing ones when `write`, and returns which of `covered`
     /// passed. Rows are read and written whole (lanes that do not pass are written back
@@ -213,10 +206,6 @@ impl DepthBits for D24 {
         Format::D24UnormS8Uint
     }
     #[inline(always)]
-    fn fill_row(row: &mut [u8], bits: u32) {
-        fill_words(row, bits, 0x00ff_ffff);
-    }
-    #[inline(always)]
     fn test_row(
         row: &mut [u8],
         fragment: &[u32; 8],
@@ -253,29 +242,6 @@ fn words_row(
     pass
 }
 
-/// [`DepthBits::fill_row`] for depth in the low bits (`depth_mask`) of 32-bit words, whole
-/// words at once (which vectorises), the other bits (stencil) kept.
-#[inline(always)]
-fn fill_words(row: &mut [u8], bits: u32, depth_mask: u32) {
-    let row: &mut [u8; 32] = (&mut row[..32]).try_into().expect("a row of eight words");
-    if depth_mask == u32::MAX {
-        *row = words_bytes([bits; 8]);
-        return;
-    }
-    let words: [u32; 8] = std::array::from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
-    *row = words_bytes(words.map(|word| (word & !depth_mask) | bits));
-}
-
-/// Eight words as their 32 little-endian bytes.
-#[inline(always)]
-fn words_bytes(words: [u32; 8]) -> [u8; 32] {
-    let mut bytes = [0u8; 32];
-    for (chunk, word) in bytes.chunks_exact_mut(4).zip(words) {
-        chunk.copy_from_slice(&word.to_le_bytes());
-    }
-    bytes
-}
-
 impl DepthBits for D32 {
     const BYTES: usize = 4;
     #[inline(always)]
@@ -298,10 +264,6 @@ impl DepthBits for D32 {
     }
     fn format() -> Format {
         Format::D32Float
-    }
-    #[inline(always)]
-    fn fill_row(row: &mut [u8], bits: u32) {
-        fill_words(row, bits, u32::MAX);
     }
 }
 
@@ -443,9 +405,10 @@ pub fn settle_flat_block(
 }
 
 /// [`test_block`]'s fill: every sample of the 8×8 block at `(x, y)` (summary `index`, holding
-/// `stored`) passes and takes the one depth `fragment`.
-#[allow(clippy::too_many_arguments)]
+/// `stored`) passes and takes the one depth `fragment` — in the summary, the bytes written when
+/// next used (`raster::target::DepthBlocks`, deferred fills).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub fn fill_flat_block(
     surface: &mut Surface,
     x: i32,
@@ -458,13 +421,9 @@ pub fn fill_flat_block(
 ) {
     let format = surface.format;
     let value = fragment.min;
+    debug_assert_eq!(surface.block_depth(x, y).map(|(i, _)| i), Some(index), "block ({x}, {y})");
     if stored.value() != Some(value) {
-        match format {
-            Format::D16Unorm => fill_block::<D16>(surface, x, y, value),
-            Format::D24UnormS8Uint => fill_block::<D24>(surface, x, y, value),
-            _ => fill_block::<D32>(surface, x, y, value),
-        }
-        surface.set_block_depth(index, fragment);
+        surface.defer_fill(index, value);
     }
     let (bytes, count) = (format.depth_access_bytes(false) as u32, 64 * surface.samples() as u64);
     traffic.accesses(ledger, Aspect::Depth, bytes, count, false);
@@ -569,6 +528,11 @@ pub fn test_block(
             _ => {}
         }
     }
+    // Sample by sample from here: a fill deferred in the summary is owed first.
+    match summary {
+        Some((index, _)) => surface.write_deferred_index(index),
+        None => surface.write_deferred_block(x, y),
+    }
     macro_rules! run {
         ($d:ty) => {
             match state.depth_compare {
@@ -659,23 +623,6 @@ fn block_rows<D: DepthBits>(
         *mask = kept;
     }
     (tested, written)
-}
-
-/// Writes depth `bits` to every sample of the 8×8 block at `(x, y)` (wholly in `surface`),
-/// leaving stencil bits alone. Inlined into the caller's instruction set: each row is one
-/// 16- or 32-byte read, mask and write.
-#[inline(always)]
-fn fill_block<D: DepthBits>(surface: &mut Surface, x: i32, y: i32, bits: u32) {
-    let first = surface.offset(x, y);
-    let pitch = surface.offset(x, y + 1) - first;
-    for s in 0..surface.samples() {
-        let plane = surface.plane_mut_tracked(s);
-        // One bounds check for the block's eight rows.
-        let block = &mut plane[first..first + 7 * pitch + 8 * D::BYTES];
-        for row in block.chunks_mut(pitch) {
-            D::fill_row(row, bits);
-        }
-    }
 }
 
 /// Stored depth bits and stencil of one sample.
@@ -856,14 +803,15 @@ mod tests {
             let plane = side * side * format.bytes_per_sample();
             let mut summarised = initial[..plane * samples].to_vec();
             let mut reference = summarised.clone();
-            let mut states = vec![BlockDepth::UNKNOWN; 4];
+            let (mut states, mut deferred) = (vec![BlockDepth::UNKNOWN; 4], vec![0u64; 1]);
             let mut with_blocks = Surface::new(format, origin, side, summarised.chunks_mut(plane))
-                .with_blocks(DepthBlocks::new(&mut states, side / 8));
+                .with_blocks(DepthBlocks::new(&mut states, &mut deferred, side / 8));
             with_blocks.start_blocks(&rect, None);
             let mut per_sample = Surface::new(format, origin, side, reference.chunks_mut(plane));
             let (mut traffic_a, mut traffic_b) = (FramebufferTraffic::on_chip(), FramebufferTraffic::on_chip());
             let (mut ledger_a, mut ledger_b) = (Ledger::default(), Ledger::default());
-            for step in steps {
+            let last = steps.len() - 1;
+            for (i, step) in steps.into_iter().enumerate() {
                 match step {
                     Step::Clear { depth } => {
                         let bits = format.depth_bits(DEPTHS[depth]);
@@ -939,8 +887,14 @@ mod tests {
                         prop_assert_eq!(traffic_a.on_chip_bytes, traffic_b.on_chip_bytes);
                     }
                 }
-                for s in 0..samples {
-                    prop_assert_eq!(with_blocks.plane(s), per_sample.plane(s));
+                // Deferred fills stay deferred over most steps (block and group tests write
+                // them when they need the bytes); every third step and the last write them and
+                // compare the bytes.
+                if i % 3 == 2 || i == last {
+                    with_blocks.write_deferred();
+                    for s in 0..samples {
+                        prop_assert_eq!(with_blocks.plane(s), per_sample.plane(s));
+                    }
                 }
             }
             prop_assert_eq!(ledger_a, ledger_b);
@@ -955,9 +909,12 @@ mod tests {
         let format = Format::D24UnormS8Uint;
         let rect = PixelRect::new(0, 0, 8, 8);
         let mut bytes = vec![0u8; 64 * 4];
-        let mut states = vec![BlockDepth::UNKNOWN; 1];
-        let mut surface =
-            Surface::new(format, (0, 0), 8, [&mut bytes[..]]).with_blocks(DepthBlocks::new(&mut states, 1));
+        let (mut states, mut deferred) = (vec![BlockDepth::UNKNOWN; 1], vec![0u64; 1]);
+        let mut surface = Surface::new(format, (0, 0), 8, [&mut bytes[..]]).with_blocks(DepthBlocks::new(
+            &mut states,
+            &mut deferred,
+            1,
+        ));
         surface.start_blocks(&rect, Some(format.depth_bits(1.0)));
         let (mut traffic, mut ledger) = (FramebufferTraffic::on_chip(), Ledger::default());
         let near = Depths { x: 0, y0: 0, constant: Some(0.25), lanes: Vec::new(), plane: None };
@@ -965,6 +922,8 @@ mod tests {
         test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &near, &mut traffic, &mut ledger);
         assert_eq!(masks, [u64::MAX]);
         assert_eq!(surface.block_depth(0, 0), Some((0, BlockDepth::constant(format.depth_bits(0.25)))));
+        // The fill is deferred: the bytes are written when next used.
+        assert!(surface.has_deferred());
         let far = Depths { x: 0, y0: 0, constant: Some(0.5), lanes: Vec::new(), plane: None };
         test_block(&mut surface, 0, 0, &mut masks, &DepthStencilState::LESS_WRITE, &far, &mut traffic, &mut ledger);
         assert_eq!(masks, [0]);
@@ -1009,6 +968,14 @@ mod tests {
             stored_depth_bits(format, &surface.plane(0)[..4]),
             format.depth_bits(0.01 + 0.5 * 0.001 + 0.5 * 0.002)
         );
+        // A deferred fill is written before an untracked write forgets the summary.
+        surface.start_blocks(&rect, Some(0));
+        let mut masks = [u64::MAX];
+        let greater = DepthStencilState { depth_compare: CompareOp::Greater, ..DepthStencilState::LESS_WRITE };
+        test_block(&mut surface, 0, 0, &mut masks, &greater, &near, &mut traffic, &mut ledger);
+        assert!(surface.has_deferred());
+        assert_eq!(stored_depth_bits(format, &surface.plane_mut(0)[..4]), format.depth_bits(0.25));
+        assert!(!surface.has_deferred());
         // An untracked write forgets all of the summary.
         surface.start_blocks(&rect, Some(0));
         let _ = surface.plane_mut(0);

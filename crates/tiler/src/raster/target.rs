@@ -71,10 +71,28 @@ impl BlockDepth {
 /// [`Surface::row_mut`]) marks the whole summary unknown until the next
 /// [`Surface::start_blocks`] (the next tile's load).
 ///
+/// **Deferred fills.** A block that a flat primitive covers and passes everywhere takes one
+/// value: the summary records it (`min == max`) and marks the block *deferred* instead of
+/// writing its samples, so that 32 layers drawn back to front over a block cost one write of
+/// its bytes, not 32 (on TBDR overdraw the read-modify-write of D24S8 rows, which keeps the
+/// stencil bits, was 13% of the time). While a block is deferred its summary is the truth and
+/// its bytes are stale in the depth bits only (nothing can write its stencil bits without
+/// writing the fill first). The bytes are written ([`Surface::write_deferred`]) before anything
+/// reads or writes them: the depth tests of that block ([`Surface::write_deferred_block`]),
+/// every other mutable access (`plane_mut`, `row_mut`, a summary forgotten), and the tile task
+/// after each subpass, before input attachments, stores, resolves and signatures read the tile
+/// through shared references ([`Surface::plane`] and [`Surface::row`] check it in debug builds).
+///
 /// Measured on SCENES.md overdraw (TBDR, 960×540, one thread, callgrind) — see
 /// docs/benchmarking.md, "TBDR overdraw: block-constant depth".
 pub struct DepthBlocks<'a> {
     states: &'a mut [BlockDepth],
+    /// One bit per block (block `i` is bit `i % 64` of word `i / 64`): its samples' depth bits
+    /// are `states[i].min`, not yet written (a deferred fill).
+    deferred: &'a mut [u64],
+    /// Whether a bit of `deferred` may be set (false: none is), so that the depth tests of a
+    /// tile without deferred fills check one flag.
+    any_deferred: bool,
     /// Blocks per row of the tile.
     columns: usize,
     /// Whether `states` describes the planes (false after an untracked write).
@@ -82,9 +100,16 @@ pub struct DepthBlocks<'a> {
 }
 
 impl<'a> DepthBlocks<'a> {
-    /// A summary over `states`, one per block of a tile `columns` blocks wide, not yet valid.
-    pub fn new(states: &'a mut [BlockDepth], columns: usize) -> DepthBlocks<'a> {
-        DepthBlocks { states, columns, valid: false }
+    /// A summary over `states`, one per block of a tile `columns` blocks wide, not yet valid,
+    /// with `deferred` ([`DepthBlocks::deferred_words`] words) for its deferred fills.
+    pub fn new(states: &'a mut [BlockDepth], deferred: &'a mut [u64], columns: usize) -> DepthBlocks<'a> {
+        debug_assert!(deferred.len() >= Self::deferred_words(states.len()));
+        DepthBlocks { states, deferred, any_deferred: true, columns, valid: false }
+    }
+
+    /// Words of deferred-fill bits for `blocks` blocks.
+    pub const fn deferred_words(blocks: usize) -> usize {
+        blocks.div_ceil(64)
     }
 }
 
@@ -137,7 +162,115 @@ impl<'a> Surface<'a> {
                 _ => BlockDepth::UNKNOWN,
             };
         }
+        // The load wrote every byte: no fill is owed.
+        blocks.deferred.fill(0);
+        blocks.any_deferred = false;
         blocks.valid = true;
+    }
+
+    /// Records that every sample of block `index` (from [`Surface::block_depth`], wholly in
+    /// the view) now holds depth bits `bits`, stencil bits unchanged, without writing them: the
+    /// fill is written when the bytes are next used (see [`DepthBlocks`]).
+    #[inline(always)]
+    pub(crate) fn defer_fill(&mut self, index: usize, bits: u32) {
+        if let Some(blocks) = self.blocks.as_mut() {
+            blocks.states[index] = BlockDepth::constant(bits);
+            blocks.deferred[index / 64] |= 1 << (index % 64);
+            blocks.any_deferred = true;
+        }
+    }
+
+    /// Writes the deferred fill of the block holding the 8×8 block or the 4×2 group at
+    /// `(x, y)`, if it has one (every deferred fill, if that is not inside one block of the
+    /// summary): before the depth tests read or write its samples through
+    /// [`Surface::plane_mut_tracked`].
+    #[inline(always)]
+    pub(crate) fn write_deferred_block(&mut self, x: i32, y: i32) {
+        if self.blocks.as_ref().is_some_and(|b| b.any_deferred) {
+            self.write_deferred_block_slow(x, y);
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn write_deferred_block_slow(&mut self, x: i32, y: i32) {
+        let (origin_x, origin_y) = (self.origin_x, self.origin_y);
+        let Some(blocks) = self.blocks.as_ref() else { return };
+        let (dx, dy) = (x.wrapping_sub(origin_x) as u32, y.wrapping_sub(origin_y) as u32);
+        let column = (dx >> 3) as usize;
+        let index = (dy >> 3) as usize * blocks.columns + column;
+        // (A block starts at a multiple of 8, a group inside one at most 4 columns and 6 rows
+        // further.)
+        if dx & 7 > 4 || dy & 7 > 6 || column >= blocks.columns || index >= blocks.states.len() {
+            self.write_deferred();
+            return;
+        }
+        let (word, bit) = (index / 64, 1u64 << (index % 64));
+        if blocks.deferred[word] & bit != 0 {
+            self.write_deferred_fill(index);
+        }
+    }
+
+    /// Writes the deferred fill of block `index` (from [`Surface::block_depth`]), if it has one.
+    #[inline(always)]
+    pub(crate) fn write_deferred_index(&mut self, index: usize) {
+        if let Some(blocks) = self.blocks.as_ref()
+            && blocks.any_deferred
+            && blocks.deferred[index / 64] >> (index % 64) & 1 != 0
+        {
+            self.write_deferred_fill(index);
+        }
+    }
+
+    /// Writes every deferred fill (see [`DepthBlocks`]): after it the bytes hold what the
+    /// summary says. The tile task calls it after each subpass.
+    pub fn write_deferred(&mut self) {
+        let Some(blocks) = self.blocks.as_ref().filter(|b| b.any_deferred) else { return };
+        for word in 0..blocks.deferred.len() {
+            // Each fill clears its own bit.
+            while let Some(blocks) = self.blocks.as_ref()
+                && blocks.deferred[word] != 0
+            {
+                let index = word * 64 + blocks.deferred[word].trailing_zeros() as usize;
+                self.write_deferred_fill(index);
+            }
+        }
+        if let Some(blocks) = self.blocks.as_mut() {
+            blocks.any_deferred = false;
+        }
+    }
+
+    /// Writes block `index`'s deferred fill and clears its bit.
+    #[cold]
+    #[inline(never)]
+    fn write_deferred_fill(&mut self, index: usize) {
+        let Some(blocks) = self.blocks.as_mut() else { return };
+        blocks.deferred[index / 64] &= !(1 << (index % 64));
+        let bits = blocks.states[index].min;
+        let x = self.origin_x + 8 * (index % blocks.columns) as i32;
+        let y = self.origin_y + 8 * (index / blocks.columns) as i32;
+        self.fill_depth_block(x, y, bits);
+    }
+
+    /// Writes depth `bits` to every sample of the 8×8 block at `(x, y)` (wholly in the view),
+    /// stencil bits kept: what `depth::test_block` would have written had every sample taken
+    /// the one depth then.
+    fn fill_depth_block(&mut self, x: i32, y: i32, bits: u32) {
+        let first = self.offset(x, y);
+        let pitch = self.stride * self.bytes_per_sample;
+        let planes = &mut self.planes[..self.samples];
+        // Depth in the low bits of a little-endian word (D24S8: the stencil byte above it is
+        // kept).
+        match self.format {
+            Format::D16Unorm => fill_depth_rows::<2>(planes, first, pitch, bits, 0xffff),
+            Format::D24UnormS8Uint => fill_depth_rows::<4>(planes, first, pitch, bits, 0x00ff_ffff),
+            _ => fill_depth_rows::<4>(planes, first, pitch, bits, u32::MAX),
+        }
+    }
+
+    /// Whether some block's fill is deferred.
+    pub(crate) fn has_deferred(&self) -> bool {
+        self.blocks.as_ref().is_some_and(|b| b.any_deferred && b.deferred.iter().any(|w| *w != 0))
     }
 
     /// The index and summary of the block whose top-left pixel is `(x, y)`, when the view
@@ -192,21 +325,27 @@ impl<'a> Surface<'a> {
         if dx & 7 <= 4 && dy & 7 <= 6 && column < blocks.columns && index < blocks.states.len() {
             blocks.states[index] = blocks.states[index].union(written);
         } else {
-            blocks.valid = false;
+            self.forget_blocks();
         }
     }
 
-    /// Marks the block summary unknown (until the next [`Surface::start_blocks`]).
+    /// Marks the block summary unknown (until the next [`Surface::start_blocks`]), once the
+    /// deferred fills it holds are written.
     #[inline(always)]
     fn forget_blocks(&mut self) {
+        // (Colour views have no summary: one test, no call, for each of their writes.)
+        if self.blocks.as_ref().is_some_and(|b| b.any_deferred) {
+            self.write_deferred();
+        }
         if let Some(blocks) = self.blocks.as_mut() {
             blocks.valid = false;
         }
     }
 
     /// Plane `sample` for the depth tests, which keep the block summary right themselves: each
-    /// caller sets [`Surface::set_block_depth`] for the blocks it writes, or
-    /// [`Surface::plane_mut`] is the accessor to use.
+    /// caller writes the deferred fill of the block it touches first
+    /// ([`Surface::write_deferred_block`]) and sets [`Surface::set_block_depth`] for the blocks
+    /// it writes, or [`Surface::plane_mut`] is the accessor to use.
     #[inline(always)]
     pub(crate) fn plane_mut_tracked(&mut self, sample: usize) -> &mut [u8] {
         self.planes[sample]
@@ -241,8 +380,10 @@ impl<'a> Surface<'a> {
         ((y - self.origin_y) as usize * self.stride + (x - self.origin_x) as usize) * self.bytes_per_sample
     }
 
+    /// Plane `sample`, to read (no deferred fill may be pending: see [`DepthBlocks`]).
     #[inline(always)]
     pub fn plane(&self, sample: usize) -> &[u8] {
+        debug_assert!(!self.has_deferred(), "a deferred depth fill was not written before a read");
         self.planes[sample]
     }
 
@@ -256,6 +397,7 @@ impl<'a> Surface<'a> {
     /// The bytes of pixels `x0..x1` of row `y` in plane `sample`.
     #[inline]
     pub fn row(&self, sample: usize, y: i32, x0: i32, x1: i32) -> &[u8] {
+        debug_assert!(!self.has_deferred(), "a deferred depth fill was not written before a read");
         let start = self.offset(x0, y);
         &self.planes[sample][start..start + (x1 - x0) as usize * self.bytes_per_sample]
     }
@@ -287,6 +429,28 @@ impl<'a> Surface<'a> {
     /// Whether this view is of external memory (an image), not of the tile buffer.
     pub fn is_external(&self) -> bool {
         self.memory.is_some()
+    }
+}
+
+/// Writes `bits` into the `depth_mask` bits of the `BYTES`-byte little-endian samples of eight
+/// rows of eight, `pitch` bytes apart from byte `first`, in every plane.
+fn fill_depth_rows<const BYTES: usize>(
+    planes: &mut [&mut [u8]],
+    first: usize,
+    pitch: usize,
+    bits: u32,
+    depth_mask: u32,
+) {
+    for plane in planes {
+        for row in 0..8 {
+            let start = first + row * pitch;
+            for stored in plane[start..start + 8 * BYTES].chunks_exact_mut(BYTES) {
+                let mut word = [0u8; 4];
+                word[..BYTES].copy_from_slice(stored);
+                let word = (u32::from_le_bytes(word) & !depth_mask) | bits;
+                stored.copy_from_slice(&word.to_le_bytes()[..BYTES]);
+            }
+        }
     }
 }
 

@@ -13,7 +13,7 @@ pub struct TileBuffer {
     attachments: Vec<(Format, usize, Vec<u8>)>,
     /// Per attachment, the per-8×8-block depth summary of a depth attachment (empty for colour,
     /// and for tiles whose sides are not multiples of 8): see `raster::target::DepthBlocks`.
-    blocks: Vec<Vec<BlockDepth>>,
+    blocks: Vec<(Vec<BlockDepth>, Vec<u64>)>,
 }
 
 impl TileBuffer {
@@ -26,7 +26,8 @@ impl TileBuffer {
                 .iter()
                 .map(|&(format, _)| {
                     let summary = blocks_fit && format.has_depth();
-                    vec![BlockDepth::UNKNOWN; if summary { (w / 8) * (h / 8) } else { 0 }]
+                    let count = if summary { (w / 8) * (h / 8) } else { 0 };
+                    (vec![BlockDepth::UNKNOWN; count], vec![0; DepthBlocks::deferred_words(count)])
                 })
                 .collect(),
             tile_width: w,
@@ -53,10 +54,14 @@ impl TileBuffer {
         self.attachments
             .iter_mut()
             .zip(&mut self.blocks)
-            .map(|((format, _samples, data), blocks)| {
+            .map(|((format, _samples, data), (blocks, deferred))| {
                 let plane_bytes = plane_pixels * format.bytes_per_sample();
                 let surface = Surface::new(*format, (tile.x0, tile.y0), stride, data.chunks_mut(plane_bytes));
-                if blocks.is_empty() { surface } else { surface.with_blocks(DepthBlocks::new(blocks, columns)) }
+                if blocks.is_empty() {
+                    surface
+                } else {
+                    surface.with_blocks(DepthBlocks::new(blocks, deferred, columns))
+                }
             })
             .collect()
     }

@@ -268,6 +268,11 @@ fn render_tile(
             }
             None => render_in_order(entries, frame, plan.draws, &mut target, &mut result.tally),
         }
+        // Input attachments of the next subpass, stores, resolves and signatures read the
+        // depth bytes: the fills the block summary deferred are written now.
+        for surface in surfaces.iter_mut() {
+            surface.write_deferred();
+        }
         start += run;
     }
     let frame_data_read = frame.bytes_read_by(list);
