@@ -29,14 +29,30 @@
 //! - **Colour**: texel values are UNORM8 (`c / 255`); sRGB textures decode their colour
 //!   channels to linear before filtering (alpha stays linear), as GPUs do.
 //!
-//! **Filtering is fixed point**, as GPUs and llvmpipe filter RGBA8: every channel is a 16-bit
-//! UNORM (`c · 257` for a UNORM8 byte, which is `c / 255` exactly; `round(65535 · linear)` for
-//! an sRGB colour channel), the weights are 8 bits (`w / 256`, `w ∈ [0, 256)`), and each
-//! `lerp(a, b, w) = a + ((b − a) · w + 128) >> 8` rounds to 16 bits (to nearest, ties up) — no
-//! rounding to 8 bits in between, so a gradient filtered from bytes keeps its steps. The
-//! result is `c / 65535` in `f32` (correctly rounded: a nearest texel of a linear texture is
-//! `c / 255`, bit for bit). Sixteen bits and 8-bit weights keep every product below 2^24: the
-//! lanes are 32-bit integers, whose operations every SIMD level has.
+//! **Filtering is fixed point**, as GPUs and llvmpipe filter RGBA8, in one of two forms:
+//!
+//! - **Bytes** (textures held as RGBA8 bytes — linear colour space, 8-bit channels — with
+//!   repeat or clamp-to-edge wraps; `Texture::filters_bytes`): llvmpipe's AoS sampler
+//!   (`lp_bld_sample_aos.c`) to the bit. A linear coordinate is fixed point in 1/256 texel,
+//!   `P = round(256 · fl(r · n)) − 128` (to nearest, ties to even; `r` reduced as below, `n`
+//!   the level's size), `i0 = P >> 8`, `i1 = i0 + 1` and the weight `α = P & 255` (the rule
+//!   above gives `⌊256 · frac(r · n − ½)⌋` instead, which differs by the rounding); each
+//!   `lerp(a, b, w) = a + ((b − a) · w + 128) >> 8` is on bytes and rounds to a byte (what
+//!   `pmulhrsw` of `w` and `(b − a) << 7` gives); the two levels of a trilinear lookup blend
+//!   by the same lerp; and a byte `c` becomes `c · fl(1/255)` in `f32` (one multiplication,
+//!   as `lp_build_unsigned_norm_to_float` converts; within an ulp of `c / 255`, not always
+//!   it). Nearest texels of such textures convert the same way. `tools/float-probe`'s
+//!   `filter.frag` and `filter-lod.frag` hold it to llvmpipe's bits (test
+//!   `float_probe_linear_filter_is_llvmpipes_to_the_bit`). At the AVX2 level a pair's filter
+//!   runs in 16-bit lanes (`avx2::filter_bytes`), the same bits.
+//! - **Sixteen bits** (sRGB textures, 16-bit textures without a chain, mirrored repeat —
+//!   where llvmpipe filters in floats): every channel is a 16-bit UNORM (`c · 257` for a UNORM8
+//!   byte, which is `c / 255` exactly; `round(65535 · linear)` for an sRGB colour channel), the
+//!   weights are 8 bits (`w / 256`, `w ∈ [0, 256)`), and each `lerp` (the formula above)
+//!   rounds to 16 bits — no rounding to 8 bits in between, so a gradient filtered from bytes
+//!   keeps its steps. The result is `c / 65535` in `f32` (correctly rounded). Sixteen bits
+//!   and 8-bit weights keep every product below 2^24: the lanes are 32-bit integers, whose
+//!   operations every SIMD level has. 3-D textures filter their slices this way too.
 //!
 //! Coordinate arithmetic is plain IEEE single precision per lane, no fused multiply-add, and
 //! the logarithm is computed here from basic operations rather than by the platform's `log2f`,
@@ -58,7 +74,7 @@ use super::texel_format::{StoredLayout, TexelFormat};
 use super::texture_cache::{MAX_LANE_LINES, TextureCache};
 use crate::api::error::{Error, Result};
 use crate::api::format::{linear_to_srgb, srgb8_to_linear, unorm8};
-use crate::simd::{F32x8, LANE_DX, LANE_DY, LaneMask, SimdSupport, Vec4x8, per_simd_level};
+use crate::simd::{F32x8, LANE_DX, LANE_DY, LaneMask, SimdLevel, SimdSupport, Vec4x8, per_simd_level};
 
 /// The largest width or height of a texture.
 pub const MAX_TEXTURE_DIMENSION: u32 = 16384;
@@ -773,7 +789,7 @@ impl Texture {
                 } else {
                     cache.access_lanes(simd, first_line, near_rows, counted_pair);
                 }
-                self.filter(&near)
+                self.filter_pair(simd, &near)
             }
             PairPlan::Blend { level, filter, weights } => {
                 let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
@@ -783,7 +799,7 @@ impl Texture {
                 rows[..near_rows.len()].copy_from_slice(near_rows);
                 rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
                 cache.access_lanes(simd, first_line, &rows[..near_rows.len() + far_rows.len()], counted_pair);
-                let (a, b) = (self.filter(&near), self.filter(&far));
+                let (a, b) = (self.filter_pair(simd, &near), self.filter_pair(simd, &far));
                 let weight = lanes::<u32, 8>(|i| weights[i / 4]);
                 let blend = |c: usize| lanes(|i| blend(a[c][i], b[c][i], weight[i], at.bytes));
                 [blend(0), blend(1), blend(2), blend(3)]
@@ -1034,6 +1050,108 @@ impl Texture {
     }
 }
 
+impl Texture {
+    /// [`Texture::filter`] of a pair's eight lanes with the instruction set of `simd`: the
+    /// byte filter through [`avx2::filter_bytes`] (16-bit lanes, `pmulhrsw`, as llvmpipe)
+    /// at the AVX2 level, the same bits as [`filter_bytes`].
+    #[inline(always)]
+    fn filter_pair(&self, simd: SimdSupport, footprint: &Footprint<8>) -> [[u32; 8]; 4] {
+        #[cfg(target_arch = "x86_64")]
+        if let Texels::Packed(texels) = &self.texels
+            && footprint.bytes
+            && footprint.filter == Filter::Linear
+            && simd.level() == SimdLevel::Avx2
+        {
+            let corners = bytes_corners(texels, footprint);
+            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+            // every feature `avx2::filter_bytes` is compiled with (`SimdSupport::detect`).
+            return unsafe { avx2::filter_bytes(&corners, &footprint.alpha, &footprint.beta) };
+        }
+        let _ = simd;
+        self.filter(footprint)
+    }
+}
+
+/// The packed texels of a byte footprint's four corners, `[corner][lane]` (one bounds check,
+/// see `filter_texels`).
+#[inline(always)]
+fn bytes_corners<const N: usize>(texels: &[u32], footprint: &Footprint<N>) -> [[u32; N]; 4] {
+    let largest = footprint.texels.iter().flatten().fold(0, |m, &t| m.max(t));
+    assert!(
+        (largest as usize) < texels.len(),
+        "texel {largest} of a footprint outside the texture's {} texels",
+        texels.len()
+    );
+    let load = |corner: usize| {
+        lanes::<u32, N>(|i| {
+            let index = footprint.texels[corner][i] as usize;
+            // SAFETY: every index of the footprint is at most `largest`, which the assertion
+            // above holds below `texels.len()`.
+            unsafe { *texels.get_unchecked(index) }
+        })
+    };
+    [load(0), load(1), load(2), load(3)]
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use std::arch::x86_64::*;
+
+    /// [`super::filter_bytes`] of eight lanes from their corners' packed texels
+    /// (`[corner][lane]`) and weights, in 16-bit lanes as llvmpipe's AoS sampler: two
+    /// texels' four channels per 128 bits (`unpack` with zero), each weight spread over its
+    /// texel's channels (`pshufb`), and `lerp(a, b, w) = a + pmulhrsw(w, (b − a) << 7)` —
+    /// `(w · (b − a) · 128 + 2^14) >> 15`, which is `(w · (b − a) + 128) >> 8`, arithmetic
+    /// (`|b − a| · 128 < 2^15`); then packed back to bytes (the values are bytes, so
+    /// `packus` is exact) and spread to `c · 257` per channel.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    pub(super) fn filter_bytes(corners: &[[u32; 8]; 4], alpha: &[u32; 8], beta: &[u32; 8]) -> [[u32; 8]; 4] {
+        // SAFETY (each load and store): 32 bytes of one `[u32; 8]`; unaligned access needs no
+        // alignment.
+        let load = |v: &[u32; 8]| unsafe { _mm256_loadu_si256(v.as_ptr().cast()) };
+        let zero = _mm256_setzero_si256();
+        let t = [load(&corners[0]), load(&corners[1]), load(&corners[2]), load(&corners[3])];
+        let (a, b) = (load(alpha), load(beta));
+        // Lanes 0, 1 (and 4, 5) of a 128-bit half: each weight's low byte in its texel's
+        // four 16-bit channels; lanes 2, 3 (6, 7).
+        let spread_low = _mm256_setr_epi8(
+            0, -128, 0, -128, 0, -128, 0, -128, 4, -128, 4, -128, 4, -128, 4, -128, //
+            0, -128, 0, -128, 0, -128, 0, -128, 4, -128, 4, -128, 4, -128, 4, -128,
+        );
+        let spread_high = _mm256_setr_epi8(
+            8, -128, 8, -128, 8, -128, 8, -128, 12, -128, 12, -128, 12, -128, 12, -128, //
+            8, -128, 8, -128, 8, -128, 8, -128, 12, -128, 12, -128, 12, -128, 12, -128,
+        );
+        let lerp = |x: __m256i, y: __m256i, w: __m256i| {
+            let delta = _mm256_slli_epi16::<7>(_mm256_sub_epi16(y, x));
+            _mm256_add_epi16(x, _mm256_mulhrs_epi16(w, delta))
+        };
+        let half = |c: [__m256i; 4], spread: __m256i| {
+            let (wa, wb) = (_mm256_shuffle_epi8(a, spread), _mm256_shuffle_epi8(b, spread));
+            let top = lerp(c[0], c[1], wa);
+            let bottom = lerp(c[2], c[3], wa);
+            lerp(top, bottom, wb)
+        };
+        let low = half(t.map(|t| _mm256_unpacklo_epi8(t, zero)), spread_low);
+        let high = half(t.map(|t| _mm256_unpackhi_epi8(t, zero)), spread_high);
+        let packed = _mm256_packus_epi16(low, high);
+        let byte_mask = _mm256_set1_epi32(0xff);
+        let mut out = [[0u32; 8]; 4];
+        for (c, out) in out.iter_mut().enumerate() {
+            let channel = match c {
+                0 => _mm256_and_si256(packed, byte_mask),
+                1 => _mm256_and_si256(_mm256_srli_epi32::<8>(packed), byte_mask),
+                2 => _mm256_and_si256(_mm256_srli_epi32::<16>(packed), byte_mask),
+                _ => _mm256_srli_epi32::<24>(packed),
+            };
+            let widened = _mm256_or_si256(channel, _mm256_slli_epi32::<8>(channel));
+            // SAFETY: see above.
+            unsafe { _mm256_storeu_si256(out.as_mut_ptr().cast(), widened) };
+        }
+        out
+    }
+}
+
 /// How a texture's texels are held on the host, in the modelled block layout (see
 /// `Texture::texels`).
 #[derive(Clone, Debug)]
@@ -1169,31 +1287,25 @@ fn filter_texels<T: TexelWords, const N: usize>(texels: &[T], footprint: &Footpr
 /// exactly, `c · 257 >> 8 = c`).
 #[inline(always)]
 fn filter_bytes<const N: usize>(texels: &[u32], footprint: &Footprint<N>) -> [[u32; N]; 4] {
-    // One bounds check for the footprint (see `filter_texels`).
-    let largest = footprint.texels.iter().flatten().fold(0, |m, &t| m.max(t));
-    assert!(
-        (largest as usize) < texels.len(),
-        "texel {largest} of a footprint outside the texture's {} texels",
-        texels.len()
-    );
-    let load = |corner: usize| {
-        lanes::<u32, N>(|i| {
-            let index = footprint.texels[corner][i] as usize;
-            // SAFETY: as in `filter_texels`: every index of the footprint is at most `largest`,
-            // which the assertion above holds below `texels.len()`.
-            unsafe { *texels.get_unchecked(index) }
-        })
-    };
-    let t = [load(0), load(1), load(2), load(3)];
+    let t = bytes_corners(texels, footprint);
     let (alpha, beta) = (&footprint.alpha, &footprint.beta);
-    let channel = |c: u32| {
-        let byte = |k: usize| lanes::<u32, N>(|i| (t[k][i] >> (8 * c)) & 0xff);
-        let (t00, t10, t01, t11) = (byte(0), byte(1), byte(2), byte(3));
-        let top = lanes::<u32, N>(|i| lerp_bytes(t00[i], t10[i], alpha[i]));
-        let bottom = lanes::<u32, N>(|i| lerp_bytes(t01[i], t11[i], alpha[i]));
-        lanes(|i| lerp_bytes(top[i], bottom[i], beta[i]) * 257)
-    };
-    [channel(0), channel(1), channel(2), channel(3)]
+    [
+        bilinear_byte_channel(&t, 0, alpha, beta),
+        bilinear_byte_channel(&t, 1, alpha, beta),
+        bilinear_byte_channel(&t, 2, alpha, beta),
+        bilinear_byte_channel(&t, 3, alpha, beta),
+    ]
+}
+
+/// Channel `c` of [`filter_bytes`] (a function of its own, not a closure, which LLVM kept out
+/// of line: 36 M instructions of helmet's frame in calls; see [`bilinear_channel`]).
+#[inline(always)]
+fn bilinear_byte_channel<const N: usize>(t: &[[u32; N]; 4], c: u32, alpha: &[u32; N], beta: &[u32; N]) -> [u32; N] {
+    let byte = |k: usize| lanes::<u32, N>(|i| (t[k][i] >> (8 * c)) & 0xff);
+    let (t00, t10, t01, t11) = (byte(0), byte(1), byte(2), byte(3));
+    let top = lanes::<u32, N>(|i| lerp_bytes(t00[i], t10[i], alpha[i]));
+    let bottom = lanes::<u32, N>(|i| lerp_bytes(t01[i], t11[i], alpha[i]));
+    lanes(|i| lerp_bytes(top[i], bottom[i], beta[i]) * 257)
 }
 
 /// llvmpipe's 8-bit lerp (`lp_build_lerp` of 8-bit UNORMs with prescaled weights, through
