@@ -1496,8 +1496,14 @@ const PAIR_LANES: [usize; 8] = [0, 1, 4, 5, 2, 3, 6, 7];
 /// group's lanes, converted eight lanes at a time.
 #[inline(always)]
 fn group_of_pair(rgba: [[u32; 8]; 4], bytes: bool) -> Vec4x8 {
-    let channel = |c: usize| F32x8(lanes(|lane| channel_to_f32(rgba[c][PAIR_LANES[lane]], bytes)));
-    [channel(0), channel(1), channel(2), channel(3)]
+    // The branch outside the lanes, so that each conversion is one loop the vectoriser sees.
+    if bytes {
+        let channel = |c: usize| F32x8(lanes(|lane| channel_to_f32(rgba[c][PAIR_LANES[lane]], true)));
+        [channel(0), channel(1), channel(2), channel(3)]
+    } else {
+        let channel = |c: usize| F32x8(lanes(|lane| channel_to_f32(rgba[c][PAIR_LANES[lane]], false)));
+        [channel(0), channel(1), channel(2), channel(3)]
+    }
 }
 
 /// Four lanes of a quad, in [`QUAD_LANES`] order.
@@ -1541,7 +1547,11 @@ fn group_of_quads(quads: [[Quad<u32>; 4]; 2], bytes: bool) -> Vec4x8 {
             let quad = if LANE_DX[lane] < 2 { &left } else { &right };
             quad[c][(LANE_DX[lane] % 2 + 2 * LANE_DY[lane]) as usize]
         });
-        F32x8(group.map(|c| channel_to_f32(c, bytes)))
+        if bytes {
+            F32x8(group.map(|c| channel_to_f32(c, true)))
+        } else {
+            F32x8(group.map(|c| channel_to_f32(c, false)))
+        }
     })
 }
 
