@@ -66,9 +66,43 @@ int main(int argc, char **argv) {
     glAttachShader(program, f);
     /* FLOAT_PROBE_TEXTURE=upload: an 8×8 RGBA8 texture on unit 0 whose texel (x, y) (y = 0
      * the first row uploaded) has red 30x + y, green 30y + x; =render: the same texels drawn
-     * into a texture through a framebuffer. Nearest filtering, clamped. */
+     * into a texture through a framebuffer. Nearest filtering, clamped.
+     * =varied: an 8×8 RGBA8 texture of bytes from a linear congruential generator, with its
+     * levels 4×4, 2×2 and 1×1 uploaded likewise (the generator running on), so that filtered
+     * values show every weight; =varied-npot: a 7×5 one, level 0 only.
+     * FLOAT_PROBE_FILTER=linear filters linearly (LINEAR_MIPMAP_LINEAR with levels) instead of
+     * nearest; FLOAT_PROBE_WRAP=repeat|clamp|mirror sets both wraps (clamp-to-edge unless set). */
     const char *texture = getenv("FLOAT_PROBE_TEXTURE");
-    if (texture) {
+    if (texture && strncmp(texture, "varied", 6) == 0) {
+        int npot = strcmp(texture, "varied-npot") == 0;
+        int width = npot ? 7 : 8, height = npot ? 5 : 8, levels = npot ? 1 : 4;
+        const char *filter = getenv("FLOAT_PROBE_FILTER");
+        const char *wrap = getenv("FLOAT_PROBE_WRAP");
+        int linear = filter && strcmp(filter, "linear") == 0;
+        GLint wrap_mode = !wrap || strcmp(wrap, "clamp") == 0 ? GL_CLAMP_TO_EDGE
+                        : strcmp(wrap, "repeat") == 0       ? GL_REPEAT
+                                                              : GL_MIRRORED_REPEAT;
+        GLuint tex;
+        glGenTextures(1, &tex);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                        linear ? (levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR) : GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, linear ? GL_LINEAR : GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap_mode);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap_mode);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels - 1);
+        static unsigned char bytes[8 * 8 * 4];
+        unsigned state = 12345;
+        for (int level = 0; level < levels; level++) {
+            int w = width >> level, h = height >> level;
+            for (int i = 0; i < w * h * 4; i++) {
+                state = state * 1103515245u + 12345u;
+                bytes[i] = state >> 16;
+            }
+            glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+            glTexImage2D(GL_TEXTURE_2D, level, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, bytes);
+        }
+    } else if (texture) {
         static unsigned char texels[8 * 8 * 4];
         for (int y = 0; y < 8; y++)
             for (int x = 0; x < 8; x++) {

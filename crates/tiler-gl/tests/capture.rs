@@ -2011,6 +2011,26 @@ fn float_probe_texture_gather_is_llvmpipes_for_uploaded_and_rendered_textures() 
     }
 }
 
+/// Linear filtering of RGBA8 textures, llvmpipe's to the bit (`tools/float-probe`'s
+/// `filter.frag` and `filter-lod.frag` on `FLOAT_PROBE_TEXTURE=varied` textures of bytes from
+/// a generator, at irregular sub-texel positions inside and outside `[0, 1]`): llvmpipe's AoS
+/// sampler takes the coordinate in fixed point (`round(256 · s · n) − 128`, its low byte the
+/// weight), lerps bytes (`a + ((b − a) · w + 128) >> 8`), blends levels by `⌊256 · fract(λ)⌋`
+/// and converts the byte as `c · fl(1/255)`. Clamp-to-edge and repeat, a 7×5 texture
+/// (`texture`) and an 8×8 one with its levels given (`textureLod` at irregular levels): from
+/// 0–44 of 256 values equal before, to all.
+#[test]
+fn float_probe_linear_filter_is_llvmpipes_to_the_bit() {
+    for (name, call) in
+        [("filter-npot-repeat", 42), ("filter-npot-clamp", 42), ("filter-lod-repeat", 48), ("filter-lod-clamp", 48)]
+    {
+        let values = float_probe(name, call);
+        assert_eq!(values.len(), 256, "{name}");
+        let differ: Vec<_> = values.iter().filter(|&&(.., got, want)| got != want).collect();
+        assert!(differ.is_empty(), "{name}: {} differ (y, x, tiler, llvmpipe) {differ:x?}", differ.len());
+    }
+}
+
 #[test]
 fn ten_bit_samples_in_r16_texels_are_sampled_at_sixteen_bits() {
     // mpv's 10-bit video: samples in the low bits of R16 texels, scaled by 65535/1023 in the

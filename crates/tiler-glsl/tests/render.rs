@@ -157,7 +157,7 @@ fn checker_texture() -> Arc<Texture> {
 fn texture_sample_matches_native_with_the_same_traffic() {
     const FS: &str = "
 precision highp float;
-uniform sampler2D tex;
+uniform highp sampler2D tex; // highp: texels not rounded to binary16, as the native shader's
 uniform vec4 tint;
 varying vec2 uv;
 void main() {
@@ -780,7 +780,7 @@ void main() {
     let (vs, _) = tiler_glsl::shaders(&program, &uniforms, &textures, HEIGHT);
     vs.shade(&input, &mut out);
     let texel = cube.face_texel(tiler::CubeFace::NegativeY, 1, 4, 3);
-    assert_eq!(&out.varyings[4..8], &texel.map(|c| c as f32 / 255.0));
+    assert_eq!(&out.varyings[4..8], &texel.map(|c| c as f32 * (1.0 / 255.0)));
     // A 2D texture on a samplerCube's unit reads opaque black, as an incomplete texture.
     let textures = [Some(TextureBinding::Core(checker_texture(), Sampler::NEAREST_REPEAT))];
     let (vs, _) = tiler_glsl::shaders(&program, &uniforms, &textures, HEIGHT);
@@ -825,7 +825,7 @@ void main() {
     assert!((level1 - 10.0).abs() < 1e-3, "{level1}");
     // With a nearest filter the same fetch reads texel 3.
     let (nearest, _) = vs_output(Sampler::NEAREST_REPEAT);
-    assert_eq!(nearest, 60.0);
+    assert_eq!(nearest, 60.0 * (1.0f32 / 255.0) * 255.0);
 }
 
 #[test]
@@ -2008,7 +2008,8 @@ void main() {
     let program = glsl(VS, FS);
     let uniforms = program.new_uniform_values();
     let texture = checker_texture();
-    let texel = |x: u32, y: u32| texture.texel(0, x, y).map(|c| c as f32 / 255.0);
+    // A byte reads as `c · fl(1/255)` (llvmpipe's conversion, see `shade/texture.rs`).
+    let texel = |x: u32, y: u32| texture.texel(0, x, y).map(|c| c as f32 * (1.0 / 255.0));
     // `texel` takes the core's rows (top down): GL's row 2 of 8 is row 5, and a t offset of
     // +7 is −7 rows: row −2, which repeats to 6 and clamps to 0.
     for (wrap, a) in [(tiler::Wrap::Repeat, texel(14, 6)), (tiler::Wrap::ClampToEdge, texel(0, 0))] {

@@ -29,14 +29,30 @@
 //! - **Colour**: texel values are UNORM8 (`c / 255`); sRGB textures decode their colour
 //!   channels to linear before filtering (alpha stays linear), as GPUs do.
 //!
-//! **Filtering is fixed point**, as GPUs and llvmpipe filter RGBA8: every channel is a 16-bit
-//! UNORM (`c · 257` for a UNORM8 byte, which is `c / 255` exactly; `round(65535 · linear)` for
-//! an sRGB colour channel), the weights are 8 bits (`w / 256`, `w ∈ [0, 256)`), and each
-//! `lerp(a, b, w) = a + ((b − a) · w + 128) >> 8` rounds to 16 bits (to nearest, ties up) — no
-//! rounding to 8 bits in between, so a gradient filtered from bytes keeps its steps. The
-//! result is `c / 65535` in `f32` (correctly rounded: a nearest texel of a linear texture is
-//! `c / 255`, bit for bit). Sixteen bits and 8-bit weights keep every product below 2^24: the
-//! lanes are 32-bit integers, whose operations every SIMD level has.
+//! **Filtering is fixed point**, as GPUs and llvmpipe filter RGBA8, in one of two forms:
+//!
+//! - **Bytes** (textures held as RGBA8 bytes — linear colour space, 8-bit channels — with
+//!   repeat or clamp-to-edge wraps; `Texture::filters_bytes`): llvmpipe's AoS sampler
+//!   (`lp_bld_sample_aos.c`) to the bit. A linear coordinate is fixed point in 1/256 texel,
+//!   `P = round(256 · fl(r · n)) − 128` (to nearest, ties to even; `r` reduced as below, `n`
+//!   the level's size), `i0 = P >> 8`, `i1 = i0 + 1` and the weight `α = P & 255` (the rule
+//!   above gives `⌊256 · frac(r · n − ½)⌋` instead, which differs by the rounding); each
+//!   `lerp(a, b, w) = a + ((b − a) · w + 128) >> 8` is on bytes and rounds to a byte (what
+//!   `pmulhrsw` of `w` and `(b − a) << 7` gives); the two levels of a trilinear lookup blend
+//!   by the same lerp; and a byte `c` becomes `c · fl(1/255)` in `f32` (one multiplication,
+//!   as `lp_build_unsigned_norm_to_float` converts; within an ulp of `c / 255`, not always
+//!   it). Nearest texels of such textures convert the same way. `tools/float-probe`'s
+//!   `filter.frag` and `filter-lod.frag` hold it to llvmpipe's bits (test
+//!   `float_probe_linear_filter_is_llvmpipes_to_the_bit`). At the AVX2 level a pair's filter
+//!   runs in 16-bit lanes (`avx2::filter_bytes`), the same bits.
+//! - **Sixteen bits** (sRGB textures, 16-bit textures without a chain, mirrored repeat —
+//!   where llvmpipe filters in floats): every channel is a 16-bit UNORM (`c · 257` for a UNORM8
+//!   byte, which is `c / 255` exactly; `round(65535 · linear)` for an sRGB colour channel), the
+//!   weights are 8 bits (`w / 256`, `w ∈ [0, 256)`), and each `lerp` (the formula above)
+//!   rounds to 16 bits — no rounding to 8 bits in between, so a gradient filtered from bytes
+//!   keeps its steps. The result is `c / 65535` in `f32` (correctly rounded). Sixteen bits
+//!   and 8-bit weights keep every product below 2^24: the lanes are 32-bit integers, whose
+//!   operations every SIMD level has. 3-D textures filter their slices this way too.
 //!
 //! Coordinate arithmetic is plain IEEE single precision per lane, no fused multiply-add, and
 //! the logarithm is computed here from basic operations rather than by the platform's `log2f`,
@@ -58,7 +74,7 @@ use super::texel_format::{StoredLayout, TexelFormat};
 use super::texture_cache::{MAX_LANE_LINES, TextureCache};
 use crate::api::error::{Error, Result};
 use crate::api::format::{linear_to_srgb, srgb8_to_linear, unorm8};
-use crate::simd::{F32x8, LANE_DX, LANE_DY, LaneMask, SimdSupport, Vec4x8, per_simd_level};
+use crate::simd::{F32x8, LANE_DX, LANE_DY, LaneMask, SimdLevel, SimdSupport, Vec4x8, per_simd_level};
 
 /// The largest width or height of a texture.
 pub const MAX_TEXTURE_DIMENSION: u32 = 16384;
@@ -650,7 +666,7 @@ impl Texture {
     /// [`Texture::sample`] for one layout (`STORED`: see `sample_group_body`).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)] // `sample_with`'s inputs
-    fn sample_layout<const STORED: bool>(
+    fn sample_layout<const STORED: bool, const BYTES: bool>(
         &self,
         simd: SimdSupport,
         sampler: &Sampler,
@@ -706,9 +722,10 @@ impl Texture {
                 v: reduce_quad(lanes(|i| v.lane(PAIR_LANES[i])), wrap_v),
                 face_offsets: [0; 8],
                 offset,
+                bytes: BYTES,
             };
             let rgba = self.sample_pair::<STORED>(simd, sampler, pair, &at, counted, minified_unmipped, cache);
-            return group_of_pair(rgba);
+            return group_of_pair(rgba, BYTES);
         }
         let mut quads = [[[0u32; 4]; 4]; 2];
         for (quad, lanes) in QUAD_LANES.iter().enumerate() {
@@ -717,6 +734,7 @@ impl Texture {
                 v: reduce_quad(self::lanes(|i| v.lane(lanes[i])), wrap_v),
                 face_offsets: [0; 4],
                 offset,
+                bytes: BYTES,
             };
             quads[quad] = self.sample_quad::<STORED>(
                 simd,
@@ -728,7 +746,7 @@ impl Texture {
                 cache,
             );
         }
-        group_of_quads(quads)
+        group_of_quads(quads, BYTES)
     }
 
     /// Both quads of a group read on the same level(s) with the same filter (`pair`): their
@@ -771,7 +789,7 @@ impl Texture {
                 } else {
                     cache.access_lanes(simd, first_line, near_rows, counted_pair);
                 }
-                self.filter(&near)
+                self.filter_pair(simd, &near)
             }
             PairPlan::Blend { level, filter, weights } => {
                 let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
@@ -781,9 +799,9 @@ impl Texture {
                 rows[..near_rows.len()].copy_from_slice(near_rows);
                 rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
                 cache.access_lanes(simd, first_line, &rows[..near_rows.len() + far_rows.len()], counted_pair);
-                let (a, b) = (self.filter(&near), self.filter(&far));
+                let (a, b) = (self.filter_pair(simd, &near), self.filter_pair(simd, &far));
                 let weight = lanes::<u32, 8>(|i| weights[i / 4]);
-                let blend = |c: usize| lanes(|i| lerp(a[c][i], b[c][i], weight[i]));
+                let blend = |c: usize| lanes(|i| blend(a[c][i], b[c][i], weight[i], at.bytes));
                 [blend(0), blend(1), blend(2), blend(3)]
             }
         }
@@ -831,7 +849,7 @@ impl Texture {
                 rows[near_rows.len()..near_rows.len() + far_rows.len()].copy_from_slice(far_rows);
                 cache.access_quad(simd, first_line, &rows[..near_rows.len() + far_rows.len()], counted);
                 let (a, b) = (self.filter(&near), self.filter(&far));
-                let blend = |c: usize| self::lanes(|i| lerp(a[c][i], b[c][i], weight));
+                let blend = |c: usize| self::lanes(|i| blend(a[c][i], b[c][i], weight, at.bytes));
                 [blend(0), blend(1), blend(2), blend(3)]
             }
         }
@@ -846,10 +864,10 @@ impl Texture {
             LevelPlan::Blend { level, filter, weight } => {
                 let a = self.filter(&self.footprint::<false, 4>(level, filter, sampler, at, 0));
                 let b = self.filter(&self.footprint::<false, 4>(level + 1, filter, sampler, at, 0));
-                std::array::from_fn(|c| lanes(|i| lerp(a[c][i], b[c][i], weight)))
+                std::array::from_fn(|c| lanes(|i| blend(a[c][i], b[c][i], weight, at.bytes)))
             }
         };
-        rgba.map(|channel| unorm16_to_f32(channel[0]))
+        rgba.map(|channel| channel_to_f32(channel[0], at.bytes))
     }
 
     /// Samples one point `(u, v)` at the level of detail `lambda` given by the caller (bias
@@ -869,8 +887,13 @@ impl Texture {
         } else {
             (offset_reduction(sampler.wrap_u), offset_reduction(sampler.wrap_v))
         };
-        let at =
-            QuadAt { u: reduce_quad([u; 4], wrap_u), v: reduce_quad([v; 4], wrap_v), face_offsets: [0; 4], offset };
+        let at = QuadAt {
+            u: reduce_quad([u; 4], wrap_u),
+            v: reduce_quad([v; 4], wrap_v),
+            face_offsets: [0; 4],
+            offset,
+            bytes: self.filters_bytes(sampler),
+        };
         self.sample_point(sampler, &at, lambda)
     }
 
@@ -887,6 +910,21 @@ impl Texture {
         let size = [self.width() as f32, self.height() as f32, depth];
         let squared = |d: [f32; 3]| (0..3).map(|i| (d[i] * size[i]) * (d[i] * size[i])).fold(0.0, |a, b| a + b);
         0.5 * log2(squared(dx).max(squared(dy)))
+    }
+
+    /// Whether the texels are held as RGBA8 bytes ([`Texels::Packed`]).
+    #[inline(always)]
+    fn holds_bytes(&self) -> bool {
+        matches!(self.texels, Texels::Packed(_))
+    }
+
+    /// Whether `sampler` filters this texture's texels as bytes, as llvmpipe's AoS sampler
+    /// does (see the module notes): texels held as RGBA8 bytes ([`Texels::Packed`]) and both
+    /// wraps repeat or clamp-to-edge. Mirrored repeat, sRGB and 16-bit textures keep the
+    /// 16-bit filter.
+    #[inline(always)]
+    fn filters_bytes(&self, sampler: &Sampler) -> bool {
+        self.holds_bytes() && sampler.wrap_u != Wrap::MirroredRepeat && sampler.wrap_v != Wrap::MirroredRepeat
     }
 
     /// Whether [`Texture::plan`] gives the same plan at every level of detail: one filter for
@@ -944,13 +982,18 @@ impl Texture {
                 ([x; 2], [0; N], [y; 2], [0; N])
             }
             Filter::Linear if at.offset != [0, 0] => {
-                let (x, alpha) = linear_texels_offset(u, l.width, sampler.wrap_u, at.offset[0]);
-                let (y, beta) = linear_texels_offset(v, l.height, sampler.wrap_v, at.offset[1]);
+                let (x, alpha) = linear_texels_offset(u, l.width, sampler.wrap_u, at.offset[0], at.bytes);
+                let (y, beta) = linear_texels_offset(v, l.height, sampler.wrap_v, at.offset[1], at.bytes);
                 (x, alpha, y, beta)
             }
             Filter::Nearest => {
                 let (x, y) = (nearest_texels(u, l.width, sampler.wrap_u), nearest_texels(v, l.height, sampler.wrap_v));
                 ([x; 2], [0; N], [y; 2], [0; N])
+            }
+            Filter::Linear if at.bytes => {
+                let (x, alpha) = linear_texels_bytes(u, l.width, sampler.wrap_u);
+                let (y, beta) = linear_texels_bytes(v, l.height, sampler.wrap_v);
+                (x, alpha, y, beta)
             }
             Filter::Linear => {
                 let (x, alpha) = linear_texels(u, l.width, sampler.wrap_u);
@@ -984,6 +1027,7 @@ impl Texture {
         let corners = [(0, 0), (1, 0), (0, 1), (1, 1)];
         Footprint {
             filter,
+            bytes: at.bytes,
             texels: [texel(corners[0]), texel(corners[1]), texel(corners[2]), texel(corners[3])],
             lines: [line(corners[0]), line(corners[1]), line(corners[2]), line(corners[3])],
             alpha,
@@ -997,9 +1041,114 @@ impl Texture {
     #[inline(always)]
     fn filter<const N: usize>(&self, footprint: &Footprint<N>) -> [[u32; N]; 4] {
         match &self.texels {
+            Texels::Packed(texels) if footprint.bytes && footprint.filter == Filter::Linear => {
+                filter_bytes(texels.as_slice(), footprint)
+            }
             Texels::Packed(texels) => filter_texels(texels.as_slice(), footprint),
             Texels::Decoded(texels) => filter_texels(texels.as_slice(), footprint),
         }
+    }
+}
+
+impl Texture {
+    /// [`Texture::filter`] of a pair's eight lanes with the instruction set of `simd`: the
+    /// byte filter through [`avx2::filter_bytes`] (16-bit lanes, `pmulhrsw`, as llvmpipe)
+    /// at the AVX2 level, the same bits as [`filter_bytes`].
+    #[inline(always)]
+    fn filter_pair(&self, simd: SimdSupport, footprint: &Footprint<8>) -> [[u32; 8]; 4] {
+        #[cfg(target_arch = "x86_64")]
+        if let Texels::Packed(texels) = &self.texels
+            && footprint.bytes
+            && footprint.filter == Filter::Linear
+            && simd.level() == SimdLevel::Avx2
+        {
+            let corners = bytes_corners(texels, footprint);
+            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+            // every feature `avx2::filter_bytes` is compiled with (`SimdSupport::detect`).
+            return unsafe { avx2::filter_bytes(&corners, &footprint.alpha, &footprint.beta) };
+        }
+        let _ = simd;
+        self.filter(footprint)
+    }
+}
+
+/// The packed texels of a byte footprint's four corners, `[corner][lane]` (one bounds check,
+/// see `filter_texels`).
+#[inline(always)]
+fn bytes_corners<const N: usize>(texels: &[u32], footprint: &Footprint<N>) -> [[u32; N]; 4] {
+    let largest = largest_texel(&footprint.texels);
+    assert!(
+        (largest as usize) < texels.len(),
+        "texel {largest} of a footprint outside the texture's {} texels",
+        texels.len()
+    );
+    let load = |corner: usize| {
+        lanes::<u32, N>(|i| {
+            let index = footprint.texels[corner][i] as usize;
+            // SAFETY: every index of the footprint is at most `largest`, which the assertion
+            // above holds below `texels.len()`.
+            unsafe { *texels.get_unchecked(index) }
+        })
+    };
+    [load(0), load(1), load(2), load(3)]
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use std::arch::x86_64::*;
+
+    /// [`super::filter_bytes`] of eight lanes from their corners' packed texels
+    /// (`[corner][lane]`) and weights, in 16-bit lanes as llvmpipe's AoS sampler: two
+    /// texels' four channels per 128 bits (`unpack` with zero), each weight spread over its
+    /// texel's channels (`pshufb`), and `lerp(a, b, w) = a + pmulhrsw(w, (b − a) << 7)` —
+    /// `(w · (b − a) · 128 + 2^14) >> 15`, which is `(w · (b − a) + 128) >> 8`, arithmetic
+    /// (`|b − a| · 128 < 2^15`); then packed back to bytes (the values are bytes, so
+    /// `packus` is exact) and spread to `c · 257` per channel.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    pub(super) fn filter_bytes(corners: &[[u32; 8]; 4], alpha: &[u32; 8], beta: &[u32; 8]) -> [[u32; 8]; 4] {
+        // SAFETY (each load and store): 32 bytes of one `[u32; 8]`; unaligned access needs no
+        // alignment.
+        let load = |v: &[u32; 8]| unsafe { _mm256_loadu_si256(v.as_ptr().cast()) };
+        let zero = _mm256_setzero_si256();
+        let t = [load(&corners[0]), load(&corners[1]), load(&corners[2]), load(&corners[3])];
+        let (a, b) = (load(alpha), load(beta));
+        // Lanes 0, 1 (and 4, 5) of a 128-bit half: each weight's low byte in its texel's
+        // four 16-bit channels; lanes 2, 3 (6, 7).
+        let spread_low = _mm256_setr_epi8(
+            0, -128, 0, -128, 0, -128, 0, -128, 4, -128, 4, -128, 4, -128, 4, -128, //
+            0, -128, 0, -128, 0, -128, 0, -128, 4, -128, 4, -128, 4, -128, 4, -128,
+        );
+        let spread_high = _mm256_setr_epi8(
+            8, -128, 8, -128, 8, -128, 8, -128, 12, -128, 12, -128, 12, -128, 12, -128, //
+            8, -128, 8, -128, 8, -128, 8, -128, 12, -128, 12, -128, 12, -128, 12, -128,
+        );
+        let lerp = |x: __m256i, y: __m256i, w: __m256i| {
+            let delta = _mm256_slli_epi16::<7>(_mm256_sub_epi16(y, x));
+            _mm256_add_epi16(x, _mm256_mulhrs_epi16(w, delta))
+        };
+        let half = |c: [__m256i; 4], spread: __m256i| {
+            let (wa, wb) = (_mm256_shuffle_epi8(a, spread), _mm256_shuffle_epi8(b, spread));
+            let top = lerp(c[0], c[1], wa);
+            let bottom = lerp(c[2], c[3], wa);
+            lerp(top, bottom, wb)
+        };
+        let low = half(t.map(|t| _mm256_unpacklo_epi8(t, zero)), spread_low);
+        let high = half(t.map(|t| _mm256_unpackhi_epi8(t, zero)), spread_high);
+        let packed = _mm256_packus_epi16(low, high);
+        let byte_mask = _mm256_set1_epi32(0xff);
+        let mut out = [[0u32; 8]; 4];
+        for (c, out) in out.iter_mut().enumerate() {
+            let channel = match c {
+                0 => _mm256_and_si256(packed, byte_mask),
+                1 => _mm256_and_si256(_mm256_srli_epi32::<8>(packed), byte_mask),
+                2 => _mm256_and_si256(_mm256_srli_epi32::<16>(packed), byte_mask),
+                _ => _mm256_srli_epi32::<24>(packed),
+            };
+            let widened = _mm256_or_si256(channel, _mm256_slli_epi32::<8>(channel));
+            // SAFETY: see above.
+            unsafe { _mm256_storeu_si256(out.as_mut_ptr().cast(), widened) };
+        }
+        out
     }
 }
 
@@ -1092,7 +1241,7 @@ fn filter_texels<T: TexelWords, const N: usize>(texels: &[T], footprint: &Footpr
     // One bounds check for the footprint's texels (the largest index of its four corners;
     // a nearest footprint's four are its one texel), not one per texel read: 64 compares
     // and branches a trilinear pair.
-    let largest = footprint.texels.iter().flatten().fold(0, |m, &t| m.max(t));
+    let largest = largest_texel(&footprint.texels);
     assert!(
         (largest as usize) < texels.len(),
         "texel {largest} of a footprint outside the texture's {} texels",
@@ -1130,6 +1279,71 @@ fn filter_texels<T: TexelWords, const N: usize>(texels: &[T], footprint: &Footpr
             ]
         }
     }
+}
+
+/// [`Texture::filter`]'s linear filter of bytes ([`Footprint::bytes`]): each channel's byte
+/// from the packed texels, [`lerp_bytes`] across, then down, as the 16-bit UNORM `c · 257`
+/// the rest of the sampler carries (so [`blend`] and [`channel_to_f32`] take the byte back
+/// exactly, `c · 257 >> 8 = c`).
+#[inline(always)]
+fn filter_bytes<const N: usize>(texels: &[u32], footprint: &Footprint<N>) -> [[u32; N]; 4] {
+    let t = bytes_corners(texels, footprint);
+    let (alpha, beta) = (&footprint.alpha, &footprint.beta);
+    [
+        bilinear_byte_channel(&t, 0, alpha, beta),
+        bilinear_byte_channel(&t, 1, alpha, beta),
+        bilinear_byte_channel(&t, 2, alpha, beta),
+        bilinear_byte_channel(&t, 3, alpha, beta),
+    ]
+}
+
+/// Channel `c` of [`filter_bytes`] (a function of its own, not a closure, which LLVM kept out
+/// of line: 36 M instructions of helmet's frame in calls; see [`bilinear_channel`]).
+#[inline(always)]
+fn bilinear_byte_channel<const N: usize>(t: &[[u32; N]; 4], c: u32, alpha: &[u32; N], beta: &[u32; N]) -> [u32; N] {
+    let byte = |k: usize| lanes::<u32, N>(|i| (t[k][i] >> (8 * c)) & 0xff);
+    let (t00, t10, t01, t11) = (byte(0), byte(1), byte(2), byte(3));
+    let top = lanes::<u32, N>(|i| lerp_bytes(t00[i], t10[i], alpha[i]));
+    let bottom = lanes::<u32, N>(|i| lerp_bytes(t01[i], t11[i], alpha[i]));
+    lanes(|i| lerp_bytes(top[i], bottom[i], beta[i]) * 257)
+}
+
+/// llvmpipe's 8-bit lerp (`lp_build_lerp` of 8-bit UNORMs with prescaled weights, through
+/// `pmulhrsw`): `a + ((b − a) · w + 128) >> 8` for bytes `a`, `b` and `w ∈ [0, 256)` — the
+/// formula of [`lerp`], on bytes.
+#[inline(always)]
+fn lerp_bytes(a: u32, b: u32, w: u32) -> u32 {
+    lerp(a, b, w)
+}
+
+/// The blend of two levels (or slices) `a`, `b` (16-bit UNORMs) by the 8-bit weight `w`:
+/// [`lerp`], or with `bytes` ([`QuadAt::bytes`]) [`lerp_bytes`] of their bytes.
+#[inline(always)]
+fn blend(a: u32, b: u32, w: u32, bytes: bool) -> u32 {
+    if bytes { lerp_bytes(a >> 8, b >> 8, w) * 257 } else { lerp(a, b, w) }
+}
+
+/// A filtered channel (16-bit UNORM) as `f32`: with `bytes` ([`QuadAt::bytes`]; the channel
+/// is then a byte `c` times 257) `c · fl(1/255)`, as llvmpipe converts an 8-bit UNORM
+/// (`lp_build_unsigned_norm_to_float`: one multiplication, within an ulp of `c / 255` and
+/// not always it); otherwise [`unorm16_to_f32`].
+#[inline(always)]
+fn channel_to_f32(c: u32, bytes: bool) -> f32 {
+    if bytes { (c >> 8) as i32 as f32 * (1.0 / 255.0) } else { unorm16_to_f32(c) }
+}
+
+/// The largest of a footprint's texel indices, as plain loops: an iterator's `flatten` here
+/// was left a loop of its own in some of the sampler's kernels (59 M instructions of
+/// effect2d's replay).
+#[inline(always)]
+fn largest_texel<const N: usize>(texels: &[[u32; N]; 4]) -> u32 {
+    let mut largest = [0u32; N];
+    for corner in texels {
+        for (m, &t) in largest.iter_mut().zip(corner) {
+            *m = (*m).max(t);
+        }
+    }
+    largest.into_iter().fold(0, u32::max)
 }
 
 /// Level 0 of a texture: its size in range and `rgba` its RGBA8 texels.
@@ -1243,10 +1457,11 @@ fn sample_group_body(
     // A kernel per layout: RGBA8 finds its lines from the decoded texels' offsets, other
     // formats from their stored layout (`STORED`), with no branch on the format in the RGBA8
     // kernel. The colour space needs none: the texels are held decoded.
-    if texture.format == TexelFormat::Rgba8 {
-        texture.sample_layout::<false>(simd, sampler, u, v, counted, cache, lookup)
-    } else {
-        texture.sample_layout::<true>(simd, sampler, u, v, counted, cache, lookup)
+    match (texture.format == TexelFormat::Rgba8, texture.filters_bytes(sampler)) {
+        (true, true) => texture.sample_layout::<false, true>(simd, sampler, u, v, counted, cache, lookup),
+        (true, false) => texture.sample_layout::<false, false>(simd, sampler, u, v, counted, cache, lookup),
+        (false, true) => texture.sample_layout::<true, true>(simd, sampler, u, v, counted, cache, lookup),
+        (false, false) => texture.sample_layout::<true, false>(simd, sampler, u, v, counted, cache, lookup),
     }
 }
 
@@ -1294,9 +1509,15 @@ const PAIR_LANES: [usize; 8] = [0, 1, 4, 5, 2, 3, 6, 7];
 /// A pair's channels (`[channel][lane in PAIR_LANES order]`, 16-bit UNORMs) back in the
 /// group's lanes, converted eight lanes at a time.
 #[inline(always)]
-fn group_of_pair(rgba: [[u32; 8]; 4]) -> Vec4x8 {
-    let channel = |c: usize| F32x8(lanes(|lane| unorm16_to_f32(rgba[c][PAIR_LANES[lane]])));
-    [channel(0), channel(1), channel(2), channel(3)]
+fn group_of_pair(rgba: [[u32; 8]; 4], bytes: bool) -> Vec4x8 {
+    // The branch outside the lanes, so that each conversion is one loop the vectoriser sees.
+    if bytes {
+        let channel = |c: usize| F32x8(lanes(|lane| channel_to_f32(rgba[c][PAIR_LANES[lane]], true)));
+        [channel(0), channel(1), channel(2), channel(3)]
+    } else {
+        let channel = |c: usize| F32x8(lanes(|lane| channel_to_f32(rgba[c][PAIR_LANES[lane]], false)));
+        [channel(0), channel(1), channel(2), channel(3)]
+    }
 }
 
 /// Four lanes of a quad, in [`QUAD_LANES`] order.
@@ -1311,6 +1532,9 @@ struct QuadAt<const N: usize = 4> {
     /// A constant texel offset added to the texel indices before they wrap (GLSL ES 3.00's
     /// `textureOffset`, GL ES 3.0 §3.8.10); 2D textures only, else `[0, 0]`.
     offset: [i32; 2],
+    /// Filtered as bytes ([`Texture::filters_bytes`]): fixed-point coordinates and 8-bit
+    /// lerps, as llvmpipe's AoS sampler.
+    bytes: bool,
 }
 
 /// What a 2D lookup adds to [`Texture::sample`]'s plain one: GLSL ES 3.00's `textureGrad`
@@ -1330,14 +1554,18 @@ pub struct Lookup {
 /// group's lanes, with constant indices (so shuffles, not a store per lane), converted eight
 /// lanes at a time.
 #[inline(always)]
-fn group_of_quads(quads: [[Quad<u32>; 4]; 2]) -> Vec4x8 {
+fn group_of_quads(quads: [[Quad<u32>; 4]; 2], bytes: bool) -> Vec4x8 {
     let [left, right] = quads;
     std::array::from_fn(|c| {
         let group = std::array::from_fn(|lane| {
             let quad = if LANE_DX[lane] < 2 { &left } else { &right };
             quad[c][(LANE_DX[lane] % 2 + 2 * LANE_DY[lane]) as usize]
         });
-        F32x8(group.map(unorm16_to_f32))
+        if bytes {
+            F32x8(group.map(|c| channel_to_f32(c, true)))
+        } else {
+            F32x8(group.map(|c| channel_to_f32(c, false)))
+        }
     })
 }
 
@@ -1358,6 +1586,9 @@ fn lanes<T: Copy + Default, const N: usize>(f: impl Fn(usize) -> T) -> [T; N] {
 /// `(x1, y0)`, `(x0, y1)`, `(x1, y1)` and weighs them with `α` and `β`.
 struct Footprint<const N: usize = 4> {
     filter: Filter,
+    /// Linear filtering of bytes ([`QuadAt::bytes`]); `alpha` and `beta` are then the fixed-point
+    /// coordinates' low bytes.
+    bytes: bool,
     texels: [[u32; N]; 4],
     lines: [[u32; N]; 4],
     /// The 8-bit weights of the second texel in x and in y.
@@ -1712,9 +1943,23 @@ fn nearest_texels_offset<const N: usize>(r: [f32; N], n: u32, wrap: Wrap, offset
     lanes(|i| wrap_any(floor_small(r[i] * n as f32).1 + offset, n, wrap))
 }
 
-/// [`linear_texels`] with `offset` texels added before the wrap.
+/// [`linear_texels`] (or with `bytes` [`linear_texels_bytes`]) with `offset` texels added
+/// before the wrap.
 #[inline(always)]
-fn linear_texels_offset<const N: usize>(r: [f32; N], n: u32, wrap: Wrap, offset: i32) -> ([[u32; N]; 2], [u32; N]) {
+fn linear_texels_offset<const N: usize>(
+    r: [f32; N],
+    n: u32,
+    wrap: Wrap,
+    offset: i32,
+    bytes: bool,
+) -> ([[u32; N]; 2], [u32; N]) {
+    if bytes {
+        // `r` is in `[−9, 10]` (or `[0, 1]`), so `256 · r · n` below 2^31.
+        let fixed = lanes::<i32, N>(|i| (r[i] * n as f32 * 256.0).round_ties_even() as i32 - 128);
+        let x0 = lanes(|i| wrap_any((fixed[i] >> 8) + offset, n, wrap));
+        let x1 = lanes(|i| wrap_any((fixed[i] >> 8) + offset + 1, n, wrap));
+        return ([x0, x1], lanes(|i| (fixed[i] & 0xff) as u32));
+    }
     let x = lanes::<f32, N>(|i| r[i] * n as f32 - 0.5);
     let floors = lanes::<(f32, i32), N>(|i| floor_small(x[i]));
     let alpha = lanes(|i| floor_small((x[i] - floors[i].0) * 256.0).1 as u32);
@@ -1775,6 +2020,48 @@ fn linear_texels<const N: usize>(r: [f32; N], n: u32, wrap: Wrap) -> ([[u32; N];
     ([lanes(|i| x0[i] as u32), lanes(|i| x1[i] as u32)], alpha)
 }
 
+/// [`linear_texels`] for a byte filter ([`QuadAt::bytes`]), in fixed point as llvmpipe's AoS
+/// sampler (`lp_build_sample_image_linear`): the coordinate in 1/256 texel,
+/// `P = round(256 · fl(r · n)) − 128` (to nearest, ties to even: `cvtps2dq`), `i0 = P >> 8`,
+/// `α = P & 255`, `i1 = i0 + 1`, wrapped as [`linear_texels`] wraps. (llvmpipe scales the
+/// unreduced coordinate by `256n` for power-of-two sizes and clamp-to-edge, and takes
+/// `fract` first otherwise; scaling by a power of two is exact, so both are this.) For
+/// clamp-to-edge `r · n` is first clamped to `[−1, n]`, which changes no texel read (beyond,
+/// both texels are the edge's, and the weight between equal texels does not matter) and keeps
+/// `256 · r · n` within `2^22`, where [`round_small`] rounds.
+#[inline(always)]
+fn linear_texels_bytes<const N: usize>(r: [f32; N], n: u32, wrap: Wrap) -> ([[u32; N]; 2], [u32; N]) {
+    let scaled = lanes::<f32, N>(|i| {
+        let p = r[i] * n as f32;
+        if wrap == Wrap::ClampToEdge { p.clamp(-1.0, n as f32) } else { p }
+    });
+    let fixed = lanes::<i32, N>(|i| round_small(scaled[i] * 256.0) - 128);
+    let i0 = lanes::<i32, N>(|i| fixed[i] >> 8);
+    let alpha = lanes(|i| (fixed[i] & 0xff) as u32);
+    let n = n as i32;
+    let (x0, x1): ([i32; N], [i32; N]) = match wrap {
+        Wrap::Repeat => (
+            lanes(|i| if i0[i] < 0 { i0[i] + n } else { i0[i] }),
+            lanes(|i| if i0[i] + 1 == n { 0 } else { i0[i] + 1 }),
+        ),
+        Wrap::ClampToEdge => (lanes(|i| i0[i].clamp(0, n - 1)), lanes(|i| (i0[i] + 1).clamp(0, n - 1))),
+        Wrap::MirroredRepeat => unreachable!("mirrored repeat is not filtered as bytes (`Texture::filters_bytes`)"),
+    };
+    ([lanes(|i| x0[i] as u32), lanes(|i| x1[i] as u32)], alpha)
+}
+
+/// `x` rounded to the nearest integer, ties to even, for `|x| ≤ 2^22`: `x + 1.5 · 2^23` lies
+/// in `(2^23, 2^24]`, where floats are the integers, so the addition rounds `x` (to nearest
+/// even, IEEE's default), and its bits count up from those of `1.5 · 2^23` (2^24 is the next
+/// bit pattern after `2^24 − 1`). Float and integer arithmetic only, so it vectorises at every
+/// SIMD level (see [`floor_small`]).
+#[inline(always)]
+fn round_small(x: f32) -> i32 {
+    const ONE_AND_A_HALF_POW_23: f32 = 12_582_912.0;
+    debug_assert!(x.abs() <= 4_194_304.0 || x.is_nan());
+    (x + ONE_AND_A_HALF_POW_23).to_bits() as i32 - ONE_AND_A_HALF_POW_23.to_bits() as i32
+}
+
 #[cfg(test)]
 mod tests {
     use proptest::prelude::*;
@@ -1794,6 +2081,7 @@ mod tests {
         cache: &mut TextureCache,
     ) -> Vec4x8 {
         let lods = quad_lods(u * texture.width() as f32, v * texture.height() as f32);
+        let bytes = reference_filters_bytes(texture, sampler);
         let mut out = [[0u32; 8]; 4];
         for (quad, lanes) in QUAD_LANES.iter().enumerate() {
             let plan = texture.plan(sampler, lods[quad] + sampler.lod_bias);
@@ -1808,7 +2096,11 @@ mod tests {
                     LevelPlan::Blend { level: l, filter, weight } => {
                         let a = level(l, filter, cache);
                         let b = level(l + 1, filter, cache);
-                        std::array::from_fn(|c| reference_lerp(a[c], b[c], weight))
+                        if bytes {
+                            std::array::from_fn(|c| reference_lerp(a[c] / 257, b[c] / 257, weight) * 257)
+                        } else {
+                            std::array::from_fn(|c| reference_lerp(a[c], b[c], weight))
+                        }
                     }
                 };
                 for c in 0..4 {
@@ -1816,7 +2108,18 @@ mod tests {
                 }
             }
         }
-        out.map(|c| F32x8(c.map(|c| c as f32 / 65535.0)))
+        if bytes {
+            // llvmpipe's conversion of an 8-bit UNORM: one multiplication by `fl(1/255)`.
+            out.map(|c| F32x8(c.map(|c| (c / 257) as f32 * (1.0 / 255.0))))
+        } else {
+            out.map(|c| F32x8(c.map(|c| c as f32 / 65535.0)))
+        }
+    }
+
+    /// Whether the reference filters `texture` as bytes (llvmpipe's AoS sampler): texels held
+    /// as RGBA8 bytes (linear colour space, 8-bit channels) and no mirrored wrap.
+    fn reference_filters_bytes(texture: &Texture, sampler: &Sampler) -> bool {
+        matches!(texture.texels, Texels::Packed(_)) && ![sampler.wrap_u, sampler.wrap_v].contains(&Wrap::MirroredRepeat)
     }
 
     /// `a · (1 − w/256) + b · w/256` for 16-bit UNORMs, rounded to nearest, ties up.
@@ -1860,6 +2163,17 @@ mod tests {
                 let (x, y) = (nearest(u, l.width, sampler.wrap_u), nearest(v, l.height, sampler.wrap_v));
                 fetch(x, y)
             }
+            Filter::Linear if reference_filters_bytes(texture, sampler) => {
+                let (x0, x1, alpha) = reference_linear_indices_bytes(u, l.width, sampler.wrap_u);
+                let (y0, y1, beta) = reference_linear_indices_bytes(v, l.height, sampler.wrap_v);
+                let (t00, t10, t01, t11) = (fetch(x0, y0), fetch(x1, y0), fetch(x0, y1), fetch(x1, y1));
+                // Bytes lerped, each lerp rounded to a byte.
+                std::array::from_fn(|c| {
+                    let top = reference_lerp(t00[c] / 257, t10[c] / 257, alpha);
+                    let bottom = reference_lerp(t01[c] / 257, t11[c] / 257, alpha);
+                    reference_lerp(top, bottom, beta) * 257
+                })
+            }
             Filter::Linear => {
                 let (x0, x1, alpha) = reference_linear_indices(u, l.width, sampler.wrap_u);
                 let (y0, y1, beta) = reference_linear_indices(v, l.height, sampler.wrap_v);
@@ -1880,6 +2194,16 @@ mod tests {
         let base = reference_floor(x);
         let i0 = base as i64;
         (wrap_index(i0, n, wrap), wrap_index(i0 + 1, n, wrap), ((x - base) as f64 * 256.0).floor() as u32)
+    }
+
+    /// The byte filter's texel indices and weight, llvmpipe's fixed point written out in 64-bit
+    /// integers: `P = round(256 · (r · n)) − 128` (`r · n` in `f32`, the rounding to nearest,
+    /// ties to even), `i0 = ⌊P / 256⌋`, `α = P mod 256`, wrapped.
+    fn reference_linear_indices_bytes(u: f32, n: u32, wrap: Wrap) -> (u32, u32, u32) {
+        let scaled = reference_reduce(u, wrap) * n as f32;
+        let fixed = (scaled as f64 * 256.0).round_ties_even() as i64 - 128;
+        let i0 = fixed.div_euclid(256);
+        (wrap_index(i0, n, wrap), wrap_index(i0 + 1, n, wrap), fixed.rem_euclid(256) as u32)
     }
 
     /// [`reduce`] with [`reference_floor`].
@@ -1929,6 +2253,11 @@ mod tests {
         c.map(|v| v * 255.0)
     }
 
+    /// A byte as the byte filter gives it: `c · fl(1/255)`, llvmpipe's conversion.
+    fn unorm8(c: u32) -> f32 {
+        c as f32 * (1.0 / 255.0)
+    }
+
     /// One step of the filter's 16-bit UNORMs, in bytes (see [`bytes`]).
     const ONE_UNORM16: f32 = 255.0 / 65535.0;
 
@@ -1973,13 +2302,19 @@ mod tests {
         let t = ramp(4, 4, MipChain::BaseOnly);
         let s = Sampler::BILINEAR_CLAMP;
         // Texel centres are at (i + 0.5) / 4: exactly on a centre gives that texel.
-        assert_eq!(bytes(sample_at(&t, &s, 1.5 / 4.0, 2.5 / 4.0)), [1.0, 2.0, 0.0, 255.0]);
-        // A quarter of the way from texel 1 to 2 in u, half way from 0 to 1 in v.
-        let c = bytes(sample_at(&t, &s, 1.75 / 4.0, 1.0 / 4.0));
-        assert!((c[0] - 1.25).abs() < ONE_UNORM16 && (c[1] - 0.5).abs() < ONE_UNORM16, "{c:?}");
+        assert_eq!(sample_at(&t, &s, 1.5 / 4.0, 2.5 / 4.0), [1, 2, 0, 255].map(unorm8));
+        // A quarter of the way from texel 1 to 2 in u (weight 64: 1 + (64 + 128) >> 8 = 1),
+        // half way from 0 to 1 in v (weight 128: 0 + (128 + 128) >> 8 = 1): bytes, each lerp
+        // rounded to nearest, ties up.
+        assert_eq!(sample_at(&t, &s, 1.75 / 4.0, 1.0 / 4.0), [1, 1, 0, 255].map(unorm8));
+        // Three quarters: 1 + (192 + 128) >> 8 = 2.
+        assert_eq!(sample_at(&t, &s, 2.25 / 4.0, 0.5 / 4.0)[0], unorm8(2));
         // Clamp-to-edge: below the first centre, the edge texel alone.
-        assert_eq!(bytes(sample_at(&t, &s, 0.0, 0.0)), [0.0, 0.0, 0.0, 255.0]);
-        assert_eq!(bytes(sample_at(&t, &s, -3.0, 7.0)), [0.0, 3.0, 0.0, 255.0]);
+        assert_eq!(sample_at(&t, &s, 0.0, 0.0), [0, 0, 0, 255].map(unorm8));
+        assert_eq!(sample_at(&t, &s, -3.0, 7.0), [0, 3, 0, 255].map(unorm8));
+        // Mirrored repeat keeps the 16-bit filter: a quarter is 1.25 there.
+        let mirrored = bytes(sample_at(&t, &s.with_wrap(Wrap::MirroredRepeat), 1.75 / 4.0, 1.0 / 4.0));
+        assert!((mirrored[0] - 1.25).abs() < ONE_UNORM16 && (mirrored[1] - 0.5).abs() < ONE_UNORM16, "{mirrored:?}");
     }
 
     #[test]
@@ -2065,12 +2400,12 @@ mod tests {
         let t = ramp(4, 4, MipChain::BaseOnly);
         let nearest = Sampler::NEAREST_REPEAT;
         // u = 1.1 → 0.1 → texel 0 with repeat; mirrored: 1.1 → 0.9 → texel 3; clamp: texel 3.
-        assert_eq!(sample_at(&t, &nearest, 1.1, 0.0)[0] * 255.0, 0.0);
+        assert_eq!(sample_at(&t, &nearest, 1.1, 0.0)[0], 0.0);
         assert_eq!(sample_at(&t, &nearest.with_wrap(Wrap::MirroredRepeat), 1.1, 0.0)[0] * 255.0, 3.0);
-        assert_eq!(sample_at(&t, &nearest.with_wrap(Wrap::ClampToEdge), 1.1, 0.0)[0] * 255.0, 3.0);
-        // Bilinear repeat at u = 0 blends the last and the first texel half and half.
-        let c = bytes(sample_at(&t, &Sampler::TRILINEAR_REPEAT, 0.0, 0.5 / 4.0));
-        assert!((c[0] - 1.5).abs() < ONE_UNORM16, "{c:?}");
+        assert_eq!(sample_at(&t, &nearest.with_wrap(Wrap::ClampToEdge), 1.1, 0.0)[0], unorm8(3));
+        // Bilinear repeat at u = 0 blends the last and the first texel half and half: 3 and 0
+        // by the weight 128, 3 + (−3 · 128 + 128) >> 8 = 2 in bytes.
+        assert_eq!(sample_at(&t, &Sampler::TRILINEAR_REPEAT, 0.0, 0.5 / 4.0)[0], unorm8(2));
         // Huge and non-finite coordinates are wrapped, never a panic.
         for u in [1.0e30f32, -1.0e30, f32::INFINITY, f32::NAN] {
             for wrap in [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat] {
@@ -2174,7 +2509,7 @@ mod tests {
         assert_eq!(t.levels().len(), 3);
         let nearest_mip = Sampler { mipmap: MipmapMode::Nearest, ..Sampler::NEAREST_REPEAT };
         for (lambda, red) in [(0.0, 10), (1.0, 200), (2.0, 77), (9.0, 77)] {
-            assert_eq!(t.sample_lod(&nearest_mip, 0.3, 0.6, lambda)[0], red as f32 / 255.0, "λ = {lambda}");
+            assert_eq!(t.sample_lod(&nearest_mip, 0.3, 0.6, lambda)[0], unorm8(red), "λ = {lambda}");
         }
         // The box chain, given back level by level, is the same texture.
         let ramp = ramp(8, 4, MipChain::Box);
@@ -2204,10 +2539,9 @@ mod tests {
         let v = F32x8::splat(0.25);
         let mut cache = TextureCache::default();
         let c = t.sample(SimdSupport::BASELINE, &Sampler::TRILINEAR_REPEAT, u, v, LaneMask::ALL, &mut cache);
-        // Blended by the 8-bit weight ⌊256 λ⌋ / 256.
-        let weight = (256.0 * 1.5f32.log2()).floor() / 256.0;
-        let expected = 0.0 + weight * (85.0 / 255.0 - 0.0);
-        assert!((c[0].lane(0) - expected).abs() < 1.0 / 65535.0, "{} vs {expected}", c[0].lane(0));
+        // Blended in bytes by the 8-bit weight ⌊256 λ⌋ = 149: 0 + (85 · 149 + 128) >> 8 = 49.
+        assert_eq!((256.0 * 1.5f32.log2()).floor(), 149.0);
+        assert_eq!(c[0].lane(0), unorm8(49));
         // One point at the quad's level of detail reads what the quad's lane did, bit for bit.
         let quad_lambda = quad_lods(u * 2.0, v * 2.0)[0];
         let point = t.sample_lod(&Sampler::TRILINEAR_REPEAT, u.lane(0), v.lane(0), quad_lambda);
@@ -2228,9 +2562,10 @@ mod tests {
                 assert_eq!(point.map(f32::to_bits), [0, 1, 2, 3].map(|c| quad[c].lane(0).to_bits()), "{u}, {v}");
             }
         }
-        // Bilinear on level 0 between texels 2 and 3 of a row: red 2.5 (the ramp's red is x).
+        // Bilinear on level 0 half way between texels 2 and 3 of a row (the ramp's red is x):
+        // 2 + (128 + 128) >> 8 = 3 in bytes.
         let c = t.sample_lod(&Sampler::BILINEAR_CLAMP, 3.0 / 8.0, 0.5 / 8.0, 0.0);
-        assert!((c[0] * 255.0 - 2.5).abs() < 1e-2, "{c:?}");
+        assert_eq!(c[0], unorm8(3), "{c:?}");
         // Level 1 exactly with a nearest-mipmap filter, and past the last level the last one.
         let nearest_mip =
             Sampler { mipmap: MipmapMode::Nearest, min_filter: Filter::Nearest, ..Sampler::NEAREST_REPEAT };

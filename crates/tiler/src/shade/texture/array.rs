@@ -187,7 +187,7 @@ impl Texture {
             let minified_unmipped = sampler.mipmap == MipmapMode::None && lambda > super::UNMIPPED_LOD;
             quads[quad] = self.sample_quad::<false>(simd, sampler, lambda, &at, counted, minified_unmipped, cache);
         }
-        group_of_quads(quads)
+        group_of_quads(quads, self.filters_bytes(sampler))
     }
 
     /// Where a quad's lanes read: `(s, t)` reduced for the wraps, each lane's layer.
@@ -199,6 +199,7 @@ impl Texture {
             v: reduce_quad(v, sampler.wrap_v),
             face_offsets: r.map(|r| self.layer_offset(array_layer(r, count))),
             offset: [0, 0],
+            bytes: self.filters_bytes(sampler),
         }
     }
 
@@ -356,7 +357,8 @@ mod tests {
             &mut cache,
         );
         for lane in 0..8 {
-            assert_eq!(c[2].lane(lane), (30 * (lane % 3)) as f32 / 255.0, "lane {lane}");
+            // A byte `c` reads `c · fl(1/255)` (llvmpipe's conversion).
+            assert_eq!(c[2].lane(lane), (30 * (lane % 3)) as f32 * (1.0 / 255.0), "lane {lane}");
         }
         assert_eq!(cache.take_fetched_bytes(), 0, "all three lines are cached");
     }

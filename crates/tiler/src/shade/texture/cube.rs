@@ -249,7 +249,7 @@ impl Texture {
             let minified_unmipped = sampler.mipmap == MipmapMode::None && lambda > super::UNMIPPED_LOD;
             quads[quad] = self.sample_quad::<false>(simd, &sampler, lambda, &at, counted, minified_unmipped, cache);
         }
-        group_of_quads(quads)
+        group_of_quads(quads, self.holds_bytes())
     }
 
     /// Where a quad's directions land: each lane's face and its coordinates, reduced.
@@ -264,6 +264,9 @@ impl Texture {
             v: reduce_quad(selected.map(|(_, _, t)| t), Wrap::ClampToEdge),
             face_offsets: selected.map(|(offset, _, _)| offset),
             offset: [0, 0],
+            // A face is clamped to its edges, so the texels alone decide (see
+            // `Texture::filters_bytes`).
+            bytes: self.holds_bytes(),
         }
     }
 
@@ -364,20 +367,23 @@ mod tests {
         let t = cube(4, MipChain::Box);
         let nearest = Sampler::NEAREST_REPEAT;
         // +X at s 0.375, t 0.25 of a 4×4 face: texel (1, 1).
-        assert_eq!(t.sample_cube_lod(&nearest, [2.0, 1.0, 0.5], 0.0), [1.0, 1.0, 0.0, 255.0].map(|c| c / 255.0));
+        assert_eq!(
+            t.sample_cube_lod(&nearest, [2.0, 1.0, 0.5], 0.0),
+            [1.0, 1.0, 0.0, 255.0].map(|c| c * (1.0 / 255.0))
+        );
         // −Z at (0.75, 0.375): texel (3, 1) of face 5.
         let c = t.sample_cube_lod(&nearest, [-1.0, 0.5, -2.0], 0.0);
-        assert_eq!(c, [3.0, 1.0, 200.0, 255.0].map(|c| c / 255.0));
+        assert_eq!(c, [3.0, 1.0, 200.0, 255.0].map(|c| c * (1.0 / 255.0)));
         assert_eq!(t.face_texel(CubeFace::NegativeZ, 0, 3, 1), [3, 1, 200, 255]);
         // Bilinear clamps within the face: at the +Y face's corner s = 1, t = 0 the edge texel
         // (3, 0) alone, never a texel of a neighbour face.
         let c = t.sample_cube_lod(&Sampler::BILINEAR_CLAMP, [1.0, 1.0, -1.0 + f32::EPSILON], 0.0);
-        assert_eq!(c, [3.0, 0.0, 80.0, 255.0].map(|c| c / 255.0));
+        assert_eq!(c, [3.0, 0.0, 80.0, 255.0].map(|c| c * (1.0 / 255.0)));
         // Level 1 with a mip filter: face 2's 2×2 level.
         let mip = Sampler { mipmap: MipmapMode::Nearest, ..Sampler::NEAREST_REPEAT };
         let level1 = t.sample_cube_lod(&mip, [0.1, 1.0, 0.1], 1.0);
         let [r, g, b, a] = t.face_texel(CubeFace::PositiveY, 1, 1, 1);
-        assert_eq!(level1, [r, g, b, a].map(|c| c as f32 / 255.0));
+        assert_eq!(level1, [r, g, b, a].map(|c| c as f32 * (1.0 / 255.0)));
     }
 
     #[test]

@@ -72,7 +72,7 @@ impl Texture {
                 }
             };
         }
-        group_of_quads(quads)
+        group_of_quads(quads, false)
     }
 
     /// The slices a quad's lanes read at level of detail `lambda` and where in them.
@@ -84,7 +84,13 @@ impl Texture {
         };
         let (u, v, r) =
             (reduce_quad(u, sampler.wrap_u), reduce_quad(v, sampler.wrap_v), reduce_quad(r, sampler.wrap_w));
-        let at = |slices: [u32; 4]| QuadAt { u, v, face_offsets: slices.map(|k| self.layer_offset(k)), offset: [0, 0] };
+        let at = |slices: [u32; 4]| QuadAt {
+            u,
+            v,
+            face_offsets: slices.map(|k| self.layer_offset(k)),
+            offset: [0, 0],
+            bytes: false,
+        };
         match filter {
             Filter::Nearest => Slices::One(at(nearest_texels(r, depth, sampler.wrap_w))),
             Filter::Linear => {
