@@ -1062,7 +1062,7 @@ impl Texture {
             && footprint.filter == Filter::Linear
             && simd.level() == SimdLevel::Avx2
         {
-            let corners = bytes_corners(texels, footprint);
+            let corners = footprint_corners::<u32, _, 4>(texels, footprint);
             // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
             // every feature `avx2::filter_bytes` is compiled with (`SimdSupport::detect`).
             return unsafe { avx2::filter_bytes(&corners, &footprint.alpha, &footprint.beta) };
@@ -1072,25 +1072,30 @@ impl Texture {
     }
 }
 
-/// The packed texels of a byte footprint's four corners, `[corner][lane]` (one bounds check,
-/// see `filter_texels`).
+/// Each lane's texel at the footprint's first `C` corners, `[corner][lane]` (`C` 1 for a
+/// nearest footprint, 4 for a linear one), after one bounds check for all of them (the
+/// largest index of the four corners; a nearest footprint's four are its one texel), not one
+/// per texel read: 64 compares and branches a trilinear pair.
 #[inline(always)]
-fn bytes_corners<const N: usize>(texels: &[u32], footprint: &Footprint<N>) -> [[u32; N]; 4] {
+fn footprint_corners<T: Copy + Default, const N: usize, const C: usize>(
+    texels: &[T],
+    footprint: &Footprint<N>,
+) -> [[T; N]; C] {
     let largest = largest_texel(&footprint.texels);
     assert!(
         (largest as usize) < texels.len(),
         "texel {largest} of a footprint outside the texture's {} texels",
         texels.len()
     );
-    let load = |corner: usize| {
-        lanes::<u32, N>(|i| {
+    std::array::from_fn(|corner| {
+        lanes::<T, N>(|i| {
             let index = footprint.texels[corner][i] as usize;
-            // SAFETY: every index of the footprint is at most `largest`, which the assertion
-            // above holds below `texels.len()`.
+            // SAFETY: `index` is one of the footprint's texel indices (the indexing above
+            // panics for a corner past the fourth), all at most `largest`, which the
+            // assertion above holds below `texels.len()`.
             unsafe { *texels.get_unchecked(index) }
         })
-    };
-    [load(0), load(1), load(2), load(3)]
+    })
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -1238,36 +1243,17 @@ impl TexelWords for [u32; 2] {
 /// [`Texture::filter`] for texels held as `texels`.
 #[inline(always)]
 fn filter_texels<T: TexelWords, const N: usize>(texels: &[T], footprint: &Footprint<N>) -> [[u32; N]; 4] {
-    // One bounds check for the footprint's texels (the largest index of its four corners;
-    // a nearest footprint's four are its one texel), not one per texel read: 64 compares
-    // and branches a trilinear pair.
-    let largest = largest_texel(&footprint.texels);
-    assert!(
-        (largest as usize) < texels.len(),
-        "texel {largest} of a footprint outside the texture's {} texels",
-        texels.len()
-    );
-    // Each lane's texel at `corner`, loaded once (both words come from it).
-    let load = |corner: usize| {
-        lanes::<T, N>(|i| {
-            let index = footprint.texels[corner][i] as usize;
-            // SAFETY: `index` is one of the footprint's texel indices (the indexing above
-            // panics for a corner past the fourth), all at most `largest`, which the
-            // assertion above holds below `texels.len()`.
-            unsafe { *texels.get_unchecked(index) }
-        })
-    };
     // Word `w` of each lane's texel of `t`.
     let words = |t: &[T; N], w: usize| lanes::<u32, N>(|i| t[i].word(w));
     match footprint.filter {
         Filter::Nearest => {
-            let t0 = load(0);
+            let [t0] = footprint_corners::<T, N, 1>(texels, footprint);
             let t = [words(&t0, 0), words(&t0, 1)];
             let channel = |c: u32| lanes(|i| texel_channel(t[c as usize / 2][i], c));
             [channel(0), channel(1), channel(2), channel(3)]
         }
         Filter::Linear => {
-            let t = [load(0), load(1), load(2), load(3)];
+            let t = footprint_corners::<T, N, 4>(texels, footprint);
             let rg = [words(&t[0], 0), words(&t[1], 0), words(&t[2], 0), words(&t[3], 0)];
             let ba = [words(&t[0], 1), words(&t[1], 1), words(&t[2], 1), words(&t[3], 1)];
             let (alpha, beta) = (&footprint.alpha, &footprint.beta);
@@ -1287,7 +1273,7 @@ fn filter_texels<T: TexelWords, const N: usize>(texels: &[T], footprint: &Footpr
 /// exactly, `c · 257 >> 8 = c`).
 #[inline(always)]
 fn filter_bytes<const N: usize>(texels: &[u32], footprint: &Footprint<N>) -> [[u32; N]; 4] {
-    let t = bytes_corners(texels, footprint);
+    let t = footprint_corners::<u32, N, 4>(texels, footprint);
     let (alpha, beta) = (&footprint.alpha, &footprint.beta);
     [
         bilinear_byte_channel(&t, 0, alpha, beta),
