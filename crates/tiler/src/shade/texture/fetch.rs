@@ -39,7 +39,10 @@ impl Texture {
         }
         let index = self.layer_offset(z) as usize / TEXEL_BYTES as usize + l.texel_index(x, y);
         let texel = self.texels.decoded(index);
-        let value = std::array::from_fn(|c| unorm16_to_f32(texel_channel(texel[c / 2], c as u32)));
+        // A stored byte `c` reads `c · fl(1/255)`, as llvmpipe converts it (probe
+        // `tools/float-probe/fetch.frag`); other texels their 16-bit UNORM.
+        let bytes = self.holds_bytes();
+        let value = std::array::from_fn(|c| channel_to_f32(texel_channel(texel[c / 2], c as u32), bytes));
         Some((value, self.layer_texel_address(z, level as usize, x, y)))
     }
 
