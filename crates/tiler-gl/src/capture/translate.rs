@@ -1792,7 +1792,7 @@ impl Translator {
         // live contexts that both changed state would need each one's state kept apart.
         match self.last_current {
             Some(last) if last == generation => {}
-            Some(last) if self.generations.values().any(|&g| g == last) && self.touched.contains(&last) => {
+            Some(_) if self.switches_away_from_live_state(context) => {
                 return Err("switching away from a live context that has changed GL state is not supported \
                             (each context has its own GL state; the replay keeps one)"
                     .into());
