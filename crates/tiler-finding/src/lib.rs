@@ -56,6 +56,10 @@ pub struct CallAt {
     pub frame: u64,
     /// The command's index within its frame, from 0.
     pub call: u64,
+    /// The number of the captured call it came from, when the frame is a replayed capture
+    /// (apitrace numbers a capture's calls from 0, as `apitrace dump` prints them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub capture_call: Option<u64>,
 }
 
 /// Where a finding happened; any part may be unknown.
@@ -257,7 +261,7 @@ mod tests {
 
         let mut full = finding();
         full.rule.text = "clear at the start".into();
-        full.location.call_at = Some(CallAt { frame: 0, call: 12 });
+        full.location.call_at = Some(CallAt { frame: 0, call: 12, capture_call: Some(5780) });
         full.cost_stall_frames = Some(2);
         let json = serde_json::to_value(&full).unwrap();
         assert_eq!(json["rule"]["text"], "clear at the start");

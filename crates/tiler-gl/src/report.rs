@@ -1,7 +1,8 @@
 //! What a context did: frames → render passes → attachments, draws and cost, plus what the
-//! driver did outside passes (copy-on-write, display, stalls). These records are the `--report`
-//! JSON of `tiler analyze`; every field name is stable (documented in
-//! `docs/report-format.md`), new fields may be added.
+//! driver did outside passes (copy-on-write, display, stalls). These records are the
+//! JSON of `tiler analyze --gl-report`; every field name is stable (documented on the types
+//! here), new fields may be added. A place is a [`CallRef`]: frame and index in the frame, and
+//! for a replayed capture its call number too.
 
 use serde::{Serialize, Serializer};
 use tiler::FrameDataReport;
@@ -11,23 +12,77 @@ use crate::advisor::Finding;
 use crate::call::{ProgramKind, TextureFormat};
 use crate::context::ContextConfig;
 
-/// Where a call is: its frame (frames end at `swap_buffers`) and its index in that frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+/// Where a call is: its frame (frames end at `swap_buffers`) and its index in that frame;
+/// for a replayed capture, also the number of the capture's call it came from (one capture
+/// call may become several context calls, or none).
+///
+/// The capture's call number is a note on the place, not part of it: two `CallRef`s are equal
+/// (and ordered, and hashed) by frame and index alone, so a JSON trace recorded from a capture
+/// names the same places as the capture did.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
 pub struct CallRef {
     pub frame: u32,
     pub call: u32,
+    /// The capture's call number (as `apitrace dump` prints it), when replaying a capture.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub capture_call: Option<u64>,
+}
+
+impl CallRef {
+    /// The call at `call` in `frame`, of no capture.
+    pub const fn new(frame: u32, call: u32) -> CallRef {
+        CallRef { frame, call, capture_call: None }
+    }
+
+    fn key(self) -> (u32, u32) {
+        (self.frame, self.call)
+    }
+
+    /// `call 12`, with the capture's call number when known: `call 12 (capture call 5780)`.
+    pub fn in_frame(self) -> String {
+        match self.capture_call {
+            Some(n) => format!("call {} (capture call {n})", self.call),
+            None => format!("call {}", self.call),
+        }
+    }
+}
+
+impl PartialEq for CallRef {
+    fn eq(&self, other: &CallRef) -> bool {
+        self.key() == other.key()
+    }
+}
+
+impl Eq for CallRef {}
+
+impl std::hash::Hash for CallRef {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.key().hash(state);
+    }
+}
+
+impl PartialOrd for CallRef {
+    fn partial_cmp(&self, other: &CallRef) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for CallRef {
+    fn cmp(&self, other: &CallRef) -> std::cmp::Ordering {
+        self.key().cmp(&other.key())
+    }
 }
 
 impl From<tiler_finding::CallAt> for CallRef {
     /// A call a finding names; its numbers came from a `CallRef`.
     fn from(c: tiler_finding::CallAt) -> CallRef {
-        CallRef { frame: c.frame as u32, call: c.call as u32 }
+        CallRef { frame: c.frame as u32, call: c.call as u32, capture_call: c.capture_call }
     }
 }
 
 impl std::fmt::Display for CallRef {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "frame {}, call {}", self.frame, self.call)
+        write!(f, "frame {}, {}", self.frame, self.in_frame())
     }
 }
 
@@ -619,5 +674,17 @@ mod tests {
         let picture = [10u8, 20, 30, 255];
         assert_ne!(picture_digest(1, 1, &picture), picture_digest(1, 1, &[10, 20, 31, 255]));
         assert_ne!(picture_digest(1, 2, &[0; 8]), picture_digest(2, 1, &[0; 8]), "the size counts");
+    }
+
+    #[test]
+    fn a_capture_call_number_is_a_note_not_part_of_the_place() {
+        let from_capture = CallRef { frame: 2, call: 7, capture_call: Some(5780) };
+        let from_json = CallRef::new(2, 7);
+        assert_eq!(from_capture, from_json);
+        assert!(from_json < CallRef::new(2, 8) && CallRef::new(1, 9) < from_capture);
+        assert_eq!(from_capture.to_string(), "frame 2, call 7 (capture call 5780)");
+        assert_eq!(from_json.to_string(), "frame 2, call 7");
+        let at = tiler_finding::CallAt::from(from_capture);
+        assert_eq!(CallRef::from(at).capture_call, Some(5780));
     }
 }

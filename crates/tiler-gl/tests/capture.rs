@@ -134,6 +134,103 @@ fn a_new_context_restarts_names_and_state_and_frames_come_out_in_order() {
 }
 
 #[test]
+fn the_report_names_the_capture_call_beside_its_own_numbers() {
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, 8, 4);
+    w.call(
+        "glClearColor",
+        &[("red", W::Float(1.0)), ("green", W::Float(0.0)), ("blue", W::Float(0.0)), ("alpha", W::Float(1.0))],
+        None,
+        false,
+    );
+    let cleared = w.call("glClear", &[("mask", W::UInt(0x4100))], None, false);
+    let swapped = swap(&mut w);
+
+    let (result, _) = replay(&w);
+    let report = result.unwrap().report;
+    let pass = report.frames[0].passes.last().expect("the window's pass");
+    // Numbered in the frame as in a JSON trace, and by the capture's own call numbers.
+    assert_eq!(pass.ended_at.capture_call, Some(swapped));
+    let text = tiler_gl::text_report(&report);
+    assert!(text.contains(&format!("(capture call {cleared}) before any draw")), "{text}");
+    assert!(text.contains(&format!("swap at frame 0, call {} (capture call {swapped})", pass.ended_at.call)), "{text}");
+    // The next frame's pass starts at its first call.
+    let mut w2 = w;
+    let first = w2.call("glClear", &[("mask", W::UInt(0x4100))], None, false);
+    swap(&mut w2);
+    let report = replay(&w2).0.unwrap().report;
+    assert_eq!(report.frames[1].passes[0].started_at.capture_call, Some(first));
+}
+
+/// A desktop OpenGL context as Qt Quick makes one over EGL: bound to `EGL_OPENGL_API`, with a
+/// pbuffer beside the window that it makes current to make objects, a proxy texture query,
+/// mip levels allocated without texels, and `glClearDepth`'s double.
+fn desktop_context(w: &mut Writer) {
+    w.call("eglBindAPI", &[("api", e("EGL_OPENGL_API", 0x30a2))], Some(W::Bool(true)), false);
+    window_surface(w);
+    begin_context(w, 100, 8, 4);
+    let attribs = W::Array(vec![W::UInt(0x3057), W::UInt(2), W::UInt(0x3056), W::UInt(2), W::UInt(0x3038)]);
+    w.call(
+        "eglCreatePbufferSurface",
+        &[("dpy", W::Pointer(1)), ("config", W::Pointer(2)), ("attrib_list", attribs)],
+        Some(W::Pointer(4)),
+        false,
+    );
+    let current = |w: &mut Writer, surface: u64| {
+        let args = [
+            ("dpy", W::Pointer(1)),
+            ("draw", W::Pointer(surface)),
+            ("read", W::Pointer(surface)),
+            ("ctx", W::Pointer(100)),
+        ];
+        w.call("eglMakeCurrent", &args, Some(W::Bool(true)), false)
+    };
+    current(w, 4);
+    texture_rgb(w, 1, 4, 4, vec![0; 48]);
+    let image = |w: &mut Writer, target: (&'static str, u32), level: u64, size: u64, format: (&'static str, u32)| {
+        let args = [
+            ("target", e(target.0, target.1)),
+            ("level", W::UInt(level)),
+            ("internalformat", e("GL_RGBA", 0x1908)),
+            ("width", W::UInt(size)),
+            ("height", W::UInt(size)),
+            ("border", W::UInt(0)),
+            ("format", e(format.0, format.1)),
+            ("type", e("GL_UNSIGNED_BYTE", 0x1401)),
+            ("pixels", W::Null),
+        ];
+        w.call("glTexImage2D", &args, None, false)
+    };
+    image(w, ("GL_PROXY_TEXTURE_2D", 0x8064), 0, 1 << 14, ("GL_RGBA", 0x1908));
+    image(w, ("GL_TEXTURE_2D", 0x0de1), 0, 4, ("GL_BGRA", 0x80e1));
+    image(w, ("GL_TEXTURE_2D", 0x0de1), 1, 2, ("GL_RGBA", 0x1908));
+    current(w, 3);
+}
+
+#[test]
+fn a_desktop_context_drawing_with_the_calls_gles_has_replays() {
+    let mut w = Writer::new(6);
+    desktop_context(&mut w);
+    w.call("glClearDepth", &[("depth", W::Double(0.5))], None, false);
+    clear(&mut w, [0.0, 0.0, 1.0, 1.0]);
+    let swapped = swap(&mut w);
+    let (result, frames) = replay(&w);
+    let replayed = result.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(replayed.swaps, [swapped]);
+    assert_eq!(frames[0].4, solid(8, 4, [0, 0, 255, 255]));
+
+    // Drawing while the pbuffer is current is refused, naming the call.
+    let mut w = Writer::new(6);
+    desktop_context(&mut w);
+    let args = [("dpy", W::Pointer(1)), ("draw", W::Pointer(4)), ("read", W::Pointer(4)), ("ctx", W::Pointer(100))];
+    w.call("eglMakeCurrent", &args, Some(W::Bool(true)), false);
+    let cleared = w.call("glClear", &[("mask", W::UInt(0x4000))], None, false);
+    let e = replay(&w).0.err().expect("a clear of the pbuffer fails").to_string();
+    assert!(e.contains(&format!("call {cleared}")) && e.contains("pbuffer"), "{e}");
+}
+
+#[test]
 fn rgb_texels_reach_the_window_upright_through_a_blit() {
     // A 2×2 RGB texture (rows bottom first, aligned to 4 bytes), attached to a framebuffer
     // and blitted onto the 2×2 window.

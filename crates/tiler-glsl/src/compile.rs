@@ -102,7 +102,7 @@ pub fn compile(stage: Stage, source: &str) -> Result<StageCode, Error> {
             let message = if crate::guard::was_cut() {
                 format!("the preprocessed source is longer than {} tokens", crate::guard::MAX_TOKENS)
             } else {
-                e.inner().to_string()
+                e.inner().to_string().replace(NO_EXTENSION, "")
             };
             Error::Compile { stage, line: lines.line(offset), message }
         })?;
@@ -114,6 +114,15 @@ pub fn compile(stage: Stage, source: &str) -> Result<StageCode, Error> {
 /// The shadow-sampler extension of GLSL ES 1.00 (`shadow2DEXT`, `shadow2DProjEXT`).
 const SHADOW_SAMPLERS: &str = "GL_EXT_shadow_samplers";
 
+/// The extensions whose macros glsl-lang's preprocessor predefines that the compiler has
+/// (besides [`SHADOW_SAMPLERS`], which it predefines itself): `dFdx`, `dFdy`, `fwidth`, and
+/// `sampler3D` with `texture3D`.
+const EXTENSIONS: [&str; 2] = ["GL_OES_standard_derivatives", "GL_OES_texture_3D"];
+
+/// The prefix a name of an extension the compiler does not have is given in the source, so
+/// that no macro of it is defined (`TILER_NO_GL_KHR_blend_equation_advanced`).
+const NO_EXTENSION: &str = "TILER_NO_";
+
 /// The macros an ES compiler predefines, as `#define`s after any `#version` line. The
 /// preprocessor refuses to define names starting `GL_`, so they are renamed in the source
 /// (whole words) to `TILER_…`. Returns the text and the byte offset of the inserted line.
@@ -121,26 +130,53 @@ const SHADOW_SAMPLERS: &str = "GL_EXT_shadow_samplers";
 /// glsl-lang's preprocessor does not know `GL_EXT_shadow_samplers` (whose `shadow2DEXT` the
 /// compiler has) and refuses `#extension` lines that require it, so those lines are emptied
 /// (line numbers stay) and the extension's macro is defined with the others.
+///
+/// It also predefines a macro for each of the 96 extensions it knows, which would send a
+/// shader's `#ifdef GL_KHR_blend_equation_advanced` (Qt Quick's) down a path the compiler
+/// cannot take: the names of those the compiler does not have ([`EXTENSIONS`]) are renamed
+/// out of their way ([`NO_EXTENSION`]), so their macros are undefined, as a driver without
+/// them leaves them. An `#extension` line that enables, warns of or disables an extension the
+/// compiler does not have is emptied: GLSL ES 1.00 §3.4 asks only for a warning there, and
+/// the extension then changes nothing; `require` stays, and fails naming it.
 fn with_gl_es_define(source: &str) -> (String, usize) {
+    let known = |name: &str| name == SHADOW_SAMPLERS || EXTENSIONS.contains(&name);
     let source: String = source
         .split_inclusive('\n')
         .map(|line| {
             let t = line.trim_start();
-            if t.starts_with('#') && t[1..].trim_start().starts_with("extension") && t.contains(SHADOW_SAMPLERS) {
-                if line.ends_with('\n') { "\n" } else { "" }
-            } else {
-                line
+            let directive = t.strip_prefix('#').map(str::trim_start);
+            let extension = directive.and_then(|d| d.strip_prefix("extension")).and_then(|rest| {
+                let (name, behavior) = rest.split_once(':')?;
+                Some((name.trim(), behavior.trim()))
+            });
+            match extension {
+                Some((name, _)) if name == SHADOW_SAMPLERS => {
+                    if line.ends_with('\n') {
+                        "\n"
+                    } else {
+                        ""
+                    }
+                }
+                Some((name, behavior)) if !known(name) && name != "all" && !behavior.starts_with("require") => {
+                    if line.ends_with('\n') { "\n" } else { "" }
+                }
+                _ => line,
             }
         })
         .collect();
-    let source = &rename_words(
-        &source,
-        &[
-            ("GL_ES", "TILER_GL_ES"),
-            ("GL_FRAGMENT_PRECISION_HIGH", "TILER_GL_FRAGMENT_PRECISION_HIGH"),
-            (SHADOW_SAMPLERS, "TILER_GL_EXT_shadow_samplers"),
-        ],
-    );
+    let mut renames: Vec<(&str, String)> = vec![
+        ("GL_ES", "TILER_GL_ES".into()),
+        ("GL_FRAGMENT_PRECISION_HIGH", "TILER_GL_FRAGMENT_PRECISION_HIGH".into()),
+        (SHADOW_SAMPLERS, "TILER_GL_EXT_shadow_samplers".into()),
+    ];
+    for spec in glsl_lang_pp::exts::DEFAULT_REGISTRY.all() {
+        let name: &str = spec.name().as_ref();
+        if !known(name) && source.contains(name) {
+            renames.push((name, format!("{NO_EXTENSION}{name}")));
+        }
+    }
+    let renames: Vec<(&str, &str)> = renames.iter().map(|(from, to)| (*from, to.as_str())).collect();
+    let source = &rename_words(&source, &renames);
     let mut at = 0;
     for line in source.split_inclusive('\n') {
         let t = line.trim();

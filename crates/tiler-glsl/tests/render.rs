@@ -1266,6 +1266,38 @@ fn shadow_lookups_pass_the_reference_depth() {
     }
 }
 
+#[test]
+fn only_the_extensions_the_compiler_has_are_defined() {
+    // Qt Quick's fragment shaders on desktop GL start so: glsl-lang's preprocessor predefines a
+    // macro for every extension it knows, which would take the branch and fail on the first.
+    let guarded = "#ifdef GL_KHR_blend_equation_advanced\n#extension GL_ARB_fragment_coord_conventions : enable\n\
+                   #extension GL_KHR_blend_equation_advanced : enable\n#endif\n";
+    let fs = |body: &str| format!("{guarded}precision highp float;\nvarying vec2 uv;\nvoid main() {{\n{body}\n}}");
+    let program = glsl(PASS_VS, &fs("gl_FragColor = vec4(uv, 0.0, 1.0);"));
+    let (image, _) = render(&glsl_pipeline(&program, &program.new_uniform_values(), &[]));
+    assert_eq!(image[3], 255, "the shader ran");
+    // Defined: those it has; not defined: those it has not.
+    let flag = |name: &str| {
+        let body = format!("#ifdef {name}\ngl_FragColor = vec4(1.0);\n#else\ngl_FragColor = vec4(0.0);\n#endif");
+        let program = glsl(PASS_VS, &fs(&body));
+        let (image, _) = render(&glsl_pipeline(&program, &program.new_uniform_values(), &[]));
+        image[0] == 255
+    };
+    assert!(flag("GL_OES_standard_derivatives") && flag("GL_OES_texture_3D") && flag("GL_EXT_shadow_samplers"));
+    assert!(
+        !flag("GL_KHR_blend_equation_advanced") && !flag("GL_OES_EGL_image_external") && !flag("GL_EXT_frag_depth")
+    );
+    // Enabling one it has not is a warning in GLSL ES (§3.4), so nothing; requiring it fails,
+    // naming it as the shader does.
+    let required = format!("#extension GL_OES_EGL_image_external : require\n{}", fs(""));
+    let Err(e) = CompiledProgram::new(PASS_VS, &required, &[]) else {
+        panic!("requiring a missing extension compiled")
+    };
+    let e = e.to_string();
+    assert!(e.contains("GL_OES_EGL_image_external") && !e.contains("TILER_"), "{e}");
+    glsl(PASS_VS, &format!("#extension GL_OES_EGL_image_external : enable\n{}", fs("gl_FragColor = vec4(1.0);")));
+}
+
 /// Runs a vertex shader on a batch of vertices (attribute 0 of each; the lanes diverge)
 /// and returns each vertex's first four varyings.
 fn run_vertex_batch(vs: &str, fs: &str, attributes: &[[f32; 4]]) -> Vec<[f32; 4]> {

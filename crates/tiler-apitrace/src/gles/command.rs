@@ -570,7 +570,7 @@ pub enum Command {
     DepthMask {
         write: bool,
     },
-    /// `glDepthRangef`.
+    /// `glDepthRangef` (desktop GL: `glDepthRange`).
     DepthRange {
         near: f32,
         far: f32,
@@ -641,7 +641,7 @@ pub enum Command {
     ClearColor {
         color: [f32; 4],
     },
-    /// `glClearDepthf`.
+    /// `glClearDepthf` (desktop GL: `glClearDepth`).
     ClearDepth {
         depth: f32,
     },

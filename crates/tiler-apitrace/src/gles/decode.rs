@@ -585,7 +585,9 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
         "glScissor" => C::Scissor { x: a.i32(0)?, y: a.i32(1)?, width: a.i32(2)?, height: a.i32(3)? },
         "glDepthFunc" => C::DepthFunc { func: a.enumeration(0)? },
         "glDepthMask" => C::DepthMask { write: a.bool(0)? },
-        "glDepthRangef" => C::DepthRange { near: a.f32(0)?, far: a.f32(1)? },
+        // Desktop OpenGL's double forms, the same state (a desktop context drawing with the
+        // calls GLES has, as Qt Quick's does).
+        "glDepthRangef" | "glDepthRange" => C::DepthRange { near: a.f32(0)?, far: a.f32(1)? },
         "glCullFace" => C::CullFace { mode: a.enumeration(0)? },
         "glFrontFace" => C::FrontFace { mode: a.enumeration(0)? },
         "glColorMask" => C::ColorMask { mask: [a.bool(0)?, a.bool(1)?, a.bool(2)?, a.bool(3)?] },
@@ -633,7 +635,7 @@ fn decode_stateless(name: &str, a: &mut Args) -> Result<Option<Command>> {
         // Clears, flushes, queries.
         "glClear" => C::Clear { mask: a.u32(0)? },
         "glClearColor" => C::ClearColor { color: [a.f32(0)?, a.f32(1)?, a.f32(2)?, a.f32(3)?] },
-        "glClearDepthf" => C::ClearDepth { depth: a.f32(0)? },
+        "glClearDepthf" | "glClearDepth" => C::ClearDepth { depth: a.f32(0)? },
         "glClearStencil" => C::ClearStencil { stencil: a.i32(0)? },
         "glClearBufferfv" => C::ClearBuffer {
             buffer: a.enumeration(0)?,

@@ -158,7 +158,7 @@ impl Draft {
             location: Location {
                 frame: Some(frame as u64),
                 pass: self.pass.map(u64::from),
-                call: self.call.map(|c| if c.frame == frame { format!("call {}", c.call) } else { c.to_string() }),
+                call: self.call.map(|c| if c.frame == frame { c.in_frame() } else { c.to_string() }),
                 call_at: self.call.map(CallAt::from),
             },
             cost_bytes: nonzero(self.cost.bytes),
@@ -349,7 +349,7 @@ fn slots(list: &[crate::report::Slot]) -> String {
 
 impl From<CallRef> for CallAt {
     fn from(c: CallRef) -> CallAt {
-        CallAt { frame: c.frame as u64, call: c.call as u64 }
+        CallAt { frame: c.frame as u64, call: c.call as u64, capture_call: c.capture_call }
     }
 }
 

@@ -146,7 +146,7 @@ fn record(
         .map(|(i, (draw, stats))| {
             let p = draw.pipeline.desc();
             DrawRecord {
-                call: crate::report::CallRef { frame: 0, call: i as u32 },
+                call: crate::report::CallRef::new(0, i as u32),
                 kind: DrawKind::Draw,
                 program: None,
                 clip_rect: full,

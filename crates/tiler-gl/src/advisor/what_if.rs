@@ -219,7 +219,7 @@ impl Fixer {
                 // it created (the objects the moved calls use, in a frame that sets up).
                 let first_work = (earlier.started_at.call..from.call)
                     .find(|&i| self.frames[from.frame as usize].get(i as usize).is_some_and(changes_framebuffer));
-                let to_first = CallRef { frame: from.frame, call: first_work.unwrap_or(earlier.started_at.call) };
+                let to_first = CallRef::new(from.frame, first_work.unwrap_or(earlier.started_at.call));
                 // The other framebuffers' work moves with what the first pass's binding set up
                 // for it after its last drawing (the program and uniforms of a shadow-map pass,
                 // set while the window was still bound), and each part runs in the GL state it
@@ -229,7 +229,7 @@ impl Fixer {
                     .rev()
                     .find(|&i| self.frames[frame].get(i).is_some_and(changes_framebuffer))
                     .map_or(to_first.call as usize, |i| i + 1);
-                let tail = CallRef { frame: from.frame, call: drawn as u32 };
+                let tail = CallRef::new(from.frame, drawn as u32);
                 let [first, moved, after] = self.states_at([to_first, tail, to])?;
                 let range = drawn..to.call as usize;
                 let mut calls = vec![Call::RestoreState { state: moved }];
@@ -563,7 +563,7 @@ impl Fixer {
         let mut found: [Option<SavedState>; N] = std::array::from_fn(|_| None);
         'frames: for (f, calls) in self.frames.iter().enumerate() {
             for (c, call) in calls.iter().enumerate().chain(std::iter::once((calls.len(), &Call::Finish))) {
-                let here = CallRef { frame: f as u32, call: c as u32 };
+                let here = CallRef::new(f as u32, c as u32);
                 for (slot, point) in found.iter_mut().zip(&at) {
                     if *point == here {
                         *slot = Some(gl.saved_state());

@@ -55,7 +55,12 @@ impl Upload {
             return Ok(upload);
         }
         let sized = sized_internal_format(internal_format);
-        let internal_ok = internal_format == format || sized.is_some_and(|(base, _)| base == format);
+        // BGRA bytes into an RGBA texture: APPLE_texture_format_BGRA8888, and desktop OpenGL
+        // (Qt Quick's canvas uploads so).
+        let base = if format == GL_BGRA_EXT { GL_RGBA } else { format };
+        let internal_ok = internal_format == format
+            || internal_format == base
+            || sized.is_some_and(|(sized_base, _)| sized_base == format || sized_base == base);
         if !internal_ok {
             return Err(format!(
                 "internal format {internal_format:#06x} with format {format:#06x} is not a combination the replay \
@@ -381,6 +386,17 @@ mod tests {
         assert!(Upload::new(0x8058, GL_RGB, GL_UNSIGNED_BYTE).is_err());
         assert!(Upload::new(0x8d62, GL_RGB, GL_UNSIGNED_BYTE).unwrap_err().contains("RGB565"));
         assert_eq!(Upload::new(0x8d62, GL_RGB, GL_UNSIGNED_SHORT_5_6_5).unwrap().format, TextureFormat::Rgb565);
+    }
+
+    #[test]
+    fn bgra_bytes_fill_rgba_textures() {
+        // EXT_texture_format_BGRA8888's BGRA into BGRA, APPLE's and desktop GL's into RGBA(8).
+        for internal in [GL_BGRA_EXT, GL_RGBA, 0x8058] {
+            let up = Upload::new(internal, GL_BGRA_EXT, GL_UNSIGNED_BYTE).unwrap();
+            assert_eq!(up.format, TextureFormat::Rgba8);
+            assert_eq!(up.convert(&[1, 2, 3, 4], 1, 1, 4).unwrap(), [3, 2, 1, 4]);
+        }
+        assert!(Upload::new(GL_RGB, GL_BGRA_EXT, GL_UNSIGNED_BYTE).is_err());
     }
 
     #[test]

@@ -396,6 +396,11 @@ pub struct Translator {
     last_current: Option<u32>,
     next_generation: u32,
     window_surface: Option<EglHandle>,
+    /// Pbuffer surfaces made beside the window: a context may be current on one to make or
+    /// query objects (Qt makes its offscreen surface current so), but not draw into it.
+    other_surfaces: HashSet<EglHandle>,
+    /// The current draw surface is one of `other_surfaces`.
+    on_other_surface: bool,
     bindings: Bindings,
     next_id: u32,
     /// The scratch index buffer for client-side indices.
@@ -427,6 +432,8 @@ impl Translator {
             last_current: None,
             next_generation: 1,
             window_surface: None,
+            other_surfaces: HashSet::new(),
+            on_other_surface: false,
             bindings: Bindings::default(),
             next_id: 1,
             scratch_indices: None,
@@ -530,7 +537,10 @@ impl Translator {
         if let Some(generation) = self.current.filter(|_| !self.fake && !shared_only) {
             self.touched.insert(generation);
         }
-        self.ctx()?.call(call).map_err(|e| e.message)
+        let call_number = self.call;
+        let ctx = self.ctx()?;
+        ctx.set_capture_call(call_number);
+        ctx.call(call).map_err(|e| e.message)
     }
 
     pub(super) fn fresh_id(&mut self) -> u32 {
@@ -576,6 +586,11 @@ impl Translator {
         let uses_window = (writes_colour && self.bindings.draw_framebuffer == 0)
             || (reads_colour && self.bindings.read_framebuffer == 0)
             || matches!(command, C::SwapBuffers { .. });
+        if uses_window && self.on_other_surface {
+            return Err("drawing into or reading a pbuffer surface beside the window is not supported (tiler \
+                        models one default framebuffer, the window's)"
+                .into());
+        }
         if uses_window && self.window.is_none() {
             return Err("the window's size is not known yet (no surface or glViewport before this call; give the \
                         replay a window size)"
@@ -648,7 +663,9 @@ impl Translator {
                 // A program without a window (headless, `EGL_PLATFORM_SURFACELESS_MESA`) draws
                 // into a pbuffer: it is the default framebuffer, sized by its attributes.
                 if self.window_surface.is_some_and(|s| s != *surface) {
-                    return Err("a second surface (window or pbuffer) is not supported".into());
+                    // Beside the window: current only to make or query objects.
+                    self.other_surfaces.insert(*surface);
+                    return Ok(());
                 }
                 const EGL_HEIGHT: i64 = 0x3056;
                 const EGL_WIDTH: i64 = 0x3057;
@@ -665,7 +682,9 @@ impl Translator {
                 self.window_grows = false;
                 self.window_surface = Some(*surface);
             }
-            C::DestroySurface { .. } => {}
+            C::DestroySurface { surface, .. } => {
+                self.other_surfaces.remove(surface);
+            }
             C::SurfaceAttrib { attribute, value, .. } => {
                 const EGL_SWAP_BEHAVIOR: i64 = 0x3093;
                 let behavior = match (*attribute, *value) {
@@ -965,6 +984,9 @@ impl Translator {
                 self.bindings.textures[unit] = *texture;
                 self.emit(Call::BindTexture { unit: unit as u32, texture: id })?;
             }
+            // Desktop GL's proxy target asks whether a texture could be made, and makes none
+            // (Qt's glyph cache asks so before its first atlas).
+            C::TexImage2D { target: GL_PROXY_TEXTURE_2D, .. } => {}
             C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels }
                 if encoded::packed_format(*format, *kind).is_some() =>
             {
@@ -1034,8 +1056,22 @@ impl Translator {
                 let id = self
                     .texture_id(name)?
                     .ok_or_else(|| format!("mip level {level} of texture {name} before its level 0"))?;
-                let data = self.texels(&upload, pixels, width, height)?.ok_or("the texels were not recorded")?;
-                let data = self.swizzled(name, upload.format, data)?;
+                // No texels (NULL): the level's contents are undefined until drawn into or
+                // generated (Qt allocates a layer's levels so); zeros here.
+                let data = match self.texels(&upload, pixels, width, height)? {
+                    Some(data) => self.swizzled(name, upload.format, data)?,
+                    None => {
+                        // Sized as level 0 allows (the context checks it; this bounds the zeros).
+                        let (w0, h0) = self.ctx()?.texture_size(id).unwrap_or((0, 0));
+                        if width > w0 || height > h0 {
+                            return Err(format!(
+                                "mip level {level} of texture {name} is {width}×{height}, larger than its level 0 \
+                                 ({w0}×{h0})"
+                            ));
+                        }
+                        Bytes::from(vec![0; width as usize * height as usize * 4])
+                    }
+                };
                 self.emit(Call::TexImageLevel { id, level: *level as u32, width, height, data })?;
             }
             C::TexImage2D { target, level, internal_format, width, height, border, format, kind, pixels } => {
@@ -1778,12 +1814,14 @@ impl Translator {
     fn make_current(&mut self, draw: EglHandle, context: EglHandle) -> Fallible {
         if context == 0 {
             self.current = None;
+            self.on_other_surface = false;
             return Ok(());
         }
         let generation = *self.generations.get(&context).ok_or("makes current a context never created")?;
         // No surface (EGL_KHR_surfaceless_context: a context current only to make or query
         // objects, as toolkits' share contexts are) or the window.
-        if draw != 0 && self.window_surface.is_some_and(|s| s != draw) {
+        self.on_other_surface = self.other_surfaces.contains(&draw);
+        if draw != 0 && !self.on_other_surface && self.window_surface.is_some_and(|s| s != draw) {
             return Err("drawing to a surface other than the window is not supported".into());
         }
         // The context's GL state is the state of the context last current (`last_current`).
@@ -2407,6 +2445,9 @@ fn size2(a: i32, b: i32) -> Fallible<(u32, u32)> {
         _ => Err(format!("{a}, {b}: negative sizes or offsets are GL errors")),
     }
 }
+
+/// `GL_PROXY_TEXTURE_2D` (desktop OpenGL).
+const GL_PROXY_TEXTURE_2D: GlEnum = 0x8064;
 
 fn check_2d_level0(target: GlEnum, level: i32) -> Fallible {
     if target != GL_TEXTURE_2D {

@@ -172,7 +172,7 @@ impl Context {
         done.calls = self.here.call + u32::from(done.swapped);
         done.total();
         self.frames.push(done);
-        self.here = crate::report::CallRef { frame: self.here.frame + 1, call: 0 };
+        self.here = crate::report::CallRef::new(self.here.frame + 1, 0);
     }
 
     /// Renders whatever is pending and closes the current frame (when it did anything): the

@@ -669,6 +669,12 @@ impl Context {
         self.textures.get(&texture).map(|t| t.image)
     }
 
+    /// The width and height of a 2-D texture's level 0.
+    pub fn texture_size(&self, texture: u32) -> Option<(u32, u32)> {
+        let t = self.textures.get(&texture)?;
+        self.images.get(&t.image).map(|image| (image.desc.width, image.desc.height))
+    }
+
     /// Frames finished so far (each ended by a swap).
     pub fn frames(&self) -> &[FrameRecord] {
         &self.frames
@@ -701,6 +707,17 @@ impl Context {
         let here = self.here;
         self.end_run().map_err(|message| Error { frame: here.frame, call: here.call, name: "end", message })?;
         Ok(Report::new(self.config.clone(), std::mem::take(&mut self.frames)))
+    }
+
+    /// Notes that the calls from here on come from call `call` of a capture (until the next
+    /// note), so the report names the capture's call beside its own numbers (see
+    /// [`CallRef::capture_call`]).
+    pub fn set_capture_call(&mut self, call: u64) {
+        self.here.capture_call = Some(call);
+        // A pass of the new frame starts at its first call, which is this one.
+        if self.next_start.1 == self.here {
+            self.next_start.1.capture_call = Some(call);
+        }
     }
 
     /// Executes one call.
