@@ -13,6 +13,8 @@ pub(crate) const GL_RG: u32 = 0x8227;
 /// `EXT_texture_format_BGRA8888` (and `APPLE_texture_format_BGRA8888`): bytes in blue,
 /// green, red, alpha order, what compositors and video players upload from their buffers.
 pub(crate) const GL_BGRA_EXT: u32 = 0x80e1;
+/// Desktop OpenGL's packed type of four bytes in a 32-bit word, first component lowest.
+const GL_UNSIGNED_INT_8_8_8_8_REV: u32 = 0x8367;
 pub(crate) const GL_DEPTH_COMPONENT: u32 = 0x1902;
 pub(crate) const GL_DEPTH_STENCIL: u32 = 0x84f9;
 pub(crate) const GL_UNSIGNED_BYTE: u32 = 0x1401;
@@ -48,6 +50,13 @@ pub(crate) struct Upload {
 impl Upload {
     /// The storage of a `glTexImage2D` with this internal format, format and type.
     pub fn new(internal_format: u32, format: u32, kind: u32) -> Result<Upload, String> {
+        // Desktop GL's `UNSIGNED_INT_8_8_8_8_REV` puts the first component in the lowest byte
+        // of a 32-bit word: on the little-endian machines captures come from, the bytes of
+        // `UNSIGNED_BYTE` (Qt uploads images as BGRA so).
+        let kind = match (format, kind) {
+            (GL_RGBA | GL_BGRA_EXT, GL_UNSIGNED_INT_8_8_8_8_REV) => GL_UNSIGNED_BYTE,
+            _ => kind,
+        };
         // GLES 2.0: the internal format is the format. GL ES 3.0 also takes a sized internal
         // format of the format's base (its table 3.2, `RGBA8` for `RGBA`, `DEPTH_COMPONENT24`
         // for `DEPTH_COMPONENT`, …); the sized ones the replay stores are listed in `sized`.
@@ -397,6 +406,8 @@ mod tests {
             assert_eq!(up.convert(&[1, 2, 3, 4], 1, 1, 4).unwrap(), [3, 2, 1, 4]);
         }
         assert!(Upload::new(GL_RGB, GL_BGRA_EXT, GL_UNSIGNED_BYTE).is_err());
+        let up = Upload::new(GL_RGBA, GL_BGRA_EXT, GL_UNSIGNED_INT_8_8_8_8_REV).unwrap();
+        assert_eq!(up.convert(&[1, 2, 3, 4], 1, 1, 4).unwrap(), [3, 2, 1, 4]);
     }
 
     #[test]
