@@ -315,7 +315,7 @@ fn findings(html: &mut String, document: &Document) {
     sorted.sort_by_key(|f| std::cmp::Reverse(f.severity));
     for finding in sorted {
         let severity = finding.severity.name();
-        let mut meta = vec![format!("rule: seed {} §{}", escape(&finding.rule.seed), escape(&finding.rule.section))];
+        let mut meta = vec![rule_citation(&finding.rule)];
         let location = finding.location.describe();
         if !location.is_empty() {
             meta.push(format!("at {}", escape(&location)));
@@ -1109,4 +1109,14 @@ fn formulas(html: &mut String, document: &Document) {
         let _ = write!(html, "<tr>{head}<td>{}</td></tr>", with_code(&info.formula));
     }
     html.push_str("</tbody></table></section>\n");
+}
+
+/// `rule: seed 000 §23.6`, or the section alone when it is a whole citation already (the GL
+/// advisor's name their seeds: `000 §23.3; 001 "How to optimize render passes"`).
+fn rule_citation(rule: &crate::Rule) -> String {
+    if rule.section.contains('§') || rule.section.contains('"') {
+        format!("rule: {}", escape(&rule.section))
+    } else {
+        format!("rule: seed {} §{}", escape(&rule.seed), escape(&rule.section))
+    }
 }

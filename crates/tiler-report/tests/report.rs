@@ -280,6 +280,12 @@ fn the_html_is_self_contained() {
     for text in ["load-then-overwrite", "seed 003 §23.3", "pass 0", "glClear #1", "Advice:"] {
         assert!(html.contains(text), "the finding's '{text}'");
     }
+    // A section that is a whole citation (the GL advisor's) is not prefixed again.
+    let mut cited = finding();
+    cited.rule.section = "000 §23.6; 001 \"Render pass steps to avoid\"".into();
+    report.findings = vec![cited];
+    let html = tiler_report::to_html(&report);
+    assert!(html.contains("rule: 000 §23.6") && !html.contains("§000"), "the citation as given");
     // Every formula is quoted.
     assert!(html.contains("vertices shaded × Σ attribute sizes"));
 }
