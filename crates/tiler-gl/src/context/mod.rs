@@ -10,6 +10,7 @@
 //! The context owns its [`Device`]; there are no globals. Every call goes through
 //! [`Context::call`], which checks it, applies it, and records it when recording is on.
 
+mod contexts;
 mod cube;
 mod draw;
 mod encoded;
@@ -517,6 +518,10 @@ pub struct Context {
     pub(crate) active_query: Option<u32>,
     /// Transform feedback bindings and whether it is active (`feedback.rs`).
     pub(crate) feedback: feedback::FeedbackState,
+    /// The current context (`contexts.rs`; 0, made with the context, until `make_current`).
+    current_context: u32,
+    /// The GL state of the contexts that are not current.
+    other_contexts: BTreeMap<u32, contexts::ContextState>,
     pub(crate) swap_behavior: SwapBehavior,
     pub(crate) surface_color: ImageId,
     pub(crate) surface_depth_stencil: Option<ImageId>,
@@ -624,6 +629,8 @@ impl Context {
             tiling: None,
             active_query: None,
             feedback: feedback::FeedbackState::default(),
+            current_context: 0,
+            other_contexts: BTreeMap::new(),
             swap_behavior: config.swap_behavior,
             surface_color,
             surface_depth_stencil,
@@ -936,7 +943,7 @@ impl Context {
                 if self.state.program == id {
                     self.deleted_program = Some(id);
                 } else {
-                    self.programs.remove(&id);
+                    self.drop_deleted_program(id);
                 }
             }
             Uniform { name, value } => self.uniform(&name, value)?,
@@ -1140,6 +1147,9 @@ impl Context {
             RestoreState { state } => self.restore_state(state)?,
             SwapBehavior { behavior } => self.swap_behavior = behavior,
             ResizeSurface { width, height } => self.resize_surface(width, height)?,
+            CreateContext { id } => self.create_context(id)?,
+            MakeCurrent { id } => self.make_current(id)?,
+            DestroyContext { id } => self.destroy_context(id)?,
             StartTiling { x, y, width, height, preserve } => self.start_tiling([x, y], [width, height], preserve)?,
             EndTiling { store } => self.end_tiling(store)?,
             CreateQuery { id } => {
@@ -1641,6 +1651,7 @@ impl Context {
                 *unit = 0;
             }
         }
+        self.forget_texture_in_contexts(id);
         Ok(())
     }
 
@@ -1700,6 +1711,7 @@ impl Context {
         if self.read_framebuffer == id {
             self.read_framebuffer = 0;
         }
+        self.forget_framebuffer_in_contexts(id);
         let fb = self.framebuffers.remove(&id).expect("checked");
         for r in fb.color.into_iter().flatten() {
             if let AttachmentRef::MultisampleTexture { samples, .. } = r {
@@ -1714,7 +1726,7 @@ impl Context {
             return Err(format!("program {id} does not exist"));
         }
         if let Some(doomed) = self.deleted_program.take_if(|d| *d != id) {
-            self.programs.remove(&doomed);
+            self.drop_deleted_program(doomed);
         }
         self.state.program = id;
         Ok(())
