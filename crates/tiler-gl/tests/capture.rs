@@ -1687,6 +1687,24 @@ fn probe_two_live_contexts_drawing_interleaved_match_llvmpipe() {
     check_probe_in("gles3-probe", "contexts");
 }
 
+#[test]
+fn two_live_contexts_recorded_from_a_capture_replay_from_json_the_same() {
+    // The probe's two contexts as the replay's calls: the switches are `make_current`s of the
+    // context's contexts, which a JSON trace writes and reads back to the same picture and
+    // the same ledger.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles3-probe/contexts.trace");
+    let options = ReplayOptions { record: true, ..ReplayOptions::default() };
+    let replay = tiler_gl::capture::replay_file(path, &options, &mut |_| Ok(())).unwrap();
+    let trace = replay.context.recording().expect("recorded");
+    let json = trace.to_json();
+    let switches = json.matches(r#""call":"make_current""#).count();
+    assert_eq!(switches, 4, "one make_current per switch the probe makes after its first");
+    assert_eq!(json.matches(r#""call":"create_context""#).count(), 1);
+    let again = tiler_gl::Trace::parse(&json, None).unwrap().replay().unwrap();
+    assert_eq!(again.context.surface_rgba8(), replay.context.surface_rgba8());
+    assert_eq!(again.report.totals.ledger, replay.report.totals.ledger);
+}
+
 // ---- The GLSL ES 3.00 probe scene every branch added to: integer and bit operations,
 // switch, do-while, struct arrays, non-square matrices, inverse/transpose, textureSize,
 // texelFetch (rows counted from the first uploaded), textureGrad, textureOffset, packing,
