@@ -2245,6 +2245,28 @@ fn two_live_contexts_that_changed_state_each_keep_theirs() {
 }
 
 #[test]
+fn drawing_to_framebuffer_0_without_a_surface_is_refused_naming_the_call() {
+    // A context current without a surface has no default framebuffer
+    // (EGL_KHR_surfaceless_context): GL draws nothing there, the replay would draw into the
+    // window, so the clear is refused by name.
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    create_context(&mut w, 100, 0);
+    create_context(&mut w, 200, 100);
+    make_current(&mut w, 3, 100);
+    let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(4)), ("height", W::UInt(4))];
+    w.call("glViewport", &viewport, None, true);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    make_current(&mut w, 0, 200);
+    clear(&mut w, [0.0, 1.0, 0.0, 1.0]);
+    let call = w.call("glFlush", &[], None, false) - 1;
+    let (result, _) = replay(&w);
+    let error = result.err().expect("a clear of framebuffer 0 without a surface");
+    assert_eq!(error.call(), Some(call), "{error}");
+    assert!(error.to_string().contains("without a surface"), "{error}");
+}
+
+#[test]
 fn a_client_wait_stalls_only_while_its_fences_frame_is_in_flight() {
     // Frame 0 clears and puts a fence; frames 1–3 clear. Frame 3 waits on frame 0's fence,
     // frames in flight (3) old: no stall. Frame 3 then puts a fence and waits on it at once:

@@ -391,6 +391,8 @@ pub struct Translator {
     pending_switch: Option<(u64, EglHandle, EglHandle)>,
     /// The call being translated is one of apitrace's fake ones.
     fake: bool,
+    /// The current context was made current without a surface.
+    surfaceless: bool,
     /// `glFenceSync` handles → the context's fences.
     fences: HashMap<EglHandle, u32>,
     objects: HashMap<u32, Objects>,
@@ -436,6 +438,7 @@ impl Translator {
             touched: HashSet::new(),
             pending_switch: None,
             fake: false,
+            surfaceless: false,
             fences: HashMap::new(),
             objects: HashMap::new(),
             own: HashMap::new(),
@@ -581,6 +584,18 @@ impl Translator {
     /// [`Translator::command`] once uploads from a pixel unpack buffer carry their bytes.
     fn command_unpacked(&mut self, command: &Command, fake: bool) -> Fallible {
         use Command as C;
+        // A switch put off is made first: the checks below read the bindings of the context
+        // that is current.
+        if let Some((call, draw, context)) = self.pending_switch {
+            match command {
+                C::Ignored { .. } => return Ok(()),
+                C::MakeCurrent { .. } => self.pending_switch = None,
+                _ => {
+                    self.pending_switch = None;
+                    self.make_current(draw, context).map_err(|e| format!("{e} (made current at call {call})"))?;
+                }
+            }
+        }
         let reads_colour = matches!(
             command,
             C::ReadPixels { .. }
@@ -607,20 +622,20 @@ impl Translator {
                         replay a window size)"
                 .into());
         }
+        if self.surfaceless
+            && ((writes_colour && self.bindings.draw_framebuffer == 0)
+                || (reads_colour && self.bindings.read_framebuffer == 0))
+        {
+            // EGL_KHR_surfaceless_context: framebuffer 0 is GL_FRAMEBUFFER_UNDEFINED, so GL
+            // draws and reads nothing; the replay would draw into the window.
+            return Err("drawing or reading framebuffer 0 while the context is current without a surface \
+                        (GL_FRAMEBUFFER_UNDEFINED, a GL error)"
+                .into());
+        }
         if writes_colour && self.bindings.srgb_write_off && self.ctx.as_ref().is_some_and(Context::draws_into_srgb) {
             return Err("drawing into an sRGB colour attachment with GL_FRAMEBUFFER_SRGB_EXT disabled \
                         (no sRGB encoding) is not supported"
                 .into());
-        }
-        if let Some((call, draw, context)) = self.pending_switch {
-            match command {
-                C::Ignored { .. } => return Ok(()),
-                C::MakeCurrent { .. } => self.pending_switch = None,
-                _ => {
-                    self.pending_switch = None;
-                    self.make_current(draw, context).map_err(|e| format!("{e} (made current at call {call})"))?;
-                }
-            }
         }
         if self.cube_command(command)? || self.layered_command(command)? || self.feedback_command(command)? {
             return Ok(());
@@ -1796,6 +1811,7 @@ impl Translator {
             return Ok(());
         }
         let generation = *self.generations.get(&context).ok_or("makes current a context never created")?;
+        self.surfaceless = draw == 0;
         // No surface (EGL_KHR_surfaceless_context: a context current only to make or query
         // objects, as toolkits' share contexts are) or the window.
         if draw != 0 && self.window_surface.is_some_and(|s| s != draw) {
