@@ -353,6 +353,8 @@ impl Attrib {
 /// for [`Call::RestoreState`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct SavedState {
+    /// The context (`make_current`) whose state it is.
+    context: u32,
     state: Box<GlState>,
     /// The bound draw and read framebuffers; `None`: left as they are.
     framebuffers: Option<(u32, u32)>,
@@ -1735,16 +1737,24 @@ impl Context {
     /// The fixed-function and binding state now, for a later [`Call::RestoreState`].
     pub fn saved_state(&self) -> SavedState {
         SavedState {
+            context: self.current_context,
             state: Box::new(self.state.clone()),
             framebuffers: Some((self.draw_framebuffer, self.read_framebuffer)),
         }
     }
 
-    /// Puts back a [`Context::saved_state`]. The bound vertex array object must be the same
+    /// Puts back a [`Context::saved_state`] of the current context. The bound vertex array
+    /// object must be the same
     /// one (the attributes of the others live with them, not in the state); the program in
     /// use changes as `use_program` would change it, and the draw framebuffer, if the saved
     /// state has it, as `bind_framebuffer` would (ending the open pass).
     fn restore_state(&mut self, saved: SavedState) -> Fallible {
+        if saved.context != self.current_context {
+            return Err(format!(
+                "the state put back is context {}'s, but context {} is current",
+                saved.context, self.current_context
+            ));
+        }
         let state = *saved.state;
         if state.vertex_array != self.state.vertex_array {
             return Err(format!(

@@ -226,6 +226,12 @@ fn contexts_are_made_switched_and_destroyed_by_id_with_clear_errors() {
     refuse(&mut gl, Call::CreateContext { id: 3 }, "context 3 already exists");
     c(&mut gl, Call::MakeCurrent { id: 3 });
     refuse(&mut gl, Call::DestroyContext { id: 3 }, "context 3 is current");
+    // The advisor's restore_state puts back a state in the context it was saved in only.
+    let saved = gl.saved_state();
+    c(&mut gl, Call::MakeCurrent { id: 0 });
+    refuse(&mut gl, Call::RestoreState { state: saved.clone() }, "context 3's, but context 0 is current");
+    c(&mut gl, Call::MakeCurrent { id: 3 });
+    c(&mut gl, Call::RestoreState { state: saved });
     // A new context's viewport is the window's; a vertex array bound in a destroyed context
     // can still be deleted.
     c(&mut gl, Call::CreateVertexArray { id: 5 });
