@@ -1744,10 +1744,10 @@ impl Context {
     }
 
     /// Puts back a [`Context::saved_state`] of the current context. The bound vertex array
-    /// object must be the same
-    /// one (the attributes of the others live with them, not in the state); the program in
-    /// use changes as `use_program` would change it, and the draw framebuffer, if the saved
-    /// state has it, as `bind_framebuffer` would (ending the open pass).
+    /// object must be the same one (the attributes of the others live with them, not in the
+    /// state); the program in use changes as `use_program` would change it, and the draw
+    /// framebuffer, if the saved state has it, as `bind_framebuffer` would (ending the open
+    /// pass).
     fn restore_state(&mut self, saved: SavedState) -> Fallible {
         if saved.context != self.current_context {
             return Err(format!(
