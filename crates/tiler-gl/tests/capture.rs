@@ -2267,6 +2267,41 @@ fn drawing_to_framebuffer_0_without_a_surface_is_refused_naming_the_call() {
 }
 
 #[test]
+fn a_pbuffer_beside_the_window_may_be_current_but_not_drawn_to() {
+    // Qt makes a 1×1 pbuffer for its offscreen context beside the window. Made (and current
+    // for object work) it changes nothing; a clear of it is refused by name, as a swap of it.
+    let capture = |draw_on_pbuffer: bool| {
+        let mut w = Writer::new(6);
+        window_surface(&mut w);
+        create_context(&mut w, 100, 0);
+        let attribs = W::Array([0x3057, 1, 0x3056, 1, 0x3038].map(W::UInt).to_vec());
+        let args = [("dpy", W::Pointer(1)), ("config", W::Pointer(2)), ("attrib_list", attribs)];
+        w.call("eglCreatePbufferSurface", &args, Some(W::Pointer(4)), false);
+        make_current(&mut w, 3, 100);
+        let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(4)), ("height", W::UInt(4))];
+        w.call("glViewport", &viewport, None, true);
+        clear(&mut w, [0.0, 1.0, 0.0, 1.0]);
+        make_current(&mut w, 4, 100);
+        let call = draw_on_pbuffer.then(|| {
+            clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+            w.call("glFlush", &[], None, false) - 1
+        });
+        make_current(&mut w, 3, 100);
+        swap(&mut w);
+        (w, call)
+    };
+    let (w, _) = capture(false);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [0, 255, 0, 255]));
+    let (w, call) = capture(true);
+    let (result, _) = replay(&w);
+    let error = result.err().expect("a clear of the pbuffer");
+    assert_eq!(error.call(), call, "{error}");
+    assert!(error.to_string().contains("on a pbuffer made beside the window"), "{error}");
+}
+
+#[test]
 fn a_client_wait_stalls_only_while_its_fences_frame_is_in_flight() {
     // Frame 0 clears and puts a fence; frames 1–3 clear. Frame 3 waits on frame 0's fence,
     // frames in flight (3) old: no stall. Frame 3 then puts a fence and waits on it at once:

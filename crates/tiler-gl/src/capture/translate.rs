@@ -391,8 +391,12 @@ pub struct Translator {
     pending_switch: Option<(u64, EglHandle, EglHandle)>,
     /// The call being translated is one of apitrace's fake ones.
     fake: bool,
-    /// The current context was made current without a surface.
-    surfaceless: bool,
+    /// Why framebuffer 0 is not the window for the current context: it was made current
+    /// without a surface, or on a pbuffer beside the window.
+    not_window: Option<&'static str>,
+    /// Pbuffer surfaces made beside the window (Qt makes a 1×1 one for its offscreen
+    /// context): a context may be current on one as long as it does not draw to it.
+    other_surfaces: HashSet<EglHandle>,
     /// `glFenceSync` handles → the context's fences.
     fences: HashMap<EglHandle, u32>,
     objects: HashMap<u32, Objects>,
@@ -438,7 +442,8 @@ impl Translator {
             touched: HashSet::new(),
             pending_switch: None,
             fake: false,
-            surfaceless: false,
+            not_window: None,
+            other_surfaces: HashSet::new(),
             fences: HashMap::new(),
             objects: HashMap::new(),
             own: HashMap::new(),
@@ -622,15 +627,14 @@ impl Translator {
                         replay a window size)"
                 .into());
         }
-        if self.surfaceless
+        if let Some(why) = self.not_window
             && ((writes_colour && self.bindings.draw_framebuffer == 0)
                 || (reads_colour && self.bindings.read_framebuffer == 0))
         {
-            // EGL_KHR_surfaceless_context: framebuffer 0 is GL_FRAMEBUFFER_UNDEFINED, so GL
-            // draws and reads nothing; the replay would draw into the window.
-            return Err("drawing or reading framebuffer 0 while the context is current without a surface \
-                        (GL_FRAMEBUFFER_UNDEFINED, a GL error)"
-                .into());
+            // Without a surface (EGL_KHR_surfaceless_context) framebuffer 0 is
+            // GL_FRAMEBUFFER_UNDEFINED, so GL draws and reads nothing; on a pbuffer beside the
+            // window it is the pbuffer. The replay would draw into the window.
+            return Err(format!("drawing or reading framebuffer 0 while the context is current {why}"));
         }
         if writes_colour && self.bindings.srgb_write_off && self.ctx.as_ref().is_some_and(Context::draws_into_srgb) {
             return Err("drawing into an sRGB colour attachment with GL_FRAMEBUFFER_SRGB_EXT disabled \
@@ -688,7 +692,8 @@ impl Translator {
                 // A program without a window (headless, `EGL_PLATFORM_SURFACELESS_MESA`) draws
                 // into a pbuffer: it is the default framebuffer, sized by its attributes.
                 if self.window_surface.is_some_and(|s| s != *surface) {
-                    return Err("a second surface (window or pbuffer) is not supported".into());
+                    self.other_surfaces.insert(*surface);
+                    return Ok(());
                 }
                 const EGL_HEIGHT: i64 = 0x3056;
                 const EGL_WIDTH: i64 = 0x3057;
@@ -705,7 +710,9 @@ impl Translator {
                 self.window_grows = false;
                 self.window_surface = Some(*surface);
             }
-            C::DestroySurface { .. } => {}
+            C::DestroySurface { surface, .. } => {
+                self.other_surfaces.remove(surface);
+            }
             C::SurfaceAttrib { attribute, value, .. } => {
                 const EGL_SWAP_BEHAVIOR: i64 = 0x3093;
                 let behavior = match (*attribute, *value) {
@@ -715,7 +722,10 @@ impl Translator {
                 };
                 self.emit(Call::SwapBehavior { behavior })?;
             }
-            C::SwapBuffers { .. } => {
+            C::SwapBuffers { surface, .. } => {
+                if self.other_surfaces.contains(surface) {
+                    return Err("swapping a pbuffer made beside the window is not supported".into());
+                }
                 self.emit(Call::SwapBuffers)?;
                 self.presented = Some((self.frames, self.call));
                 self.swaps.push(self.call);
@@ -1811,12 +1821,18 @@ impl Translator {
             return Ok(());
         }
         let generation = *self.generations.get(&context).ok_or("makes current a context never created")?;
-        self.surfaceless = draw == 0;
         // No surface (EGL_KHR_surfaceless_context: a context current only to make or query
-        // objects, as toolkits' share contexts are) or the window.
-        if draw != 0 && self.window_surface.is_some_and(|s| s != draw) {
+        // objects, as toolkits' share contexts are), the window, or a pbuffer beside it that
+        // is not drawn to.
+        self.not_window = if draw == 0 {
+            Some("without a surface (GL_FRAMEBUFFER_UNDEFINED, a GL error)")
+        } else if self.other_surfaces.contains(&draw) {
+            Some("on a pbuffer made beside the window (drawing to a second surface is not supported)")
+        } else if self.window_surface.is_some_and(|s| s != draw) {
             return Err("drawing to a surface other than the window is not supported".into());
-        }
+        } else {
+            None
+        };
         // Each EGL context's GL state is in a context of the replay's context (its slot). A
         // context that changed no state (its state is the defaults, which `reset_state` gives
         // back) or is gone gives its slot up to the next one made current, so that captures
