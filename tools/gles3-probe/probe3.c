@@ -13,6 +13,8 @@
 
 static EGLDisplay dpy;
 static EGLSurface surf;
+static EGLConfig config;
+static EGLContext ctx;
 
 static void die(const char *what) {
     fprintf(stderr, "probe3: %s\n", what);
@@ -30,13 +32,12 @@ static void setup(void) {
     EGLint attribs[] = {EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8,
                         EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8, EGL_RENDERABLE_TYPE, EGL_OPENGL_ES3_BIT,
                         EGL_SURFACE_TYPE, EGL_WINDOW_BIT, EGL_NONE};
-    EGLConfig config;
     EGLint n;
     if (!eglChooseConfig(dpy, attribs, &config, 1, &n) || n != 1) die("eglChooseConfig");
     surf = eglCreateWindowSurface(dpy, config, (EGLNativeWindowType)win, NULL);
     if (surf == EGL_NO_SURFACE) die("eglCreateWindowSurface");
     EGLint ctx_attribs[] = {EGL_CONTEXT_CLIENT_VERSION, 3, EGL_NONE};
-    EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, ctx_attribs);
+    ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, ctx_attribs);
     if (ctx == EGL_NO_CONTEXT) die("eglCreateContext");
     if (!eglMakeCurrent(dpy, surf, surf, ctx)) die("eglMakeCurrent");
     glViewport(0, 0, W, H);
@@ -1782,6 +1783,100 @@ static void scene_texfn(void) {
     eglSwapBuffers(dpy, surf);
 }
 
+/* Two live contexts sharing objects, drawing interleaved: the window's context ("win") keeps
+ * its clear colour, blending, program, vertex array and texture binding; a second one
+ * ("off", current without a surface) keeps its framebuffer binding, viewport, program and
+ * attributes. Each sets its state once: "off" draws into a texture, "win" samples it on the
+ * left, "off" draws into it again, "win" samples it on the right. */
+static void scene_contexts(void) {
+    EGLint ctx_attribs[] = {EGL_CONTEXT_CLIENT_VERSION, 3, EGL_NONE};
+    EGLContext off = eglCreateContext(dpy, config, ctx, ctx_attribs);
+    if (off == EGL_NO_CONTEXT) die("eglCreateContext (second)");
+
+    /* win: a textured quad program, a vertex array, blending and a clear colour. */
+    GLuint show = program(
+        "#version 300 es\n"
+        "layout(location = 0) in vec2 position;\n"
+        "layout(location = 1) in vec2 uv_in;\n"
+        "out vec2 uv;\n"
+        "void main() { uv = uv_in; gl_Position = vec4(position, 0.0, 1.0); }\n",
+        "#version 300 es\n"
+        "precision mediump float;\n"
+        "in vec2 uv;\n"
+        "uniform sampler2D image;\n"
+        "out vec4 color;\n"
+        "void main() { color = vec4(texture(image, uv).rgb, 0.75); }\n");
+    glUseProgram(show);
+    GLuint win_vao;
+    glGenVertexArrays(1, &win_vao);
+    glBindVertexArray(win_vao);
+    const float quads[] = {-0.9f, -0.8f, 0, 0, -0.1f, -0.8f, 1, 0, -0.9f, 0.8f, 0, 1, -0.1f, 0.8f, 1, 1,
+                           0.1f,  -0.8f, 0, 0, 0.9f,  -0.8f, 1, 0, 0.1f,  0.8f, 0, 1, 0.9f,  0.8f, 1, 1};
+    buffer(GL_ARRAY_BUFFER, sizeof quads, quads);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), (void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), (void *)(2 * sizeof(float)));
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glClearColor(0.1f, 0.3f, 0.5f, 1);
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 16, 16, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glUniform1i(glGetUniformLocation(show, "image"), 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+
+    /* off: its own framebuffer (name 1 again: framebuffers and vertex arrays are each
+     * context's), viewport, program and client-side attributes; no blending. */
+    if (!eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, off)) die("eglMakeCurrent (off)");
+    GLuint paint = program(color_vs, color_fs);
+    glUseProgram(paint);
+    GLuint fb, off_vao;
+    glGenFramebuffers(1, &fb);
+    glGenVertexArrays(1, &off_vao);
+    glBindVertexArray(off_vao);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("framebuffer");
+    glViewport(0, 0, 16, 16);
+    glClearColor(0.9f, 0.9f, 0.2f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    const float tri[] = {-1, -1, 1, -1, -1, 1, 1, 0, 0, 1, 0, 1, 0, 0, 1, 1, 0, 1};
+    GLuint tri_buffer = buffer(GL_ARRAY_BUFFER, sizeof tri, tri);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, (void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, (void *)(6 * sizeof(float)));
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glFlush();
+
+    /* win: nothing rebound; the left quad shows the texture. */
+    if (!eglMakeCurrent(dpy, surf, surf, ctx)) die("eglMakeCurrent (win)");
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+
+    /* off: nothing rebound; a second triangle over the first, with a constant colour. */
+    if (!eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, off)) die("eglMakeCurrent (off)");
+    const float tri2[] = {1, 1, -1, 1, 1, -1};
+    glBindBuffer(GL_ARRAY_BUFFER, tri_buffer);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, sizeof tri2, tri2);
+    glDisableVertexAttribArray(1);
+    glVertexAttrib4f(1, 0.8f, 0.2f, 0.9f, 1);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glFlush();
+
+    /* win: the right quad shows it changed; a clear of a scissored strip with win's colour. */
+    if (!eglMakeCurrent(dpy, surf, surf, ctx)) die("eglMakeCurrent (win)");
+    glDrawArrays(GL_TRIANGLE_STRIP, 4, 4);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, W, 4);
+    glClear(GL_COLOR_BUFFER_BIT);
+    eglSwapBuffers(dpy, surf);
+}
+
 int main(int argc, char **argv) {
     const struct { const char *name; void (*draw)(void); } scenes[] = {
         {"vao", scene_vao}, {"instanced", scene_instanced}, {"ubo", scene_ubo}, {"glsl3", scene_glsl3},
@@ -1797,7 +1892,9 @@ int main(int argc, char **argv) {
         /* glsl4 */
         {"flat", scene_flat}, {"int-switch", scene_int_switch},
         /* texfn */
-        {"texfn", scene_texfn}};
+        {"texfn", scene_texfn},
+        /* contexts */
+        {"contexts", scene_contexts}};
     if (argc != 2) die("usage: probe3 SCENE");
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         if (strcmp(argv[1], scenes[i].name) == 0) {

@@ -787,6 +787,29 @@ pub enum Call<D = Bytes> {
         width: u32,
         height: u32,
     },
+    /// `eglCreateContext` sharing every object with the contexts already made: a context
+    /// `id` with GL state of its own (the defaults, the viewport and scissor the window's), not
+    /// current yet. Context 0 is made with the context and is current at the start.
+    ///
+    /// What is each context's (OpenGL ES 3.0 appendix D): the fixed-function state, the
+    /// bound framebuffers, program, texture units and sampler objects, uniform buffer
+    /// bindings, the default vertex array and the one bound, generic vertex attributes, the
+    /// active query and transform feedback. Buffers, textures, renderbuffers, programs,
+    /// framebuffers, vertex arrays and queries are named in one space all contexts share.
+    CreateContext {
+        id: u32,
+    },
+    /// `eglMakeCurrent`: calls from now on use context `id`'s GL state. Not a flush: a pass
+    /// ends only if the context's draw framebuffer is another one (as `bind_framebuffer`
+    /// would end it).
+    MakeCurrent {
+        id: u32,
+    },
+    /// `eglDestroyContext` of a context that is not current: its GL state goes (its objects
+    /// stay, as the share group's).
+    DestroyContext {
+        id: u32,
+    },
     /// `glStartTilingQCOM`: until `end_tiling`, only the tiles meeting this rectangle are
     /// processed; `preserve` says which buffers' contents there must be loaded.
     StartTiling {
@@ -965,6 +988,9 @@ impl<D> Call<D> {
             RestoreState { .. } => "restore_state",
             SwapBehavior { .. } => "swap_behavior",
             ResizeSurface { .. } => "resize_surface",
+            CreateContext { .. } => "create_context",
+            MakeCurrent { .. } => "make_current",
+            DestroyContext { .. } => "destroy_context",
             StartTiling { .. } => "start_tiling",
             EndTiling { .. } => "end_tiling",
             CreateQuery { .. } => "create_query",
@@ -1142,6 +1168,9 @@ impl<D> Call<D> {
             RestoreState { state } => RestoreState { state },
             SwapBehavior { behavior } => SwapBehavior { behavior },
             ResizeSurface { width, height } => ResizeSurface { width, height },
+            CreateContext { id } => CreateContext { id },
+            MakeCurrent { id } => MakeCurrent { id },
+            DestroyContext { id } => DestroyContext { id },
             StartTiling { x, y, width, height, preserve } => StartTiling { x, y, width, height, preserve },
             EndTiling { store } => EndTiling { store },
             CreateQuery { id } => CreateQuery { id },

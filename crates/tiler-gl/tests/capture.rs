@@ -1776,6 +1776,32 @@ fn probe_texture_grad_offsets_and_sampler_objects_match_llvmpipe() {
     check_probe_in("gles3-probe", "texfn");
 }
 
+#[test]
+fn probe_two_live_contexts_drawing_interleaved_match_llvmpipe() {
+    // One context renders into a texture (without a surface), the other samples it on the
+    // window, twice each, neither rebinding anything after a switch; framebuffer and vertex
+    // array name 1 is each context's own.
+    check_probe_in("gles3-probe", "contexts");
+}
+
+#[test]
+fn two_live_contexts_recorded_from_a_capture_replay_from_json_the_same() {
+    // The probe's two contexts as the replay's calls: the switches are `make_current`s of the
+    // context's contexts, which a JSON trace writes and reads back to the same picture and
+    // the same ledger.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gles3-probe/contexts.trace");
+    let options = ReplayOptions { record: true, ..ReplayOptions::default() };
+    let replay = tiler_gl::capture::replay_file(path, &options, &mut |_| Ok(())).unwrap();
+    let trace = replay.context.recording().expect("recorded");
+    let json = trace.to_json();
+    let switches = json.matches(r#""call":"make_current""#).count();
+    assert_eq!(switches, 4, "one make_current per switch the probe makes after its first");
+    assert_eq!(json.matches(r#""call":"create_context""#).count(), 1);
+    let again = tiler_gl::Trace::parse(&json, None).unwrap().replay().unwrap();
+    assert_eq!(again.context.surface_rgba8(), replay.context.surface_rgba8());
+    assert_eq!(again.report.totals.ledger, replay.report.totals.ledger);
+}
+
 // ---- The GLSL ES 3.00 probe scene every branch added to: integer and bit operations,
 // switch, do-while, struct arrays, non-square matrices, inverse/transpose, textureSize,
 // texelFetch (rows counted from the first uploaded), textureGrad, textureOffset, packing,
@@ -2271,9 +2297,55 @@ fn programs_linked_on_a_live_share_context_are_drawn_with_on_another() {
 }
 
 #[test]
-fn switching_between_two_live_contexts_that_changed_state_names_the_call() {
-    // Context 100 clears (its state is the context's now); making 200 current while 100 lives
-    // would need 100's state kept apart: refused, naming the eglMakeCurrent.
+fn two_live_contexts_that_changed_state_each_keep_theirs() {
+    // Context 100 sets a red clear colour and a 2×2 viewport; 200, sharing its objects, sets
+    // green and clears the whole window; back on 100, a clear is red again and a triangle
+    // drawn fills only 100's viewport (the lower-left 2×2).
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    create_context(&mut w, 100, 0);
+    create_context(&mut w, 200, 100);
+    make_current(&mut w, 3, 100);
+    let viewport = |w: &mut Writer, size: u64, fake: bool| {
+        let args = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(size)), ("height", W::UInt(size))];
+        w.call("glViewport", &args, None, fake);
+    };
+    viewport(&mut w, 4, true);
+    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+    viewport(&mut w, 2, false);
+    // Made current and at once released, then 100 again, nothing called between: nothing is
+    // switched (GTK 4 does this each frame).
+    make_current(&mut w, 0, 200);
+    make_current(&mut w, 0, 0);
+    make_current(&mut w, 3, 100);
+    swap(&mut w);
+    make_current(&mut w, 3, 200);
+    clear(&mut w, [0.0, 1.0, 0.0, 1.0]);
+    make_current(&mut w, 3, 100);
+    let vertex = "attribute vec2 where;\nvoid main() { gl_Position = vec4(where, 0.0, 1.0); }\n";
+    let fragment = "precision mediump float;\nvoid main() { gl_FragColor = vec4(0.0, 0.0, 1.0, 1.0); }\n";
+    full_window_program(&mut w, vertex, fragment);
+    draw_triangle(&mut w);
+    swap(&mut w);
+    let (result, frames) = replay(&w);
+    result.unwrap();
+    assert_eq!(frames[0].4, solid(4, 4, [255, 0, 0, 255]));
+    let picture = &frames[1].4;
+    for y in 0..4 {
+        for x in 0..4 {
+            let i = (y * 4 + x) * 4;
+            // tiler's rows run top to bottom: 100's viewport is rows 2 and 3, columns 0 and 1.
+            let expected = if y >= 2 && x < 2 { [0, 0, 255, 255] } else { [0, 255, 0, 255] };
+            assert_eq!(picture[i..i + 4], expected, "pixel ({x}, {y})");
+        }
+    }
+}
+
+#[test]
+fn drawing_to_framebuffer_0_without_a_surface_is_refused_naming_the_call() {
+    // A context current without a surface has no default framebuffer
+    // (EGL_KHR_surfaceless_context): GL draws nothing there, the replay would draw into the
+    // window, so the clear is refused by name.
     let mut w = Writer::new(6);
     window_surface(&mut w);
     create_context(&mut w, 100, 0);
@@ -2282,26 +2354,48 @@ fn switching_between_two_live_contexts_that_changed_state_names_the_call() {
     let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(4)), ("height", W::UInt(4))];
     w.call("glViewport", &viewport, None, true);
     clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
-    // Made current and at once released, then 100 again, nothing called between: nothing to
-    // keep apart (GTK 4 does this each frame).
     make_current(&mut w, 0, 200);
-    make_current(&mut w, 0, 0);
-    make_current(&mut w, 3, 100);
     clear(&mut w, [0.0, 1.0, 0.0, 1.0]);
-    swap(&mut w);
+    let call = w.call("glFlush", &[], None, false) - 1;
+    let (result, _) = replay(&w);
+    let error = result.err().expect("a clear of framebuffer 0 without a surface");
+    assert_eq!(error.call(), Some(call), "{error}");
+    assert!(error.to_string().contains("without a surface"), "{error}");
+}
+
+#[test]
+fn a_pbuffer_beside_the_window_may_be_current_but_not_drawn_to() {
+    // Qt makes a 1×1 pbuffer for its offscreen context beside the window. Made (and current
+    // for object work) it changes nothing; a clear of it is refused by name, as a swap of it.
+    let capture = |draw_on_pbuffer: bool| {
+        let mut w = Writer::new(6);
+        window_surface(&mut w);
+        create_context(&mut w, 100, 0);
+        let attribs = W::Array([0x3057, 1, 0x3056, 1, 0x3038].map(W::UInt).to_vec());
+        let args = [("dpy", W::Pointer(1)), ("config", W::Pointer(2)), ("attrib_list", attribs)];
+        w.call("eglCreatePbufferSurface", &args, Some(W::Pointer(4)), false);
+        make_current(&mut w, 3, 100);
+        let viewport = [("x", W::UInt(0)), ("y", W::UInt(0)), ("width", W::UInt(4)), ("height", W::UInt(4))];
+        w.call("glViewport", &viewport, None, true);
+        clear(&mut w, [0.0, 1.0, 0.0, 1.0]);
+        make_current(&mut w, 4, 100);
+        let call = draw_on_pbuffer.then(|| {
+            clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
+            w.call("glFlush", &[], None, false) - 1
+        });
+        make_current(&mut w, 3, 100);
+        swap(&mut w);
+        (w, call)
+    };
+    let (w, _) = capture(false);
     let (result, frames) = replay(&w);
     result.unwrap();
     assert_eq!(frames[0].4, solid(4, 4, [0, 255, 0, 255]));
-    // The switch is refused at 200's first call, naming the eglMakeCurrent.
-    let switch = make_current(&mut w, 3, 200);
-    clear(&mut w, [1.0, 0.0, 0.0, 1.0]);
-    // Its first call, glClearColor, the one after the switch.
-    let first = switch + 1;
+    let (w, call) = capture(true);
     let (result, _) = replay(&w);
-    let error = result.err().expect("context 100's state was not kept");
-    assert_eq!(error.call(), Some(first));
-    assert!(error.to_string().contains("switching away from a live context"), "{error}");
-    assert!(error.to_string().contains(&format!("made current at call {switch}")), "{error}");
+    let error = result.err().expect("a clear of the pbuffer");
+    assert_eq!(error.call(), call, "{error}");
+    assert!(error.to_string().contains("on a pbuffer made beside the window"), "{error}");
 }
 
 #[test]

@@ -3,6 +3,8 @@
 
 #[path = "gl/common.rs"]
 mod common;
+#[path = "gl/contexts.rs"]
+mod contexts;
 #[path = "gl/encoded.rs"]
 mod encoded;
 #[path = "gl/fuzz.rs"]

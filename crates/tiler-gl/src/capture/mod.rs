@@ -21,14 +21,15 @@
 //!
 //! - **Names.** Each EGL context is a *generation*; its GL names are mapped to fresh context
 //!   ids, so a capture that destroys and recreates its context (every glmark2 scene does) can
-//!   reuse names. Destroying a context deletes its buffers, textures, renderbuffers,
-//!   framebuffers and queries; making a new context current resets the GL state to its
-//!   defaults. The window surface outlives contexts, as in EGL. A context created with a
-//!   share context joins its share group, whose objects all its contexts see and which go with
-//!   the group's last context. Another context may be made current (with the window or with
-//!   no surface) when the one current before it has changed no GL state or is destroyed;
-//!   switching away from a live context that has changed state is refused, naming the call
-//!   (the replay keeps one context's GL state).
+//!   reuse names. Destroying a context deletes its framebuffers, vertex arrays and queries
+//!   (each context's own, as in GL) and, with the last context of its share group, the
+//!   group's buffers, textures, renderbuffers and programs. The window surface outlives
+//!   contexts, as in EGL. A context created with a share context joins its share group, whose
+//!   objects all its contexts see. Each context keeps its own GL state: a live context that
+//!   has changed state keeps it in a context of the replay's context of its own
+//!   (`create_context`, `make_current`), and a context that changed none, or is gone, gives
+//!   its state up to the next one made current (reset to the defaults). Contexts may be
+//!   current with the window or with no surface.
 //! - **Objects** are created in the context when GL gives them storage (`glBufferData`,
 //!   `glTexImage2D`, `glRenderbufferStorage`); bindings of names without storage are applied
 //!   when the storage arrives.

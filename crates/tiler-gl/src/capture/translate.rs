@@ -246,18 +246,23 @@ struct Objects {
     buffers: HashMap<u32, Option<u32>>,
     textures: HashMap<u32, Texture>,
     renderbuffers: HashMap<u32, Option<u32>>,
-    framebuffers: HashMap<u32, u32>,
     shaders: HashMap<u32, (GlEnum, Option<String>)>,
     /// Shaders `glDeleteShader` deleted while attached: they go when detached from every program.
     deleted_shaders: Vec<u32>,
     programs: HashMap<u32, Program>,
+    /// Sampler objects: their sampling parameters (a texture's, unused fields aside).
+    samplers: HashMap<u32, Texture>,
+}
+
+/// The objects GL keeps per context, not per share group (OpenGL ES 3.0 appendix D):
+/// framebuffers, vertex arrays and queries, by GL name → the context's ids.
+#[derive(Default)]
+pub(super) struct ContextObjects {
+    framebuffers: HashMap<u32, u32>,
     queries: HashMap<u32, u32>,
     /// Queries last begun as `GL_TIME_ELAPSED_EXT` timers (`EXT_disjoint_timer_query`).
     timer_queries: HashSet<u32>,
-    /// Vertex array object names → the context's ids.
-    vertex_arrays: HashMap<u32, u32>,
-    /// Sampler objects: their sampling parameters (a texture's, unused fields aside).
-    samplers: HashMap<u32, Texture>,
+    pub(super) vertex_arrays: HashMap<u32, u32>,
 }
 
 impl Objects {
@@ -386,21 +391,32 @@ pub struct Translator {
     pending_switch: Option<(u64, EglHandle, EglHandle)>,
     /// The call being translated is one of apitrace's fake ones.
     fake: bool,
+    /// Why framebuffer 0 is not the window for the current context: it was made current
+    /// without a surface, or on a pbuffer beside the window.
+    not_window: Option<&'static str>,
+    /// Pbuffer surfaces made beside the window (Qt makes a 1×1 one for its offscreen
+    /// context): a context may be current on one as long as it does not draw to it.
+    other_surfaces: HashSet<EglHandle>,
     /// `glFenceSync` handles → the context's fences.
     fences: HashMap<EglHandle, u32>,
     objects: HashMap<u32, Objects>,
+    /// Generation → the objects that are its own.
+    own: HashMap<u32, ContextObjects>,
     /// The current generation, if a context is current.
     current: Option<u32>,
-    /// Generations that have been current (their GL state lives in the context until another
-    /// one is made current).
+    /// The generation whose GL state is the context's current one (`active_slot`'s), until
+    /// another one is made current; `None` once it is destroyed.
     last_current: Option<u32>,
+    /// Generation → the context's context ([`Call::MakeCurrent`]) holding its GL state. A
+    /// context that has changed no state gives its slot up to the next one made current.
+    slots: HashMap<u32, u32>,
+    /// The context's current context.
+    active_slot: u32,
+    next_slot: u32,
+    /// The bindings of the contexts' contexts that are not current, by slot.
+    saved_bindings: HashMap<u32, Bindings>,
     next_generation: u32,
     window_surface: Option<EglHandle>,
-    /// Pbuffer surfaces made beside the window: a context may be current on one to make or
-    /// query objects (Qt makes its offscreen surface current so), but not draw into it.
-    other_surfaces: HashSet<EglHandle>,
-    /// The current draw surface is one of `other_surfaces`.
-    on_other_surface: bool,
     bindings: Bindings,
     next_id: u32,
     /// The scratch index buffer for client-side indices.
@@ -426,14 +442,19 @@ impl Translator {
             touched: HashSet::new(),
             pending_switch: None,
             fake: false,
+            not_window: None,
+            other_surfaces: HashSet::new(),
             fences: HashMap::new(),
             objects: HashMap::new(),
+            own: HashMap::new(),
             current: None,
             last_current: None,
+            slots: HashMap::new(),
+            active_slot: 0,
+            next_slot: 1,
+            saved_bindings: HashMap::new(),
             next_generation: 1,
             window_surface: None,
-            other_surfaces: HashSet::new(),
-            on_other_surface: false,
             bindings: Bindings::default(),
             next_id: 1,
             scratch_indices: None,
@@ -495,6 +516,11 @@ impl Translator {
     /// A call the context cannot express or refuses, naming the call.
     pub fn apply(&mut self, call: &GlesCall, function: &str) -> Result<(), CaptureError> {
         self.call = call.number;
+        // Every context call this one becomes names it, those made outside `emit` too (a
+        // context switch's).
+        if let Some(ctx) = self.ctx.as_mut() {
+            ctx.set_capture_call(call.number);
+        }
         if self.function != function {
             self.function.clear();
             self.function.push_str(function);
@@ -555,6 +581,12 @@ impl Translator {
         Ok(self.objects.entry(group).or_default())
     }
 
+    /// The current context's own objects (framebuffers, vertex arrays, queries).
+    pub(super) fn own(&mut self) -> Fallible<&mut ContextObjects> {
+        let generation = self.current.ok_or("no EGL context is current")?;
+        Ok(self.own.entry(generation).or_default())
+    }
+
     fn command(&mut self, command: &Command, fake: bool) -> Fallible {
         match self.unpack_from_buffer(command)? {
             Some(command) => self.command_unpacked(&command, fake),
@@ -565,6 +597,18 @@ impl Translator {
     /// [`Translator::command`] once uploads from a pixel unpack buffer carry their bytes.
     fn command_unpacked(&mut self, command: &Command, fake: bool) -> Fallible {
         use Command as C;
+        // A switch put off is made first: the checks below read the bindings of the context
+        // that is current.
+        if let Some((call, draw, context)) = self.pending_switch {
+            match command {
+                C::Ignored { .. } => return Ok(()),
+                C::MakeCurrent { .. } => self.pending_switch = None,
+                _ => {
+                    self.pending_switch = None;
+                    self.make_current(draw, context).map_err(|e| format!("{e} (made current at call {call})"))?;
+                }
+            }
+        }
         let reads_colour = matches!(
             command,
             C::ReadPixels { .. }
@@ -586,30 +630,24 @@ impl Translator {
         let uses_window = (writes_colour && self.bindings.draw_framebuffer == 0)
             || (reads_colour && self.bindings.read_framebuffer == 0)
             || matches!(command, C::SwapBuffers { .. });
-        if uses_window && self.on_other_surface {
-            return Err("drawing into or reading a pbuffer surface beside the window is not supported (tiler \
-                        models one default framebuffer, the window's)"
-                .into());
-        }
         if uses_window && self.window.is_none() {
             return Err("the window's size is not known yet (no surface or glViewport before this call; give the \
                         replay a window size)"
                 .into());
         }
+        if let Some(why) = self.not_window
+            && ((writes_colour && self.bindings.draw_framebuffer == 0)
+                || (reads_colour && self.bindings.read_framebuffer == 0))
+        {
+            // Without a surface (EGL_KHR_surfaceless_context) framebuffer 0 is
+            // GL_FRAMEBUFFER_UNDEFINED, so GL draws and reads nothing; on a pbuffer beside the
+            // window it is the pbuffer. The replay would draw into the window.
+            return Err(format!("drawing or reading framebuffer 0 while the context is current {why}"));
+        }
         if writes_colour && self.bindings.srgb_write_off && self.ctx.as_ref().is_some_and(Context::draws_into_srgb) {
             return Err("drawing into an sRGB colour attachment with GL_FRAMEBUFFER_SRGB_EXT disabled \
                         (no sRGB encoding) is not supported"
                 .into());
-        }
-        if let Some((call, draw, context)) = self.pending_switch {
-            match command {
-                C::Ignored { .. } => return Ok(()),
-                C::MakeCurrent { .. } => self.pending_switch = None,
-                _ => {
-                    self.pending_switch = None;
-                    self.make_current(draw, context).map_err(|e| format!("{e} (made current at call {call})"))?;
-                }
-            }
         }
         if self.cube_command(command)? || self.layered_command(command)? || self.feedback_command(command)? {
             return Ok(());
@@ -622,8 +660,7 @@ impl Translator {
                 let generation = self.next_generation;
                 // A context sharing objects with another (EGL 1.5 §3.7.1) joins its share
                 // group: textures, buffers, renderbuffers, shaders and programs are the
-                // group's. (So are framebuffers and vertex arrays here, which GL keeps per
-                // context: a name two contexts of a group both generate is refused there.)
+                // group's; framebuffers, vertex arrays and queries are its own (`own`).
                 let group = match *share_context {
                     0 => generation,
                     share => {
@@ -663,7 +700,6 @@ impl Translator {
                 // A program without a window (headless, `EGL_PLATFORM_SURFACELESS_MESA`) draws
                 // into a pbuffer: it is the default framebuffer, sized by its attributes.
                 if self.window_surface.is_some_and(|s| s != *surface) {
-                    // Beside the window: current only to make or query objects.
                     self.other_surfaces.insert(*surface);
                     return Ok(());
                 }
@@ -694,7 +730,10 @@ impl Translator {
                 };
                 self.emit(Call::SwapBehavior { behavior })?;
             }
-            C::SwapBuffers { .. } => {
+            C::SwapBuffers { surface, .. } => {
+                if self.other_surfaces.contains(surface) {
+                    return Err("swapping a pbuffer made beside the window is not supported".into());
+                }
                 self.emit(Call::SwapBuffers)?;
                 self.presented = Some((self.frames, self.call));
                 self.swaps.push(self.call);
@@ -1324,20 +1363,9 @@ impl Translator {
             }
 
             // ---- framebuffers and renderbuffers ----------------------------------------------
-            C::GenFramebuffers { names } => {
-                // GL keeps framebuffers per context; here a share group holds them (see
-                // `CreateContext`), so a name another context of the group already uses is
-                // refused rather than shared.
-                for name in names {
-                    if self.objects()?.framebuffers.contains_key(name) {
-                        return Err(format!(
-                            "framebuffer name {name} is already in use (by another context of this share group: \
-                             not supported)"
-                        ));
-                    }
-                }
-            }
-            C::GenRenderbuffers { .. } => {}
+            // A framebuffer is made at its first bind (`framebuffer_id`), in the context's own
+            // names.
+            C::GenFramebuffers { .. } | C::GenRenderbuffers { .. } => {}
             C::BindFramebuffer { target, framebuffer } => {
                 let target = match *target {
                     GL_FRAMEBUFFER => FramebufferTarget::Framebuffer,
@@ -1356,7 +1384,7 @@ impl Translator {
             }
             C::DeleteFramebuffers { names } => {
                 for &name in names {
-                    if let Some(id) = self.objects()?.framebuffers.remove(&name) {
+                    if let Some(id) = self.own()?.framebuffers.remove(&name) {
                         self.emit(Call::DeleteFramebuffer { id })?;
                     }
                     let b = &mut self.bindings;
@@ -1732,13 +1760,13 @@ impl Translator {
                 for &name in names {
                     let id = self.fresh_id();
                     self.emit(Call::CreateQuery { id })?;
-                    self.objects()?.queries.insert(name, id);
+                    self.own()?.queries.insert(name, id);
                 }
             }
             C::DeleteQueries { names } => {
                 for &name in names {
-                    self.objects()?.timer_queries.remove(&name);
-                    if let Some(id) = self.objects()?.queries.remove(&name) {
+                    self.own()?.timer_queries.remove(&name);
+                    if let Some(id) = self.own()?.queries.remove(&name) {
                         self.emit(Call::DeleteQuery { id })?;
                     }
                 }
@@ -1748,12 +1776,12 @@ impl Translator {
             // result waits for the GPU to finish the measured commands, as glFinish.
             C::BeginQuery { target: GL_TIME_ELAPSED, query } => {
                 self.query_id(*query)?;
-                self.objects()?.timer_queries.insert(*query);
+                self.own()?.timer_queries.insert(*query);
             }
             C::EndQuery { target: GL_TIME_ELAPSED } => {}
             C::QueryCounter { query } => {
                 self.query_id(*query)?;
-                self.objects()?.timer_queries.insert(*query);
+                self.own()?.timer_queries.insert(*query);
             }
             C::BeginQuery { target, query } => {
                 if ![0x8c2f, 0x8d6a].contains(target) {
@@ -1763,13 +1791,13 @@ impl Translator {
                     ));
                 }
                 let id = self.query_id(*query)?;
-                self.objects()?.timer_queries.remove(query);
+                self.own()?.timer_queries.remove(query);
                 self.emit(Call::BeginQuery { id })?;
             }
             C::EndQuery { .. } => {
                 self.emit(Call::EndQuery)?;
             }
-            C::GetQueryResult { query, pname } if self.objects()?.timer_queries.contains(query) => {
+            C::GetQueryResult { query, pname } if self.own()?.timer_queries.contains(query) => {
                 self.query_id(*query)?;
                 match *pname {
                     0x8866 => {
@@ -1802,8 +1830,9 @@ impl Translator {
         Ok(())
     }
 
-    /// Whether making `context` current needs the state of a live context that has changed
-    /// it kept apart, which the replay cannot do ([`Translator::make_current`]).
+    /// Whether making `context` current switches away from the state of a live context that
+    /// has changed it, which stays in the context's context of its own
+    /// ([`Translator::make_current`]).
     fn switches_away_from_live_state(&self, context: EglHandle) -> bool {
         let Some(&generation) = self.generations.get(&context) else { return false };
         self.last_current.is_some_and(|last| {
@@ -1814,39 +1843,66 @@ impl Translator {
     fn make_current(&mut self, draw: EglHandle, context: EglHandle) -> Fallible {
         if context == 0 {
             self.current = None;
-            self.on_other_surface = false;
             return Ok(());
         }
         let generation = *self.generations.get(&context).ok_or("makes current a context never created")?;
         // No surface (EGL_KHR_surfaceless_context: a context current only to make or query
-        // objects, as toolkits' share contexts are) or the window.
-        self.on_other_surface = self.other_surfaces.contains(&draw);
-        if draw != 0 && !self.on_other_surface && self.window_surface.is_some_and(|s| s != draw) {
+        // objects, as toolkits' share contexts are), the window, or a pbuffer beside it that
+        // is not drawn to.
+        self.not_window = if draw == 0 {
+            Some("without a surface (GL_FRAMEBUFFER_UNDEFINED, a GL error)")
+        } else if self.other_surfaces.contains(&draw) {
+            Some("on a pbuffer made beside the window (drawing to a second surface is not supported)")
+        } else if self.window_surface.is_some_and(|s| s != draw) {
             return Err("drawing to a surface other than the window is not supported".into());
-        }
-        // The context's GL state is the state of the context last current (`last_current`).
-        // Another context may be made current when that one has changed no state (its state
-        // is the defaults, which `reset_state` gives back) or is gone; switching between two
-        // live contexts that both changed state would need each one's state kept apart.
-        match self.last_current {
-            Some(last) if last == generation => {}
-            Some(_) if self.switches_away_from_live_state(context) => {
-                return Err("switching away from a live context that has changed GL state is not supported \
-                            (each context has its own GL state; the replay keeps one)"
-                    .into());
-            }
-            Some(_) => {
+        } else {
+            None
+        };
+        // Each EGL context's GL state is in a context of the replay's context (its slot). A
+        // context that changed no state (its state is the defaults, which `reset_state` gives
+        // back) or is gone gives its slot up to the next one made current, so that captures
+        // whose contexts take turns (a share context that only made programs, a context made
+        // after the last one was destroyed) replay on one.
+        if self.last_current == Some(generation) {
+        } else if let Some(&slot) = self.slots.get(&generation) {
+            self.switch_slot(slot)?;
+            self.last_current = Some(generation);
+        } else if self.switches_away_from_live_state(context) {
+            let slot = self.next_slot;
+            self.next_slot += 1;
+            self.ctx()?.call(Call::CreateContext { id: slot }).map_err(|e| e.message)?;
+            self.switch_slot(slot)?;
+            self.slots.insert(generation, slot);
+            self.last_current = Some(generation);
+        } else {
+            if let Some(last) = self.last_current {
+                self.slots.remove(&last);
                 let fresh = !self.touched.contains(&generation);
                 self.current = Some(generation);
                 self.reset_state()?;
                 if fresh {
                     self.touched.remove(&generation);
                 }
-                self.last_current = Some(generation);
             }
-            None => self.last_current = Some(generation),
+            self.slots.insert(generation, self.active_slot);
+            self.last_current = Some(generation);
         }
         self.current = Some(generation);
+        Ok(())
+    }
+
+    /// Makes the context's context `slot` current, its bindings with it. The slot left goes
+    /// if no EGL context's state is in it any more (its context was destroyed).
+    fn switch_slot(&mut self, slot: u32) -> Fallible {
+        let left = self.active_slot;
+        self.ctx()?.call(Call::MakeCurrent { id: slot }).map_err(|e| e.message)?;
+        let bindings = self.saved_bindings.remove(&slot).unwrap_or_default();
+        self.saved_bindings.insert(left, std::mem::replace(&mut self.bindings, bindings));
+        self.active_slot = slot;
+        if !self.slots.values().any(|&s| s == left) {
+            self.saved_bindings.remove(&left);
+            self.ctx()?.call(Call::DestroyContext { id: left }).map_err(|e| e.message)?;
+        }
         Ok(())
     }
 
@@ -1920,8 +1976,13 @@ impl Translator {
         if self.last_current == Some(generation) {
             self.reset_state()?;
             self.last_current = None;
+            self.slots.remove(&generation);
+        } else if let Some(slot) = self.slots.remove(&generation) {
+            self.saved_bindings.remove(&slot);
+            self.ctx()?.call(Call::DestroyContext { id: slot }).map_err(|e| e.message)?;
         }
-        let Some(objects) = group.and_then(|group| self.objects.remove(&group)) else { return Ok(()) };
+        let own = self.own.remove(&generation).unwrap_or_default();
+        let objects = group.and_then(|group| self.objects.remove(&group)).unwrap_or_default();
         if self.ctx.is_none() {
             return Ok(());
         }
@@ -1932,9 +1993,7 @@ impl Translator {
         };
         let mut calls = Vec::new();
         calls.extend(
-            sorted(objects.framebuffers.values().copied().collect())
-                .into_iter()
-                .map(|id| Call::DeleteFramebuffer { id }),
+            sorted(own.framebuffers.values().copied().collect()).into_iter().map(|id| Call::DeleteFramebuffer { id }),
         );
         calls.extend(
             sorted(objects.renderbuffers.values().flatten().copied().collect())
@@ -1951,12 +2010,9 @@ impl Translator {
                 .into_iter()
                 .map(|id| Call::DeleteBuffer { id }),
         );
-        calls
-            .extend(sorted(objects.queries.values().copied().collect()).into_iter().map(|id| Call::DeleteQuery { id }));
+        calls.extend(sorted(own.queries.values().copied().collect()).into_iter().map(|id| Call::DeleteQuery { id }));
         calls.extend(
-            sorted(objects.vertex_arrays.values().copied().collect())
-                .into_iter()
-                .map(|id| Call::DeleteVertexArray { id }),
+            sorted(own.vertex_arrays.values().copied().collect()).into_iter().map(|id| Call::DeleteVertexArray { id }),
         );
         // Deleted programs were deleted in the context when GL deleted them.
         let programs = objects.programs.values().filter(|p| !p.deleted).filter_map(|p| p.id).collect();
@@ -2372,12 +2428,12 @@ impl Translator {
         if name == 0 {
             return Ok(0);
         }
-        if let Some(&id) = self.objects()?.framebuffers.get(&name) {
+        if let Some(&id) = self.own()?.framebuffers.get(&name) {
             return Ok(id);
         }
         let id = self.fresh_id();
         self.emit(Call::CreateFramebuffer { id })?;
-        self.objects()?.framebuffers.insert(name, id);
+        self.own()?.framebuffers.insert(name, id);
         Ok(id)
     }
 
@@ -2395,7 +2451,7 @@ impl Translator {
     }
 
     fn query_id(&mut self, name: u32) -> Fallible<u32> {
-        self.objects()?.queries.get(&name).copied().ok_or_else(|| format!("query {name} does not exist"))
+        self.own()?.queries.get(&name).copied().ok_or_else(|| format!("query {name} does not exist"))
     }
 }
 

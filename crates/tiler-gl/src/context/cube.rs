@@ -330,6 +330,7 @@ impl Context {
                 *unit = 0;
             }
         }
+        self.forget_texture_in_contexts(id);
     }
 
     /// What a `samplerCube` reading texture unit `unit` samples at a draw (`what` names it in

@@ -72,6 +72,11 @@ pub(crate) struct FeedbackState {
 }
 
 impl FeedbackState {
+    /// Between begin and end, paused or not.
+    pub fn active(&self) -> bool {
+        self.active.is_some()
+    }
+
     /// Unbinds a deleted buffer.
     pub fn forget_buffer(&mut self, buffer: u32) {
         for b in &mut self.bindings {

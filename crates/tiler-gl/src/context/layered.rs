@@ -257,6 +257,7 @@ impl Context {
                 }
             }
         }
+        self.forget_texture_in_contexts(id);
         Ok(())
     }
 

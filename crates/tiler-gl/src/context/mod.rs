@@ -10,6 +10,7 @@
 //! The context owns its [`Device`]; there are no globals. Every call goes through
 //! [`Context::call`], which checks it, applies it, and records it when recording is on.
 
+mod contexts;
 mod cube;
 mod draw;
 mod encoded;
@@ -352,6 +353,8 @@ impl Attrib {
 /// for [`Call::RestoreState`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct SavedState {
+    /// The context (`make_current`) whose state it is.
+    context: u32,
     state: Box<GlState>,
     /// The bound draw and read framebuffers; `None`: left as they are.
     framebuffers: Option<(u32, u32)>,
@@ -517,6 +520,10 @@ pub struct Context {
     pub(crate) active_query: Option<u32>,
     /// Transform feedback bindings and whether it is active (`feedback.rs`).
     pub(crate) feedback: feedback::FeedbackState,
+    /// The current context (`contexts.rs`; 0, made with the context, until `make_current`).
+    current_context: u32,
+    /// The GL state of the contexts that are not current.
+    other_contexts: BTreeMap<u32, contexts::ContextState>,
     pub(crate) swap_behavior: SwapBehavior,
     pub(crate) surface_color: ImageId,
     pub(crate) surface_depth_stencil: Option<ImageId>,
@@ -624,6 +631,8 @@ impl Context {
             tiling: None,
             active_query: None,
             feedback: feedback::FeedbackState::default(),
+            current_context: 0,
+            other_contexts: BTreeMap::new(),
             swap_behavior: config.swap_behavior,
             surface_color,
             surface_depth_stencil,
@@ -953,7 +962,7 @@ impl Context {
                 if self.state.program == id {
                     self.deleted_program = Some(id);
                 } else {
-                    self.programs.remove(&id);
+                    self.drop_deleted_program(id);
                 }
             }
             Uniform { name, value } => self.uniform(&name, value)?,
@@ -1157,6 +1166,9 @@ impl Context {
             RestoreState { state } => self.restore_state(state)?,
             SwapBehavior { behavior } => self.swap_behavior = behavior,
             ResizeSurface { width, height } => self.resize_surface(width, height)?,
+            CreateContext { id } => self.create_context(id)?,
+            MakeCurrent { id } => self.make_current(id)?,
+            DestroyContext { id } => self.destroy_context(id)?,
             StartTiling { x, y, width, height, preserve } => self.start_tiling([x, y], [width, height], preserve)?,
             EndTiling { store } => self.end_tiling(store)?,
             CreateQuery { id } => {
@@ -1658,6 +1670,7 @@ impl Context {
                 *unit = 0;
             }
         }
+        self.forget_texture_in_contexts(id);
         Ok(())
     }
 
@@ -1717,6 +1730,7 @@ impl Context {
         if self.read_framebuffer == id {
             self.read_framebuffer = 0;
         }
+        self.forget_framebuffer_in_contexts(id);
         let fb = self.framebuffers.remove(&id).expect("checked");
         for r in fb.color.into_iter().flatten() {
             if let AttachmentRef::MultisampleTexture { samples, .. } = r {
@@ -1731,7 +1745,7 @@ impl Context {
             return Err(format!("program {id} does not exist"));
         }
         if let Some(doomed) = self.deleted_program.take_if(|d| *d != id) {
-            self.programs.remove(&doomed);
+            self.drop_deleted_program(doomed);
         }
         self.state.program = id;
         Ok(())
@@ -1740,16 +1754,24 @@ impl Context {
     /// The fixed-function and binding state now, for a later [`Call::RestoreState`].
     pub fn saved_state(&self) -> SavedState {
         SavedState {
+            context: self.current_context,
             state: Box::new(self.state.clone()),
             framebuffers: Some((self.draw_framebuffer, self.read_framebuffer)),
         }
     }
 
-    /// Puts back a [`Context::saved_state`]. The bound vertex array object must be the same
-    /// one (the attributes of the others live with them, not in the state); the program in
-    /// use changes as `use_program` would change it, and the draw framebuffer, if the saved
-    /// state has it, as `bind_framebuffer` would (ending the open pass).
+    /// Puts back a [`Context::saved_state`] of the current context. The bound vertex array
+    /// object must be the same one (the attributes of the others live with them, not in the
+    /// state); the program in use changes as `use_program` would change it, and the draw
+    /// framebuffer, if the saved state has it, as `bind_framebuffer` would (ending the open
+    /// pass).
     fn restore_state(&mut self, saved: SavedState) -> Fallible {
+        if saved.context != self.current_context {
+            return Err(format!(
+                "the state put back is context {}'s, but context {} is current",
+                saved.context, self.current_context
+            ));
+        }
         let state = *saved.state;
         if state.vertex_array != self.state.vertex_array {
             return Err(format!(

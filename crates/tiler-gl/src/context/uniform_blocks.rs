@@ -16,7 +16,7 @@ use super::{Context, Fallible, MAX_UNIFORM_BUFFER_BINDINGS, ProgramObject};
 /// What a uniform buffer binding holds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct UniformBufferBinding {
-    buffer: u32,
+    pub(super) buffer: u32,
     offset: u64,
     /// `None`: to the buffer's end.
     size: Option<u64>,

@@ -71,21 +71,30 @@ impl Context {
         Ok(())
     }
 
-    /// Detaches buffer `id`, being deleted, from every vertex array.
+    /// Detaches buffer `id`, being deleted, from every vertex array (the other contexts'
+    /// bound and default arrays too).
     pub(super) fn forget_buffer_in_vertex_arrays(&mut self, id: u32) {
         let bound = std::iter::once((&mut self.state.attribs, &mut self.state.index_buffer));
         let unbound = self.vertex_arrays.values_mut().map(|a| (&mut a.attribs, &mut a.index_buffer));
         for (attribs, index_buffer) in bound.chain(unbound) {
-            for attrib in attribs.iter_mut() {
-                if let Some((AttribSource::Buffer { buffer, .. }, ..)) = &attrib.source
-                    && *buffer == id
-                {
-                    attrib.source = None;
-                }
+            VertexArray::forget_buffer(attribs, index_buffer, id);
+        }
+        self.forget_buffer_in_contexts(id);
+    }
+}
+
+impl VertexArray {
+    /// Detaches buffer `id` from an array's attributes and index buffer.
+    pub(super) fn forget_buffer(attribs: &mut [Attrib], index_buffer: &mut u32, id: u32) {
+        for attrib in attribs.iter_mut() {
+            if let Some((AttribSource::Buffer { buffer, .. }, ..)) = &attrib.source
+                && *buffer == id
+            {
+                attrib.source = None;
             }
-            if *index_buffer == id {
-                *index_buffer = 0;
-            }
+        }
+        if *index_buffer == id {
+            *index_buffer = 0;
         }
     }
 }

@@ -126,12 +126,12 @@ impl Translator {
     /// at the first bind; nothing can tell the difference).
     pub(super) fn gen_vertex_arrays(&mut self, names: &[u32]) -> Fallible {
         for &name in names {
-            if name == 0 || self.objects()?.vertex_arrays.contains_key(&name) {
+            if name == 0 || self.own()?.vertex_arrays.contains_key(&name) {
                 return Err(format!("vertex array name {name} is already in use"));
             }
             let id = self.fresh_id();
             self.emit(Call::CreateVertexArray { id })?;
-            self.objects()?.vertex_arrays.insert(name, id);
+            self.own()?.vertex_arrays.insert(name, id);
         }
         Ok(())
     }
@@ -140,7 +140,7 @@ impl Translator {
         let id = match name {
             0 => 0,
             name => *self
-                .objects()?
+                .own()?
                 .vertex_arrays
                 .get(&name)
                 .ok_or_else(|| format!("vertex array {name} was not made by glGenVertexArrays"))?,
@@ -160,12 +160,12 @@ impl Translator {
     /// ignored, as in GL.
     pub(super) fn delete_vertex_arrays(&mut self, names: &[u32]) -> Fallible {
         for &name in names {
-            let Some(&id) = self.objects()?.vertex_arrays.get(&name) else { continue };
+            let Some(&id) = self.own()?.vertex_arrays.get(&name) else { continue };
             if self.bindings.vertex_array == name {
                 self.bind_vertex_array(0)?;
             }
             self.emit(Call::DeleteVertexArray { id })?;
-            self.objects()?.vertex_arrays.remove(&name);
+            self.own()?.vertex_arrays.remove(&name);
             self.bindings.unbound_vertex_arrays.remove(&name);
         }
         Ok(())
