@@ -435,10 +435,12 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
     unsafe fn block_in_body<N: Nested>(&mut self, code: &[Inst], m: &mut Masks) {
         // Every operation here reads or writes registers of `code` (see `block_in`).
         #![allow(unsafe_op_in_unsafe_fn)]
+        // Only control flow changes the active lanes: checked on entry and after each such
+        // instruction (not before every instruction).
+        if m.active == 0 {
+            return;
+        }
         for inst in code {
-            if m.active == 0 {
-                return;
-            }
             match inst {
                 // The binary16 roundings, through the instruction set's own rounding.
                 Inst::Un(UnOp::Half, d, a) => {
@@ -509,6 +511,9 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         N::block(self, els, m);
                     }
                     m.active |= after_then;
+                    if m.active == 0 {
+                        return;
+                    }
                 }
                 Inst::Loop { cond_code, cond, body, step, test_first } => {
                     let (outer_exited, outer_continued) = (m.exited, m.continued);
@@ -537,22 +542,29 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     m.active |= m.exited;
                     m.exited = outer_exited;
                     m.continued = outer_continued;
+                    if m.active == 0 {
+                        return;
+                    }
                 }
                 Inst::Break => {
                     m.exited |= m.active;
                     m.active = 0;
+                    return;
                 }
                 Inst::Continue => {
                     m.continued |= m.active;
                     m.active = 0;
+                    return;
                 }
                 Inst::Return => {
                     m.returned |= m.active;
                     m.active = 0;
+                    return;
                 }
                 Inst::Discard => {
                     m.discarded |= m.active;
                     m.active = 0;
+                    return;
                 }
                 Inst::Call(body) => {
                     let outer = m.returned;
@@ -560,6 +572,9 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     N::block(self, body, m);
                     m.active |= m.returned;
                     m.returned = outer;
+                    if m.active == 0 {
+                        return;
+                    }
                 }
                 Inst::Breakable(body) => {
                     let outer = m.exited;
@@ -567,13 +582,16 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     N::block(self, body, m);
                     m.active |= m.exited;
                     m.exited = outer;
+                    if m.active == 0 {
+                        return;
+                    }
                 }
                 Inst::Derivative { dst, src, axis } => {
                     let v = self.get(*src);
                     let d = self.env.derivative(v, *axis);
                     self.set(*dst, d);
                 }
-                Inst::Sample { slot, dst, coord, lod, reference, offset } => {
+                Inst::Sample { slot, dst, coord, lod, reference, offset, round } => {
                     let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
                     let coord = [finite(self.get(coord[0])), finite(self.get(coord[1]))];
                     let lod = match lod {
@@ -589,8 +607,14 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     let reference = reference.map(|r| self.get(r));
                     let offset = offset.map(i32::from);
                     let texel = self.env.sample(*slot as usize, coord, lod, reference, offset);
-                    for (c, &d) in dst.iter().enumerate() {
-                        self.set(d, texel[c]);
+                    if *round {
+                        for (c, &d) in dst.iter().enumerate() {
+                            self.set(d, N::half_toward_zero(texel[c]));
+                        }
+                    } else {
+                        for (c, &d) in dst.iter().enumerate() {
+                            self.set(d, texel[c]);
+                        }
                     }
                 }
                 Inst::SampleCube { slot, dst, direction, lod } => {
