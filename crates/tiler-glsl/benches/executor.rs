@@ -31,10 +31,8 @@ void main() {
     view = vec3(-position.yx, 2.0);
 }";
 
-// `highp`: the native shader computes in f32; `mediump` is binary16 (docs/captures.md), whose
-// pictures differ from it.
 const FS: &str = "
-precision highp float;
+precision mediump float;
 uniform vec3 light_dir;
 uniform vec3 light_color;
 uniform vec3 base;
