@@ -3559,7 +3559,7 @@ impl<'a> Compiler<'a> {
         let lod = self.lookup_lod(name, explicit, args.get(2))?;
         let dst = self.temps(4);
         let dst4 = [dst[0], dst[1], dst[2], dst[3]];
-        self.emit(Inst::Sample { slot, dst: dst4, coord: [s, t], lod, reference, offset: [0, 0] });
+        self.emit(Inst::Sample { slot, dst: dst4, coord: [s, t], lod, reference, offset: [0, 0], round: false });
         if shadow {
             let dst = self.texels(slot, vec![dst[0]]);
             return Ok(Value { ty: FLOAT, regs: dst });

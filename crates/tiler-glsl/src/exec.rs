@@ -34,6 +34,15 @@ pub trait Env<const W: usize> {
         offset: [i32; 2],
     ) -> [[f32; W]; 4];
 
+    /// [`Env::sample`] with an implicit level of detail, no reference and no offset: the
+    /// common lookup, which an environment may answer without building the general call's
+    /// arguments (mark it `#[inline(always)]`: it is inlined into each instruction set's
+    /// interpreter).
+    #[inline(always)]
+    fn sample_implicit(&mut self, slot: usize, coord: [[f32; W]; 2]) -> [[f32; W]; 4] {
+        self.sample(slot, coord, LodValue::Implicit, None, [0, 0])
+    }
+
     /// Samples cube texture slot `slot` in the direction `direction` in the lanes (finite, as
     /// `sample`'s coordinates).
     fn sample_cube(&mut self, slot: usize, direction: [[f32; W]; 3], lod: LodValue<W>) -> [[f32; W]; 4];
@@ -403,6 +412,35 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
         }
     }
 
+    /// A 2D lookup with an explicit, biased, gradient or gather level of detail, a reference or
+    /// an offset (out of line: the common lookup is [`Env::sample_implicit`]).
+    ///
+    /// # Safety
+    /// The registers of `lod` and `reference` must be within the register file.
+    #[inline(never)]
+    unsafe fn sample_general(
+        &mut self,
+        slot: u16,
+        coord: [[f32; W]; 2],
+        lod: &Lod,
+        reference: Option<Reg>,
+        offset: [i8; 2],
+    ) -> [[f32; W]; 4] {
+        let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
+        // SAFETY: the caller's guarantee.
+        let get = |r: Reg| unsafe { self.get(r) };
+        let lod = match lod {
+            Lod::Implicit => LodValue::Implicit,
+            Lod::Bias(r) => LodValue::Bias(finite(get(*r))),
+            Lod::Explicit(r) => LodValue::Explicit(finite(get(*r))),
+            Lod::Grad { dx, dy } => LodValue::Grad(dx.map(|r| finite(get(r))), dy.map(|r| finite(get(r)))),
+            Lod::Gather(c) => LodValue::Gather(*c),
+        };
+        // A NaN reference stays NaN: the compare rules say what it gives.
+        let reference = reference.map(get);
+        self.env.sample(slot as usize, coord, lod, reference, offset.map(i32::from))
+    }
+
     /// # Safety
     /// Every register of `code` must be within the register file.
     unsafe fn block(&mut self, code: &[Inst], m: &mut Masks) {
@@ -435,10 +473,12 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
     unsafe fn block_in_body<N: Nested>(&mut self, code: &[Inst], m: &mut Masks) {
         // Every operation here reads or writes registers of `code` (see `block_in`).
         #![allow(unsafe_op_in_unsafe_fn)]
+        // Only control flow changes the active lanes: checked on entry and after each such
+        // instruction (not before every instruction).
+        if m.active == 0 {
+            return;
+        }
         for inst in code {
-            if m.active == 0 {
-                return;
-            }
             match inst {
                 // The binary16 roundings, through the instruction set's own rounding.
                 Inst::Un(UnOp::Half, d, a) => {
@@ -509,6 +549,9 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                         N::block(self, els, m);
                     }
                     m.active |= after_then;
+                    if m.active == 0 {
+                        return;
+                    }
                 }
                 Inst::Loop { cond_code, cond, body, step, test_first } => {
                     let (outer_exited, outer_continued) = (m.exited, m.continued);
@@ -537,22 +580,29 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     m.active |= m.exited;
                     m.exited = outer_exited;
                     m.continued = outer_continued;
+                    if m.active == 0 {
+                        return;
+                    }
                 }
                 Inst::Break => {
                     m.exited |= m.active;
                     m.active = 0;
+                    return;
                 }
                 Inst::Continue => {
                     m.continued |= m.active;
                     m.active = 0;
+                    return;
                 }
                 Inst::Return => {
                     m.returned |= m.active;
                     m.active = 0;
+                    return;
                 }
                 Inst::Discard => {
                     m.discarded |= m.active;
                     m.active = 0;
+                    return;
                 }
                 Inst::Call(body) => {
                     let outer = m.returned;
@@ -560,6 +610,9 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     N::block(self, body, m);
                     m.active |= m.returned;
                     m.returned = outer;
+                    if m.active == 0 {
+                        return;
+                    }
                 }
                 Inst::Breakable(body) => {
                     let outer = m.exited;
@@ -567,30 +620,31 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     N::block(self, body, m);
                     m.active |= m.exited;
                     m.exited = outer;
+                    if m.active == 0 {
+                        return;
+                    }
                 }
                 Inst::Derivative { dst, src, axis } => {
                     let v = self.get(*src);
                     let d = self.env.derivative(v, *axis);
                     self.set(*dst, d);
                 }
-                Inst::Sample { slot, dst, coord, lod, reference, offset } => {
+                Inst::Sample { slot, dst, coord, lod, reference, offset, round } => {
                     let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
                     let coord = [finite(self.get(coord[0])), finite(self.get(coord[1]))];
-                    let lod = match lod {
-                        Lod::Implicit => LodValue::Implicit,
-                        Lod::Bias(r) => LodValue::Bias(finite(self.get(*r))),
-                        Lod::Explicit(r) => LodValue::Explicit(finite(self.get(*r))),
-                        Lod::Grad { dx, dy } => {
-                            LodValue::Grad(dx.map(|r| finite(self.get(r))), dy.map(|r| finite(self.get(r))))
-                        }
-                        Lod::Gather(c) => LodValue::Gather(*c),
+                    let texel = if let (Lod::Implicit, None, [0, 0]) = (lod, reference, offset) {
+                        self.env.sample_implicit(*slot as usize, coord)
+                    } else {
+                        self.sample_general(*slot, coord, lod, *reference, *offset)
                     };
-                    // A NaN reference stays NaN: the compare rules say what it gives.
-                    let reference = reference.map(|r| self.get(r));
-                    let offset = offset.map(i32::from);
-                    let texel = self.env.sample(*slot as usize, coord, lod, reference, offset);
-                    for (c, &d) in dst.iter().enumerate() {
-                        self.set(d, texel[c]);
+                    if *round {
+                        for (c, &d) in dst.iter().enumerate() {
+                            self.set(d, N::half_toward_zero(texel[c]));
+                        }
+                    } else {
+                        for (c, &d) in dst.iter().enumerate() {
+                            self.set(d, texel[c]);
+                        }
                     }
                 }
                 Inst::SampleCube { slot, dst, direction, lod } => {
@@ -1093,6 +1147,74 @@ mod tests {
         let bits = |r: &[[f32; 8]; 24]| r.map(|v| v.map(f32::to_bits));
         assert_eq!(bits(&a), bits(&b));
         assert_ne!(a[20], inputs[20], "the code ran");
+    }
+
+    /// Texels made of the coordinates: `s` (plus the offset's x), `s + t`, `s + 2t`, and NaNs
+    /// with payloads in alpha.
+    struct CoordTexels;
+    impl Env<8> for CoordTexels {
+        fn sample_cube(&mut self, _: usize, _: [[f32; 8]; 3], _: LodValue<8>) -> [[f32; 8]; 4] {
+            unreachable!("no cube textures")
+        }
+        fn sample(
+            &mut self,
+            _: usize,
+            coord: [[f32; 8]; 2],
+            _: LodValue<8>,
+            _: Option<[f32; 8]>,
+            offset: [i32; 2],
+        ) -> [[f32; 8]; 4] {
+            std::array::from_fn(|c| {
+                std::array::from_fn(|i| match c {
+                    0 => coord[0][i] + offset[0] as f32,
+                    // NaNs with payloads, signalling and quiet.
+                    3 => f32::from_bits(0x7f80_0001 + 0x0011_1111 * i as u32),
+                    _ => coord[0][i] + c as f32 * coord[1][i],
+                })
+            })
+        }
+    }
+
+    /// A lookup that rounds its texels (`Sample`'s `round`) writes what the lookup and four
+    /// `HalfTowardZero`s write, through the common lookup and the general one, at both
+    /// instruction sets.
+    #[test]
+    fn a_rounding_lookup_is_a_lookup_and_its_roundings() {
+        use crate::ir::Lod;
+        let sample = |dst: [Reg; 4], round, offset| Inst::Sample {
+            slot: 0,
+            dst,
+            coord: [0, 1],
+            lod: Lod::Implicit,
+            reference: None,
+            offset,
+            round,
+        };
+        let mut inputs = [[0.0f32; 8]; 16];
+        inputs[0] = [0.1, -2.5, 7.0e4, 1e-6, f32::from_bits(0x7fc0_1234), -0.0, 65519.0, 0.3];
+        inputs[1] = [0.7, 1.9, -4.1, 3.0, 0.001, f32::from_bits(0x7f80_0001), 1e-30, 0.9];
+        for offset in [[0, 0], [1, 0]] {
+            let mut apart = vec![sample([2, 3, 4, 5], false, offset)];
+            apart.extend((0..4).map(|c| Inst::Un(UnOp::HalfTowardZero, 6 + c, 2 + c)));
+            let folded = vec![sample([6, 7, 8, 9], true, offset)];
+            let masks = || Masks { active: 0xff, returned: 0, exited: 0, continued: 0, discarded: 0 };
+            let mut results = Vec::new();
+            for code in [&apart, &folded] {
+                let mut regs = inputs;
+                // SAFETY: the code's registers are below 16, the file's size.
+                unsafe { Machine { regs: &mut regs, env: &mut CoordTexels }.block(code, &mut masks()) };
+                results.push(regs[6..10].iter().map(|v| v.map(f32::to_bits)).collect::<Vec<_>>());
+                #[cfg(target_arch = "x86_64")]
+                if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("f16c") {
+                    let mut regs = inputs;
+                    // SAFETY: AVX2 and F16C were detected, and the registers are as above.
+                    unsafe { Machine { regs: &mut regs, env: &mut CoordTexels }.block_avx2(code, &mut masks()) };
+                    results.push(regs[6..10].iter().map(|v| v.map(f32::to_bits)).collect::<Vec<_>>());
+                }
+            }
+            assert!(results.iter().all(|r| *r == results[0]), "{offset:?}: {results:x?}");
+            assert_ne!(results[0][0], inputs[0].map(f32::to_bits), "the texels were rounded");
+        }
     }
 
     #[test]

@@ -578,7 +578,7 @@ mod tests {
     }
 
     fn sample(dst: [Reg; 4], coord: [Reg; 2]) -> Inst {
-        Inst::Sample { slot: 0, dst, coord, lod: Lod::Implicit, reference: None, offset: [0, 0] }
+        Inst::Sample { slot: 0, dst, coord, lod: Lod::Implicit, reference: None, offset: [0, 0], round: false }
     }
 
     #[test]

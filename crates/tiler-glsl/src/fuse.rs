@@ -54,9 +54,53 @@ pub fn fuse(code: &mut Vec<Inst>, work_regs: usize, pinned: &[Reg]) {
             uses.reads[r as usize] += 2;
         }
     }
+    rounded_texels(code, &uses);
     halves(code, &uses);
     rounded_factors(code, &uses);
     block(code, &uses);
+}
+
+/// Folds a `mediump` sampler's roundings of its texels (`UnOp::HalfTowardZero` of each
+/// channel, right after the lookup) into the lookup ([`Inst::Sample`]'s `round`): one
+/// dispatch instead of up to five, as desktop.trace's blur spends them. A rounding folds when
+/// it follows the lookup with only other such roundings between, and its operand is a
+/// channel no other instruction reads; a channel nothing reads is rounded too (harmless), a
+/// channel read otherwise keeps the lookup as it was. A rounding that writes one of the
+/// lookup's channels (or a register another rounding writes) stays, so the lookup never
+/// writes a register twice.
+fn rounded_texels(code: &mut Vec<Inst>, uses: &Uses) {
+    let mut at = 0;
+    while at < code.len() {
+        for nested in blocks_mut(&mut code[at]) {
+            rounded_texels(nested, uses);
+        }
+        if let Inst::Sample { dst, round: false, .. } = code[at] {
+            // The roundings that follow: (index, channel, rounded register).
+            let mut folded: Vec<(usize, usize, Reg)> = Vec::new();
+            let mut next = at + 1;
+            while let Some(&Inst::Un(UnOp::HalfTowardZero, d, x)) = code.get(next)
+                && let Some(c) = dst.iter().position(|&r| r == x)
+                && uses.single(x)
+                && !dst.contains(&d)
+                && !folded.iter().any(|f| f.1 == c || f.2 == d)
+            {
+                folded.push((next, c, d));
+                next += 1;
+            }
+            let unread = |r: Reg| r & BANK == 0 && uses.reads[r as usize] == 0;
+            let all = (0..4).all(|c| folded.iter().any(|f| f.1 == c) || unread(dst[c]));
+            if all && !folded.is_empty() {
+                if let Inst::Sample { dst, round, .. } = &mut code[at] {
+                    for &(_, c, d) in &folded {
+                        dst[c] = d;
+                    }
+                    *round = true;
+                }
+                code.drain(at + 1..next);
+            }
+        }
+        at += 1;
+    }
 }
 
 /// The operation that also rounds its result to binary16, for the float operations that have
@@ -304,6 +348,51 @@ mod tests {
         ];
         fuse(&mut stored, 5, &[4]);
         assert_eq!(stored, vec![Inst::Un(UnOp::Half, 2, 0), Inst::Store(0, 1), Inst::Bin(BinOp::MulHalf, 4, 1, 2)]);
+    }
+
+    #[test]
+    fn texel_roundings_fold_into_their_lookup_when_they_are_its_channels_only_reads() {
+        use crate::ir::Lod;
+        let sample = |dst: [Reg; 4], round| Inst::Sample {
+            slot: 0,
+            dst,
+            coord: [0, 1],
+            lod: Lod::Implicit,
+            reference: None,
+            offset: [0, 0],
+            round,
+        };
+        // Three channels rounded (alpha unread): one rounding lookup into the roundings'
+        // registers.
+        let mut code = vec![
+            sample([2, 3, 4, 5], false),
+            Inst::Un(UnOp::HalfTowardZero, 6, 2),
+            Inst::Un(UnOp::HalfTowardZero, 7, 3),
+            Inst::Un(UnOp::HalfTowardZero, 8, 4),
+        ];
+        fuse(&mut code, 9, &[6, 7, 8]);
+        assert_eq!(code, vec![sample([6, 7, 8, 5], true)]);
+        // Alpha read unrounded, or a rounding not next to the lookup: nothing folds.
+        let unfolded = vec![
+            sample([2, 3, 4, 5], false),
+            Inst::Un(UnOp::HalfTowardZero, 6, 2),
+            Inst::Un(UnOp::HalfTowardZero, 7, 3),
+            Inst::Un(UnOp::HalfTowardZero, 8, 4),
+            Inst::Store(9, 5),
+        ];
+        let mut code = unfolded.clone();
+        fuse(&mut code, 10, &[6, 7, 8, 9]);
+        assert_eq!(code, unfolded);
+        let apart = vec![
+            sample([2, 3, 4, 5], false),
+            Inst::Store(9, 0),
+            Inst::Un(UnOp::HalfTowardZero, 6, 2),
+            Inst::Un(UnOp::HalfTowardZero, 7, 3),
+            Inst::Un(UnOp::HalfTowardZero, 8, 4),
+        ];
+        let mut code = apart.clone();
+        fuse(&mut code, 10, &[6, 7, 8, 9]);
+        assert_eq!(code, apart);
     }
 
     #[test]

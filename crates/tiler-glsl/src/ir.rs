@@ -215,7 +215,11 @@ impl Lod {
     }
 }
 
+// A plain tag (`repr(u8)`) rather than one hidden in a `Vec`'s capacity: the executor's
+// dispatch then reads one byte instead of decoding the niche (four instructions more per
+// executed instruction).
 #[derive(Clone, Debug, PartialEq)]
+#[repr(u8)]
 pub enum Inst {
     Un(UnOp, Reg, Reg),
     Bin(BinOp, Reg, Reg, Reg),
@@ -264,6 +268,9 @@ pub enum Inst {
         reference: Option<Reg>,
         /// Texels added to the texel indices before the wrap (`textureOffset`).
         offset: [i8; 2],
+        /// The texels are rounded toward zero to binary16 (`UnOp::HalfTowardZero`) before
+        /// they are written: a `mediump` sampler's roundings, folded in by `fuse`.
+        round: bool,
     },
     /// Samples cube texture slot `slot` in the direction `(x, y, z)` into four registers.
     SampleCube {

@@ -1126,6 +1126,19 @@ impl Env<8> for FragmentEnv<'_, '_> {
         }
     }
 
+    /// The common lookup, with the sampler as it is bound, inlined into the interpreter.
+    #[inline(always)]
+    fn sample_implicit(&mut self, slot: usize, coord: [[f32; 8]; 2]) -> [[f32; 8]; 4] {
+        if let Some(TextureBinding::Core(texture, sampler)) = &self.slots[slot] {
+            const PLAIN: tiler::Lookup = tiler::Lookup { gradients: None, offset: [0, 0] };
+            let t = F32x8(std::array::from_fn(|i| 1.0 - coord[1][i]));
+            // Unpacked by hand: `map` copied through a temporary (16 instructions a lookup).
+            let [r, g, b, a] = self.frag.sample_with(texture, sampler, [F32x8(coord[0]), t], &PLAIN);
+            return [r.0, g.0, b.0, a.0];
+        }
+        self.sample(slot, coord, LodValue::Implicit, None, [0, 0])
+    }
+
     fn sample(
         &mut self,
         slot: usize,
@@ -1139,11 +1152,8 @@ impl Env<8> for FragmentEnv<'_, '_> {
             return gather(self, slot, slots[slot].as_ref(), coord, offset, comp);
         }
         match (&self.slots[slot], lod) {
-            // The common lookup, with the sampler as it is bound.
-            (Some(TextureBinding::Core(texture, sampler)), LodValue::Implicit) if offset == [0, 0] => {
-                const PLAIN: tiler::Lookup = tiler::Lookup { gradients: None, offset: [0, 0] };
-                let t = F32x8(coord[1].map(|t| 1.0 - t));
-                self.frag.sample_with(texture, sampler, [F32x8(coord[0]), t], &PLAIN).map(|c| c.0)
+            (Some(TextureBinding::Core(..)), LodValue::Implicit) if offset == [0, 0] => {
+                self.sample_implicit(slot, coord)
             }
             (Some(TextureBinding::Integer(texture, sampler)), _) => {
                 let at = integer_nearest(texture, sampler, coord, 8);
@@ -1340,6 +1350,9 @@ impl FragmentShader for GlslFragmentShader {
         self.program.fragment_properties()
     }
 
+    // Inlined into each instruction set's pixel pipeline (see `FragmentShader`): the inputs'
+    // interpolation and the outputs' copies then run at that set, not the baseline's.
+    #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let code = &self.program.fragment;
         FRAGMENT_WORK.with_borrow_mut(|file| {

@@ -85,7 +85,15 @@ impl Compiler<'_> {
         let dst = self.temps(4);
         let dst4 = [dst[0], dst[1], dst[2], dst[3]];
         if kind == SamplerKind::Sampler2D {
-            self.emit(Inst::Sample { slot, dst: dst4, coord: [coord[0], coord[1]], lod, reference: None, offset });
+            self.emit(Inst::Sample {
+                slot,
+                dst: dst4,
+                coord: [coord[0], coord[1]],
+                lod,
+                reference: None,
+                offset,
+                round: false,
+            });
         } else {
             self.emit(Inst::SampleLayered { slot, dst: dst4, coord: [coord[0], coord[1], coord[2]], lod });
         }
@@ -122,7 +130,15 @@ impl Compiler<'_> {
         let dst = self.temps(4);
         let dst4 = [dst[0], dst[1], dst[2], dst[3]];
         let coord = [coord.regs[0], coord.regs[1]];
-        self.emit(Inst::Sample { slot, dst: dst4, coord, lod: Lod::Gather(comp), reference: None, offset });
+        self.emit(Inst::Sample {
+            slot,
+            dst: dst4,
+            coord,
+            lod: Lod::Gather(comp),
+            reference: None,
+            offset,
+            round: false,
+        });
         let dst = self.texels(slot, dst);
         Ok(Value { ty: Type::vec(4), regs: dst })
     }
