@@ -235,7 +235,6 @@ impl Sampler {
     pub fn with_wrap(self, wrap: Wrap) -> Sampler {
         Sampler { wrap_u: wrap, wrap_v: wrap, ..self }
     }
-
 }
 
 /// One mip level: its size, where its decoded texels start in the texture's texels (× 4:
@@ -2382,7 +2381,8 @@ mod tests {
                 }
             }
             texels += l.width * l.height;
-            differ += (linear.level_texels(level).iter().zip(boxed.level_texels(level)).filter(|(a, b)| **a != *b)).count();
+            differ +=
+                (linear.level_texels(level).iter().zip(boxed.level_texels(level)).filter(|(a, b)| **a != *b)).count();
         }
         // Not the box: texels 0, 1 over 1, 2 lerp to rows 1 and 2, then 2; the box gives
         // (0 + 1 + 1 + 2 + 2) >> 2 = 1.
