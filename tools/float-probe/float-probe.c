@@ -71,7 +71,9 @@ int main(int argc, char **argv) {
      * levels 4×4, 2×2 and 1×1 uploaded likewise (the generator running on), so that filtered
      * values show every weight; =varied-npot: a 7×5 one, level 0 only.
      * FLOAT_PROBE_FILTER=linear filters linearly (LINEAR_MIPMAP_LINEAR with levels) instead of
-     * nearest; FLOAT_PROBE_WRAP=repeat|clamp|mirror sets both wraps (clamp-to-edge unless set). */
+     * nearest; FLOAT_PROBE_WRAP=repeat|clamp|mirror sets both wraps (clamp-to-edge unless set);
+     * FLOAT_PROBE_MIN=nearest-mipmap-nearest|linear-mipmap-nearest|nearest-mipmap-linear sets
+     * the minification filter (the magnification filter stays as FLOAT_PROBE_FILTER says). */
     const char *texture = getenv("FLOAT_PROBE_TEXTURE");
     if (texture && strncmp(texture, "varied", 6) == 0) {
         int npot = strcmp(texture, "varied-npot") == 0;
@@ -85,8 +87,12 @@ int main(int argc, char **argv) {
         GLuint tex;
         glGenTextures(1, &tex);
         glBindTexture(GL_TEXTURE_2D, tex);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                        linear ? (levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR) : GL_NEAREST);
+        const char *min = getenv("FLOAT_PROBE_MIN");
+        GLint min_filter = linear ? (levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR) : GL_NEAREST;
+        if (min && strcmp(min, "nearest-mipmap-nearest") == 0) min_filter = GL_NEAREST_MIPMAP_NEAREST;
+        if (min && strcmp(min, "linear-mipmap-nearest") == 0) min_filter = GL_LINEAR_MIPMAP_NEAREST;
+        if (min && strcmp(min, "nearest-mipmap-linear") == 0) min_filter = GL_NEAREST_MIPMAP_LINEAR;
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, min_filter);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, linear ? GL_LINEAR : GL_NEAREST);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap_mode);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap_mode);

@@ -928,6 +928,15 @@ fn core_texel(texture: &Texture, sampler: &Sampler, s: f32, t: f32, lod: f32, of
     texture.sample_lod_offset(sampler, s, 1.0 - t, lod, [offset[0], -offset[1]])
 }
 
+/// The quads' differences of GL's `(s, t)` along window x and y, for the core's level of
+/// detail: taken of `t` itself, not of the core's `v = 1 − t`, whose rounding would change the
+/// differences' last bits (llvmpipe differences the coordinates as the shader gives them).
+/// The sign of `t`'s differences is the core's, though only their squares count.
+fn gl_gradients(coord: [[f32; 8]; 2]) -> [[F32x8; 2]; 2] {
+    let (s, t) = (F32x8(coord[0]), F32x8(coord[1]));
+    [[s.ddx(), F32x8::ZERO - t.ddx()], [s.ddy(), F32x8::ZERO - t.ddy()]]
+}
+
 /// Each lane's level of detail from `textureGrad`'s derivatives on a core texture (level 0
 /// on anything else, which reads at the base level anyway).
 fn grad_lods<const W: usize>(binding: Option<&TextureBinding>, dx: [[f32; W]; 3], dy: [[f32; W]; 3]) -> [f32; W] {
@@ -1130,10 +1139,12 @@ impl Env<8> for FragmentEnv<'_, '_> {
     #[inline(always)]
     fn sample_implicit(&mut self, slot: usize, coord: [[f32; 8]; 2]) -> [[f32; 8]; 4] {
         if let Some(TextureBinding::Core(texture, sampler)) = &self.slots[slot] {
-            const PLAIN: tiler::Lookup = tiler::Lookup { gradients: None, offset: [0, 0] };
+            // GL's own derivatives of (s, t), for a texture that needs a level of detail.
+            let gradients = texture.reads_lod(sampler).then(|| gl_gradients(coord));
+            let lookup = tiler::Lookup { gradients, offset: [0, 0] };
             let t = F32x8(std::array::from_fn(|i| 1.0 - coord[1][i]));
             // Unpacked by hand: `map` copied through a temporary (16 instructions a lookup).
-            let [r, g, b, a] = self.frag.sample_with(texture, sampler, [F32x8(coord[0]), t], &PLAIN);
+            let [r, g, b, a] = self.frag.sample_with(texture, sampler, [F32x8(coord[0]), t], &lookup);
             return [r.0, g.0, b.0, a.0];
         }
         self.sample(slot, coord, LodValue::Implicit, None, [0, 0])
@@ -1176,7 +1187,7 @@ impl Env<8> for FragmentEnv<'_, '_> {
                         let d = |d: [[f32; 8]; 3]| [F32x8(d[0]), F32x8::ZERO - F32x8(d[1])];
                         Some([d(dx), d(dy)])
                     }
-                    _ => None,
+                    _ => texture.reads_lod(&sampler).then(|| gl_gradients(coord)),
                 };
                 let lookup = tiler::Lookup { gradients, offset: [offset[0], -offset[1]] };
                 let t = F32x8(coord[1].map(|t| 1.0 - t));

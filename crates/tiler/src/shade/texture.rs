@@ -126,11 +126,16 @@ pub enum MipChain {
     /// Levels down to 1×1 of the same sizes as [`MipChain::Box`], each texel a bilinear sample
     /// of the level above at the texel's centre: what Mesa's `glGenerateMipmap` does (a
     /// linear-filtered blit from level to level), and so what a GL application's mip maps look
-    /// like on llvmpipe. Where a side halves exactly (even, or 1) the sample is the box filter,
-    /// byte for byte; along an odd side of `w` texels halved to `n`, texel `x` blends texels
+    /// like on llvmpipe. Along a side of `w` texels halved to `n`, texel `x` blends texels
     /// `⌊s⌋` and `⌊s⌋ + 1` at `s = (x + ½) · w / n − ½` with an 8-bit weight (round to
-    /// nearest of the fraction · 256), so a 3-texel row halves to its middle texel and a
-    /// 75-texel one weighs its neighbours unevenly, where the box would drop the last texel.
+    /// nearest of the fraction · 256; 128 where the side halves exactly), so a 3-texel row
+    /// halves to its middle texel and a 75-texel one weighs its neighbours unevenly, where the
+    /// box would drop the last texel. Linear textures blend bytes as llvmpipe's AoS sampler
+    /// does (see the module notes): each row's two texels, then the two rows, each lerp
+    /// rounded to a byte — so where a side halves exactly, `lerp(lerp(a, b), lerp(c, d))` at
+    /// weight 128, which is not the box's `(a + b + c + d + 2) >> 2` in about 4% of texels
+    /// (every level of glmark2 refract's 1600×1200 chain, dumped from llvmpipe, is this to the
+    /// byte). sRGB textures blend in linear light, in floats.
     Linear,
 }
 
@@ -229,15 +234,6 @@ impl Sampler {
     /// The same sampler with both wraps set to `wrap`.
     pub fn with_wrap(self, wrap: Wrap) -> Sampler {
         Sampler { wrap_u: wrap, wrap_v: wrap, ..self }
-    }
-
-    /// The level of detail at or below which the magnification filter applies (GL §8.15).
-    fn magnification_limit(&self) -> f32 {
-        if self.mag_filter == Filter::Linear && self.min_filter == Filter::Nearest && self.mipmap != MipmapMode::None {
-            0.5
-        } else {
-            0.0
-        }
     }
 }
 
@@ -406,8 +402,12 @@ impl Texture {
                 );
                 let above_start = *starts.last().expect("level 0 is there");
                 starts.push(rows.len());
+                // sRGB sides that halve exactly keep the box (in linear light, as a float
+                // blend at ½ would give it up to rounding).
                 let odd = |from: u32, to: u32| from != 2 * to && from != 1;
-                if mips == MipChain::Linear && (odd(above.width, next.width) || odd(above.height, next.height)) {
+                let srgb_box = color_space == ColorSpace::Srgb
+                    && !(odd(above.width, next.width) || odd(above.height, next.height));
+                if mips == MipChain::Linear && !srgb_box {
                     linear_filter(&mut rows, above_start, &above, &next, color_space);
                 } else {
                     box_filter(&mut rows, above_start, &above, &next, color_space);
@@ -680,7 +680,7 @@ impl Texture {
         // Arrays of two written out, not `map`ped: `map` is a function of its own that LLVM may
         // keep out of line, compiled for the baseline instruction set (see `lanes`).
         let rho_squared = match &lookup.gradients {
-            None => quad_rho_squared(u * width, v * height),
+            None => quad_rho_squared(u, v, width, height),
             Some(g) => {
                 let rho = |tl: usize| {
                     let (dsdx, dtdx) = (g[0][0].lane(tl) * width, g[0][1].lane(tl) * height);
@@ -699,8 +699,7 @@ impl Texture {
         let lods = if self.plan_ignores_lod(sampler) {
             [0.0; 2]
         } else {
-            let logs = log2_pair(rho_squared);
-            [0.5 * logs[0], 0.5 * logs[1]]
+            [lod_of_rho_squared(rho_squared[0]), lod_of_rho_squared(rho_squared[1])]
         };
         // Minified more than 2× (`λ > UNMIPPED_LOD`) without mip maps, told from `ρ²` so that
         // samplers whose plan ignores the level of detail need no logarithm.
@@ -909,7 +908,7 @@ impl Texture {
         };
         let size = [self.width() as f32, self.height() as f32, depth];
         let squared = |d: [f32; 3]| (0..3).map(|i| (d[i] * size[i]) * (d[i] * size[i])).fold(0.0, |a, b| a + b);
-        0.5 * log2(squared(dx).max(squared(dy)))
+        lod_of_rho_squared(squared(dx).max(squared(dy)))
     }
 
     /// Whether the texels are held as RGBA8 bytes ([`Texels::Packed`]).
@@ -927,6 +926,15 @@ impl Texture {
         self.holds_bytes() && sampler.wrap_u != Wrap::MirroredRepeat && sampler.wrap_v != Wrap::MirroredRepeat
     }
 
+    /// Whether `sampler` reads this texture at a level of detail (mip maps to choose from, or
+    /// different filters for magnification and minification): if not, a lookup's
+    /// [`Lookup::gradients`] only serve the ledger's note of minification without mip maps,
+    /// which the quads' own differences serve as well.
+    #[inline(always)]
+    pub fn reads_lod(&self, sampler: &Sampler) -> bool {
+        !self.plan_ignores_lod(sampler)
+    }
+
     /// Whether [`Texture::plan`] gives the same plan at every level of detail: one filter for
     /// magnification and minification, and one level to read. Then the quads' levels of detail
     /// (two logarithms a group) need not be computed.
@@ -939,7 +947,7 @@ impl Texture {
     /// notes). A NaN level of detail magnifies.
     #[inline(always)]
     fn plan(&self, sampler: &Sampler, lambda: f32) -> LevelPlan {
-        if lambda.is_nan() || lambda <= sampler.magnification_limit() {
+        if lambda.is_nan() || lambda <= 0.0 {
             return LevelPlan::Single { level: 0, filter: sampler.mag_filter };
         }
         let last = self.levels.len() - 1;
@@ -947,7 +955,11 @@ impl Texture {
         match sampler.mipmap {
             MipmapMode::None => LevelPlan::Single { level: 0, filter },
             MipmapMode::Nearest => {
-                let level = if lambda <= 0.5 { 0 } else { ((lambda + 0.5).ceil() - 1.0).min(last as f32) as usize };
+                // `λ` rounded to the nearest level, halves up (llvmpipe's `(e + 1) >> 1` for
+                // `ρ² = m · 2^e`, which is that of `½ · fast_log2(ρ²)`); `λ − ⌊λ⌋` is exact.
+                let base = floor(lambda);
+                let nearest = if lambda - base >= 0.5 { base + 1.0 } else { base };
+                let level = nearest.min(last as f32) as usize;
                 LevelPlan::Single { level, filter }
             }
             MipmapMode::Linear => {
@@ -1690,9 +1702,7 @@ fn linear_filter(texels: &mut Vec<[u8; 4]>, above_start: usize, above: &Level, n
                     unorm8(linear_to_srgb(top * (1.0 - wy) + bottom * wy))
                 } else {
                     let [a, b, cc, d] = quad.map(|t| t[c] as u32);
-                    let top = a * (256 - fx) + b * fx;
-                    let bottom = cc * (256 - fx) + d * fx;
-                    ((top * (256 - fy) + bottom * fy + (1 << 15)) >> 16) as u8
+                    lerp_bytes(lerp_bytes(a, b, fx), lerp_bytes(cc, d, fx), fy) as u8
                 }
             });
             texels.push(texel);
@@ -1703,100 +1713,46 @@ fn linear_filter(texels: &mut Vec<[u8; 4]>, above_start: usize, above: &Level, n
 /// The lanes of the two quads of a 4×2 group, upper-left, upper-right, lower-left, lower-right.
 const QUAD_LANES: [[usize; 4]; 2] = [[0, 1, 4, 5], [2, 3, 6, 7]];
 
-/// The level of detail of each quad before bias: `½ · log2(ρ²)` from the upper-left pixel's
-/// differences (see the module notes). `s`, `t` are in texels of level 0.
+/// The level of detail of each quad before bias: `½ · fast_log2(ρ²)` from the upper-left
+/// pixel's differences (see the module notes) of `(u, v)` on a `width × height` level 0.
 #[cfg(test)]
-fn quad_lods(s: F32x8, t: F32x8) -> [f32; 2] {
-    let logs = log2_pair(quad_rho_squared(s, t));
-    [0.5 * logs[0], 0.5 * logs[1]]
+fn quad_lods(u: F32x8, v: F32x8, width: f32, height: f32) -> [f32; 2] {
+    quad_rho_squared(u, v, width, height).map(lod_of_rho_squared)
 }
 
 /// `ρ²` of each quad: the larger squared length of the upper-left pixel's differences in x
-/// and in y, `s`, `t` in texels of level 0 ([`quad_lods`] is `½ · log2` of it).
+/// and in y, in texels of a `width × height` level 0 ([`quad_lods`] is `½ · fast_log2` of it).
+/// Each difference is of the coordinates as given, then scaled (`(u₁ − u₀) · width`, as
+/// llvmpipe's `lp_build_rho` orders it, not `u₁ · width − u₀ · width`).
 #[inline]
-pub fn quad_rho_squared(s: F32x8, t: F32x8) -> [f32; 2] {
+pub fn quad_rho_squared(u: F32x8, v: F32x8, width: f32, height: f32) -> [f32; 2] {
     let quad = |[tl, tr, bl, _]: [usize; 4]| {
-        let (dsdx, dtdx) = (s.lane(tr) - s.lane(tl), t.lane(tr) - t.lane(tl));
-        let (dsdy, dtdy) = (s.lane(bl) - s.lane(tl), t.lane(bl) - t.lane(tl));
+        let (dsdx, dtdx) = ((u.lane(tr) - u.lane(tl)) * width, (v.lane(tr) - v.lane(tl)) * height);
+        let (dsdy, dtdy) = ((u.lane(bl) - u.lane(tl)) * width, (v.lane(bl) - v.lane(tl)) * height);
         (dsdx * dsdx + dtdx * dtdx).max(dsdy * dsdy + dtdy * dtdy)
     };
     [quad(QUAD_LANES[0]), quad(QUAD_LANES[1])]
 }
 
-/// `log2(x)` from basic IEEE operations (no platform `log2f`, whose last bit may differ
-/// between C libraries): exponent from the bits, and for the mantissa `m` in `[√½, √2]` the
-/// series `log2(m) = 2/ln 2 · (z + z³/3 + z⁵/5 + z⁷/7 + z⁹/9)`, `z = (m − 1)/(m + 1)`, in double
-/// precision (`|z| ≤ 0.172`: the next term is below 1e-9). `log2(0)` and NaN or negative
-/// inputs give −∞, `log2(∞)` gives ∞.
+/// llvmpipe's level-of-detail logarithm (`lp_build_fast_log2`, which its sampler takes for
+/// `λ = ½ · log2(ρ²)`): `⌊log2 x⌋ − 1 + m` for `x = m · 2^⌊log2 x⌋`, `m` in `[1, 2)` — a
+/// piecewise linear `log2`, exact at powers of two and up to 0.086 below the logarithm
+/// between them — the sum rounded to `f32`. Bit operations on `x` as llvmpipe does them:
+/// zero gives −127 (so it magnifies), an infinity or NaN 128 or a little more (so it takes
+/// the last level). A few integer and float operations, no series.
 #[inline(always)]
-pub fn log2(x: f32) -> f32 {
-    if x.is_nan() || x <= 0.0 {
-        return f32::NEG_INFINITY;
-    }
-    if x == f32::INFINITY {
-        return f32::INFINITY;
-    }
-    let (x, bias) = if x < f32::MIN_POSITIVE { (x * (1u64 << 32) as f32, 32) } else { (x, 0) };
+pub fn fast_log2(x: f32) -> f32 {
     let bits = x.to_bits();
-    let mut exponent = ((bits >> 23) & 0xff) as i32 - 127 - bias;
-    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000) as f64;
-    if m > std::f64::consts::SQRT_2 {
-        m *= 0.5;
-        exponent += 1;
-    }
-    let z = (m - 1.0) / (m + 1.0);
-    let z2 = z * z;
-    let series = z * (1.0 + z2 * (1.0 / 3.0 + z2 * (1.0 / 5.0 + z2 * (1.0 / 7.0 + z2 * (1.0 / 9.0)))));
-    (exponent as f64 + series * (2.0 / std::f64::consts::LN_2)) as f32
+    let exponent = ((bits >> 23) & 0xff) as i32 - 128;
+    let mantissa = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    exponent as f32 + mantissa
 }
 
-/// `[log2(x[0]), log2(x[1])]`, bit for bit: both series side by side in the two lanes of one
-/// SSE2 `f64×2` register (one division, not two, and half the multiplies and adds), the same
-/// IEEE operations in the same order per lane. A pair with an input outside the normal
-/// positive floats (zero, subnormal, infinite, negative or NaN) takes [`log2`] per lane.
-/// What a group's two quads' levels of detail take.
+/// The level of detail before bias of a quad whose `ρ²` (squared texels per pixel) is
+/// `rho_squared`: `½ · fast_log2(ρ²)` ([`fast_log2`]).
 #[inline(always)]
-pub fn log2_pair(x: [f32; 2]) -> [f32; 2] {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{
-            _mm_add_pd, _mm_cvtpd_ps, _mm_cvtss_f32, _mm_div_pd, _mm_mul_pd, _mm_set_pd, _mm_set1_pd, _mm_shuffle_ps,
-            _mm_sub_pd,
-        };
-        // NaN is in no range.
-        let normal = |x: f32| (f32::MIN_POSITIVE..f32::INFINITY).contains(&x);
-        if !(normal(x[0]) && normal(x[1])) {
-            return [log2(x[0]), log2(x[1])];
-        }
-        // `log2`'s steps for a normal positive input.
-        let reduced = |x: f32| {
-            let bits = x.to_bits();
-            let exponent = ((bits >> 23) & 0xff) as i32 - 127;
-            let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000) as f64;
-            if m > std::f64::consts::SQRT_2 { (m * 0.5, exponent + 1) } else { (m, exponent) }
-        };
-        let ((m0, e0), (m1, e1)) = (reduced(x[0]), reduced(x[1]));
-        // SAFETY: SSE2 is part of the x86-64 baseline (every x86-64 processor has it), and these
-        // intrinsics only compute on registers: no memory is read or written.
-        unsafe {
-            let (m, exponent) = (_mm_set_pd(m1, m0), _mm_set_pd(e1 as f64, e0 as f64));
-            let c = |k: f64| _mm_set1_pd(k);
-            let z = _mm_div_pd(_mm_sub_pd(m, c(1.0)), _mm_add_pd(m, c(1.0)));
-            let z2 = _mm_mul_pd(z, z);
-            // `z · (1 + z2 · (1/3 + z2 · (1/5 + z2 · (1/7 + z2 · 1/9))))`, innermost first, as `log2`.
-            let mut inner = _mm_mul_pd(z2, c(1.0 / 9.0));
-            for k in [1.0 / 7.0, 1.0 / 5.0, 1.0 / 3.0] {
-                inner = _mm_mul_pd(z2, _mm_add_pd(c(k), inner));
-            }
-            let series = _mm_mul_pd(z, _mm_add_pd(c(1.0), inner));
-            let log = _mm_cvtpd_ps(_mm_add_pd(exponent, _mm_mul_pd(series, c(2.0 / std::f64::consts::LN_2))));
-            [_mm_cvtss_f32(log), _mm_cvtss_f32(_mm_shuffle_ps::<1>(log, log))]
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        [log2(x[0]), log2(x[1])]
-    }
+pub fn lod_of_rho_squared(rho_squared: f32) -> f32 {
+    0.5 * fast_log2(rho_squared)
 }
 
 /// `x.floor()`, exactly, without a call to the C library's `floorf` (which the baseline x86-64
@@ -2066,7 +2022,7 @@ mod tests {
         counted: LaneMask,
         cache: &mut TextureCache,
     ) -> Vec4x8 {
-        let lods = quad_lods(u * texture.width() as f32, v * texture.height() as f32);
+        let lods = quad_lods(u, v, texture.width() as f32, texture.height() as f32);
         let bytes = reference_filters_bytes(texture, sampler);
         let mut out = [[0u32; 8]; 4];
         for (quad, lanes) in QUAD_LANES.iter().enumerate() {
@@ -2248,39 +2204,28 @@ mod tests {
     const ONE_UNORM16: f32 = 255.0 / 65535.0;
 
     #[test]
-    fn log2_is_exact_on_powers_of_two_and_close_elsewhere() {
+    fn fast_log2_is_exact_on_powers_of_two_and_a_chord_between_them() {
         for e in -126..=127 {
             let x = 2f32.powi(e);
-            assert_eq!(log2(x), e as f32, "2^{e}");
+            assert_eq!(fast_log2(x), e as f32, "2^{e}");
         }
-        // Subnormals: 2^-140 and the smallest, 2^-149.
-        assert_eq!(log2(f32::from_bits(1 << 9)), -140.0);
-        assert_eq!(log2(f32::from_bits(1)), -149.0);
-        for x in [0.3f32, 1.5, 3.0, 10.0, 1234.5, 7.0e-3] {
-            assert!((log2(x) as f64 - (x as f64).log2()).abs() < 1e-6, "{x}");
-        }
-        assert_eq!(log2(0.0), f32::NEG_INFINITY);
-        assert_eq!(log2(-1.0), f32::NEG_INFINITY);
-        assert_eq!(log2(f32::NAN), f32::NEG_INFINITY);
-        assert_eq!(log2(f32::INFINITY), f32::INFINITY);
-    }
-
-    #[test]
-    fn log2_pair_is_log2_bit_for_bit() {
-        let mut inputs = vec![0.0, -0.0, -1.0, f32::NAN, f32::INFINITY, f32::MIN_POSITIVE, f32::MAX];
-        inputs.extend([f32::from_bits(1), f32::from_bits(0x007f_ffff), std::f32::consts::SQRT_2, 1.0, 0.5]);
-        // A spread of mantissas and exponents, both sides of √2 (a simple LCG over the bits).
+        // Linear between powers of two: 1.5 is half way from 0 to 1, 12 half way from 3 to 4.
+        assert_eq!(fast_log2(1.5), 0.5);
+        assert_eq!(fast_log2(12.0), 3.5);
+        assert_eq!(fast_log2(9.0), 3.125);
+        // Below the logarithm (a chord of a concave curve) by at most 1 − (1 + ln ln 2)/ln 2.
         let mut bits = 0x1234_5678u32;
         for _ in 0..20_000 {
             bits = bits.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            inputs.push(f32::from_bits(bits & 0x7fff_ffff));
+            // Normal positive floats: exponents 1 to 254.
+            let x = f32::from_bits((bits & 0x007f_ffff) | ((1 + (bits >> 23) % 254) << 23));
+            let below = (x as f64).log2() - fast_log2(x) as f64;
+            assert!((-1e-5..0.0861).contains(&below), "{x:e}: {below}");
         }
-        for pair in inputs.windows(2) {
-            let [a, b] = [pair[0], pair[1]];
-            let got = log2_pair([a, b]);
-            assert_eq!(got[0].to_bits(), log2(a).to_bits(), "log2({a:e}) beside {b:e}");
-            assert_eq!(got[1].to_bits(), log2(b).to_bits(), "log2({b:e}) beside {a:e}");
-        }
+        // Bit operations as llvmpipe does them: zero magnifies, infinity and NaN minify.
+        assert_eq!(fast_log2(0.0), -127.0);
+        assert_eq!(fast_log2(f32::INFINITY), 128.0);
+        assert!(fast_log2(f32::NAN) > 128.0);
     }
 
     #[test]
@@ -2413,14 +2358,39 @@ mod tests {
         let box_chain =
             Texture::from_rgba8(5, 1, &row([0, 40, 80, 120, 160]), ColorSpace::Linear, MipChain::Box).unwrap();
         assert_eq!(box_chain.level_texels(1), &[[20, 0, 0, 255], [100, 0, 0, 255]]);
-        // Sides that halve exactly are the box filter, byte for byte, in both colour spaces.
-        for space in [ColorSpace::Linear, ColorSpace::Srgb] {
-            let data: Vec<u8> = (0..8 * 4 * 4).map(|i| (i * 37 % 251) as u8).collect();
-            let linear = Texture::from_rgba8(8, 4, &data, space, MipChain::Linear).unwrap();
-            let boxed = Texture::from_rgba8(8, 4, &data, space, MipChain::Box).unwrap();
-            for level in 0..linear.levels().len() {
-                assert_eq!(linear.level_texels(level), boxed.level_texels(level), "{space:?} level {level}");
+        // Sides that halve exactly blend at weight 128, a byte lerp of the rows' byte lerps
+        // (llvmpipe's); sRGB keeps the box in linear light.
+        let data: Vec<u8> = (0..8 * 4 * 4).map(|i| (i * 37 % 251) as u8).collect();
+        let linear = Texture::from_rgba8(8, 4, &data, ColorSpace::Linear, MipChain::Linear).unwrap();
+        let boxed = Texture::from_rgba8(8, 4, &data, ColorSpace::Linear, MipChain::Box).unwrap();
+        let half = |a: u8, b: u8| a as i32 + (((b as i32 - a as i32) * 128 + 128) >> 8);
+        let (mut differ, mut texels) = (0, 0);
+        // 8×4 → 4×2 → 2×1 halve both sides (then 2×1 → 1×1 only one).
+        for level in 1..3 {
+            let (above, l) = (linear.level_texels(level - 1), linear.levels()[level]);
+            let w = linear.levels()[level - 1].width as usize;
+            for y in 0..l.height as usize {
+                for x in 0..l.width as usize {
+                    let at = |dx: usize, dy: usize| above[(2 * y + dy) * w + 2 * x + dx];
+                    let want: [u8; 4] = std::array::from_fn(|c| {
+                        let top = half(at(0, 0)[c], at(1, 0)[c]);
+                        let bottom = half(at(0, 1)[c], at(1, 1)[c]);
+                        (top + (((bottom - top) * 128 + 128) >> 8)) as u8
+                    });
+                    assert_eq!(linear.level_texels(level)[y * l.width as usize + x], want, "level {level} ({x}, {y})");
+                }
             }
+            texels += l.width * l.height;
+            differ +=
+                (linear.level_texels(level).iter().zip(boxed.level_texels(level)).filter(|(a, b)| **a != *b)).count();
+        }
+        // Not the box: texels 0, 1 over 1, 2 lerp to rows 1 and 2, then 2; the box gives
+        // (0 + 1 + 1 + 2 + 2) >> 2 = 1.
+        assert!(differ > 0, "{differ} of {texels}");
+        let srgb = Texture::from_rgba8(8, 4, &data, ColorSpace::Srgb, MipChain::Linear).unwrap();
+        let srgb_box = Texture::from_rgba8(8, 4, &data, ColorSpace::Srgb, MipChain::Box).unwrap();
+        for level in 0..srgb.levels().len() {
+            assert_eq!(srgb.level_texels(level), srgb_box.level_texels(level), "sRGB level {level}");
         }
     }
 
@@ -2453,7 +2423,7 @@ mod tests {
     /// Samples a quad whose texel-space footprint steps `step` texels per pixel in u.
     fn lod_of(texture: &Texture, step: f32) -> f32 {
         let s = F32x8::from_fn(|i| crate::simd::LANE_DX[i] as f32 * step / texture.width() as f32);
-        quad_lods(s * texture.width() as f32, F32x8::ZERO)[0]
+        quad_lods(s, F32x8::ZERO, texture.width() as f32, texture.height() as f32)[0]
     }
 
     #[test]
@@ -2462,11 +2432,13 @@ mod tests {
         assert_eq!(lod_of(&t, 1.0), 0.0);
         assert_eq!(lod_of(&t, 2.0), 1.0);
         assert_eq!(lod_of(&t, 8.0), 3.0);
-        assert!((lod_of(&t, 3.0) - 3f32.log2()).abs() < 1e-6);
-        // ρ is the longer of the two derivative vectors: (3, 4) texels per pixel in y gives 5.
-        let t_coord = F32x8::from_fn(|i| crate::simd::LANE_DY[i] as f32 * 4.0);
-        let s_coord = F32x8::from_fn(|i| crate::simd::LANE_DY[i] as f32 * 3.0);
-        assert!((quad_lods(s_coord, t_coord)[0] - 5f32.log2()).abs() < 1e-6);
+        // Between powers of two the logarithm is llvmpipe's chord: ρ² = 9 gives ½ · 3.125.
+        assert_eq!(lod_of(&t, 3.0), 1.5625);
+        // ρ is the longer of the two derivative vectors: (3, 4) texels per pixel in y gives
+        // ρ² = 25, `fast_log2` 4 + 0.5625.
+        let t_coord = F32x8::from_fn(|i| crate::simd::LANE_DY[i] as f32 * 4.0 / 64.0);
+        let s_coord = F32x8::from_fn(|i| crate::simd::LANE_DY[i] as f32 * 3.0 / 64.0);
+        assert_eq!(quad_lods(s_coord, t_coord, 64.0, 64.0)[0], 2.28125);
 
         let s = Sampler::TRILINEAR_REPEAT;
         assert_eq!(t.plan(&s, -1.0), LevelPlan::Single { level: 0, filter: Filter::Linear });
@@ -2478,9 +2450,11 @@ mod tests {
         assert_eq!(t.plan(&s, 60.0), LevelPlan::Single { level: 6, filter: Filter::Linear });
         assert_eq!(t.plan(&s, f32::NAN), LevelPlan::Single { level: 0, filter: Filter::Linear });
         let nearest_mip = Sampler { mipmap: MipmapMode::Nearest, min_filter: Filter::Nearest, ..s };
-        // Magnification up to λ = 0.5 (linear mag, nearest-mipmap min), then ⌈λ + ½⌉ − 1.
-        assert_eq!(nearest_mip.magnification_limit(), 0.5);
-        assert_eq!(t.plan(&nearest_mip, 0.5), LevelPlan::Single { level: 0, filter: Filter::Linear });
+        // Magnification up to λ = 0 whatever the filters (llvmpipe's c = 0), then λ rounded,
+        // halves up.
+        assert_eq!(t.plan(&nearest_mip, 0.0), LevelPlan::Single { level: 0, filter: Filter::Linear });
+        assert_eq!(t.plan(&nearest_mip, 0.4), LevelPlan::Single { level: 0, filter: Filter::Nearest });
+        assert_eq!(t.plan(&nearest_mip, 0.5), LevelPlan::Single { level: 1, filter: Filter::Nearest });
         assert_eq!(t.plan(&nearest_mip, 0.6), LevelPlan::Single { level: 1, filter: Filter::Nearest });
         assert_eq!(t.plan(&nearest_mip, 1.49), LevelPlan::Single { level: 1, filter: Filter::Nearest });
         assert_eq!(t.plan(&nearest_mip, 1.51), LevelPlan::Single { level: 2, filter: Filter::Nearest });
@@ -2520,16 +2494,17 @@ mod tests {
         let data = [0u8, 0, 0, 255, 100, 0, 0, 255, 200, 0, 0, 255, 40, 0, 0, 255];
         let t = Texture::from_rgba8(2, 2, &data, ColorSpace::Linear, MipChain::Box).unwrap();
         assert_eq!(t.level_texels(1), &[[85, 0, 0, 255]]);
-        // u steps 1.5 texels per pixel: λ = log2(1.5) ≈ 0.585 at the centre of texel (0, 0).
+        // u steps 1.5 texels per pixel: ρ² = 2.25, λ = ½ · fast_log2(2.25) = 0.5625 at the
+        // centre of texel (0, 0).
         let u = F32x8::from_fn(|i| 0.25 + crate::simd::LANE_DX[i] as f32 * 0.75);
         let v = F32x8::splat(0.25);
         let mut cache = TextureCache::default();
         let c = t.sample(SimdSupport::BASELINE, &Sampler::TRILINEAR_REPEAT, u, v, LaneMask::ALL, &mut cache);
-        // Blended in bytes by the 8-bit weight ⌊256 λ⌋ = 149: 0 + (85 · 149 + 128) >> 8 = 49.
-        assert_eq!((256.0 * 1.5f32.log2()).floor(), 149.0);
-        assert_eq!(c[0].lane(0), unorm8(49));
+        // Blended in bytes by the 8-bit weight ⌊256 λ⌋ = 144: 0 + (85 · 144 + 128) >> 8 = 48.
+        assert_eq!(c[0].lane(0), unorm8(48));
         // One point at the quad's level of detail reads what the quad's lane did, bit for bit.
-        let quad_lambda = quad_lods(u * 2.0, v * 2.0)[0];
+        let quad_lambda = quad_lods(u, v, 2.0, 2.0)[0];
+        assert_eq!(quad_lambda, 0.5625);
         let point = t.sample_lod(&Sampler::TRILINEAR_REPEAT, u.lane(0), v.lane(0), quad_lambda);
         assert_eq!(point.map(f32::to_bits), [0, 1, 2, 3].map(|ch| c[ch].lane(0).to_bits()));
     }

@@ -173,10 +173,10 @@ impl Texture {
         cache: &mut TextureCache,
     ) -> Vec4x8 {
         let [u, v, r] = coord;
-        let rho_squared = quad_rho_squared(u * self.width() as f32, v * self.height() as f32);
+        let rho_squared = quad_rho_squared(u, v, self.width() as f32, self.height() as f32);
         let mut quads = [[[0u32; 4]; 4]; 2];
         for (quad, lanes) in QUAD_LANES.iter().enumerate() {
-            let lambda = 0.5 * log2(rho_squared[quad]) + sampler.lod_bias;
+            let lambda = lod_of_rho_squared(rho_squared[quad]) + sampler.lod_bias;
             let at = self.array_quad_at(
                 sampler,
                 super::lanes(|i| u.lane(lanes[i])),

@@ -141,7 +141,7 @@ fn cube_quad_lod(x: Quad, y: Quad, z: Quad, size: f32) -> f32 {
     };
     let ((dsdx, dtdx), (dsdy, dtdy)) = (derivatives(ddx), derivatives(ddy));
     let rho_squared = (dsdx * dsdx + dtdx * dtdx).max(dsdy * dsdy + dtdy * dtdy);
-    0.5 * log2(rho_squared)
+    lod_of_rho_squared(rho_squared)
 }
 
 impl Texture {

@@ -52,13 +52,17 @@ impl Texture {
     ) -> Vec4x8 {
         let depth = self.layers.map_or(1, |l| l.count) as f32;
         let [u, v, r] = coord;
-        let (s, t, r_texels) = (u * self.width() as f32, v * self.height() as f32, r * depth);
+        let (width, height) = (self.width() as f32, self.height() as f32);
         let mut quads = [[[0u32; 4]; 4]; 2];
         for (quad, lanes) in QUAD_LANES.iter().enumerate() {
             let [tl, tr, bl, _] = *lanes;
-            let d = |c: F32x8, to: usize| c.lane(to) - c.lane(tl);
-            let length = |to: usize| d(s, to) * d(s, to) + d(t, to) * d(t, to) + d(r_texels, to) * d(r_texels, to);
-            let lambda = 0.5 * log2(length(tr).max(length(bl))) + sampler.lod_bias;
+            // Differences scaled to texels, as in 2D (`quad_rho_squared`).
+            let d = |c: F32x8, n: f32, to: usize| (c.lane(to) - c.lane(tl)) * n;
+            let length = |to: usize| {
+                let (ds, dt, dr) = (d(u, width, to), d(v, height, to), d(r, depth, to));
+                ds * ds + dt * dt + dr * dr
+            };
+            let lambda = lod_of_rho_squared(length(tr).max(length(bl))) + sampler.lod_bias;
             let quad_of = |c: F32x8| super::lanes(|i| c.lane(lanes[i]));
             let counted = lanes.map(|lane| counted.contains(lane));
             let minified_unmipped = sampler.mipmap == MipmapMode::None && lambda > super::UNMIPPED_LOD;
