@@ -31,8 +31,10 @@ void main() {
     view = vec3(-position.yx, 2.0);
 }";
 
+// In highp: the native shader below computes what it does, operation for operation (mediump
+// rounds every operation to binary16, as llvmpipe does).
 const FS: &str = "
-precision mediump float;
+precision highp float;
 uniform vec3 light_dir;
 uniform vec3 light_color;
 uniform vec3 base;
@@ -63,15 +65,17 @@ impl VertexShader for NativeVs {
 
 type V3 = [F32x8; 3];
 
+/// GLSL's highp `dot` as tiler computes it (llvmpipe's order): summed from the last component.
 #[inline(always)]
 fn dot(a: V3, b: V3) -> F32x8 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    a[2] * b[2] + a[1] * b[1] + a[0] * b[0]
 }
 
+/// GLSL's highp `normalize` as tiler computes it (llvmpipe's form): `v · (1 / √(v · v))`.
 #[inline(always)]
 fn normalize(a: V3) -> V3 {
-    let len = dot(a, a).sqrt();
-    a.map(|c| c / len)
+    let inverse = F32x8::ONE / dot(a, a).sqrt();
+    a.map(|c| c * inverse)
 }
 
 #[inline(always)]
