@@ -35,11 +35,16 @@ pub fn geometry(gl: &mut Context, id: u32, kind: ProgramKind, vertices: &[[f32; 
 /// Uses program `id` and reads attribute 0 from buffer `id`.
 pub fn bind_geometry(gl: &mut Context, id: u32) {
     c(gl, Call::UseProgram { id });
+    attribute_from(gl, id);
+}
+
+/// Reads attribute 0 (three floats a vertex) from `buffer`.
+pub fn attribute_from(gl: &mut Context, buffer: u32) {
     c(
         gl,
         Call::VertexAttribPointer {
             index: 0,
-            buffer: id,
+            buffer,
             size: 3,
             component: ComponentType::Float,
             normalized: false,

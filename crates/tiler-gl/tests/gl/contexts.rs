@@ -16,22 +16,6 @@ fn solid_program(gl: &mut Context, id: u32, rgba: [f32; 4]) {
     set_color(gl, rgba);
 }
 
-fn attribute_from(gl: &mut Context, buffer: u32) {
-    c(
-        gl,
-        Call::VertexAttribPointer {
-            index: 0,
-            buffer,
-            size: 3,
-            component: ComponentType::Float,
-            normalized: false,
-            stride: 0,
-            offset: 0,
-        },
-    );
-    c(gl, Call::EnableVertexAttrib { index: 0 });
-}
-
 /// The objects both ways share: two quads, two solid programs (red on the window, green into
 /// the texture) and the texture's framebuffer.
 fn objects(gl: &mut Context) {
