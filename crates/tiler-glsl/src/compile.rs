@@ -149,18 +149,13 @@ fn with_gl_es_define(source: &str) -> (String, usize) {
                 let (name, behavior) = rest.split_once(':')?;
                 Some((name.trim(), behavior.trim()))
             });
-            match extension {
-                Some((name, _)) if name == SHADOW_SAMPLERS => {
-                    if line.ends_with('\n') {
-                        "\n"
-                    } else {
-                        ""
-                    }
-                }
-                Some((name, behavior)) if !known(name) && name != "all" && !behavior.starts_with("require") => {
-                    if line.ends_with('\n') { "\n" } else { "" }
-                }
-                _ => line,
+            let emptied = extension.is_some_and(|(name, behavior)| {
+                name == SHADOW_SAMPLERS || (!known(name) && name != "all" && !behavior.starts_with("require"))
+            });
+            match (emptied, line.ends_with('\n')) {
+                (true, true) => "\n",
+                (true, false) => "",
+                (false, _) => line,
             }
         })
         .collect();

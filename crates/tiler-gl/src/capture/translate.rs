@@ -536,7 +536,10 @@ impl Translator {
             // 1×1 until the size comes (`Translator::window_known`); a draw, clear, read or
             // swap of it before then is refused.
             let (w, h) = self.window.unwrap_or((1, 1));
-            self.ctx = Some(self.new_context(w, h)?);
+            let mut ctx = self.new_context(w, h)?;
+            // Made during a call: its calls name that one (`apply` names the later ones).
+            ctx.set_capture_call(self.call);
+            self.ctx = Some(ctx);
         }
         Ok(self.ctx.as_mut().expect("made above"))
     }
@@ -563,10 +566,7 @@ impl Translator {
         if let Some(generation) = self.current.filter(|_| !self.fake && !shared_only) {
             self.touched.insert(generation);
         }
-        let call_number = self.call;
-        let ctx = self.ctx()?;
-        ctx.set_capture_call(call_number);
-        ctx.call(call).map_err(|e| e.message)
+        self.ctx()?.call(call).map_err(|e| e.message)
     }
 
     pub(super) fn fresh_id(&mut self) -> u32 {
