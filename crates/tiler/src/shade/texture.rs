@@ -1307,12 +1307,12 @@ mod avx2 {
         let mut lines = [[0u32; 8]; 4];
         let mut indices = [[0u32; 8]; 4];
         let mut largest = _mm256_setzero_si256();
-        for corner in 0..4 {
-            let index = _mm256_srli_epi32::<2>(offsets[corner]);
+        for (corner, &offset) in offsets.iter().enumerate() {
+            let index = _mm256_srli_epi32::<2>(offset);
             largest = _mm256_max_epu32(largest, index);
             // SAFETY: see above.
             unsafe {
-                _mm256_storeu_si256(lines[corner].as_mut_ptr().cast(), _mm256_srl_epi32(offsets[corner], shift));
+                _mm256_storeu_si256(lines[corner].as_mut_ptr().cast(), _mm256_srl_epi32(offset, shift));
                 _mm256_storeu_si256(indices[corner].as_mut_ptr().cast(), index);
             }
         }
