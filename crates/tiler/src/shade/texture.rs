@@ -911,6 +911,37 @@ impl Texture {
         lod_of_rho_squared(squared(dx).max(squared(dy)))
     }
 
+    /// Whether a plain lookup (`lookup` without derivatives or offset) of `sampler` at `uv`
+    /// reads both quads bilinearly as bytes on level 0 and needs nothing of the general path:
+    /// an RGBA8 texture held as bytes, repeat or clamp-to-edge, one linear filter for
+    /// magnification and minification and one level to read (so [`Texture::plan`] gives
+    /// `Single { level: 0, filter: Linear }` at every level of detail), and neither quad
+    /// minified without mip maps (whose misses [`Texture::sample_pair`] notes quad by quad).
+    /// What `avx2::sample_bilinear_bytes` samples.
+    #[inline(always)]
+    fn bilinear_bytes_on_level_0(&self, sampler: &Sampler, [u, v]: [F32x8; 2], lookup: &Lookup) -> bool {
+        if !(self.format == TexelFormat::Rgba8
+            && self.filters_bytes(sampler)
+            && sampler.mag_filter == Filter::Linear
+            && self.plan_ignores_lod(sampler)
+            && lookup.offset == [0, 0]
+            && lookup.gradients.is_none())
+        {
+            return false;
+        }
+        if sampler.mipmap != MipmapMode::None {
+            return true;
+        }
+        // As `sample_layout` tells a quad minified without mip maps.
+        let unmipped_rho_squared = if sampler.lod_bias == 0.0 {
+            4f32.powi(UNMIPPED_LOD as i32)
+        } else {
+            4f32.powf(UNMIPPED_LOD - sampler.lod_bias)
+        };
+        let rho_squared = quad_rho_squared(u, v, self.width() as f32, self.height() as f32);
+        !(rho_squared[0] > unmipped_rho_squared || rho_squared[1] > unmipped_rho_squared)
+    }
+
     /// Whether the texels are held as RGBA8 bytes ([`Texels::Packed`]).
     #[inline(always)]
     fn holds_bytes(&self) -> bool {
@@ -1114,15 +1145,20 @@ fn footprint_corners<T: Copy + Default, const N: usize, const C: usize>(
 mod avx2 {
     use std::arch::x86_64::*;
 
+    use super::{
+        BLOCK_BYTES, BLOCK_TEXELS, F32x8, LaneMask, PAIR_LANES, SimdSupport, TEXEL_BYTES, Texture, TextureCache,
+        Vec4x8, Wrap, lanes,
+    };
+
     /// [`super::filter_bytes`] of eight lanes from their corners' packed texels
     /// (`[corner][lane]`) and weights, in 16-bit lanes as llvmpipe's AoS sampler: two
     /// texels' four channels per 128 bits (`unpack` with zero), each weight spread over its
     /// texel's channels (`pshufb`), and `lerp(a, b, w) = a + pmulhrsw(w, (b − a) << 7)` —
     /// `(w · (b − a) · 128 + 2^14) >> 15`, which is `(w · (b − a) + 128) >> 8`, arithmetic
     /// (`|b − a| · 128 < 2^15`); then packed back to bytes (the values are bytes, so
-    /// `packus` is exact) and spread to `c · 257` per channel.
+    /// `packus` is exact), each lane's four bytes packed as a texel's.
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-    pub(super) fn filter_bytes(corners: &[[u32; 8]; 4], alpha: &[u32; 8], beta: &[u32; 8]) -> [[u32; 8]; 4] {
+    fn filter_bytes_packed(corners: &[[u32; 8]; 4], alpha: &[u32; 8], beta: &[u32; 8]) -> __m256i {
         // SAFETY (each load and store): 32 bytes of one `[u32; 8]`; unaligned access needs no
         // alignment.
         let load = |v: &[u32; 8]| unsafe { _mm256_loadu_si256(v.as_ptr().cast()) };
@@ -1151,7 +1187,14 @@ mod avx2 {
         };
         let low = half(t.map(|t| _mm256_unpacklo_epi8(t, zero)), spread_low);
         let high = half(t.map(|t| _mm256_unpackhi_epi8(t, zero)), spread_high);
-        let packed = _mm256_packus_epi16(low, high);
+        _mm256_packus_epi16(low, high)
+    }
+
+    /// [`super::filter_bytes`] of eight lanes (see [`filter_bytes_packed`]), each channel
+    /// spread to `c · 257`.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    pub(super) fn filter_bytes(corners: &[[u32; 8]; 4], alpha: &[u32; 8], beta: &[u32; 8]) -> [[u32; 8]; 4] {
+        let packed = filter_bytes_packed(corners, alpha, beta);
         let byte_mask = _mm256_set1_epi32(0xff);
         let mut out = [[0u32; 8]; 4];
         for (c, out) in out.iter_mut().enumerate() {
@@ -1166,6 +1209,156 @@ mod avx2 {
             unsafe { _mm256_storeu_si256(out.as_mut_ptr().cast(), widened) };
         }
         out
+    }
+
+    /// [`super::sample_group_body`] of a group that [`Texture::bilinear_bytes_on_level_0`]
+    /// admits, with `texels` the texture's [`Texels::Packed`] words: the pair path of
+    /// [`Texture::sample_layout`] (both quads side by side in [`PAIR_LANES`] order) with the
+    /// sampler's state known, eight lanes per AVX2 operation throughout — [`reduce`],
+    /// [`linear_texels_bytes`], the offsets of [`Level::row_offset`] and
+    /// [`Level::column_offset`], the cache model's reads ([`TextureCache::access_lanes`], the
+    /// same rows in the same order), [`filter_bytes_packed`] and [`channel_to_f32`] — the
+    /// same operations in the same order per lane, so the same bits and the same reads.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[allow(clippy::too_many_arguments)] // one group's inputs, as `sample_group_body`'s
+    pub(super) fn sample_bilinear_bytes(
+        simd: SimdSupport,
+        texture: &Texture,
+        texels: &[u32],
+        wrap_u: Wrap,
+        wrap_v: Wrap,
+        [u, v]: [F32x8; 2],
+        counted: LaneMask,
+        cache: &mut TextureCache,
+    ) -> Vec4x8 {
+        const _: () = assert!(BLOCK_TEXELS == 4 && BLOCK_BYTES == 64 && TEXEL_BYTES == 4);
+        let level = &texture.levels[0];
+        // `PAIR_LANES` as a permutation; it is its own inverse.
+        let pair = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
+        // SAFETY (each load and store): 32 bytes of one `[f32; 8]` or `[u32; 8]`; unaligned
+        // access needs no alignment.
+        let (u, v) = unsafe { (_mm256_loadu_ps(u.0.as_ptr()), _mm256_loadu_ps(v.0.as_ptr())) };
+        let (u, v) = (_mm256_permutevar8x32_ps(u, pair), _mm256_permutevar8x32_ps(v, pair));
+        // One axis: the texel indices `(i0, i1)` wrapped and the weight `α`, as
+        // `reduce_quad` then `linear_texels_bytes` give them.
+        let axis = |r: __m256, n: u32, wrap: Wrap| -> [__m256i; 3] {
+            let nf = _mm256_set1_ps(n as f32);
+            let minus_one = _mm256_set1_ps(-1.0);
+            let scaled = if wrap == Wrap::Repeat {
+                // `u − ⌊u⌋` (`roundps` floors exactly, as `floor`), NaN (of a NaN or an
+                // infinity) to +0.
+                let reduced = _mm256_sub_ps(r, _mm256_floor_ps(r));
+                let reduced = _mm256_and_ps(_mm256_cmp_ps::<_CMP_ORD_Q>(reduced, reduced), reduced);
+                _mm256_mul_ps(reduced, nf)
+            } else {
+                // Clamp-to-edge (the only other wrap admitted): `u.clamp(−1, 2)`, NaN to +0
+                // (`maxps` gives its second operand for a NaN first one, then the mask zeroes
+                // it); the scaled coordinate clamped to `[−1, n]` (no NaN left). For numbers,
+                // `maxps`/`minps` are `clamp`'s comparisons, ties giving equal values.
+                let ordered = _mm256_cmp_ps::<_CMP_ORD_Q>(r, r);
+                let reduced = _mm256_min_ps(_mm256_max_ps(r, minus_one), _mm256_set1_ps(2.0));
+                let reduced = _mm256_and_ps(ordered, reduced);
+                let p = _mm256_mul_ps(reduced, nf);
+                _mm256_min_ps(_mm256_max_ps(p, minus_one), nf)
+            };
+            // `round_small(p · 256) − 128`: a multiplication and an addition, not fused.
+            let magic = _mm256_set1_ps(12_582_912.0);
+            let shifted = _mm256_add_ps(_mm256_mul_ps(scaled, _mm256_set1_ps(256.0)), magic);
+            let fixed =
+                _mm256_sub_epi32(_mm256_castps_si256(shifted), _mm256_set1_epi32(12_582_912f32.to_bits() as i32 + 128));
+            let i0 = _mm256_srai_epi32::<8>(fixed);
+            let alpha = _mm256_and_si256(fixed, _mm256_set1_epi32(0xff));
+            let i1 = _mm256_add_epi32(i0, _mm256_set1_epi32(1));
+            let n = _mm256_set1_epi32(n as i32);
+            let (x0, x1) = if wrap == Wrap::Repeat {
+                let below = _mm256_cmpgt_epi32(_mm256_setzero_si256(), i0);
+                let x0 = _mm256_blendv_epi8(i0, _mm256_add_epi32(i0, n), below);
+                (x0, _mm256_andnot_si256(_mm256_cmpeq_epi32(i1, n), i1))
+            } else {
+                let (zero, last) = (_mm256_setzero_si256(), _mm256_sub_epi32(n, _mm256_set1_epi32(1)));
+                let clamp = |i: __m256i| _mm256_min_epi32(_mm256_max_epi32(i, zero), last);
+                (clamp(i0), clamp(i1))
+            };
+            [x0, x1, alpha]
+        };
+        let [x0, x1, alpha] = axis(u, level.width, wrap_u);
+        let [y0, y1, beta] = axis(v, level.height, wrap_v);
+        // `Level::row_offset` and `Level::column_offset` (the texture's offsets are below
+        // 2^32, `MAX_MODELLED_BYTES`, so 32-bit lanes hold them).
+        let row_offset = |y: __m256i| {
+            let block_row =
+                _mm256_mullo_epi32(_mm256_srli_epi32::<2>(y), _mm256_set1_epi32((level.blocks_x * 64) as i32));
+            let within = _mm256_slli_epi32::<4>(_mm256_and_si256(y, _mm256_set1_epi32(3)));
+            _mm256_add_epi32(_mm256_add_epi32(_mm256_set1_epi32(level.address as i32), block_row), within)
+        };
+        let column_offset = |x: __m256i| {
+            let block = _mm256_slli_epi32::<6>(_mm256_srli_epi32::<2>(x));
+            _mm256_add_epi32(block, _mm256_slli_epi32::<2>(_mm256_and_si256(x, _mm256_set1_epi32(3))))
+        };
+        let (rows, columns) = ([row_offset(y0), row_offset(y1)], [column_offset(x0), column_offset(x1)]);
+        let offsets = [
+            _mm256_add_epi32(rows[0], columns[0]),
+            _mm256_add_epi32(rows[0], columns[1]),
+            _mm256_add_epi32(rows[1], columns[0]),
+            _mm256_add_epi32(rows[1], columns[1]),
+        ];
+        let line_shift = cache.line_shift();
+        let shift = _mm_cvtsi32_si128(line_shift as i32);
+        let mut lines = [[0u32; 8]; 4];
+        let mut indices = [[0u32; 8]; 4];
+        let mut largest = _mm256_setzero_si256();
+        for (corner, &offset) in offsets.iter().enumerate() {
+            let index = _mm256_srli_epi32::<2>(offset);
+            largest = _mm256_max_epu32(largest, index);
+            // SAFETY: see above.
+            unsafe {
+                _mm256_storeu_si256(lines[corner].as_mut_ptr().cast(), _mm256_srl_epi32(offset, shift));
+                _mm256_storeu_si256(indices[corner].as_mut_ptr().cast(), index);
+            }
+        }
+        // See `sample_quad`.
+        let first_line = (texture.id << 40) >> line_shift;
+        let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
+        cache.access_lanes(simd, first_line, &lines, counted_pair);
+        let largest = _mm_max_epu32(_mm256_castsi256_si128(largest), _mm256_extracti128_si256::<1>(largest));
+        let largest = _mm_max_epu32(largest, _mm_shuffle_epi32::<0b01_00_11_10>(largest));
+        let largest = _mm_max_epu32(largest, _mm_shuffle_epi32::<0b10_11_00_01>(largest));
+        let largest = _mm_cvtsi128_si32(largest) as u32;
+        assert!(
+            (largest as usize) < texels.len(),
+            "texel {largest} of a footprint outside the texture's {} texels",
+            texels.len()
+        );
+        let corners: [[u32; 8]; 4] = std::array::from_fn(|corner| {
+            lanes::<u32, 8>(|i| {
+                // SAFETY: every index is at most `largest` (the unsigned maximum of all 32),
+                // which the assertion above holds below `texels.len()`.
+                unsafe { *texels.get_unchecked(indices[corner][i] as usize) }
+            })
+        });
+        let mut weights = [[0u32; 8]; 2];
+        // SAFETY: see above.
+        unsafe {
+            _mm256_storeu_si256(weights[0].as_mut_ptr().cast(), alpha);
+            _mm256_storeu_si256(weights[1].as_mut_ptr().cast(), beta);
+        }
+        let packed = filter_bytes_packed(&corners, &weights[0], &weights[1]);
+        // `channel_to_f32` of bytes, `c · fl(1/255)`, back in the group's lanes.
+        let scale = _mm256_set1_ps(1.0 / 255.0);
+        let byte_mask = _mm256_set1_epi32(0xff);
+        let channel = |c: __m256i| {
+            let value = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(c, byte_mask)), scale);
+            let mut out = F32x8([0.0; 8]);
+            // SAFETY: see above.
+            unsafe { _mm256_storeu_ps(out.0.as_mut_ptr(), _mm256_permutevar8x32_ps(value, pair)) };
+            out
+        };
+        [
+            channel(packed),
+            channel(_mm256_srli_epi32::<8>(packed)),
+            channel(_mm256_srli_epi32::<16>(packed)),
+            channel(_mm256_srli_epi32::<24>(packed)),
+        ]
     }
 }
 
@@ -1455,6 +1648,17 @@ fn sample_group_body(
     // A kernel per layout: RGBA8 finds its lines from the decoded texels' offsets, other
     // formats from their stored layout (`STORED`), with no branch on the format in the RGBA8
     // kernel. The colour space needs none: the texels are held decoded.
+    #[cfg(target_arch = "x86_64")]
+    if simd.level() == SimdLevel::Avx2
+        && let Texels::Packed(texels) = &texture.texels
+        && texture.bilinear_bytes_on_level_0(sampler, [u, v], lookup)
+    {
+        // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has every
+        // feature `avx2::sample_bilinear_bytes` is compiled with (`SimdSupport::detect`).
+        return unsafe {
+            avx2::sample_bilinear_bytes(simd, texture, texels, sampler.wrap_u, sampler.wrap_v, [u, v], counted, cache)
+        };
+    }
     match (texture.format == TexelFormat::Rgba8, texture.filters_bytes(sampler)) {
         (true, true) => texture.sample_layout::<false, true>(simd, sampler, u, v, counted, cache, lookup),
         (true, false) => texture.sample_layout::<false, false>(simd, sampler, u, v, counted, cache, lookup),
@@ -2819,6 +3023,53 @@ mod tests {
                 let bits = |c: Vec4x8| c.map(|c| c.0.map(f32::to_bits));
                 prop_assert_eq!(bits(got), bits(want), "u {:?} v {:?}", u, v);
                 prop_assert_eq!((fast.hits(), fast.misses()), (reference.hits(), reference.misses()));
+            }
+        }
+
+        /// The same for the state `avx2::sample_bilinear_bytes` takes (linear RGBA8, one
+        /// bilinear filter, repeat or clamp-to-edge, one level read), which the general
+        /// strategies above draw a few times in 256: with and without mip maps (minified
+        /// quads without mip maps go the general way), at every SIMD level.
+        #[test]
+        fn bilinear_byte_sampling_matches_the_reference(
+            (width, height, seed) in (1u32..70, 1u32..70, any::<u64>()),
+            mips in prop::sample::select(vec![MipChain::Box, MipChain::BaseOnly]),
+            mipmap in prop::sample::select(vec![MipmapMode::None, MipmapMode::Linear]),
+            wraps in prop::sample::select(vec![Wrap::Repeat, Wrap::ClampToEdge]).prop_flat_map(|u| (Just(u), prop::sample::select(vec![Wrap::Repeat, Wrap::ClampToEdge]))),
+            lod_bias in prop_oneof![3 => Just(0.0f32), 1 => -4.0f32..4.0],
+            config in prop::sample::select(cache_configs().to_vec()),
+            simd in prop::sample::select(simd_levels()),
+            groups in prop::collection::vec(group(), 1..24),
+        ) {
+            let mut state = seed;
+            let data: Vec<u8> = (0..width * height * 4)
+                .map(|_| {
+                    state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+                    ((state ^ (state >> 29)).wrapping_mul(0xbf58_476d_1ce4_e5b9) >> 56) as u8
+                })
+                .collect();
+            let texture = Texture::from_rgba8(width, height, &data, ColorSpace::Linear, mips).unwrap();
+            let sampler = Sampler {
+                mag_filter: Filter::Linear,
+                min_filter: Filter::Linear,
+                mipmap,
+                wrap_u: wraps.0,
+                wrap_v: wraps.1,
+                wrap_w: wraps.1,
+                lod_bias,
+            };
+            // The baseline's general path notes minified quads without mip maps as before.
+            let baseline = SimdSupport::detect(SimdLevel::Baseline).unwrap();
+            let mut fast = TextureCache::new(config);
+            let (mut reference, mut general) = (TextureCache::new(config), TextureCache::new(config));
+            for (u, v, counted) in groups {
+                let got = texture.sample(simd, &sampler, u, v, counted, &mut fast);
+                let want = reference_sample(&texture, &sampler, u, v, counted, &mut reference);
+                texture.sample(baseline, &sampler, u, v, counted, &mut general);
+                let bits = |c: Vec4x8| c.map(|c| c.0.map(f32::to_bits));
+                prop_assert_eq!(bits(got), bits(want), "u {:?} v {:?}", u, v);
+                prop_assert_eq!((fast.hits(), fast.misses()), (reference.hits(), reference.misses()));
+                prop_assert_eq!(fast.take_unmipped(), general.take_unmipped());
             }
         }
     }
