@@ -42,7 +42,7 @@ impl SubPixel {
     #[inline]
     pub fn from_window(px: f64) -> SubPixel {
         debug_assert!(px.abs() <= MAX_COORDINATE_PX as f64, "{px} outside the guard band");
-        SubPixel((px * SUBPIXEL_SCALE as f64).round() as i32)
+        SubPixel(round_half_away_to_i32(px * SUBPIXEL_SCALE as f64))
     }
 
     #[inline]
@@ -75,9 +75,85 @@ impl SubPixel {
     }
 }
 
+/// `v.round() as i32` (nearest, halves away from zero, saturating, NaN to 0) without the call
+/// to libm's `round` that `f64::round` is on the x86-64 baseline (no `roundsd` before SSE4.1):
+/// six snaps a triangle, and `round` was 1.4% of tris' `perf` samples.
+///
+/// `v as i64` truncates toward zero (saturating; NaN gives 0) and `v - t` is the exact
+/// fractional part (below 2^52 its bits are `v`'s own below the unit place; above, `v` is an
+/// integer and it is 0), so
+/// a step away from zero when it is at least a half is the nearest integer, halves away from
+/// zero. Beyond `i64`'s range `frac` is ±∞ or 0 and the saturating step and the clamp give
+/// what the saturating `as i32` gives; NaN compares false and stays 0.
+#[inline]
+fn round_half_away_to_i32(v: f64) -> i32 {
+    let t = v as i64;
+    let frac = v - t as f64;
+    let r = if frac >= 0.5 {
+        t.saturating_add(1)
+    } else if frac <= -0.5 {
+        t.saturating_sub(1)
+    } else {
+        t
+    };
+    r.clamp(i32::MIN as i64, i32::MAX as i64) as i32
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn inline_rounding_matches_f64_round() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            -2.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+            4503599627370495.5,
+            -4503599627370495.5,
+            4503599627370497.0,
+            (1u64 << 24) as f64 + 0.5,
+            -((1u64 << 24) as f64) - 0.5,
+            2147483647.5,
+            -2147483648.5,
+            2147483646.5,
+            1e300,
+            -1e300,
+            f64::MAX,
+            f64::MIN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            9.3e18,
+            -9.3e18,
+        ];
+        // Every quarter and neighbouring float around the halves over the snapped range, and
+        // a deterministic spread of window coordinates times the sub-pixel scale.
+        for i in -4096i32..=4096 {
+            let h = i as f64 * 4099.0 + 0.5;
+            values.extend([h, h.next_down(), h.next_up(), h - 0.25, h + 0.25]);
+        }
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        for _ in 0..100_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let px = (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 * MAX_COORDINATE_PX as f64 - MAX_COORDINATE_PX as f64;
+            values.push(px * SUBPIXEL_SCALE as f64);
+        }
+        for v in values {
+            assert_eq!(round_half_away_to_i32(v), v.round() as i32, "{v:e}");
+        }
+    }
 
     #[test]
     fn snapping_rounds_to_nearest() {
