@@ -303,6 +303,13 @@ pub struct Texture {
 /// as `ρ² > 4^(UNMIPPED_LOD − bias)`.
 const UNMIPPED_LOD: f32 = 1.0;
 
+/// The `ρ²` above which a quad of `sampler` is minified more than [`UNMIPPED_LOD`] allows
+/// without mip maps: `4^(UNMIPPED_LOD − bias)`.
+#[inline(always)]
+fn unmipped_rho_squared(sampler: &Sampler) -> f32 {
+    if sampler.lod_bias == 0.0 { 4f32.powi(UNMIPPED_LOD as i32) } else { 4f32.powf(UNMIPPED_LOD - sampler.lod_bias) }
+}
+
 /// Hands out texture ids, the only process-wide state of the sampler: ids only make cache tags
 /// of different textures differ, so their values never change a count.
 static NEXT_TEXTURE_ID: AtomicU64 = AtomicU64::new(1);
@@ -704,11 +711,7 @@ impl Texture {
         // Minified more than 2× (`λ > UNMIPPED_LOD`) without mip maps, told from `ρ²` so that
         // samplers whose plan ignores the level of detail need no logarithm.
         let unmipped = sampler.mipmap == MipmapMode::None;
-        let unmipped_rho_squared = if sampler.lod_bias == 0.0 {
-            4f32.powi(UNMIPPED_LOD as i32)
-        } else {
-            4f32.powf(UNMIPPED_LOD - sampler.lod_bias)
-        };
+        let unmipped_rho_squared = unmipped_rho_squared(sampler);
         let lambdas = [lods[0] + sampler.lod_bias, lods[1] + sampler.lod_bias];
         let plans = [self.plan(sampler, lambdas[0]), self.plan(sampler, lambdas[1])];
         let counted_quad = |quad: usize| lanes(|i| counted.contains(QUAD_LANES[quad][i]));
@@ -933,11 +936,7 @@ impl Texture {
             return true;
         }
         // As `sample_layout` tells a quad minified without mip maps.
-        let unmipped_rho_squared = if sampler.lod_bias == 0.0 {
-            4f32.powi(UNMIPPED_LOD as i32)
-        } else {
-            4f32.powf(UNMIPPED_LOD - sampler.lod_bias)
-        };
+        let unmipped_rho_squared = unmipped_rho_squared(sampler);
         let rho_squared = quad_rho_squared(u, v, self.width() as f32, self.height() as f32);
         !(rho_squared[0] > unmipped_rho_squared || rho_squared[1] > unmipped_rho_squared)
     }
