@@ -1314,7 +1314,12 @@ impl GlslVertexShader {
         let code = &self.program.vertex;
         let lanes = inputs.len();
         debug_assert!(lanes <= VERTEX_LANES);
-        VERTEX_WORK.with_borrow_mut(|file| {
+        // Taken out of the thread's slot and put back after, rather than used in
+        // `with_borrow_mut`'s closure: that closure is a function of std's, kept out of line
+        // and compiled for the baseline instruction set, so the inputs' copies would not run
+        // at the caller's (for fragments it was 4.5% of desktop.trace's replay).
+        let mut file = VERTEX_WORK.replace(WorkFile::EMPTY);
+        {
             let executable = &self.program.vertex_executable;
             let regs = file.load(self.id, executable, &self.bank);
             // `attributes` is in the order of `code.inputs`.
@@ -1352,7 +1357,8 @@ impl GlslVertexShader {
             let active = (1u64 << lanes) - 1;
             run(executable, regs, active, &mut VertexEnv { slots: &self.slots, lanes });
             finish(regs, lanes);
-        });
+        }
+        VERTEX_WORK.set(file);
     }
 }
 
@@ -1366,7 +1372,9 @@ impl FragmentShader for GlslFragmentShader {
     #[inline(always)]
     fn shade(&self, frag: &mut Fragments<'_>) {
         let code = &self.program.fragment;
-        FRAGMENT_WORK.with_borrow_mut(|file| {
+        // See `run_batch`.
+        let mut file = FRAGMENT_WORK.replace(WorkFile::EMPTY);
+        {
             let executable = &self.program.fragment_executable;
             let regs = file.load(self.id, executable, &self.bank);
             for (vregs, first, flat) in &self.inputs {
@@ -1397,7 +1405,8 @@ impl FragmentShader for GlslFragmentShader {
             for (attachment, c) in &code.colors {
                 frag.set_color(*attachment, c.map(|r| F32x8(regs[r as usize])));
             }
-        });
+        }
+        FRAGMENT_WORK.set(file);
     }
 }
 

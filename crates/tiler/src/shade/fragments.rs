@@ -181,7 +181,10 @@ impl<'a> Fragments<'a> {
     }
 
     /// [`Fragments::sample`] with explicit derivatives or a texel offset (GLSL ES 3.00's
-    /// `textureGrad`, `textureOffset`).
+    /// `textureGrad`, `textureOffset`). Inlined, as `sample`, so that the SIMD level's kernel
+    /// is chosen in the shader's own code (a shader crate's call was kept out of line, compiled
+    /// for the baseline: 2% of desktop.trace's replay).
+    #[inline]
     pub fn sample_with(&mut self, texture: &Texture, sampler: &Sampler, uv: [F32x8; 2], lookup: &Lookup) -> Vec4x8 {
         let (simd, counted, cache) = (self.simd, self.covered.quads(), &mut self.context.texture_cache);
         texture.sample_with(simd, sampler, uv[0], uv[1], counted, cache, lookup)
