@@ -327,8 +327,14 @@ impl Texture {
         mips: MipChain,
     ) -> Result<Texture> {
         check_base(width, height, rgba)?;
-        let rows: Vec<[u8; 4]> = rgba.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
-        Ok(Texture::build(TexelFormat::Rgba8, width, height, rows, color_space, mips))
+        let (texels, _) = rgba.as_chunks::<4>();
+        if mips == MipChain::BaseOnly {
+            // No chain to build: stored straight from the caller's bytes, not copied first
+            // (a render target sampled pass after pass is built this way each time).
+            let levels = vec![Level::new(width, height, 0)];
+            return Ok(Texture::store(TexelFormat::Rgba8, texels, levels, &[0], color_space));
+        }
+        Ok(Texture::build(TexelFormat::Rgba8, width, height, texels.to_vec(), color_space, mips))
     }
 
     /// A texture from a `width × height` level 0 stored in `format` (see
@@ -385,7 +391,7 @@ impl Texture {
             row_starts.push(at);
             at += l.width as usize * l.height as usize;
         }
-        Ok(Texture::store(format, rows, self.levels, &row_starts, self.color_space))
+        Ok(Texture::store(format, &rows, self.levels, &row_starts, self.color_space))
     }
 
     /// The texture of decoded level 0 texels `rows`, its chain built by `mips`.
@@ -422,7 +428,7 @@ impl Texture {
                 levels.push(next);
             }
         }
-        Texture::store(format, rows, levels, &starts, color_space)
+        Texture::store(format, &rows, levels, &starts, color_space)
     }
 
     /// A texture whose mip chain is given, level 0 first, rows top to bottom, each level
@@ -477,14 +483,14 @@ impl Texture {
                 format!("the chain ends at level {} ({}×{}), not at 1×1", levels.len() - 1, last.width, last.height),
             ));
         }
-        Ok(Texture::store(format, rows, levels, &starts, color_space))
+        Ok(Texture::store(format, &rows, levels, &starts, color_space))
     }
 
     /// The texture of a chain built row-major (`rows`, each level's first texel in `starts`),
     /// stored in blocks; each level's stored address follows the level before it in `format`.
     fn store(
         format: TexelFormat,
-        rows: Vec<[u8; 4]>,
+        rows: &[[u8; 4]],
         mut levels: Vec<Level>,
         starts: &[usize],
         color_space: ColorSpace,
@@ -503,25 +509,19 @@ impl Texture {
         }));
         debug_assert!(color_table.windows(2).all(|pair| pair[0] < pair[1]), "the colour table is strictly increasing");
         let texel_count = ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize;
-        // Each block's row of (up to) four texels is contiguous in both layouts: `put` writes
-        // one such run, row-major texels of `level` starting at `(x, y)`.
-        let each_block_row = |put: &mut dyn FnMut(usize, &[[u8; 4]])| {
-            for (level, &start) in levels.iter().zip(starts) {
-                let row_texels = level.width as usize;
-                let level_rows = rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels);
-                for (y, row) in level_rows.enumerate() {
-                    for (block_x, texels_in_block) in row.chunks(BLOCK_TEXELS as usize).enumerate() {
-                        put(level.texel_index(block_x as u32 * BLOCK_TEXELS, y as u32), texels_in_block);
-                    }
-                }
-            }
-        };
         let texels = match color_space {
             ColorSpace::Linear => {
                 let mut texels = vec![0u32; texel_count];
-                each_block_row(&mut |at, run| {
-                    for (texel, &rgba) in texels[at..at + run.len()].iter_mut().zip(run) {
-                        *texel = u32::from_le_bytes(rgba);
+                each_block_row(&levels, starts, rows, |at, run| {
+                    let out = &mut texels[at..at + run.len()];
+                    // A whole block row (nearly every one) as one 16-byte move: a run of
+                    // unknown length was a call to `memcpy` per four texels.
+                    if let (Ok(out), Ok(run)) = (<&mut [u32; 4]>::try_from(&mut *out), <&[[u8; 4]; 4]>::try_from(run)) {
+                        *out = run.map(u32::from_le_bytes);
+                    } else {
+                        for (texel, &rgba) in out.iter_mut().zip(run) {
+                            *texel = u32::from_le_bytes(rgba);
+                        }
                     }
                 });
                 Texels::Packed(texels)
@@ -532,7 +532,7 @@ impl Texture {
                     [colour(r) | colour(g) << 16, colour(b) | unorm8_to_unorm16(a as u32) << 16]
                 };
                 let mut texels = vec![[0u32; 2]; texel_count];
-                each_block_row(&mut |at, run| {
+                each_block_row(&levels, starts, rows, |at, run| {
                     for (texel, &rgba) in texels[at..at + run.len()].iter_mut().zip(run) {
                         *texel = decode(rgba);
                     }
@@ -1974,6 +1974,25 @@ impl Level {
     #[inline(always)]
     fn column_offset(&self, x: u32) -> u32 {
         x / BLOCK_TEXELS * BLOCK_BYTES as u32 + x % BLOCK_TEXELS * TEXEL_BYTES as u32
+    }
+}
+
+/// Calls `put(at, run)` for each block row of every level of a chain held row-major (`rows`,
+/// level `i` from `starts[i]`): `run` the (up to four) texels of a block's row, which are
+/// contiguous in both layouts, and `at` the index of the first in the block layout.
+#[inline(always)]
+fn each_block_row(levels: &[Level], starts: &[usize], rows: &[[u8; 4]], mut put: impl FnMut(usize, &[[u8; 4]])) {
+    for (level, &start) in levels.iter().zip(starts) {
+        let row_texels = level.width as usize;
+        let level_rows = rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels);
+        // A row's blocks are `BLOCK_TEXELS²` texels apart in the block layout.
+        const BLOCK_STRIDE: usize = (BLOCK_TEXELS * BLOCK_TEXELS) as usize;
+        for (y, row) in level_rows.enumerate() {
+            let first = level.texel_index(0, y as u32);
+            for (block_x, texels_in_block) in row.chunks(BLOCK_TEXELS as usize).enumerate() {
+                put(first + block_x * BLOCK_STRIDE, texels_in_block);
+            }
+        }
     }
 }
 
