@@ -1437,8 +1437,9 @@ mod avx2 {
         );
         let corners: [[u32; 8]; 4] = std::array::from_fn(|corner| {
             lanes::<u32, 8>(|i| {
-                // SAFETY: every index is at most `footprint.largest` (the unsigned maximum of
-                // all 32, `footprint`), which the assertion above holds below `texels.len()`.
+                // SAFETY: every index is at most `footprint.largest`, which the assertion above
+                // holds below `texels.len()`: a `Footprint`'s fields are private to this module,
+                // and only `footprint` builds one, with `largest` the unsigned maximum of all 32.
                 unsafe { *texels.get_unchecked(footprint.indices[corner][i] as usize) }
             })
         });
