@@ -793,26 +793,13 @@ impl Texture {
         let line_shift = cache.line_shift();
         // See `sample_quad`.
         let first_line = (self.id << 40) >> line_shift;
-        // Quad `quad`'s half of a row of eight lanes.
-        let half = |row: &[u32; 8], quad: usize| -> [u32; 4] { lanes(|i| row[4 * quad + i]) };
         // Both quads' lanes, read together: quad 0's, then quad 1's ([`PAIR_LANES`]).
         let counted_pair: [bool; 8] = lanes(|i| counted[i / 4][i % 4]);
         match pair {
             PairPlan::Single { level, filter } => {
                 let near = self.footprint::<STORED, 8>(level, filter, sampler, at, line_shift);
                 let near_rows = near.rows();
-                if minified_unmipped.contains(&true) {
-                    for quad in 0..2 {
-                        let rows: [[u32; 4]; 4] = near.lines.each_ref().map(|row| half(row, quad));
-                        let misses = cache.misses();
-                        cache.access_quad(simd, first_line, &rows[..near_rows.len()], counted[quad]);
-                        if minified_unmipped[quad] && counted[quad].contains(&true) {
-                            cache.note_unmipped(misses);
-                        }
-                    }
-                } else {
-                    cache.access_lanes(simd, first_line, near_rows, counted_pair);
-                }
+                read_one_level(simd, cache, first_line, near_rows, counted_pair, minified_unmipped);
                 self.filter_pair(simd, &near)
             }
             PairPlan::Blend { level, filter, weights } => {
@@ -1173,10 +1160,6 @@ mod avx2 {
         let t = [load(&corners[0]), load(&corners[1]), load(&corners[2]), load(&corners[3])];
         let (a, b) = (load(alpha), load(beta));
         let (spread_low, spread_high) = spreads();
-        let lerp = |x: __m256i, y: __m256i, w: __m256i| {
-            let delta = _mm256_slli_epi16::<7>(_mm256_sub_epi16(y, x));
-            _mm256_add_epi16(x, _mm256_mulhrs_epi16(w, delta))
-        };
         let half = |c: [__m256i; 4], spread: __m256i| {
             let (wa, wb) = (_mm256_shuffle_epi8(a, spread), _mm256_shuffle_epi8(b, spread));
             let top = lerp(c[0], c[1], wa);
@@ -1186,6 +1169,15 @@ mod avx2 {
         let low = half(t.map(|t| _mm256_unpacklo_epi8(t, zero)), spread_low);
         let high = half(t.map(|t| _mm256_unpackhi_epi8(t, zero)), spread_high);
         _mm256_packus_epi16(low, high)
+    }
+
+    /// `lerp(x, y, w) = x + pmulhrsw(w, (y − x) << 7)` of 16-bit lanes: `(w · (y − x) + 128) >> 8`
+    /// added to `x` (see [`filter_bytes_packed`]).
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn lerp(x: __m256i, y: __m256i, w: __m256i) -> __m256i {
+        let delta = _mm256_slli_epi16::<7>(_mm256_sub_epi16(y, x));
+        _mm256_add_epi16(x, _mm256_mulhrs_epi16(w, delta))
     }
 
     /// The `pshufb` masks that spread each 32-bit lane's weight (its low byte) over its texel's
@@ -1276,19 +1268,8 @@ mod avx2 {
             rows[..4].copy_from_slice(&near.lines);
             rows[4..].copy_from_slice(&far.lines);
             cache.access_lanes(simd, first_line, &rows, counted_pair);
-        } else if minified_unmipped.contains(&true) {
-            // As `sample_pair`: quad by quad, so that each quad's misses are noted apart.
-            for quad in 0..2 {
-                let rows: [[u32; 4]; 4] = near.lines.map(|row| lanes(|i| row[4 * quad + i]));
-                let counted_quad: [bool; 4] = lanes(|i| counted_pair[4 * quad + i]);
-                let misses = cache.misses();
-                cache.access_quad(simd, first_line, &rows, counted_quad);
-                if minified_unmipped[quad] && counted_quad.contains(&true) {
-                    cache.note_unmipped(misses);
-                }
-            }
         } else {
-            cache.access_lanes(simd, first_line, &near.lines, counted_pair);
+            super::read_one_level(simd, cache, first_line, &near.lines, counted_pair, minified_unmipped);
         }
         let mut packed = filter_footprint(texels, &near);
         if let (Some(far), Some(weights)) = (&far, weights) {
@@ -1459,10 +1440,6 @@ mod avx2 {
     fn lerp_packed(a: __m256i, b: __m256i, weight: __m256i) -> __m256i {
         let zero = _mm256_setzero_si256();
         let (spread_low, spread_high) = spreads();
-        let lerp = |x: __m256i, y: __m256i, w: __m256i| {
-            let delta = _mm256_slli_epi16::<7>(_mm256_sub_epi16(y, x));
-            _mm256_add_epi16(x, _mm256_mulhrs_epi16(w, delta))
-        };
         let low =
             lerp(_mm256_unpacklo_epi8(a, zero), _mm256_unpacklo_epi8(b, zero), _mm256_shuffle_epi8(weight, spread_low));
         let high = lerp(
@@ -1780,6 +1757,37 @@ fn sample_group_body(
         (true, false) => texture.sample_layout::<false, false>(simd, sampler, u, v, counted, cache, lookup),
         (false, true) => texture.sample_layout::<true, true>(simd, sampler, u, v, counted, cache, lookup),
         (false, false) => texture.sample_layout::<true, false>(simd, sampler, u, v, counted, cache, lookup),
+    }
+}
+
+/// The cache model's reads of a pair of quads on one level (`rows` a lane, [`PAIR_LANES`]
+/// order): all eight lanes together, or, where a quad reads level 0 minified more than 2×
+/// without mip maps (`minified_unmipped`), quad by quad, so that each such quad's misses are
+/// noted apart ([`TextureCache::note_unmipped`]). What the pair path and the AVX2 kernel share.
+#[inline(always)]
+fn read_one_level(
+    simd: SimdSupport,
+    cache: &mut TextureCache,
+    first_line: u64,
+    rows: &[[u32; 8]],
+    counted: [bool; 8],
+    minified_unmipped: [bool; 2],
+) {
+    if !minified_unmipped.contains(&true) {
+        cache.access_lanes(simd, first_line, rows, counted);
+        return;
+    }
+    for quad in 0..2 {
+        let mut quad_rows = [[0u32; 4]; MAX_LANE_LINES];
+        for (out, row) in quad_rows.iter_mut().zip(rows) {
+            *out = lanes(|i| row[4 * quad + i]);
+        }
+        let counted_quad: [bool; 4] = lanes(|i| counted[4 * quad + i]);
+        let misses = cache.misses();
+        cache.access_quad(simd, first_line, &quad_rows[..rows.len()], counted_quad);
+        if minified_unmipped[quad] && counted_quad.contains(&true) {
+            cache.note_unmipped(misses);
+        }
     }
 }
 
