@@ -365,8 +365,26 @@ impl TextureCache {
         let Some(d) = distinct_lines(simd, rows, counted, &mut distinct) else {
             return self.read_each(base, first_line, rows, counted);
         };
+        self.read_distinct(base, first_line, rows, counted, &distinct[..d], one_level)
+    }
+
+    /// The rest of [`TextureCache::read_group`] once the group's `distinct` lines are known
+    /// (`line << 8 | key`, [`distinct_lines`]; `base` its stamps' start): remembers them as
+    /// [`TextureCache::recent`] (`one_level`) and reads each, or the reads one by one when a set
+    /// gets more of them than it has ways.
+    #[inline(always)]
+    fn read_distinct<const L: usize, const R: usize>(
+        &mut self,
+        base: u64,
+        first_line: u64,
+        rows: &[[u32; L]; R],
+        counted: [bool; L],
+        distinct: &[u64],
+        one_level: bool,
+    ) -> u64 {
+        let d = distinct.len();
         if one_level {
-            self.remember_recent(first_line, &distinct[..d]);
+            self.remember_recent(first_line, distinct);
         } else {
             self.recent_len = 0;
         }
@@ -384,7 +402,7 @@ impl TextureCache {
             }
         }
         let mut misses = 0;
-        for &entry in &distinct[..d] {
+        for &entry in distinct {
             misses += !self.read_line(first_line + (entry >> 8), base + 1 + (entry & 0xff)) as u64;
         }
         misses
@@ -640,7 +658,88 @@ fn distinct_lines<const L: usize, const R: usize>(
 mod avx2 {
     use std::arch::x86_64::*;
 
-    use super::MAX_GROUP_LINES;
+    use super::{MAX_GROUP_LINES, RECENT_LINES, TextureCache};
+
+    /// [`TextureCache::read_group`] of a pair's eight lanes reading four lines each (the
+    /// corners of a bilinear footprint on one level), the same checks in the same order, with
+    /// the group's 32 reads as the bits of a word in read order — lane `k`'s row `r` at bit
+    /// `4 · k + r` — rather than the 64 of the eight-row square:
+    ///
+    /// - within [`TextureCache::recent`]: each row compared with each recent line;
+    /// - the distinct lines ([`super::distinct_lines`]): the lowest unread bit is the first
+    ///   unread read; one comparison of the four rows with its line finds its reads (each row's
+    ///   mask in its own byte of a lane, so that one `movemask` gives them in read order), and
+    ///   the highest of them is its last read, whose position is its key. The keys are not
+    ///   those of the eight-row square (`8 · k + r` there, rows 4–7 repeating row 3) but order
+    ///   the lines' last reads the same, and only that order reaches the cache: a group's
+    ///   stamps are `base + 1 + key`, above every earlier one.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    pub(super) fn read_footprints(
+        cache: &mut TextureCache,
+        first_line: u64,
+        rows: &[[u32; 8]; 4],
+        counted: [bool; 8],
+    ) -> u64 {
+        let zero = _mm256_setzero_si256();
+        // Each counted lane's 32 bits set, then its four reads' bits (a `bool` is a byte of 0
+        // or 1).
+        let counted_bytes = u64::from_le_bytes(counted.map(u8::from));
+        let lanes = _mm256_cmpgt_epi32(_mm256_cvtepu8_epi32(_mm_cvtsi64_si128(counted_bytes as i64)), zero);
+        let reads = _mm256_movemask_epi8(lanes) as u32;
+        if reads == 0 {
+            return 0;
+        }
+        // SAFETY (each load): reads the 32 bytes of one `[u32; 8]` of `rows`; unaligned loads
+        // need no alignment.
+        let row = |r: usize| unsafe { _mm256_loadu_si256(rows[r].as_ptr().cast()) };
+        let r = [row(0), row(1), row(2), row(3)];
+        if cache.recent_len != 0 && first_line == cache.recent_first_line {
+            let mut inside = [zero; 4];
+            for &recent in &cache.recent[..RECENT_LINES] {
+                let x = _mm256_set1_epi32(recent as i32);
+                for (inside, &row) in inside.iter_mut().zip(&r) {
+                    *inside = _mm256_or_si256(*inside, _mm256_cmpeq_epi32(row, x));
+                }
+            }
+            let all = _mm256_and_si256(_mm256_and_si256(inside[0], inside[1]), _mm256_and_si256(inside[2], inside[3]));
+            if reads & !(_mm256_movemask_epi8(all) as u32) == 0 {
+                #[cfg(test)]
+                {
+                    cache.recent_groups += 1;
+                }
+                return 0;
+            }
+        }
+        cache.allocate_once();
+        let base = cache.clock;
+        cache.clock += 64;
+        // Byte `r` of each 32-bit lane: where row `r`'s comparison goes.
+        let byte = |r: u32| _mm256_set1_epi32((0xffu32 << (8 * r)) as i32);
+        let (byte0, byte1, byte2, byte3) = (byte(0), byte(1), byte(2), byte(3));
+        let (mut unread, mut distinct, mut d) = (reads, [0u64; MAX_GROUP_LINES], 0);
+        while unread != 0 {
+            if d == MAX_GROUP_LINES {
+                return cache.read_each(base, first_line, rows, counted);
+            }
+            let first = unread.trailing_zeros() as usize;
+            let line = rows[first % 4][first / 4];
+            let x = _mm256_set1_epi32(line as i32);
+            let low = _mm256_or_si256(
+                _mm256_and_si256(_mm256_cmpeq_epi32(r[0], x), byte0),
+                _mm256_and_si256(_mm256_cmpeq_epi32(r[1], x), byte1),
+            );
+            let high = _mm256_or_si256(
+                _mm256_and_si256(_mm256_cmpeq_epi32(r[2], x), byte2),
+                _mm256_and_si256(_mm256_cmpeq_epi32(r[3], x), byte3),
+            );
+            let matched = _mm256_movemask_epi8(_mm256_or_si256(low, high)) as u32 & reads;
+            unread &= !matched;
+            distinct[d] = (line as u64) << 8 | (31 - matched.leading_zeros()) as u64;
+            d += 1;
+        }
+        cache.read_distinct(base, first_line, rows, counted, &distinct[..d], true)
+    }
 
     /// [`super::distinct_lines`] of eight rows of eight lanes, read `8 · k + r` (lane `k`, row
     /// `r`) made where bit `8 · k + r` of `reads` is set: per distinct line, one comparison of
@@ -753,6 +852,17 @@ fn read_pair_body(
     rows: &[[u32; 8]],
     counted: [bool; 8],
 ) -> u64 {
+    #[cfg(target_arch = "x86_64")]
+    if simd.level() == SimdLevel::Avx2
+        && let Ok(footprint) = <&[[u32; 8]; 4]>::try_from(rows)
+    {
+        // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has every
+        // feature `avx2::read_footprints` is compiled with (`SimdSupport::detect`).
+        let misses = unsafe { avx2::read_footprints(cache, first_line, footprint, counted) };
+        #[cfg(feature = "texture-cache-reference")]
+        cache.read_reference(first_line, rows, counted);
+        return misses;
+    }
     read_rows(simd, cache, first_line, rows, counted)
 }
 
@@ -920,6 +1030,43 @@ mod tests {
             }
             assert_eq!(within, [0, 1, 0, 0, 0], "{simd:?}");
             assert_eq!(cache.misses(), 4 + 1 + 1);
+        }
+    }
+
+    /// The same with four lines a lane, the corners of bilinear footprints (which AVX2 reads
+    /// without the eight-row square): taps a texel apart within the last group's lines, then
+    /// a tap one line over, then one of two lanes that counts only what the last read.
+    #[test]
+    fn footprints_within_the_last_groups_lines_change_nothing() {
+        for simd in simd_levels() {
+            let config = TextureCacheConfig::DEFAULT;
+            let (mut cache, mut reference) = (TextureCache::new(config), LineByLine::new(config));
+            let first_line = 5 << 40;
+            let footprint = |left: [u32; 8], below: u32| -> [[u32; 8]; 4] {
+                [left, left.map(|l| l + 1), left.map(|l| l + below), left.map(|l| l + below + 1)]
+            };
+            let groups: [([[u32; 8]; 4], [bool; 8]); 5] = [
+                (footprint([10, 10, 10, 10, 10, 10, 10, 10], 20), [true; 8]),
+                (footprint([10, 10, 10, 10, 10, 10, 10, 10], 20), [true; 8]),
+                (footprint([11, 11, 11, 11, 11, 11, 11, 11], 20), [true; 8]),
+                (footprint([11, 11, 11, 11, 11, 11, 11, 10], 20), [true, true, true, true, true, true, true, false]),
+                (footprint([11, 11, 11, 11, 11, 11, 11, 10], 20), [true; 8]),
+            ];
+            let mut within = Vec::new();
+            for (rows, counted) in &groups {
+                let before = cache.recent_groups;
+                cache.access_lanes(simd, first_line, rows, *counted);
+                within.push(cache.recent_groups - before);
+                for k in (0..8).filter(|&k| counted[k]) {
+                    for row in rows {
+                        reference.access(first_line + row[k] as u64);
+                    }
+                }
+                assert_eq!((cache.hits(), cache.misses()), (reference.hits, reference.misses));
+                assert_eq!(cache.by_recency(), reference.lines);
+            }
+            assert_eq!(within, [0, 1, 0, 1, 0], "{simd:?}");
+            assert_eq!(cache.misses(), 4 + 2);
         }
     }
 
