@@ -1268,8 +1268,11 @@ mod avx2 {
             rows[..4].copy_from_slice(&near.lines);
             rows[4..].copy_from_slice(&far.lines);
             cache.access_lanes(simd, first_line, &rows, counted_pair);
-        } else {
+        } else if minified_unmipped.contains(&true) {
             super::read_one_level(simd, cache, first_line, &near.lines, counted_pair, minified_unmipped);
+        } else {
+            // What `read_one_level` makes of it, without the dispatch (this is AVX2 code).
+            cache.access_footprints_avx2(first_line, &near.lines, counted_pair);
         }
         let mut packed = filter_footprint(texels, &near);
         if let (Some(far), Some(weights)) = (&far, weights) {

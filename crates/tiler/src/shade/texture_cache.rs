@@ -282,6 +282,20 @@ impl TextureCache {
         self.check_reference();
     }
 
+    /// [`TextureCache::access_lanes`] of a pair's bilinear footprints on one level (four lines
+    /// a lane), for callers compiled for AVX2 (the sampler's byte kernel): the same reads as
+    /// `access_lanes` makes at that level, without its dispatch.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    pub(crate) fn access_footprints_avx2(&mut self, first_line: u64, rows: &[[u32; 8]; 4], counted: [bool; 8]) {
+        let misses = avx2::read_footprints(self, first_line, rows, counted);
+        #[cfg(feature = "texture-cache-reference")]
+        self.read_reference(first_line, rows, counted);
+        self.count_group(rows.len(), &counted, misses);
+        self.check_reference();
+    }
+
     /// Counts a group's reads (`rows` a lane, of the `counted` lanes) with `misses` misses.
     #[inline(always)]
     fn count_group<const L: usize>(&mut self, rows: usize, counted: &[bool; L], misses: u64) {
