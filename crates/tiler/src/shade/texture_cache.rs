@@ -365,16 +365,10 @@ impl TextureCache {
         // Only for reads of one level: two levels' lines are seldom few enough.
         let one_level = R <= 4;
         if one_level && self.within_recent(first_line, rows, counted) {
-            #[cfg(test)]
-            {
-                self.recent_groups += 1;
-            }
+            self.found_within_recent();
             return 0;
         }
-        self.allocate_once();
-        // A group's reads are stamped from `base + 1` to `base + 64`.
-        let base = self.clock;
-        self.clock += 64;
+        let base = self.start_group();
         let mut distinct = [0u64; MAX_GROUP_LINES];
         let Some(d) = distinct_lines(simd, rows, counted, &mut distinct) else {
             return self.read_each(base, first_line, rows, counted);
@@ -420,6 +414,25 @@ impl TextureCache {
             misses += !self.read_line(first_line + (entry >> 8), base + 1 + (entry & 0xff)) as u64;
         }
         misses
+    }
+
+    /// Notes a group found within [`TextureCache::recent`] (counted for the tests).
+    #[inline(always)]
+    fn found_within_recent(&mut self) {
+        #[cfg(test)]
+        {
+            self.recent_groups += 1;
+        }
+    }
+
+    /// Allocates the cache if it is cold and returns the time a group's reads are stamped
+    /// from: `base + 1` to `base + 64`.
+    #[inline(always)]
+    fn start_group(&mut self) -> u64 {
+        self.allocate_once();
+        let base = self.clock;
+        self.clock += 64;
+        base
     }
 
     /// Whether every read of a group (as [`TextureCache::read_group`]) is of a line in
@@ -718,16 +731,11 @@ mod avx2 {
             }
             let all = _mm256_and_si256(_mm256_and_si256(inside[0], inside[1]), _mm256_and_si256(inside[2], inside[3]));
             if reads & !(_mm256_movemask_epi8(all) as u32) == 0 {
-                #[cfg(test)]
-                {
-                    cache.recent_groups += 1;
-                }
+                cache.found_within_recent();
                 return 0;
             }
         }
-        cache.allocate_once();
-        let base = cache.clock;
-        cache.clock += 64;
+        let base = cache.start_group();
         // Byte `r` of each 32-bit lane: where row `r`'s comparison goes.
         let byte = |r: u32| _mm256_set1_epi32((0xffu32 << (8 * r)) as i32);
         let (byte0, byte1, byte2, byte3) = (byte(0), byte(1), byte(2), byte(3));
@@ -836,9 +844,7 @@ fn read_rows<const L: usize>(
         for r in rows.len()..MAX_LANE_LINES {
             padded[r] = padded[r - 1];
         }
-        cache.allocate_once();
-        let base = cache.clock;
-        cache.clock += 64;
+        let base = cache.start_group();
         cache.read_each(base, first_line, &padded, counted)
     };
     #[cfg(feature = "texture-cache-reference")]
