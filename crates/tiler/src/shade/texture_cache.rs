@@ -685,7 +685,7 @@ fn distinct_lines<const L: usize, const R: usize>(
 mod avx2 {
     use std::arch::x86_64::*;
 
-    use super::{MAX_GROUP_LINES, RECENT_LINES, TextureCache};
+    use super::{MAX_GROUP_LINES, TextureCache};
 
     /// [`TextureCache::read_group`] of a pair's eight lanes reading four lines each (the
     /// corners of a bilinear footprint on one level), the same checks in the same order, with
@@ -723,7 +723,7 @@ mod avx2 {
         let r = [row(0), row(1), row(2), row(3)];
         if cache.recent_len != 0 && first_line == cache.recent_first_line {
             let mut inside = [zero; 4];
-            for &recent in &cache.recent[..RECENT_LINES] {
+            for &recent in &cache.recent {
                 let x = _mm256_set1_epi32(recent as i32);
                 for (inside, &row) in inside.iter_mut().zip(&r) {
                     *inside = _mm256_or_si256(*inside, _mm256_cmpeq_epi32(row, x));
