@@ -673,11 +673,18 @@ impl Texture {
         #[cfg(target_arch = "x86_64")]
         if simd.level() == SimdLevel::Avx2
             && let Texels::Packed(texels) = &self.texels
-            && self.filters_bytes_linearly(sampler, lookup)
         {
-            // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has every
-            // feature `avx2::sample_bytes` is compiled with (`SimdSupport::detect`).
-            return unsafe { avx2::sample_bytes(simd, self, texels, sampler, lookup, [u, v], counted, cache) };
+            if self.filters_bytes_linearly(sampler, lookup) {
+                // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has
+                // every feature `avx2::sample_bytes` is compiled with (`SimdSupport::detect`).
+                return unsafe { avx2::sample_bytes(simd, self, texels, sampler, lookup, [u, v], counted, cache) };
+            }
+            if self.reads_bytes_nearest(sampler, lookup) {
+                // SAFETY: as above, for `avx2::sample_nearest_bytes`.
+                return unsafe {
+                    avx2::sample_nearest_bytes(simd, self, texels, sampler, lookup, [u, v], counted, cache)
+                };
+            }
         }
         sample_group(simd, self, sampler, [u, v], counted, cache, lookup)
     }
@@ -931,6 +938,21 @@ impl Texture {
         // The filters first: they turn most other samplers away at once.
         sampler.mag_filter == Filter::Linear
             && sampler.min_filter == Filter::Linear
+            && self.format == TexelFormat::Rgba8
+            && self.filters_bytes(sampler)
+            && lookup.offset == [0, 0]
+    }
+
+    /// Whether a lookup (`lookup` with or without derivatives, without an offset) of
+    /// `sampler` reads nearest texels of bytes on every level: an RGBA8 texture held as
+    /// bytes, repeat or clamp-to-edge, and the nearest filter for magnification and
+    /// minification (so every [`LevelPlan`] is nearest, on one level or two). What
+    /// `avx2::sample_nearest_bytes` samples. Only the sampler's state and the lookup's kind
+    /// decide it, not the coordinates.
+    #[inline(always)]
+    fn reads_bytes_nearest(&self, sampler: &Sampler, lookup: &Lookup) -> bool {
+        sampler.mag_filter == Filter::Nearest
+            && sampler.min_filter == Filter::Nearest
             && self.format == TexelFormat::Rgba8
             && self.filters_bytes(sampler)
             && lookup.offset == [0, 0]
@@ -1290,12 +1312,86 @@ mod avx2 {
             packed = lerp_packed(packed, filter_footprint(texels, far), weight);
         }
         // `channel_to_f32` of bytes, `c · fl(1/255)`, back in the group's lanes.
+        channels(packed, pair_lanes)
+    }
+
+    /// [`super::sample_group_body`] of a group read with `sampler`, which
+    /// [`Texture::reads_bytes_nearest`] admits, `texels` the texture's [`Texels::Packed`]
+    /// words: [`sample_bytes`] for the nearest filter. The quads' plans as
+    /// [`Texture::group_plan`] makes them; when both quads read the same level(s)
+    /// ([`PairPlan::of`]), the pair path of [`Texture::sample_layout`] with the sampler's state
+    /// known, eight lanes per AVX2 operation — [`reduce`], [`nearest_texels`], the offsets of
+    /// [`Level::row_offset`] and [`Level::column_offset`], the cache model's reads (one line a
+    /// lane and level, in the same order), the blend of two levels ([`lerp_packed`], what
+    /// `blend` of bytes is) and [`channel_to_f32`]: the same operations per lane, so the same
+    /// bits and the same reads. Quads on different levels go the general way
+    /// ([`super::sample_group`]).
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[allow(clippy::too_many_arguments)] // one group's inputs, as `sample_group_body`'s
+    pub(super) fn sample_nearest_bytes(
+        simd: SimdSupport,
+        texture: &Texture,
+        texels: &[u32],
+        sampler: &Sampler,
+        lookup: &Lookup,
+        [u, v]: [F32x8; 2],
+        counted: LaneMask,
+        cache: &mut TextureCache,
+    ) -> Vec4x8 {
+        const _: () = assert!(BLOCK_TEXELS == 4 && BLOCK_BYTES == 64 && TEXEL_BYTES == 4);
+        let group = texture.group_plan(sampler, u, v, lookup);
+        let Some(pair) = PairPlan::of(group.plans) else {
+            return super::sample_group(simd, texture, sampler, [u, v], counted, cache, lookup);
+        };
+        let (level, weights) = match pair {
+            PairPlan::Single { level, .. } => (level, None),
+            PairPlan::Blend { level, weights, .. } => (level, Some(weights)),
+        };
+        let pair_lanes = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
+        // SAFETY (each load and store): 32 bytes of one `[f32; 8]` or `[u32; 8]`; unaligned
+        // access needs no alignment.
+        let (u, v) = unsafe { (_mm256_loadu_ps(u.0.as_ptr()), _mm256_loadu_ps(v.0.as_ptr())) };
+        let (u, v) = (_mm256_permutevar8x32_ps(u, pair_lanes), _mm256_permutevar8x32_ps(v, pair_lanes));
+        let line_shift = cache.line_shift();
+        let wraps = [sampler.wrap_u, sampler.wrap_v];
+        let near = nearest_footprint(&texture.levels[level], [u, v], wraps, line_shift);
+        let far = weights.map(|_| nearest_footprint(&texture.levels[level + 1], [u, v], wraps, line_shift));
+        // See `sample_quad`.
+        let first_line = (texture.id << 40) >> line_shift;
+        let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
+        if let Some(far) = &far {
+            cache.access_lanes(simd, first_line, &[near.lines, far.lines], counted_pair);
+        } else {
+            super::read_one_level(simd, cache, first_line, &[near.lines], counted_pair, group.minified_unmipped);
+        }
+        let mut packed = near.texels(texels);
+        if let (Some(far), Some(weights)) = (&far, weights) {
+            let weight = _mm256_setr_epi32(
+                weights[0] as i32,
+                weights[0] as i32,
+                weights[0] as i32,
+                weights[0] as i32,
+                weights[1] as i32,
+                weights[1] as i32,
+                weights[1] as i32,
+                weights[1] as i32,
+            );
+            packed = lerp_packed(packed, far.texels(texels), weight);
+        }
+        channels(packed, pair_lanes)
+    }
+
+    /// A lane's four bytes (packed as a texel's) as `channel_to_f32` of bytes gives them,
+    /// `c · fl(1/255)` per channel, back in the group's lanes (`pair_lanes` is its own inverse).
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn channels(packed: __m256i, pair_lanes: __m256i) -> Vec4x8 {
         let scale = _mm256_set1_ps(1.0 / 255.0);
         let byte_mask = _mm256_set1_epi32(0xff);
         let channel = |c: __m256i| {
             let value = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(c, byte_mask)), scale);
             let mut out = F32x8([0.0; 8]);
-            // SAFETY: see above.
+            // SAFETY: 32 bytes of one `[f32; 8]`; unaligned stores need no alignment.
             unsafe { _mm256_storeu_ps(out.0.as_mut_ptr(), _mm256_permutevar8x32_ps(value, pair_lanes)) };
             out
         };
@@ -1305,6 +1401,117 @@ mod avx2 {
             channel(_mm256_srli_epi32::<16>(packed)),
             channel(_mm256_srli_epi32::<24>(packed)),
         ]
+    }
+
+    /// What eight lanes (in [`PAIR_LANES`] order) read on one level with the nearest filter:
+    /// per lane the cache line (relative to the texture's first) and the texel index, and the
+    /// largest index.
+    struct NearestFootprint {
+        lines: [u32; 8],
+        indices: [u32; 8],
+        largest: u32,
+    }
+
+    impl NearestFootprint {
+        /// The lanes' texels, packed.
+        #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+        #[inline]
+        fn texels(&self, texels: &[u32]) -> __m256i {
+            assert!(
+                (self.largest as usize) < texels.len(),
+                "texel {} of a footprint outside the texture's {} texels",
+                self.largest,
+                texels.len()
+            );
+            let words = lanes::<u32, 8>(|i| {
+                // SAFETY: every index is at most `self.largest`, which the assertion above holds
+                // below `texels.len()`: the fields are private to this module, and only
+                // `nearest_footprint` builds one, with `largest` the unsigned maximum of all 8.
+                unsafe { *texels.get_unchecked(self.indices[i] as usize) }
+            });
+            // SAFETY: 32 bytes of one `[u32; 8]`; unaligned loads need no alignment.
+            unsafe { _mm256_loadu_si256(words.as_ptr().cast()) }
+        }
+    }
+
+    /// The [`NearestFootprint`] of lanes at `(u, v)` on `level`, read with the `wraps` (repeat
+    /// or clamp-to-edge), as `reduce_quad` then `nearest_texels` and the level's offsets give it.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn nearest_footprint(
+        level: &Level,
+        [u, v]: [__m256; 2],
+        [wrap_u, wrap_v]: [Wrap; 2],
+        line_shift: u32,
+    ) -> NearestFootprint {
+        let (x, y) = (nearest_axis(u, level.width, wrap_u), nearest_axis(v, level.height, wrap_v));
+        let offset = _mm256_add_epi32(row_offset(level, y), column_offset(x));
+        let index = _mm256_srli_epi32::<2>(offset);
+        let line = _mm256_srl_epi32(offset, _mm_cvtsi32_si128(line_shift as i32));
+        let mut footprint = NearestFootprint { lines: [0; 8], indices: [0; 8], largest: 0 };
+        // SAFETY: 32 bytes of one `[u32; 8]`; unaligned stores need no alignment.
+        unsafe {
+            _mm256_storeu_si256(footprint.lines.as_mut_ptr().cast(), line);
+            _mm256_storeu_si256(footprint.indices.as_mut_ptr().cast(), index);
+        }
+        footprint.largest = largest_lane(index);
+        footprint
+    }
+
+    /// The unsigned maximum of eight 32-bit lanes.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn largest_lane(lanes: __m256i) -> u32 {
+        let largest = _mm_max_epu32(_mm256_castsi256_si128(lanes), _mm256_extracti128_si256::<1>(lanes));
+        let largest = _mm_max_epu32(largest, _mm_shuffle_epi32::<0b01_00_11_10>(largest));
+        let largest = _mm_max_epu32(largest, _mm_shuffle_epi32::<0b10_11_00_01>(largest));
+        _mm_cvtsi128_si32(largest) as u32
+    }
+
+    /// [`Level::row_offset`] of eight rows (the texture's offsets are below 2^32,
+    /// `MAX_MODELLED_BYTES`, so 32-bit lanes hold them).
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn row_offset(level: &Level, y: __m256i) -> __m256i {
+        let block_row = _mm256_mullo_epi32(_mm256_srli_epi32::<2>(y), _mm256_set1_epi32((level.blocks_x * 64) as i32));
+        let within = _mm256_slli_epi32::<4>(_mm256_and_si256(y, _mm256_set1_epi32(3)));
+        _mm256_add_epi32(_mm256_add_epi32(_mm256_set1_epi32(level.address as i32), block_row), within)
+    }
+
+    /// [`Level::column_offset`] of eight columns.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn column_offset(x: __m256i) -> __m256i {
+        let block = _mm256_slli_epi32::<6>(_mm256_srli_epi32::<2>(x));
+        _mm256_add_epi32(block, _mm256_slli_epi32::<2>(_mm256_and_si256(x, _mm256_set1_epi32(3))))
+    }
+
+    /// One axis of [`nearest_footprint`]: the texel index, as `reduce_quad` then
+    /// `nearest_texels` give it for a level `n` texels across: `⌊r · n⌋` of the reduced
+    /// coordinate (in `[0, n]` for repeat, `[−n, 2n]` for clamp-to-edge, so `floor` and the
+    /// conversion are exact), wrapped.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn nearest_axis(r: __m256, n: u32, wrap: Wrap) -> __m256i {
+        let reduced = if wrap == Wrap::Repeat {
+            // `u − ⌊u⌋`, NaN (of a NaN or an infinity) to +0, as in `axis`.
+            let reduced = _mm256_sub_ps(r, _mm256_floor_ps(r));
+            _mm256_and_ps(_mm256_cmp_ps::<_CMP_ORD_Q>(reduced, reduced), reduced)
+        } else {
+            // `u.clamp(−1, 2)`, NaN to +0, as in `axis`.
+            let ordered = _mm256_cmp_ps::<_CMP_ORD_Q>(r, r);
+            let reduced = _mm256_min_ps(_mm256_max_ps(r, _mm256_set1_ps(-1.0)), _mm256_set1_ps(2.0));
+            _mm256_and_ps(ordered, reduced)
+        };
+        let i = _mm256_cvttps_epi32(_mm256_floor_ps(_mm256_mul_ps(reduced, _mm256_set1_ps(n as f32))));
+        let n = _mm256_set1_epi32(n as i32);
+        if wrap == Wrap::Repeat {
+            // `i ∈ [0, n]`: `n` wraps to 0 (`wrap_reduced`'s `i − n`; `i < 0` cannot occur).
+            _mm256_andnot_si256(_mm256_cmpeq_epi32(i, n), i)
+        } else {
+            let last = _mm256_sub_epi32(n, _mm256_set1_epi32(1));
+            _mm256_min_epi32(_mm256_max_epi32(i, _mm256_setzero_si256()), last)
+        }
     }
 
     /// What eight lanes (in [`PAIR_LANES`] order) read on one level bilinearly: per corner
@@ -1325,19 +1532,7 @@ mod avx2 {
     fn footprint(level: &Level, [u, v]: [__m256; 2], [wrap_u, wrap_v]: [Wrap; 2], line_shift: u32) -> Footprint {
         let [x0, x1, alpha] = axis(u, level.width, wrap_u);
         let [y0, y1, beta] = axis(v, level.height, wrap_v);
-        // `Level::row_offset` and `Level::column_offset` (the texture's offsets are below
-        // 2^32, `MAX_MODELLED_BYTES`, so 32-bit lanes hold them).
-        let row_offset = |y: __m256i| {
-            let block_row =
-                _mm256_mullo_epi32(_mm256_srli_epi32::<2>(y), _mm256_set1_epi32((level.blocks_x * 64) as i32));
-            let within = _mm256_slli_epi32::<4>(_mm256_and_si256(y, _mm256_set1_epi32(3)));
-            _mm256_add_epi32(_mm256_add_epi32(_mm256_set1_epi32(level.address as i32), block_row), within)
-        };
-        let column_offset = |x: __m256i| {
-            let block = _mm256_slli_epi32::<6>(_mm256_srli_epi32::<2>(x));
-            _mm256_add_epi32(block, _mm256_slli_epi32::<2>(_mm256_and_si256(x, _mm256_set1_epi32(3))))
-        };
-        let (rows, columns) = ([row_offset(y0), row_offset(y1)], [column_offset(x0), column_offset(x1)]);
+        let (rows, columns) = ([row_offset(level, y0), row_offset(level, y1)], [column_offset(x0), column_offset(x1)]);
         let offsets = [
             _mm256_add_epi32(rows[0], columns[0]),
             _mm256_add_epi32(rows[0], columns[1]),
@@ -1357,10 +1552,7 @@ mod avx2 {
                 _mm256_storeu_si256(indices[corner].as_mut_ptr().cast(), index);
             }
         }
-        let largest = _mm_max_epu32(_mm256_castsi256_si128(largest), _mm256_extracti128_si256::<1>(largest));
-        let largest = _mm_max_epu32(largest, _mm_shuffle_epi32::<0b01_00_11_10>(largest));
-        let largest = _mm_max_epu32(largest, _mm_shuffle_epi32::<0b10_11_00_01>(largest));
-        Footprint { lines, indices, alpha, beta, largest: _mm_cvtsi128_si32(largest) as u32 }
+        Footprint { lines, indices, alpha, beta, largest: largest_lane(largest) }
     }
 
     /// One axis of [`footprint`]: the texel indices `(i0, i1)` wrapped and the weight `α`, as
@@ -3186,14 +3378,16 @@ mod tests {
             }
         }
 
-        /// The same for the state `avx2::sample_bytes` takes (linear RGBA8, the linear filter
-        /// for magnification and minification, repeat or clamp-to-edge), which the general
-        /// strategies above draw a few times in 256: without mip maps (minified quads noted
-        /// quad by quad, as the general path notes them), with the nearest level or two levels
-        /// blended, at every SIMD level; and with explicit derivatives (`Lookup::gradients`,
-        /// which the reference does not take), the same as the baseline's general path.
+        /// The same for the states `avx2::sample_bytes` and `avx2::sample_nearest_bytes` take
+        /// (linear RGBA8, one filter — linear or nearest — for magnification and minification,
+        /// repeat or clamp-to-edge), which the general strategies above draw a few times in
+        /// 256: without mip maps (minified quads noted quad by quad, as the general path notes
+        /// them), with the nearest level or two levels blended, at every SIMD level; and with
+        /// explicit derivatives (`Lookup::gradients`, which the reference does not take), the
+        /// same as the baseline's general path.
         #[test]
         fn byte_sampling_matches_the_reference(
+            filter in prop::sample::select(vec![Filter::Linear, Filter::Nearest]),
             (width, height, seed) in (1u32..70, 1u32..70, any::<u64>()),
             mips in prop::sample::select(vec![MipChain::Box, MipChain::BaseOnly]),
             mipmap in prop::sample::select(vec![MipmapMode::None, MipmapMode::Nearest, MipmapMode::Linear]),
@@ -3212,8 +3406,8 @@ mod tests {
                 .collect();
             let texture = Texture::from_rgba8(width, height, &data, ColorSpace::Linear, mips).unwrap();
             let sampler = Sampler {
-                mag_filter: Filter::Linear,
-                min_filter: Filter::Linear,
+                mag_filter: filter,
+                min_filter: filter,
                 mipmap,
                 wrap_u: wraps.0,
                 wrap_v: wraps.1,
