@@ -16,6 +16,9 @@
 
 use crate::ir::{Axis, BANK, BinOp, Inst, Lod, Reg, TriOp, UnOp};
 
+#[cfg(target_arch = "x86_64")]
+mod jit;
+
 /// Iterations after which a loop is cut off.
 pub const MAX_ITERATIONS: u32 = 1 << 16;
 
@@ -87,7 +90,8 @@ pub enum LodValue<const W: usize> {
     Gather(u8),
 }
 
-/// The lanes' masks while running.
+/// The lanes' masks while running (`repr(C)`: the compiled code reads them, `jit`).
+#[repr(C)]
 struct Masks {
     active: u64,
     /// Lanes that executed `return` in the innermost call.
@@ -108,6 +112,9 @@ pub struct Executable {
     code: Vec<Inst>,
     work_regs: usize,
     registers: usize,
+    /// The code compiled to machine code for eight lanes (`jit`), where the processor runs it.
+    #[cfg(target_arch = "x86_64")]
+    compiled: Option<std::sync::Arc<jit::Compiled>>,
 }
 
 impl Executable {
@@ -125,7 +132,47 @@ impl Executable {
             }
         };
         registers_mut(&mut code, &mut remap);
-        valid.then_some(Executable { code, work_regs, registers: work_regs + bank_len })
+        if !valid {
+            return None;
+        }
+        #[cfg(target_arch = "x86_64")]
+        let compiled = jit::available().then(|| jit::Compiled::new(&code)).flatten().map(std::sync::Arc::new);
+        Some(Executable {
+            code,
+            work_regs,
+            registers: work_regs + bank_len,
+            #[cfg(target_arch = "x86_64")]
+            compiled,
+        })
+    }
+
+    /// The same program without its machine code: [`run`] interprets it (for tests and
+    /// measurements of the two, which give the same bits).
+    pub fn interpreted(&self) -> Executable {
+        Executable {
+            #[cfg(target_arch = "x86_64")]
+            compiled: None,
+            ..self.clone()
+        }
+    }
+
+    /// Per register of the file, whether any instruction reads it.
+    pub fn read_registers(&self) -> Vec<bool> {
+        let mut read = vec![false; self.registers];
+        registers_mut(&mut self.code.clone(), &mut |r, written| {
+            if !written {
+                read[*r as usize] = true;
+            }
+        });
+        read
+    }
+
+    /// Whether [`run`] runs machine code compiled from it for eight lanes.
+    pub fn is_compiled(&self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return self.compiled.is_some();
+        #[cfg(not(target_arch = "x86_64"))]
+        false
     }
 
     /// Where the bank starts in the register file.
@@ -222,6 +269,17 @@ pub fn run<const W: usize, E: Env<W>>(program: &Executable, regs: &mut [[f32; W]
     assert!(regs.len() >= program.registers, "a register file of {} for {} registers", regs.len(), program.registers);
     let mut masks = Masks { active, returned: 0, exited: 0, continued: 0, discarded: 0 };
     let mut machine = Machine { regs, env };
+    #[cfg(target_arch = "x86_64")]
+    if W == jit::LANES
+        && let Some(compiled) = &program.compiled
+    {
+        // SAFETY: code is compiled only where the processor has AVX2 and F16C
+        // (`jit::available`), from this program's code, whose registers are all below
+        // `program.registers` (`Executable::new`), which `regs` holds (asserted above); `W` is
+        // eight.
+        unsafe { compiled.run(&mut machine, &mut masks) };
+        return masks.discarded;
+    }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("f16c") {
         // SAFETY: the processor has AVX2 and F16C (checked just above), the features

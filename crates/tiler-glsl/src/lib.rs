@@ -78,8 +78,8 @@
 //! Rust bit for bit). Control flow stays structured and runs under lane masks ([`exec`]).
 //! The executor is generic over the lane count: fragment shaders run 8 lanes (tiler's 4×2
 //! group, helper lanes included), vertex shaders 8 lanes (the core hands
-//! `VertexShader::shade_batch` up to 8 vertices), so wider batches or a JIT can replace the
-//! interpreter without touching the compiler. Results are deterministic: every register a
+//! `VertexShader::shade_batch` up to 8 vertices), so wider batches or compiled code (below)
+//! can replace the interpreter without touching the compiler. Results are deterministic: every register a
 //! call reads was written in that call, loops are capped at [`exec::MAX_ITERATIONS`], and the
 //! built-ins are std's f32 functions.
 //!
@@ -102,8 +102,16 @@
 //! lanes.
 //! Shaders of cheap arithmetic show the interpreter more: it was 11–19% of the
 //! instructions of the arithmetic-heavy glmark2 captures (callgrind), see
-//! docs/benchmarking.md. A flat bytecode (one dispatch per operation, not instruction then
-//! operation) and wider batches are the known next steps.
+//! docs/benchmarking.md.
+//!
+//! On x86-64 processors with AVX2 and F16C, each executable is also compiled to machine code
+//! when it is made (`exec::jit`, a template compiler: every instruction becomes the AVX2
+//! instructions the interpreter's own loop performs, registers left in the register file;
+//! transcendentals, conversions, texture lookups and derivatives call the interpreter for
+//! that one instruction), and [`exec::run`] runs that code for eight lanes. It gives the
+//! interpreter's bits (tested on random programs); `TILER_GLSL_JIT=0` in the environment
+//! switches it off. It took glmark2's `conditionals` capture 16% and `shading` 7% faster
+//! (docs/benchmarking.md).
 //!
 //! # Coordinate conventions
 //!

@@ -780,12 +780,17 @@ pub fn shaders(
             (vs.regs.clone(), v.first)
         })
         .collect();
-    let inputs: Vec<(Vec<Reg>, usize, bool)> = program
+    // Only the varying components the fragment code reads are interpolated: a shader may
+    // declare varyings it never reads (glmark2's `conditionals` a `vec4`), and an unread
+    // register changes nothing.
+    let read = program.fragment_executable.read_registers();
+    let inputs: Vec<(Reg, usize, bool)> = program
         .fragment
         .inputs
         .iter()
         .zip(&program.varyings)
-        .map(|(input, v)| (input.regs.clone(), v.first, v.flat))
+        .flat_map(|(input, v)| input.regs.iter().enumerate().map(move |(k, &r)| (r, v.first + k, v.flat)))
+        .filter(|&(r, ..)| read.get(r as usize).copied().unwrap_or(true))
         .collect();
     (
         GlslVertexShader {
@@ -873,9 +878,9 @@ pub struct GlslFragmentShader {
     id: u64,
     bank: Vec<[f32; 8]>,
     slots: Vec<Option<TextureBinding>>,
-    /// Each fragment varying's registers and first float.
-    /// Each varying's registers, first float and whether it is flat.
-    inputs: Vec<(Vec<Reg>, usize, bool)>,
+    /// The varying components the fragment code reads: each one's register, float (its
+    /// index among the varyings) and whether it is flat.
+    inputs: Vec<(Reg, usize, bool)>,
     height: f32,
 }
 
@@ -1377,11 +1382,9 @@ impl FragmentShader for GlslFragmentShader {
         {
             let executable = &self.program.fragment_executable;
             let regs = file.load(self.id, executable, &self.bank);
-            for (vregs, first, flat) in &self.inputs {
-                for (k, &r) in vregs.iter().enumerate() {
-                    // A flat value is copied, so an integer's bits arrive as they left.
-                    regs[r as usize] = if *flat { [frag.flat(first + k); 8] } else { frag.smooth(first + k).0 };
-                }
+            for &(r, float, flat) in &self.inputs {
+                // A flat value is copied, so an integer's bits arrive as they left.
+                regs[r as usize] = if flat { [frag.flat(float); 8] } else { frag.smooth(float).0 };
             }
             if let Some(fc) = code.frag_coord {
                 let (x, y) = frag.position();
