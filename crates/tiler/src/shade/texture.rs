@@ -1361,8 +1361,11 @@ mod avx2 {
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
         if let Some(far) = &far {
             cache.access_lanes(simd, first_line, &[near.lines, far.lines], counted_pair);
-        } else {
+        } else if group.minified_unmipped.contains(&true) {
             super::read_one_level(simd, cache, first_line, &[near.lines], counted_pair, group.minified_unmipped);
+        } else {
+            // What `read_one_level` makes of it, without the dispatch (as in `sample_bytes`).
+            cache.access_footprints_avx2(first_line, &[near.lines], counted_pair);
         }
         let mut packed = near.texels(texels);
         if let (Some(far), Some(weights)) = (&far, weights) {

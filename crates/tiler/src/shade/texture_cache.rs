@@ -288,7 +288,12 @@ impl TextureCache {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     #[inline]
-    pub(crate) fn access_footprints_avx2(&mut self, first_line: u64, rows: &[[u32; 8]; 4], counted: [bool; 8]) {
+    pub(crate) fn access_footprints_avx2<const R: usize>(
+        &mut self,
+        first_line: u64,
+        rows: &[[u32; 8]; R],
+        counted: [bool; 8],
+    ) {
         let misses = avx2::read_footprints(self, first_line, rows, counted);
         #[cfg(feature = "texture-cache-reference")]
         self.read_reference(first_line, rows, counted);
@@ -362,7 +367,8 @@ impl TextureCache {
         if !counted.contains(&true) {
             return 0;
         }
-        // Only for reads of one level: two levels' lines are seldom few enough.
+        // Only for reads of one level: two levels' lines are seldom few enough (tried for
+        // both, stop 24: atrium's cache model took 10% more instructions).
         let one_level = R <= 4;
         if one_level && self.within_recent(first_line, rows, counted) {
             self.found_within_recent();
@@ -687,10 +693,10 @@ mod avx2 {
 
     use super::{MAX_GROUP_LINES, TextureCache};
 
-    /// [`TextureCache::read_group`] of a pair's eight lanes reading four lines each (the
-    /// corners of a bilinear footprint on one level), the same checks in the same order, with
-    /// the group's 32 reads as the bits of a word in read order — lane `k`'s row `r` at bit
-    /// `4 · k + r` — rather than the 64 of the eight-row square:
+    /// [`TextureCache::read_group`] of a pair's eight lanes reading `R` lines each — four (the
+    /// corners of a bilinear footprint on one level) or one (a nearest texel) — the same checks
+    /// in the same order, with the group's reads as the bits of a word in read order — lane
+    /// `k`'s row `r` at bit `4 · k + r` — rather than the 64 of the eight-row square:
     ///
     /// - within [`TextureCache::recent`]: each row compared with each recent line;
     /// - the distinct lines ([`super::distinct_lines`]): the lowest unread bit is the first
@@ -702,24 +708,25 @@ mod avx2 {
     ///   stamps are `base + 1 + key`, above every earlier one.
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     #[inline]
-    pub(super) fn read_footprints(
+    pub(super) fn read_footprints<const R: usize>(
         cache: &mut TextureCache,
         first_line: u64,
-        rows: &[[u32; 8]; 4],
+        rows: &[[u32; 8]; R],
         counted: [bool; 8],
     ) -> u64 {
+        const { assert!(R == 1 || R == 4) };
         let zero = _mm256_setzero_si256();
-        // Each counted lane's 32 bits set, then its four reads' bits (a `bool` is a byte of 0
-        // or 1).
+        // Each counted lane's bytes set for its `R` reads (a `bool` is a byte of 0 or 1).
         let counted_bytes = u64::from_le_bytes(counted.map(u8::from));
         let lanes = _mm256_cmpgt_epi32(_mm256_cvtepu8_epi32(_mm_cvtsi64_si128(counted_bytes as i64)), zero);
-        let reads = _mm256_movemask_epi8(lanes) as u32;
+        let reads = _mm256_movemask_epi8(lanes) as u32 & if R == 1 { 0x1111_1111 } else { u32::MAX };
         if reads == 0 {
             return 0;
         }
         // SAFETY (each load): reads the 32 bytes of one `[u32; 8]` of `rows`; unaligned loads
-        // need no alignment.
-        let row = |r: usize| unsafe { _mm256_loadu_si256(rows[r].as_ptr().cast()) };
+        // need no alignment. Rows past `R` repeat the last: reads of it again, which the
+        // `reads` mask leaves out.
+        let row = |r: usize| unsafe { _mm256_loadu_si256(rows[r.min(R - 1)].as_ptr().cast()) };
         let r = [row(0), row(1), row(2), row(3)];
         if cache.recent_len != 0 && first_line == cache.recent_first_line {
             let mut inside = [zero; 4];
@@ -745,7 +752,7 @@ mod avx2 {
                 return cache.read_each(base, first_line, rows, counted);
             }
             let first = unread.trailing_zeros() as usize;
-            let line = rows[first % 4][first / 4];
+            let line = rows[(first % 4).min(R - 1)][first / 4];
             let x = _mm256_set1_epi32(line as i32);
             let low = _mm256_or_si256(
                 _mm256_and_si256(_mm256_cmpeq_epi32(r[0], x), byte0),
@@ -873,15 +880,21 @@ fn read_pair_body(
     counted: [bool; 8],
 ) -> u64 {
     #[cfg(target_arch = "x86_64")]
-    if simd.level() == SimdLevel::Avx2
-        && let Ok(footprint) = <&[[u32; 8]; 4]>::try_from(rows)
-    {
-        // SAFETY: a `SimdSupport` of level `Avx2` exists only when this processor has every
-        // feature `avx2::read_footprints` is compiled with (`SimdSupport::detect`).
-        let misses = unsafe { avx2::read_footprints(cache, first_line, footprint, counted) };
-        #[cfg(feature = "texture-cache-reference")]
-        cache.read_reference(first_line, rows, counted);
-        return misses;
+    if simd.level() == SimdLevel::Avx2 {
+        // SAFETY (both calls): a `SimdSupport` of level `Avx2` exists only when this processor
+        // has every feature `avx2::read_footprints` is compiled with (`SimdSupport::detect`).
+        let misses = if let Ok(footprint) = <&[[u32; 8]; 4]>::try_from(rows) {
+            Some(unsafe { avx2::read_footprints(cache, first_line, footprint, counted) })
+        } else if let Ok(texel) = <&[[u32; 8]; 1]>::try_from(rows) {
+            Some(unsafe { avx2::read_footprints(cache, first_line, texel, counted) })
+        } else {
+            None
+        };
+        if let Some(misses) = misses {
+            #[cfg(feature = "texture-cache-reference")]
+            cache.read_reference(first_line, rows, counted);
+            return misses;
+        }
     }
     read_rows(simd, cache, first_line, rows, counted)
 }
