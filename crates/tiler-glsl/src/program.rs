@@ -772,13 +772,32 @@ pub fn shaders(
     let (vbank, vslots) =
         stage_state::<VERTEX_LANES>(&program.vertex, &program.vertex_uniform_offsets, uniforms, textures);
     let (fbank, fslots) = stage_state::<8>(&program.fragment, &program.fragment_uniform_offsets, uniforms, textures);
-    let outputs: Vec<(Vec<Reg>, usize)> = program
+    let outputs: Vec<(Reg, usize)> = program
         .varyings
         .iter()
-        .map(|v| {
+        .flat_map(|v| {
             let vs = program.vertex.outputs.iter().find(|o| o.name == v.name).expect("linked");
-            (vs.regs.clone(), v.first)
+            vs.regs.iter().enumerate().map(move |(k, &r)| (r, v.first + k))
         })
+        .collect();
+    // Each attribute component the vertex code reads: its register, location (a matrix takes
+    // one per column), row, and whether it is an integer.
+    let read = program.vertex_executable.read_registers();
+    let attributes: Vec<AttributeComponent> = program
+        .attributes
+        .iter()
+        .zip(&program.vertex.inputs)
+        .flat_map(|(attr, var)| {
+            var.regs.iter().enumerate().map(move |(k, &register)| {
+                let (column, row) = match var.ty {
+                    Type::Matrix(_, rows) => (k / rows, k % rows),
+                    _ => (0, k),
+                };
+                let integer = var.ty.scalar().filter(|s| matches!(s, Scalar::Int | Scalar::UInt));
+                AttributeComponent { register, location: attr.location as usize + column, row, integer }
+            })
+        })
+        .filter(|c| read.get(c.register as usize).copied().unwrap_or(true))
         .collect();
     // Only the varying components the fragment code reads are interpolated: a shader may
     // declare varyings it never reads (glmark2's `conditionals` a `vec4`), and an unread
@@ -798,6 +817,7 @@ pub fn shaders(
             id: new_instance(),
             bank: vbank,
             slots: vslots,
+            attributes,
             outputs,
             instance: 0,
             bit_attributes: 0,
@@ -841,13 +861,25 @@ pub struct GlslVertexShader {
     id: u64,
     bank: Vec<[f32; VERTEX_LANES]>,
     slots: Vec<Option<TextureBinding>>,
-    /// Each linked varying's vertex registers and first float.
-    outputs: Vec<(Vec<Reg>, usize)>,
+    /// The attribute components the code reads, in the order of the program's attributes.
+    attributes: Vec<AttributeComponent>,
+    /// Each linked varying component's vertex register and float.
+    outputs: Vec<(Reg, usize)>,
     /// `gl_InstanceID`.
     instance: u32,
     /// Bit `l`: attribute location `l` arrives as integer bits (`VertexFormat::Int`), not as
     /// a float whose value an integer attribute takes.
     bit_attributes: u32,
+}
+
+/// Where a vertex shader's attribute component comes from: row `row` of attribute location
+/// `location`, into `register`; `integer`: an `int` or `uint` attribute's scalar type.
+#[derive(Clone, Copy, Debug)]
+struct AttributeComponent {
+    register: Reg,
+    location: usize,
+    row: usize,
+    integer: Option<Scalar>,
 }
 
 impl GlslVertexShader {
@@ -1298,10 +1330,8 @@ impl GlslVertexShader {
                 let p = position.map(|r| regs[r as usize][lane]);
                 // GL clip space → tiler's (Vulkan's): y down, depth [−w, w] → [0, w].
                 out.position = Vec4::new(p[0], -p[1], (p[2] + p[3]) * 0.5, p[3]);
-                for (vregs, first) in &self.outputs {
-                    for (k, &r) in vregs.iter().enumerate() {
-                        out.varyings[first + k] = regs[r as usize][lane];
-                    }
+                for &(r, float) in &self.outputs {
+                    out.varyings[float] = regs[r as usize][lane];
                 }
                 if let Some(w) = self.program.w_varying {
                     out.varyings[w] = p[3];
@@ -1327,27 +1357,21 @@ impl GlslVertexShader {
         {
             let executable = &self.program.vertex_executable;
             let regs = file.load(self.id, executable, &self.bank);
-            // `attributes` is in the order of `code.inputs`.
-            for (attr, var) in self.program.attributes.iter().zip(&code.inputs) {
-                for (k, &r) in var.regs.iter().enumerate() {
-                    let (column, row) = match var.ty {
-                        Type::Matrix(_, rows) => (k / rows, k % rows),
-                        _ => (0, k),
-                    };
-                    let loc = attr.location as usize + column;
-                    // The core fetches attributes as floats; an integer attribute takes
-                    // the value's integer (exact to 2²⁴), or the bits of one fetched as
-                    // integers (`set_integer_attributes`).
-                    let bits = self.bit_attributes & (1 << loc) != 0;
-                    for (lane, input) in inputs[..lanes].iter().enumerate() {
-                        let x = input.attributes[loc][row];
-                        regs[r as usize][lane] = match var.ty.scalar() {
-                            Some(Scalar::Int | Scalar::UInt) if bits => x,
-                            Some(Scalar::Int) => crate::exec::int(x as i32),
-                            Some(Scalar::UInt) => crate::exec::uint(x as u32),
-                            _ => x,
-                        };
+            for &AttributeComponent { register, location, row, integer } in &self.attributes {
+                // The core fetches attributes as floats; an integer attribute takes the
+                // value's integer (exact to 2²⁴), or the bits of one fetched as integers
+                // (`set_integer_attributes`). One loop over the lanes per case.
+                let bits = self.bit_attributes & (1 << location) != 0;
+                let dst = &mut regs[register as usize];
+                let lanes = dst.iter_mut().zip(&inputs[..lanes]);
+                match integer {
+                    Some(Scalar::Int) if !bits => {
+                        lanes.for_each(|(d, input)| *d = crate::exec::int(input.attributes[location][row] as i32))
                     }
+                    Some(Scalar::UInt) if !bits => {
+                        lanes.for_each(|(d, input)| *d = crate::exec::uint(input.attributes[location][row] as u32))
+                    }
+                    _ => lanes.for_each(|(d, input)| *d = input.attributes[location][row]),
                 }
             }
             // Ints are held as their bits (`ir`).
