@@ -13,7 +13,7 @@
 //! writes) run before shading, in submission order, so fragments that fail are never shaded.
 //! Otherwise the tests run after shading, on the coverage the shader left.
 
-use crate::api::format::ColorWrites;
+use crate::api::format::{ColorWrites, Format};
 use crate::api::pipeline::{ColorTargetState, DepthStencilState, MAX_COLOR_ATTACHMENTS, PipelineDesc};
 use crate::api::shader::ShaderProperties;
 use crate::depth;
@@ -1234,6 +1234,14 @@ fn blend_and_write_body(
         format.encode_lanes(&src, &mut packed);
     }
     let constant = if clamp { constant.map(|c| c.clamp(0.0, 1.0)) } else { constant };
+    if format == Format::Rgba8Unorm
+        && !plan.partial
+        && let Some(blend) = &plan.state.blend
+        && let Some(written) = blend_rgba8(surface, rows, coverage, &src, blend, constant)
+    {
+        count_color_traffic(surface, x, y, coverage, written, reads, traffic, ledger);
+        return;
+    }
     let mut written = 0u64;
     for s in 0..surface.samples() {
         let lanes = coverage.sample(s);
@@ -1274,9 +1282,158 @@ fn blend_and_write_body(
     count_color_traffic(surface, x, y, coverage, written, reads, traffic, ledger);
 }
 
+/// [`blend_and_write_body`]'s blend of an RGBA8 attachment written whole, eight lanes at a
+/// time: each sample's two rows of four pixels read as words, decoded (`c / 255`, what
+/// `Format::decode_color`'s table holds), blended and packed (`Format::pack_lanes_u32`, the
+/// bytes of `encode_lanes`), and the covered lanes' words stored — the same values as lane by
+/// lane (the lanes not covered are blended from what memory holds and not stored, where the
+/// general path blends zeros). Returns the samples written, or `None`, with nothing written,
+/// when a row of the group leaves the planes (a group at the right edge of a surface whose
+/// width is not a multiple of four).
+#[inline(always)]
+fn blend_rgba8(
+    surface: &mut Surface,
+    rows: [usize; 2],
+    coverage: Coverage,
+    src: &Vec4x8,
+    blend: &crate::api::pipeline::BlendState,
+    constant: [f32; 4],
+) -> Option<u64> {
+    const ROW: usize = 4 * 4;
+    let samples = surface.samples();
+    // Every plane has the same length.
+    let first = (0..samples).find(|&s| !coverage.sample(s).is_empty())?;
+    let plane_len = surface.plane_mut(first).len();
+    if rows.iter().any(|&r| r + ROW > plane_len) {
+        return None;
+    }
+    let mut written = 0;
+    for s in first..samples {
+        let lanes = coverage.sample(s);
+        if lanes.is_empty() {
+            continue;
+        }
+        written += lanes.count() as u64;
+        let plane = surface.plane_mut(s);
+        let word = |lane: usize| {
+            let at = rows[lane / 4] + (lane % 4) * 4;
+            u32::from_le_bytes([plane[at], plane[at + 1], plane[at + 2], plane[at + 3]])
+        };
+        let words: [u32; LANES] = std::array::from_fn(word);
+        let dst: Vec4x8 = std::array::from_fn(|c| {
+            F32x8(std::array::from_fn(|lane| ((words[lane] >> (8 * c)) & 0xff) as f32)) / F32x8::splat(255.0)
+        });
+        let out = crate::blend::blend_lanes(blend, src, &dst, constant);
+        let packed = Format::Rgba8Unorm.pack_lanes_u32(&out).expect("RGBA8 packs to words");
+        for lane in 0..LANES {
+            if lanes.contains(lane) {
+                let at = rows[lane / 4] + (lane % 4) * 4;
+                plane[at..at + 4].copy_from_slice(&packed[lane].to_le_bytes());
+            }
+        }
+    }
+    Some(written)
+}
+
 #[cfg(test)]
 mod tests {
+    use proptest::prelude::*;
+
     use super::*;
+    use crate::api::pipeline::{BlendComponent, BlendFactor, BlendOp, BlendState};
+    use crate::simd::SimdLevel;
+
+    fn factor() -> impl Strategy<Value = BlendFactor> {
+        use BlendFactor::*;
+        prop::sample::select(vec![
+            Zero,
+            One,
+            SrcColor,
+            OneMinusSrcColor,
+            DstColor,
+            OneMinusDstColor,
+            SrcAlpha,
+            OneMinusSrcAlpha,
+            DstAlpha,
+            OneMinusDstAlpha,
+            ConstantColor,
+            OneMinusConstantColor,
+            ConstantAlpha,
+            OneMinusConstantAlpha,
+            SrcAlphaSaturate,
+        ])
+    }
+
+    fn component() -> impl Strategy<Value = BlendComponent> {
+        use BlendOp::*;
+        (factor(), factor(), prop::sample::select(vec![Add, Subtract, ReverseSubtract, Min, Max]))
+            .prop_map(|(src, dst, op)| BlendComponent { src, dst, op })
+    }
+
+    fn channel() -> impl Strategy<Value = f32> {
+        prop_oneof![4 => 0.0f32..1.0, 1 => -2.0f32..3.0, 1 => Just(f32::NAN), 1 => Just(1.0), 1 => Just(0.0)]
+    }
+
+    proptest! {
+        /// Blending into an RGBA8 attachment (the eight-lane path) stores, lane for lane, what
+        /// the scalar rules give: the stored bytes decoded, `blend_pixel` of the clamped
+        /// source (a NaN lane clamped to 0, as the pipeline clamps colours), encoded; lanes and samples not covered keep their bytes. Groups at every
+        /// position of a surface 10 pixels wide, whose last group leaves the rows (the
+        /// general path).
+        #[test]
+        fn rgba8_blending_is_the_scalar_rules(
+            (color, alpha) in (component(), component()),
+            src in prop::collection::vec(channel(), 32),
+            constant in prop::array::uniform4(channel()),
+            stored in prop::collection::vec(any::<u8>(), 10 * 2 * 4 * 4),
+            coverage in any::<u32>(),
+            samples in prop::sample::select(vec![1usize, 4]),
+            x in prop::sample::select(vec![0, 4, 8]),
+        ) {
+            let blend = BlendState { color, alpha };
+            let plan = ColorPlan {
+                state: ColorTargetState { blend: Some(blend), write_mask: ColorWrites::ALL },
+                mask: Format::Rgba8Unorm.write_mask_bytes(ColorWrites::ALL),
+                partial: false,
+            };
+            let src: Vec4x8 = std::array::from_fn(|c| F32x8(std::array::from_fn(|lane| src[4 * lane + c])));
+            // Lanes right of the surface are never covered.
+            let inside = (0..LANES).filter(|lane| x as usize + lane % 4 < 10).fold(0u8, |m, lane| m | 1 << lane);
+            let bytes: [u8; MAX_SAMPLES] =
+                std::array::from_fn(|s| if s < samples { (coverage >> (8 * s)) as u8 & inside } else { 0 });
+            let cover = Coverage::from_samples(bytes);
+            for simd in [SimdLevel::Baseline, SimdLevel::Avx2].into_iter().filter_map(SimdSupport::detect) {
+                let plane_bytes = 10 * 2 * 4;
+                let mut memory = stored[..plane_bytes * samples].to_vec();
+                let planes = memory.chunks_mut(plane_bytes);
+                let mut surface = Surface::new(Format::Rgba8Unorm, (0, 0), 10, planes);
+                let (mut traffic, mut ledger) = (FramebufferTraffic::default(), Ledger::default());
+                blend_and_write(simd, &mut surface, x, 0, cover, &src, &plan, constant, &mut traffic, &mut ledger);
+                for s in 0..samples {
+                    for lane in 0..LANES {
+                        let (px, py) = (x as usize + lane % 4, lane / 4);
+                        if px >= 10 {
+                            continue;
+                        }
+                        let at = s * plane_bytes + (py * 10 + px) * 4;
+                        let old = &stored[at..at + 4];
+                        let want: Vec<u8> = if cover.sample(s).contains(lane) {
+                            let dst = Format::Rgba8Unorm.decode_color(old);
+                            let source = [0, 1, 2, 3].map(|c| src[c].clamp(0.0, 1.0).lane(lane));
+                            let constant = constant.map(|c| c.clamp(0.0, 1.0));
+                            let out = crate::blend::blend_pixel(&blend, source, dst, constant);
+                            let mut encoded = [0u8; 4];
+                            Format::Rgba8Unorm.encode_color(out, &mut encoded);
+                            encoded.to_vec()
+                        } else {
+                            old.to_vec()
+                        };
+                        prop_assert_eq!(&memory[at..at + 4], &want[..], "{:?} sample {} lane {}", simd, s, lane);
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn alpha_to_coverage_keeps_the_first_samples() {
