@@ -1285,9 +1285,9 @@ fn blend_and_write_body(
 /// [`blend_and_write_body`]'s blend of an RGBA8 attachment written whole, eight lanes at a
 /// time: each sample's two rows of four pixels read as words, decoded (`c / 255`, what
 /// `Format::decode_color`'s table holds), blended and packed (`Format::pack_lanes_u32`, the
-/// bytes of `encode_lanes`), and the covered lanes' words stored — the same values as lane by
-/// lane (the lanes not covered are blended from what memory holds and not stored, where the
-/// general path blends zeros). Returns the samples written, or `None`, with nothing written,
+/// bytes of `encode_lanes`), and each row written back whole, the covered lanes' new words
+/// beside the other lanes' old ones — the same bytes as lane by lane (the lanes not covered are
+/// blended from what memory holds and dropped, where the general path blends zeros). Returns the samples written, or `None`, with nothing written,
 /// when a row of the group leaves the planes (a group at the right edge of a surface whose
 /// width is not a multiple of four).
 #[inline(always)]
@@ -1315,21 +1315,27 @@ fn blend_rgba8(
         }
         written += lanes.count() as u64;
         let plane = surface.plane_mut(s);
-        let word = |lane: usize| {
-            let at = rows[lane / 4] + (lane % 4) * 4;
-            u32::from_le_bytes([plane[at], plane[at + 1], plane[at + 2], plane[at + 3]])
-        };
-        let words: [u32; LANES] = std::array::from_fn(word);
+        // The two rows of four words, each one 16-byte read (`rows` fit, checked above).
+        let row = |r: usize| -> [u8; ROW] { plane[r..r + ROW].try_into().expect("a row of four pixels") };
+        let bytes = [row(rows[0]), row(rows[1])];
+        let words: [u32; LANES] = std::array::from_fn(|lane| {
+            let at = (lane % 4) * 4;
+            u32::from_le_bytes(bytes[lane / 4][at..at + 4].try_into().expect("a word"))
+        });
         let dst: Vec4x8 = std::array::from_fn(|c| {
             F32x8(std::array::from_fn(|lane| ((words[lane] >> (8 * c)) & 0xff) as f32)) / F32x8::splat(255.0)
         });
         let out = crate::blend::blend_lanes(blend, src, &dst, constant);
         let packed = Format::Rgba8Unorm.pack_lanes_u32(&out).expect("RGBA8 packs to words");
-        for lane in 0..LANES {
-            if lanes.contains(lane) {
-                let at = rows[lane / 4] + (lane % 4) * 4;
-                plane[at..at + 4].copy_from_slice(&packed[lane].to_le_bytes());
+        // The covered lanes' new words, the others' old ones: each row one 16-byte write.
+        let merged: [u32; LANES] =
+            std::array::from_fn(|lane| if lanes.contains(lane) { packed[lane] } else { words[lane] });
+        for (half, &r) in rows.iter().enumerate() {
+            let mut out = [0u8; ROW];
+            for (i, chunk) in out.chunks_exact_mut(4).enumerate() {
+                chunk.copy_from_slice(&merged[4 * half + i].to_le_bytes());
             }
+            plane[r..r + ROW].copy_from_slice(&out);
         }
     }
     Some(written)
