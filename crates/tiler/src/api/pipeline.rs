@@ -189,6 +189,36 @@ pub enum BlendOp {
     Max,
 }
 
+impl BlendFactor {
+    /// Every factor, in declaration order.
+    pub const ALL: [BlendFactor; 15] = {
+        use BlendFactor::*;
+        [
+            Zero,
+            One,
+            SrcColor,
+            OneMinusSrcColor,
+            DstColor,
+            OneMinusDstColor,
+            SrcAlpha,
+            OneMinusSrcAlpha,
+            DstAlpha,
+            OneMinusDstAlpha,
+            ConstantColor,
+            OneMinusConstantColor,
+            ConstantAlpha,
+            OneMinusConstantAlpha,
+            SrcAlphaSaturate,
+        ]
+    };
+}
+
+impl BlendOp {
+    /// Every equation, in declaration order.
+    pub const ALL: [BlendOp; 5] =
+        [BlendOp::Add, BlendOp::Subtract, BlendOp::ReverseSubtract, BlendOp::Min, BlendOp::Max];
+}
+
 /// `op(src · src_factor, dst · dst_factor)` for the colour or the alpha channel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct BlendComponent {

@@ -132,25 +132,8 @@ mod tests {
 
     #[test]
     fn lanes_blend_exactly_like_pixels() {
-        use BlendFactor::*;
-        let factors = [
-            Zero,
-            One,
-            SrcColor,
-            OneMinusSrcColor,
-            DstColor,
-            OneMinusDstColor,
-            SrcAlpha,
-            OneMinusSrcAlpha,
-            DstAlpha,
-            OneMinusDstAlpha,
-            ConstantColor,
-            OneMinusConstantColor,
-            ConstantAlpha,
-            OneMinusConstantAlpha,
-            SrcAlphaSaturate,
-        ];
-        let ops = [BlendOp::Add, BlendOp::Subtract, BlendOp::ReverseSubtract, BlendOp::Min, BlendOp::Max];
+        let factors = BlendFactor::ALL;
+        let ops = BlendOp::ALL;
         let value = |i: usize, c: usize| ((i * 37 + c * 11) % 29) as f32 / 17.0 - 0.3;
         let src: Vec4x8 = std::array::from_fn(|c| F32x8::from_fn(|i| value(i, c)));
         let dst: Vec4x8 = std::array::from_fn(|c| F32x8::from_fn(|i| value(i + 5, c + 1)));

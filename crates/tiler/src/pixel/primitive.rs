@@ -1349,31 +1349,13 @@ mod tests {
     use crate::api::pipeline::{BlendComponent, BlendFactor, BlendOp, BlendState};
     use crate::simd::SimdLevel;
 
-    fn factor() -> impl Strategy<Value = BlendFactor> {
-        use BlendFactor::*;
-        prop::sample::select(vec![
-            Zero,
-            One,
-            SrcColor,
-            OneMinusSrcColor,
-            DstColor,
-            OneMinusDstColor,
-            SrcAlpha,
-            OneMinusSrcAlpha,
-            DstAlpha,
-            OneMinusDstAlpha,
-            ConstantColor,
-            OneMinusConstantColor,
-            ConstantAlpha,
-            OneMinusConstantAlpha,
-            SrcAlphaSaturate,
-        ])
-    }
-
     fn component() -> impl Strategy<Value = BlendComponent> {
-        use BlendOp::*;
-        (factor(), factor(), prop::sample::select(vec![Add, Subtract, ReverseSubtract, Min, Max]))
-            .prop_map(|(src, dst, op)| BlendComponent { src, dst, op })
+        let factor = || prop::sample::select(BlendFactor::ALL.to_vec());
+        (factor(), factor(), prop::sample::select(BlendOp::ALL.to_vec())).prop_map(|(src, dst, op)| BlendComponent {
+            src,
+            dst,
+            op,
+        })
     }
 
     fn channel() -> impl Strategy<Value = f32> {
