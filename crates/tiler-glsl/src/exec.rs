@@ -470,6 +470,62 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
         }
     }
 
+    /// One `Inst::Sample` (its fields), as every instruction set's interpreter runs it.
+    ///
+    /// # Safety
+    /// Every register named must be within the register file (and `N` runnable).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // the instruction's fields
+    unsafe fn sample_inst<N: Nested>(
+        &mut self,
+        slot: u16,
+        dst: &[Reg; 4],
+        coord: &[Reg; 2],
+        lod: &Lod,
+        reference: Option<Reg>,
+        offset: [i8; 2],
+        round: bool,
+    ) {
+        // Every register read or written is one of the instruction's (the caller's guarantee).
+        #![allow(unsafe_op_in_unsafe_fn)]
+        let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
+        let coord = [finite(self.get(coord[0])), finite(self.get(coord[1]))];
+        let texel = if let (Lod::Implicit, None, [0, 0]) = (lod, reference, offset) {
+            self.env.sample_implicit(slot as usize, coord)
+        } else {
+            self.sample_general(slot, coord, lod, reference, offset)
+        };
+        if round {
+            for (c, &d) in dst.iter().enumerate() {
+                self.set(d, N::half_toward_zero(texel[c]));
+            }
+        } else {
+            for (c, &d) in dst.iter().enumerate() {
+                self.set(d, texel[c]);
+            }
+        }
+    }
+
+    /// [`Machine::block_avx2`] of the one instruction `inst`, an `Inst::Sample` with an
+    /// implicit level of detail, no reference and no offset, under `m`: the same code, without
+    /// the frame and dispatch of the whole interpreter (what the compiled code calls for the
+    /// common lookup).
+    ///
+    /// # Safety
+    /// As [`Machine::block_avx2`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,f16c")]
+    unsafe fn sample_implicit_avx2(&mut self, inst: &Inst, m: &mut Masks) {
+        match inst {
+            Inst::Sample { slot, dst, coord, lod, reference, offset, round } if m.active != 0 => {
+                // SAFETY: the caller's guarantee.
+                unsafe { self.sample_inst::<Avx2>(*slot, dst, coord, lod, *reference, *offset, *round) };
+            }
+            // SAFETY: the caller's guarantee.
+            _ => unsafe { self.block_avx2(std::slice::from_ref(inst), m) },
+        }
+    }
+
     /// A 2D lookup with an explicit, biased, gradient or gather level of detail, a reference or
     /// an offset (out of line: the common lookup is [`Env::sample_implicit`]).
     ///
@@ -688,22 +744,7 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     self.set(*dst, d);
                 }
                 Inst::Sample { slot, dst, coord, lod, reference, offset, round } => {
-                    let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
-                    let coord = [finite(self.get(coord[0])), finite(self.get(coord[1]))];
-                    let texel = if let (Lod::Implicit, None, [0, 0]) = (lod, reference, offset) {
-                        self.env.sample_implicit(*slot as usize, coord)
-                    } else {
-                        self.sample_general(*slot, coord, lod, *reference, *offset)
-                    };
-                    if *round {
-                        for (c, &d) in dst.iter().enumerate() {
-                            self.set(d, N::half_toward_zero(texel[c]));
-                        }
-                    } else {
-                        for (c, &d) in dst.iter().enumerate() {
-                            self.set(d, texel[c]);
-                        }
-                    }
+                    self.sample_inst::<N>(*slot, dst, coord, lod, *reference, *offset, *round);
                 }
                 Inst::SampleCube { slot, dst, direction, lod } => {
                     let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });

@@ -38,7 +38,7 @@ use std::ffi::c_void;
 use dynasmrt::{AssemblyOffset, DynamicLabel, DynasmApi, DynasmLabelApi, ExecutableBuffer, dynasm, x64::Assembler};
 
 use super::{Env, MAX_ITERATIONS, Machine, Masks};
-use crate::ir::{BinOp, Inst, TriOp, UnOp, count_insts};
+use crate::ir::{BinOp, Inst, Lod, TriOp, UnOp, count_insts};
 
 /// The largest program compiled (instructions, nested ones included): past it the interpreter
 /// runs it (its code would be megabytes, compiled for every program instance's link).
@@ -60,6 +60,9 @@ pub(super) struct Context {
     /// The register file's length, and the environment (an `E` of the fallback's).
     registers: usize,
     env: *mut c_void,
+    /// The fallback for the common lookup (`Inst::Sample` with an implicit level of detail,
+    /// no reference and no offset): the same interpreter code without its dispatch.
+    sample: Fallback,
 }
 
 // The offsets the code reads the context at.
@@ -67,7 +70,9 @@ const CONTEXT_REGS: i32 = 0;
 const CONTEXT_MASKS: i32 = 8;
 const CONTEXT_FALLBACK: i32 = 16;
 const CONTEXT_LANE_MASKS: i32 = 24;
+const CONTEXT_SAMPLE: i32 = 48;
 const _: () = {
+    assert!(std::mem::offset_of!(Context, sample) == CONTEXT_SAMPLE as usize);
     assert!(std::mem::offset_of!(Context, regs) == CONTEXT_REGS as usize);
     assert!(std::mem::offset_of!(Context, masks) == CONTEXT_MASKS as usize);
     assert!(std::mem::offset_of!(Context, fallback) == CONTEXT_FALLBACK as usize);
@@ -215,6 +220,7 @@ impl Compiled {
             lane_masks: LANE_MASKS.0.as_ptr(),
             registers: machine.regs.len(),
             env: (machine.env as *mut E).cast(),
+            sample: sample_fallback::<W, E>,
         };
         // SAFETY: the buffer holds a function `extern "sysv64" fn(*const Context)` at `entry`
         // (the prologue above); the caller's guarantees make every access of it valid (module
@@ -245,6 +251,21 @@ unsafe extern "sysv64" fn fallback<const W: usize, E: Env<W>>(context: *const Co
         let regs = std::slice::from_raw_parts_mut(context.regs.cast::<[f32; W]>(), context.registers);
         let mut machine = Machine { regs, env: &mut *context.env.cast::<E>() };
         machine.block_avx2(std::slice::from_ref(&*inst), &mut *context.masks);
+    }
+}
+
+/// [`fallback`] of an `Inst::Sample` with an implicit level of detail, no reference and no
+/// offset (`Machine::sample_implicit_avx2`: the interpreter's code for it, not its dispatch).
+///
+/// # Safety
+/// As [`fallback`].
+unsafe extern "sysv64" fn sample_fallback<const W: usize, E: Env<W>>(context: *const Context, inst: *const Inst) {
+    // SAFETY: as in `fallback`.
+    unsafe {
+        let context = &*context;
+        let regs = std::slice::from_raw_parts_mut(context.regs.cast::<[f32; W]>(), context.registers);
+        let mut machine = Machine { regs, env: &mut *context.env.cast::<E>() };
+        machine.sample_implicit_avx2(&*inst, &mut *context.masks);
     }
 }
 
@@ -508,6 +529,18 @@ impl Emitter<'_> {
             // outer = mask; mask = 0; body; active |= mask; mask = outer.
             Inst::Call(body) => self.scope(RETURNED, body, end),
             Inst::Breakable(body) => self.scope(EXITED, body, end),
+            // The common lookup runs the interpreter's code for it, without the dispatch.
+            Inst::Sample { lod: Lod::Implicit, reference: None, offset: [0, 0], .. } => {
+                // SAFETY of the code: as for the other instructions below.
+                let inst = inst as *const Inst as i64;
+                dynasm!(self.ops
+                    ; .arch x64
+                    ; vzeroupper
+                    ; mov rdi, r13
+                    ; mov rsi, QWORD inst
+                    ; call QWORD [r13 + CONTEXT_SAMPLE]
+                );
+            }
             // Everything else runs in the interpreter. Only these change no mask.
             other => {
                 // SAFETY of the code: `other` is an instruction of the tree the compiled code

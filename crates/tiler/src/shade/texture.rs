@@ -1175,12 +1175,17 @@ mod avx2 {
     /// `packus` is exact), each lane's four bytes packed as a texel's.
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     fn filter_bytes_packed(corners: &[[u32; 8]; 4], alpha: &[u32; 8], beta: &[u32; 8]) -> __m256i {
-        // SAFETY (each load and store): 32 bytes of one `[u32; 8]`; unaligned access needs no
-        // alignment.
+        // SAFETY (each load): 32 bytes of one `[u32; 8]`; unaligned loads need no alignment.
         let load = |v: &[u32; 8]| unsafe { _mm256_loadu_si256(v.as_ptr().cast()) };
-        let zero = _mm256_setzero_si256();
         let t = [load(&corners[0]), load(&corners[1]), load(&corners[2]), load(&corners[3])];
-        let (a, b) = (load(alpha), load(beta));
+        filter_bytes_lanes(t, load(alpha), load(beta))
+    }
+
+    /// [`filter_bytes_packed`] of the corners' texels and the weights in registers.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn filter_bytes_lanes(t: [__m256i; 4], a: __m256i, b: __m256i) -> __m256i {
+        let zero = _mm256_setzero_si256();
         let (spread_low, spread_high) = spreads();
         let half = |c: [__m256i; 4], spread: __m256i| {
             let (wa, wb) = (_mm256_shuffle_epi8(a, spread), _mm256_shuffle_epi8(b, spread));
@@ -1522,7 +1527,7 @@ mod avx2 {
     /// texture's first) and the texel index, the weights `α` and `β`, and the largest index.
     struct Footprint {
         lines: [[u32; 8]; 4],
-        indices: [[u32; 8]; 4],
+        indices: [__m256i; 4],
         alpha: __m256i,
         beta: __m256i,
         largest: u32,
@@ -1544,16 +1549,13 @@ mod avx2 {
         ];
         let shift = _mm_cvtsi32_si128(line_shift as i32);
         let mut lines = [[0u32; 8]; 4];
-        let mut indices = [[0u32; 8]; 4];
+        let index = |corner: usize| _mm256_srli_epi32::<2>(offsets[corner]);
+        let indices = [index(0), index(1), index(2), index(3)];
         let mut largest = _mm256_setzero_si256();
         for (corner, &offset) in offsets.iter().enumerate() {
-            let index = _mm256_srli_epi32::<2>(offset);
-            largest = _mm256_max_epu32(largest, index);
+            largest = _mm256_max_epu32(largest, indices[corner]);
             // SAFETY: 32 bytes of one `[u32; 8]`; unaligned stores need no alignment.
-            unsafe {
-                _mm256_storeu_si256(lines[corner].as_mut_ptr().cast(), _mm256_srl_epi32(offset, shift));
-                _mm256_storeu_si256(indices[corner].as_mut_ptr().cast(), index);
-            }
+            unsafe { _mm256_storeu_si256(lines[corner].as_mut_ptr().cast(), _mm256_srl_epi32(offset, shift)) };
         }
         Footprint { lines, indices, alpha, beta, largest: largest_lane(largest) }
     }
@@ -1608,27 +1610,22 @@ mod avx2 {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     #[inline]
     fn filter_footprint(texels: &[u32], footprint: &Footprint) -> __m256i {
+        // Every index is at most `largest` (an unsigned maximum), held below the texels' count
+        // and below 2^31, so that the gather's signed indices are the same numbers.
         assert!(
-            (footprint.largest as usize) < texels.len(),
+            (footprint.largest as usize) < texels.len() && footprint.largest <= i32::MAX as u32,
             "texel {} of a footprint outside the texture's {} texels",
             footprint.largest,
             texels.len()
         );
-        let corners: [[u32; 8]; 4] = std::array::from_fn(|corner| {
-            lanes::<u32, 8>(|i| {
-                // SAFETY: every index is at most `footprint.largest`, which the assertion above
-                // holds below `texels.len()`: a `Footprint`'s fields are private to this module,
-                // and only `footprint` builds one, with `largest` the unsigned maximum of all 32.
-                unsafe { *texels.get_unchecked(footprint.indices[corner][i] as usize) }
-            })
-        });
-        let mut weights = [[0u32; 8]; 2];
-        // SAFETY: 32 bytes of one `[u32; 8]`; unaligned stores need no alignment.
-        unsafe {
-            _mm256_storeu_si256(weights[0].as_mut_ptr().cast(), footprint.alpha);
-            _mm256_storeu_si256(weights[1].as_mut_ptr().cast(), footprint.beta);
-        }
-        filter_bytes_packed(&corners, &weights[0], &weights[1])
+        let base = texels.as_ptr().cast::<i32>();
+        // SAFETY: each lane reads the 4-byte texel `base + 4 · index`, with `index` one of the
+        // footprint's (a `Footprint`'s fields are private to this module, and only `footprint`
+        // builds one, with `largest` the unsigned maximum of all 32), so in bounds by the
+        // assertion above; `vpgatherdd` needs no alignment.
+        let gather = |corner: usize| unsafe { _mm256_i32gather_epi32::<4>(base, footprint.indices[corner]) };
+        let corners = [gather(0), gather(1), gather(2), gather(3)];
+        filter_bytes_lanes(corners, footprint.alpha, footprint.beta)
     }
 
     /// `lerp_bytes` of each byte of the packed texels `a` and `b` by its lane's weight (a
