@@ -193,18 +193,20 @@ impl Device {
         if !d.format.has_depth() || d.transient {
             return Err(Error::invalid(id.to_string(), "not a depth image with memory"));
         }
-        let bpp = d.format.bytes_per_sample();
-        Ok(image.data[..d.plane_bytes()]
-            .chunks_exact(bpp)
-            .map(|b| {
-                let word = match bpp {
-                    2 => u16::from_le_bytes([b[0], b[1]]) as u32,
-                    _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
-                };
-                let bits = if d.format == Format::D24UnormS8Uint { word & 0xff_ffff } else { word };
-                d.format.depth_from_bits(bits)
-            })
-            .collect())
+        let data = &image.data[..d.plane_bytes()];
+        // One loop per format, its conversion known (a shadow map is read every frame).
+        let words = || data.chunks_exact(4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        Ok(match d.format {
+            Format::D16Unorm => data
+                .chunks_exact(2)
+                .map(|b| Format::D16Unorm.depth_from_bits(u16::from_le_bytes([b[0], b[1]]) as u32))
+                .collect(),
+            Format::D24UnormS8Uint => {
+                words().map(|word| Format::D24UnormS8Uint.depth_from_bits(word & 0xff_ffff)).collect()
+            }
+            // D32Float, the other depth format of four bytes a sample.
+            format => words().map(|word| format.depth_from_bits(word)).collect(),
+        })
     }
 
     /// The stencil values of a depth-stencil image's first sample.
