@@ -19,7 +19,9 @@
 //! arithmetic, compares and bit operations. Every other instruction — transcendentals,
 //! conversions with saturation, texture lookups, derivatives — is a call back into the
 //! interpreter for that one instruction (a one-instruction block of
-//! [`Machine::block_avx2`]), so it runs the interpreter's own code. Control flow (`if`,
+//! [`Machine::block_avx2`]), so it runs the interpreter's own code; the common lookup
+//! (`texture2D` with an implicit level of detail) calls the interpreter's code for `Sample`
+//! directly ([`sample_fallback`]), without the whole interpreter's frame and dispatch. Control flow (`if`,
 //! loops, `break`/`continue`/`return`/`discard`, inlined calls, `switch` bodies) is compiled
 //! with the interpreter's mask rules, restated beside each construct below; the masks stay in
 //! the interpreter's [`Masks`], in memory. Tests hold the two equal on random programs,
@@ -28,10 +30,10 @@
 //! **Safety.** The code addresses only the register file, at `rbx + 32·r` for registers `r`
 //! that `Executable::new` checked to be below `Executable::registers` (which `run` asserts
 //! the file holds); the [`Masks`] at `r12`; the lane-mask table at `r14` (256 entries, indexed
-//! by a byte); its own stack frame; and constants in its own buffer. It calls only the
-//! fallback the caller hands over in the [`Context`], with that function's System V
-//! signature and the stack aligned to 16 bytes, and restores every callee-saved register it
-//! uses. The buffer is executable and not writable once finalised.
+//! by a byte); its own stack frame; and constants in its own buffer. It calls only the two
+//! fallbacks the caller hands over in the [`Context`], with their System V signature and the
+//! stack aligned to 16 bytes, and restores every callee-saved register it uses. The buffer is
+//! executable and not writable once finalised.
 
 use std::ffi::c_void;
 
