@@ -74,11 +74,11 @@ const CONTEXT_FALLBACK: i32 = 16;
 const CONTEXT_LANE_MASKS: i32 = 24;
 const CONTEXT_SAMPLE: i32 = 48;
 const _: () = {
-    assert!(std::mem::offset_of!(Context, sample) == CONTEXT_SAMPLE as usize);
     assert!(std::mem::offset_of!(Context, regs) == CONTEXT_REGS as usize);
     assert!(std::mem::offset_of!(Context, masks) == CONTEXT_MASKS as usize);
     assert!(std::mem::offset_of!(Context, fallback) == CONTEXT_FALLBACK as usize);
     assert!(std::mem::offset_of!(Context, lane_masks) == CONTEXT_LANE_MASKS as usize);
+    assert!(std::mem::offset_of!(Context, sample) == CONTEXT_SAMPLE as usize);
 };
 
 // The offsets of the masks (`Masks` is `repr(C)`, five `u64`s).

@@ -157,66 +157,56 @@ impl DepthStencilState {
     }
 }
 
-/// A blend factor (Vulkan `VkBlendFactor`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum BlendFactor {
-    Zero,
-    One,
-    SrcColor,
-    OneMinusSrcColor,
-    DstColor,
-    OneMinusDstColor,
-    SrcAlpha,
-    OneMinusSrcAlpha,
-    DstAlpha,
-    OneMinusDstAlpha,
-    ConstantColor,
-    OneMinusConstantColor,
-    ConstantAlpha,
-    OneMinusConstantAlpha,
-    SrcAlphaSaturate,
-}
+/// Declares a fieldless enum and its `ALL`, every variant in declaration order, from one list
+/// of variants (so that the list cannot miss one the enum gains).
+macro_rules! enum_with_all {
+    ($(#[$meta:meta])* $vis:vis enum $name:ident { $($variant:ident),+ $(,)? }) => {
+        $(#[$meta])*
+        $vis enum $name {
+            $($variant),+
+        }
 
-/// A blend equation (Vulkan `VkBlendOp`). `Min` and `Max` ignore the factors.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum BlendOp {
-    Add,
-    Subtract,
-    ReverseSubtract,
-    Min,
-    Max,
-}
-
-impl BlendFactor {
-    /// Every factor, in declaration order.
-    pub const ALL: [BlendFactor; 15] = {
-        use BlendFactor::*;
-        [
-            Zero,
-            One,
-            SrcColor,
-            OneMinusSrcColor,
-            DstColor,
-            OneMinusDstColor,
-            SrcAlpha,
-            OneMinusSrcAlpha,
-            DstAlpha,
-            OneMinusDstAlpha,
-            ConstantColor,
-            OneMinusConstantColor,
-            ConstantAlpha,
-            OneMinusConstantAlpha,
-            SrcAlphaSaturate,
-        ]
+        impl $name {
+            /// Every variant, in declaration order.
+            pub const ALL: [$name; [$($name::$variant),+].len()] = [$($name::$variant),+];
+        }
     };
 }
 
-impl BlendOp {
-    /// Every equation, in declaration order.
-    pub const ALL: [BlendOp; 5] =
-        [BlendOp::Add, BlendOp::Subtract, BlendOp::ReverseSubtract, BlendOp::Min, BlendOp::Max];
+enum_with_all! {
+    /// A blend factor (Vulkan `VkBlendFactor`).
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+    #[serde(rename_all = "snake_case")]
+    pub enum BlendFactor {
+        Zero,
+        One,
+        SrcColor,
+        OneMinusSrcColor,
+        DstColor,
+        OneMinusDstColor,
+        SrcAlpha,
+        OneMinusSrcAlpha,
+        DstAlpha,
+        OneMinusDstAlpha,
+        ConstantColor,
+        OneMinusConstantColor,
+        ConstantAlpha,
+        OneMinusConstantAlpha,
+        SrcAlphaSaturate,
+    }
+}
+
+enum_with_all! {
+    /// A blend equation (Vulkan `VkBlendOp`). `Min` and `Max` ignore the factors.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+    #[serde(rename_all = "snake_case")]
+    pub enum BlendOp {
+        Add,
+        Subtract,
+        ReverseSubtract,
+        Min,
+        Max,
+    }
 }
 
 /// `op(src · src_factor, dst · dst_factor)` for the colour or the alpha channel.
