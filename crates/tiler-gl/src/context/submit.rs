@@ -27,11 +27,11 @@ pub(crate) struct BuiltKey {
     encoded: Option<tiler::TexelFormat>,
 }
 
-/// A core texture kept across submissions with the texels it was built from (a copy: the
-/// image may be drawn into or written after).
+/// A core texture kept across submissions with the version of the image it was built from
+/// (the image may be drawn into or written after: its version then changes).
 pub(crate) struct BuiltTexture {
     key: BuiltKey,
-    data: Vec<u8>,
+    version: u64,
     texture: Arc<tiler::Texture>,
 }
 
@@ -444,36 +444,29 @@ impl Context {
     }
 
     /// The texture of RGBA8 `data` of `image` as `key` says: the one built for an earlier
-    /// submission when the texels and the key are the same (a texture sampled by pass after
-    /// pass, as a window's picture is, is built once), else a new one, kept for the next.
-    /// A texture is a function of its texels and `key` alone; only its id differs, and ids
-    /// only tell textures apart in the texture-cache model.
+    /// submission while the image keeps its version ([`tiler::Device::image_version`]: a
+    /// texture sampled by pass after pass, as a window's picture is, is built once), else a
+    /// new one, kept for the next. A texture is a function of its texels and `key` alone; only
+    /// its id differs, and ids only tell textures apart within a pass's texture-cache model.
     fn built_texture(&self, image: ImageId, key: BuiltKey, data: &[u8]) -> Fallible<Arc<tiler::Texture>> {
+        let version = self.device.image_version(image).map_err(|e| e.to_string())?;
         let mut built = self.built_textures.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(b) = built.get(&image)
-            && b.key == key
-            && *b.data == *data
+            && (b.key, b.version) == (key, version)
         {
             return Ok(b.texture.clone());
         }
-        let t = tiler::Texture::from_rgba8(key.width, key.height, data, key.color_space, key.mip_chain)
+        // Built on the device's threads, which wait for this pass.
+        let t = self
+            .device
+            .install(|| tiler::Texture::from_rgba8(key.width, key.height, data, key.color_space, key.mip_chain))
             .and_then(|t| match key.encoded {
                 Some(format) => t.stored_as(format),
                 None => Ok(t),
             })
             .map_err(|e| e.to_string())?;
         let texture = Arc::new(t);
-        match built.get_mut(&image) {
-            // The texels of an image drawn into pass after pass: its buffer is reused.
-            Some(b) => {
-                b.data.clear();
-                b.data.extend_from_slice(data);
-                (b.key, b.texture) = (key, texture.clone());
-            }
-            None => {
-                built.insert(image, BuiltTexture { key, data: data.to_vec(), texture: texture.clone() });
-            }
-        }
+        built.insert(image, BuiltTexture { key, version, texture: texture.clone() });
         Ok(texture)
     }
 

@@ -366,6 +366,69 @@ fn sampling_the_pass_texture_flushes() {
     assert_eq!(load(p[1]), COLOR + DEPTH + STENCIL);
 }
 
+/// A texture drawn into pass after pass and sampled after each: every sampling sees what the
+/// texture holds then — a clear, a draw over part of it, an upload — never the texture as
+/// the context built it for an earlier pass; and a texture sampled again unchanged reads the same.
+#[test]
+fn a_render_target_sampled_after_each_redraw_shows_its_latest_contents() {
+    let mut gl = window();
+    framebuffer(&mut gl, 2, 64, 64);
+    // Full-screen textured quad, (s, t) = GL's (x, y) mapped onto [0, 1].
+    let vertices: Vec<[f32; 4]> =
+        quad(-1.0, -1.0, 1.0, 1.0, 0.0).iter().map(|&[x, y, _]| [x, y, (x + 1.0) / 2.0, (y + 1.0) / 2.0]).collect();
+    c(&mut gl, Call::CreateBuffer { id: 5, data: Bytes::from_slice(&vertices) });
+    c(&mut gl, Call::CreateProgram { id: 5, program: ProgramKind::Textured.into() });
+    let sample_into_window = |gl: &mut Context| {
+        bind(gl, 0);
+        c(gl, Call::UseProgram { id: 5 });
+        for (index, offset) in [(0, 0), (1, 8)] {
+            c(
+                gl,
+                Call::VertexAttribPointer {
+                    index,
+                    buffer: 5,
+                    size: 2,
+                    component: ComponentType::Float,
+                    normalized: false,
+                    stride: 16,
+                    offset,
+                },
+            );
+            c(gl, Call::EnableVertexAttrib { index });
+        }
+        c(gl, Call::BindTexture { unit: 0, texture: 2 });
+        draw(gl, 6);
+        swap(gl);
+        gl.surface_rgba8()
+    };
+    let fill = |gl: &mut Context, rgba: [f32; 4]| {
+        bind(gl, 2);
+        c(gl, Call::ClearColor { rgba });
+        clear_all(gl);
+    };
+    fill(&mut gl, [0.0, 1.0, 0.0, 1.0]);
+    let green = sample_into_window(&mut gl);
+    assert_eq!(pixel(&green, 64, 10, 10), [0, 255, 0, 255]);
+    assert_eq!(sample_into_window(&mut gl), green, "sampled again unchanged");
+    fill(&mut gl, [0.0, 0.0, 1.0, 1.0]);
+    let blue = sample_into_window(&mut gl);
+    assert_eq!(pixel(&blue, 64, 10, 10), [0, 0, 255, 255], "the new clear, not the texture built before");
+    // The solid red quad over GL's bottom-left quarter, drawn into the texture.
+    bind(&mut gl, 2);
+    bind_geometry(&mut gl, 1);
+    draw(&mut gl, 6);
+    let drawn = sample_into_window(&mut gl);
+    assert_eq!(pixel(&drawn, 64, 10, 54), [255, 0, 0, 255], "the draw");
+    assert_eq!(pixel(&drawn, 64, 54, 10), [0, 0, 255, 255]);
+    c(
+        &mut gl,
+        Call::TexSubImage { id: 2, x: 0, y: 0, width: 64, height: 64, data: Bytes::from(vec![255u8; 64 * 64 * 4]) },
+    );
+    let uploaded = sample_into_window(&mut gl);
+    assert_eq!(pixel(&uploaded, 64, 10, 54), [255; 4], "the upload");
+    assert_eq!(pixel(&uploaded, 64, 54, 10), [255; 4]);
+}
+
 /// Row 5: changing an attachment of the bound framebuffer, or writing its texture, flushes.
 #[test]
 fn attachment_changes_and_texture_writes_flush() {

@@ -508,35 +508,19 @@ impl Texture {
             ColorSpace::Srgb => (srgb8_to_linear(c as u8) as f64 * 65535.0).round() as u16,
         }));
         debug_assert!(color_table.windows(2).all(|pair| pair[0] < pair[1]), "the colour table is strictly increasing");
-        let texel_count = ((last.address + last.modelled_bytes()) / TEXEL_BYTES) as usize;
+        debug_assert_eq!(
+            (last.address + last.modelled_bytes()) / TEXEL_BYTES,
+            levels.iter().map(|l| l.modelled_bytes() / TEXEL_BYTES).sum::<u64>(),
+            "the levels are contiguous"
+        );
         let texels = match color_space {
-            ColorSpace::Linear => {
-                let mut texels = vec![0u32; texel_count];
-                each_block_row(&levels, starts, rows, |at, run| {
-                    let out = &mut texels[at..at + run.len()];
-                    // A whole block row (nearly every one) as one 16-byte move: a run of
-                    // unknown length was a call to `memcpy` per four texels.
-                    if let (Ok(out), Ok(run)) = (<&mut [u32; 4]>::try_from(&mut *out), <&[[u8; 4]; 4]>::try_from(run)) {
-                        *out = run.map(u32::from_le_bytes);
-                    } else {
-                        for (texel, &rgba) in out.iter_mut().zip(run) {
-                            *texel = u32::from_le_bytes(rgba);
-                        }
-                    }
-                });
-                Texels::Packed(texels)
-            }
+            ColorSpace::Linear => Texels::Packed(block_texels(&levels, starts, rows, 0, u32::from_le_bytes)),
             ColorSpace::Srgb => {
                 let decode = |[r, g, b, a]: [u8; 4]| {
                     let colour = |c: u8| color_table[c as usize] as u32;
                     [colour(r) | colour(g) << 16, colour(b) | unorm8_to_unorm16(a as u32) << 16]
                 };
-                let mut texels = vec![[0u32; 2]; texel_count];
-                each_block_row(&levels, starts, rows, |at, run| {
-                    for (texel, &rgba) in texels[at..at + run.len()].iter_mut().zip(run) {
-                        *texel = decode(rgba);
-                    }
-                });
+                let texels = block_texels(&levels, starts, rows, [0; 2], decode);
                 Texels::Decoded(texels)
             }
         };
@@ -2187,23 +2171,58 @@ impl Level {
     }
 }
 
-/// Calls `put(at, run)` for each block row of every level of a chain held row-major (`rows`,
-/// level `i` from `starts[i]`): `run` the (up to four) texels of a block's row, which are
-/// contiguous in both layouts, and `at` the index of the first in the block layout.
-#[inline(always)]
-fn each_block_row(levels: &[Level], starts: &[usize], rows: &[[u8; 4]], mut put: impl FnMut(usize, &[[u8; 4]])) {
-    for (level, &start) in levels.iter().zip(starts) {
-        let row_texels = level.width as usize;
-        let level_rows = rows[start..start + row_texels * level.height as usize].chunks_exact(row_texels);
-        // A row's blocks are `BLOCK_TEXELS²` texels apart in the block layout.
-        const BLOCK_STRIDE: usize = (BLOCK_TEXELS * BLOCK_TEXELS) as usize;
-        for (y, row) in level_rows.enumerate() {
-            let first = level.texel_index(0, y as u32);
-            for (block_x, texels_in_block) in row.chunks(BLOCK_TEXELS as usize).enumerate() {
-                put(first + block_x * BLOCK_STRIDE, texels_in_block);
+/// The texels of every level of a chain held row-major (`rows`, level `i` from `starts[i]`)
+/// in the block layout, each converted by `texel`, level after level (levels are contiguous:
+/// see `Level::new`'s callers); a block's texels past its level's edge are `pad`.
+///
+/// Written in order, block by block, with no zero fill first: a render target sampled pass
+/// after pass is built this way each time, on the main thread while the workers wait for the
+/// pass. A large level is built by rayon's threads — the device's when the caller runs inside
+/// `Device::install` (the same texels, whoever builds them).
+fn block_texels<T: Copy + Send + Sync>(
+    levels: &[Level],
+    starts: &[usize],
+    rows: &[[u8; 4]],
+    pad: T,
+    texel: impl Fn([u8; 4]) -> T + Sync,
+) -> Vec<T> {
+    use rayon::prelude::*;
+    /// Texels of a level above which its blocks are built in parallel.
+    const PARALLEL_TEXELS: usize = 1 << 16;
+    const B: usize = BLOCK_TEXELS as usize;
+    let level_blocks = |level: &Level, start: usize| -> Vec<[T; B * B]> {
+        let (width, height) = (level.width as usize, level.height as usize);
+        let level_rows = &rows[start..start + width * height];
+        let blocks_x = level.blocks_x as usize;
+        let block = |index: usize| -> [T; B * B] {
+            let (x0, y0) = (index % blocks_x * B, index / blocks_x * B);
+            if x0 + B <= width && y0 + B <= height {
+                // Inside the level: four runs of four texels.
+                std::array::from_fn(|i| texel(level_rows[(y0 + i / B) * width + x0 + i % B]))
+            } else {
+                std::array::from_fn(|i| {
+                    let (x, y) = (x0 + i % B, y0 + i / B);
+                    if x < width && y < height { texel(level_rows[y * width + x]) } else { pad }
+                })
             }
+        };
+        let count = blocks_x * height.div_ceil(B);
+        if width * height >= PARALLEL_TEXELS {
+            let mut out = Vec::new();
+            (0..count).into_par_iter().map(block).collect_into_vec(&mut out);
+            out
+        } else {
+            (0..count).map(block).collect()
         }
+    };
+    if let ([level], [start]) = (levels, starts) {
+        return level_blocks(level, *start).into_flattened();
     }
+    let mut texels = Vec::with_capacity(levels.iter().map(|l| (l.modelled_bytes() / TEXEL_BYTES) as usize).sum());
+    for (level, &start) in levels.iter().zip(starts) {
+        texels.extend(level_blocks(level, start).into_iter().flatten());
+    }
+    texels
 }
 
 /// Appends level `next` to the row-major `texels`, the 2×2 box filter of level `above`, whose
@@ -3138,6 +3157,43 @@ mod tests {
                 // Stored where its modelled address says.
                 let index = ((t.texel_address(0, x, y) - t.texel_address(0, 0, 0)) / TEXEL_BYTES) as usize;
                 assert_eq!(t.texel_bytes(index), given[(y * width + x) as usize]);
+            }
+        }
+    }
+
+    /// The block layout as `Level::texel_index` defines it, built texel by texel: every texel
+    /// where its index says, every texel of a block past the level's edge zero. Sizes on both
+    /// sides of the parallel build's threshold, odd edges, one level and a chain, both colour
+    /// spaces.
+    #[test]
+    fn blocks_are_laid_out_texel_by_texel_with_zero_padding() {
+        for (width, height) in [(1, 1), (5, 3), (16, 16), (301, 259), (256, 256)] {
+            let rgba: Vec<u8> = (0..width * height * 4).map(|i| (i * 13 % 251 + 1) as u8).collect();
+            for mips in [MipChain::BaseOnly, MipChain::Box] {
+                let t = Texture::from_rgba8(width, height, &rgba, ColorSpace::Linear, mips).unwrap();
+                let Texels::Packed(texels) = &t.texels else { panic!("a linear RGBA8 texture holds bytes") };
+                let mut expected = vec![0u32; texels.len()];
+                for (i, level) in t.levels.iter().enumerate() {
+                    let given = t.level_texels(i);
+                    for y in 0..level.height {
+                        for x in 0..level.width {
+                            expected[level.texel_index(x, y)] =
+                                u32::from_le_bytes(given[(y * level.width + x) as usize]);
+                        }
+                    }
+                }
+                assert_eq!(*texels, expected, "{width}×{height} {mips:?}");
+                let given: Vec<[u8; 4]> = rgba.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
+                assert_eq!(t.level_texels(0), given, "{width}×{height} {mips:?}");
+
+                let srgb = Texture::from_rgba8(width, height, &rgba, ColorSpace::Srgb, mips).unwrap();
+                assert_eq!(srgb.level_texels(0), given, "sRGB {width}×{height} {mips:?}");
+                let Texels::Decoded(decoded) = &srgb.texels else { panic!("an sRGB texture holds decoded texels") };
+                assert_eq!(decoded.len(), texels.len());
+                // Padding is zero; every texel holds a non-zero alpha.
+                for (index, (d, p)) in decoded.iter().zip(&expected).enumerate() {
+                    assert_eq!(*d == [0, 0], *p == 0, "sRGB {width}×{height} {mips:?}: texel {index}");
+                }
             }
         }
     }

@@ -308,3 +308,43 @@ fn a_scissor_box_around_every_draw_is_the_render_area() {
         assert_eq!(cleared.render_area, None, "{backend}: a clear covers the whole framebuffer");
     }
 }
+
+/// An image's version changes with every write of it — a write, a pass with it as an
+/// attachment, whatever its store op — and with nothing else: another image's pass or write,
+/// a read, a failed write.
+#[test]
+fn image_versions_change_with_every_write_of_the_image() {
+    for backend in Backend::ALL {
+        let (mut device, color, ds) = setup(backend);
+        let other = device.create_image(ImageDesc::new(W, H, Format::Rgba8Unorm)).unwrap();
+        let versions = |device: &Device| [color, ds, other].map(|i| device.image_version(i).unwrap());
+        let before = versions(&device);
+        assert!(before[0] != before[1] && before[1] != before[2] && before[0] != before[2]);
+
+        device.submit(&pass(ColorAttachment::clear_store(other, [0.0, 1.0, 0.0, 1.0]), None)).unwrap();
+        let after_other = versions(&device);
+        assert_eq!(after_other[..2], before[..2], "{backend:?}: a pass into another image");
+        assert_ne!(after_other[2], before[2], "{backend:?}: a pass into the image");
+
+        device.read_rgba8(color).unwrap();
+        assert!(device.write_image(color, &[0; 3]).is_err());
+        assert_eq!(versions(&device), after_other, "{backend:?}: a read and a refused write");
+
+        device.write_image(color, &[1u8; PIXELS as usize * 4]).unwrap();
+        let after_write = versions(&device);
+        assert_ne!(after_write[0], after_other[0], "{backend:?}: a write");
+        assert_eq!(after_write[1..], after_other[1..]);
+
+        // A pass that stores nothing into the colour image still counts as writing it, and its
+        // depth attachment too.
+        let depth = DepthStencilAttachment::clear_store(ds, 1.0, 0);
+        let dont_store = ColorAttachment { store: StoreOp::DontCare, ..ColorAttachment::clear_store(color, [0.0; 4]) };
+        let mut p = pass(dont_store, Some(depth));
+        small_triangle(&mut device, &mut p);
+        device.submit(&p).unwrap();
+        let after_pass = versions(&device);
+        assert_ne!(after_pass[0], after_write[0], "{backend:?}: a pass not storing the image");
+        assert_ne!(after_pass[1], after_write[1], "{backend:?}: the depth attachment");
+        assert_eq!(after_pass[2], after_write[2]);
+    }
+}
