@@ -555,6 +555,7 @@ impl<'a> Compiler<'a> {
         crate::fold::optimize(&mut code, self.work as usize, &mut { constants }, &pinned);
         let bank_program = crate::hoist::hoist(&mut code, self.work as usize, &mut bank, &pinned);
         crate::fuse::fuse(&mut code, self.work as usize, &pinned);
+        crate::schedule::schedule(&mut code);
         StageCode {
             stage: self.stage,
             code,

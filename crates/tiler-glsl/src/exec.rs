@@ -22,6 +22,28 @@ mod jit;
 /// Iterations after which a loop is cut off.
 pub const MAX_ITERATIONS: u32 = 1 << 16;
 
+/// The most lookups taken as one run ([`run_length`]).
+pub const MAX_RUN: usize = 16;
+
+/// How many instructions from the start of `code` are common lookups of one slot that may
+/// run together ([`Env::sample_implicit_run`]): none reads a register an earlier one of them
+/// writes (so each reads what it would read one by one), at most [`MAX_RUN`]. `0` when the
+/// first is no such lookup.
+pub fn run_length(code: &[Inst]) -> usize {
+    let Some(slot) = code.first().and_then(crate::schedule::runs_together) else { return 0 };
+    let mut written: Vec<Reg> = Vec::new();
+    let mut n = 0;
+    for inst in code.iter().take(MAX_RUN) {
+        let Inst::Sample { dst, coord, .. } = inst else { break };
+        if crate::schedule::runs_together(inst) != Some(slot) || coord.iter().any(|c| written.contains(c)) {
+            break;
+        }
+        written.extend(dst);
+        n += 1;
+    }
+    n
+}
+
 /// What the executor asks of its caller: texture lookups.
 pub trait Env<const W: usize> {
     /// Samples texture slot `slot` at `coord` in the lanes (all `W`; lanes not active have
@@ -44,6 +66,17 @@ pub trait Env<const W: usize> {
     #[inline(always)]
     fn sample_implicit(&mut self, slot: usize, coord: [[f32; W]; 2]) -> [[f32; W]; 4] {
         self.sample(slot, coord, LodValue::Implicit, None, [0, 0])
+    }
+
+    /// [`Env::sample_implicit`] at several coordinates of one slot: `out[i]` the texels at
+    /// `coords[i]`. An environment may share the lookups' work, but their values and the
+    /// texels they read (and the order of the reads) must be those of the lookups one by one,
+    /// in order.
+    #[inline(always)]
+    fn sample_implicit_run(&mut self, slot: usize, coords: &[[[f32; W]; 2]], out: &mut [[[f32; W]; 4]]) {
+        for (coord, out) in coords.iter().zip(out) {
+            *out = self.sample_implicit(slot, *coord);
+        }
     }
 
     /// Samples cube texture slot `slot` in the direction `direction` in the lanes (finite, as
@@ -503,6 +536,53 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
             for (c, &d) in dst.iter().enumerate() {
                 self.set(d, texel[c]);
             }
+        }
+    }
+
+    /// A run of common lookups of one slot, as [`run_length`] admits them: every coordinate
+    /// read, the lookups made in one call ([`Env::sample_implicit_run`]), then every texel
+    /// written — what [`Machine::sample_inst`] of each in turn writes, as none reads what an
+    /// earlier one writes.
+    ///
+    /// # Safety
+    /// Every register named must be within the register file (and `N` runnable); `run` must
+    /// be at most [`MAX_RUN`] instructions that [`run_length`] takes together.
+    #[inline(always)]
+    unsafe fn sample_run_inst<N: Nested>(&mut self, run: &[Inst]) {
+        // Every register read or written is one of the instructions' (the caller's guarantee).
+        #![allow(unsafe_op_in_unsafe_fn)]
+        let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
+        let mut coords = [[[0.0; W]; 2]; MAX_RUN];
+        let mut texels = [[[0.0; W]; 4]; MAX_RUN];
+        let mut slot = 0;
+        for (inst, coords) in run.iter().zip(&mut coords) {
+            if let Inst::Sample { slot: s, coord, .. } = inst {
+                slot = *s as usize;
+                *coords = [finite(self.get(coord[0])), finite(self.get(coord[1]))];
+            }
+        }
+        let n = run.len();
+        self.env.sample_implicit_run(slot, &coords[..n], &mut texels[..n]);
+        for (inst, texel) in run.iter().zip(&texels) {
+            if let Inst::Sample { dst, round, .. } = inst {
+                for (c, &d) in dst.iter().enumerate() {
+                    self.set(d, if *round { N::half_toward_zero(texel[c]) } else { texel[c] });
+                }
+            }
+        }
+    }
+
+    /// [`Machine::sample_run_inst`] with AVX2, under `m` (nothing when no lane is active): what
+    /// the compiled code calls for a run of lookups.
+    ///
+    /// # Safety
+    /// As [`Machine::block_avx2`], and `run` as [`Machine::sample_run_inst`] takes it.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,f16c")]
+    unsafe fn sample_run_avx2(&mut self, run: &[Inst], m: &Masks) {
+        if m.active != 0 {
+            // SAFETY: the caller's guarantee.
+            unsafe { self.sample_run_inst::<Avx2>(run) };
         }
     }
 

@@ -89,7 +89,10 @@
 //! from the ledger, as it does on hardware; GLSL ES does not require the NaN, infinity and
 //! signed-zero results these rules can change), hoisted (uniform-only arithmetic computed
 //! once per instance, `hoist`) and fused (a multiply whose only use is an add becomes one
-//! [`ir::TriOp::MulAdd`], rounded twice as the pair was, `fuse`). The executor runs an
+//! [`ir::TriOp::MulAdd`], rounded twice as the pair was, `fuse`), then scheduled (lookups of
+//! one texture that do not depend on each other brought together, every dependency and the
+//! order of texture reads kept, `schedule`: the executor takes such a run as one call). The
+//! executor runs an
 //! [`exec::Executable`]: the code with the bank renumbered after the work registers, so that
 //! one register file per thread holds both and every register is range-checked once.
 //!
@@ -134,6 +137,7 @@ mod hoist;
 pub mod ir;
 mod nested_macros;
 mod program;
+mod schedule;
 pub mod std140;
 pub mod types;
 

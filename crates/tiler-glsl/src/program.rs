@@ -1187,6 +1187,26 @@ impl Env<8> for FragmentEnv<'_, '_> {
         self.sample(slot, coord, LodValue::Implicit, None, [0, 0])
     }
 
+    /// A run of common lookups of one texture: the binding looked at once, and the run handed
+    /// to the core in one call when no lookup needs its own derivatives.
+    #[inline(always)]
+    fn sample_implicit_run(&mut self, slot: usize, coords: &[[[f32; 8]; 2]], out: &mut [[[f32; 8]; 4]]) {
+        if let Some(TextureBinding::Core(texture, sampler)) = &self.slots[slot]
+            && !texture.reads_lod(sampler)
+        {
+            // The core's v runs down the rows, GL's t up.
+            let mut uvs = [[F32x8::ZERO; 2]; crate::exec::MAX_RUN];
+            for (uv, coord) in uvs.iter_mut().zip(coords) {
+                *uv = [F32x8(coord[0]), F32x8::splat(1.0) - F32x8(coord[1])];
+            }
+            self.frag.sample_run(texture, sampler, &uvs[..coords.len()], out);
+            return;
+        }
+        for (coord, out) in coords.iter().zip(out) {
+            *out = self.sample_implicit(slot, *coord);
+        }
+    }
+
     fn sample(
         &mut self,
         slot: usize,

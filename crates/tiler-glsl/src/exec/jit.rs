@@ -21,7 +21,9 @@
 //! interpreter for that one instruction (a one-instruction block of
 //! [`Machine::block_avx2`]), so it runs the interpreter's own code; the common lookup
 //! (`texture2D` with an implicit level of detail) calls the interpreter's code for `Sample`
-//! directly ([`sample_fallback`]), without the whole interpreter's frame and dispatch. Control flow (`if`,
+//! directly ([`sample_fallback`]), without the whole interpreter's frame and dispatch, and a
+//! run of such lookups of one texture (`super::run_length`; the compiler brings them together,
+//! see `schedule`) is one call for all of them ([`sample_run_fallback`]). Control flow (`if`,
 //! loops, `break`/`continue`/`return`/`discard`, inlined calls, `switch` bodies) is compiled
 //! with the interpreter's mask rules, restated beside each construct below; the masks stay in
 //! the interpreter's [`Masks`], in memory. Tests hold the two equal on random programs,
@@ -30,7 +32,7 @@
 //! **Safety.** The code addresses only the register file, at `rbx + 32·r` for registers `r`
 //! that `Executable::new` checked to be below `Executable::registers` (which `run` asserts
 //! the file holds); the [`Masks`] at `r12`; the lane-mask table at `r14` (256 entries, indexed
-//! by a byte); its own stack frame; and constants in its own buffer. It calls only the two
+//! by a byte); its own stack frame; and constants in its own buffer. It calls only the three
 //! fallbacks the caller hands over in the [`Context`], with their System V signature and the
 //! stack aligned to 16 bytes, and restores every callee-saved register it uses. The buffer is
 //! executable and not writable once finalised.
@@ -65,6 +67,8 @@ pub(super) struct Context {
     /// The fallback for the common lookup (`Inst::Sample` with an implicit level of detail,
     /// no reference and no offset): the same interpreter code without its dispatch.
     sample: Fallback,
+    /// The fallback for a run of common lookups of one slot (`super::run_length`).
+    sample_run: RunFallback,
 }
 
 // The offsets the code reads the context at.
@@ -73,12 +77,14 @@ const CONTEXT_MASKS: i32 = 8;
 const CONTEXT_FALLBACK: i32 = 16;
 const CONTEXT_LANE_MASKS: i32 = 24;
 const CONTEXT_SAMPLE: i32 = 48;
+const CONTEXT_SAMPLE_RUN: i32 = 56;
 const _: () = {
     assert!(std::mem::offset_of!(Context, regs) == CONTEXT_REGS as usize);
     assert!(std::mem::offset_of!(Context, masks) == CONTEXT_MASKS as usize);
     assert!(std::mem::offset_of!(Context, fallback) == CONTEXT_FALLBACK as usize);
     assert!(std::mem::offset_of!(Context, lane_masks) == CONTEXT_LANE_MASKS as usize);
     assert!(std::mem::offset_of!(Context, sample) == CONTEXT_SAMPLE as usize);
+    assert!(std::mem::offset_of!(Context, sample_run) == CONTEXT_SAMPLE_RUN as usize);
 };
 
 // The offsets of the masks (`Masks` is `repr(C)`, five `u64`s).
@@ -98,6 +104,7 @@ const _: () = {
 /// Runs one instruction (`inst`) in the interpreter on the context's registers, masks and
 /// environment (an `E` of the environment the fallback was made for).
 type Fallback = unsafe extern "sysv64" fn(context: *const Context, inst: *const Inst);
+type RunFallback = unsafe extern "sysv64" fn(context: *const Context, first: *const Inst, count: usize);
 
 /// A program compiled: its machine code, and the instructions the code calls back into the
 /// interpreter for. The code holds pointers to those instructions, into this tree, which is
@@ -223,6 +230,7 @@ impl Compiled {
             registers: machine.regs.len(),
             env: (machine.env as *mut E).cast(),
             sample: sample_fallback::<W, E>,
+            sample_run: sample_run_fallback::<W, E>,
         };
         // SAFETY: the buffer holds a function `extern "sysv64" fn(*const Context)` at `entry`
         // (the prologue above); the caller's guarantees make every access of it valid (module
@@ -268,6 +276,26 @@ unsafe extern "sysv64" fn sample_fallback<const W: usize, E: Env<W>>(context: *c
         let regs = std::slice::from_raw_parts_mut(context.regs.cast::<[f32; W]>(), context.registers);
         let mut machine = Machine { regs, env: &mut *context.env.cast::<E>() };
         machine.sample_implicit_avx2(&*inst, &mut *context.masks);
+    }
+}
+
+/// [`fallback`] of the run of `count` lookups from `first` (`Machine::sample_run_avx2`).
+///
+/// # Safety
+/// As [`fallback`], for each of the `count` instructions from `first`, which must be
+/// consecutive instructions of one block that `super::run_length` takes together.
+unsafe extern "sysv64" fn sample_run_fallback<const W: usize, E: Env<W>>(
+    context: *const Context,
+    first: *const Inst,
+    count: usize,
+) {
+    // SAFETY: as in `fallback`; the run is `count` instructions of one block of the tree
+    // (`Emitter::block` passes a slice's start and length).
+    unsafe {
+        let context = &*context;
+        let regs = std::slice::from_raw_parts_mut(context.regs.cast::<[f32; W]>(), context.registers);
+        let mut machine = Machine { regs, env: &mut *context.env.cast::<E>() };
+        machine.sample_run_avx2(std::slice::from_raw_parts(first, count), &*context.masks);
     }
 }
 
@@ -340,8 +368,26 @@ impl Emitter<'_> {
             ; cmp QWORD [r12 + ACTIVE], 0
             ; je =>end
         );
-        for inst in code {
-            self.inst(inst, end);
+        let mut i = 0;
+        while i < code.len() {
+            let run = super::run_length(&code[i..]);
+            if run >= 2 {
+                // SAFETY of the code: the run is `run` consecutive instructions of this block
+                // of the tree the compiled code keeps, which `run_length` takes together.
+                let first = &code[i] as *const Inst as i64;
+                dynasm!(self.ops
+                    ; .arch x64
+                    ; vzeroupper
+                    ; mov rdi, r13
+                    ; mov rsi, QWORD first
+                    ; mov rdx, QWORD run as i64
+                    ; call QWORD [r13 + CONTEXT_SAMPLE_RUN]
+                );
+                i += run;
+            } else {
+                self.inst(&code[i], end);
+                i += 1;
+            }
         }
         dynasm!(self.ops ; .arch x64 ; =>end);
     }
@@ -1351,6 +1397,63 @@ mod tests {
             }
         }
         assert_eq!(compiled_programs, 3000);
+    }
+
+    /// Runs of lookups (taken as one call, `run_length`) give the interpreter's registers:
+    /// random programs with runs of two to six lookups put in, some of one slot and
+    /// independent, some reading what an earlier one of them writes or of another slot (which
+    /// cut the run).
+    #[test]
+    fn runs_of_lookups_are_the_interpreter() {
+        if !available() {
+            eprintln!("skipped: runs_of_lookups_are_the_interpreter: no AVX2 and F16C");
+            return;
+        }
+        let mut runs = 0;
+        for seed in 0..1000u64 {
+            let mut r = Random(seed);
+            let mut code = block(&mut r, 12, 2, 0);
+            for _ in 0..2 {
+                let at = r.below(code.len() + 1);
+                let length = 2 + r.below(5);
+                let mut dsts: Vec<Reg> = Vec::new();
+                let lookups: Vec<Inst> = (0..length)
+                    .map(|_| {
+                        let coord = [0, 1].map(|_| match r.below(4) {
+                            0 if !dsts.is_empty() => dsts[r.below(dsts.len())],
+                            _ => source(&mut r, Ty::F),
+                        });
+                        let dst = [dest(&mut r, Ty::F), dest(&mut r, Ty::F), dest(&mut r, Ty::F), dest(&mut r, Ty::F)];
+                        dsts.extend(dst);
+                        Inst::Sample {
+                            slot: (r.below(6) == 0) as u16,
+                            dst,
+                            coord,
+                            lod: Lod::Implicit,
+                            reference: None,
+                            offset: [0, 0],
+                            round: r.below(2) == 0,
+                        }
+                    })
+                    .collect();
+                code.splice(at..at, lookups);
+            }
+            runs += (0..code.len()).filter(|&i| super::super::run_length(&code[i..]) >= 2).count();
+            let work = (WORK + COUNTERS) as usize;
+            let program = Executable::new(&code, work, BANK_LEN as usize).expect("registers in range");
+            let (mut file, active) = inputs(&mut r);
+            let mut interpreted = file.clone();
+            let want = run(&program.interpreted(), &mut interpreted, active, &mut Lanes);
+            let got = run(&program, &mut file, active, &mut Lanes);
+            assert_eq!(got, want, "seed {seed}: discarded lanes");
+            for (k, (g, w)) in file.iter().zip(&interpreted).enumerate() {
+                assert!(
+                    g.iter().zip(w).all(|(&g, &w)| same(g, w)),
+                    "seed {seed}: register {k}: {g:?} against the interpreter's {w:?}\n{code:#?}"
+                );
+            }
+        }
+        assert!(runs > 1000, "only {runs} runs");
     }
 
     /// Shrinks a failing seed's program: drops instructions (at any depth) while it still

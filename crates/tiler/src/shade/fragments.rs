@@ -190,6 +190,14 @@ impl<'a> Fragments<'a> {
         texture.sample_with(simd, sampler, uv[0], uv[1], counted, cache, lookup)
     }
 
+    /// [`Fragments::sample`] at each of `uvs` in turn, into `out` (as many as `uvs` gives),
+    /// with the kernel for `texture` and `sampler` chosen once ([`Texture::sample_run`]).
+    #[inline]
+    pub fn sample_run(&mut self, texture: &Texture, sampler: &Sampler, uvs: &[[F32x8; 2]], out: &mut [[[f32; 8]; 4]]) {
+        let (simd, counted, cache) = (self.simd, self.covered.quads(), &mut self.context.texture_cache);
+        texture.sample_run(simd, sampler, uvs, counted, cache, out)
+    }
+
     /// Samples cube texture `texture` in the directions `direction` with `sampler`, as
     /// [`Fragments::sample`] samples a 2D one (level of detail from the quad's face
     /// coordinates, reads of covered quads into the texture cache and the ledger).

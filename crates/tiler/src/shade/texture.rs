@@ -679,6 +679,35 @@ impl Texture {
         sample_group(simd, self, sampler, [u, v], counted, cache, lookup)
     }
 
+    /// [`Texture::sample`] at each of `uvs` in turn (the same values, and the same reads in
+    /// the same order), into `out`: lookups of one texture without their own derivatives or
+    /// offsets (a blur's taps), the kernel chosen once for all of them.
+    #[inline(always)]
+    pub fn sample_run(
+        &self,
+        simd: SimdSupport,
+        sampler: &Sampler,
+        uvs: &[[F32x8; 2]],
+        counted: LaneMask,
+        cache: &mut TextureCache,
+        out: &mut [[[f32; 8]; 4]],
+    ) {
+        let lookup = Lookup::default();
+        #[cfg(target_arch = "x86_64")]
+        if simd.level() == SimdLevel::Avx2
+            && let Texels::Packed(texels) = &self.texels
+            && self.filters_bytes_linearly(sampler, &lookup)
+        {
+            // SAFETY: as in `sample_with`, for `avx2::sample_bytes_run`.
+            unsafe { avx2::sample_bytes_run(simd, self, texels, sampler, uvs, counted, cache, out) };
+            return;
+        }
+        for (&[u, v], out) in uvs.iter().zip(out) {
+            let [r, g, b, a] = self.sample_with(simd, sampler, u, v, counted, cache, &lookup);
+            *out = [r.0, g.0, b.0, a.0];
+        }
+    }
+
     /// [`Texture::sample`] for one layout (`STORED`: see `sample_group_body`).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)] // `sample_with`'s inputs
@@ -1245,7 +1274,11 @@ mod avx2 {
     /// [`filter_bytes_packed`], the blend of two levels and [`channel_to_f32`]: the same
     /// operations in the same order per lane, so the same bits and the same reads. Quads on
     /// different levels go the general way ([`super::sample_group`]).
+    ///
+    /// `#[inline]` for [`sample_bytes_run`]: the lookups of a shader (compiled for AVX2 and
+    /// F16C alone) cannot take in this function's wider set, and keep calling it.
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
     #[allow(clippy::too_many_arguments)] // one group's inputs, as `sample_group_body`'s
     pub(super) fn sample_bytes(
         simd: SimdSupport,
@@ -1308,6 +1341,27 @@ mod avx2 {
         }
         // `channel_to_f32` of bytes, `c · fl(1/255)`, back in the group's lanes.
         channels(packed, pair_lanes)
+    }
+
+    /// [`sample_bytes`] of each of `uvs` in turn into `out`, in one function: a run of
+    /// lookups (see [`Texture::sample_run`]) without a call and its entry for each.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[allow(clippy::too_many_arguments)] // `sample_bytes`'s inputs
+    pub(super) fn sample_bytes_run(
+        simd: SimdSupport,
+        texture: &Texture,
+        texels: &[u32],
+        sampler: &Sampler,
+        uvs: &[[F32x8; 2]],
+        counted: LaneMask,
+        cache: &mut TextureCache,
+        out: &mut [[[f32; 8]; 4]],
+    ) {
+        let lookup = Lookup::default();
+        for (&uv, out) in uvs.iter().zip(out) {
+            let [r, g, b, a] = sample_bytes(simd, texture, texels, sampler, &lookup, uv, counted, cache);
+            *out = [r.0, g.0, b.0, a.0];
+        }
     }
 
     /// [`super::sample_group_body`] of a group read with `sampler`, which
@@ -3193,6 +3247,48 @@ mod tests {
                 // Padding is zero; every texel holds a non-zero alpha.
                 for (index, (d, p)) in decoded.iter().zip(&expected).enumerate() {
                     assert_eq!(*d == [0, 0], *p == 0, "sRGB {width}×{height} {mips:?}: texel {index}");
+                }
+            }
+        }
+    }
+
+    /// A run of lookups gives what the lookups one by one give, value for value, and reads the
+    /// same lines in the same order: at every SIMD level, for samplers the byte kernel takes
+    /// (bilinear, clamped or repeated) and others (nearest, trilinear), with partly counted
+    /// lanes.
+    #[test]
+    fn a_run_of_lookups_is_the_lookups_one_by_one() {
+        let t = ramp(37, 29, MipChain::Box);
+        let uvs: Vec<[F32x8; 2]> = (0..9)
+            .map(|k| {
+                let u = F32x8(std::array::from_fn(|i| (k as f32 * 0.13 + i as f32 * 0.011) % 1.3 - 0.1));
+                let v = F32x8(std::array::from_fn(|i| (k as f32 * 0.07 + (i / 2) as f32 * 0.017) % 1.1));
+                [u, v]
+            })
+            .collect();
+        let samplers = [
+            Sampler::BILINEAR_CLAMP,
+            Sampler::BILINEAR_CLAMP.with_wrap(Wrap::Repeat),
+            Sampler::NEAREST_REPEAT,
+            Sampler::TRILINEAR_REPEAT,
+        ];
+        for simd in [SimdSupport::BASELINE, SimdSupport::best()] {
+            for sampler in samplers {
+                for counted in [LaneMask(0xff), LaneMask(0x0f)] {
+                    let (mut one, mut run) = (
+                        TextureCache::new(TextureCacheConfig::DEFAULT),
+                        TextureCache::new(TextureCacheConfig::DEFAULT),
+                    );
+                    let each: Vec<[[u32; 8]; 4]> = uvs
+                        .iter()
+                        .map(|&[u, v]| t.sample(simd, &sampler, u, v, counted, &mut one).map(|c| c.0.map(f32::to_bits)))
+                        .collect();
+                    let mut out = vec![[[0.0f32; 8]; 4]; uvs.len()];
+                    t.sample_run(simd, &sampler, &uvs, counted, &mut run, &mut out);
+                    let out: Vec<[[u32; 8]; 4]> = out.iter().map(|t| t.map(|c| c.map(f32::to_bits))).collect();
+                    assert_eq!(out, each, "{sampler:?} {counted:?}");
+                    assert_eq!((run.misses(), run.hits()), (one.misses(), one.hits()), "{sampler:?} {counted:?}");
+                    assert_eq!(run.take_fetched_bytes(), one.take_fetched_bytes());
                 }
             }
         }
