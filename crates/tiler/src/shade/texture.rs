@@ -2244,7 +2244,10 @@ fn block_texels<T: Copy + Send + Sync>(
     /// Texels of a level above which its blocks are built in parallel.
     const PARALLEL_TEXELS: usize = 1 << 16;
     const B: usize = BLOCK_TEXELS as usize;
-    let level_blocks = |level: &Level, start: usize| -> Vec<[T; B * B]> {
+    // Every level's blocks appended to one vector, in place (no level built apart first).
+    let total = levels.iter().map(|l| (l.modelled_bytes() / BLOCK_BYTES) as usize).sum();
+    let mut blocks: Vec<[T; B * B]> = Vec::with_capacity(total);
+    for (level, &start) in levels.iter().zip(starts) {
         let (width, height) = (level.width as usize, level.height as usize);
         let level_rows = &rows[start..start + width * height];
         let blocks_x = level.blocks_x as usize;
@@ -2271,21 +2274,13 @@ fn block_texels<T: Copy + Send + Sync>(
         };
         let count = blocks_x * height.div_ceil(B);
         if width * height >= PARALLEL_TEXELS {
-            let mut out = Vec::new();
-            (0..count).into_par_iter().map(block).collect_into_vec(&mut out);
-            out
+            // An indexed iterator: rayon writes it straight into the vector's spare room.
+            blocks.par_extend((0..count).into_par_iter().map(block));
         } else {
-            (0..count).map(block).collect()
+            blocks.extend((0..count).map(block));
         }
-    };
-    if let ([level], [start]) = (levels, starts) {
-        return level_blocks(level, *start).into_flattened();
     }
-    let mut texels = Vec::with_capacity(levels.iter().map(|l| (l.modelled_bytes() / TEXEL_BYTES) as usize).sum());
-    for (level, &start) in levels.iter().zip(starts) {
-        texels.extend(level_blocks(level, start).into_iter().flatten());
-    }
-    texels
+    blocks.into_flattened()
 }
 
 /// Appends level `next` to the row-major `texels`, the 2×2 box filter of level `above`, whose
