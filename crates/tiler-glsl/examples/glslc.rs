@@ -1,7 +1,7 @@
 //! Compiles and links GLSL ES programs, prints what linking found (or the error), and renders
 //! each once as a smoke test: `glslc [--ir] VERTEX FRAGMENT [VERTEX FRAGMENT …]`. With `--ir`
-//! it also prints each stage's lowered code, as the executor runs it (after folding, hoisting
-//! and fusion) and the bank program run once per instance.
+//! it also prints each stage's lowered code, as the executor runs it (after folding, hoisting,
+//! fusion and scheduling) and the bank program run once per instance.
 //!
 //! The render draws a full-screen triangle into a 64×64 target with every attribute set to
 //! the vertex's position, `mat4` uniforms the identity, other uniforms zero and no textures,
