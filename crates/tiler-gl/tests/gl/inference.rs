@@ -329,6 +329,27 @@ fn flush_triggers_render_the_pass_and_the_rest_loads() {
     assert_eq!(load(p[2]), COLOR + DEPTH + STENCIL);
 }
 
+/// Uses textured program `id` with positions and texture coordinates from buffer `id`
+/// (`[x, y, s, t]` a vertex).
+fn use_textured(gl: &mut Context, id: u32) {
+    c(gl, Call::UseProgram { id });
+    for (index, offset) in [(0, 0), (1, 8)] {
+        c(
+            gl,
+            Call::VertexAttribPointer {
+                index,
+                buffer: id,
+                size: 2,
+                component: ComponentType::Float,
+                normalized: false,
+                stride: 16,
+                offset,
+            },
+        );
+        c(gl, Call::EnableVertexAttrib { index });
+    }
+}
+
 /// Row 5: sampling the texture of the pass being drawn flushes it.
 #[test]
 fn sampling_the_pass_texture_flushes() {
@@ -340,22 +361,7 @@ fn sampling_the_pass_texture_flushes() {
     let uv: Vec<[f32; 4]> = vec![[-1.0, -1.0, 0.0, 0.0], [1.0, -1.0, 1.0, 0.0], [1.0, 1.0, 1.0, 1.0]];
     c(&mut gl, Call::CreateBuffer { id: 5, data: Bytes::from_slice(&uv) });
     c(&mut gl, Call::CreateProgram { id: 5, program: ProgramKind::Textured.into() });
-    c(&mut gl, Call::UseProgram { id: 5 });
-    for (index, offset) in [(0, 0), (1, 8)] {
-        c(
-            &mut gl,
-            Call::VertexAttribPointer {
-                index,
-                buffer: 5,
-                size: 2,
-                component: ComponentType::Float,
-                normalized: false,
-                stride: 16,
-                offset,
-            },
-        );
-        c(&mut gl, Call::EnableVertexAttrib { index });
-    }
+    use_textured(&mut gl, 5);
     c(&mut gl, Call::BindTexture { unit: 0, texture: 2 });
     draw(&mut gl, 3);
     bind(&mut gl, 0);
@@ -380,22 +386,7 @@ fn a_render_target_sampled_after_each_redraw_shows_its_latest_contents() {
     c(&mut gl, Call::CreateProgram { id: 5, program: ProgramKind::Textured.into() });
     let sample_into_window = |gl: &mut Context| {
         bind(gl, 0);
-        c(gl, Call::UseProgram { id: 5 });
-        for (index, offset) in [(0, 0), (1, 8)] {
-            c(
-                gl,
-                Call::VertexAttribPointer {
-                    index,
-                    buffer: 5,
-                    size: 2,
-                    component: ComponentType::Float,
-                    normalized: false,
-                    stride: 16,
-                    offset,
-                },
-            );
-            c(gl, Call::EnableVertexAttrib { index });
-        }
+        use_textured(gl, 5);
         c(gl, Call::BindTexture { unit: 0, texture: 2 });
         draw(gl, 6);
         swap(gl);

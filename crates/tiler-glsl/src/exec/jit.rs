@@ -1379,24 +1379,29 @@ mod tests {
         for seed in 0..3000u64 {
             let mut r = Random(seed);
             let code = block(&mut r, 24, 3, 0);
-            let work = (WORK + COUNTERS) as usize;
-            let program = Executable::new(&code, work, BANK_LEN as usize).expect("registers in range");
-            assert!(program.is_compiled(), "seed {seed}: not compiled");
+            assert!(compiled_is_interpreted(seed, &code, &mut r), "seed {seed}: not compiled");
             compiled_programs += 1;
-            let (file, active) = inputs(&mut r);
-            let mut file = file;
-            let mut interpreted = file.clone();
-            let want = run(&program.interpreted(), &mut interpreted, active, &mut Lanes);
-            let got = run(&program, &mut file, active, &mut Lanes);
-            assert_eq!(got, want, "seed {seed}: discarded lanes");
-            for (k, (g, w)) in file.iter().zip(&interpreted).enumerate() {
-                assert!(
-                    g.iter().zip(w).all(|(&g, &w)| same(g, w)),
-                    "seed {seed}: register {k}: {g:?} against the interpreter's {w:?}\n{code:#?}"
-                );
-            }
         }
         assert_eq!(compiled_programs, 3000);
+    }
+
+    /// Runs `code` compiled and interpreted on the same random inputs and asserts the same
+    /// registers and discarded lanes; whether it was compiled.
+    fn compiled_is_interpreted(seed: u64, code: &[Inst], r: &mut Random) -> bool {
+        let work = (WORK + COUNTERS) as usize;
+        let program = Executable::new(code, work, BANK_LEN as usize).expect("registers in range");
+        let (mut file, active) = inputs(r);
+        let mut interpreted = file.clone();
+        let want = run(&program.interpreted(), &mut interpreted, active, &mut Lanes);
+        let got = run(&program, &mut file, active, &mut Lanes);
+        assert_eq!(got, want, "seed {seed}: discarded lanes");
+        for (k, (g, w)) in file.iter().zip(&interpreted).enumerate() {
+            assert!(
+                g.iter().zip(w).all(|(&g, &w)| same(g, w)),
+                "seed {seed}: register {k}: {g:?} against the interpreter's {w:?}\n{code:#?}"
+            );
+        }
+        program.is_compiled()
     }
 
     /// Runs of lookups (taken as one call, `run_length`) give the interpreter's registers:
@@ -1439,19 +1444,7 @@ mod tests {
                 code.splice(at..at, lookups);
             }
             runs += (0..code.len()).filter(|&i| super::super::run_length(&code[i..]) >= 2).count();
-            let work = (WORK + COUNTERS) as usize;
-            let program = Executable::new(&code, work, BANK_LEN as usize).expect("registers in range");
-            let (mut file, active) = inputs(&mut r);
-            let mut interpreted = file.clone();
-            let want = run(&program.interpreted(), &mut interpreted, active, &mut Lanes);
-            let got = run(&program, &mut file, active, &mut Lanes);
-            assert_eq!(got, want, "seed {seed}: discarded lanes");
-            for (k, (g, w)) in file.iter().zip(&interpreted).enumerate() {
-                assert!(
-                    g.iter().zip(w).all(|(&g, &w)| same(g, w)),
-                    "seed {seed}: register {k}: {g:?} against the interpreter's {w:?}\n{code:#?}"
-                );
-            }
+            assert!(compiled_is_interpreted(seed, &code, &mut r), "seed {seed}: not compiled");
         }
         assert!(runs > 1000, "only {runs} runs");
     }
