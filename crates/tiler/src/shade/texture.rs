@@ -1358,8 +1358,46 @@ mod avx2 {
         out: &mut [[[f32; 8]; 4]],
     ) {
         let lookup = Lookup::default();
-        for (&uv, out) in uvs.iter().zip(out) {
-            let [r, g, b, a] = sample_bytes(simd, texture, texels, sampler, &lookup, uv, counted, cache);
+        // The common run in three phases — every footprint, then the cache model's reads in
+        // the lookups' order, then every filter — so that the lookups' independent work (and
+        // their gathers) is in flight together: when every lookup reads one level, as one pair,
+        // not minified without mip maps. Each lookup's operations are `sample_bytes`'s for that
+        // case, the reads in the same order, so the same bits and counts.
+        const PHASED: usize = 16;
+        let mut prints: [Option<Footprint>; PHASED] = std::array::from_fn(|_| None);
+        let line_shift = cache.line_shift();
+        let pair_lanes = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
+        let wraps = [sampler.wrap_u, sampler.wrap_v];
+        let phased = uvs.len() <= PHASED
+            && uvs.iter().zip(&mut prints).all(|(&[u, v], print)| {
+                let group = texture.group_plan(sampler, u, v, &lookup);
+                match PairPlan::of(group.plans) {
+                    Some(PairPlan::Single { level, .. }) if !group.minified_unmipped.contains(&true) => {
+                        // SAFETY (each load): 32 bytes of one `[f32; 8]`; unaligned loads need no
+                        // alignment.
+                        let (u, v) = unsafe { (_mm256_loadu_ps(u.0.as_ptr()), _mm256_loadu_ps(v.0.as_ptr())) };
+                        let uv = [_mm256_permutevar8x32_ps(u, pair_lanes), _mm256_permutevar8x32_ps(v, pair_lanes)];
+                        *print = Some(footprint(&texture.levels[level], uv, wraps, line_shift));
+                        true
+                    }
+                    _ => false,
+                }
+            });
+        if !phased {
+            for (&uv, out) in uvs.iter().zip(out) {
+                let [r, g, b, a] = sample_bytes(simd, texture, texels, sampler, &lookup, uv, counted, cache);
+                *out = [r.0, g.0, b.0, a.0];
+            }
+            return;
+        }
+        let prints = &prints[..uvs.len()];
+        let first_line = (texture.id << 40) >> line_shift;
+        let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
+        for print in prints.iter().flatten() {
+            cache.access_footprints_avx2(first_line, &print.lines, counted_pair);
+        }
+        for (print, out) in prints.iter().flatten().zip(out) {
+            let [r, g, b, a] = channels(filter_footprint(texels, print), pair_lanes);
             *out = [r.0, g.0, b.0, a.0];
         }
     }
