@@ -173,7 +173,10 @@ mod tests {
     /// Records every texture call (slot, kind, coordinates' bits) and answers with values made
     /// of the coordinates, so that a lookup moved past a write of its coordinates shows.
     #[derive(Default)]
-    struct Recorder(Vec<(usize, u8, Vec<u32>)>);
+    struct Recorder(Vec<TextureCall>);
+
+    /// A texture call as [`Recorder`] keeps it: slot, kind (0 lookup, 1 fetch), the bits read.
+    type TextureCall = (usize, u8, Vec<u32>);
     impl Env<8> for Recorder {
         fn sample(
             &mut self,
@@ -244,7 +247,7 @@ mod tests {
             .collect()
     }
 
-    fn execute(code: &[Inst], file: &[[f32; 8]], active: u64) -> (Vec<Vec<u32>>, Vec<(usize, u8, Vec<u32>)>) {
+    fn execute(code: &[Inst], file: &[[f32; 8]], active: u64) -> (Vec<Vec<u32>>, Vec<TextureCall>) {
         let program = Executable::new(code, REGS as usize, 2).expect("registers in range");
         let mut file = file.to_vec();
         let mut recorder = Recorder::default();
