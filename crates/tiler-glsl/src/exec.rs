@@ -447,6 +447,12 @@ const fn full<const W: usize>() -> u64 {
     if W >= 64 { u64::MAX } else { (1u64 << W) - 1 }
 }
 
+/// A lookup's coordinate with NaNs and infinities made 0 (every lane's, active or not).
+#[inline(always)]
+fn finite<const W: usize>(v: [f32; W]) -> [f32; W] {
+    v.map(|x| if x.is_finite() { x } else { 0.0 })
+}
+
 impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
     /// # Safety
     /// `r` must be within the register file.
@@ -521,20 +527,30 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
     ) {
         // Every register read or written is one of the instruction's (the caller's guarantee).
         #![allow(unsafe_op_in_unsafe_fn)]
-        let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
         let coord = [finite(self.get(coord[0])), finite(self.get(coord[1]))];
         let texel = if let (Lod::Implicit, None, [0, 0]) = (lod, reference, offset) {
             self.env.sample_implicit(slot as usize, coord)
         } else {
             self.sample_general(slot, coord, lod, reference, offset)
         };
+        self.write_texels::<N>(dst, texel, round);
+    }
+
+    /// A lookup's texels into its destinations, rounded toward zero to binary16 first when
+    /// `round` (every lane: inactive lanes' coordinates are finite, so their texels are too).
+    ///
+    /// # Safety
+    /// Every register of `dst` must be within the register file (and `N` runnable).
+    #[inline(always)]
+    unsafe fn write_texels<N: Nested>(&mut self, dst: &[Reg; 4], texel: [[f32; W]; 4], round: bool) {
+        // SAFETY (each write): the caller's guarantee.
         if round {
             for (c, &d) in dst.iter().enumerate() {
-                self.set(d, N::half_toward_zero(texel[c]));
+                unsafe { self.set(d, N::half_toward_zero(texel[c])) };
             }
         } else {
             for (c, &d) in dst.iter().enumerate() {
-                self.set(d, texel[c]);
+                unsafe { self.set(d, texel[c]) };
             }
         }
     }
@@ -551,7 +567,6 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
     unsafe fn sample_run_inst<N: Nested>(&mut self, run: &[Inst]) {
         // Every register read or written is one of the instructions' (the caller's guarantee).
         #![allow(unsafe_op_in_unsafe_fn)]
-        let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
         let mut coords = [[[0.0; W]; 2]; MAX_RUN];
         let mut texels = [[[0.0; W]; 4]; MAX_RUN];
         let mut slot = 0;
@@ -563,11 +578,9 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
         }
         let n = run.len();
         self.env.sample_implicit_run(slot, &coords[..n], &mut texels[..n]);
-        for (inst, texel) in run.iter().zip(&texels) {
+        for (inst, &texel) in run.iter().zip(&texels) {
             if let Inst::Sample { dst, round, .. } = inst {
-                for (c, &d) in dst.iter().enumerate() {
-                    self.set(d, if *round { N::half_toward_zero(texel[c]) } else { texel[c] });
-                }
+                self.write_texels::<N>(dst, texel, *round);
             }
         }
     }
@@ -620,7 +633,6 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
         reference: Option<Reg>,
         offset: [i8; 2],
     ) -> [[f32; W]; 4] {
-        let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
         // SAFETY: the caller's guarantee.
         let get = |r: Reg| unsafe { self.get(r) };
         let lod = match lod {
@@ -827,7 +839,6 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     self.sample_inst::<N>(*slot, dst, coord, lod, *reference, *offset, *round);
                 }
                 Inst::SampleCube { slot, dst, direction, lod } => {
-                    let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
                     let direction = direction.map(|r| finite(self.get(r)));
                     let lod = match lod {
                         Lod::Implicit => LodValue::Implicit,
@@ -860,7 +871,6 @@ impl<const W: usize, E: Env<W>> Machine<'_, W, E> {
                     }
                 }
                 Inst::SampleLayered { slot, dst, coord, lod } => {
-                    let finite = |v: [f32; W]| v.map(|x| if x.is_finite() { x } else { 0.0 });
                     let coord = coord.map(|r| finite(self.get(r)));
                     let lod = match lod {
                         Lod::Implicit => LodValue::Implicit,

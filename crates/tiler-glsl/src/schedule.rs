@@ -106,53 +106,44 @@ fn stretch_order(stretch: Vec<Inst>) -> Vec<Inst> {
     }
     let mut placed = vec![false; n];
     let mut order = Vec::with_capacity(n);
-    // Places `i`'s unplaced predecessors, transitively, in their old order.
-    let place_ancestors = |targets: &[usize], placed: &mut Vec<bool>, order: &mut Vec<usize>| {
-        let mut wanted = vec![false; n];
+    // The unplaced instructions `targets` depend on, transitively.
+    let unplaced_ancestors = |targets: &[usize], placed: &[bool]| {
+        let mut ancestors = vec![false; n];
         let mut stack: Vec<usize> = targets.iter().flat_map(|&t| predecessors[t].iter().copied()).collect();
         while let Some(j) = stack.pop() {
-            if !placed[j] && !wanted[j] {
-                wanted[j] = true;
+            if !placed[j] && !ancestors[j] {
+                ancestors[j] = true;
                 stack.extend(predecessors[j].iter().copied());
             }
         }
-        for j in (0..n).filter(|&j| wanted[j]) {
-            placed[j] = true;
-            order.push(j);
-        }
+        ancestors
     };
     let mut k = 0;
     while k < textures.len() {
         let first = textures[k];
         let mut run = vec![first];
         if let Some(slot) = runs_together(&stretch[first]) {
-            let mut run_writes: Vec<Reg> = Vec::new();
-            writes(&stretch[first], &mut |r| run_writes.push(r));
+            // The same slot, and no dependency on any texture instruction from the run's first
+            // on (so none on the run, through any register): the next could then not be placed
+            // before the run.
             while let Some(&next) = textures.get(k + run.len()) {
-                // The same slot, and no dependency on the run so far: not through registers
-                // the run writes, nor through any instruction after the run's first texture
-                // instruction (the next could then not be placed before the run).
-                let joins = runs_together(&stretch[next]) == Some(slot) && {
-                    let mut ancestors = vec![false; n];
-                    let mut stack = predecessors[next].clone();
-                    let mut after_first = false;
-                    while let Some(j) = stack.pop() {
-                        if !ancestors[j] && !placed[j] {
-                            ancestors[j] = true;
-                            after_first |= j >= first && touches_textures(&stretch[j]);
-                            stack.extend(predecessors[j].iter().copied());
-                        }
-                    }
-                    !after_first && !reads(&stretch[next]).iter().any(|r| run_writes.contains(r))
-                };
+                let joins = runs_together(&stretch[next]) == Some(slot)
+                    && !unplaced_ancestors(&[next], &placed)
+                        .iter()
+                        .enumerate()
+                        .any(|(j, &a)| a && j >= first && touches_textures(&stretch[j]));
                 if !joins {
                     break;
                 }
-                writes(&stretch[next], &mut |r| run_writes.push(r));
                 run.push(next);
             }
         }
-        place_ancestors(&run, &mut placed, &mut order);
+        // What the run depends on, in its old order, then the run.
+        let ancestors = unplaced_ancestors(&run, &placed);
+        for j in (0..n).filter(|&j| ancestors[j]) {
+            placed[j] = true;
+            order.push(j);
+        }
         for &i in &run {
             placed[i] = true;
             order.push(i);

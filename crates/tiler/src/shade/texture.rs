@@ -1299,18 +1299,12 @@ mod avx2 {
             PairPlan::Single { level, .. } => (level, None),
             PairPlan::Blend { level, weights, .. } => (level, Some(weights)),
         };
-        // `PAIR_LANES` as a permutation; it is its own inverse.
-        let pair_lanes = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
-        // SAFETY (each load and store): 32 bytes of one `[f32; 8]` or `[u32; 8]`; unaligned
-        // access needs no alignment.
-        let (u, v) = unsafe { (_mm256_loadu_ps(u.0.as_ptr()), _mm256_loadu_ps(v.0.as_ptr())) };
-        let (u, v) = (_mm256_permutevar8x32_ps(u, pair_lanes), _mm256_permutevar8x32_ps(v, pair_lanes));
+        let [u, v] = pair_coordinates([u, v]);
         let line_shift = cache.line_shift();
         let near = footprint(&texture.levels[level], [u, v], [sampler.wrap_u, sampler.wrap_v], line_shift);
         let far = weights
             .map(|_| footprint(&texture.levels[level + 1], [u, v], [sampler.wrap_u, sampler.wrap_v], line_shift));
-        // See `sample_quad`.
-        let first_line = (texture.id << 40) >> line_shift;
+        let first_line = first_line(texture, line_shift);
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
         let minified_unmipped = group.minified_unmipped;
         if let Some(far) = &far {
@@ -1340,7 +1334,7 @@ mod avx2 {
             packed = lerp_packed(packed, filter_footprint(texels, far), weight);
         }
         // `channel_to_f32` of bytes, `c · fl(1/255)`, back in the group's lanes.
-        channels(packed, pair_lanes)
+        channels(packed, pair_lanes())
     }
 
     /// [`sample_bytes`] of each of `uvs` in turn into `out`, in one function: a run of
@@ -1366,18 +1360,13 @@ mod avx2 {
         const PHASED: usize = 16;
         let mut prints: [Option<Footprint>; PHASED] = std::array::from_fn(|_| None);
         let line_shift = cache.line_shift();
-        let pair_lanes = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
         let wraps = [sampler.wrap_u, sampler.wrap_v];
         let phased = uvs.len() <= PHASED
             && uvs.iter().zip(&mut prints).all(|(&[u, v], print)| {
                 let group = texture.group_plan(sampler, u, v, &lookup);
                 match PairPlan::of(group.plans) {
                     Some(PairPlan::Single { level, .. }) if !group.minified_unmipped.contains(&true) => {
-                        // SAFETY (each load): 32 bytes of one `[f32; 8]`; unaligned loads need no
-                        // alignment.
-                        let (u, v) = unsafe { (_mm256_loadu_ps(u.0.as_ptr()), _mm256_loadu_ps(v.0.as_ptr())) };
-                        let uv = [_mm256_permutevar8x32_ps(u, pair_lanes), _mm256_permutevar8x32_ps(v, pair_lanes)];
-                        *print = Some(footprint(&texture.levels[level], uv, wraps, line_shift));
+                        *print = Some(footprint(&texture.levels[level], pair_coordinates([u, v]), wraps, line_shift));
                         true
                     }
                     _ => false,
@@ -1391,13 +1380,13 @@ mod avx2 {
             return;
         }
         let prints = &prints[..uvs.len()];
-        let first_line = (texture.id << 40) >> line_shift;
+        let first_line = first_line(texture, line_shift);
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
         for print in prints.iter().flatten() {
             cache.access_footprints_avx2(first_line, &print.lines, counted_pair);
         }
         for (print, out) in prints.iter().flatten().zip(out) {
-            let [r, g, b, a] = channels(filter_footprint(texels, print), pair_lanes);
+            let [r, g, b, a] = channels(filter_footprint(texels, print), pair_lanes());
             *out = [r.0, g.0, b.0, a.0];
         }
     }
@@ -1434,17 +1423,12 @@ mod avx2 {
             PairPlan::Single { level, .. } => (level, None),
             PairPlan::Blend { level, weights, .. } => (level, Some(weights)),
         };
-        let pair_lanes = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
-        // SAFETY (each load and store): 32 bytes of one `[f32; 8]` or `[u32; 8]`; unaligned
-        // access needs no alignment.
-        let (u, v) = unsafe { (_mm256_loadu_ps(u.0.as_ptr()), _mm256_loadu_ps(v.0.as_ptr())) };
-        let (u, v) = (_mm256_permutevar8x32_ps(u, pair_lanes), _mm256_permutevar8x32_ps(v, pair_lanes));
+        let [u, v] = pair_coordinates([u, v]);
         let line_shift = cache.line_shift();
         let wraps = [sampler.wrap_u, sampler.wrap_v];
         let near = nearest_footprint(&texture.levels[level], [u, v], wraps, line_shift);
         let far = weights.map(|_| nearest_footprint(&texture.levels[level + 1], [u, v], wraps, line_shift));
-        // See `sample_quad`.
-        let first_line = (texture.id << 40) >> line_shift;
+        let first_line = first_line(texture, line_shift);
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
         if let Some(far) = &far {
             cache.access_lanes(simd, first_line, &[near.lines, far.lines], counted_pair);
@@ -1468,7 +1452,29 @@ mod avx2 {
             );
             packed = lerp_packed(packed, far.texels(texels), weight);
         }
-        channels(packed, pair_lanes)
+        channels(packed, pair_lanes())
+    }
+
+    /// `PAIR_LANES` as a permutation of eight 32-bit lanes; it is its own inverse.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn pair_lanes() -> __m256i {
+        _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7)
+    }
+
+    /// A group's coordinates in [`PAIR_LANES`] order, in registers.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn pair_coordinates([u, v]: [F32x8; 2]) -> [__m256; 2] {
+        // SAFETY (each load): 32 bytes of one `[f32; 8]`; unaligned loads need no alignment.
+        let (u, v) = unsafe { (_mm256_loadu_ps(u.0.as_ptr()), _mm256_loadu_ps(v.0.as_ptr())) };
+        [_mm256_permutevar8x32_ps(u, pair_lanes()), _mm256_permutevar8x32_ps(v, pair_lanes())]
+    }
+
+    /// The texture's first cache line (see `sample_quad`).
+    #[inline]
+    fn first_line(texture: &Texture, line_shift: u32) -> u64 {
+        (texture.id << 40) >> line_shift
     }
 
     /// A lane's four bytes (packed as a texel's) as `channel_to_f32` of bytes gives them,
