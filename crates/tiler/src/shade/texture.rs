@@ -1311,7 +1311,7 @@ mod avx2 {
             let mut rows = [[0u32; 8]; 8];
             rows[..4].copy_from_slice(&near.lines);
             rows[4..].copy_from_slice(&far.lines);
-            cache.access_lanes(simd, first_line, &rows, counted_pair);
+            cache.access_two_levels_avx2(simd, first_line, &rows, counted_pair);
         } else if minified_unmipped.contains(&true) {
             super::read_one_level(simd, cache, first_line, &near.lines, counted_pair, minified_unmipped);
         } else {

@@ -301,6 +301,32 @@ impl TextureCache {
         self.check_reference();
     }
 
+    /// [`TextureCache::access_lanes`] of a pair's trilinear footprints (four lines a lane on
+    /// one level, then four on the next), for callers compiled for AVX2 (the sampler's byte
+    /// kernel): the same reads, without the dispatch.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    pub(crate) fn access_two_levels_avx2(
+        &mut self,
+        simd: SimdSupport,
+        first_line: u64,
+        rows: &[[u32; 8]; 8],
+        counted: [bool; 8],
+    ) {
+        let misses = match avx2::read_two_levels(self, first_line, rows, counted) {
+            Some(misses) => {
+                #[cfg(feature = "texture-cache-reference")]
+                self.read_reference(first_line, rows, counted);
+                misses
+            }
+            // A line read on both levels: the eight-row square (which reads the reference).
+            None => read_rows(simd, self, first_line, rows, counted),
+        };
+        self.count_group(rows.len(), &counted, misses);
+        self.check_reference();
+    }
+
     /// Counts a group's reads (`rows` a lane, of the `counted` lanes) with `misses` misses.
     #[inline(always)]
     fn count_group<const L: usize>(&mut self, rows: usize, counted: &[bool; L], misses: u64) {
@@ -770,6 +796,109 @@ mod avx2 {
         cache.read_distinct(base, first_line, rows, counted, &distinct[..d], true)
     }
 
+    /// [`TextureCache::read_group`] of a pair's trilinear footprints — eight lanes reading the
+    /// corners of a footprint on one level (rows 0–3) and then on the next (rows 4–7) — the
+    /// same reads in the same order as the eight-row square of [`distinct_lines`], or `None`,
+    /// having changed nothing, when a line is read on both levels (lines longer than blocks).
+    ///
+    /// The square finds the group's distinct lines one after another, each comparison waiting
+    /// on the one before (the next line is the first read left unmatched): a chain of about 25
+    /// cycles a line, which made this the costliest step of a trilinear lookup. Here each
+    /// level's four rows are a word of 32 reads, as in [`read_footprints`], and the two levels'
+    /// lines are found by two chains that do not wait on each other. A line's first and last
+    /// reads in the square's order follow from its position `4 · k + r` in its level's word
+    /// (`8 · k + r`, plus 4 on the second level); the two lists, each in the order of first
+    /// reads, are merged by those, so [`TextureCache::read_distinct`] gets the square's list,
+    /// keys and all.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    pub(super) fn read_two_levels(
+        cache: &mut TextureCache,
+        first_line: u64,
+        rows: &[[u32; 8]; 8],
+        counted: [bool; 8],
+    ) -> Option<u64> {
+        let zero = _mm256_setzero_si256();
+        // Each counted lane's four bytes set (a `bool` is a byte of 0 or 1).
+        let counted_bytes = u64::from_le_bytes(counted.map(u8::from));
+        let lanes = _mm256_cmpgt_epi32(_mm256_cvtepu8_epi32(_mm_cvtsi64_si128(counted_bytes as i64)), zero);
+        let reads = _mm256_movemask_epi8(lanes) as u32;
+        if reads == 0 {
+            return Some(0);
+        }
+        // SAFETY (each load): reads the 32 bytes of one `[u32; 8]` of `rows`; unaligned loads
+        // need no alignment.
+        let row = |r: usize| unsafe { _mm256_loadu_si256(rows[r].as_ptr().cast()) };
+        let levels = [[row(0), row(1), row(2), row(3)], [row(4), row(5), row(6), row(7)]];
+        let byte = |r: u32| _mm256_set1_epi32((0xffu32 << (8 * r)) as i32);
+        let bytes = [byte(0), byte(1), byte(2), byte(3)];
+        // The square's position of bit `b` of `level`'s word: lane `b / 4`, row `4 · level + b % 4`.
+        let square = |level: usize, b: u32| 8 * (b / 4) + 4 * level as u32 + b % 4;
+        // Per level: its distinct lines in the order of their first reads, and the square's
+        // positions of each line's first and last reads.
+        let mut lines = [[0u32; MAX_GROUP_LINES]; 2];
+        let mut firsts = [[0u32; MAX_GROUP_LINES]; 2];
+        let mut lasts = [[0u32; MAX_GROUP_LINES]; 2];
+        let (mut unread, mut d) = ([reads; 2], [0usize; 2]);
+        // The reads of `line` on `level`, as bits of its word.
+        let matched = |level: usize, line: u32| {
+            let x = _mm256_set1_epi32(line as i32);
+            let r = &levels[level];
+            let low = _mm256_or_si256(
+                _mm256_and_si256(_mm256_cmpeq_epi32(r[0], x), bytes[0]),
+                _mm256_and_si256(_mm256_cmpeq_epi32(r[1], x), bytes[1]),
+            );
+            let high = _mm256_or_si256(
+                _mm256_and_si256(_mm256_cmpeq_epi32(r[2], x), bytes[2]),
+                _mm256_and_si256(_mm256_cmpeq_epi32(r[3], x), bytes[3]),
+            );
+            _mm256_movemask_epi8(_mm256_or_si256(low, high)) as u32 & reads
+        };
+        while unread[0] | unread[1] != 0 {
+            if d[0] == MAX_GROUP_LINES || d[1] == MAX_GROUP_LINES {
+                break;
+            }
+            // One step of each level's chain: independent work the processor overlaps.
+            for level in 0..2 {
+                if unread[level] != 0 {
+                    let first = unread[level].trailing_zeros();
+                    let line = rows[4 * level + (first % 4) as usize][(first / 4) as usize];
+                    let matched = matched(level, line);
+                    unread[level] &= !matched;
+                    let i = d[level];
+                    lines[level][i] = line;
+                    firsts[level][i] = square(level, first);
+                    lasts[level][i] = square(level, 31 - matched.leading_zeros());
+                    d[level] += 1;
+                }
+            }
+        }
+        let total = d[0] + d[1];
+        let complete = unread[0] | unread[1] == 0 && total <= MAX_GROUP_LINES;
+        // The two lists merged by first reads: a line's place is its place in its own list
+        // plus the other list's lines read first before it.
+        let (mut shared, mut merged) = (false, [0u64; MAX_GROUP_LINES]);
+        for level in 0..2 {
+            let other = 1 - level;
+            let (other_firsts, other_lines) = (&firsts[other][..d[other]], &lines[other][..d[other]]);
+            for i in 0..d[level].min(complete as usize * MAX_GROUP_LINES) {
+                let place = i + other_firsts.iter().filter(|&&first| first < firsts[level][i]).count();
+                shared |= other_lines.contains(&lines[level][i]);
+                merged[place] = (lines[level][i] as u64) << 8 | lasts[level][i] as u64;
+            }
+        }
+        if shared {
+            return None;
+        }
+        let base = cache.start_group();
+        if !complete {
+            // More distinct lines than are checked together: read one by one, which is exact
+            // whether or not the two levels share a line.
+            return Some(cache.read_each(base, first_line, rows, counted));
+        }
+        Some(cache.read_distinct(base, first_line, rows, counted, &merged[..total], false))
+    }
+
     /// [`super::distinct_lines`] of eight rows of eight lanes, read `8 · k + r` (lane `k`, row
     /// `r`) made where bit `8 · k + r` of `reads` is set: per distinct line, one comparison of
     /// all 64 reads with it (eight lanes at a time, the eight lanes' masks packed to bytes in
@@ -881,12 +1010,15 @@ fn read_pair_body(
 ) -> u64 {
     #[cfg(target_arch = "x86_64")]
     if simd.level() == SimdLevel::Avx2 {
-        // SAFETY (both calls): a `SimdSupport` of level `Avx2` exists only when this processor
-        // has every feature `avx2::read_footprints` is compiled with (`SimdSupport::detect`).
+        // SAFETY (each call): a `SimdSupport` of level `Avx2` exists only when this processor
+        // has every feature `avx2::read_footprints` and `avx2::read_two_levels` are compiled
+        // with (`SimdSupport::detect`).
         let misses = if let Ok(footprint) = <&[[u32; 8]; 4]>::try_from(rows) {
             Some(unsafe { avx2::read_footprints(cache, first_line, footprint, counted) })
         } else if let Ok(texel) = <&[[u32; 8]; 1]>::try_from(rows) {
             Some(unsafe { avx2::read_footprints(cache, first_line, texel, counted) })
+        } else if let Ok(trilinear) = <&[[u32; 8]; 8]>::try_from(rows) {
+            unsafe { avx2::read_two_levels(cache, first_line, trilinear, counted) }
         } else {
             None
         };
@@ -1181,6 +1313,58 @@ mod tests {
                     for k in (0..if *pair { 8 } else { 4 }).filter(|&k| counted[k]) {
                         for &line in &lanes[k][..*per_lane] {
                             one_by_one.access(first_line + line as u64);
+                        }
+                    }
+                    agree(&together, &one_by_one)?;
+                }
+            }
+        }
+
+        /// Trilinear groups — a pair's footprints on one level (rows 0–3) and on the next
+        /// (rows 4–7), the second level's lines after the first's as a mip chain stores them —
+        /// count and leave the cache as the line-by-line model: the two levels' lines found
+        /// apart and merged by first reads (`avx2::read_two_levels`), through `access_lanes`
+        /// and the sampler's direct entry, with sets shared across the levels (lines 64 apart)
+        /// or not, a line on both levels now and then, and more distinct lines than are
+        /// checked together.
+        #[test]
+        fn two_levels_are_read_as_one_group(
+            shape in prop::sample::select(vec![(1024u32, 64u32, 4u32), (16384, 64, 4), (512, 16, 2)]),
+            groups in prop::collection::vec(
+                (
+                    prop::sample::select(vec![8u32, 64, 70]),
+                    prop::collection::vec(prop_oneof![4 => 0u32..4, 1 => 0u32..40], 64),
+                    prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 8),
+                    any::<bool>(),
+                ),
+                1..30,
+            ),
+        ) {
+            let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
+            for simd in simd_levels() {
+                let (mut together, mut one_by_one) = (TextureCache::new(config), LineByLine::new(config));
+                for (far_start, lines, counted, direct) in &groups {
+                    // Lane k's near corners step with k, as a footprint's blocks do.
+                    let rows: [[u32; 8]; 8] = std::array::from_fn(|r| {
+                        std::array::from_fn(|k| {
+                            let line = lines[8 * k + r] + k as u32 / 2;
+                            if r < 4 { line } else { line / 2 + far_start }
+                        })
+                    });
+                    let counted: [bool; 8] = std::array::from_fn(|k| counted[k]);
+                    #[cfg(target_arch = "x86_64")]
+                    if *direct && simd.level() == SimdLevel::Avx2 {
+                        // SAFETY: a `SimdSupport` of level `Avx2` exists only on a processor
+                        // with every feature the function is compiled with.
+                        unsafe { together.access_two_levels_avx2(simd, 7, &rows, counted) };
+                    } else {
+                        together.access_lanes(simd, 7, &rows, counted);
+                    }
+                    #[cfg(not(target_arch = "x86_64"))]
+                    together.access_lanes(simd, 7, &rows, counted);
+                    for k in (0..8).filter(|&k| counted[k]) {
+                        for row in &rows {
+                            one_by_one.access(7 + row[k] as u64);
                         }
                     }
                     agree(&together, &one_by_one)?;
