@@ -719,6 +719,44 @@ mod avx2 {
 
     use super::{MAX_GROUP_LINES, TextureCache};
 
+    /// A pair's reads as the bits of a word: the four bits `4 · k` to `4 · k + 3` set for each
+    /// `counted` lane `k` (its rows 0–3).
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn counted_reads(counted: [bool; 8]) -> u32 {
+        // A `bool` is a byte of 0 or 1.
+        let counted_bytes = u64::from_le_bytes(counted.map(u8::from));
+        let lanes = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(counted_bytes as i64));
+        _mm256_movemask_epi8(_mm256_cmpgt_epi32(lanes, _mm256_setzero_si256())) as u32
+    }
+
+    /// Byte `r` of each 32-bit lane set, for `r` 0 to 3: where row `r`'s comparison goes in
+    /// [`reads_of`].
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn row_bytes() -> [__m256i; 4] {
+        let byte = |r: u32| _mm256_set1_epi32((0xffu32 << (8 * r)) as i32);
+        [byte(0), byte(1), byte(2), byte(3)]
+    }
+
+    /// The reads of `line` among four rows of eight lanes, as the bits of a word in read order
+    /// (lane `k`'s row `r` at bit `4 · k + r`): each row's comparison masked into its own byte
+    /// of a lane (`bytes`, [`row_bytes`]), so that one `movemask` gives them in that order.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn reads_of(rows: &[__m256i; 4], bytes: &[__m256i; 4], line: u32) -> u32 {
+        let x = _mm256_set1_epi32(line as i32);
+        let low = _mm256_or_si256(
+            _mm256_and_si256(_mm256_cmpeq_epi32(rows[0], x), bytes[0]),
+            _mm256_and_si256(_mm256_cmpeq_epi32(rows[1], x), bytes[1]),
+        );
+        let high = _mm256_or_si256(
+            _mm256_and_si256(_mm256_cmpeq_epi32(rows[2], x), bytes[2]),
+            _mm256_and_si256(_mm256_cmpeq_epi32(rows[3], x), bytes[3]),
+        );
+        _mm256_movemask_epi8(_mm256_or_si256(low, high)) as u32
+    }
+
     /// [`TextureCache::read_group`] of a pair's eight lanes reading `R` lines each — four (the
     /// corners of a bilinear footprint on one level) or one (a nearest texel) — the same checks
     /// in the same order, with the group's reads as the bits of a word in read order — lane
@@ -742,10 +780,8 @@ mod avx2 {
     ) -> u64 {
         const { assert!(R == 1 || R == 4) };
         let zero = _mm256_setzero_si256();
-        // Each counted lane's bytes set for its `R` reads (a `bool` is a byte of 0 or 1).
-        let counted_bytes = u64::from_le_bytes(counted.map(u8::from));
-        let lanes = _mm256_cmpgt_epi32(_mm256_cvtepu8_epi32(_mm_cvtsi64_si128(counted_bytes as i64)), zero);
-        let reads = _mm256_movemask_epi8(lanes) as u32 & if R == 1 { 0x1111_1111 } else { u32::MAX };
+        // Each counted lane's `R` reads.
+        let reads = counted_reads(counted) & if R == 1 { 0x1111_1111 } else { u32::MAX };
         if reads == 0 {
             return 0;
         }
@@ -769,9 +805,7 @@ mod avx2 {
             }
         }
         let base = cache.start_group();
-        // Byte `r` of each 32-bit lane: where row `r`'s comparison goes.
-        let byte = |r: u32| _mm256_set1_epi32((0xffu32 << (8 * r)) as i32);
-        let (byte0, byte1, byte2, byte3) = (byte(0), byte(1), byte(2), byte(3));
+        let bytes = row_bytes();
         let (mut unread, mut distinct, mut d) = (reads, [0u64; MAX_GROUP_LINES], 0);
         while unread != 0 {
             if d == MAX_GROUP_LINES {
@@ -779,16 +813,7 @@ mod avx2 {
             }
             let first = unread.trailing_zeros() as usize;
             let line = rows[(first % 4).min(R - 1)][first / 4];
-            let x = _mm256_set1_epi32(line as i32);
-            let low = _mm256_or_si256(
-                _mm256_and_si256(_mm256_cmpeq_epi32(r[0], x), byte0),
-                _mm256_and_si256(_mm256_cmpeq_epi32(r[1], x), byte1),
-            );
-            let high = _mm256_or_si256(
-                _mm256_and_si256(_mm256_cmpeq_epi32(r[2], x), byte2),
-                _mm256_and_si256(_mm256_cmpeq_epi32(r[3], x), byte3),
-            );
-            let matched = _mm256_movemask_epi8(_mm256_or_si256(low, high)) as u32 & reads;
+            let matched = reads_of(&r, &bytes, line) & reads;
             unread &= !matched;
             distinct[d] = (line as u64) << 8 | (31 - matched.leading_zeros()) as u64;
             d += 1;
@@ -818,11 +843,8 @@ mod avx2 {
         rows: &[[u32; 8]; 8],
         counted: [bool; 8],
     ) -> Option<u64> {
-        let zero = _mm256_setzero_si256();
-        // Each counted lane's four bytes set (a `bool` is a byte of 0 or 1).
-        let counted_bytes = u64::from_le_bytes(counted.map(u8::from));
-        let lanes = _mm256_cmpgt_epi32(_mm256_cvtepu8_epi32(_mm_cvtsi64_si128(counted_bytes as i64)), zero);
-        let reads = _mm256_movemask_epi8(lanes) as u32;
+        // Each counted lane's four reads on a level.
+        let reads = counted_reads(counted);
         if reads == 0 {
             return Some(0);
         }
@@ -830,8 +852,7 @@ mod avx2 {
         // need no alignment.
         let row = |r: usize| unsafe { _mm256_loadu_si256(rows[r].as_ptr().cast()) };
         let levels = [[row(0), row(1), row(2), row(3)], [row(4), row(5), row(6), row(7)]];
-        let byte = |r: u32| _mm256_set1_epi32((0xffu32 << (8 * r)) as i32);
-        let bytes = [byte(0), byte(1), byte(2), byte(3)];
+        let bytes = row_bytes();
         // The square's position of bit `b` of `level`'s word: lane `b / 4`, row `4 · level + b % 4`.
         let square = |level: usize, b: u32| 8 * (b / 4) + 4 * level as u32 + b % 4;
         // Per level: its distinct lines in the order of their first reads, and the square's
@@ -840,20 +861,6 @@ mod avx2 {
         let mut firsts = [[0u32; MAX_GROUP_LINES]; 2];
         let mut lasts = [[0u32; MAX_GROUP_LINES]; 2];
         let (mut unread, mut d) = ([reads; 2], [0usize; 2]);
-        // The reads of `line` on `level`, as bits of its word.
-        let matched = |level: usize, line: u32| {
-            let x = _mm256_set1_epi32(line as i32);
-            let r = &levels[level];
-            let low = _mm256_or_si256(
-                _mm256_and_si256(_mm256_cmpeq_epi32(r[0], x), bytes[0]),
-                _mm256_and_si256(_mm256_cmpeq_epi32(r[1], x), bytes[1]),
-            );
-            let high = _mm256_or_si256(
-                _mm256_and_si256(_mm256_cmpeq_epi32(r[2], x), bytes[2]),
-                _mm256_and_si256(_mm256_cmpeq_epi32(r[3], x), bytes[3]),
-            );
-            _mm256_movemask_epi8(_mm256_or_si256(low, high)) as u32 & reads
-        };
         while unread[0] | unread[1] != 0 {
             if d[0] == MAX_GROUP_LINES || d[1] == MAX_GROUP_LINES {
                 break;
@@ -863,7 +870,7 @@ mod avx2 {
                 if unread[level] != 0 {
                     let first = unread[level].trailing_zeros();
                     let line = rows[4 * level + (first % 4) as usize][(first / 4) as usize];
-                    let matched = matched(level, line);
+                    let matched = reads_of(&levels[level], &bytes, line) & reads;
                     unread[level] &= !matched;
                     let i = d[level];
                     lines[level][i] = line;
@@ -874,28 +881,27 @@ mod avx2 {
             }
         }
         let total = d[0] + d[1];
-        let complete = unread[0] | unread[1] == 0 && total <= MAX_GROUP_LINES;
+        if unread[0] | unread[1] != 0 || total > MAX_GROUP_LINES {
+            // More distinct lines than are checked together: read one by one, which is exact
+            // whether or not the two levels share a line.
+            let base = cache.start_group();
+            return Some(cache.read_each(base, first_line, rows, counted));
+        }
         // The two lists merged by first reads: a line's place is its place in its own list
         // plus the other list's lines read first before it.
-        let (mut shared, mut merged) = (false, [0u64; MAX_GROUP_LINES]);
+        let mut merged = [0u64; MAX_GROUP_LINES];
         for level in 0..2 {
             let other = 1 - level;
             let (other_firsts, other_lines) = (&firsts[other][..d[other]], &lines[other][..d[other]]);
-            for i in 0..d[level].min(complete as usize * MAX_GROUP_LINES) {
+            for i in 0..d[level] {
+                if other_lines.contains(&lines[level][i]) {
+                    return None;
+                }
                 let place = i + other_firsts.iter().filter(|&&first| first < firsts[level][i]).count();
-                shared |= other_lines.contains(&lines[level][i]);
                 merged[place] = (lines[level][i] as u64) << 8 | lasts[level][i] as u64;
             }
         }
-        if shared {
-            return None;
-        }
         let base = cache.start_group();
-        if !complete {
-            // More distinct lines than are checked together: read one by one, which is exact
-            // whether or not the two levels share a line.
-            return Some(cache.read_each(base, first_line, rows, counted));
-        }
         Some(cache.read_distinct(base, first_line, rows, counted, &merged[..total], false))
     }
 
