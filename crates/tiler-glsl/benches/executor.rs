@@ -80,7 +80,7 @@ fn normalize(a: V3) -> V3 {
 
 #[inline(always)]
 fn max0(x: F32x8) -> F32x8 {
-    F32x8(x.0.map(|x| if x < 0.0 { 0.0 } else { x }))
+    F32x8::from_array(x.to_array().map(|x| if x < 0.0 { 0.0 } else { x }))
 }
 
 struct NativeBlinnPhong;
@@ -92,7 +92,7 @@ impl FragmentShader for NativeBlinnPhong {
         let v = normalize(frag.smooth_n::<3>(3));
         let h = normalize([l[0] + v[0], l[1] + v[1], l[2] + v[2]]);
         let diffuse = max0(dot(n, l));
-        let specular = F32x8(max0(dot(n, h)).0.map(|x| x.powf(32.0)));
+        let specular = F32x8::from_array(max0(dot(n, h)).to_array().map(|x| x.powf(32.0)));
         let color: V3 = std::array::from_fn(|c| {
             F32x8::splat(BASE[c]) * diffuse * F32x8::splat(LIGHT_COLOR[c]) + F32x8::splat(LIGHT_COLOR[c]) * specular
         });

@@ -970,7 +970,7 @@ fn core_texel(texture: &Texture, sampler: &Sampler, s: f32, t: f32, lod: f32, of
 /// differences' last bits (llvmpipe differences the coordinates as the shader gives them).
 /// The sign of `t`'s differences is the core's, though only their squares count.
 fn gl_gradients(coord: [[f32; 8]; 2]) -> [[F32x8; 2]; 2] {
-    let (s, t) = (F32x8(coord[0]), F32x8(coord[1]));
+    let (s, t) = (F32x8::from_array(coord[0]), F32x8::from_array(coord[1]));
     [[s.ddx(), F32x8::ZERO - t.ddx()], [s.ddy(), F32x8::ZERO - t.ddy()]]
 }
 
@@ -1167,8 +1167,8 @@ impl Env<8> for FragmentEnv<'_, '_> {
     /// top pixel minus the bottom one.
     fn derivative(&mut self, v: [f32; 8], axis: Axis) -> [f32; 8] {
         match axis {
-            Axis::X => F32x8(v).ddx().0,
-            Axis::Y => (F32x8::ZERO - F32x8(v).ddy()).0,
+            Axis::X => F32x8::from_array(v).ddx().to_array(),
+            Axis::Y => (F32x8::ZERO - F32x8::from_array(v).ddy()).to_array(),
         }
     }
 
@@ -1179,10 +1179,10 @@ impl Env<8> for FragmentEnv<'_, '_> {
             // GL's own derivatives of (s, t), for a texture that needs a level of detail.
             let gradients = texture.reads_lod(sampler).then(|| gl_gradients(coord));
             let lookup = tiler::Lookup { gradients, offset: [0, 0] };
-            let t = F32x8(std::array::from_fn(|i| 1.0 - coord[1][i]));
+            let t = F32x8::from_array(std::array::from_fn(|i| 1.0 - coord[1][i]));
             // Unpacked by hand: `map` copied through a temporary (16 instructions a lookup).
-            let [r, g, b, a] = self.frag.sample_with(texture, sampler, [F32x8(coord[0]), t], &lookup);
-            return [r.0, g.0, b.0, a.0];
+            let [r, g, b, a] = self.frag.sample_with(texture, sampler, [F32x8::from_array(coord[0]), t], &lookup);
+            return [r.to_array(), g.to_array(), b.to_array(), a.to_array()];
         }
         self.sample(slot, coord, LodValue::Implicit, None, [0, 0])
     }
@@ -1197,7 +1197,7 @@ impl Env<8> for FragmentEnv<'_, '_> {
             // The core's v runs down the rows, GL's t up.
             let mut uvs = [[F32x8::ZERO; 2]; crate::exec::MAX_RUN];
             for (uv, coord) in uvs.iter_mut().zip(coords) {
-                *uv = [F32x8(coord[0]), F32x8::splat(1.0) - F32x8(coord[1])];
+                *uv = [F32x8::from_array(coord[0]), F32x8::splat(1.0) - F32x8::from_array(coord[1])];
             }
             self.frag.sample_run(texture, sampler, &uvs[..coords.len()], out);
             return;
@@ -1241,15 +1241,15 @@ impl Env<8> for FragmentEnv<'_, '_> {
                 // change sign.
                 let gradients = match lod {
                     LodValue::Grad(dx, dy) => {
-                        let d = |d: [[f32; 8]; 3]| [F32x8(d[0]), F32x8::ZERO - F32x8(d[1])];
+                        let d = |d: [[f32; 8]; 3]| [F32x8::from_array(d[0]), F32x8::ZERO - F32x8::from_array(d[1])];
                         Some([d(dx), d(dy)])
                     }
                     _ => texture.reads_lod(&sampler).then(|| gl_gradients(coord)),
                 };
                 let lookup = tiler::Lookup { gradients, offset: [offset[0], -offset[1]] };
-                let t = F32x8(coord[1].map(|t| 1.0 - t));
-                let texel = self.frag.sample_with(texture, &sampler, [F32x8(coord[0]), t], &lookup);
-                texel.map(|c| c.0)
+                let t = F32x8::from_array(coord[1].map(|t| 1.0 - t));
+                let texel = self.frag.sample_with(texture, &sampler, [F32x8::from_array(coord[0]), t], &lookup);
+                texel.map(|c| c.to_array())
             }
             (binding, lod) => {
                 let binding = binding.as_ref();
@@ -1270,7 +1270,7 @@ impl Env<8> for FragmentEnv<'_, '_> {
                     // As for 2D: the group's first lane's bias stands for all.
                     sampler.lod_bias += b[0];
                 }
-                self.frag.sample_cube(texture, &sampler, direction.map(F32x8)).map(|c| c.0)
+                self.frag.sample_cube(texture, &sampler, direction.map(F32x8::from_array)).map(|c| c.to_array())
             }
             (binding, LodValue::Explicit(l)) => cube_lookup_lanes(binding.as_ref(), direction, Some(l), 8),
             (binding, _) => cube_lookup_lanes(binding.as_ref(), direction, None, 8),
@@ -1293,12 +1293,12 @@ impl Env<8> for FragmentEnv<'_, '_> {
                     // As for 2D: the group's first lane's bias stands for all.
                     sampler.lod_bias += b[0];
                 }
-                let coord = coord.map(F32x8);
+                let coord = coord.map(F32x8::from_array);
                 let texel = match texture.layered() {
                     Some((LayeredKind::Volume, _)) => self.frag.sample_volume(texture, &sampler, coord),
                     _ => self.frag.sample_array(texture, &sampler, coord),
                 };
-                texel.map(|c| c.0)
+                texel.map(|c| c.to_array())
             }
             (binding, lod) => {
                 let binding = binding.as_ref();
@@ -1313,7 +1313,7 @@ impl Env<8> for FragmentEnv<'_, '_> {
         match &self.slots[slot] {
             Some(TextureBinding::Core(texture, _)) if !texture.is_cube() => {
                 let coord = core_rows(texture, coord, level);
-                self.frag.fetch(texture, level, coord).map(|c| c.0)
+                self.frag.fetch(texture, level, coord).map(|c| c.to_array())
             }
             Some(TextureBinding::Integer(texture, _)) => {
                 self.frag.fetch_integer(texture, level, coord).map(|c| c.map(f32::from_bits))
@@ -1428,19 +1428,19 @@ impl FragmentShader for GlslFragmentShader {
             let regs = file.load(self.id, executable, &self.bank);
             for &(r, float, flat) in &self.inputs {
                 // A flat value is copied, so an integer's bits arrive as they left.
-                regs[r as usize] = if flat { [frag.flat(float); 8] } else { frag.smooth(float).0 };
+                regs[r as usize] = if flat { [frag.flat(float); 8] } else { frag.smooth(float).to_array() };
             }
             if let Some(fc) = code.frag_coord {
                 let (x, y) = frag.position();
-                regs[fc[0] as usize] = x.0;
-                regs[fc[1] as usize] = y.0.map(|y| self.height - y);
-                regs[fc[2] as usize] = frag.depth().0;
+                regs[fc[0] as usize] = x.to_array();
+                regs[fc[1] as usize] = y.to_array().map(|y| self.height - y);
+                regs[fc[2] as usize] = frag.depth().to_array();
                 let w = self.program.w_varying.map_or(F32x8::ONE, |w| frag.smooth(w));
-                regs[fc[3] as usize] = w.0.map(|w| 1.0 / w);
+                regs[fc[3] as usize] = w.to_array().map(|w| 1.0 / w);
             }
             if let (Some(pc), Some(v)) = (code.point_coord, self.program.point_coord_varying) {
-                regs[pc[0] as usize] = frag.smooth(v).0;
-                regs[pc[1] as usize] = frag.smooth(v + 1).0;
+                regs[pc[0] as usize] = frag.smooth(v).to_array();
+                regs[pc[1] as usize] = frag.smooth(v + 1).to_array();
             }
             if let Some(ff) = code.front_facing {
                 regs[ff as usize] = [if frag.front_facing() { 1.0 } else { 0.0 }; 8];
@@ -1450,7 +1450,7 @@ impl FragmentShader for GlslFragmentShader {
                 frag.discard(LaneMask(discarded as u8));
             }
             for (attachment, c) in &code.colors {
-                frag.set_color(*attachment, c.map(|r| F32x8(regs[r as usize])));
+                frag.set_color(*attachment, c.map(|r| F32x8::from_array(regs[r as usize])));
             }
         }
         FRAGMENT_WORK.set(file);

@@ -108,7 +108,7 @@ void main() {
     impl FragmentShader for Native {
         fn shade(&self, frag: &mut Fragments<'_>) {
             let [u, v] = frag.smooth_n::<2>(0);
-            let f = F32x8(u.0.map(|x| {
+            let f = F32x8::from_array(u.to_array().map(|x| {
                 let y = x * 37.0;
                 y - y.floor()
             }));
@@ -275,7 +275,10 @@ void main() {
                 out[1][lane] = sum;
                 out[2][lane] = y - y.floor();
             }
-            frag.set_color(0, [F32x8(out[0]), F32x8(out[1]), F32x8(out[2]), F32x8::ONE]);
+            frag.set_color(
+                0,
+                [F32x8::from_array(out[0]), F32x8::from_array(out[1]), F32x8::from_array(out[2]), F32x8::ONE],
+            );
         }
     }
     let program = glsl(PASS_VS, FS);
@@ -338,7 +341,7 @@ void main() {
                 }
                 out[3][lane] = facing;
             }
-            frag.set_color(0, out.map(F32x8));
+            frag.set_color(0, out.map(F32x8::from_array));
         }
     }
     let program = glsl(PASS_VS, FS);

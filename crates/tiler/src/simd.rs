@@ -306,67 +306,77 @@ pub fn bool_bits(bools: [bool; LANES]) -> u8 {
     sign_bits(bools.map(|b| -(b as i32)))
 }
 
+/// `std::array::from_fn`, always inlined. The standard one goes through `try_from_fn`, which
+/// LLVM often leaves out of line: in the AVX2 pipeline that is a call into code compiled for the
+/// baseline, whose result comes back through memory in 16-byte stores and is read as 32-byte
+/// vectors, a store-forwarding stall each time (atrium's `smooth_n`, +20% of the pipeline's
+/// time, once `F32x8` became one vector).
+#[inline(always)]
+pub fn array_from_fn<T: Copy + Default, const N: usize>(mut f: impl FnMut(usize) -> T) -> [T; N] {
+    let mut out = [T::default(); N];
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = f(i);
+    }
+    out
+}
+
 /// Eight `f32` lanes.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+///
+/// Held as one 256-bit vector (`__m256` on x86-64), not as `[f32; 8]`: a value of a vector type
+/// stays one vector through LLVM's optimisations, so in the AVX2 pipeline each arithmetic
+/// operator is one 256-bit instruction, and in the baseline two SSE ones. Held as an array, the
+/// SLP vectorizer takes the lanes apart and regroups them as it likes: in a loop that carries
+/// several values (a shader's iterations) it kept them as 128-bit halves even in AVX2 code,
+/// twice the instructions (overdraw's shader; docs/benchmarking.md, "F32x8 as one vector").
+/// The lanes are read and written through [`F32x8::to_array`] and [`F32x8::from_array`].
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub struct F32x8(Lanes8);
+
+#[cfg(target_arch = "x86_64")]
+type Lanes8 = std::arch::x86_64::__m256;
+
+#[cfg(not(target_arch = "x86_64"))]
+#[derive(Clone, Copy)]
 #[repr(C, align(32))]
-pub struct F32x8(pub [f32; LANES]);
+struct Lanes8([f32; LANES]);
+
+impl std::fmt::Debug for F32x8 {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("F32x8").field(&self.to_array()).finish()
+    }
+}
+
+impl PartialEq for F32x8 {
+    fn eq(&self, other: &F32x8) -> bool {
+        self.to_array() == other.to_array()
+    }
+}
+
+impl Default for F32x8 {
+    fn default() -> F32x8 {
+        F32x8::ZERO
+    }
+}
 
 macro_rules! lanewise {
     ($a:expr, |$x:ident| $body:expr) => {{
-        let a = $a.0;
+        let a = $a.to_array();
         let mut out = [0.0f32; LANES];
         for i in 0..LANES {
             let $x = a[i];
             out[i] = $body;
         }
-        F32x8(out)
+        F32x8::from_array(out)
     }};
     ($a:expr, $b:expr, |$x:ident, $y:ident| $body:expr) => {{
-        let (a, b) = ($a.0, $b.0);
+        let (a, b) = ($a.to_array(), $b.to_array());
         let mut out = [0.0f32; LANES];
         for i in 0..LANES {
             let ($x, $y) = (a[i], b[i]);
             out[i] = $body;
         }
-        F32x8(out)
-    }};
-}
-
-/// `lanewise!` for the four arithmetic operators, as two SSE `__m128` operations on x86-64.
-///
-/// Why not the lane loop: LLVM's SLP vectorizer turns `[f32; 8]` lanes into scalars and
-/// regroups them into vectors of its own choosing, and in a loop that carries several `F32x8`
-/// (a shader's iterations) it groups halves of different values together and pays for it with
-/// shuffles on the loop's dependency chain (overdraw's shader: 20 instructions a step, six of
-/// them shuffles). Two 128-bit operations per value keep each value's lanes together in both
-/// pipelines: SSE is in the x86-64 baseline, so this is valid code for the baseline and the
-/// AVX2 pipeline alike. The same IEEE operation per lane, so the same bits
-/// (docs/benchmarking.md, "Geometry and overdraw, round three").
-/// Lanes of one SSE half of an `F32x8`.
-#[cfg(target_arch = "x86_64")]
-const HALF_LANES: usize = LANES / 2;
-
-macro_rules! halfwise {
-    ($a:expr, $b:expr, $sse:ident, |$x:ident, $y:ident| $body:expr) => {{
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::{_mm_loadu_ps, _mm_storeu_ps, $sse};
-            let (a, b) = ($a.0, $b.0);
-            let mut out = [0.0f32; LANES];
-            for h in [0, HALF_LANES] {
-                // SAFETY: SSE, all these need, is in the x86-64 baseline; each load reads and
-                // each store writes four floats at `h` ∈ {0, 4} of an eight-float array.
-                unsafe {
-                    let value = $sse(_mm_loadu_ps(a[h..].as_ptr()), _mm_loadu_ps(b[h..].as_ptr()));
-                    _mm_storeu_ps(out[h..].as_mut_ptr(), value);
-                }
-            }
-            F32x8(out)
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            lanewise!($a, $b, |$x, $y| $body)
-        }
+        F32x8::from_array(out)
     }};
 }
 
@@ -375,9 +385,10 @@ macro_rules! compare {
         #[doc = $doc]
         #[inline(always)]
         pub fn $name(self, rhs: F32x8) -> LaneMask {
+            let (a, b) = (self.to_array(), rhs.to_array());
             let mut m = 0u8;
             for i in 0..LANES {
-                m |= ((self.0[i] $op rhs.0[i]) as u8) << i;
+                m |= ((a[i] $op b[i]) as u8) << i;
             }
             LaneMask(m)
         }
@@ -385,22 +396,55 @@ macro_rules! compare {
 }
 
 impl F32x8 {
-    pub const ZERO: F32x8 = F32x8([0.0; LANES]);
-    pub const ONE: F32x8 = F32x8([1.0; LANES]);
+    pub const ZERO: F32x8 = F32x8::splat(0.0);
+    pub const ONE: F32x8 = F32x8::splat(1.0);
+
+    #[inline(always)]
+    pub const fn from_array(lanes: [f32; LANES]) -> F32x8 {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `[f32; 8]` and `__m256` are both 32 bytes of plain floats, every bit pattern
+        // valid.
+        let lanes = unsafe { std::mem::transmute::<[f32; LANES], Lanes8>(lanes) };
+        #[cfg(not(target_arch = "x86_64"))]
+        let lanes = Lanes8(lanes);
+        F32x8(lanes)
+    }
+
+    #[inline(always)]
+    pub const fn to_array(self) -> [f32; LANES] {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as in `from_array`.
+        return unsafe { std::mem::transmute::<Lanes8, [f32; LANES]>(self.0) };
+        #[cfg(not(target_arch = "x86_64"))]
+        return self.0.0;
+    }
+
+    /// The lanes as the AVX vector they are held in.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub const fn to_m256(self) -> std::arch::x86_64::__m256 {
+        self.0
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub const fn from_m256(lanes: std::arch::x86_64::__m256) -> F32x8 {
+        F32x8(lanes)
+    }
 
     #[inline(always)]
     pub const fn splat(v: f32) -> F32x8 {
-        F32x8([v; LANES])
+        F32x8::from_array([v; LANES])
     }
 
     #[inline(always)]
     pub fn from_fn(f: impl FnMut(usize) -> f32) -> F32x8 {
-        F32x8(std::array::from_fn(f))
+        F32x8::from_array(array_from_fn(f))
     }
 
     #[inline(always)]
     pub fn lane(self, i: usize) -> f32 {
-        self.0[i]
+        self.to_array()[i]
     }
 
     /// Lane-wise UNORM conversion `round_half_up(clamp(v, 0, 1) · max)` (NaN gives 0), for
@@ -410,8 +454,8 @@ impl F32x8 {
     pub fn unorm(self, max: f32) -> [i32; LANES] {
         // Once per call, not per lane; the identity for every `max` callers pass.
         let max = if max > 0.0 { max.min(16_777_216.0) } else { 0.0 };
-        std::array::from_fn(|i| {
-            let v = self.0[i];
+        let mut out = [0i32; LANES];
+        for (o, v) in out.iter_mut().zip(self.to_array()) {
             let v = if v > 0.0 { v.min(1.0) } else { 0.0 };
             let scaled = v * max + 0.5;
             // SAFETY: `v` is in [0, 1] (the comparison sends NaN to 0) and `max` in [0, 2^24]
@@ -419,8 +463,9 @@ impl F32x8 {
             // truncation to i32 is defined — for every caller, whatever it passes. The
             // saturating `as` does not vectorise on x86-64 and made colour packing scalar
             // (tris scene: write_color went from 179M to 78M instructions per 100K triangles).
-            unsafe { scaled.to_int_unchecked::<i32>() }
-        })
+            *o = unsafe { scaled.to_int_unchecked::<i32>() };
+        }
+        out
     }
 
     /// Lane-wise `f32::min` (a NaN lane takes the other operand).
@@ -472,7 +517,8 @@ impl F32x8 {
     /// `mask ? a : b` per lane.
     #[inline(always)]
     pub fn select(mask: LaneMask, a: F32x8, b: F32x8) -> F32x8 {
-        F32x8(std::array::from_fn(|i| if mask.contains(i) { a.0[i] } else { b.0[i] }))
+        let (a, b) = (a.to_array(), b.to_array());
+        F32x8::from_fn(|i| if mask.contains(i) { a[i] } else { b[i] })
     }
 
     compare!(lt, <, "Lanes where `self < rhs`.");
@@ -483,16 +529,25 @@ impl F32x8 {
     /// Horizontal derivative (`dFdxFine`): per quad row, right pixel minus left pixel.
     #[inline(always)]
     pub fn ddx(self) -> F32x8 {
-        let a = self.0;
-        F32x8([a[1] - a[0], a[1] - a[0], a[3] - a[2], a[3] - a[2], a[5] - a[4], a[5] - a[4], a[7] - a[6], a[7] - a[6]])
+        let a = self.to_array();
+        F32x8::from_array([
+            a[1] - a[0],
+            a[1] - a[0],
+            a[3] - a[2],
+            a[3] - a[2],
+            a[5] - a[4],
+            a[5] - a[4],
+            a[7] - a[6],
+            a[7] - a[6],
+        ])
     }
 
     /// Vertical derivative (`dFdyFine`): per quad column, bottom pixel minus top pixel.
     #[inline(always)]
     pub fn ddy(self) -> F32x8 {
-        let a = self.0;
+        let a = self.to_array();
         let d = [a[4] - a[0], a[5] - a[1], a[6] - a[2], a[7] - a[3]];
-        F32x8([d[0], d[1], d[2], d[3], d[0], d[1], d[2], d[3]])
+        F32x8::from_array([d[0], d[1], d[2], d[3], d[0], d[1], d[2], d[3]])
     }
 }
 
@@ -500,7 +555,7 @@ impl Add for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn add(self, rhs: F32x8) -> F32x8 {
-        halfwise!(self, rhs, _mm_add_ps, |a, b| a + b)
+        lanewise!(self, rhs, |a, b| a + b)
     }
 }
 
@@ -508,7 +563,7 @@ impl Sub for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn sub(self, rhs: F32x8) -> F32x8 {
-        halfwise!(self, rhs, _mm_sub_ps, |a, b| a - b)
+        lanewise!(self, rhs, |a, b| a - b)
     }
 }
 
@@ -516,7 +571,7 @@ impl Mul for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn mul(self, rhs: F32x8) -> F32x8 {
-        halfwise!(self, rhs, _mm_mul_ps, |a, b| a * b)
+        lanewise!(self, rhs, |a, b| a * b)
     }
 }
 
@@ -524,7 +579,7 @@ impl Div for F32x8 {
     type Output = F32x8;
     #[inline(always)]
     fn div(self, rhs: F32x8) -> F32x8 {
-        halfwise!(self, rhs, _mm_div_ps, |a, b| a / b)
+        lanewise!(self, rhs, |a, b| a / b)
     }
 }
 
@@ -662,7 +717,7 @@ mod tests {
 
     #[test]
     fn unorm_is_defined_for_every_input() {
-        let v = F32x8([f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30, 0.5, 1.0, 0.0]);
+        let v = F32x8::from_array([f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30, 0.5, 1.0, 0.0]);
         assert_eq!(v.unorm(255.0), [0, 255, 0, 255, 0, 128, 255, 0]);
         assert_eq!(v.unorm(65535.0), [0, 65535, 0, 65535, 0, 32768, 65535, 0]);
         // Out-of-contract scales are clamped, never undefined.
@@ -688,7 +743,7 @@ mod tests {
 
     #[test]
     fn clamp_maps_nan_to_low() {
-        let v = F32x8([f32::NAN, -1.0, 0.5, 2.0, 0.0, 1.0, -0.0, 0.25]);
-        assert_eq!(v.clamp(0.0, 1.0).0, [0.0, 0.0, 0.5, 1.0, 0.0, 1.0, 0.0, 0.25]);
+        let v = F32x8::from_array([f32::NAN, -1.0, 0.5, 2.0, 0.0, 1.0, -0.0, 0.25]);
+        assert_eq!(v.clamp(0.0, 1.0).to_array(), [0.0, 0.0, 0.5, 1.0, 0.0, 1.0, 0.0, 0.25]);
     }
 }

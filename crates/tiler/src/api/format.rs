@@ -312,13 +312,19 @@ impl Format {
             Format::Bgra8Unorm => [2, 1, 0, 3],
             _ => return None,
         };
-        let channels: [[i32; 8]; 4] = rgba.map(|c| c.unorm(255.0));
-        Some(std::array::from_fn(|i| {
-            (channels[order[0]][i]
+        // Loops, not closures: a closure may be left out of line, compiled for the baseline.
+        let mut channels = [[0i32; 8]; 4];
+        for (channel, value) in channels.iter_mut().zip(rgba) {
+            *channel = value.unorm(255.0);
+        }
+        let mut packed = [0u32; 8];
+        for (i, lane) in packed.iter_mut().enumerate() {
+            *lane = (channels[order[0]][i]
                 | channels[order[1]][i] << 8
                 | channels[order[2]][i] << 16
-                | channels[order[3]][i] << 24) as u32
-        }))
+                | channels[order[3]][i] << 24) as u32;
+        }
+        Some(packed)
     }
 
     /// Whether a resolve averages this format's channels as bytes, exactly: linear 8-bit UNORM.
@@ -482,9 +488,10 @@ impl Format {
     /// [`Format::depth_bits`] of eight lanes, written to vectorise.
     #[inline(always)]
     pub fn depth_bits_lanes(self, z: crate::simd::F32x8) -> [u32; 8] {
-        let z: [f32; 8] = std::array::from_fn(|i| if z.0[i] > 0.0 { z.0[i].min(1.0) } else { 0.0 });
+        let z = z.to_array();
+        let z: [f32; 8] = std::array::from_fn(|i| if z[i] > 0.0 { z[i].min(1.0) } else { 0.0 });
         match self {
-            Format::D16Unorm => crate::simd::F32x8(z).unorm(65535.0).map(|v| v as u32),
+            Format::D16Unorm => crate::simd::F32x8::from_array(z).unorm(65535.0).map(|v| v as u32),
             Format::D24UnormS8Uint => std::array::from_fn(|i| {
                 let v = z[i] as f64 * 16_777_215.0 + 0.5;
                 // SAFETY: `z` is clamped to [0, 1] (NaN to 0) above, so `v` is finite and in
@@ -628,7 +635,7 @@ mod tests {
             for chunk in values.chunks(8) {
                 let z = crate::simd::F32x8::from_fn(|i| chunk.get(i).copied().unwrap_or(0.25));
                 let lanes = format.depth_bits_lanes(z);
-                for (bits, z) in lanes.iter().zip(z.0) {
+                for (bits, z) in lanes.iter().zip(z.to_array()) {
                     assert_eq!(*bits, format.depth_bits(z), "{format} at {z}");
                 }
             }

@@ -7,12 +7,15 @@ use crate::simd::{F32x8, Vec4x8};
 
 /// Blends eight lanes: lane for lane exactly [`blend_pixel`] (the same operations in the
 /// same order), so the scalar function is the reference it is tested against.
-#[inline]
+#[inline(always)]
 pub fn blend_lanes(state: &BlendState, src: &Vec4x8, dst: &Vec4x8, constant: [f32; 4]) -> Vec4x8 {
-    std::array::from_fn(|c| {
+    // A loop, not `std::array::from_fn` and a closure: those were left out of line, compiled for
+    // the baseline, in the AVX2 pipeline.
+    let mut out = [F32x8::ZERO; 4];
+    for (c, out) in out.iter_mut().enumerate() {
         let component = if c < 3 { &state.color } else { &state.alpha };
         let (s, d) = (src[c], dst[c]);
-        match component.op {
+        *out = match component.op {
             BlendOp::Min => s.min(d),
             BlendOp::Max => s.max(d),
             op => {
@@ -25,8 +28,9 @@ pub fn blend_lanes(state: &BlendState, src: &Vec4x8, dst: &Vec4x8, constant: [f3
                     BlendOp::Min | BlendOp::Max => unreachable!(),
                 }
             }
-        }
-    })
+        };
+    }
+    out
 }
 
 #[inline(always)]

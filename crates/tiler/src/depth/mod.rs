@@ -685,7 +685,7 @@ mod tests {
                     let (dx, dy) = self.sample_offset(sample);
                     plane.row_depth(self.x, y, dx, dy)
                 }
-                (None, None) => F32x8(self.lanes[sample * 8 + (y - self.y0) as usize]),
+                (None, None) => F32x8::from_array(self.lanes[sample * 8 + (y - self.y0) as usize]),
             }
         }
         fn constant(&self) -> Option<f32> {
@@ -875,7 +875,7 @@ mod tests {
                                 let (px, py) = Interpolator::positions(x, y, dx, dy);
                                 plane.depth(px, py)
                             }
-                            (None, None) => F32x8(depths.lanes[s * 8 + (y & 7) as usize]),
+                            (None, None) => F32x8::from_array(depths.lanes[s * 8 + (y & 7) as usize]),
                         };
                         let mut coverage = Coverage::NONE;
                         for (s, bits) in lanes.iter().enumerate().take(samples) {

@@ -29,7 +29,9 @@ use crate::raster::target::{BlockDepth, RenderTarget, Surface};
 use crate::shade::ShadeContext;
 use crate::shade::fragments::{FragmentShader, Fragments};
 use crate::shade::interpolate::Interpolator;
-use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, SimdSupport, Vec4x8, per_simd_level};
+use crate::simd::{
+    F32x8, LANE_DX, LANE_DY, LANES, LaneMask, SimdLevel, SimdSupport, Vec4x8, array_from_fn, per_simd_level,
+};
 
 /// What the fragment work of one task did and moved.
 #[derive(Debug, Default)]
@@ -1261,7 +1263,7 @@ fn blend_and_write_body(
                     }
                 }
             }
-            let out = crate::blend::blend_lanes(blend, &src, &dst.map(F32x8), constant);
+            let out = crate::blend::blend_lanes(blend, &src, &dst.map(F32x8::from_array), constant);
             format.encode_lanes(&out, &mut packed);
         }
         for lane in 0..LANES {
@@ -1318,18 +1320,16 @@ fn blend_rgba8(
         // The two rows of four words, each one 16-byte read (`rows` fit, checked above).
         let row = |r: usize| -> [u8; ROW] { plane[r..r + ROW].try_into().expect("a row of four pixels") };
         let bytes = [row(rows[0]), row(rows[1])];
-        let words: [u32; LANES] = std::array::from_fn(|lane| {
+        let words: [u32; LANES] = array_from_fn(|lane| {
             let at = (lane % 4) * 4;
             u32::from_le_bytes(bytes[lane / 4][at..at + 4].try_into().expect("a word"))
         });
-        let dst: Vec4x8 = std::array::from_fn(|c| {
-            F32x8(std::array::from_fn(|lane| ((words[lane] >> (8 * c)) & 0xff) as f32)) / F32x8::splat(255.0)
-        });
+        let dst: Vec4x8 =
+            array_from_fn(|c| F32x8::from_fn(|lane| ((words[lane] >> (8 * c)) & 0xff) as f32) / F32x8::splat(255.0));
         let out = crate::blend::blend_lanes(blend, src, &dst, constant);
         let packed = Format::Rgba8Unorm.pack_lanes_u32(&out).expect("RGBA8 packs to words");
         // The covered lanes' new words, the others' old ones: each row one 16-byte write.
-        let merged: [u32; LANES] =
-            std::array::from_fn(|lane| if lanes.contains(lane) { packed[lane] } else { words[lane] });
+        let merged: [u32; LANES] = array_from_fn(|lane| if lanes.contains(lane) { packed[lane] } else { words[lane] });
         for (half, &r) in rows.iter().enumerate() {
             let mut out = [0u8; ROW];
             for (i, chunk) in out.chunks_exact_mut(4).enumerate() {
@@ -1384,7 +1384,7 @@ mod tests {
                 mask: Format::Rgba8Unorm.write_mask_bytes(ColorWrites::ALL),
                 partial: false,
             };
-            let src: Vec4x8 = std::array::from_fn(|c| F32x8(std::array::from_fn(|lane| src[4 * lane + c])));
+            let src: Vec4x8 = std::array::from_fn(|c| F32x8::from_array(std::array::from_fn(|lane| src[4 * lane + c])));
             // Lanes right of the surface are never covered.
             let inside = (0..LANES).filter(|lane| x as usize + lane % 4 < 10).fold(0u8, |m, lane| m | 1 << lane);
             let bytes: [u8; MAX_SAMPLES] =
@@ -1425,7 +1425,7 @@ mod tests {
 
     #[test]
     fn alpha_to_coverage_keeps_the_first_samples() {
-        let alpha = F32x8([0.0, 0.1, 0.3, 0.5, 0.6, 0.9, 1.0, 2.0]);
+        let alpha = F32x8::from_array([0.0, 0.1, 0.3, 0.5, 0.6, 0.9, 1.0, 2.0]);
         let c = alpha_to_coverage(alpha, 4);
         let kept: Vec<u32> = (0..8).map(|lane| (0..4).filter(|&s| c.sample(s).contains(lane)).count() as u32).collect();
         assert_eq!(kept, vec![0, 0, 1, 2, 2, 4, 4, 4]);

@@ -101,7 +101,7 @@ impl<'a> Fragments<'a> {
     /// Varyings `first .. first + N`, interpolated perspective-correctly.
     #[inline(always)]
     pub fn smooth_n<const N: usize>(&self, first: usize) -> [F32x8; N] {
-        std::array::from_fn(|k| self.smooth(first + k))
+        crate::simd::array_from_fn(|k| self.smooth(first + k))
     }
 
     /// Varying `i`, interpolated linearly in screen space (GLSL `noperspective`).
@@ -221,7 +221,7 @@ impl<'a> Fragments<'a> {
     /// `level`, unfiltered, `(0, 0, 0, 0)` out of range (see `shade::texture::fetch`). The
     /// reads of every quad with a covered pixel go through the texture cache and the ledger.
     pub fn fetch(&mut self, texture: &Texture, level: [i32; 8], coord: [[i32; 8]; 3]) -> Vec4x8 {
-        self.fetch_lanes(level, coord, |level, at| texture.fetch(level, at)).map(F32x8)
+        self.fetch_lanes(level, coord, |level, at| texture.fetch(level, at)).map(F32x8::from_array)
     }
 
     /// [`Fragments::fetch`] of an integer texture: each channel's 32-bit pattern, zeros out of
@@ -294,5 +294,5 @@ fn read_lanes(surface: Option<&Surface>, group: (i32, i32), sample: usize) -> (V
         }
         read += bytes as u64;
     }
-    (out.map(F32x8), read)
+    (out.map(F32x8::from_array), read)
 }

@@ -98,7 +98,7 @@ impl Interpolator {
         corners
             .iter()
             .all(|z| z.is_finite())
-            .then(|| F32x8(std::array::from_fn(|i| corners[if i < 4 { i } else { 0 }])))
+            .then(|| F32x8::from_array(std::array::from_fn(|i| corners[if i < 4 { i } else { 0 }])))
     }
 
     /// An interpolator of depth alone: `z0` at `origin`, gradients `dz` (for tests of the

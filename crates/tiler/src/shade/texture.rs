@@ -704,7 +704,7 @@ impl Texture {
         }
         for (&[u, v], out) in uvs.iter().zip(out) {
             let [r, g, b, a] = self.sample_with(simd, sampler, u, v, counted, cache, &lookup);
-            *out = [r.0, g.0, b.0, a.0];
+            *out = [r, g, b, a].map(F32x8::to_array);
         }
     }
 
@@ -1375,7 +1375,7 @@ mod avx2 {
         if !phased {
             for (&uv, out) in uvs.iter().zip(out) {
                 let [r, g, b, a] = sample_bytes(simd, texture, texels, sampler, &lookup, uv, counted, cache);
-                *out = [r.0, g.0, b.0, a.0];
+                *out = [r, g, b, a].map(F32x8::to_array);
             }
             return;
         }
@@ -1387,7 +1387,7 @@ mod avx2 {
         }
         for (print, out) in prints.iter().flatten().zip(out) {
             let [r, g, b, a] = channels(filter_footprint(texels, print), pair_lanes());
-            *out = [r.0, g.0, b.0, a.0];
+            *out = [r, g, b, a].map(F32x8::to_array);
         }
     }
 
@@ -1466,8 +1466,7 @@ mod avx2 {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     #[inline]
     fn pair_coordinates([u, v]: [F32x8; 2]) -> [__m256; 2] {
-        // SAFETY (each load): 32 bytes of one `[f32; 8]`; unaligned loads need no alignment.
-        let (u, v) = unsafe { (_mm256_loadu_ps(u.0.as_ptr()), _mm256_loadu_ps(v.0.as_ptr())) };
+        let (u, v) = (u.to_m256(), v.to_m256());
         [_mm256_permutevar8x32_ps(u, pair_lanes()), _mm256_permutevar8x32_ps(v, pair_lanes())]
     }
 
@@ -1486,10 +1485,7 @@ mod avx2 {
         let byte_mask = _mm256_set1_epi32(0xff);
         let channel = |c: __m256i| {
             let value = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(c, byte_mask)), scale);
-            let mut out = F32x8([0.0; 8]);
-            // SAFETY: 32 bytes of one `[f32; 8]`; unaligned stores need no alignment.
-            unsafe { _mm256_storeu_ps(out.0.as_mut_ptr(), _mm256_permutevar8x32_ps(value, pair_lanes)) };
-            out
+            F32x8::from_m256(_mm256_permutevar8x32_ps(value, pair_lanes))
         };
         [
             channel(packed),
@@ -2131,10 +2127,10 @@ const PAIR_LANES: [usize; 8] = [0, 1, 4, 5, 2, 3, 6, 7];
 fn group_of_pair(rgba: [[u32; 8]; 4], bytes: bool) -> Vec4x8 {
     // The branch outside the lanes, so that each conversion is one loop the vectoriser sees.
     if bytes {
-        let channel = |c: usize| F32x8(lanes(|lane| channel_to_f32(rgba[c][PAIR_LANES[lane]], true)));
+        let channel = |c: usize| F32x8::from_array(lanes(|lane| channel_to_f32(rgba[c][PAIR_LANES[lane]], true)));
         [channel(0), channel(1), channel(2), channel(3)]
     } else {
-        let channel = |c: usize| F32x8(lanes(|lane| channel_to_f32(rgba[c][PAIR_LANES[lane]], false)));
+        let channel = |c: usize| F32x8::from_array(lanes(|lane| channel_to_f32(rgba[c][PAIR_LANES[lane]], false)));
         [channel(0), channel(1), channel(2), channel(3)]
     }
 }
@@ -2181,9 +2177,9 @@ fn group_of_quads(quads: [[Quad<u32>; 4]; 2], bytes: bool) -> Vec4x8 {
             quad[c][(LANE_DX[lane] % 2 + 2 * LANE_DY[lane]) as usize]
         });
         if bytes {
-            F32x8(group.map(|c| channel_to_f32(c, true)))
+            F32x8::from_array(group.map(|c| channel_to_f32(c, true)))
         } else {
-            F32x8(group.map(|c| channel_to_f32(c, false)))
+            F32x8::from_array(group.map(|c| channel_to_f32(c, false)))
         }
     })
 }
@@ -2735,9 +2731,9 @@ mod tests {
         }
         if bytes {
             // llvmpipe's conversion of an 8-bit UNORM: one multiplication by `fl(1/255)`.
-            out.map(|c| F32x8(c.map(|c| (c / 257) as f32 * (1.0 / 255.0))))
+            out.map(|c| F32x8::from_array(c.map(|c| (c / 257) as f32 * (1.0 / 255.0))))
         } else {
-            out.map(|c| F32x8(c.map(|c| c as f32 / 65535.0)))
+            out.map(|c| F32x8::from_array(c.map(|c| c as f32 / 65535.0)))
         }
     }
 
@@ -3309,8 +3305,8 @@ mod tests {
         let t = ramp(37, 29, MipChain::Box);
         let uvs: Vec<[F32x8; 2]> = (0..9)
             .map(|k| {
-                let u = F32x8(std::array::from_fn(|i| (k as f32 * 0.13 + i as f32 * 0.011) % 1.3 - 0.1));
-                let v = F32x8(std::array::from_fn(|i| (k as f32 * 0.07 + (i / 2) as f32 * 0.017) % 1.1));
+                let u = F32x8::from_array(std::array::from_fn(|i| (k as f32 * 0.13 + i as f32 * 0.011) % 1.3 - 0.1));
+                let v = F32x8::from_array(std::array::from_fn(|i| (k as f32 * 0.07 + (i / 2) as f32 * 0.017) % 1.1));
                 [u, v]
             })
             .collect();
@@ -3329,7 +3325,9 @@ mod tests {
                     );
                     let each: Vec<[[u32; 8]; 4]> = uvs
                         .iter()
-                        .map(|&[u, v]| t.sample(simd, &sampler, u, v, counted, &mut one).map(|c| c.0.map(f32::to_bits)))
+                        .map(|&[u, v]| {
+                            t.sample(simd, &sampler, u, v, counted, &mut one).map(|c| c.to_array().map(f32::to_bits))
+                        })
                         .collect();
                     let mut out = vec![[[0.0f32; 8]; 4]; uvs.len()];
                     t.sample_run(simd, &sampler, &uvs, counted, &mut run, &mut out);
@@ -3490,12 +3488,12 @@ mod tests {
         )
             .prop_map(|(u0, v0, dudx, dvdx, dudy, dvdy, counted, odd)| {
                 let at = |base: f32, dx: f32, dy: f32, i: usize| base + dx * LANE_DX[i] as f32 + dy * LANE_DY[i] as f32;
-                let mut u = F32x8::from_fn(|i| at(u0, dudx, dudy, i));
-                let mut v = F32x8::from_fn(|i| at(v0, dvdx, dvdy, i));
+                let mut u: [f32; 8] = std::array::from_fn(|i| at(u0, dudx, dudy, i));
+                let mut v: [f32; 8] = std::array::from_fn(|i| at(v0, dvdx, dvdy, i));
                 if let Some((lane, ou, ov)) = odd {
-                    (u.0[lane], v.0[lane]) = (ou, ov);
+                    (u[lane], v[lane]) = (ou, ov);
                 }
-                (u, v, LaneMask(counted))
+                (F32x8::from_array(u), F32x8::from_array(v), LaneMask(counted))
             })
     }
 
@@ -3578,7 +3576,7 @@ mod tests {
             for (u, v, counted) in groups {
                 let got = texture.sample(simd, &sampler, u, v, counted, &mut fast);
                 let want = reference_sample(&texture, &sampler, u, v, counted, &mut reference);
-                let bits = |c: Vec4x8| c.map(|c| c.0.map(f32::to_bits));
+                let bits = |c: Vec4x8| c.map(|c| c.to_array().map(f32::to_bits));
                 prop_assert_eq!(bits(got), bits(want), "u {:?} v {:?}", u, v);
                 prop_assert_eq!((fast.hits(), fast.misses()), (reference.hits(), reference.misses()));
             }
@@ -3624,7 +3622,7 @@ mod tests {
             let baseline = SimdSupport::detect(SimdLevel::Baseline).unwrap();
             let mut fast = TextureCache::new(config);
             let (mut reference, mut general) = (TextureCache::new(config), TextureCache::new(config));
-            let bits = |c: Vec4x8| c.map(|c| c.0.map(f32::to_bits));
+            let bits = |c: Vec4x8| c.map(|c| c.to_array().map(f32::to_bits));
             for ((u, v, counted), derivatives) in groups {
                 // Derivatives: another group's differences from its first lane.
                 let gradients = derivatives.map(|(du, dv, _)| {

@@ -322,7 +322,7 @@ mod tests {
                 let r = F32x8::splat(k as f32 - 0.2);
                 let got = t.sample_array(SimdSupport::BASELINE, &sampler, [u, v, r], LaneMask::ALL, &mut cache);
                 let want = flat.sample(SimdSupport::BASELINE, &sampler, u, v, LaneMask::ALL, &mut cache);
-                assert_eq!(got.map(|c| c.0), want.map(|c| c.0), "layer {k}");
+                assert_eq!(got.map(|c| c.to_array()), want.map(|c| c.to_array()), "layer {k}");
             }
         }
     }
@@ -378,7 +378,7 @@ mod tests {
             let mut results = levels.iter().map(|&simd| {
                 let mut cache = TextureCache::default();
                 let c = t.sample_array(simd, &Sampler::TRILINEAR_REPEAT, coord, LaneMask::ALL, &mut cache);
-                (c.map(|c| c.0.map(f32::to_bits)), cache.misses(), cache.hits())
+                (c.map(|c| c.to_array().map(f32::to_bits)), cache.misses(), cache.hits())
             });
             let first = results.next().unwrap();
             for other in results {

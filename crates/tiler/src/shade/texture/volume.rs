@@ -238,7 +238,7 @@ mod tests {
             let mut results = levels.iter().map(|&simd| {
                 let mut cache = TextureCache::default();
                 let c = t.sample_volume(simd, &repeat, coord, LaneMask::ALL, &mut cache);
-                (c.map(|c| c.0.map(f32::to_bits)), cache.misses(), cache.hits())
+                (c.map(|c| c.to_array().map(f32::to_bits)), cache.misses(), cache.hits())
             });
             let first = results.next().unwrap();
             for other in results {
