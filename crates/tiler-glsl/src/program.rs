@@ -1179,7 +1179,7 @@ impl Env<8> for FragmentEnv<'_, '_> {
             // GL's own derivatives of (s, t), for a texture that needs a level of detail.
             let gradients = texture.reads_lod(sampler).then(|| gl_gradients(coord));
             let lookup = tiler::Lookup { gradients, offset: [0, 0] };
-            let t = F32x8::from_array(std::array::from_fn(|i| 1.0 - coord[1][i]));
+            let t = F32x8::from_fn(|i| 1.0 - coord[1][i]);
             // Unpacked by hand: `map` copied through a temporary (16 instructions a lookup).
             let [r, g, b, a] = self.frag.sample_with(texture, sampler, [F32x8::from_array(coord[0]), t], &lookup);
             return [r.to_array(), g.to_array(), b.to_array(), a.to_array()];

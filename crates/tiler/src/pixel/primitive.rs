@@ -1384,7 +1384,7 @@ mod tests {
                 mask: Format::Rgba8Unorm.write_mask_bytes(ColorWrites::ALL),
                 partial: false,
             };
-            let src: Vec4x8 = std::array::from_fn(|c| F32x8::from_array(std::array::from_fn(|lane| src[4 * lane + c])));
+            let src: Vec4x8 = std::array::from_fn(|c| F32x8::from_fn(|lane| src[4 * lane + c]));
             // Lanes right of the surface are never covered.
             let inside = (0..LANES).filter(|lane| x as usize + lane % 4 < 10).fold(0u8, |m, lane| m | 1 << lane);
             let bytes: [u8; MAX_SAMPLES] =

@@ -95,10 +95,7 @@ impl Interpolator {
         let rows = [row(y, dy[0]), row(y + 7, dy[1])];
         let columns = [column(x, dx[0]), column(x + 7, dx[1])];
         let corners = [rows[0] + columns[0], rows[0] + columns[1], rows[1] + columns[0], rows[1] + columns[1]];
-        corners
-            .iter()
-            .all(|z| z.is_finite())
-            .then(|| F32x8::from_array(std::array::from_fn(|i| corners[if i < 4 { i } else { 0 }])))
+        corners.iter().all(|z| z.is_finite()).then(|| F32x8::from_fn(|i| corners[if i < 4 { i } else { 0 }]))
     }
 
     /// An interpolator of depth alone: `z0` at `origin`, gradients `dz` (for tests of the

@@ -75,6 +75,9 @@ use super::texture_cache::{MAX_LANE_LINES, TextureCache};
 use crate::api::error::{Error, Result};
 use crate::api::format::{linear_to_srgb, srgb8_to_linear, unorm8};
 use crate::simd::{F32x8, LANE_DX, LANE_DY, LaneMask, SimdLevel, SimdSupport, Vec4x8, per_simd_level};
+// `lanes(f)`: `[f(0), …, f(N − 1)]` as a plain loop the vectoriser sees through, for a quad's
+// four lanes or a pair of quads' eight (`PAIR_LANES`).
+use crate::simd::array_from_fn as lanes;
 
 /// The largest width or height of a texture.
 pub const MAX_TEXTURE_DIMENSION: u32 = 16384;
@@ -2184,17 +2187,6 @@ fn group_of_quads(quads: [[Quad<u32>; 4]; 2], bytes: bool) -> Vec4x8 {
     })
 }
 
-/// `[f(0), f(1), …, f(N − 1)]`, as a plain loop the vectoriser sees through: a quad's four
-/// lanes, or a pair of quads' eight ([`PAIR_LANES`]).
-#[inline(always)]
-fn lanes<T: Copy + Default, const N: usize>(f: impl Fn(usize) -> T) -> [T; N] {
-    let mut out = [T::default(); N];
-    for (i, out) in out.iter_mut().enumerate() {
-        *out = f(i);
-    }
-    out
-}
-
 /// What a quad reads on one level: per lane, its texels (indices into the texture's `texels`)
 /// and the cache lines that hold them (relative to the texture's first line), both
 /// `[corner][lane]`. Nearest filtering reads corner 0; linear filtering reads `(x0, y0)`,
@@ -3305,8 +3297,8 @@ mod tests {
         let t = ramp(37, 29, MipChain::Box);
         let uvs: Vec<[F32x8; 2]> = (0..9)
             .map(|k| {
-                let u = F32x8::from_array(std::array::from_fn(|i| (k as f32 * 0.13 + i as f32 * 0.011) % 1.3 - 0.1));
-                let v = F32x8::from_array(std::array::from_fn(|i| (k as f32 * 0.07 + (i / 2) as f32 * 0.017) % 1.1));
+                let u = F32x8::from_fn(|i| (k as f32 * 0.13 + i as f32 * 0.011) % 1.3 - 0.1);
+                let v = F32x8::from_fn(|i| (k as f32 * 0.07 + (i / 2) as f32 * 0.017) % 1.1);
                 [u, v]
             })
             .collect();
