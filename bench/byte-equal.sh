@@ -50,6 +50,9 @@ run() {
     scene atrium --scene atrium
     scene overdraw-tbr --scene overdraw --backend tbr
     scene overdraw-imr --scene overdraw --backend imr
+    scene overdraw-tbdr --scene overdraw --backend tbdr
+    scene overdraw-tbdr4 --scene overdraw --backend tbdr --msaa 4 --tile 16
+    scene helmet-tbdr --scene helmet --backend tbdr --tile 64
     scene f2b --scene overdraw_f2b
     scene tris-tbr --scene tris --backend tbr
     scene tris-imr --scene tris --backend imr

@@ -146,6 +146,33 @@ impl Visibility {
         self.claim_partial(sample, x, y, mask, entry, whole_rows);
     }
 
+    /// Claims every pixel of sample `sample` in `rect` (inside the tile) for `entry`: what
+    /// [`Visibility::claim_block`] of each whole block of it does, as one fill a row (one in
+    /// all when `rect` spans the tile's width).
+    pub fn claim_rect(&mut self, sample: usize, rect: &PixelRect, entry: u32) {
+        let (x0, y0) = self.origin;
+        let height = (self.plane / self.tile_width.max(1)) as i32;
+        assert!(
+            rect.x0 >= x0 && rect.y0 >= y0 && rect.x1 <= x0 + self.tile_width as i32 && rect.y1 <= y0 + height,
+            "{rect:?} outside the tile at {:?}",
+            self.origin
+        );
+        if rect.x0 >= rect.x1 || rect.y0 >= rect.y1 {
+            return;
+        }
+        let width = (rect.x1 - rect.x0) as usize;
+        let first = self.index(sample, rect.x0, rect.y0);
+        let rows = (rect.y1 - rect.y0) as usize;
+        if width == self.tile_width {
+            self.owners[first..first + rows * width].fill(entry);
+        } else {
+            for row in 0..rows {
+                let start = first + row * self.tile_width;
+                self.owners[start..start + width].fill(entry);
+            }
+        }
+    }
+
     /// [`Visibility::claim_block`] for a block not wholly covered or not wholly in the tile.
     #[inline(never)]
     fn claim_partial(&mut self, sample: usize, x: i32, y: i32, mask: u64, entry: u32, whole_rows: bool) {

@@ -365,6 +365,24 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
     fn run(&self, rect: &PixelRect, target: &mut RenderTarget, tally: &mut FragmentTally, mode: &mut Mode) {
         let samples = self.locations.count();
         let block_tests = self.block_tests;
+        // Pass one of hidden-surface removal for a flat primitive over whole blocks: the
+        // rectangle classified at once, and each block it covers wholly decided by its depth
+        // summary without rasterizing (see `resolve_covered`).
+        if block_tests
+            && whole_rects()
+            && let Some(fragment) = self.flat_depth
+            && let Mode::Resolve { visibility, claims } = mode
+            && (rect.x0 | rect.y0 | rect.x1 | rect.y1) & (BLOCK_SIZE - 1) == 0
+            && self.static_samples & low_bits(samples) == low_bits(samples)
+        {
+            match self.coverage.classify_rect(rect) {
+                BlockCoverage::Outside => return,
+                BlockCoverage::Full => {
+                    return self.resolve_covered(rect, fragment, visibility, *claims, target, tally);
+                }
+                BlockCoverage::Partial => {}
+            }
+        }
         let mut by = rect.y0 & !(BLOCK_SIZE - 1);
         while by < rect.y1 {
             let mut bx = rect.x0 & !(BLOCK_SIZE - 1);
@@ -393,6 +411,90 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                 bx += BLOCK_SIZE;
             }
             by += BLOCK_SIZE;
+        }
+    }
+
+    /// Pass one of hidden-surface removal ([`Mode::Resolve`]) for this primitive, flat at depth
+    /// `fragment`, over `rect` (block-aligned), every sample of which it covers and may write:
+    /// each block settled or filled from its depth summary as [`PrimitiveRaster::block`] would
+    /// ([`depth::settle_flat_block`], [`depth::fill_flat_block`]), with the same counts, and
+    /// the blocks that pass claimed a row of blocks at a time ([`Visibility::claim_rect`]) when
+    /// all of the row pass. A block the summary cannot decide goes through
+    /// [`PrimitiveRaster::block`]. On TBDR overdraw (32 full-screen layers) this replaces 16
+    /// classifications, mask builds, calls and claims a tile and layer by one pass over the
+    /// tile's summaries (docs/benchmarking.md, "Whole covered tiles in HSR").
+    #[allow(clippy::too_many_arguments)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn resolve_covered(
+        &self,
+        rect: &PixelRect,
+        fragment: BlockDepth,
+        visibility: &mut Visibility,
+        claims: bool,
+        target: &mut RenderTarget,
+        tally: &mut FragmentTally,
+    ) {
+        #[cfg(test)]
+        WHOLE_RECTS_TAKEN.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let samples = self.locations.count();
+        let state = &self.desc.depth_stencil;
+        let (mut decided, mut passed) = (0u64, 0u64);
+        let mut by = rect.y0;
+        while by < rect.y1 {
+            // Bit `c` set: the block in column `c` of the row passed (and is to be claimed).
+            let (mut row_passed, mut row_all) = (0u64, true);
+            let mut bx = rect.x0;
+            while bx < rect.x1 {
+                let column = ((bx - rect.x0) / BLOCK_SIZE) as u32;
+                let outcome = target.depth_stencil.as_mut().and_then(|surface| {
+                    let (traffic, ledger) = (&mut tally.framebuffer, &mut tally.ledger);
+                    flat_covered_block(surface, bx, by, samples, state, fragment, traffic, ledger)
+                });
+                match outcome {
+                    Some(pass) => {
+                        decided += 1;
+                        passed += pass as u64;
+                        row_passed |= (pass as u64) << column;
+                        row_all &= pass;
+                    }
+                    None => {
+                        row_all = false;
+                        let mut masks = [0u64; MAX_SAMPLES];
+                        masks[..samples].fill(u64::MAX);
+                        let mut mode = Mode::Resolve { visibility: &mut *visibility, claims };
+                        self.block(bx, by, &mut masks, u64::MAX, true, target, tally, &mut mode);
+                    }
+                }
+                bx += BLOCK_SIZE;
+            }
+            if claims && row_all {
+                let rows = PixelRect::new(rect.x0, by, rect.x1, by + BLOCK_SIZE);
+                for s in 0..samples {
+                    visibility.claim_rect(s, &rows, self.entry);
+                }
+            } else if claims {
+                while row_passed != 0 {
+                    let x = rect.x0 + BLOCK_SIZE * row_passed.trailing_zeros() as i32;
+                    for s in 0..samples {
+                        visibility.claim_block(s, x, by, u64::MAX, self.entry);
+                    }
+                    row_passed &= row_passed - 1;
+                }
+            }
+            by += BLOCK_SIZE;
+        }
+        // What `block` counts for each decided block: 64 pixels rasterized, each passing or
+        // killed as its block does.
+        let pixels = (BLOCK_SIZE * BLOCK_SIZE) as u64;
+        let counters = &mut tally.counters;
+        counters.fragments_rasterized += decided * pixels;
+        counters.fragments_early_z_killed += (decided - passed) * pixels;
+        counters.fragments_passed += passed * pixels;
+        if claims {
+            tally.hsr_candidates += passed * pixels;
+        }
+        if decided != 0 {
+            tally.draw_stats().samples_passed += passed * pixels * samples as u64;
         }
     }
 
@@ -886,6 +988,58 @@ fn group_tests_body(
         &mut tally.framebuffer,
         &mut tally.ledger,
     )
+}
+
+/// Whether pass one may take a wholly covered rectangle at once
+/// ([`PrimitiveRaster::resolve_covered`]); tests turn it off to hold the block-by-block path to it.
+#[cfg(test)]
+pub(crate) static WHOLE_RECTS: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
+
+/// Rectangles [`PrimitiveRaster::resolve_covered`] took (for the tests).
+#[cfg(test)]
+pub(crate) static WHOLE_RECTS_TAKEN: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+#[inline(always)]
+fn whole_rects() -> bool {
+    #[cfg(test)]
+    return WHOLE_RECTS.load(std::sync::atomic::Ordering::Relaxed);
+    #[cfg(not(test))]
+    true
+}
+
+/// The first `n` bits set.
+#[inline(always)]
+fn low_bits(n: usize) -> u32 {
+    if n >= 32 { u32::MAX } else { (1 << n) - 1 }
+}
+
+/// The early depth test of the 8×8 block at `(x, y)`, every one of its `samples` samples
+/// covered, by a flat primitive at depth `fragment`, when the block's depth summary decides it
+/// ([`depth::settle_flat_block`], then [`depth::fill_flat_block`] for a block that passes and
+/// takes the depth): whether the block passes, or `None` when it must be tested sample by
+/// sample. The same accesses as [`PrimitiveRaster::test_block`] counts.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn flat_covered_block(
+    surface: &mut Surface,
+    x: i32,
+    y: i32,
+    samples: usize,
+    state: &DepthStencilState,
+    fragment: BlockDepth,
+    traffic: &mut FramebufferTraffic,
+    ledger: &mut Ledger,
+) -> Option<bool> {
+    let mut masks = [u64::MAX; MAX_SAMPLES];
+    match depth::settle_flat_block(surface, x, y, &mut masks[..samples], state, fragment, traffic, ledger) {
+        // Every mask kept (all pass) or cleared (all fail).
+        depth::FlatBlock::Settled => Some(masks[0] != 0),
+        depth::FlatBlock::Fill(index, stored) => {
+            depth::fill_flat_block(surface, x, y, index, stored, fragment, traffic, ledger);
+            Some(true)
+        }
+        depth::FlatBlock::Test => None,
+    }
 }
 
 per_simd_level! {
@@ -1421,6 +1575,148 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Pass one's whole covered rectangles ([`PrimitiveRaster::resolve_covered`]) against the
+    /// block-by-block path they replace, on TBDR: random layers of flat full-screen quads, flat
+    /// block-aligned and unaligned rectangles, sloped quads (whose blocks the depth summary
+    /// cannot decide, so that later flat layers fall back block by block), every compare op,
+    /// depth writes on and off, depth prepasses (no claims) and blended draws (which end HSR
+    /// segments), at 1 and 4 samples, three depth formats and three tile sizes. The pictures,
+    /// the counters, the ledger, the per-tile and per-draw figures must be the same.
+    #[test]
+    fn whole_covered_rectangles_resolve_as_block_by_block() {
+        use crate::api::format::ColorWrites;
+        use crate::api::image::ImageDesc;
+        use crate::api::pipeline::{
+            ColorTargetState, CompareOp, DepthStencilState, Interpolation, VertexFormat, VertexInputState,
+        };
+        use crate::api::render_pass::{ColorAttachment, DepthStencilAttachment, RenderPassDesc};
+        use crate::api::shader::{VertexInput, VertexOutput, VertexShader};
+        use crate::config::{Backend, DeviceConfig};
+        use crate::{Device, Draw, Pipeline, RenderPass};
+        use std::sync::atomic::Ordering;
+
+        struct PassThrough;
+        impl VertexShader for PassThrough {
+            fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+                out.position = input.attributes[0];
+                out.varyings[..4].copy_from_slice(&input.attributes[1].to_array());
+            }
+        }
+        struct Flat;
+        impl FragmentShader for Flat {
+            fn shade(&self, frag: &mut Fragments<'_>) {
+                let c = [0, 1, 2, 3].map(|i| F32x8::splat(frag.flat(i)));
+                frag.set_color(0, c);
+            }
+        }
+        const COMPARES: [CompareOp; 6] = [
+            CompareOp::Less,
+            CompareOp::LessOrEqual,
+            CompareOp::Greater,
+            CompareOp::Equal,
+            CompareOp::Always,
+            CompareOp::GreaterOrEqual,
+        ];
+        let (width, height) = (96u32, 72u32);
+        let scene = |device: &mut Device, seed: u32, samples: u32, format: Format| {
+            let mut rng = seed;
+            let mut next = move |n: u32| {
+                rng = rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (rng >> 8) % n
+            };
+            let color =
+                device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm).with_samples(samples)).unwrap();
+            let depth = device.create_image(ImageDesc::new(width, height, format).with_samples(samples)).unwrap();
+            let resolve =
+                (samples > 1).then(|| device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm)).unwrap());
+            let ndc = |px: u32, size: u32| 2.0 * px as f32 / size as f32 - 1.0;
+            let mut verts: Vec<[f32; 8]> = Vec::new();
+            let mut draws = Vec::new();
+            for _ in 0..24 {
+                let z = [0.2, 0.35, 0.5, 0.5, 0.65, 0.8][next(6) as usize];
+                let c = [next(256) as f32 / 255.0, next(256) as f32 / 255.0, next(256) as f32 / 255.0, 0.5];
+                let (x0, y0, x1, y1) = match next(4) {
+                    0 | 1 => (0, 0, width, height),
+                    2 => {
+                        let (a, b) = (8 * next(width / 8), 8 * next(height / 8));
+                        (a, b, (a + 8 * (1 + next(6))).min(width), (b + 8 * (1 + next(6))).min(height))
+                    }
+                    _ => {
+                        let (a, b) = (next(width / 2), next(height / 2));
+                        (a, b, a + 1 + next(width / 2), b + 1 + next(height / 2))
+                    }
+                };
+                let slope = if next(5) == 0 { 0.3 } else { 0.0 };
+                let (l, r, t, b) = (ndc(x0, width), ndc(x1, width), ndc(y0, height), ndc(y1, height));
+                let at = |x: f32, y: f32| [x, y, z + slope * x, 1.0, c[0], c[1], c[2], c[3]];
+                let first = verts.len() as u32;
+                verts.extend([at(l, t), at(r, t), at(r, b), at(l, t), at(r, b), at(l, b)]);
+                let mut desc = PipelineDesc::new(
+                    "layer",
+                    VertexInputState::interleaved(&[VertexFormat::Float32x4, VertexFormat::Float32x4]),
+                );
+                desc.varyings = vec![Interpolation::Flat; 4];
+                desc.depth_stencil = DepthStencilState {
+                    depth_test: true,
+                    depth_write: next(4) != 0,
+                    depth_compare: COMPARES[next(6) as usize],
+                    ..DepthStencilState::DISABLED
+                };
+                match next(8) {
+                    0 => desc.color_targets[0].write_mask = ColorWrites::NONE,
+                    1 => desc.color_targets = vec![ColorTargetState::ALPHA_BLEND],
+                    _ => {}
+                }
+                draws.push((desc, first));
+            }
+            let buffer = device.create_buffer_from(&verts).unwrap();
+            let color_attachment = match resolve {
+                Some(r) => ColorAttachment::clear_resolve(color, [0.0; 4], r),
+                None => ColorAttachment::clear_store(color, [0.0; 4]),
+            };
+            let mut pass = RenderPass::new(RenderPassDesc {
+                color: vec![color_attachment],
+                depth_stencil: Some(DepthStencilAttachment::clear_store(depth, 0.6, 0)),
+                render_area: None,
+            });
+            for (desc, first) in draws {
+                let pipeline = Pipeline::new(PassThrough, Flat, desc).unwrap();
+                pass.draw(Draw::new(&pipeline, buffer, first, 6));
+            }
+            (pass, [resolve.unwrap_or(color), depth])
+        };
+        let render = |whole: bool, seed: u32, samples: u32, format: Format, tile: u32| {
+            WHOLE_RECTS.store(whole, Ordering::Relaxed);
+            let config = DeviceConfig { backend: Backend::Tbdr, threads: 2, ..DeviceConfig::default() };
+            let mut device = Device::new(config.with_tile_size(tile)).unwrap();
+            let (pass, images) = scene(&mut device, seed, samples, format);
+            let report = device.submit(&pass).unwrap();
+            WHOLE_RECTS.store(true, Ordering::Relaxed);
+            let pictures: Vec<Vec<u8>> = images.iter().map(|id| device.image_data(*id).unwrap().to_vec()).collect();
+            (pictures, report)
+        };
+        let taken_before = WHOLE_RECTS_TAKEN.load(Ordering::Relaxed);
+        for seed in 0..6 {
+            for (samples, format, tile) in [
+                (1, Format::D32Float, 32),
+                (1, Format::D24UnormS8Uint, 16),
+                (4, Format::D16Unorm, 8),
+                (4, Format::D32Float, 24),
+            ] {
+                let (whole, whole_report) = render(true, seed, samples, format, tile);
+                let (blocks, blocks_report) = render(false, seed, samples, format, tile);
+                let case = format!("seed {seed}, {samples} samples, {format:?}, {tile}×{tile} tiles");
+                assert!(whole == blocks, "{case}: the pictures differ");
+                assert_eq!(whole_report.counters, blocks_report.counters, "{case}");
+                assert_eq!(whole_report.ledger, blocks_report.ledger, "{case}");
+                assert_eq!(whole_report.on_chip_bytes, blocks_report.on_chip_bytes, "{case}");
+                assert_eq!(whole_report.tiles, blocks_report.tiles, "{case}");
+                assert_eq!(whole_report.draws, blocks_report.draws, "{case}");
+            }
+        }
+        assert!(WHOLE_RECTS_TAKEN.load(Ordering::Relaxed) > taken_before, "the whole-rectangle path never ran");
     }
 
     #[test]

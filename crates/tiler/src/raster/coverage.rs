@@ -5,6 +5,7 @@
 //! Everything is evaluated at absolute sample positions from the primitive's integer edge
 //! functions, so coverage does not depend on which tile or band asks for it.
 
+use super::PixelRect;
 use super::edge::Edge;
 use super::fixed::{SUBPIXEL_SCALE, SubPixel};
 use super::samples::{MAX_SAMPLES, SampleLocations};
@@ -135,11 +136,20 @@ impl<'a> PrimitiveCoverage<'a> {
     /// extreme sample positions of the block.
     #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn classify_block(&self, x: i32, y: i32, size: i32) -> BlockCoverage {
+        self.classify_rect(&PixelRect::new(x, y, x + size, y + size))
+    }
+
+    /// Classifies the pixels of `rect` (not empty) as [`PrimitiveCoverage::classify_block`]
+    /// does a block: each edge is linear, so its extremes over the rectangle of the extreme
+    /// sample positions are at its corners. `Full` means every sample of every pixel is
+    /// covered, so every block inside `rect` is `Full` too; `Outside`, that none is.
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn classify_rect(&self, rect: &PixelRect) -> BlockCoverage {
         let (hx0, hy0, hx1, hy1) = self.locations.hull();
-        let x0 = SubPixel::pixel_corner(x) + hx0 as i64;
-        let y0 = SubPixel::pixel_corner(y) + hy0 as i64;
-        let x1 = SubPixel::pixel_corner(x + size - 1) + hx1 as i64;
-        let y1 = SubPixel::pixel_corner(y + size - 1) + hy1 as i64;
+        let x0 = SubPixel::pixel_corner(rect.x0) + hx0 as i64;
+        let y0 = SubPixel::pixel_corner(rect.y0) + hy0 as i64;
+        let x1 = SubPixel::pixel_corner(rect.x1 - 1) + hx1 as i64;
+        let y1 = SubPixel::pixel_corner(rect.y1 - 1) + hy1 as i64;
         let mut full = true;
         for e in &self.edges {
             if e.max_over(x0, y0, x1, y1) < 0 {
