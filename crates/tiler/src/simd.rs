@@ -666,6 +666,64 @@ pub fn dot3(a: [F32x8; 3], b: [F32x8; 3]) -> F32x8 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// Eight `u32` lanes, held as one 256-bit vector (`__m256i` on x86-64) for the reason
+/// [`F32x8`] is: lane arrays carried through integer code (a depth row's words, its compare
+/// masks) were taken apart by the SLP vectorizer — a D24S8 row test was 124 instructions in
+/// AVX2 code, partly scalar; passed through this type, 60, all 256-bit. Only what moving lanes
+/// in and out needs: the arithmetic is written as loops over [`U32x8::to_array`].
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub struct U32x8(LanesU8);
+
+#[cfg(target_arch = "x86_64")]
+type LanesU8 = std::arch::x86_64::__m256i;
+
+#[cfg(not(target_arch = "x86_64"))]
+#[derive(Clone, Copy)]
+#[repr(C, align(32))]
+struct LanesU8([u32; LANES]);
+
+impl U32x8 {
+    #[inline(always)]
+    pub const fn from_array(lanes: [u32; LANES]) -> U32x8 {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `[u32; 8]` and `__m256i` are both 32 bytes of plain integers, every bit
+        // pattern valid.
+        let lanes = unsafe { std::mem::transmute::<[u32; LANES], LanesU8>(lanes) };
+        #[cfg(not(target_arch = "x86_64"))]
+        let lanes = LanesU8(lanes);
+        U32x8(lanes)
+    }
+
+    #[inline(always)]
+    pub const fn to_array(self) -> [u32; LANES] {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as in `from_array`.
+        return unsafe { std::mem::transmute::<LanesU8, [u32; LANES]>(self.0) };
+        #[cfg(not(target_arch = "x86_64"))]
+        return self.0.0;
+    }
+
+    /// Lane `i` is `f(i)` (an always-inlined loop, as [`array_from_fn`]).
+    #[inline(always)]
+    pub fn from_fn(f: impl FnMut(usize) -> u32) -> U32x8 {
+        U32x8::from_array(array_from_fn(f))
+    }
+
+    /// Bit `i` set where lane `i`'s top bit is (see [`sign_bits`]).
+    #[inline(always)]
+    pub fn top_bits(self) -> u8 {
+        let lanes = self.to_array();
+        sign_bits(array_from_fn(|i| lanes[i] as i32))
+    }
+}
+
+impl std::fmt::Debug for U32x8 {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("U32x8").field(&self.to_array()).finish()
+    }
+}
+
 /// Normalises a three-component vector lane by lane (`v * inversesqrt(dot(v, v))`).
 #[inline(always)]
 pub fn normalize3(v: [F32x8; 3]) -> [F32x8; 3] {

@@ -16,7 +16,7 @@ use crate::ledger::Ledger;
 use crate::ledger::framebuffer::{Aspect, FramebufferTraffic};
 use crate::raster::coverage::Coverage;
 use crate::raster::target::{BlockDepth, Surface};
-use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask};
+use crate::simd::{F32x8, LANE_DX, LANE_DY, LANES, LaneMask, U32x8, array_from_fn};
 
 /// Tests the covered samples of the group at `(x, y)`, applies the stencil ops and depth
 /// writes, and returns the samples that passed. `depth(s)` gives the fragment depths of
@@ -228,14 +228,25 @@ fn words_row(
     compare: impl Fn(u32, u32) -> bool,
     depth_mask: u32,
 ) -> u8 {
+    // The lanes go through `U32x8` so that they stay one vector (see there: as arrays this was
+    // twice the instructions, partly scalar).
     let row: &mut [u8; 32] = (&mut row[..32]).try_into().expect("a row of eight words");
-    let words: [u32; 8] = std::array::from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
-    let pass = crate::simd::bool_bits(std::array::from_fn(|c| compare(fragment[c], words[c] & depth_mask))) & covered;
+    let words: [u32; 8] = array_from_fn(|c| u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()));
+    let (words, fragment) = (U32x8::from_array(words).to_array(), U32x8::from_array(*fragment).to_array());
+    // All ones where the lane is covered and passes.
+    let take = U32x8::from_fn(|c| {
+        let passes = compare(fragment[c], words[c] & depth_mask);
+        if passes & (covered >> c & 1 != 0) { u32::MAX } else { 0 }
+    });
+    let pass = take.top_bits();
     if write && pass != 0 {
-        let keep: [u32; 8] = std::array::from_fn(|c| if pass >> c & 1 != 0 { 0 } else { u32::MAX });
-        for c in 0..8 {
+        let take = take.to_array();
+        let out = U32x8::from_fn(|c| {
             let new = (words[c] & !depth_mask) | fragment[c];
-            let word = (words[c] & keep[c]) | (new & !keep[c]);
+            (words[c] & !take[c]) | (new & take[c])
+        })
+        .to_array();
+        for (c, word) in out.iter().enumerate() {
             row[4 * c..4 * c + 4].copy_from_slice(&word.to_le_bytes());
         }
     }
@@ -898,6 +909,36 @@ mod tests {
                 }
             }
             prop_assert_eq!(ledger_a, ledger_b);
+        }
+    }
+
+    proptest! {
+        /// A row of eight packed depth words tested at once ([`words_row`], D24S8 and D32)
+        /// against the lane-by-lane rule: which covered lanes pass, and the bytes after (depth
+        /// bits of the lanes that pass replaced when writing, every other bit kept).
+        #[test]
+        fn a_row_of_words_is_tested_lane_by_lane(
+            words in any::<[u32; 8]>(),
+            fragment in any::<[u32; 8]>(),
+            covered in any::<u8>(),
+            write in any::<bool>(),
+            compare in 0..8usize,
+            d24 in any::<bool>(),
+            ties in any::<u8>(),
+        ) {
+            let mask = if d24 { 0x00ff_ffff } else { u32::MAX };
+            // Some lanes equal to what is stored, so that every op sees ties.
+            let fragment: [u32; 8] =
+                std::array::from_fn(|c| if ties >> c & 1 != 0 { words[c] & mask } else { fragment[c] & mask });
+            let op = COMPARES[compare];
+            let mut row: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+            let pass = words_row(&mut row, &fragment, covered, write, |a, b| op.test(a, b), mask);
+            for c in 0..8 {
+                let passes = covered >> c & 1 != 0 && op.test(fragment[c], words[c] & mask);
+                prop_assert_eq!(pass >> c & 1 != 0, passes, "lane {}", c);
+                let want = if passes && write { (words[c] & !mask) | fragment[c] } else { words[c] };
+                prop_assert_eq!(u32::from_le_bytes(row[4 * c..4 * c + 4].try_into().unwrap()), want, "lane {}", c);
+            }
         }
     }
 
