@@ -373,6 +373,8 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
             && let Some(fragment) = self.flat_depth
             && let Mode::Resolve { visibility, claims } = mode
             && (rect.x0 | rect.y0 | rect.x1 | rect.y1) & (BLOCK_SIZE - 1) == 0
+            // (A row's blocks are bits of a word; tiles are at most 256 pixels, 32 blocks.)
+            && rect.x1 - rect.x0 <= 64 * BLOCK_SIZE
             && self.static_samples & low_bits(samples) == low_bits(samples)
         {
             match self.coverage.classify_rect(rect) {
@@ -1611,13 +1613,15 @@ mod tests {
                 frag.set_color(0, c);
             }
         }
-        const COMPARES: [CompareOp; 6] = [
+        const COMPARES: [CompareOp; 8] = [
             CompareOp::Less,
             CompareOp::LessOrEqual,
             CompareOp::Greater,
             CompareOp::Equal,
             CompareOp::Always,
             CompareOp::GreaterOrEqual,
+            CompareOp::Never,
+            CompareOp::NotEqual,
         ];
         let (width, height) = (96u32, 72u32);
         let scene = |device: &mut Device, seed: u32, samples: u32, format: Format| {
@@ -1661,7 +1665,7 @@ mod tests {
                 desc.depth_stencil = DepthStencilState {
                     depth_test: true,
                     depth_write: next(4) != 0,
-                    depth_compare: COMPARES[next(6) as usize],
+                    depth_compare: COMPARES[next(8) as usize],
                     ..DepthStencilState::DISABLED
                 };
                 match next(8) {
