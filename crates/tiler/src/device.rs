@@ -456,3 +456,155 @@ mod tests {
         assert!(ByteTables::of(Format::Rgb565Unorm).is_none());
     }
 }
+
+// Here rather than beside the code it tests: it drives a whole device, and the pixel pipeline
+// must not import the device (tests/layers.rs holds the modules to a DAG).
+#[cfg(test)]
+mod hsr_tests {
+    /// Pass one's whole covered rectangles (`PrimitiveRaster::resolve_covered` in `pixel::primitive`) against the
+    /// block-by-block path they replace, on TBDR: random layers of flat full-screen quads, flat
+    /// block-aligned and unaligned rectangles, sloped quads (whose blocks the depth summary
+    /// cannot decide, so that later flat layers fall back block by block), every compare op,
+    /// depth writes on and off, depth prepasses (no claims) and blended draws (which end HSR
+    /// segments), at 1 and 4 samples, three depth formats and three tile sizes. The pictures,
+    /// the counters, the ledger, the per-tile and per-draw figures must be the same.
+    #[test]
+    fn whole_covered_rectangles_resolve_as_block_by_block() {
+        use crate::api::format::{ColorWrites, Format};
+        use crate::api::image::ImageDesc;
+        use crate::api::pipeline::{
+            ColorTargetState, CompareOp, DepthStencilState, Interpolation, PipelineDesc, VertexFormat, VertexInputState,
+        };
+        use crate::api::render_pass::{ColorAttachment, DepthStencilAttachment, RenderPassDesc};
+        use crate::api::shader::{VertexInput, VertexOutput, VertexShader};
+        use crate::config::{Backend, DeviceConfig};
+        use crate::pixel::primitive::{WHOLE_RECTS, WHOLE_RECTS_TAKEN};
+        use crate::shade::fragments::{FragmentShader, Fragments};
+        use crate::simd::F32x8;
+        use crate::{Device, Draw, Pipeline, RenderPass};
+        use std::sync::atomic::Ordering;
+
+        struct PassThrough;
+        impl VertexShader for PassThrough {
+            fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
+                out.position = input.attributes[0];
+                out.varyings[..4].copy_from_slice(&input.attributes[1].to_array());
+            }
+        }
+        struct Flat;
+        impl FragmentShader for Flat {
+            fn shade(&self, frag: &mut Fragments<'_>) {
+                let c = [0, 1, 2, 3].map(|i| F32x8::splat(frag.flat(i)));
+                frag.set_color(0, c);
+            }
+        }
+        const COMPARES: [CompareOp; 8] = [
+            CompareOp::Less,
+            CompareOp::LessOrEqual,
+            CompareOp::Greater,
+            CompareOp::Equal,
+            CompareOp::Always,
+            CompareOp::GreaterOrEqual,
+            CompareOp::Never,
+            CompareOp::NotEqual,
+        ];
+        let (width, height) = (96u32, 72u32);
+        let scene = |device: &mut Device, seed: u32, samples: u32, format: Format| {
+            let mut rng = seed;
+            let mut next = move |n: u32| {
+                rng = rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (rng >> 8) % n
+            };
+            let color =
+                device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm).with_samples(samples)).unwrap();
+            let depth = device.create_image(ImageDesc::new(width, height, format).with_samples(samples)).unwrap();
+            let resolve =
+                (samples > 1).then(|| device.create_image(ImageDesc::new(width, height, Format::Rgba8Unorm)).unwrap());
+            let ndc = |px: u32, size: u32| 2.0 * px as f32 / size as f32 - 1.0;
+            let mut verts: Vec<[f32; 8]> = Vec::new();
+            let mut draws = Vec::new();
+            for _ in 0..24 {
+                let z = [0.2, 0.35, 0.5, 0.5, 0.65, 0.8][next(6) as usize];
+                let c = [next(256) as f32 / 255.0, next(256) as f32 / 255.0, next(256) as f32 / 255.0, 0.5];
+                let (x0, y0, x1, y1) = match next(4) {
+                    0 | 1 => (0, 0, width, height),
+                    2 => {
+                        let (a, b) = (8 * next(width / 8), 8 * next(height / 8));
+                        (a, b, (a + 8 * (1 + next(6))).min(width), (b + 8 * (1 + next(6))).min(height))
+                    }
+                    _ => {
+                        let (a, b) = (next(width / 2), next(height / 2));
+                        (a, b, a + 1 + next(width / 2), b + 1 + next(height / 2))
+                    }
+                };
+                let slope = if next(5) == 0 { 0.3 } else { 0.0 };
+                let (l, r, t, b) = (ndc(x0, width), ndc(x1, width), ndc(y0, height), ndc(y1, height));
+                let at = |x: f32, y: f32| [x, y, z + slope * x, 1.0, c[0], c[1], c[2], c[3]];
+                let first = verts.len() as u32;
+                verts.extend([at(l, t), at(r, t), at(r, b), at(l, t), at(r, b), at(l, b)]);
+                let mut desc = PipelineDesc::new(
+                    "layer",
+                    VertexInputState::interleaved(&[VertexFormat::Float32x4, VertexFormat::Float32x4]),
+                );
+                desc.varyings = vec![Interpolation::Flat; 4];
+                desc.depth_stencil = DepthStencilState {
+                    depth_test: true,
+                    depth_write: next(4) != 0,
+                    depth_compare: COMPARES[next(8) as usize],
+                    ..DepthStencilState::DISABLED
+                };
+                match next(8) {
+                    0 => desc.color_targets[0].write_mask = ColorWrites::NONE,
+                    1 => desc.color_targets = vec![ColorTargetState::ALPHA_BLEND],
+                    _ => {}
+                }
+                draws.push((desc, first));
+            }
+            let buffer = device.create_buffer_from(&verts).unwrap();
+            let color_attachment = match resolve {
+                Some(r) => ColorAttachment::clear_resolve(color, [0.0; 4], r),
+                None => ColorAttachment::clear_store(color, [0.0; 4]),
+            };
+            let mut pass = RenderPass::new(RenderPassDesc {
+                color: vec![color_attachment],
+                depth_stencil: Some(DepthStencilAttachment::clear_store(depth, 0.6, 0)),
+                render_area: None,
+            });
+            for (desc, first) in draws {
+                let pipeline = Pipeline::new(PassThrough, Flat, desc).unwrap();
+                pass.draw(Draw::new(&pipeline, buffer, first, 6));
+            }
+            (pass, [resolve.unwrap_or(color), depth])
+        };
+        let render = |whole: bool, seed: u32, samples: u32, format: Format, tile: u32| {
+            WHOLE_RECTS.store(whole, Ordering::Relaxed);
+            let config = DeviceConfig { backend: Backend::Tbdr, threads: 2, ..DeviceConfig::default() };
+            let mut device = Device::new(config.with_tile_size(tile)).unwrap();
+            let (pass, images) = scene(&mut device, seed, samples, format);
+            let report = device.submit(&pass).unwrap();
+            WHOLE_RECTS.store(true, Ordering::Relaxed);
+            let pictures: Vec<Vec<u8>> = images.iter().map(|id| device.image_data(*id).unwrap().to_vec()).collect();
+            (pictures, report)
+        };
+        let taken_before = WHOLE_RECTS_TAKEN.load(Ordering::Relaxed);
+        for seed in 0..6 {
+            for (samples, format, tile) in [
+                (1, Format::D32Float, 32),
+                (1, Format::D24UnormS8Uint, 16),
+                (4, Format::D16Unorm, 8),
+                (4, Format::D32Float, 24),
+            ] {
+                let (whole, whole_report) = render(true, seed, samples, format, tile);
+                let (blocks, blocks_report) = render(false, seed, samples, format, tile);
+                let case = format!("seed {seed}, {samples} samples, {format:?}, {tile}×{tile} tiles");
+                assert!(whole == blocks, "{case}: the pictures differ");
+                assert_eq!(whole_report.counters, blocks_report.counters, "{case}");
+                assert_eq!(whole_report.ledger, blocks_report.ledger, "{case}");
+                assert_eq!(whole_report.on_chip_bytes, blocks_report.on_chip_bytes, "{case}");
+                assert_eq!(whole_report.tiles, blocks_report.tiles, "{case}");
+                assert_eq!(whole_report.draws, blocks_report.draws, "{case}");
+            }
+        }
+        assert!(WHOLE_RECTS_TAKEN.load(Ordering::Relaxed) > taken_before, "the whole-rectangle path never ran");
+    }
+}
