@@ -20,11 +20,8 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use glam::Vec4;
-use tiler::{ImageId, Pipeline, PipelineDesc, VertexInput, VertexOutput, VertexShader};
-use tiler_glsl::{
-    CompiledProgram, GlslVertexShader, SamplerKind, Scalar, TextureBinding, TextureSource, Type, UniformValues,
-};
+use tiler::{ImageId, Pipeline, PipelineDesc};
+use tiler_glsl::{CompiledProgram, SamplerKind, Scalar, TextureBinding, TextureSource, Type, UniformValues};
 
 use super::{Context, Fallible, MAX_TEXTURE_UNITS, MAX_VERTEX_ATTRIBS, ProgramObject};
 use crate::call::{GlslSource, LayeredTarget, ProgramKind, UniformValue};
@@ -496,8 +493,9 @@ impl Context {
                 let (mut vertex, fragment) = tiler_glsl::shaders(program, uniforms, &units, framebuffer_height);
                 vertex.set_instance(*instance);
                 vertex.set_integer_attributes(&desc.vertex_input, 0);
-                let generic = generic.iter().map(|(l, v)| (*l as usize, Vec4::from_array(*v))).collect();
-                Ok(Pipeline::new(GenericAttributes { inner: vertex, generic }, fragment, desc))
+                let generic: Vec<(usize, [f32; 4])> = generic.iter().map(|(l, v)| (*l as usize, *v)).collect();
+                vertex.set_constant_attributes(&generic);
+                Ok(Pipeline::new(vertex, fragment, desc))
             }
         }
     }
@@ -618,64 +616,42 @@ impl TextureSource for SnapshotSource {
     }
 }
 
-/// A GLSL vertex shader whose disabled attributes read their generic values.
-struct GenericAttributes {
-    inner: GlslVertexShader,
-    generic: Vec<(usize, Vec4)>,
-}
-
-impl VertexShader for GenericAttributes {
-    fn shade(&self, input: &VertexInput, out: &mut VertexOutput) {
-        if self.generic.is_empty() {
-            return self.inner.shade(input, out);
-        }
-        let mut input = *input;
-        for &(location, value) in &self.generic {
-            input.attributes[location] = value;
-        }
-        self.inner.shade(&input, out);
-    }
-
-    /// The batch goes to the GLSL shader whole, so its vertices run side by side in the
-    /// executor's lanes (one dispatch per instruction for the batch, not per vertex).
-    fn shade_batch(&self, inputs: &[VertexInput], outs: &mut [VertexOutput]) {
-        if self.generic.is_empty() {
-            return self.inner.shade_batch(inputs, outs);
-        }
-        let mut batch = [VertexInput::default(); tiler::VERTEX_BATCH];
-        for (chunk, outs) in inputs.chunks(tiler::VERTEX_BATCH).zip(outs.chunks_mut(tiler::VERTEX_BATCH)) {
-            for (input, copy) in chunk.iter().zip(&mut batch) {
-                *copy = *input;
-                for &(location, value) in &self.generic {
-                    copy.attributes[location] = value;
-                }
-            }
-            self.inner.shade_batch(&batch[..chunk.len()], outs);
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec4;
+    use tiler::{VertexInput, VertexOutput, VertexShader};
 
-    /// A batch with generic attributes shades each vertex as `shade` does alone (the core
-    /// hands vertex shaders batches; a wrapper that dropped to one vertex per call cost a
-    /// dispatch per vertex and went unnoticed).
+    /// Disabled attributes read their generic values (`set_constant_attributes`): a batch
+    /// shades each vertex as `shade` does alone, and as the fetched inputs patched with the
+    /// values would (what the driver did before, copying every vertex).
     #[test]
     fn generic_attributes_shade_a_batch_as_one_by_one() {
-        let vs = "attribute vec2 p;\nattribute vec4 tint;\nvarying vec4 v;\n\
-                  void main() { v = tint * p.x + vec4(p.y); gl_Position = vec4(p, 0.0, 1.0); }";
+        let vs = "attribute vec2 p;\nattribute vec4 tint;\nattribute float k;\nvarying vec4 v;\n\
+                  void main() { v = tint * p.x + vec4(p.y) + k; gl_Position = vec4(p, 0.0, 1.0); }";
         let fs = "precision mediump float;\nvarying vec4 v;\nvoid main() { gl_FragColor = v; }";
-        let program = Arc::new(CompiledProgram::new(vs, fs, &[("p", 0)]).unwrap());
+        let program = Arc::new(CompiledProgram::new(vs, fs, &[("p", 0), ("tint", 1), ("k", 2)]).unwrap());
         let uniforms = program.new_uniform_values();
-        let (inner, _) = tiler_glsl::shaders(&program, &uniforms, &[], 16);
-        let shader = GenericAttributes { inner, generic: vec![(1, Vec4::new(0.25, 2.0, -1.0, 0.5))] };
+        let (mut shader, _) = tiler_glsl::shaders(&program, &uniforms, &[], 16);
+        let (plain, _) = tiler_glsl::shaders(&program, &uniforms, &[], 16);
+        let generic = [(1usize, [0.25, 2.0, -1.0, 0.5]), (2, [3.0, 0.0, 0.0, 1.0])];
+        shader.set_constant_attributes(&generic);
         let inputs: Vec<VertexInput> = (0..11)
             .map(|i| {
                 let mut input = VertexInput::default();
                 input.attributes[0] = Vec4::new(i as f32 * 0.5, 1.0 - i as f32, 0.0, 1.0);
                 input.attributes[1] = Vec4::splat(99.0);
+                input.attributes[2] = Vec4::splat(-7.0);
+                input
+            })
+            .collect();
+        let patched: Vec<VertexInput> = inputs
+            .iter()
+            .map(|input| {
+                let mut input = *input;
+                for (location, value) in generic {
+                    input.attributes[location] = Vec4::from_array(value);
+                }
                 input
             })
             .collect();
@@ -685,10 +661,18 @@ mod tests {
         }
         let mut batched = vec![VertexOutput::default(); inputs.len()];
         shader.shade_batch(&inputs, &mut batched);
-        for (a, b) in one_by_one.iter().zip(&batched) {
+        let mut reference = vec![VertexOutput::default(); inputs.len()];
+        plain.shade_batch(&patched, &mut reference);
+        for ((a, b), c) in one_by_one.iter().zip(&batched).zip(&reference) {
             assert_eq!(a.position, b.position);
             assert_eq!(a.varyings[..4], b.varyings[..4]);
+            assert_eq!(b.position, c.position);
+            assert_eq!(b.varyings[..4], c.varyings[..4]);
         }
-        assert_eq!(batched[2].varyings[..4], [0.25 - 1.0, 2.0 - 1.0, -1.0 - 1.0, 0.5 - 1.0], "the generic value");
+        assert_eq!(
+            batched[2].varyings[..4],
+            [0.25 - 1.0 + 3.0, 2.0 - 1.0 + 3.0, -1.0 - 1.0 + 3.0, 0.5 - 1.0 + 3.0],
+            "the generic values"
+        );
     }
 }

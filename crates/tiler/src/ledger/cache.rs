@@ -220,6 +220,11 @@ pub struct ReadCache {
     /// `sets × ways` line numbers, each set's most recently used first; [`ReadCache::EMPTY`]
     /// for an empty way.
     lines: Vec<u64>,
+    /// The line read last, [`ReadCache::EMPTY`] when none: always the first (most recent) of
+    /// its set, so reading it again hits and changes nothing — one comparison, before the
+    /// set's index and slice (the attributes of one vertex, and consecutive vertices, mostly
+    /// read one line: 4.5% of tris's time went to this model).
+    last: u64,
 }
 
 impl ReadCache {
@@ -237,6 +242,7 @@ impl ReadCache {
             set_mask: sets.is_power_of_two().then_some(sets - 1),
             sets,
             lines: vec![ReadCache::EMPTY; sets as usize * ways],
+            last: ReadCache::EMPTY,
         }
     }
 
@@ -247,6 +253,7 @@ impl ReadCache {
     /// Empties the cache, keeping its memory.
     pub fn clear(&mut self) {
         self.lines.fill(ReadCache::EMPTY);
+        self.last = ReadCache::EMPTY;
     }
 
     /// Reads `bytes` (at least 1) at `address`, which may cross lines; returns the bytes read
@@ -270,6 +277,10 @@ impl ReadCache {
     /// Reads line `line`; returns whether it hit.
     #[inline]
     fn read_line(&mut self, line: u64) -> bool {
+        if line == self.last {
+            return true;
+        }
+        self.last = line;
         let set = match self.set_mask {
             Some(m) => line & m,
             None => line % self.sets,
