@@ -27,6 +27,31 @@ pub struct Device {
     scratch: tbr::Scratch,
 }
 
+/// The processors to pin a pool of `threads` workers to, one each, when the pool has one worker
+/// for every processor this process may run on (and more than one): `None` otherwise, or when
+/// `TILER_PIN_WORKERS=0`.
+///
+/// Why: a frame of a capture is a burst of a few milliseconds after the workers slept while
+/// the driver translated calls. The kernel wakes a sleeping worker on the processor of the
+/// thread that woke it, and for a burst that short it seldom moves it, so on a two-core
+/// machine both workers often took turns on one processor in 4 ms time slices while the other
+/// idled (glmark2's build and shading captures: 12% longer on the median, bimodal from run to
+/// run; docs/benchmarking.md, "Workers pinned"). Pinning keeps one worker per processor. A pool
+/// smaller than the machine is not pinned: several such devices (tests run side by side) would
+/// all crowd the first processors.
+fn pinned_processors(threads: usize) -> Option<Vec<core_affinity::CoreId>> {
+    let opted_out = std::env::var_os("TILER_PIN_WORKERS").is_some_and(|v| v == "0");
+    if threads < 2 || opted_out {
+        return None;
+    }
+    pins(threads, core_affinity::get_core_ids()?)
+}
+
+/// [`pinned_processors`] given the processors this process may run on.
+fn pins<T>(threads: usize, processors: Vec<T>) -> Option<Vec<T>> {
+    (threads >= 2 && processors.len() == threads).then_some(processors)
+}
+
 impl Device {
     /// # Errors
     /// An invalid configuration, or when the worker threads cannot be started.
@@ -52,9 +77,16 @@ impl Device {
         } else {
             config.threads
         };
+        let processors = pinned_processors(threads);
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .thread_name(|i| format!("tiler-worker-{i}"))
+            .start_handler(move |i| {
+                if let Some(&processor) = processors.as_ref().and_then(|p| p.get(i)) {
+                    // A hint like any affinity: where it is refused the worker runs unpinned.
+                    core_affinity::set_for_current(processor);
+                }
+            })
             .build()
             .map_err(|e| Error::invalid("device", format!("cannot start {threads} worker threads: {e}")))?;
         Ok(Device {
@@ -454,6 +486,22 @@ mod tests {
             }
         }
         assert!(ByteTables::of(Format::Rgb565Unorm).is_none());
+    }
+
+    /// Workers are pinned one to a processor only when the pool has one for every processor
+    /// (more than one); a pool smaller or larger than the machine is left to the kernel.
+    #[test]
+    fn workers_are_pinned_only_when_they_fill_the_machine() {
+        assert_eq!(pins(2, vec![0, 1]), Some(vec![0, 1]));
+        assert_eq!(pins(4, vec![3, 5, 6, 7]), Some(vec![3, 5, 6, 7]), "the processors allowed, in order");
+        assert_eq!(pins(1, vec![0]), None, "one worker is not pinned");
+        assert_eq!(pins(2, vec![0, 1, 2, 3]), None, "a pool smaller than the machine");
+        assert_eq!(pins(8, vec![0, 1]), None, "a pool larger than the machine");
+        // A pinned pool renders what an unpinned one does (the pool's size is what the image
+        // may not depend on; `tests/render/invariant.rs` holds 1, 2 and 3: pinned here on two processors).
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let device = Device::new(DeviceConfig { threads, ..DeviceConfig::default() }).unwrap();
+        assert_eq!(device.threads(), threads);
     }
 }
 
