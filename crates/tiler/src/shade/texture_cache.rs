@@ -457,6 +457,19 @@ impl TextureCache {
         }
     }
 
+    /// A group of one level whose every read is of `line`, the last at position `key` of the
+    /// group's reads, and not within [`TextureCache::recent`]: what
+    /// [`TextureCache::read_group`] makes of it — one read stamped with the last read's time,
+    /// the line then the one recent line — without finding distinct lines.
+    #[inline(always)]
+    fn read_one_line(&mut self, first_line: u64, line: u32, key: u32) -> u64 {
+        let base = self.start_group();
+        self.recent = [line; RECENT_LINES];
+        self.recent_first_line = first_line;
+        self.recent_len = 1;
+        !self.read_line(first_line + line as u64, base + 1 + key as u64) as u64
+    }
+
     /// Allocates the cache if it is cold and returns the time a group's reads are stamped
     /// from: `base + 1` to `base + 64`.
     #[inline(always)]
@@ -763,6 +776,8 @@ mod avx2 {
     /// `k`'s row `r` at bit `4 · k + r` — rather than the 64 of the eight-row square:
     ///
     /// - within [`TextureCache::recent`]: each row compared with each recent line;
+    /// - one line for every read (the first read's: a nearest lookup's 4×2 texels, a magnified
+    ///   one's footprints within a block): [`TextureCache::read_one_line`];
     /// - the distinct lines ([`super::distinct_lines`]): the lowest unread bit is the first
     ///   unread read; one comparison of the four rows with its line finds its reads (each row's
     ///   mask in its own byte of a lane, so that one `movemask` gives them in read order), and
@@ -804,9 +819,19 @@ mod avx2 {
                 return 0;
             }
         }
-        let base = cache.start_group();
         let bytes = row_bytes();
-        let (mut unread, mut distinct, mut d) = (reads, [0u64; MAX_GROUP_LINES], 0);
+        // The first read's line and all its reads: the first step of the search below, which
+        // for many groups (a nearest lookup's 4×2 texels, a magnified one's footprints within a
+        // block) is the whole of it.
+        let first = reads.trailing_zeros() as usize;
+        let line = rows[(first % 4).min(R - 1)][first / 4];
+        let matched = reads_of(&r, &bytes, line) & reads;
+        if matched == reads {
+            return cache.read_one_line(first_line, line, 31 - matched.leading_zeros());
+        }
+        let base = cache.start_group();
+        let (mut unread, mut distinct, mut d) = (reads & !matched, [0u64; MAX_GROUP_LINES], 1);
+        distinct[0] = (line as u64) << 8 | (31 - matched.leading_zeros()) as u64;
         while unread != 0 {
             if d == MAX_GROUP_LINES {
                 return cache.read_each(base, first_line, rows, counted);
@@ -1318,6 +1343,56 @@ mod tests {
                     }
                     for k in (0..if *pair { 8 } else { 4 }).filter(|&k| counted[k]) {
                         for &line in &lanes[k][..*per_lane] {
+                            one_by_one.access(first_line + line as u64);
+                        }
+                    }
+                    agree(&together, &one_by_one)?;
+                }
+            }
+        }
+
+        /// One level's footprints through the sampler's direct entry (`avx2::read_footprints`),
+        /// a line a lane (nearest) or four (bilinear corners), count and leave the cache as the
+        /// line-by-line model: groups all of one line (a nearest lookup within a block), within
+        /// the last group's lines, or spread over several, of two textures, lanes counted or not.
+        #[test]
+        fn footprints_are_read_as_one_group(
+            shape in prop::sample::select(vec![(1024u32, 64u32, 4u32), (16384, 64, 4), (256, 64, 1), (512, 16, 2)]),
+            groups in prop::collection::vec(
+                (
+                    any::<bool>(),
+                    0u64..2,
+                    prop::sample::select(vec![0u32, 1, 5]),
+                    0u32..4,
+                    prop::collection::vec(0u32..3, 32),
+                    prop::collection::vec(prop_oneof![4 => Just(true), 1 => Just(false)], 8),
+                ),
+                1..40,
+            ),
+        ) {
+            #[cfg(target_arch = "x86_64")]
+            if SimdSupport::detect(SimdLevel::Avx2).is_some() {
+                let config = TextureCacheConfig { size_bytes: shape.0, line_bytes: shape.1, ways: shape.2 };
+                let (mut together, mut one_by_one) = (TextureCache::new(config), LineByLine::new(config));
+                for (nearest, texture, spread, base, steps, counted) in &groups {
+                    let first_line = texture << 30;
+                    // Lane k's line `r` of its footprint: one line for all when `spread` is 0.
+                    let line = |r: usize, k: usize| base + spread * steps[4 * k + r];
+                    let counted: [bool; 8] = std::array::from_fn(|k| counted[k]);
+                    let lanes: Vec<Vec<u32>> = if *nearest {
+                        let rows: [[u32; 8]; 1] = [std::array::from_fn(|k| line(0, k))];
+                        // SAFETY: `SimdSupport::detect` found AVX2: this processor has every
+                        // feature the function is compiled with.
+                        unsafe { together.access_footprints_avx2(first_line, &rows, counted) };
+                        (0..8).map(|k| vec![rows[0][k]]).collect()
+                    } else {
+                        let rows: [[u32; 8]; 4] = std::array::from_fn(|r| std::array::from_fn(|k| line(r, k)));
+                        // SAFETY: as above.
+                        unsafe { together.access_footprints_avx2(first_line, &rows, counted) };
+                        (0..8).map(|k| rows.iter().map(|row| row[k]).collect()).collect()
+                    };
+                    for k in (0..8).filter(|&k| counted[k]) {
+                        for &line in &lanes[k] {
                             one_by_one.access(first_line + line as u64);
                         }
                     }
