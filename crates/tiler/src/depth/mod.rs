@@ -599,11 +599,12 @@ fn block_rows<D: DepthBits>(
             continue;
         }
         let mut kept = 0u64;
-        for r in 0..8 {
+        // Only the rows with a covered pixel: a small triangle's block has two or three.
+        let mut rows = occupied_rows(*mask);
+        while rows != 0 {
+            let r = rows.trailing_zeros() as i32;
+            rows &= rows - 1;
             let bits = (*mask >> (8 * r)) as u8;
-            if bits == 0 {
-                continue;
-            }
             let z = depth.row(s, y + r);
             let fragment = format.depth_bits_lanes(z);
             let offset = surface.offset(x, y + r);
@@ -634,6 +635,18 @@ fn block_rows<D: DepthBits>(
         *mask = kept;
     }
     (tested, written)
+}
+
+/// The rows of a block mask (bit `8·row + column`) with a bit set, as the bits of a byte: each
+/// byte folded onto its lowest bit, and the eight lowest bits gathered into the top byte by one
+/// multiplication (bit `8·r` times `2^(56 − 7·r)` lands on bit `56 + r`; no two products carry
+/// into each other).
+#[inline(always)]
+fn occupied_rows(mask: u64) -> u32 {
+    let t = mask | (mask >> 4);
+    let t = t | (t >> 2);
+    let t = t | (t >> 1);
+    ((t & 0x0101_0101_0101_0101).wrapping_mul(0x0102_0408_1020_4080) >> 56) as u32
 }
 
 /// Stored depth bits and stencil of one sample.
@@ -668,6 +681,26 @@ mod tests {
     use crate::raster::target::DepthBlocks;
     use crate::shade::interpolate::Interpolator;
     use proptest::prelude::*;
+
+    proptest! {
+        /// A block mask's occupied rows are the rows with a bit set, whatever the mask.
+        #[test]
+        fn occupied_rows_are_the_rows_with_a_bit(mask in any::<u64>(), keep in any::<u8>()) {
+            // Whole rows cleared by `keep`, so that empty rows are common.
+            let mask = (0..8).filter(|r| keep >> r & 1 != 0).fold(0, |m, r| m | mask & 0xff << (8 * r));
+            let rows = (0..8).filter(|r| mask >> (8 * r) & 0xff != 0).fold(0, |b, r| b | 1 << r);
+            prop_assert_eq!(occupied_rows(mask), rows);
+        }
+    }
+
+    #[test]
+    fn occupied_rows_of_single_bits() {
+        for bit in 0..64 {
+            assert_eq!(occupied_rows(1 << bit), 1 << (bit / 8), "bit {bit}");
+        }
+        assert_eq!(occupied_rows(0), 0);
+        assert_eq!(occupied_rows(u64::MAX), 0xff);
+    }
 
     /// Fragment depths of a block: one value, one per sample, row and lane (no bounds), or a
     /// depth plane sampled at each sample's offset within the pixel.
