@@ -497,8 +497,9 @@ mod tests {
         assert_eq!(pins(1, vec![0]), None, "one worker is not pinned");
         assert_eq!(pins(2, vec![0, 1, 2, 3]), None, "a pool smaller than the machine");
         assert_eq!(pins(8, vec![0, 1]), None, "a pool larger than the machine");
-        // A pinned pool renders what an unpinned one does (the pool's size is what the image
-        // may not depend on; `tests/render/invariant.rs` holds 1, 2 and 3: pinned here on two processors).
+        // A device that fills the machine starts, its workers pinned. Where they run cannot
+        // change an image: `tests/render/invariant.rs` renders on 1, 2 and 3 threads, the two
+        // pinned on a two-processor machine such as CI's.
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
         let device = Device::new(DeviceConfig { threads, ..DeviceConfig::default() }).unwrap();
         assert_eq!(device.threads(), threads);

@@ -358,8 +358,8 @@ impl Run<'_> {
         };
         let spec: Vec<_> = resolved.attachments.iter().map(|a| (a.format, resolved.samples)).collect();
         // One band a job: a band's cost follows what the picture holds there (a model in the
-        // middle rows, sky above), so coarser jobs leave one worker with the heavy rows while
-        // the other idles (glmark2's build capture: both busy only a third of the time).
+        // middle rows, sky above), and coarser jobs can leave one worker with the heavy rows
+        // while the other idles at the end of the pass.
         let results: Vec<BandResult> = bands
             .into_par_iter()
             .with_max_len(1)
