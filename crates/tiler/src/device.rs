@@ -40,8 +40,7 @@ pub struct Device {
 /// smaller than the machine is not pinned: several such devices (tests run side by side) would
 /// all crowd the first processors.
 fn pinned_processors(threads: usize) -> Option<Vec<core_affinity::CoreId>> {
-    let opted_out = std::env::var_os("TILER_PIN_WORKERS").is_some_and(|v| v == "0");
-    if threads < 2 || opted_out {
+    if std::env::var_os("TILER_PIN_WORKERS").is_some_and(|v| v == "0") {
         return None;
     }
     pins(threads, core_affinity::get_core_ids()?)

@@ -457,19 +457,6 @@ impl TextureCache {
         }
     }
 
-    /// A group of one level whose every read is of `line`, the last at position `key` of the
-    /// group's reads, and not within [`TextureCache::recent`]: what
-    /// [`TextureCache::read_group`] makes of it — one read stamped with the last read's time,
-    /// the line then the one recent line — without finding distinct lines.
-    #[inline(always)]
-    fn read_one_line(&mut self, first_line: u64, line: u32, key: u32) -> u64 {
-        let base = self.start_group();
-        self.recent = [line; RECENT_LINES];
-        self.recent_first_line = first_line;
-        self.recent_len = 1;
-        !self.read_line(first_line + line as u64, base + 1 + key as u64) as u64
-    }
-
     /// Allocates the cache if it is cold and returns the time a group's reads are stamped
     /// from: `base + 1` to `base + 64`.
     #[inline(always)]
@@ -777,7 +764,8 @@ mod avx2 {
     ///
     /// - within [`TextureCache::recent`]: each row compared with each recent line;
     /// - one line for every read (the first read's: a nearest lookup's 4×2 texels, a magnified
-    ///   one's footprints within a block): [`TextureCache::read_one_line`];
+    ///   one's footprints within a block): that line alone to [`TextureCache::read_distinct`],
+    ///   without the search;
     /// - the distinct lines ([`super::distinct_lines`]): the lowest unread bit is the first
     ///   unread read; one comparison of the four rows with its line finds its reads (each row's
     ///   mask in its own byte of a lane, so that one `movemask` gives them in read order), and
@@ -826,12 +814,13 @@ mod avx2 {
         let first = reads.trailing_zeros() as usize;
         let line = rows[(first % 4).min(R - 1)][first / 4];
         let matched = reads_of(&r, &bytes, line) & reads;
-        if matched == reads {
-            return cache.read_one_line(first_line, line, 31 - matched.leading_zeros());
-        }
+        let entry = (line as u64) << 8 | (31 - matched.leading_zeros()) as u64;
         let base = cache.start_group();
+        if matched == reads {
+            return cache.read_distinct(base, first_line, rows, counted, &[entry], true);
+        }
         let (mut unread, mut distinct, mut d) = (reads & !matched, [0u64; MAX_GROUP_LINES], 1);
-        distinct[0] = (line as u64) << 8 | (31 - matched.leading_zeros()) as u64;
+        distinct[0] = entry;
         while unread != 0 {
             if d == MAX_GROUP_LINES {
                 return cache.read_each(base, first_line, rows, counted);
