@@ -340,6 +340,18 @@ impl TextureSnapshot {
         TextureSnapshot { width, height, texels: Texels::Depth { depths, fixed_point }, alpha_one: false }
     }
 
+    pub(crate) fn is_depth(&self) -> bool {
+        matches!(self.texels, Texels::Depth { .. })
+    }
+
+    /// A depth snapshot's depths, to be filled again ([`TextureSnapshot::depth`]).
+    pub(crate) fn into_depths(self) -> Option<Vec<f32>> {
+        match self.texels {
+            Texels::Depth { depths, .. } => Some(depths),
+            _ => None,
+        }
+    }
+
     /// One texel of one value: what an unbound unit reads.
     pub fn constant(rgba: [f32; 4]) -> TextureSnapshot {
         TextureSnapshot { width: 1, height: 1, texels: Texels::Constant(rgba), alpha_one: false }

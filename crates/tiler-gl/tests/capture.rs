@@ -288,6 +288,85 @@ fn rgb_texels_reach_the_window_upright_through_a_blit() {
     assert_eq!(frames[0].4, [70, 80, 90, 255, 100, 110, 120, 255, 10, 20, 30, 255, 40, 50, 60, 255]);
 }
 
+/// Blits the texture `name` (`width × height`) onto the same-sized window through
+/// framebuffer 3.
+fn blit_texture_to_window(w: &mut Writer, name: u64, width: u64, height: u64) {
+    w.call("glGenFramebuffers", &[("n", W::UInt(1)), ("framebuffers", W::Array(vec![W::UInt(3)]))], None, false);
+    w.call(
+        "glBindFramebuffer",
+        &[("target", e("GL_READ_FRAMEBUFFER", 0x8ca8)), ("framebuffer", W::UInt(3))],
+        None,
+        false,
+    );
+    w.call(
+        "glFramebufferTexture2D",
+        &[
+            ("target", e("GL_READ_FRAMEBUFFER", 0x8ca8)),
+            ("attachment", e("GL_COLOR_ATTACHMENT0", 0x8ce0)),
+            ("textarget", e("GL_TEXTURE_2D", 0x0de1)),
+            ("texture", W::UInt(name)),
+            ("level", W::UInt(0)),
+        ],
+        None,
+        false,
+    );
+    let corners = [("X0", 0), ("Y0", 0), ("X1", width), ("Y1", height)];
+    let names: Vec<String> =
+        ["src", "dst"].iter().flat_map(|p| corners.iter().map(move |(c, _)| format!("{p}{c}"))).collect();
+    let mut args: Vec<(&str, W)> =
+        names.iter().zip(corners.iter().chain(&corners)).map(|(n, &(_, v))| (n.as_str(), W::UInt(v))).collect();
+    args.push(("mask", W::UInt(0x4000)));
+    args.push(("filter", e("GL_NEAREST", 0x2600)));
+    w.call("glBlitFramebuffer", &args, None, false);
+}
+
+#[test]
+fn many_calls_and_a_large_upload_replay_in_order_up_to_an_error() {
+    // Calls go from the reader to the replay in batches: a frame of more calls than a batch
+    // holds, an upload larger than a batch's bytes (an odd number of rows, turned over in
+    // place), then frames each of a few calls and an unsupported call after the last swap.
+    let (width, height) = (300u64, 301u64);
+    let mut w = Writer::new(6);
+    window_surface(&mut w);
+    begin_context(&mut w, 100, width, height);
+    for k in 0..300 {
+        clear(&mut w, [k as f32 / 300.0, 0.0, 0.0, 1.0]);
+    }
+    // Row y (from the bottom) of texel x: (x, y, x + y) modulo 256; rows of 900 bytes, which
+    // the default alignment of 4 leaves unpadded.
+    let texels: Vec<u8> =
+        (0..height).flat_map(|y| (0..width).flat_map(move |x| [x as u8, y as u8, (x + y) as u8])).collect();
+    assert!(texels.len() > 256 << 10, "larger than a batch's bytes");
+    texture_rgb(&mut w, 5, width, height, texels);
+    blit_texture_to_window(&mut w, 5, width, height);
+    swap(&mut w);
+    let colors = [[0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [1.0, 1.0, 1.0, 1.0]];
+    w.call("glBindFramebuffer", &[("target", e("GL_FRAMEBUFFER", 0x8d40)), ("framebuffer", W::UInt(0))], None, false);
+    for rgba in colors {
+        clear(&mut w, rgba);
+        swap(&mut w);
+    }
+    let call = w.call("glEnable", &[("cap", e("GL_SAMPLE_ALPHA_TO_COVERAGE", 0x809e))], None, false);
+    let (result, frames) = replay(&w);
+    let error = result.err().expect("alpha to coverage is not supported");
+    assert_eq!(error.call(), Some(call), "{error}");
+    assert_eq!(frames.iter().map(|f| f.0).collect::<Vec<_>>(), [0, 1, 2, 3]);
+    // The blit: the window's top row is the texture's last (GL's rows go up).
+    let first = &frames[0].4;
+    for y in 0..height {
+        for x in [0, 1, width / 2, width - 1] {
+            let gl_row = height - 1 - y;
+            let at = ((y * width + x) * 4) as usize;
+            let expected = [x as u8, gl_row as u8, (x + gl_row) as u8, 255];
+            assert_eq!(first[at..at + 4], expected, "pixel ({x}, {y}) from the top");
+        }
+    }
+    for (frame, rgba) in frames[1..].iter().zip(colors) {
+        let expected = rgba.map(|c| (c * 255.0) as u8);
+        assert!(frame.4.chunks_exact(4).all(|p| p == expected), "frame {} is {expected:?}", frame.0);
+    }
+}
+
 /// A framebuffer whose colour is a multisampled RGBA8 renderbuffer of `samples` samples
 /// (`glRenderbufferStorageMultisample`), cleared to red and blitted onto the 8×4 window.
 /// Returns the storage call's number.

@@ -157,13 +157,35 @@ fn tokens(body: &str) -> impl Iterator<Item = &str> {
 /// Runs `f` on a thread with a [`COMPILE_STACK_BYTES`] stack.
 pub fn with_deep_stack<T: Send>(f: impl FnOnce() -> Result<T, Error> + Send) -> Result<T, Error> {
     std::thread::scope(|scope| {
-        let handle = std::thread::Builder::new()
-            .name("tiler-glsl compiler".into())
-            .stack_size(COMPILE_STACK_BYTES)
-            .spawn_scoped(scope, f)
-            .map_err(|e| Error::Link(format!("cannot start the compiler's thread: {e}")))?;
+        let handle = spawn_deep(scope, f)?;
         handle.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))
     })
+}
+
+/// Runs `a` and `b` side by side, each on a thread with a [`COMPILE_STACK_BYTES`] stack, and
+/// returns both results, or `a`'s error before `b`'s: a program's two stages compiled at once
+/// (a replay waits for each link, half a millisecond to a millisecond a stage).
+pub fn with_deep_stacks<A: Send, B: Send>(
+    a: impl FnOnce() -> Result<A, Error> + Send,
+    b: impl FnOnce() -> Result<B, Error> + Send,
+) -> Result<(A, B), Error> {
+    std::thread::scope(|scope| {
+        let b = spawn_deep(scope, b)?;
+        let a = spawn_deep(scope, a)?.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        let b = b.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        Ok((a?, b?))
+    })
+}
+
+fn spawn_deep<'scope, T: Send + 'scope>(
+    scope: &'scope std::thread::Scope<'scope, '_>,
+    f: impl FnOnce() -> Result<T, Error> + Send + 'scope,
+) -> Result<std::thread::ScopedJoinHandle<'scope, Result<T, Error>>, Error> {
+    std::thread::Builder::new()
+        .name("tiler-glsl compiler".into())
+        .stack_size(COMPILE_STACK_BYTES)
+        .spawn_scoped(scope, f)
+        .map_err(|e| Error::Link(format!("cannot start the compiler's thread: {e}")))
 }
 
 thread_local! {

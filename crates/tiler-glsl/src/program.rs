@@ -337,11 +337,8 @@ impl CompiledProgram {
     pub fn new(vertex: &str, fragment: &str, attribute_locations: &[(&str, u32)]) -> Result<CompiledProgram, Error> {
         crate::guard::check_source(Stage::Vertex, vertex)?;
         crate::guard::check_source(Stage::Fragment, fragment)?;
-        let (vertex, fragment) = crate::guard::with_deep_stack(|| {
-            let vertex = compile(Stage::Vertex, vertex)?;
-            let fragment = compile(Stage::Fragment, fragment)?;
-            Ok((vertex, fragment))
-        })?;
+        let (vertex, fragment) =
+            crate::guard::with_deep_stacks(|| compile(Stage::Vertex, vertex), || compile(Stage::Fragment, fragment))?;
         let executable = |code: &StageCode| {
             Executable::new(&code.code, code.work_regs, code.bank.len())
                 .ok_or_else(|| Error::Link(format!("the {} was lowered with a register out of range", code.stage)))

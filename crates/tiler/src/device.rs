@@ -180,6 +180,28 @@ impl Device {
         Ok(())
     }
 
+    /// [`Device::write_image`] of bytes the image takes as they are: a whole upload made for it
+    /// goes in without a copy (nor the pages a copy would touch first).
+    ///
+    /// # Errors
+    /// As [`Device::write_image`].
+    pub fn replace_image(&mut self, id: ImageId, data: Vec<u8>) -> Result<()> {
+        let image = self
+            .images
+            .get_mut(id.0 as usize)
+            .ok_or_else(|| Error::invalid(id.to_string(), "no such image on this device"))?;
+        if data.len() != image.data.len() || image.desc.transient {
+            return Err(Error::invalid(
+                id.to_string(),
+                format!("write of {} bytes, but the image holds {} bytes", data.len(), image.data.len()),
+            ));
+        }
+        image.data = data;
+        image.signatures = None;
+        self.written(id.0 as usize);
+        Ok(())
+    }
+
     /// A texture holding a rendered image's pixels — render to texture: a later pass samples
     /// what an earlier one stored. The image's format gives the texture's encoding
     /// (`Rgba8UnormSrgb`: sRGB; other colour formats are converted to 8-bit linear RGBA); a
@@ -224,17 +246,18 @@ impl Device {
             ));
         }
         let pixels = d.width as usize * d.height as usize;
+        let tables = ByteTables::of(d.format).filter(|_| d.samples == 1);
+        if let Some(tables) = &tables
+            && tables.source == [0, 1, 2, 3]
+            && tables.table.iter().all(|t| t.iter().enumerate().all(|(v, &b)| v == b as usize))
+        {
+            // The tables change nothing (RGBA8, as stored): a copy, written once.
+            return Ok(image.data[..pixels * 4].to_vec());
+        }
         let mut out = vec![0u8; pixels * 4];
-        if let (1, Some(tables)) = (d.samples, ByteTables::of(d.format)) {
+        if let Some(tables) = tables {
             // Every frame a replay presents is read back, so the common case is a table
-            // lookup per byte rather than a decode and an encode per pixel, and a copy when
-            // the tables change nothing (RGBA8, as stored).
-            if tables.source == [0, 1, 2, 3]
-                && tables.table.iter().all(|t| t.iter().enumerate().all(|(v, &b)| v == b as usize))
-            {
-                out.copy_from_slice(&image.data[..pixels * 4]);
-                return Ok(out);
-            }
+            // lookup per byte rather than a decode and an encode per pixel.
             for (px, src) in out.chunks_exact_mut(4).zip(image.data[..pixels * 4].chunks_exact(4)) {
                 for c in 0..4 {
                     px[c] = tables.table[c][src[tables.source[c]] as usize];
@@ -253,6 +276,14 @@ impl Device {
 
     /// The depths of a depth image's first sample, rows top to bottom.
     pub fn read_depth(&self, id: ImageId) -> Result<Vec<f32>> {
+        let mut depths = Vec::new();
+        self.read_depth_into(id, &mut depths)?;
+        Ok(depths)
+    }
+
+    /// [`Device::read_depth`] into `depths`, whose memory is reused (a shadow map is read back
+    /// every frame).
+    pub fn read_depth_into(&self, id: ImageId, depths: &mut Vec<f32>) -> Result<()> {
         let image = self.image(id)?;
         let d = image.desc;
         if !d.format.has_depth() || d.transient {
@@ -265,7 +296,12 @@ impl Device {
         use rayon::prelude::*;
         const RUN: usize = 1 << 14;
         let bytes = d.format.bytes_per_sample();
-        let mut depths = vec![0.0f32; d.width as usize * d.height as usize];
+        // Every depth is written below: a buffer of the right length is not cleared first, and
+        // a new one comes zeroed from the allocator, its pages first written by the workers.
+        let n = d.width as usize * d.height as usize;
+        if depths.len() != n {
+            *depths = vec![0.0f32; n];
+        }
         let convert = |out: &mut [f32], data: &[u8]| match d.format {
             Format::D16Unorm => {
                 for (depth, b) in out.iter_mut().zip(data.as_chunks::<2>().0) {
@@ -287,7 +323,7 @@ impl Device {
         self.pool.install(|| {
             depths.par_chunks_mut(RUN).zip(data.par_chunks(RUN * bytes)).for_each(|(out, data)| convert(out, data))
         });
-        Ok(depths)
+        Ok(())
     }
 
     /// The stencil values of a depth-stencil image's first sample.
@@ -469,7 +505,27 @@ mod tests {
                 let depth_bits = if format == Format::D24UnormS8Uint { b & 0xff_ffff } else { b };
                 assert_eq!(depth.to_bits(), format.depth_from_bits(depth_bits).to_bits(), "{format:?}, sample {i}");
             }
+            // Into a buffer of the right length holding other values, and into ones of other
+            // lengths: the same depths.
+            for stale in [vec![f32::NAN; pixels], vec![7.0; 3], vec![-1.0; pixels + 5]] {
+                let mut reused = stale;
+                device.read_depth_into(id, &mut reused).unwrap();
+                assert!(reused.iter().map(|d| d.to_bits()).eq(depths.iter().map(|d| d.to_bits())), "{format:?}");
+            }
         }
+    }
+
+    #[test]
+    fn an_image_takes_replacing_bytes_of_its_size_only() {
+        let mut device = Device::new(DeviceConfig { threads: 1, ..DeviceConfig::default() }).unwrap();
+        let id = device.create_image(ImageDesc::new(5, 3, Format::Rgba8Unorm)).unwrap();
+        let bytes: Vec<u8> = (0..60).collect();
+        let e = device.replace_image(id, bytes[..59].to_vec()).unwrap_err().to_string();
+        assert!(e.contains("write of 59 bytes, but the image holds 60"), "{e}");
+        device.replace_image(id, bytes.clone()).unwrap();
+        assert_eq!(device.image_data(id).unwrap(), &bytes[..]);
+        let transient = device.create_image(ImageDesc::new(5, 3, Format::Rgba8Unorm).transient()).unwrap();
+        assert!(device.replace_image(transient, bytes).is_err());
     }
 
     /// The tables give what decoding and encoding each pixel gives, for every byte in every

@@ -84,6 +84,7 @@ pub(crate) mod depth;
 pub mod device;
 pub mod frame;
 pub(crate) mod geometry;
+pub(crate) mod huge_pages;
 pub mod ledger;
 pub(crate) mod pass;
 pub(crate) mod pixel;

@@ -265,7 +265,7 @@ pub fn replay_reader<R: Read + Send>(
     let reader = TraceReader::new(reader, options.limits)?;
     let budget = ahead::Budget::new(ahead::AHEAD_BYTES);
     std::thread::scope(|scope| {
-        let (sender, receiver) = std::sync::mpsc::sync_channel(ahead::AHEAD_CALLS);
+        let (sender, receiver) = std::sync::mpsc::sync_channel(ahead::AHEAD_BATCHES);
         let budget = &budget;
         let spawned = std::thread::Builder::new()
             .name("tiler-capture-reader".to_string())
@@ -274,7 +274,7 @@ pub fn replay_reader<R: Read + Send>(
             Ok(_) => {
                 // A replay that stops early frees a reader waiting for room.
                 let _close = ahead::CloseOnDrop(budget);
-                replay_calls(ahead::Received { receiver, budget }, options, on_frame)
+                replay_calls(ahead::Received::new(receiver, budget), options, on_frame)
             }
             Err(e) => Err(CaptureError::Thread(e)),
         }

@@ -538,6 +538,10 @@ pub struct Context {
     /// RGBA8 textures built for earlier submissions, kept while their image's texels are
     /// unchanged (`submit.rs`, `Context::program_texture`).
     pub(crate) built_textures: std::sync::Mutex<HashMap<ImageId, submit::BuiltTexture>>,
+    /// Depth snapshots of submitted passes, whose buffers later snapshots fill again once
+    /// nothing holds them (`Context::snapshot`): a shadow map read back each frame reuses its
+    /// buffer instead of writing fresh pages (7.7 MB a frame for shadow.trace's 1600×1200).
+    pub(crate) retired_depths: std::sync::Mutex<Vec<Arc<crate::program::TextureSnapshot>>>,
 }
 
 impl Context {
@@ -644,6 +648,7 @@ impl Context {
             stores: HashMap::new(),
             recording: None,
             built_textures: std::sync::Mutex::new(HashMap::new()),
+            retired_depths: std::sync::Mutex::new(Vec::new()),
             config,
         })
     }
@@ -1512,7 +1517,7 @@ impl Context {
         }
         let image = self.alloc_image_with(width, height, format, 1, transient)?;
         if let Some(data) = data {
-            self.upload(image, 0, 0, width, height, &data)?;
+            self.upload(image, 0, 0, width, height, data)?;
         }
         let sampler = SamplerState::new(Filter::Nearest, Wrap::ClampToEdge);
         let old = self.textures.insert(
@@ -1583,27 +1588,36 @@ impl Context {
         } else {
             image
         };
-        self.upload(target, x, y, width, height, &data)
+        self.upload(target, x, y, width, height, data)
     }
 
     /// Writes texels (GL rows, bottom to top) into a rectangle of an image.
-    fn upload(&mut self, image: ImageId, x: u32, y: u32, width: u32, height: u32, data: &[u8]) -> Fallible {
+    fn upload(&mut self, image: ImageId, x: u32, y: u32, width: u32, height: u32, data: Bytes) -> Fallible {
         let desc = self.images[&image].desc;
         let bpp = desc.format.bytes_per_sample();
+        let row_bytes = width as usize * bpp;
         let whole = (x, y, width, height) == (0, 0, desc.width, desc.height) && desc.samples == 1;
-        let mut contents = match self.device.image_data(image).map_err(|e| e.to_string())? {
-            // Every byte is replaced: the old ones are not copied first.
-            old if whole => vec![0; old.len()],
-            old => old.to_vec(),
-        };
-        for row in 0..height as usize {
-            // GL row y + row from the bottom is tiler row height − 1 − (y + row).
-            let tiler_row = desc.height as usize - 1 - (y as usize + row);
-            let dst = (tiler_row * desc.width as usize + x as usize) * bpp;
-            let src = row * width as usize * bpp;
-            contents[dst..dst + width as usize * bpp].copy_from_slice(&data[src..src + width as usize * bpp]);
+        if whole {
+            // Every byte is replaced: the upload's own bytes become the image's, GL's rows
+            // (bottom to top) turned over in place.
+            let mut contents = data.into_vec();
+            let rows = height as usize;
+            for row in 0..rows / 2 {
+                let (top, bottom) = contents.split_at_mut((rows - 1 - row) * row_bytes);
+                top[row * row_bytes..(row + 1) * row_bytes].swap_with_slice(&mut bottom[..row_bytes]);
+            }
+            self.device.replace_image(image, contents).map_err(|e| e.to_string())?;
+        } else {
+            let mut contents = self.device.image_data(image).map_err(|e| e.to_string())?.to_vec();
+            for row in 0..height as usize {
+                // GL row y + row from the bottom is tiler row height − 1 − (y + row).
+                let tiler_row = desc.height as usize - 1 - (y as usize + row);
+                let dst = (tiler_row * desc.width as usize + x as usize) * bpp;
+                let src = row * row_bytes;
+                contents[dst..dst + row_bytes].copy_from_slice(&data[src..src + row_bytes]);
+            }
+            self.device.write_image(image, &contents).map_err(|e| e.to_string())?;
         }
-        self.device.write_image(image, &contents).map_err(|e| e.to_string())?;
         let frame = self.here.frame;
         let info = self.images.get_mut(&image).expect("known image");
         info.defined = [true; 2];

@@ -344,7 +344,26 @@ impl Context {
         };
         self.frame.passes.push(record);
         self.release(pass);
+        self.retire_depth_snapshots(snapshots);
         Ok(())
+    }
+
+    /// Keeps the depth snapshots of a submitted pass, whose buffers [`Context::spare_depths`]
+    /// reuses once nothing else holds them (the device may still be rendering the pass).
+    fn retire_depth_snapshots(&self, snapshots: HashMap<ImageId, Arc<TextureSnapshot>>) {
+        /// Snapshots kept, at most: the newest, a few passes' worth.
+        const KEPT: usize = 4;
+        let mut retired = self.retired_depths.lock().unwrap_or_else(|e| e.into_inner());
+        retired.extend(snapshots.into_values().filter(|s| s.is_depth()));
+        let excess = retired.len().saturating_sub(KEPT);
+        retired.drain(..excess);
+    }
+
+    /// The depths of a retired depth snapshot nothing holds any more, to be filled again.
+    fn spare_depths(&self) -> Option<Vec<f32>> {
+        let mut retired = self.retired_depths.lock().unwrap_or_else(|e| e.into_inner());
+        let free = retired.iter().position(|s| Arc::strong_count(s) == 1 && Arc::weak_count(s) == 0)?;
+        Arc::into_inner(retired.remove(free)).and_then(TextureSnapshot::into_depths)
     }
 
     /// Frees what a finished pass held on to.
@@ -456,10 +475,17 @@ impl Context {
         {
             return Ok(b.texture.clone());
         }
+        // The texture this replaces, when no pass holds it any more: the new one is built in
+        // its memory (a render target sampled each frame is built each frame).
+        let old = built.remove(&image).and_then(|b| Arc::into_inner(b.texture));
         // Built on the device's threads, which wait for this pass.
+        let (width, height, color_space, mips) = (key.width, key.height, key.color_space, key.mip_chain);
         let t = self
             .device
-            .install(|| tiler::Texture::from_rgba8(key.width, key.height, data, key.color_space, key.mip_chain))
+            .install(|| match old {
+                Some(old) => tiler::Texture::from_rgba8_replacing(width, height, data, color_space, mips, old),
+                None => tiler::Texture::from_rgba8(width, height, data, color_space, mips),
+            })
             .and_then(|t| match key.encoded {
                 Some(format) => t.stored_as(format),
                 None => Ok(t),
@@ -489,7 +515,8 @@ impl Context {
             let data = self.device.image_data(image).map_err(|e| e.to_string())?.to_vec();
             Arc::new(TextureSnapshot::color(d.width, d.height, d.format, d.samples, data))
         } else {
-            let depths = self.device.read_depth(image).map_err(|e| e.to_string())?;
+            let mut depths = self.spare_depths().unwrap_or_default();
+            self.device.read_depth_into(image, &mut depths).map_err(|e| e.to_string())?;
             let fixed_point = d.format != tiler::Format::D32Float;
             Arc::new(TextureSnapshot::depth(d.width, d.height, depths, fixed_point))
         };

@@ -114,7 +114,8 @@ pub struct Image {
 impl Image {
     pub fn new(desc: ImageDesc) -> Result<Image> {
         desc.validate()?;
-        let data = if desc.transient { Vec::new() } else { vec![0; desc.size_bytes() as usize] };
+        let data =
+            if desc.transient { Vec::new() } else { crate::huge_pages::zeroed_bytes(desc.size_bytes() as usize) };
         Ok(Image { desc, data, signatures: None })
     }
 }

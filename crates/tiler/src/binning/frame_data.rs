@@ -21,6 +21,7 @@
 use crate::binning::grid::TileGrid;
 use crate::depth::hsr::HsrMode;
 use crate::geometry::VertexShading;
+use crate::huge_pages::{HUGE_PAGE_BYTES, advise_huge_pages};
 
 pub use crate::geometry::primitive::Primitive;
 
@@ -329,10 +330,6 @@ impl FrameData {
     }
 }
 
-/// Arrays this large or larger grow into memory advised for transparent huge pages, and the
-/// size of such a page on x86-64.
-const HUGE_PAGE_BYTES: usize = 2 << 20;
-
 /// Makes room for `additional` more elements as `Vec::reserve` does — the same capacities, so
 /// the host bytes reported do not move — except that a buffer of 2 MiB or more is allocated
 /// anew and advised for transparent huge pages before anything is written to it.
@@ -360,28 +357,6 @@ fn reserve_huge<T: Copy>(v: &mut Vec<T>, additional: usize) {
     grown.extend_from_slice(v);
     *v = grown;
 }
-
-/// Asks the kernel to back the whole 2 MiB pages within `bytes` from `start` with huge pages.
-/// A hint: when the kernel has no transparent huge pages it says so and nothing changes.
-#[cfg(target_os = "linux")]
-fn advise_huge_pages(start: *mut u8, bytes: usize) {
-    let first = (start as usize).next_multiple_of(HUGE_PAGE_BYTES);
-    let end = (start as usize + bytes) & !(HUGE_PAGE_BYTES - 1);
-    if first < end {
-        // SAFETY: `first..end` lies inside the allocation of `bytes` bytes at `start` that the
-        // caller owns (it was just made and nothing else refers to it), and `first` is
-        // page-aligned as `madvise` requires. `MADV_HUGEPAGE` only changes how the kernel may
-        // back those pages: it changes no mapping, contents or permissions, so no Rust
-        // reference anywhere can observe it; its failure (`EINVAL` without THP) is ignored, a
-        // hint not taken.
-        unsafe {
-            libc::madvise(first as *mut libc::c_void, end - first, libc::MADV_HUGEPAGE);
-        }
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-fn advise_huge_pages(_start: *mut u8, _bytes: usize) {}
 
 #[cfg(test)]
 mod tests {

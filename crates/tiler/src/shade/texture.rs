@@ -340,6 +340,31 @@ impl Texture {
         Ok(Texture::build(TexelFormat::Rgba8, width, height, texels.to_vec(), color_space, mips))
     }
 
+    /// [`Texture::from_rgba8`] of a texture that replaces `old`: a base-only one is built in
+    /// `old`'s texel memory rather than in new memory. A render target sampled frame after
+    /// frame is built again each frame, and writing fresh pages (a fault each, ten times the
+    /// cost of the write) was most of an 800×600 build. The texture is the one
+    /// [`Texture::from_rgba8`] makes (its own id too); only where its texels live differs.
+    ///
+    /// # Errors
+    /// As [`Texture::from_rgba8`].
+    pub fn from_rgba8_replacing(
+        width: u32,
+        height: u32,
+        rgba: &[u8],
+        color_space: ColorSpace,
+        mips: MipChain,
+        old: Texture,
+    ) -> Result<Texture> {
+        check_base(width, height, rgba)?;
+        if mips != MipChain::BaseOnly {
+            return Texture::from_rgba8(width, height, rgba, color_space, mips);
+        }
+        let (texels, _) = rgba.as_chunks::<4>();
+        let levels = vec![Level::new(width, height, 0)];
+        Ok(Texture::store_in(TexelFormat::Rgba8, texels, levels, &[0], color_space, Some(old.texels)))
+    }
+
     /// A texture from a `width × height` level 0 stored in `format` (see
     /// `shade::texel_format` for the data's layout and how each format decodes), rows or
     /// block rows top to bottom. A `MipChain::Box` chain is built from the decoded texels and
@@ -494,9 +519,21 @@ impl Texture {
     fn store(
         format: TexelFormat,
         rows: &[[u8; 4]],
+        levels: Vec<Level>,
+        starts: &[usize],
+        color_space: ColorSpace,
+    ) -> Texture {
+        Texture::store_in(format, rows, levels, starts, color_space, None)
+    }
+
+    /// [`Texture::store`] in the memory of `spare`'s texels, where they are held the same way.
+    fn store_in(
+        format: TexelFormat,
+        rows: &[[u8; 4]],
         mut levels: Vec<Level>,
         starts: &[usize],
         color_space: ColorSpace,
+        spare: Option<Texels>,
     ) -> Texture {
         let layout = format.layout();
         let mut stored_address = 0;
@@ -517,13 +554,23 @@ impl Texture {
             "the levels are contiguous"
         );
         let texels = match color_space {
-            ColorSpace::Linear => Texels::Packed(block_texels(&levels, starts, rows, 0, u32::from_le_bytes)),
+            ColorSpace::Linear => {
+                let spare = match spare {
+                    Some(Texels::Packed(texels)) => texels,
+                    _ => Vec::new(),
+                };
+                Texels::Packed(block_texels(&levels, starts, rows, 0, u32::from_le_bytes, spare))
+            }
             ColorSpace::Srgb => {
                 let decode = |[r, g, b, a]: [u8; 4]| {
                     let colour = |c: u8| color_table[c as usize] as u32;
                     [colour(r) | colour(g) << 16, colour(b) | unorm8_to_unorm16(a as u32) << 16]
                 };
-                let texels = block_texels(&levels, starts, rows, [0; 2], decode);
+                let spare = match spare {
+                    Some(Texels::Decoded(texels)) => texels,
+                    _ => Vec::new(),
+                };
+                let texels = block_texels(&levels, starts, rows, [0; 2], decode, spare);
                 Texels::Decoded(texels)
             }
         };
@@ -2265,12 +2312,16 @@ impl Level {
 /// after pass is built this way each time, on the main thread while the workers wait for the
 /// pass. A large level is built by rayon's threads — the device's when the caller runs inside
 /// `Device::install` (the same texels, whoever builds them).
-fn block_texels<T: Copy + Send + Sync>(
+///
+/// The blocks are written into `spare`'s memory when it is a whole number of blocks (as every
+/// texture's is), grown as needed; its contents are not read.
+fn block_texels<T: bytemuck::Pod + Send + Sync>(
     levels: &[Level],
     starts: &[usize],
     rows: &[[u8; 4]],
     pad: T,
     texel: impl Fn([u8; 4]) -> T + Sync,
+    mut spare: Vec<T>,
 ) -> Vec<T> {
     use rayon::prelude::*;
     /// Texels of a level above which its blocks are built in parallel.
@@ -2278,7 +2329,9 @@ fn block_texels<T: Copy + Send + Sync>(
     const B: usize = BLOCK_TEXELS as usize;
     // Every level's blocks appended to one vector, in place (no level built apart first).
     let total = levels.iter().map(|l| (l.modelled_bytes() / BLOCK_BYTES) as usize).sum();
-    let mut blocks: Vec<[T; B * B]> = Vec::with_capacity(total);
+    spare.clear();
+    let mut blocks: Vec<[T; B * B]> = bytemuck::allocation::try_cast_vec(spare).unwrap_or_default();
+    blocks.reserve(total);
     for (level, &start) in levels.iter().zip(starts) {
         let (width, height) = (level.width as usize, level.height as usize);
         let level_rows = &rows[start..start + width * height];
@@ -2873,6 +2926,43 @@ mod tests {
 
     /// One step of the filter's 16-bit UNORMs, in bytes (see [`bytes`]).
     const ONE_UNORM16: f32 = 255.0 / 65535.0;
+
+    #[test]
+    fn a_texture_built_in_the_memory_of_the_one_it_replaces_is_the_same() {
+        let pseudo = |seed: u32, n: usize| -> Vec<u8> {
+            (0..n as u32).map(|i| (i.wrapping_mul(2_654_435_761) ^ seed).to_le_bytes()[1]).collect()
+        };
+        for color_space in [ColorSpace::Linear, ColorSpace::Srgb] {
+            for mips in [MipChain::BaseOnly, MipChain::Box] {
+                // Old textures larger, smaller and of another colour space than the new one.
+                for (old_w, old_h, old_space) in
+                    [(37, 29, color_space), (5, 3, color_space), (20, 11, ColorSpace::Srgb)]
+                {
+                    let old = pseudo(7, old_w * old_h * 4);
+                    let old = Texture::from_rgba8(old_w as u32, old_h as u32, &old, old_space, mips).unwrap();
+                    let (w, h) = (21u32, 13u32);
+                    let data = pseudo(99, (w * h * 4) as usize);
+                    let fresh = Texture::from_rgba8(w, h, &data, color_space, mips).unwrap();
+                    let again = Texture::from_rgba8_replacing(w, h, &data, color_space, mips, old).unwrap();
+                    assert_eq!(again.levels(), fresh.levels());
+                    assert_eq!(again.stored_bytes(), fresh.stored_bytes());
+                    for level in 0..fresh.levels().len() {
+                        assert_eq!(again.level_texels(level), fresh.level_texels(level), "level {level}");
+                    }
+                    assert_ne!(again.id, fresh.id, "a texture of its own");
+                }
+            }
+        }
+        let bad = Texture::from_rgba8_replacing(
+            4,
+            4,
+            &[0; 12],
+            ColorSpace::Linear,
+            MipChain::BaseOnly,
+            ramp(2, 2, MipChain::BaseOnly),
+        );
+        assert!(bad.is_err());
+    }
 
     #[test]
     fn fast_log2_is_exact_on_powers_of_two_and_a_chord_between_them() {
