@@ -85,7 +85,9 @@ type RecordedFrames = Vec<Vec<tiler_gl::Call>>;
 struct Replayed {
     preset: DevicePreset,
     report: GlReport,
-    picture: Picture,
+    /// Read back only when something uses it (`--png`, the shared report, `--devices`,
+    /// `--what-if`): a plain analysis of a short capture spent a millisecond on it.
+    picture: Option<Picture>,
     /// The configuration it ran with.
     config: ContextConfig,
 }
@@ -119,6 +121,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
     let shared = !presets.is_empty() || !args.report.report.is_empty() || args.report.heatmaps.is_some();
     let devices: Vec<Option<&DevicePreset>> =
         if presets.is_empty() { vec![None] } else { presets.iter().map(Some).collect() };
+    let keep_picture = shared || args.png.is_some() || args.what_if || devices.len() > 1;
 
     let capture = is_capture(&args.trace)?;
     if !capture && args.frames.is_some() {
@@ -148,9 +151,9 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
             ContextConfig { keep_pass_reports: shared, digest_presented: devices.len() > 1 || args.what_if, ..config }
         };
         let (report, picture, config) = match &mut trace {
-            Some(trace) => replay_trace(trace, configure, &args.trace)?,
+            Some(trace) => replay_trace(trace, configure, &args.trace, keep_picture)?,
             None => {
-                let (report, picture, config, recorded) = replay_capture(args, configure, i == 0)?;
+                let (report, picture, config, recorded) = replay_capture(args, configure, i == 0, keep_picture)?;
                 // `--what-if` edits the calls the capture became, recorded on the first replay.
                 if let Some(frames) = recorded {
                     let frames = frames.into_iter().map(|calls| TraceFrame { repeat: 1, calls }).collect();
@@ -168,7 +171,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
             },
         };
         if let Some(first) = replays.first()
-            && let Some(frame) = different_picture(&first.report, &first.picture, &report, &picture)
+            && let Some(frame) = different_picture(&first.report, first.picture.as_ref(), &report, picture.as_ref())
         {
             bail!(
                 "{}: '{}' presented a different picture from '{}': every device must give the same pictures, bit \
@@ -195,7 +198,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<()> {
         tiler_io::write_atomic(path, json.as_bytes()).context("writing --gl-report")?;
     }
     if let Some(path) = &args.png {
-        let (width, height, rgba) = &first.picture;
+        let Some((width, height, rgba)) = &first.picture else { bail!("--png: the last picture was not read back") };
         files::write_png(path, *width, *height, rgba)?;
     }
     if !shared {
@@ -221,20 +224,21 @@ fn replay_trace(
     trace: &mut Trace,
     configure: impl Fn(ContextConfig) -> ContextConfig,
     path: &Path,
-) -> Result<(GlReport, Picture, ContextConfig)> {
+    keep_picture: bool,
+) -> Result<(GlReport, Option<Picture>, ContextConfig)> {
     let own = trace.config.clone();
     trace.config = configure(own.clone());
     let replayed = trace.replay();
     let config = std::mem::replace(&mut trace.config, own);
     let replay = replayed.with_context(|| format!("replaying {}", path.display()))?;
-    let picture = (config.width, config.height, replay.context.surface_rgba8());
+    let picture = keep_picture.then(|| (config.width, config.height, replay.context.surface_rgba8()));
     Ok((replay.report, picture, config))
 }
 
 /// Applies each finding's fix alone to the trace, replays it as `replayed` ran, and records
 /// what it saved and whether the pictures stayed the same in the finding.
 fn what_if(trace: &Trace, replayed: &mut Replayed, path: &Path) -> Result<()> {
-    let (_, _, picture) = &replayed.picture;
+    let Some((_, _, picture)) = &replayed.picture else { bail!("--what-if: the last picture was not read back") };
     let run = what_if::Run { config: &replayed.config, report: &replayed.report, picture };
     let results = what_if::prove(trace, &run, &replayed.preset.name)
         .map_err(anyhow::Error::msg)
@@ -248,7 +252,7 @@ fn what_if(trace: &Trace, replayed: &mut Replayed, path: &Path) -> Result<()> {
 /// The first frame whose presented picture differs between two runs of the same calls (each
 /// frame's digest, recorded with `digest_presented`), or, when every presented frame is the
 /// same, the number of frames if the window's picture at the end differs; `None`: the same.
-fn different_picture(a: &GlReport, a_end: &Picture, b: &GlReport, b_end: &Picture) -> Option<u32> {
+fn different_picture(a: &GlReport, a_end: Option<&Picture>, b: &GlReport, b_end: Option<&Picture>) -> Option<u32> {
     tiler_gl::report::first_different_frame(&a.frames, &b.frames)
         .or_else(|| (a_end != b_end).then_some(a.frames.len().max(b.frames.len()) as u32))
 }
@@ -309,7 +313,8 @@ fn replay_capture(
     args: &AnalyzeArgs,
     configure: impl Fn(ContextConfig) -> ContextConfig,
     write_frames: bool,
-) -> Result<(GlReport, Picture, ContextConfig, Option<RecordedFrames>)> {
+    keep_picture: bool,
+) -> Result<(GlReport, Option<Picture>, ContextConfig, Option<RecordedFrames>)> {
     let inputs = std::slice::from_ref(&args.trace);
     let frames_dir = args.frames.as_ref().filter(|_| write_frames);
     if let Some(dir) = frames_dir {
@@ -350,7 +355,7 @@ fn replay_capture(
         );
     }
     let c = replay.context.config().clone();
-    let picture = (c.width, c.height, replay.context.surface_rgba8());
+    let picture = keep_picture.then(|| (c.width, c.height, replay.context.surface_rgba8()));
     let recorded = replay.context.recorded_frames().map(<[Vec<tiler_gl::Call>]>::to_vec);
     Ok((replay.report, picture, c, recorded))
 }
@@ -407,7 +412,9 @@ fn column(replayed: &mut Replayed) -> Result<Column> {
         frame.driver.merge(&driver);
         frames.push(FrameSpan { index: record.index as u64, first_pass, passes: record.passes.len(), present, driver });
     }
-    let (width, height, pixels) = replayed.picture.clone();
+    let Some((width, height, pixels)) = replayed.picture.clone() else {
+        bail!("the report: the last picture was not read back")
+    };
     let image = Rgba8Image::new(width, height, pixels).map_err(anyhow::Error::msg)?;
     Ok(Column {
         label: replayed.preset.name.clone(),

@@ -211,7 +211,15 @@ fn analyze_a_capture_writes_every_presented_frame() {
     let dir = scratch("analyze-capture");
     let frames = dir.join("frames");
     let trace = traces.join("glmark2/pulsar.trace");
-    let out = tiler(&["analyze", trace.to_str().unwrap(), "--frames", frames.to_str().unwrap()]);
+    let png = dir.join("last.png");
+    let out = tiler(&[
+        "analyze",
+        trace.to_str().unwrap(),
+        "--frames",
+        frames.to_str().unwrap(),
+        "--png",
+        png.to_str().unwrap(),
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("pass"), "the passes are printed: {stdout}");
@@ -222,6 +230,8 @@ fn analyze_a_capture_writes_every_presented_frame() {
     assert_eq!(names, expected);
     let image = image::open(frames.join("frame-0005.png")).unwrap();
     assert_eq!((image.width(), image.height()), (800, 600));
+    // `--png`: the window's last picture, the last frame presented.
+    assert_eq!(image::open(&png).unwrap().to_rgba8(), image.to_rgba8());
 
     // The capture on two devices: the shared report, one picture, a column per device.
     let json = dir.join("r.json");
