@@ -242,45 +242,7 @@ fn rgb_texels_reach_the_window_upright_through_a_blit() {
         70, 80, 90, 100, 110, 120, 0, 0, // top row + padding
     ];
     texture_rgb(&mut w, 5, 2, 2, texels);
-    w.call("glGenFramebuffers", &[("n", W::UInt(1)), ("framebuffers", W::Array(vec![W::UInt(3)]))], None, false);
-    w.call(
-        "glBindFramebuffer",
-        &[("target", e("GL_READ_FRAMEBUFFER", 0x8ca8)), ("framebuffer", W::UInt(3))],
-        None,
-        false,
-    );
-    w.call(
-        "glFramebufferTexture2D",
-        &[
-            ("target", e("GL_READ_FRAMEBUFFER", 0x8ca8)),
-            ("attachment", e("GL_COLOR_ATTACHMENT0", 0x8ce0)),
-            ("textarget", e("GL_TEXTURE_2D", 0x0de1)),
-            ("texture", W::UInt(5)),
-            ("level", W::UInt(0)),
-        ],
-        None,
-        false,
-    );
-    let rect = |a, b, c, d| [W::UInt(a), W::UInt(b), W::UInt(c), W::UInt(d)];
-    let [s0, s1, s2, s3] = rect(0, 0, 2, 2);
-    let [d0, d1, d2, d3] = rect(0, 0, 2, 2);
-    w.call(
-        "glBlitFramebuffer",
-        &[
-            ("srcX0", s0),
-            ("srcY0", s1),
-            ("srcX1", s2),
-            ("srcY1", s3),
-            ("dstX0", d0),
-            ("dstY0", d1),
-            ("dstX1", d2),
-            ("dstY1", d3),
-            ("mask", W::UInt(0x4000)),
-            ("filter", e("GL_NEAREST", 0x2600)),
-        ],
-        None,
-        false,
-    );
+    blit_texture_to_window(&mut w, 5, 2, 2);
     swap(&mut w);
     let (result, frames) = replay(&w);
     result.unwrap();

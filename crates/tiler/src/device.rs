@@ -164,19 +164,7 @@ impl Device {
     /// # Errors
     /// Unknown or transient image, or `data` of the wrong length.
     pub fn write_image(&mut self, id: ImageId, data: &[u8]) -> Result<()> {
-        let image = self
-            .images
-            .get_mut(id.0 as usize)
-            .ok_or_else(|| Error::invalid(id.to_string(), "no such image on this device"))?;
-        if data.len() != image.data.len() || image.desc.transient {
-            return Err(Error::invalid(
-                id.to_string(),
-                format!("write of {} bytes, but the image holds {} bytes", data.len(), image.data.len()),
-            ));
-        }
-        image.data.copy_from_slice(data);
-        image.signatures = None;
-        self.written(id.0 as usize);
+        self.overwritten(id, data.len())?.copy_from_slice(data);
         Ok(())
     }
 
@@ -186,20 +174,27 @@ impl Device {
     /// # Errors
     /// As [`Device::write_image`].
     pub fn replace_image(&mut self, id: ImageId, data: Vec<u8>) -> Result<()> {
-        let image = self
-            .images
-            .get_mut(id.0 as usize)
-            .ok_or_else(|| Error::invalid(id.to_string(), "no such image on this device"))?;
-        if data.len() != image.data.len() || image.desc.transient {
+        let len = data.len();
+        *self.overwritten(id, len)? = data;
+        Ok(())
+    }
+
+    /// The bytes of image `id`, which a write of `len` bytes replaces whole: checked (an image
+    /// with memory, of that many bytes) and noted as written.
+    fn overwritten(&mut self, id: ImageId, len: usize) -> Result<&mut Vec<u8>> {
+        let index = id.0 as usize;
+        let image =
+            self.images.get(index).ok_or_else(|| Error::invalid(id.to_string(), "no such image on this device"))?;
+        if len != image.data.len() || image.desc.transient {
             return Err(Error::invalid(
                 id.to_string(),
-                format!("write of {} bytes, but the image holds {} bytes", data.len(), image.data.len()),
+                format!("write of {len} bytes, but the image holds {} bytes", image.data.len()),
             ));
         }
-        image.data = data;
+        self.written(index);
+        let image = &mut self.images[index];
         image.signatures = None;
-        self.written(id.0 as usize);
-        Ok(())
+        Ok(&mut image.data)
     }
 
     /// A texture holding a rendered image's pixels — render to texture: a later pass samples
