@@ -4,7 +4,7 @@
 //! building textures); reading and decoding the capture there too made them wait for each
 //! other. Here a reader thread decodes calls into a queue the replay takes them from, in
 //! order. What it holds ahead is bounded: at most [`AHEAD_CALLS`] calls, and [`AHEAD_BYTES`]
-//! of their values (a single larger call, which the reader's limits allow, goes alone).
+//! of their values (a batch holding a larger call, which the reader's limits allow, goes alone).
 //! The reader stops at its first error, which the replay meets after the calls before it; a
 //! replay that stops first closes the queue, and the reader stops too.
 //!

@@ -329,15 +329,7 @@ impl Texture {
         color_space: ColorSpace,
         mips: MipChain,
     ) -> Result<Texture> {
-        check_base(width, height, rgba)?;
-        let (texels, _) = rgba.as_chunks::<4>();
-        if mips == MipChain::BaseOnly {
-            // No chain to build: stored straight from the caller's bytes, not copied first
-            // (a render target sampled pass after pass is built this way each time).
-            let levels = vec![Level::new(width, height, 0)];
-            return Ok(Texture::store(TexelFormat::Rgba8, texels, levels, &[0], color_space));
-        }
-        Ok(Texture::build(TexelFormat::Rgba8, width, height, texels.to_vec(), color_space, mips))
+        Texture::rgba8_in(width, height, rgba, color_space, mips, None)
     }
 
     /// [`Texture::from_rgba8`] of a texture that replaces `old`: a base-only one is built in
@@ -356,13 +348,28 @@ impl Texture {
         mips: MipChain,
         old: Texture,
     ) -> Result<Texture> {
+        Texture::rgba8_in(width, height, rgba, color_space, mips, Some(old.texels))
+    }
+
+    /// [`Texture::from_rgba8`], a base-only texture's texels held in `spare`'s memory
+    /// ([`Texture::store_in`]).
+    fn rgba8_in(
+        width: u32,
+        height: u32,
+        rgba: &[u8],
+        color_space: ColorSpace,
+        mips: MipChain,
+        spare: Option<Texels>,
+    ) -> Result<Texture> {
         check_base(width, height, rgba)?;
-        if mips != MipChain::BaseOnly {
-            return Texture::from_rgba8(width, height, rgba, color_space, mips);
-        }
         let (texels, _) = rgba.as_chunks::<4>();
-        let levels = vec![Level::new(width, height, 0)];
-        Ok(Texture::store_in(TexelFormat::Rgba8, texels, levels, &[0], color_space, Some(old.texels)))
+        if mips == MipChain::BaseOnly {
+            // No chain to build: stored straight from the caller's bytes, not copied first
+            // (a render target sampled pass after pass is built this way each time).
+            let levels = vec![Level::new(width, height, 0)];
+            return Ok(Texture::store_in(TexelFormat::Rgba8, texels, levels, &[0], color_space, spare));
+        }
+        Ok(Texture::build(TexelFormat::Rgba8, width, height, texels.to_vec(), color_space, mips))
     }
 
     /// A texture from a `width × height` level 0 stored in `format` (see
