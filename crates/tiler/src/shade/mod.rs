@@ -2,6 +2,7 @@
 //! samplers, the per-task context shaders see (with its texture cache), and the pipeline
 //! object that ties monomorphised shaders to the phases.
 
+pub mod astc;
 pub mod depth_compare;
 pub mod fragments;
 pub mod interpolate;

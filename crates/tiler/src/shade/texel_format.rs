@@ -31,16 +31,19 @@
 //!   (OpenGL ES 3.0 §C.1): decoded by the `texture2ddecoder` crate to bytes (the 11-bit EAC
 //!   channels rounded to 8 bits); R11 reads `(r, 0, 0, 1)`, RG11 `(r, g, 0, 1)`.
 //! - **ASTC LDR**, any of the 14 footprints from 4×4 to 12×12 (KHR_texture_compression_astc_ldr):
-//!   decoded by `texture2ddecoder` to bytes. Its decoder panics on malformed blocks (about half
-//!   of random 16-byte blocks: weight grids larger than the footprint, reserved modes, HDR
-//!   endpoint modes it does not take), where the specification decodes an error colour; each
-//!   block is decoded under `catch_unwind`, so that such a block is an error naming it, not a
-//!   crash (the panic hook still prints the decoder's message). Encoders never write them.
+//!   decoded by `texture2ddecoder` to bytes. Each block is first checked against the
+//!   specification's rules for illegal blocks (`shade::astc`: reserved block modes, weight grids
+//!   larger than the footprint or of too many bits, HDR content, too few bits for the
+//!   endpoints …), which the decoder does not check; where the specification decodes such a
+//!   block as the error colour, the upload is refused with an error naming the block and the
+//!   rule. Encoders never write them. (The decoder still runs under `catch_unwind`, so that a
+//!   fault of its own on a legal block is an error, not a crash.)
 //!
 //! Blocks are in the data row after row from the first row given, each block's texels row
 //! after row, as GL uploads them (OpenGL ES 3.0 §3.8.3); a level whose size is not a multiple
 //! of the footprint has whole blocks past its edges, whose extra texels are never read.
 
+use super::astc;
 use crate::api::error::{Error, Result};
 
 /// How a sampled texture's texels are stored.
@@ -390,19 +393,21 @@ fn decode_blocks(format: TexelFormat, width: u32, height: u32, data: &[u8]) -> R
             TexelFormat::Etc2Rgba8 => texture2ddecoder::decode_etc2_rgba8_block(bytes, texels),
             TexelFormat::EacR11 => texture2ddecoder::decode_eacr_block(bytes, texels),
             TexelFormat::EacRg11 => texture2ddecoder::decode_eacrg_block(bytes, texels),
-            TexelFormat::Astc { .. } => {
+            TexelFormat::Astc { block_width, block_height } => {
+                let block: &[u8; 16] = bytes.try_into().expect("ASTC blocks are 16 bytes");
+                let refused = |why: &dyn std::fmt::Display| {
+                    Error::invalid(
+                        "texture",
+                        format!("{} block {index} (block column {bx}, row {by}) is illegal: {why}", format.name()),
+                    )
+                };
+                astc::check_block(block, block_width, block_height).map_err(|why| refused(&why))?;
+                // The checks leave the decoder only legal blocks; should it still panic on one,
+                // that is its fault, and the upload is refused rather than the process ended.
                 let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     texture2ddecoder::decode_astc_block(bytes, bw, bh, texels)
                 }));
-                if decoded.is_err() {
-                    return Err(Error::invalid(
-                        "texture",
-                        format!(
-                            "{} block {index} (block column {bx}, row {by}) is not an LDR block the decoder takes",
-                            format.name()
-                        ),
-                    ));
-                }
+                decoded.map_err(|_| refused(&"the decoder failed on it"))?;
             }
             _ => unreachable!("uncompressed formats are decoded by TexelFormat::decode"),
         }
@@ -494,9 +499,9 @@ mod tests {
     }
 
     /// Any 16 bytes as an ASTC block of any footprint decode or are an error naming the
-    /// block — never a panic out of the decoder. A deterministic sweep of random blocks: about
-    /// half of random blocks make `texture2ddecoder` panic (weight grids larger than the block,
-    /// reserved modes: error blocks, which the specification decodes as magenta).
+    /// block and the rule it breaks — never a panic. A deterministic sweep of random blocks:
+    /// most random blocks are illegal (`shade::astc`), which the specification decodes as
+    /// magenta.
     #[test]
     fn random_astc_blocks_decode_or_are_refused() {
         let mut state = 1u64;
@@ -509,7 +514,7 @@ mod tests {
             });
             let format = TexelFormat::Astc { block_width: bw, block_height: bh };
             if let Err(e) = format.decode(bw as u32, bh as u32, &block) {
-                assert!(e.to_string().contains("block 0 (block column 0, row 0)"), "{e}");
+                assert!(e.to_string().contains("block 0 (block column 0, row 0) is illegal: "), "{e}");
                 refused += 1;
             }
         }

@@ -286,3 +286,31 @@ fn stored_as_is_made_from_the_format() {
         assert!(c.0 == a.0 && c.1 > a.1, "{sampler:?}: RGBA8 draws the same and fetches more");
     }
 }
+
+/// ASTC as an encoder writes it: a 60×60 pattern encoded by astcenc's exhaustive search at
+/// every 2D footprint (`tests/data/astc/make.sh`; one to four partitions, dual planes and
+/// void-extent blocks among its 1,280 blocks) is legal block by block and decodes as
+/// astcenc's own decoder does, within one step of 8 bits: `texture2ddecoder` rounds some
+/// interpolated channels the other way (2–10% of texels differ, by one).
+#[test]
+fn astc_from_an_encoder_decodes_as_the_reference_decoder_does() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/astc");
+    for (bw, bh) in ASTC_FOOTPRINTS {
+        let file = std::fs::read(dir.join(format!("pattern-{bw}x{bh}.astc"))).unwrap();
+        // The .astc header: magic, the footprint (x, y, z), the size (x, y, z, 24 bits each).
+        assert_eq!(&file[..4], &[0x13, 0xab, 0xa1, 0x5c]);
+        assert_eq!((file[4], file[5], file[6]), (bw, bh, 1));
+        let size = |at: usize| u32::from_le_bytes([file[at], file[at + 1], file[at + 2], 0]);
+        let (width, height) = (size(7), size(10));
+        let format = TexelFormat::Astc { block_width: bw, block_height: bh };
+        let texels = format
+            .decode(width, height, &file[16..])
+            .unwrap_or_else(|e| panic!("{bw}×{bh}: an encoder's block refused: {e}"));
+        let reference = image::open(dir.join(format!("decoded-{bw}x{bh}.png"))).unwrap().to_rgba8();
+        assert_eq!(reference.dimensions(), (width, height));
+        for (i, (texel, expected)) in texels.iter().zip(reference.pixels()).enumerate() {
+            let step = (0..4).map(|c| texel[c].abs_diff(expected.0[c])).max().unwrap();
+            assert!(step <= 1, "{bw}×{bh} texel {i}: {texel:?}, astcenc {:?}", expected.0);
+        }
+    }
+}
