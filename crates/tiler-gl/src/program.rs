@@ -435,6 +435,11 @@ impl TextureSnapshot {
         if let (Texels::Depth { depths, .. }, Filter::Nearest, false) =
             (&self.texels, state.mag_filter.base(), self.alpha_one)
         {
+            let fits_i32 = self.width as u64 * self.height as u64 <= i32::MAX as u64;
+            if state.wrap_s == Wrap::ClampToEdge && state.wrap_t == Wrap::ClampToEdge && fits_i32 {
+                self.depth_nearest_clamped(depths, s, t, out);
+                return;
+            }
             for ((o, &s), &t) in out.iter_mut().zip(s).zip(t) {
                 let (u, v) = self.texel_coordinates(s, t);
                 let z = depths[self.texel_index(floor_i64(u), floor_i64(v), state)];
@@ -444,6 +449,46 @@ impl TextureSnapshot {
         }
         for ((o, &s), &t) in out.iter_mut().zip(s).zip(t) {
             *o = self.sample(s, t, state);
+        }
+    }
+
+    /// [`TextureSnapshot::sample_lanes`] of a depth snapshot read nearest with clamp-to-edge
+    /// on both axes (a shadow map), eight lanes at a time in 32-bit arithmetic that vectorises:
+    /// each lane's index is `texel_index`'s of the floored [`TextureSnapshot::texel_coordinates`],
+    /// the coordinate clamped to the texels before it is made an integer, so that every value
+    /// fits an `i32` exactly (the caller's check: at most `i32::MAX` texels).
+    fn depth_nearest_clamped(&self, depths: &[f32], s: &[f32], t: &[f32], out: &mut [[f32; 4]]) {
+        const N: usize = 8;
+        let (width, height) = (self.width as i32, self.height as i32);
+        let (last_x, last_y) = ((width - 1) as f32, (height - 1) as f32);
+        // `floor(c)` clamped to `[0, last]` is `c` clamped to `[0, last]` then truncated: the
+        // floor and the truncation differ below 0 only, which clamps to 0 either way (`c` is
+        // finite, `last` below 2^24, so an exact float). In stages over arrays, so that each
+        // stage is a loop of vector operations.
+        let indices = |s: &[f32; N], t: &[f32; N]| -> [usize; N] {
+            let (mut x, mut y) = ([0i32; N], [0i32; N]);
+            for i in 0..N {
+                let (u, v) = self.texel_coordinates(s[i], t[i]);
+                (x[i], y[i]) = (u.clamp(0.0, last_x) as i32, v.clamp(0.0, last_y) as i32);
+            }
+            std::array::from_fn(|i| ((height - 1 - y[i]) * width + x[i]) as usize)
+        };
+        let lanes = out.len().min(s.len()).min(t.len());
+        let whole = lanes / N * N;
+        for base in (0..whole).step_by(N) {
+            let lanes = |v: &[f32]| -> [f32; N] { v[base..base + N].try_into().expect("N lanes") };
+            for (o, i) in out[base..base + N].iter_mut().zip(indices(&lanes(s), &lanes(t))) {
+                let z = depths[i];
+                *o = [z, z, z, 1.0];
+            }
+        }
+        if whole < lanes {
+            // The last lanes, padded with copies of the last of them.
+            let padded = |v: &[f32]| -> [f32; N] { std::array::from_fn(|i| v[(whole + i).min(lanes - 1)]) };
+            for (o, i) in out[whole..lanes].iter_mut().zip(indices(&padded(s), &padded(t))) {
+                let z = depths[i];
+                *o = [z, z, z, 1.0];
+            }
         }
     }
 
@@ -719,8 +764,12 @@ mod tests {
             TextureSnapshot::color(w, h, tiler::Format::Rgba8Unorm, 1, bytes.clone()),
             TextureSnapshot::color(w, h, tiler::Format::Rgba8Unorm, 1, bytes).with_alpha_one(),
         ];
-        let s: Vec<f32> = (0..64).map(|i| i as f32 * 0.061 - 1.3).collect();
-        let t: Vec<f32> = (0..64).map(|i| 2.1 - i as f32 * 0.047).chain([-0.0, 0.0]).take(64).collect();
+        // Then the edges: ±0, texel boundaries, the clamp's −1 and n, beyond the ±65536
+        // clamp, non-finite (either coordinate makes both 0) — 75 lanes, a tail past the
+        // eights that groups are read in.
+        let special = [-0.0, 0.0, 0.2, 1.0, -0.2, 1.2, 1e-30, -1e-30, 7e4, -7e4, 1e30, f32::NAN, f32::INFINITY];
+        let s: Vec<f32> = (0..62).map(|i| i as f32 * 0.061 - 1.3).chain(special).collect();
+        let t: Vec<f32> = (0..62).map(|i| 2.1 - i as f32 * 0.047).chain(special.iter().rev().copied()).collect();
         for snapshot in &snapshots {
             for filter in [Filter::Nearest, Filter::Linear] {
                 for wrap in [Wrap::ClampToEdge, Wrap::Repeat, Wrap::MirroredRepeat] {
