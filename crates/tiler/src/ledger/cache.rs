@@ -289,18 +289,19 @@ impl ReadCache {
         if ways[0] == line {
             return true;
         }
-        match ways.iter().position(|&l| l == line) {
-            Some(way) => {
-                ways[..=way].rotate_right(1);
-                true
-            }
-            None => {
-                // The least recently used (or an empty way) drops out at the end.
-                ways.rotate_right(1);
-                ways[0] = line;
-                false
-            }
+        // The line moves to the front and those more recent than it one way back; a missing
+        // line comes in at the front and the least recently used (or an empty way) drops out
+        // at the end. Carried way by way: `rotate_right` called the C library's `memmove` for
+        // the three words of a 4-way set.
+        let (moved, hit) = match ways.iter().position(|&l| l == line) {
+            Some(way) => (&mut ways[..=way], true),
+            None => (ways, false),
+        };
+        let mut carried = line;
+        for way in moved {
+            carried = std::mem::replace(way, carried);
         }
+        hit
     }
 }
 
