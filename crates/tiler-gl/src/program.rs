@@ -473,22 +473,22 @@ impl TextureSnapshot {
             }
             std::array::from_fn(|i| ((height - 1 - y[i]) * width + x[i]) as usize)
         };
+        let write = |out: &mut [[f32; 4]], indices: [usize; N]| {
+            for (o, i) in out.iter_mut().zip(indices) {
+                let z = depths[i];
+                *o = [z, z, z, 1.0];
+            }
+        };
         let lanes = out.len().min(s.len()).min(t.len());
         let whole = lanes / N * N;
         for base in (0..whole).step_by(N) {
             let lanes = |v: &[f32]| -> [f32; N] { v[base..base + N].try_into().expect("N lanes") };
-            for (o, i) in out[base..base + N].iter_mut().zip(indices(&lanes(s), &lanes(t))) {
-                let z = depths[i];
-                *o = [z, z, z, 1.0];
-            }
+            write(&mut out[base..base + N], indices(&lanes(s), &lanes(t)));
         }
         if whole < lanes {
             // The last lanes, padded with copies of the last of them.
             let padded = |v: &[f32]| -> [f32; N] { std::array::from_fn(|i| v[(whole + i).min(lanes - 1)]) };
-            for (o, i) in out[whole..lanes].iter_mut().zip(indices(&padded(s), &padded(t))) {
-                let z = depths[i];
-                *o = [z, z, z, 1.0];
-            }
+            write(&mut out[whole..lanes], indices(&padded(s), &padded(t)));
         }
     }
 

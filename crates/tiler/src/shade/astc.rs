@@ -101,7 +101,7 @@ pub fn check_block(block: &[u8; 16], width: u8, height: u8) -> Result<(), Illega
     if weights > 64 {
         return Err(Illegal::TooManyWeights(weights));
     }
-    let weight_bits = sequence_bits(WEIGHT_RANGES[layout.range as usize], weights);
+    let weight_bits = sequence_bits(WEIGHT_LEVELS[layout.range as usize], weights);
     if !(24..=96).contains(&weight_bits) {
         return Err(Illegal::WeightBits(weight_bits));
     }
@@ -167,7 +167,7 @@ fn check_void_extent(field: impl Fn(u32, u32) -> u32) -> Result<(), Illegal> {
     Ok(())
 }
 
-/// A block mode's weight grid, the index of its weights' range in [`WEIGHT_RANGES`] (the
+/// A block mode's weight grid, the index of its weights' range in [`WEIGHT_LEVELS`] (the
 /// high-precision bit above the three range bits) and whether it has two planes.
 struct BlockMode {
     grid: (u32, u32),
@@ -210,45 +210,18 @@ fn block_mode(mode: u32) -> Option<BlockMode> {
     Some(BlockMode { grid, range, dual_plane })
 }
 
-/// An integer-sequence-encoded range: values of `bits` bits each, with a trit (`3`) or a
-/// quint (`5`) above them, or neither (`1`).
-#[derive(Clone, Copy)]
-struct Range {
-    extra: u32,
-    bits: u32,
-}
+/// How many values each weight range holds, by index (high-precision bit, then three range
+/// bits): 2 to 32, each a power of two times 1, 3 (a trit) or 5 (a quint). Indices 0, 1, 8
+/// and 9 are never made (their layouts are reserved or void-extent): 1 there, no bits.
+const WEIGHT_LEVELS: [u32; 16] = [1, 1, 2, 3, 4, 5, 6, 8, 1, 1, 10, 12, 16, 20, 24, 32];
 
-/// The weights' ranges by index (high-precision bit, then three range bits); indices 0, 1, 8
-/// and 9 are never made (their layouts are reserved or void-extent).
-const WEIGHT_RANGES: [Range; 16] = {
-    const fn r(extra: u32, bits: u32) -> Range {
-        Range { extra, bits }
-    }
-    [
-        r(1, 0),
-        r(1, 0),
-        r(1, 1), // 0–1
-        r(3, 0), // 0–2
-        r(1, 2), // 0–3
-        r(5, 0), // 0–4
-        r(3, 1), // 0–5
-        r(1, 3), // 0–7
-        r(1, 0),
-        r(1, 0),
-        r(5, 1), // 0–9
-        r(3, 2), // 0–11
-        r(1, 4), // 0–15
-        r(5, 2), // 0–19
-        r(3, 3), // 0–23
-        r(1, 5), // 0–31
-    ]
-};
-
-/// The bits `count` values of `range` take in an integer sequence: five trits in 8 bits,
-/// three quints in 7, the last group cut short.
-fn sequence_bits(range: Range, count: u32) -> u32 {
-    count * range.bits
-        + match range.extra {
+/// The bits `count` values of a range of `levels` values take in an integer sequence: the
+/// power of two's bits each, and five trits in 8 bits or three quints in 7, the last group
+/// cut short.
+fn sequence_bits(levels: u32, count: u32) -> u32 {
+    let bits = levels.trailing_zeros();
+    count * bits
+        + match levels >> bits {
             3 => (8 * count).div_ceil(5),
             5 => (7 * count).div_ceil(3),
             _ => 0,
