@@ -161,23 +161,45 @@ impl<'a> PrimitiveCoverage<'a> {
     }
 
     /// The covered pixels of sample `s` in the 8×8 block whose top-left pixel is `(x, y)`:
-    /// bit `8·row + column`. Each edge is evaluated incrementally along the rows, in 32-bit
-    /// lanes when its values over the block fit (an edge shorter than about 2000 pixels),
-    /// else in 64-bit ones; edges that cover the whole block cost nothing. Only block rows
-    /// `rows` are evaluated; the others come back empty.
+    /// bit `8·row + column`. The edges are evaluated incrementally along the rows: those whose
+    /// values over the block fit 32 bits (an edge shorter than about 2000 pixels) together,
+    /// one sign test a row for all of them, the others in 64-bit lanes; edges that cover the
+    /// whole block cost nothing. Only block rows `rows` are evaluated; the others come back
+    /// empty.
     #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn block_mask(&self, x: i32, y: i32, s: usize, rows: std::ops::Range<i32>) -> u64 {
         let corner_x = SubPixel::pixel_corner(x);
         let corner_y = SubPixel::pixel_corner(y);
         let scale = SUBPIXEL_SCALE as i64;
         let offset = self.locations.offset(s);
+        let last = (BLOCK_SIZE - 1) as i64;
+        // The edges that cut the block and whose values over it fit 32 bits are evaluated
+        // together; an unused slot is the edge 0, which covers everything.
+        let mut near = [(0i32, 0i32, 0i32); 3];
+        let mut count = 0;
         let mut mask = u64::MAX;
         for edge in &self.edges {
             let at_corner = edge.eval(corner_x, corner_y) + Self::sample_offset(edge, offset);
-            mask &= edge_block_mask(at_corner, edge.a * scale, edge.b * scale, rows.clone());
-            if mask == 0 {
-                break;
+            let (step_x, step_y) = (edge.a * scale, edge.b * scale);
+            let lo = at_corner + last * step_x.min(0) + last * step_y.min(0);
+            let hi = at_corner + last * step_x.max(0) + last * step_y.max(0);
+            if hi < 0 {
+                return 0;
             }
+            if lo >= 0 {
+                continue;
+            }
+            // Every value lies in [lo, hi], which contains 0: when the span fits, so does
+            // everything.
+            if hi - lo < 1 << 30 {
+                near[count] = (at_corner as i32, step_x as i32, step_y as i32);
+                count += 1;
+            } else {
+                mask &= far_edge_block_mask(at_corner, step_x, step_y, rows.clone());
+            }
+        }
+        if count > 0 {
+            mask &= near_edges_block_mask(near, rows.clone());
         }
         mask & row_span(rows.start, rows.end)
     }
@@ -192,44 +214,41 @@ impl<'a> PrimitiveCoverage<'a> {
     }
 }
 
-/// The pixels of an 8×8 block where `E ≥ 0`, for `E = at_corner + column·step_x + row·step_y`
-/// (bit `8·row + column`), in `rows` (all of every other row when the edge covers the
-/// whole block).
+/// The pixels of an 8×8 block, in `rows`, where all three edges `E = at_corner + column·step_x
+/// + row·step_y` (bit `8·row + column`) are at least 0, each edge's values over the block
+/// fitting 32 bits. The three values are or-ed, so one sign test per row serves all of them:
+/// the or is negative exactly when one of them is.
 #[inline(always)]
-fn edge_block_mask(at_corner: i64, step_x: i64, step_y: i64, rows: std::ops::Range<i32>) -> u64 {
-    let last = (BLOCK_SIZE - 1) as i64;
-    let lo = at_corner + last * step_x.min(0) + last * step_y.min(0);
-    let hi = at_corner + last * step_x.max(0) + last * step_y.max(0);
-    if lo >= 0 {
-        return u64::MAX;
+fn near_edges_block_mask(edges: [(i32, i32, i32); 3], rows: std::ops::Range<i32>) -> u64 {
+    let row =
+        |(e0, sx, sy): (i32, i32, i32)| -> [i32; 8] { std::array::from_fn(|c| e0 + c as i32 * sx + rows.start * sy) };
+    let (mut r0, mut r1, mut r2) = (row(edges[0]), row(edges[1]), row(edges[2]));
+    let mut mask = 0u64;
+    for r in rows.clone() {
+        let any: [i32; 8] = std::array::from_fn(|c| r0[c] | r1[c] | r2[c]);
+        mask |= (!crate::simd::sign_bits(any) as u64) << (8 * r);
+        // The last row's step may leave the block's range; it is never used.
+        r0 = r0.map(|v| v.wrapping_add(edges[0].2));
+        r1 = r1.map(|v| v.wrapping_add(edges[1].2));
+        r2 = r2.map(|v| v.wrapping_add(edges[2].2));
     }
-    if hi < 0 {
-        return 0;
-    }
-    // Every value lies in [lo, hi], which contains 0: when the span fits, so does everything.
-    if hi - lo < 1 << 30 {
-        let (e0, sx, sy) = (at_corner as i32, step_x as i32, step_y as i32);
-        let row: [i32; 8] = std::array::from_fn(|c| e0 + c as i32 * sx);
-        let mut mask = 0u64;
-        for r in rows {
-            let offset = r * sy;
-            let negative = crate::simd::sign_bits(row.map(|v| v + offset));
-            mask |= (!negative as u64) << (8 * r);
+    mask
+}
+
+/// The pixels of an 8×8 block where `E ≥ 0`, for an edge whose values over the block do not
+/// fit 32 bits (an edge longer than about 2000 pixels), in 64-bit arithmetic.
+fn far_edge_block_mask(at_corner: i64, step_x: i64, step_y: i64, rows: std::ops::Range<i32>) -> u64 {
+    let row: [i64; 8] = std::array::from_fn(|c| at_corner + c as i64 * step_x);
+    let mut mask = 0u64;
+    for r in rows {
+        let offset = r as i64 * step_y;
+        let mut bits = 0u64;
+        for (c, v) in row.iter().enumerate() {
+            bits |= ((v + offset >= 0) as u64) << c;
         }
-        mask
-    } else {
-        let row: [i64; 8] = std::array::from_fn(|c| at_corner + c as i64 * step_x);
-        let mut mask = 0u64;
-        for r in rows {
-            let offset = r as i64 * step_y;
-            let mut bits = 0u64;
-            for (c, v) in row.iter().enumerate() {
-                bits |= ((v + offset >= 0) as u64) << c;
-            }
-            mask |= bits << (8 * r);
-        }
-        mask
+        mask |= bits << (8 * r);
     }
+    mask
 }
 
 /// The pixels of the 8×8 block at `(x, y)` that lie inside `rect` (bit `8·row + column`).
@@ -278,11 +297,13 @@ mod tests {
 
     #[test]
     fn block_masks_agree_with_the_scalar_reference() {
-        // A small triangle (32-bit path), a huge one (64-bit path), and a thin sliver.
+        // A small triangle (32-bit path), a huge one (64-bit path), a thin sliver, and both paths.
         let cases = [
             triangle([(100, 50), (3000, 700), (900, 2500)]),
             triangle([(-4_000_000, -3_000_000), (5_000_000, 200), (300, 6_000_000)]),
             triangle([(0, 0), (4000, 37), (4010, 60)]),
+            // Two long edges (64-bit) and a short one (32-bit) cutting the same blocks.
+            triangle([(0, 0), (3_000_000, 1000), (500, 3000)]),
         ];
         for edges in cases {
             for samples in [1, 2, 4, 8, 16] {
