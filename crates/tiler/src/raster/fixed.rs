@@ -83,19 +83,17 @@ impl SubPixel {
 /// fractional part (below 2^52 its bits are `v`'s own below the unit place; above, `v` is an
 /// integer and it is 0), so
 /// a step away from zero when it is at least a half is the nearest integer, halves away from
-/// zero. Beyond `i64`'s range `frac` is ±∞ or 0 and the saturating step and the clamp give
-/// what the saturating `as i32` gives; NaN compares false and stays 0.
+/// zero. Beyond `i32`'s range the clamps give what the saturating `as i32` gives; NaN
+/// compares false and stays 0.
 #[inline]
 fn round_half_away_to_i32(v: f64) -> i32 {
     let t = v as i64;
     let frac = v - t as f64;
-    let r = if frac >= 0.5 {
-        t.saturating_add(1)
-    } else if frac <= -0.5 {
-        t.saturating_sub(1)
-    } else {
-        t
-    };
+    // The step is added without a branch: a snap's fraction is as good as random, and the
+    // branches were mispredicted half the time (tris, `perf annotate`). Clamping `t` first to
+    // a range far outside `i32`'s leaves room for the step and changes no result.
+    const FAR: i64 = 1 << 40;
+    let r = t.clamp(-FAR, FAR) + (frac >= 0.5) as i64 - (frac <= -0.5) as i64;
     r.clamp(i32::MIN as i64, i32::MAX as i64) as i32
 }
 
