@@ -214,10 +214,10 @@ impl<'a> PrimitiveCoverage<'a> {
     }
 }
 
-/// The pixels of an 8×8 block, in `rows`, where all three edges `E = at_corner + column·step_x
-/// + row·step_y` (bit `8·row + column`) are at least 0, each edge's values over the block
-/// fitting 32 bits. The three values are or-ed, so one sign test per row serves all of them:
-/// the or is negative exactly when one of them is.
+/// The pixels of an 8×8 block, in `rows`, where all three edges are at least 0 (bit
+/// `8·row + column`), each `E = at_corner + column·step_x + row·step_y` with its values over
+/// the block fitting 32 bits. The three values are or-ed, so one sign test per row serves
+/// all of them: the or is negative exactly when one of them is.
 #[inline(always)]
 fn near_edges_block_mask(edges: [(i32, i32, i32); 3], rows: std::ops::Range<i32>) -> u64 {
     let row =
