@@ -385,11 +385,19 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
                 BlockCoverage::Partial => {}
             }
         }
+        // A primitive narrower or shorter than a block covers no block wholly, and a block it
+        // misses gets an empty mask from `block_mask` anyway: its blocks go to the masks
+        // without being classified first (tris' triangles, a few pixels across). The masks are
+        // the same either way: a wholly covered block's mask is its clip mask. Shading after
+        // hidden-surface removal takes no masks, so it keeps the classification.
+        let small = rect.x1 - rect.x0 < BLOCK_SIZE || rect.y1 - rect.y0 < BLOCK_SIZE;
+        let classify = !small || matches!(mode, Mode::Shade { .. });
         let mut by = rect.y0 & !(BLOCK_SIZE - 1);
         while by < rect.y1 {
             let mut bx = rect.x0 & !(BLOCK_SIZE - 1);
             while bx < rect.x1 {
-                let class = self.coverage.classify_block(bx, by, BLOCK_SIZE);
+                let class =
+                    if classify { self.coverage.classify_block(bx, by, BLOCK_SIZE) } else { BlockCoverage::Partial };
                 if class != BlockCoverage::Outside {
                     let clip = block_rect_mask(bx, by, rect);
                     let rows = (rect.y0 - by).max(0)..(rect.y1 - by).min(BLOCK_SIZE);
