@@ -389,7 +389,8 @@ impl<F: FragmentShader> PrimitiveRaster<'_, '_, F> {
         // misses gets an empty mask from `block_mask` anyway: its blocks go to the masks
         // without being classified first (tris' triangles, a few pixels across). The masks are
         // the same either way: a wholly covered block's mask is its clip mask. Shading after
-        // hidden-surface removal takes no masks, so it keeps the classification.
+        // hidden-surface removal takes the clip mask without the edges (ownership implies
+        // coverage), so only the classification keeps it out of blocks the primitive misses.
         let small = rect.x1 - rect.x0 < BLOCK_SIZE || rect.y1 - rect.y0 < BLOCK_SIZE;
         let classify = !small || matches!(mode, Mode::Shade { .. });
         let mut by = rect.y0 & !(BLOCK_SIZE - 1);
