@@ -665,7 +665,7 @@ mod tests {
             let z = crate::simd::F32x8::from_fn(|i| chunk.get(i).copied().unwrap_or(1.0));
             let lanes = Format::D24UnormS8Uint.depth_bits_lanes(z);
             for (bits, z) in lanes.iter().zip(z.to_array()) {
-                let reference = (z as f64 * 16_777_215.0 + 0.5) as u32;
+                let reference = Format::D24UnormS8Uint.depth_bits(z);
                 assert_eq!(*bits, reference, "D24 at {z:e} ({:#x})", z.to_bits());
             }
         }

@@ -220,11 +220,11 @@ impl<'a> PrimitiveCoverage<'a> {
 /// all of them: the or is negative exactly when one of them is.
 #[inline(always)]
 fn near_edges_block_mask(edges: [(i32, i32, i32); 3], rows: std::ops::Range<i32>) -> u64 {
-    let row =
-        |(e0, sx, sy): (i32, i32, i32)| -> [i32; 8] { std::array::from_fn(|c| e0 + c as i32 * sx + rows.start * sy) };
+    let first = rows.start;
+    let row = |(e0, sx, sy): (i32, i32, i32)| -> [i32; 8] { std::array::from_fn(|c| e0 + c as i32 * sx + first * sy) };
     let (mut r0, mut r1, mut r2) = (row(edges[0]), row(edges[1]), row(edges[2]));
     let mut mask = 0u64;
-    for r in rows.clone() {
+    for r in rows {
         let any: [i32; 8] = std::array::from_fn(|c| r0[c] | r1[c] | r2[c]);
         mask |= (!crate::simd::sign_bits(any) as u64) << (8 * r);
         // The last row's step may leave the block's range; it is never used.
