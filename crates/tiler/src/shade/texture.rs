@@ -1233,6 +1233,23 @@ fn footprint_corners<T: Copy + Default, const N: usize, const C: usize>(
     })
 }
 
+/// Prefetches the lines of level `level`'s texels at the corners of the box `[x_lo, x_hi] ×
+/// [y_lo, y_hi]` (in the block layout, the corners' lines hold every texel of a box up to a
+/// block across). The sampler's AVX2 kernel prefetches what the group two pixel rows below
+/// its group is likely to read (`avx2::box_below`): in the pixel pipeline that group is
+/// shaded two groups later (a block's groups go left to right, then two rows down), so its
+/// texels are on their way while this group and the next are shaded — a lookup's own
+/// gathers come too late to hide a miss, and a texture larger than the caches misses often.
+/// Only a hint: nothing is read, and a wrong guess costs the prefetches.
+#[inline(always)]
+fn prefetch_box(texels: &[u32], level: &Level, [[x_lo, x_hi], [y_lo, y_hi]]: [[u32; 2]; 2]) {
+    for (x, y) in [(x_lo, y_lo), (x_hi, y_lo), (x_lo, y_hi), (x_hi, y_hi)] {
+        let index = ((level.row_offset(y) + level.column_offset(x)) as u64 / TEXEL_BYTES) as usize;
+        // `wrapping_add`: the address of a texel of the level, formed without asserting it.
+        crate::simd::prefetch(texels.as_ptr().wrapping_add(index), 1);
+    }
+}
+
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
     use std::arch::x86_64::*;
@@ -1364,6 +1381,13 @@ mod avx2 {
         let first_line = first_line(texture, line_shift);
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
         let minified_unmipped = group.minified_unmipped;
+        let prefetch = |level: &Level, print: &Footprint| {
+            super::prefetch_box(texels, level, box_below(level, print.columns, print.rows));
+        };
+        prefetch(&texture.levels[level], &near);
+        if let Some(far) = &far {
+            prefetch(&texture.levels[level + 1], far);
+        }
         if let Some(far) = &far {
             let mut rows = [[0u32; 8]; 8];
             rows[..4].copy_from_slice(&near.lines);
@@ -1485,6 +1509,14 @@ mod avx2 {
         let wraps = [sampler.wrap_u, sampler.wrap_v];
         let near = nearest_footprint(&texture.levels[level], [u, v], wraps, line_shift);
         let far = weights.map(|_| nearest_footprint(&texture.levels[level + 1], [u, v], wraps, line_shift));
+        // What the group two rows below reads, on its way (see `super::prefetch_box`).
+        let prefetch = |level: &Level, print: &NearestFootprint| {
+            super::prefetch_box(texels, level, box_below(level, [print.x; 2], [print.y; 2]));
+        };
+        prefetch(&texture.levels[level], &near);
+        if let Some(far) = &far {
+            prefetch(&texture.levels[level + 1], far);
+        }
         let first_line = first_line(texture, line_shift);
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
         if let Some(far) = &far {
@@ -1559,6 +1591,9 @@ mod avx2 {
         lines: [u32; 8],
         indices: [u32; 8],
         largest: u32,
+        /// Each lane's texel column and row (wrapped).
+        x: __m256i,
+        y: __m256i,
     }
 
     impl NearestFootprint {
@@ -1597,7 +1632,7 @@ mod avx2 {
         let offset = _mm256_add_epi32(row_offset(level, y), column_offset(x));
         let index = _mm256_srli_epi32::<2>(offset);
         let line = _mm256_srl_epi32(offset, _mm_cvtsi32_si128(line_shift as i32));
-        let mut footprint = NearestFootprint { lines: [0; 8], indices: [0; 8], largest: 0 };
+        let mut footprint = NearestFootprint { lines: [0; 8], indices: [0; 8], largest: 0, x, y };
         // SAFETY: 32 bytes of one `[u32; 8]`; unaligned stores need no alignment.
         unsafe {
             _mm256_storeu_si256(footprint.lines.as_mut_ptr().cast(), line);
@@ -1672,6 +1707,9 @@ mod avx2 {
         alpha: __m256i,
         beta: __m256i,
         largest: u32,
+        /// Each lane's texel columns `[x0, x1]` and rows `[y0, y1]` (wrapped).
+        columns: [__m256i; 2],
+        rows: [__m256i; 2],
     }
 
     /// The [`Footprint`] of lanes at `(u, v)` on `level`, read with the `wraps` (repeat or
@@ -1698,7 +1736,25 @@ mod avx2 {
             // SAFETY: 32 bytes of one `[u32; 8]`; unaligned stores need no alignment.
             unsafe { _mm256_storeu_si256(lines[corner].as_mut_ptr().cast(), _mm256_srl_epi32(offset, shift)) };
         }
-        Footprint { lines, indices, alpha, beta, largest: largest_lane(largest) }
+        Footprint { lines, indices, alpha, beta, largest: largest_lane(largest), columns: [x0, x1], rows: [y0, y1] }
+    }
+
+    /// The box of texels that the group two pixel rows below is likely to read: a
+    /// footprint's box (the top-left lane's first corner `(x0, y0)` to the bottom-right lane's
+    /// last `(x1, y1)`, lanes in [`PAIR_LANES`] order) moved down by twice the rows between the group's two pixel rows, clamped to the level;
+    /// `[x_lo, x_hi]` and `[y_lo, y_hi]`, for [`prefetch_box`].
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn box_below(level: &Level, [x0, x1]: [__m256i; 2], [y0, y1]: [__m256i; 2]) -> [[u32; 2]; 2] {
+        // Pair lane 0 is the group's top-left pixel, pair lane 2 the one below it, pair
+        // lane 7 the bottom-right one (`PAIR_LANES`).
+        let top = _mm256_extract_epi32::<0>(y0);
+        let down = 2 * (_mm256_extract_epi32::<2>(y0) - top);
+        let last_row = level.height as i32 - 1;
+        let y_lo = (top + down).clamp(0, last_row) as u32;
+        let y_hi = (_mm256_extract_epi32::<7>(y1) + down).clamp(0, last_row) as u32;
+        let (x_lo, x_hi) = (_mm256_extract_epi32::<0>(x0) as u32, _mm256_extract_epi32::<7>(x1) as u32);
+        [[x_lo, x_hi], [y_lo, y_hi]]
     }
 
     /// One axis of [`footprint`]: the texel indices `(i0, i1)` wrapped and the weight `α`, as
