@@ -1381,12 +1381,11 @@ mod avx2 {
         let first_line = first_line(texture, line_shift);
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
         let minified_unmipped = group.minified_unmipped;
-        let prefetch = |level: &Level, print: &Footprint| {
+        // What the group two rows below reads, on its way (see `super::prefetch_box`); a loop,
+        // not a closure called twice, which LLVM kept out of line.
+        let far_print = far.as_ref().map(|far| (&texture.levels[level + 1], far));
+        for (level, print) in [Some((&texture.levels[level], &near)), far_print].into_iter().flatten() {
             super::prefetch_box(texels, level, box_below(level, print.columns, print.rows));
-        };
-        prefetch(&texture.levels[level], &near);
-        if let Some(far) = &far {
-            prefetch(&texture.levels[level + 1], far);
         }
         if let Some(far) = &far {
             let mut rows = [[0u32; 8]; 8];
@@ -1510,12 +1509,9 @@ mod avx2 {
         let near = nearest_footprint(&texture.levels[level], [u, v], wraps, line_shift);
         let far = weights.map(|_| nearest_footprint(&texture.levels[level + 1], [u, v], wraps, line_shift));
         // What the group two rows below reads, on its way (see `super::prefetch_box`).
-        let prefetch = |level: &Level, print: &NearestFootprint| {
+        let far_print = far.as_ref().map(|far| (&texture.levels[level + 1], far));
+        for (level, print) in [Some((&texture.levels[level], &near)), far_print].into_iter().flatten() {
             super::prefetch_box(texels, level, box_below(level, [print.x; 2], [print.y; 2]));
-        };
-        prefetch(&texture.levels[level], &near);
-        if let Some(far) = &far {
-            prefetch(&texture.levels[level + 1], far);
         }
         let first_line = first_line(texture, line_shift);
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
