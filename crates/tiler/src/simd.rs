@@ -250,6 +250,20 @@ impl std::ops::Not for LaneMask {
     }
 }
 
+/// Asks the processor to bring the cache line that holds `at` into its caches (a hint, as
+/// [`prefetch`]).
+#[inline(always)]
+pub fn prefetch_line<T>(at: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: as in `prefetch`.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(at.cast::<i8>()) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = at;
+}
+
 /// Asks the processor to bring the cache lines of `bytes` bytes from `start` into its caches
 /// (a hint: no value changes, whatever the address). For the tile pass, whose list entries
 /// name primitive records scattered over the frame data: each would otherwise be a cache miss

@@ -1233,20 +1233,22 @@ fn footprint_corners<T: Copy + Default, const N: usize, const C: usize>(
     })
 }
 
-/// Prefetches the lines of level `level`'s texels at the corners of the box `[x_lo, x_hi] ×
-/// [y_lo, y_hi]` (in the block layout, the corners' lines hold every texel of a box up to a
-/// block across). The sampler's AVX2 kernel prefetches what the group two pixel rows below
-/// its group is likely to read (`avx2::box_below`): in the pixel pipeline that group is
+/// Prefetches the lines of level `level`'s texels at `(x_lo, y)` and `(x_hi, y)` (in the block
+/// layout, the two lines hold every texel of row `y` between them up to a block apart). The
+/// sampler's AVX2 kernels prefetch the bottom edge of what the group two pixel rows below
+/// their group is likely to read (`avx2::edge_below`): in the pixel pipeline that group is
 /// shaded two groups later (a block's groups go left to right, then two rows down), so its
 /// texels are on their way while this group and the next are shaded — a lookup's own
 /// gathers come too late to hide a miss, and a texture larger than the caches misses often.
-/// Only a hint: nothing is read, and a wrong guess costs the prefetches.
+/// The bottom edge alone: the lines above it are mostly this group's. Only a hint: nothing is
+/// read, and a wrong guess costs two prefetches.
 #[inline(always)]
-fn prefetch_box(texels: &[u32], level: &Level, [[x_lo, x_hi], [y_lo, y_hi]]: [[u32; 2]; 2]) {
-    for (x, y) in [(x_lo, y_lo), (x_hi, y_lo), (x_lo, y_hi), (x_hi, y_hi)] {
-        let index = ((level.row_offset(y) + level.column_offset(x)) as u64 / TEXEL_BYTES) as usize;
+fn prefetch_edge(texels: &[u32], level: &Level, ([x_lo, x_hi], y): ([u32; 2], u32)) {
+    let row = level.row_offset(y);
+    for column in [level.column_offset(x_lo), level.column_offset(x_hi)] {
+        let index = ((row + column) as u64 / TEXEL_BYTES) as usize;
         // `wrapping_add`: the address of a texel of the level, formed without asserting it.
-        crate::simd::prefetch(texels.as_ptr().wrapping_add(index), 1);
+        crate::simd::prefetch_line(texels.as_ptr().wrapping_add(index));
     }
 }
 
@@ -1375,19 +1377,22 @@ mod avx2 {
         };
         let [u, v] = pair_coordinates([u, v]);
         let line_shift = cache.line_shift();
-        let near = footprint(&texture.levels[level], [u, v], [sampler.wrap_u, sampler.wrap_v], line_shift);
-        let far = weights
-            .map(|_| footprint(&texture.levels[level + 1], [u, v], [sampler.wrap_u, sampler.wrap_v], line_shift));
+        let wraps = [sampler.wrap_u, sampler.wrap_v];
+        let (near, near_box) = footprint_with_box(&texture.levels[level], [u, v], wraps, line_shift);
+        let far_with_box = weights.map(|_| footprint_with_box(&texture.levels[level + 1], [u, v], wraps, line_shift));
+        let far = far_with_box.as_ref().map(|(far, _)| far);
         let first_line = first_line(texture, line_shift);
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
         let minified_unmipped = group.minified_unmipped;
-        // What the group two rows below reads, on its way (see `super::prefetch_box`); a loop,
-        // not a closure called twice, which LLVM kept out of line.
-        let far_print = far.as_ref().map(|far| (&texture.levels[level + 1], far));
-        for (level, print) in [Some((&texture.levels[level], &near)), far_print].into_iter().flatten() {
-            super::prefetch_box(texels, level, box_below(level, print.columns, print.rows));
+        // What the group two rows below reads, on its way (see `super::prefetch_edge`), written
+        // out for each level: as a loop over `Option`s or a closure it was kept out of line.
+        let near_level = &texture.levels[level];
+        super::prefetch_edge(texels, near_level, edge_below(near_level, near_box[0], near_box[1]));
+        if let Some((_, far_box)) = &far_with_box {
+            let far_level = &texture.levels[level + 1];
+            super::prefetch_edge(texels, far_level, edge_below(far_level, far_box[0], far_box[1]));
         }
-        if let Some(far) = &far {
+        if let Some(far) = far {
             let mut rows = [[0u32; 8]; 8];
             rows[..4].copy_from_slice(&near.lines);
             rows[4..].copy_from_slice(&far.lines);
@@ -1399,7 +1404,7 @@ mod avx2 {
             cache.access_footprints_avx2(first_line, &near.lines, counted_pair);
         }
         let mut packed = filter_footprint(texels, &near);
-        if let (Some(far), Some(weights)) = (&far, weights) {
+        if let (Some(far), Some(weights)) = (far, weights) {
             // `blend` of bytes: `lerp_bytes` of each channel by the quad's weight.
             let weight = _mm256_setr_epi32(
                 weights[0] as i32,
@@ -1508,10 +1513,12 @@ mod avx2 {
         let wraps = [sampler.wrap_u, sampler.wrap_v];
         let near = nearest_footprint(&texture.levels[level], [u, v], wraps, line_shift);
         let far = weights.map(|_| nearest_footprint(&texture.levels[level + 1], [u, v], wraps, line_shift));
-        // What the group two rows below reads, on its way (see `super::prefetch_box`).
-        let far_print = far.as_ref().map(|far| (&texture.levels[level + 1], far));
-        for (level, print) in [Some((&texture.levels[level], &near)), far_print].into_iter().flatten() {
-            super::prefetch_box(texels, level, box_below(level, [print.x; 2], [print.y; 2]));
+        // What the group two rows below reads, on its way (see `super::prefetch_edge`).
+        let near_level = &texture.levels[level];
+        super::prefetch_edge(texels, near_level, edge_below(near_level, [near.x; 2], [near.y; 2]));
+        if let Some(far) = &far {
+            let far_level = &texture.levels[level + 1];
+            super::prefetch_edge(texels, far_level, edge_below(far_level, [far.x; 2], [far.y; 2]));
         }
         let first_line = first_line(texture, line_shift);
         let counted_pair: [bool; 8] = lanes(|i| counted.contains(PAIR_LANES[i]));
@@ -1703,16 +1710,26 @@ mod avx2 {
         alpha: __m256i,
         beta: __m256i,
         largest: u32,
-        /// Each lane's texel columns `[x0, x1]` and rows `[y0, y1]` (wrapped).
-        columns: [__m256i; 2],
-        rows: [__m256i; 2],
     }
 
     /// The [`Footprint`] of lanes at `(u, v)` on `level`, read with the `wraps` (repeat or
     /// clamp-to-edge), as `reduce_quad` then `linear_texels_bytes` and the level's offsets give it.
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     #[inline]
-    fn footprint(level: &Level, [u, v]: [__m256; 2], [wrap_u, wrap_v]: [Wrap; 2], line_shift: u32) -> Footprint {
+    fn footprint(level: &Level, uv: [__m256; 2], wraps: [Wrap; 2], line_shift: u32) -> Footprint {
+        footprint_with_box(level, uv, wraps, line_shift).0
+    }
+
+    /// [`footprint`], and each lane's texel columns `[x0, x1]` and rows `[y0, y1]` (wrapped),
+    /// for [`edge_below`]: apart, so that the footprints a run keeps do not carry them.
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    #[inline]
+    fn footprint_with_box(
+        level: &Level,
+        [u, v]: [__m256; 2],
+        [wrap_u, wrap_v]: [Wrap; 2],
+        line_shift: u32,
+    ) -> (Footprint, [[__m256i; 2]; 2]) {
         let [x0, x1, alpha] = axis(u, level.width, wrap_u);
         let [y0, y1, beta] = axis(v, level.height, wrap_v);
         let (rows, columns) = ([row_offset(level, y0), row_offset(level, y1)], [column_offset(x0), column_offset(x1)]);
@@ -1732,25 +1749,23 @@ mod avx2 {
             // SAFETY: 32 bytes of one `[u32; 8]`; unaligned stores need no alignment.
             unsafe { _mm256_storeu_si256(lines[corner].as_mut_ptr().cast(), _mm256_srl_epi32(offset, shift)) };
         }
-        Footprint { lines, indices, alpha, beta, largest: largest_lane(largest), columns: [x0, x1], rows: [y0, y1] }
+        let footprint = Footprint { lines, indices, alpha, beta, largest: largest_lane(largest) };
+        (footprint, [[x0, x1], [y0, y1]])
     }
 
-    /// The box of texels that the group two pixel rows below is likely to read: a
-    /// footprint's box (the top-left lane's first corner `(x0, y0)` to the bottom-right lane's
-    /// last `(x1, y1)`, lanes in [`PAIR_LANES`] order) moved down by twice the rows between the group's two pixel rows, clamped to the level;
-    /// `[x_lo, x_hi]` and `[y_lo, y_hi]`, for [`prefetch_box`].
+    /// The bottom edge of what the group two pixel rows below is likely to read, for
+    /// [`super::prefetch_edge`]: the columns from the top-left lane's first `x0` to the
+    /// bottom-right lane's last `x1`, on the bottom-right lane's last row `y1` moved down by
+    /// twice the rows between the group's two pixel rows (lanes in [`PAIR_LANES`] order),
+    /// clamped to the level.
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     #[inline]
-    fn box_below(level: &Level, [x0, x1]: [__m256i; 2], [y0, y1]: [__m256i; 2]) -> [[u32; 2]; 2] {
+    fn edge_below(level: &Level, [x0, x1]: [__m256i; 2], [y0, y1]: [__m256i; 2]) -> ([u32; 2], u32) {
         // Pair lane 0 is the group's top-left pixel, pair lane 2 the one below it, pair
         // lane 7 the bottom-right one (`PAIR_LANES`).
-        let top = _mm256_extract_epi32::<0>(y0);
-        let down = 2 * (_mm256_extract_epi32::<2>(y0) - top);
-        let last_row = level.height as i32 - 1;
-        let y_lo = (top + down).clamp(0, last_row) as u32;
-        let y_hi = (_mm256_extract_epi32::<7>(y1) + down).clamp(0, last_row) as u32;
-        let (x_lo, x_hi) = (_mm256_extract_epi32::<0>(x0) as u32, _mm256_extract_epi32::<7>(x1) as u32);
-        [[x_lo, x_hi], [y_lo, y_hi]]
+        let down = 2 * (_mm256_extract_epi32::<2>(y0) - _mm256_extract_epi32::<0>(y0));
+        let y = (_mm256_extract_epi32::<7>(y1) + down).clamp(0, level.height as i32 - 1) as u32;
+        ([_mm256_extract_epi32::<0>(x0) as u32, _mm256_extract_epi32::<7>(x1) as u32], y)
     }
 
     /// One axis of [`footprint`]: the texel indices `(i0, i1)` wrapped and the weight `α`, as
