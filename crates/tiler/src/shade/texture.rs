@@ -1242,6 +1242,7 @@ fn footprint_corners<T: Copy + Default, const N: usize, const C: usize>(
 /// gathers come too late to hide a miss, and a texture larger than the caches misses often.
 /// The bottom edge alone: the lines above it are mostly this group's. Only a hint: nothing is
 /// read, and a wrong guess costs two prefetches.
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn prefetch_edge(texels: &[u32], level: &Level, ([x_lo, x_hi], y): ([u32; 2], u32)) {
     let row = level.row_offset(y);
