@@ -257,7 +257,9 @@ pub fn prefetch_line<T>(at: *const T) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        // SAFETY: as in `prefetch`.
+        // SAFETY: a prefetch is a hint that never faults and reads or writes nothing
+        // architecturally, whatever the address (Intel SDM, PREFETCHh); SSE, which it needs,
+        // is in the x86-64 baseline.
         unsafe { _mm_prefetch::<_MM_HINT_T0>(at.cast::<i8>()) };
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -270,22 +272,13 @@ pub fn prefetch_line<T>(at: *const T) {
 /// waited for in turn.
 #[inline(always)]
 pub fn prefetch<T>(start: *const T, bytes: usize) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        let first = start as usize & !63;
-        let end = start as usize + bytes;
-        let mut line = first;
-        while line < end {
-            // SAFETY: a prefetch is a hint that never faults and reads or writes nothing
-            // architecturally, whatever the address (Intel SDM, PREFETCHh); SSE, which it
-            // needs, is in the x86-64 baseline.
-            unsafe { _mm_prefetch::<_MM_HINT_T0>(line as *const i8) };
-            line += 64;
-        }
+    let first = start as usize & !63;
+    let end = start as usize + bytes;
+    let mut line = first;
+    while line < end {
+        prefetch_line(line as *const u8);
+        line += 64;
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (start, bytes);
 }
 
 /// Bit `i` set where lane `i` of `v` is negative: the sign bits, as the `movmskps` instruction
